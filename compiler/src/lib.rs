@@ -1,0 +1,16 @@
+//! dofplan: a plan compiler for mechanisms.
+//!
+//! ```text
+//! file ──load──▶ model ──analyse──▶ plan IR ──┬─▶ interpreter ─┐
+//!                                              └─▶ emitter ──▶ Rust source
+//!                                          both call the runtime's steps
+//! ```
+//!
+//! - [`model`]: reading and validating mechanism files (TOML or JSON).
+//! - [`analysis`]: mobility, DOF bookkeeping, contraction by loci and dyads.
+//! - [`plan`]: the plan IR, the contract between analysis and back ends.
+//! - [`interp`]: executes a plan loaded at run time.
+//! - [`emit`]: writes a plan as straight-line Rust.
+//! - [`build`]: the `build.rs` API.
+
+pub mod model;

@@ -1,0 +1,117 @@
+//! Errors about a mechanism file: each names the file, the position
+//! (`file:line:column`) where the parser knows it, the names involved and
+//! what to do.
+
+use std::fmt;
+use std::sync::Arc;
+
+use super::source::Span;
+
+/// The text of a mechanism file, kept so errors can point into it.
+#[derive(Clone, Debug)]
+pub struct SourceFile {
+    /// The file name as given by the user.
+    pub name: String,
+    /// The whole text.
+    pub text: Arc<str>,
+}
+
+impl SourceFile {
+    /// 1-based line and column of a byte offset.
+    pub fn line_col(&self, offset: usize) -> (usize, usize) {
+        let offset = offset.min(self.text.len());
+        let before = &self.text[..offset];
+        let line = before.matches('\n').count() + 1;
+        let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+        let col = before[line_start..].chars().count() + 1;
+        (line, col)
+    }
+}
+
+/// Where an error points.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Location {
+    /// A byte range in the file.
+    Span(Span),
+    /// A line and column (JSON syntax errors).
+    LineCol(usize, usize),
+    /// A path in the document (JSON, whose parser keeps no positions).
+    Path(String),
+    /// The file as a whole.
+    File,
+}
+
+/// A secondary position: another place involved in the error.
+#[derive(Clone, Debug)]
+pub struct Note {
+    /// Where.
+    pub location: Location,
+    /// What is there.
+    pub message: String,
+}
+
+/// One error in a mechanism file.
+#[derive(Clone, Debug)]
+pub struct Diagnostic {
+    /// The file it is about.
+    pub file: SourceFile,
+    /// The main position.
+    pub location: Location,
+    /// What is wrong, naming the bodies, markers and joints involved.
+    pub message: String,
+    /// Other places involved (e.g. the first definition of a duplicate).
+    pub notes: Vec<Note>,
+    /// What to do about it.
+    pub help: Option<String>,
+}
+
+impl Diagnostic {
+    /// `file:line:col` (or `file (at path)`) of a location.
+    pub fn position(&self, location: &Location) -> String {
+        match location {
+            Location::Span(span) => {
+                let (line, col) = self.file.line_col(span.start);
+                format!("{}:{}:{}", self.file.name, line, col)
+            }
+            Location::LineCol(line, col) => format!("{}:{}:{}", self.file.name, line, col),
+            Location::Path(path) => format!("{} (at {})", self.file.name, path),
+            Location::File => self.file.name.clone(),
+        }
+    }
+}
+
+impl fmt::Display for Diagnostic {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: error: {}", self.position(&self.location), self.message)?;
+        for note in &self.notes {
+            write!(f, "\n  {}: note: {}", self.position(&note.location), note.message)?;
+        }
+        if let Some(help) = &self.help {
+            write!(f, "\n  help: {help}")?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for Diagnostic {}
+
+/// All the errors found in one file (validation goes on past the first).
+#[derive(Clone, Debug)]
+pub struct ModelError {
+    /// The errors, in file order of discovery.
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl fmt::Display for ModelError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        for (i, d) in self.diagnostics.iter().enumerate() {
+            if i > 0 {
+                writeln!(f)?;
+            }
+            write!(f, "{d}")?;
+        }
+        Ok(())
+    }
+}
+
+impl std::error::Error for ModelError {}

@@ -1,0 +1,807 @@
+//! Reading and validating a mechanism file (TOML or JSON).
+//!
+//! Validation goes on past the first problem where it can, so a user sees
+//! every error of a file at once; each error carries a position and the
+//! names involved.
+
+use std::collections::HashMap;
+use std::path::Path;
+use std::sync::Arc;
+
+use dofplan_runtime::Point;
+
+use super::error::{Diagnostic, Location, ModelError, Note, SourceFile};
+use super::source::{parse_json, parse_toml, Key, Node, NodeKind};
+use super::{
+    Body, Constraint, ConstraintKind, Input, InputKind, Joint, JointKind, Marker, MarkerId,
+    Mechanism, Sweep,
+};
+
+/// Joints must hold in the drawn pose to this, relative to the mechanism's
+/// size.
+pub const DRAWN_TOLERANCE: f64 = 1e-9;
+
+/// The syntax of a mechanism file.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// TOML (the usual form).
+    Toml,
+    /// The same structure as JSON.
+    Json,
+}
+
+impl Format {
+    /// By file extension: `.json` is JSON, anything else TOML.
+    pub fn of_path(path: &Path) -> Format {
+        match path.extension().and_then(|e| e.to_str()) {
+            Some(e) if e.eq_ignore_ascii_case("json") => Format::Json,
+            _ => Format::Toml,
+        }
+    }
+}
+
+/// Reads and validates a mechanism file.
+pub fn load_file(path: &Path) -> Result<Mechanism, ModelError> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| ModelError {
+        diagnostics: vec![Diagnostic {
+            file: SourceFile {
+                name: name.clone(),
+                text: Arc::from(""),
+            },
+            location: Location::File,
+            message: format!("cannot read the file: {e}"),
+            notes: vec![],
+            help: Some("check the path; mechanism files are TOML (or JSON with a .json extension)".into()),
+        }],
+    })?;
+    load_str(&name, &text, Format::of_path(path))
+}
+
+/// Validates a mechanism given as text; `file_name` is used in errors.
+pub fn load_str(file_name: &str, text: &str, format: Format) -> Result<Mechanism, ModelError> {
+    let file = SourceFile {
+        name: file_name.to_string(),
+        text: Arc::from(text),
+    };
+    let parsed = match format {
+        Format::Toml => parse_toml(text),
+        Format::Json => parse_json(text),
+    };
+    let root = parsed.map_err(|e| ModelError {
+        diagnostics: vec![Diagnostic {
+            file: file.clone(),
+            location: match (e.span, e.line_col) {
+                (Some(span), _) => Location::Span(span),
+                (None, Some((l, c))) => Location::LineCol(l, c),
+                (None, None) => Location::File,
+            },
+            message: format!("{} syntax error: {}", format_name(format), e.message.trim()),
+            notes: vec![],
+            help: None,
+        }],
+    })?;
+    let mut v = Validator {
+        file,
+        diags: Vec::new(),
+    };
+    let mechanism = v.mechanism(&root);
+    match mechanism {
+        Some(m) if v.diags.is_empty() => Ok(m),
+        _ => Err(ModelError {
+            diagnostics: v.diags,
+        }),
+    }
+}
+
+fn format_name(format: Format) -> &'static str {
+    match format {
+        Format::Toml => "TOML",
+        Format::Json => "JSON",
+    }
+}
+
+/// A marker reference with where it was written, before resolution.
+struct Written<'a> {
+    node: &'a Node,
+    path: String,
+}
+
+struct Validator {
+    file: SourceFile,
+    diags: Vec<Diagnostic>,
+}
+
+impl Validator {
+    fn loc(&self, node: &Node, path: &str) -> Location {
+        match &node.span {
+            Some(s) => Location::Span(s.clone()),
+            None => Location::Path(path.to_string()),
+        }
+    }
+
+    fn key_loc(&self, key: &Key, path: &str) -> Location {
+        match &key.span {
+            Some(s) => Location::Span(s.clone()),
+            None => Location::Path(path.to_string()),
+        }
+    }
+
+    fn error(&mut self, location: Location, message: String, help: Option<String>) {
+        self.diags.push(Diagnostic {
+            file: self.file.clone(),
+            location,
+            message,
+            notes: vec![],
+            help,
+        });
+    }
+
+    fn error_notes(&mut self, location: Location, message: String, notes: Vec<Note>, help: Option<String>) {
+        self.diags.push(Diagnostic {
+            file: self.file.clone(),
+            location,
+            message,
+            notes,
+            help,
+        });
+    }
+
+    fn table<'n>(&mut self, node: &'n Node, path: &str) -> Option<&'n [(Key, Node)]> {
+        match &node.kind {
+            NodeKind::Table(t) => Some(t),
+            other => {
+                let loc = self.loc(node, path);
+                self.error(loc, format!("`{path}` must be a table, found {}", other.type_name()), None);
+                None
+            }
+        }
+    }
+
+    /// Rejects keys outside `allowed` (nothing the user wrote is ignored)
+    /// and names within one table that repeat (JSON allows them).
+    fn check_keys(&mut self, entries: &[(Key, Node)], allowed: &[&str], path: &str) {
+        let mut seen: HashMap<&str, &Key> = HashMap::new();
+        for (key, _) in entries {
+            let kpath = join(path, &key.name);
+            if let Some(first) = seen.get(key.name.as_str()) {
+                let first_loc = self.key_loc(first, &kpath);
+                let loc = self.key_loc(key, &kpath);
+                self.error_notes(
+                    loc,
+                    format!("duplicate name `{}` in `{}`", key.name, display_path(path)),
+                    vec![Note {
+                        location: first_loc,
+                        message: "first defined here".into(),
+                    }],
+                    Some("rename one of them".into()),
+                );
+            } else {
+                seen.insert(&key.name, key);
+            }
+            if !allowed.is_empty() && !allowed.contains(&key.name.as_str()) {
+                let loc = self.key_loc(key, &kpath);
+                self.error(
+                    loc,
+                    format!("unknown key `{}` in `{}`", key.name, display_path(path)),
+                    Some(format!("expected one of: {}", allowed.join(", "))),
+                );
+            }
+        }
+    }
+
+    fn get<'n>(entries: &'n [(Key, Node)], name: &str) -> Option<&'n Node> {
+        entries.iter().find(|(k, _)| k.name == name).map(|(_, n)| n)
+    }
+
+    fn required<'n>(&mut self, entries: &'n [(Key, Node)], name: &str, parent: &Node, path: &str) -> Option<&'n Node> {
+        let found = Self::get(entries, name);
+        if found.is_none() {
+            let loc = self.loc(parent, path);
+            self.error(loc, format!("`{}` is missing `{name}`", display_path(path)), None);
+        }
+        found
+    }
+
+    fn string<'n>(&mut self, node: &'n Node, path: &str) -> Option<&'n str> {
+        match &node.kind {
+            NodeKind::Str(s) => Some(s),
+            other => {
+                let loc = self.loc(node, path);
+                self.error(loc, format!("`{path}` must be a string, found {}", other.type_name()), None);
+                None
+            }
+        }
+    }
+
+    fn number(&mut self, node: &Node, path: &str) -> Option<f64> {
+        let value = match &node.kind {
+            NodeKind::Int(i) => *i as f64,
+            NodeKind::Float(f) => *f,
+            other => {
+                let loc = self.loc(node, path);
+                self.error(loc, format!("`{path}` must be a number, found {}", other.type_name()), None);
+                return None;
+            }
+        };
+        if !value.is_finite() {
+            let loc = self.loc(node, path);
+            self.error(
+                loc,
+                format!("`{path}` is {value}, not a finite number"),
+                Some("write a finite number".into()),
+            );
+            return None;
+        }
+        Some(value)
+    }
+
+    fn point(&mut self, node: &Node, path: &str) -> Option<Point> {
+        match &node.kind {
+            NodeKind::Array(items) if items.len() == 2 => {
+                let x = self.number(&items[0], &format!("{path}[0]"));
+                let y = self.number(&items[1], &format!("{path}[1]"));
+                Some([x?, y?])
+            }
+            NodeKind::Array(items) => {
+                let loc = self.loc(node, path);
+                self.error(
+                    loc,
+                    format!("`{path}` must have 2 coordinates [x, y], found {}", items.len()),
+                    Some("dimension is 2: write [x, y]".into()),
+                );
+                None
+            }
+            other => {
+                let loc = self.loc(node, path);
+                self.error(loc, format!("`{path}` must be [x, y], found {}", other.type_name()), None);
+                None
+            }
+        }
+    }
+
+    fn mechanism(&mut self, root: &Node) -> Option<Mechanism> {
+        let top = self.table(root, "")?;
+        self.check_keys(top, &["name", "dimension", "bodies", "joints", "constraints", "inputs", "sweep"], "");
+        let name = self
+            .required(top, "name", root, "")
+            .and_then(|n| self.string(n, "name").map(str::to_string));
+        if let Some(n) = &name {
+            if n.is_empty() {
+                let loc = self.loc(Self::get(top, "name").unwrap(), "name");
+                self.error(loc, "`name` must not be empty".into(), None);
+            }
+        }
+        if let Some(d) = Self::get(top, "dimension") {
+            match d.kind {
+                NodeKind::Int(2) => {}
+                NodeKind::Int(3) => {
+                    let loc = self.loc(d, "dimension");
+                    self.error(loc, "dimension 3 (spatial mechanisms) is not supported yet".into(), Some("only planar mechanisms (dimension = 2) can be planned today".into()));
+                }
+                _ => {
+                    let loc = self.loc(d, "dimension");
+                    self.error(loc, "`dimension` must be 2".into(), None);
+                }
+            }
+        }
+        let bodies = match self.required(top, "bodies", root, "") {
+            Some(n) => self.bodies(n),
+            None => Vec::new(),
+        };
+        let empty = Node {
+            span: None,
+            kind: NodeKind::Table(Vec::new()),
+        };
+        let joints_node = Self::get(top, "joints").unwrap_or(&empty);
+        let constraints_node = Self::get(top, "constraints").unwrap_or(&empty);
+        let joints = self.joints(joints_node, &bodies);
+        let constraints = self.constraints(constraints_node, &bodies);
+        self.cross_duplicates(joints_node, constraints_node);
+        let inputs = match Self::get(top, "inputs") {
+            Some(n) => self.inputs(n, joints_node, &joints, &bodies),
+            None => Vec::new(),
+        };
+        let sweep = match Self::get(top, "sweep") {
+            Some(n) => self.sweep(n, &inputs, &bodies),
+            None => None,
+        };
+        let mechanism = Mechanism {
+            name: name?,
+            dimension: 2,
+            bodies,
+            joints: joints.into_iter().map(|(j, _)| j).collect(),
+            constraints: constraints.into_iter().map(|(c, _)| c).collect(),
+            inputs,
+            sweep,
+            source: self.file.clone(),
+        };
+        Some(mechanism)
+    }
+
+    fn bodies(&mut self, node: &Node) -> Vec<Body> {
+        let Some(entries) = self.table(node, "bodies") else {
+            return Vec::new();
+        };
+        self.check_keys(entries, &[], "bodies");
+        let mut bodies = Vec::new();
+        for (key, bnode) in entries {
+            let path = join("bodies", &key.name);
+            self.check_name(key, &path, "body");
+            let Some(fields) = self.table(bnode, &path) else { continue };
+            self.check_keys(fields, &["fixed", "markers"], &path);
+            let fixed = match Self::get(fields, "fixed") {
+                None => false,
+                Some(f) => match f.kind {
+                    NodeKind::Bool(b) => b,
+                    ref other => {
+                        let loc = self.loc(f, &join(&path, "fixed"));
+                        self.error(loc, format!("`{path}.fixed` must be true or false, found {}", other.type_name()), None);
+                        false
+                    }
+                },
+            };
+            let mut markers = Vec::new();
+            if let Some(mnode) = self.required(fields, "markers", bnode, &path) {
+                let mpath = join(&path, "markers");
+                if let Some(mentries) = self.table(mnode, &mpath) {
+                    self.check_keys(mentries, &[], &mpath);
+                    for (mkey, m) in mentries {
+                        let p = join(&mpath, &mkey.name);
+                        self.check_name(mkey, &p, "marker");
+                        if let Some(marker) = self.marker(&mkey.name, m, &p) {
+                            markers.push(marker);
+                        }
+                    }
+                }
+            }
+            bodies.push(Body {
+                name: key.name.clone(),
+                fixed,
+                markers,
+            });
+        }
+        if !bodies.is_empty() && !bodies.iter().any(|b| b.fixed) {
+            let loc = self.loc(node, "bodies");
+            self.error(
+                loc,
+                "no fixed body: a mechanism needs a ground".into(),
+                Some(format!("add `fixed = true` to the ground body (e.g. [bodies.{}])", bodies[0].name)),
+            );
+        }
+        bodies
+    }
+
+    /// Names are used as "body.marker" and as Rust identifiers in generated
+    /// code: no dots, not empty.
+    fn check_name(&mut self, key: &Key, path: &str, what: &str) {
+        if key.name.is_empty() || key.name.contains('.') || key.name.chars().any(char::is_whitespace) {
+            let loc = self.key_loc(key, path);
+            self.error(
+                loc,
+                format!("{what} name `{}` must be non-empty, without dots or spaces", key.name),
+                None,
+            );
+        }
+    }
+
+    fn marker(&mut self, name: &str, node: &Node, path: &str) -> Option<Marker> {
+        match &node.kind {
+            NodeKind::Array(_) => Some(Marker {
+                name: name.to_string(),
+                at: self.point(node, path)?,
+                dir: None,
+            }),
+            NodeKind::Table(fields) => {
+                self.check_keys(fields, &["at", "dir"], path);
+                let at = self.required(fields, "at", node, path).and_then(|n| self.point(n, &join(path, "at")));
+                let dir = match Self::get(fields, "dir") {
+                    None => None,
+                    Some(d) => {
+                        let dpath = join(path, "dir");
+                        let v = self.point(d, &dpath)?;
+                        if v[0] == 0.0 && v[1] == 0.0 {
+                            let loc = self.loc(d, &dpath);
+                            self.error(loc, format!("marker `{name}` has a zero direction"), Some("a direction needs a non-zero length, e.g. dir = [1, 0]".into()));
+                            return None;
+                        }
+                        Some(v)
+                    }
+                };
+                Some(Marker {
+                    name: name.to_string(),
+                    at: at?,
+                    dir,
+                })
+            }
+            other => {
+                let loc = self.loc(node, path);
+                self.error(
+                    loc,
+                    format!("marker `{name}` must be [x, y] or {{ at = [x, y], dir = [dx, dy] }}, found {}", other.type_name()),
+                    None,
+                );
+                None
+            }
+        }
+    }
+
+    /// Resolves "body.marker".
+    fn marker_ref(&mut self, w: &Written, bodies: &[Body], owner: &str) -> Option<MarkerId> {
+        let text = self.string(w.node, &w.path)?;
+        let loc = self.loc(w.node, &w.path);
+        let Some((b, m)) = text.split_once('.') else {
+            self.error(loc, format!("{owner}: `{text}` is not of the form \"body.marker\""), None);
+            return None;
+        };
+        let Some(bi) = bodies.iter().position(|x| x.name == b) else {
+            let names: Vec<_> = bodies.iter().map(|b| b.name.as_str()).collect();
+            self.error(loc, format!("{owner}: unknown body `{b}` in `{text}`"), Some(format!("bodies are: {}", names.join(", "))));
+            return None;
+        };
+        let Some(mi) = bodies[bi].markers.iter().position(|x| x.name == m) else {
+            let names: Vec<_> = bodies[bi].markers.iter().map(|m| m.name.as_str()).collect();
+            self.error(
+                loc,
+                format!("{owner}: body `{b}` has no marker `{m}`"),
+                Some(format!("markers of `{b}` are: {}", names.join(", "))),
+            );
+            return None;
+        };
+        Some(MarkerId { body: bi, marker: mi })
+    }
+
+    /// The two markers of a joint or constraint.
+    fn pair(&mut self, fields: &[(Key, Node)], node: &Node, path: &str, bodies: &[Body], owner: &str) -> Option<[MarkerId; 2]> {
+        let mnode = self.required(fields, "markers", node, path)?;
+        let mpath = join(path, "markers");
+        let items = match &mnode.kind {
+            NodeKind::Array(items) if items.len() == 2 => items,
+            _ => {
+                let loc = self.loc(mnode, &mpath);
+                self.error(loc, format!("{owner}: `markers` must be two markers [\"body.A\", \"other.B\"]"), None);
+                return None;
+            }
+        };
+        let a = self.marker_ref(&Written { node: &items[0], path: format!("{mpath}[0]") }, bodies, owner);
+        let b = self.marker_ref(&Written { node: &items[1], path: format!("{mpath}[1]") }, bodies, owner);
+        let (a, b) = (a?, b?);
+        if a.body == b.body {
+            let loc = self.loc(mnode, &mpath);
+            self.error(
+                loc,
+                format!("{owner} joins two markers of the same body `{}`", bodies[a.body].name),
+                Some("a joint or constraint connects markers of two different bodies".into()),
+            );
+            return None;
+        }
+        Some([a, b])
+    }
+
+    fn kind<'n>(&mut self, fields: &'n [(Key, Node)], node: &Node, path: &str, allowed: &[&str], owner: &str) -> Option<(&'n str, &'n Node)> {
+        let knode = self.required(fields, "kind", node, path)?;
+        let kind = self.string(knode, &join(path, "kind"))?;
+        if !allowed.contains(&kind) {
+            let loc = self.loc(knode, &join(path, "kind"));
+            self.error(loc, format!("{owner}: unknown kind `{kind}`"), Some(format!("expected one of: {}", allowed.join(", "))));
+            return None;
+        }
+        Some((kind, knode))
+    }
+
+    fn joints(&mut self, node: &Node, bodies: &[Body]) -> Vec<(Joint, Node)> {
+        let Some(entries) = self.table(node, "joints") else {
+            return Vec::new();
+        };
+        self.check_keys(entries, &[], "joints");
+        let mut joints = Vec::new();
+        for (key, jnode) in entries {
+            let path = join("joints", &key.name);
+            let owner = format!("joint `{}`", key.name);
+            self.check_name(key, &path, "joint");
+            let Some(fields) = self.table(jnode, &path) else { continue };
+            self.check_keys(fields, &["kind", "markers"], &path);
+            let kind = self.kind(fields, jnode, &path, &["revolute", "prismatic"], &owner);
+            let pair = self.pair(fields, jnode, &path, bodies, &owner);
+            let (Some((kind, _)), Some(markers)) = (kind, pair) else { continue };
+            let kind = if kind == "revolute" { JointKind::Revolute } else { JointKind::Prismatic };
+            let ok = match kind {
+                JointKind::Revolute => self.check_coincident(markers, bodies, jnode, &path, &owner),
+                JointKind::Prismatic => self.check_in_line(markers, bodies, jnode, &path, &owner, "prismatic joint"),
+            };
+            if ok {
+                joints.push((
+                    Joint {
+                        name: key.name.clone(),
+                        kind,
+                        markers,
+                    },
+                    jnode.clone(),
+                ));
+            }
+        }
+        joints
+    }
+
+    fn constraints(&mut self, node: &Node, bodies: &[Body]) -> Vec<(Constraint, Node)> {
+        let Some(entries) = self.table(node, "constraints") else {
+            return Vec::new();
+        };
+        self.check_keys(entries, &[], "constraints");
+        let mut out = Vec::new();
+        for (key, cnode) in entries {
+            let path = join("constraints", &key.name);
+            let owner = format!("constraint `{}`", key.name);
+            self.check_name(key, &path, "constraint");
+            let Some(fields) = self.table(cnode, &path) else { continue };
+            self.check_keys(fields, &["kind", "markers"], &path);
+            let kind = self.kind(fields, cnode, &path, &["coincident", "in-line", "offset"], &owner);
+            let pair = self.pair(fields, cnode, &path, bodies, &owner);
+            let (Some((kind, _)), Some(markers)) = (kind, pair) else { continue };
+            let (kind, ok) = match kind {
+                "coincident" => (ConstraintKind::Coincident, self.check_coincident(markers, bodies, cnode, &path, &owner)),
+                "in-line" => (ConstraintKind::InLine, self.check_in_line(markers, bodies, cnode, &path, &owner, "in-line constraint")),
+                _ => {
+                    let mut ok = true;
+                    for id in markers {
+                        if bodies[id.body].markers[id.marker].dir.is_none() {
+                            ok = false;
+                            let loc = self.loc(cnode, &path);
+                            let m = &bodies[id.body].markers[id.marker];
+                            self.error(
+                                loc,
+                                format!("{owner}: an offset constraint relates directions, but marker `{}.{}` has none", bodies[id.body].name, m.name),
+                                Some(format!("write the marker as {} = {{ at = [{}, {}], dir = [1, 0] }}", m.name, m.at[0], m.at[1])),
+                            );
+                        }
+                    }
+                    (ConstraintKind::Offset, ok)
+                }
+            };
+            if ok {
+                out.push((
+                    Constraint {
+                        name: key.name.clone(),
+                        kind,
+                        markers,
+                    },
+                    cnode.clone(),
+                ));
+            }
+        }
+        out
+    }
+
+    fn cross_duplicates(&mut self, joints: &Node, constraints: &Node) {
+        let (NodeKind::Table(j), NodeKind::Table(c)) = (&joints.kind, &constraints.kind) else {
+            return;
+        };
+        for (ck, _) in c {
+            if let Some((jk, _)) = j.iter().find(|(jk, _)| jk.name == ck.name) {
+                let loc = self.key_loc(ck, &join("constraints", &ck.name));
+                let first = self.key_loc(jk, &join("joints", &jk.name));
+                self.error_notes(
+                    loc,
+                    format!("duplicate name `{}`: a joint already has it", ck.name),
+                    vec![Note {
+                        location: first,
+                        message: "the joint is defined here".into(),
+                    }],
+                    Some("joints and constraints share one namespace; rename one".into()),
+                );
+            }
+        }
+    }
+
+    fn size(bodies: &[Body]) -> f64 {
+        let m = Mechanism {
+            name: String::new(),
+            dimension: 2,
+            bodies: bodies.to_vec(),
+            joints: vec![],
+            constraints: vec![],
+            inputs: vec![],
+            sweep: None,
+            source: SourceFile {
+                name: String::new(),
+                text: Arc::from(""),
+            },
+        };
+        m.size()
+    }
+
+    fn check_coincident(&mut self, ids: [MarkerId; 2], bodies: &[Body], node: &Node, path: &str, owner: &str) -> bool {
+        let a = &bodies[ids[0].body].markers[ids[0].marker];
+        let b = &bodies[ids[1].body].markers[ids[1].marker];
+        let gap = ((a.at[0] - b.at[0]).powi(2) + (a.at[1] - b.at[1]).powi(2)).sqrt();
+        let size = Self::size(bodies);
+        if gap > DRAWN_TOLERANCE * size {
+            let loc = self.loc(node, path);
+            self.error(
+                loc,
+                format!(
+                    "{owner} does not hold in the drawn pose: {}.{} at [{}, {}] and {}.{} at [{}, {}] are {:.3e} apart (tolerance {:.1e})",
+                    bodies[ids[0].body].name, a.name, a.at[0], a.at[1], bodies[ids[1].body].name, b.name, b.at[0], b.at[1], gap, DRAWN_TOLERANCE * size
+                ),
+                Some("markers are world coordinates of the pose as drawn: give the joined markers the same coordinates".into()),
+            );
+            return false;
+        }
+        true
+    }
+
+    fn check_in_line(&mut self, ids: [MarkerId; 2], bodies: &[Body], node: &Node, path: &str, owner: &str, what: &str) -> bool {
+        let a = &bodies[ids[0].body].markers[ids[0].marker];
+        let b = &bodies[ids[1].body].markers[ids[1].marker];
+        let Some(d) = a.unit_dir() else {
+            let loc = self.loc(node, path);
+            self.error(
+                loc,
+                format!("{owner}: the first marker of a {what} carries the line, but `{}.{}` has no direction", bodies[ids[0].body].name, a.name),
+                Some(format!("write it as {} = {{ at = [{}, {}], dir = [dx, dy] }}", a.name, a.at[0], a.at[1])),
+            );
+            return false;
+        };
+        let off = (b.at[0] - a.at[0]) * d[1] - (b.at[1] - a.at[1]) * d[0];
+        let size = Self::size(bodies);
+        if off.abs() > DRAWN_TOLERANCE * size {
+            let loc = self.loc(node, path);
+            self.error(
+                loc,
+                format!(
+                    "{owner} does not hold in the drawn pose: {}.{} is {:.3e} off the line of {}.{}",
+                    bodies[ids[1].body].name, b.name, off.abs(), bodies[ids[0].body].name, a.name
+                ),
+                Some("the second marker must lie on the line through the first along its dir".into()),
+            );
+            return false;
+        }
+        true
+    }
+
+    fn inputs(&mut self, node: &Node, joints_node: &Node, joints: &[(Joint, Node)], bodies: &[Body]) -> Vec<Input> {
+        let Some(entries) = self.table(node, "inputs") else {
+            return Vec::new();
+        };
+        self.check_keys(entries, &[], "inputs");
+        let written_joints: Vec<&str> = match &joints_node.kind {
+            NodeKind::Table(t) => t.iter().map(|(k, _)| k.name.as_str()).collect(),
+            _ => vec![],
+        };
+        let mut inputs: Vec<Input> = Vec::new();
+        for (key, inode) in entries {
+            let path = join("inputs", &key.name);
+            let owner = format!("input `{}`", key.name);
+            self.check_name(key, &path, "input");
+            let Some(fields) = self.table(inode, &path) else { continue };
+            self.check_keys(fields, &["kind", "joint"], &path);
+            let kind = self.kind(fields, inode, &path, &["angle", "slide"], &owner);
+            let jnode = self.required(fields, "joint", inode, &path);
+            let jname = jnode.and_then(|n| self.string(n, &join(&path, "joint")));
+            let (Some((kind, knode)), Some(jname), Some(jnode)) = (kind, jname, jnode) else { continue };
+            let kind = if kind == "angle" { InputKind::Angle } else { InputKind::Slide };
+            let Some(ji) = joints.iter().position(|(j, _)| j.name == jname) else {
+                // A joint that was written but failed validation has its own
+                // error already.
+                if !written_joints.contains(&jname) {
+                    let loc = self.loc(jnode, &join(&path, "joint"));
+                    self.error(
+                        loc,
+                        format!("{owner} drives joint `{jname}`, which does not exist"),
+                        Some(format!("joints are: {}", joints.iter().map(|(j, _)| j.name.as_str()).collect::<Vec<_>>().join(", "))),
+                    );
+                }
+                continue;
+            };
+            let joint = &joints[ji].0;
+            let wanted = match kind {
+                InputKind::Angle => JointKind::Revolute,
+                InputKind::Slide => JointKind::Prismatic,
+            };
+            if joint.kind != wanted {
+                let loc = self.loc(knode, &join(&path, "kind"));
+                let fits = match joint.kind {
+                    JointKind::Revolute => "angle",
+                    JointKind::Prismatic => "slide",
+                };
+                self.error_notes(
+                    loc,
+                    format!("{owner} is of kind `{}` but joint `{jname}` is {}", kind.name(), joint.kind.name()),
+                    vec![Note {
+                        location: self.loc(&joints[ji].1, &join("joints", jname)),
+                        message: format!("joint `{jname}` is defined here"),
+                    }],
+                    Some(format!("an angle input drives a revolute joint and a slide input a prismatic one; use kind = \"{fits}\"")),
+                );
+                continue;
+            }
+            if joint.markers.iter().all(|m| bodies[m.body].fixed) {
+                let loc = self.loc(jnode, &join(&path, "joint"));
+                self.error(loc, format!("{owner} drives joint `{jname}`, which joins two fixed bodies"), Some("drive a joint of a mobile body".into()));
+                continue;
+            }
+            if let Some(other) = inputs.iter().find(|i| i.joint == ji) {
+                let loc = self.loc(jnode, &join(&path, "joint"));
+                self.error(loc, format!("{owner} drives joint `{jname}`, already driven by input `{}`", other.name), None);
+                continue;
+            }
+            inputs.push(Input {
+                name: key.name.clone(),
+                kind,
+                joint: ji,
+            });
+        }
+        inputs
+    }
+
+    fn sweep(&mut self, node: &Node, inputs: &[Input], bodies: &[Body]) -> Option<Sweep> {
+        let fields = self.table(node, "sweep")?;
+        self.check_keys(fields, &["input", "from", "to", "steps", "trace"], "sweep");
+        let inode = self.required(fields, "input", node, "sweep");
+        let input = inode.and_then(|n| self.string(n, "sweep.input").map(|s| (s, n)));
+        let from = self.required(fields, "from", node, "sweep").and_then(|n| self.number(n, "sweep.from"));
+        let to = self.required(fields, "to", node, "sweep").and_then(|n| self.number(n, "sweep.to"));
+        let steps = match self.required(fields, "steps", node, "sweep") {
+            Some(n) => match n.kind {
+                NodeKind::Int(i) if i >= 1 => Some(i as usize),
+                _ => {
+                    let loc = self.loc(n, "sweep.steps");
+                    self.error(loc, "`sweep.steps` must be a whole number of at least 1".into(), None);
+                    None
+                }
+            },
+            None => None,
+        };
+        let mut trace = Vec::new();
+        if let Some(t) = Self::get(fields, "trace") {
+            match &t.kind {
+                NodeKind::Array(items) => {
+                    for (i, item) in items.iter().enumerate() {
+                        let w = Written { node: item, path: format!("sweep.trace[{i}]") };
+                        if let Some(id) = self.marker_ref(&w, bodies, "sweep trace") {
+                            trace.push(id);
+                        }
+                    }
+                }
+                other => {
+                    let loc = self.loc(t, "sweep.trace");
+                    self.error(loc, format!("`sweep.trace` must be an array of \"body.marker\", found {}", other.type_name()), None);
+                }
+            }
+        }
+        let (name, inode) = input?;
+        let Some(index) = inputs.iter().position(|i| i.name == name) else {
+            let loc = self.loc(inode, "sweep.input");
+            let names: Vec<_> = inputs.iter().map(|i| i.name.as_str()).collect();
+            self.error(
+                loc,
+                format!("the sweep drives input `{name}`, which does not exist"),
+                Some(if names.is_empty() { "declare it under [inputs]".into() } else { format!("inputs are: {}", names.join(", ")) }),
+            );
+            return None;
+        };
+        Some(Sweep {
+            input: index,
+            from: from?,
+            to: to?,
+            steps: steps?,
+            trace,
+        })
+    }
+}
+
+fn join(path: &str, key: &str) -> String {
+    if path.is_empty() {
+        key.to_string()
+    } else {
+        format!("{path}.{key}")
+    }
+}
+
+fn display_path(path: &str) -> &str {
+    if path.is_empty() {
+        "the file"
+    } else {
+        path
+    }
+}

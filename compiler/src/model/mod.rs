@@ -1,0 +1,265 @@
+//! The mechanism model: bodies, markers, joints, primitive constraints,
+//! inputs and a sweep, validated once when a file is loaded. Later stages
+//! (analysis, back ends) never re-check user input.
+
+mod error;
+mod load;
+pub mod source;
+
+use dofplan_runtime::Point;
+
+pub use error::{Diagnostic, Location, ModelError, Note, SourceFile};
+pub use load::{load_file, load_str, Format};
+
+/// A validated mechanism.
+#[derive(Clone, Debug)]
+pub struct Mechanism {
+    /// Its name (also the generated module's name).
+    pub name: String,
+    /// 2 (planar); 3D mechanisms come with the spatial plan fragments.
+    pub dimension: u8,
+    /// Bodies in file order.
+    pub bodies: Vec<Body>,
+    /// Joints in file order.
+    pub joints: Vec<Joint>,
+    /// Primitive constraints written directly, in file order.
+    pub constraints: Vec<Constraint>,
+    /// Driving inputs in file order.
+    pub inputs: Vec<Input>,
+    /// The sweep to simulate, if the file has one.
+    pub sweep: Option<Sweep>,
+    /// The file it came from.
+    pub source: SourceFile,
+}
+
+/// A rigid body.
+#[derive(Clone, Debug)]
+pub struct Body {
+    /// Name, unique in the mechanism.
+    pub name: String,
+    /// Part of the ground.
+    pub fixed: bool,
+    /// Markers in file order.
+    pub markers: Vec<Marker>,
+}
+
+/// A named point on a body, optionally with a direction.
+#[derive(Clone, Debug)]
+pub struct Marker {
+    /// Name, unique on its body.
+    pub name: String,
+    /// World position in the pose as drawn.
+    pub at: Point,
+    /// Direction as written (not normalised), if any.
+    pub dir: Option<Point>,
+}
+
+impl Marker {
+    /// The direction scaled to unit length.
+    pub fn unit_dir(&self) -> Option<Point> {
+        self.dir.map(|d| {
+            let n = (d[0] * d[0] + d[1] * d[1]).sqrt();
+            [d[0] / n, d[1] / n]
+        })
+    }
+}
+
+/// A marker of a body.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct MarkerId {
+    /// Index into [`Mechanism::bodies`].
+    pub body: usize,
+    /// Index into that body's markers.
+    pub marker: usize,
+}
+
+/// A joint between markers of two bodies.
+#[derive(Clone, Debug)]
+pub struct Joint {
+    /// Name, unique among joints and constraints.
+    pub name: String,
+    /// Kind.
+    pub kind: JointKind,
+    /// The two markers, in file order.
+    pub markers: [MarkerId; 2],
+}
+
+/// The kinds of joint.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum JointKind {
+    /// The two markers coincide (one relative rotation left).
+    Revolute,
+    /// The second marker slides along the first marker's direction and the
+    /// bodies never turn relative to each other (one relative slide left).
+    Prismatic,
+}
+
+impl JointKind {
+    /// The name used in files.
+    pub fn name(self) -> &'static str {
+        match self {
+            JointKind::Revolute => "revolute",
+            JointKind::Prismatic => "prismatic",
+        }
+    }
+}
+
+/// A primitive constraint between two markers (Kramer's, as Brunkhart §5.1
+/// uses them).
+#[derive(Clone, Debug)]
+pub struct Constraint {
+    /// Name, unique among joints and constraints.
+    pub name: String,
+    /// Kind.
+    pub kind: ConstraintKind,
+    /// The two markers.
+    pub markers: [MarkerId; 2],
+}
+
+/// Primitive constraint kinds in 2D.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConstraintKind {
+    /// The markers coincide (2 equations).
+    Coincident,
+    /// The second marker lies on the line of the first marker's direction
+    /// (1 equation).
+    InLine,
+    /// The angle between the markers' directions stays as drawn (1 equation).
+    Offset,
+}
+
+impl ConstraintKind {
+    /// The name used in files.
+    pub fn name(self) -> &'static str {
+        match self {
+            ConstraintKind::Coincident => "coincident",
+            ConstraintKind::InLine => "in-line",
+            ConstraintKind::Offset => "offset",
+        }
+    }
+}
+
+/// A driving input.
+#[derive(Clone, Debug)]
+pub struct Input {
+    /// Name.
+    pub name: String,
+    /// Kind.
+    pub kind: InputKind,
+    /// Index into [`Mechanism::joints`].
+    pub joint: usize,
+}
+
+/// Input kinds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum InputKind {
+    /// The angle of a revolute joint, degrees counter-clockwise from the
+    /// drawn pose, positive = the second marker's body turning
+    /// counter-clockwise relative to the first's.
+    Angle,
+    /// The displacement of a prismatic joint along the first marker's
+    /// direction from the drawn pose, in length units.
+    Slide,
+}
+
+impl InputKind {
+    /// The name used in files.
+    pub fn name(self) -> &'static str {
+        match self {
+            InputKind::Angle => "angle",
+            InputKind::Slide => "slide",
+        }
+    }
+}
+
+/// A sweep of one input.
+#[derive(Clone, Debug)]
+pub struct Sweep {
+    /// Index into [`Mechanism::inputs`]; the other inputs stay at 0.
+    pub input: usize,
+    /// First value.
+    pub from: f64,
+    /// Last value.
+    pub to: f64,
+    /// Number of values, both ends included.
+    pub steps: usize,
+    /// Markers whose paths are drawn.
+    pub trace: Vec<MarkerId>,
+}
+
+impl Sweep {
+    /// The input values: `steps` evenly spaced values from `from` to `to`,
+    /// both included.
+    pub fn values(&self) -> Vec<f64> {
+        if self.steps == 1 {
+            return vec![self.from];
+        }
+        let n = (self.steps - 1) as f64;
+        (0..self.steps)
+            .map(|i| {
+                if i + 1 == self.steps {
+                    self.to
+                } else {
+                    self.from + (self.to - self.from) * (i as f64) / n
+                }
+            })
+            .collect()
+    }
+}
+
+impl Mechanism {
+    /// A marker by id.
+    pub fn marker(&self, id: MarkerId) -> &Marker {
+        &self.bodies[id.body].markers[id.marker]
+    }
+
+    /// "body.marker".
+    pub fn marker_name(&self, id: MarkerId) -> String {
+        format!(
+            "{}.{}",
+            self.bodies[id.body].name,
+            self.bodies[id.body].markers[id.marker].name
+        )
+    }
+
+    /// Looks a marker up by "body.marker".
+    pub fn find_marker(&self, name: &str) -> Option<MarkerId> {
+        let (body, marker) = name.split_once('.')?;
+        let b = self.bodies.iter().position(|b| b.name == body)?;
+        let m = self.bodies[b].markers.iter().position(|m| m.name == marker)?;
+        Some(MarkerId { body: b, marker: m })
+    }
+
+    /// Every marker, body by body, in file order.
+    pub fn all_markers(&self) -> impl Iterator<Item = MarkerId> + '_ {
+        self.bodies.iter().enumerate().flat_map(|(b, body)| {
+            (0..body.markers.len()).map(move |m| MarkerId { body: b, marker: m })
+        })
+    }
+
+    /// The size of the mechanism: the diagonal of its markers' bounding box
+    /// as drawn (1 if they all coincide). Tolerances are relative to it.
+    pub fn size(&self) -> f64 {
+        let mut lo = [f64::INFINITY; 2];
+        let mut hi = [f64::NEG_INFINITY; 2];
+        for id in self.all_markers() {
+            let p = self.marker(id).at;
+            for k in 0..2 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
+            }
+        }
+        let d = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2)).sqrt();
+        if d.is_finite() && d > 0.0 {
+            d
+        } else {
+            1.0
+        }
+    }
+
+    /// Number of links in Grübler's sense: every mobile body plus one for
+    /// the ground (all fixed bodies together).
+    pub fn links(&self) -> usize {
+        self.bodies.iter().filter(|b| !b.fixed).count() + 1
+    }
+}

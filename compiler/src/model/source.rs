@@ -1,0 +1,260 @@
+//! The syntax tree a mechanism file is read into before validation: TOML
+//! and JSON both become [`Node`]s, so validation is written once.
+//!
+//! TOML nodes carry byte spans (through `toml::Spanned`), which turn into
+//! `file:line:column` in errors. JSON nodes carry none — `serde_json` keeps
+//! no positions past syntax errors — so errors about JSON files name the
+//! path inside the document (`joints.A.markers[1]`) instead.
+
+use std::fmt;
+use std::marker::PhantomData;
+use std::ops::Range;
+
+use serde::de::{DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
+
+/// A byte range in the source text.
+pub type Span = Range<usize>;
+
+/// A value of the file with the position it came from.
+#[derive(Clone, Debug)]
+pub struct Node {
+    /// Where the value is written (TOML only).
+    pub span: Option<Span>,
+    /// The value.
+    pub kind: NodeKind,
+}
+
+/// A table key with the position it came from.
+#[derive(Clone, Debug)]
+pub struct Key {
+    /// The key text.
+    pub name: String,
+    /// Where the key is written (TOML only).
+    pub span: Option<Span>,
+}
+
+/// The value of a [`Node`].
+#[derive(Clone, Debug)]
+pub enum NodeKind {
+    /// A table (TOML) or object (JSON), in document order.
+    Table(Vec<(Key, Node)>),
+    /// An array.
+    Array(Vec<Node>),
+    /// A string.
+    Str(String),
+    /// An integer.
+    Int(i64),
+    /// A float (may be NaN or infinite: TOML allows `nan` and `inf`, and
+    /// validation rejects them with a position).
+    Float(f64),
+    /// A boolean.
+    Bool(bool),
+    /// Anything else (a TOML date): rejected by validation.
+    Other(&'static str),
+}
+
+impl NodeKind {
+    /// The name of the value's type for "expected …, found …" errors.
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            NodeKind::Table(_) => "a table",
+            NodeKind::Array(_) => "an array",
+            NodeKind::Str(_) => "a string",
+            NodeKind::Int(_) => "an integer",
+            NodeKind::Float(_) => "a float",
+            NodeKind::Bool(_) => "a boolean",
+            NodeKind::Other(what) => what,
+        }
+    }
+}
+
+/// A syntax error with its position when the parser reports one.
+#[derive(Debug)]
+pub struct SyntaxError {
+    /// What is wrong.
+    pub message: String,
+    /// Where (byte range), when known.
+    pub span: Option<Span>,
+    /// Line and column (1-based), when the parser gives those instead.
+    pub line_col: Option<(usize, usize)>,
+}
+
+/// Reads TOML text into a [`Node`] tree with spans.
+pub fn parse_toml(text: &str) -> Result<Node, SyntaxError> {
+    let de = toml::de::Deserializer::parse(text).map_err(|e| SyntaxError {
+        message: e.message().to_string(),
+        span: e.span(),
+        line_col: None,
+    })?;
+    let kind = de
+        .deserialize_any(KindVisitor::<true>(PhantomData))
+        .map_err(|e| SyntaxError {
+            message: e.message().to_string(),
+            span: e.span(),
+            line_col: None,
+        })?;
+    Ok(Node {
+        span: Some(0..text.len()),
+        kind,
+    })
+}
+
+/// Reads JSON text into a [`Node`] tree (no spans).
+pub fn parse_json(text: &str) -> Result<Node, SyntaxError> {
+    let mut de = serde_json::Deserializer::from_str(text);
+    let kind = (&mut de)
+        .deserialize_any(KindVisitor::<false>(PhantomData))
+        .and_then(|k| de.end().map(|_| k))
+        .map_err(|e| SyntaxError {
+            message: strip_position(&e.to_string()),
+            span: None,
+            line_col: Some((e.line(), e.column())),
+        })?;
+    Ok(Node { span: None, kind })
+}
+
+/// serde_json appends " at line L column C" to its messages; the position is
+/// reported separately.
+fn strip_position(message: &str) -> String {
+    match message.rfind(" at line ") {
+        Some(i) => message[..i].to_string(),
+        None => message.to_string(),
+    }
+}
+
+/// Deserializes one value. `SPANNED` is true for TOML, whose deserializer
+/// hands out spans through `toml::Spanned`.
+struct NodeSeed<const SPANNED: bool>;
+
+impl<'de, const SPANNED: bool> DeserializeSeed<'de> for NodeSeed<SPANNED> {
+    type Value = Node;
+
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Node, D::Error> {
+        if SPANNED {
+            let spanned = <toml::Spanned<Kind<SPANNED>> as serde::Deserialize>::deserialize(d)?;
+            let span = spanned.span();
+            Ok(Node {
+                span: Some(span),
+                kind: spanned.into_inner().0,
+            })
+        } else {
+            Ok(Node {
+                span: None,
+                kind: d.deserialize_any(KindVisitor::<SPANNED>(PhantomData))?,
+            })
+        }
+    }
+}
+
+/// A key, spanned in TOML.
+struct KeySeed<const SPANNED: bool>;
+
+impl<'de, const SPANNED: bool> DeserializeSeed<'de> for KeySeed<SPANNED> {
+    type Value = Key;
+
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Key, D::Error> {
+        if SPANNED {
+            let spanned = <toml::Spanned<String> as serde::Deserialize>::deserialize(d)?;
+            let span = spanned.span();
+            Ok(Key {
+                name: spanned.into_inner(),
+                span: Some(span),
+            })
+        } else {
+            Ok(Key {
+                name: <String as serde::Deserialize>::deserialize(d)?,
+                span: None,
+            })
+        }
+    }
+}
+
+struct Kind<const SPANNED: bool>(NodeKind);
+
+impl<'de, const SPANNED: bool> serde::Deserialize<'de> for Kind<SPANNED> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(KindVisitor::<SPANNED>(PhantomData)).map(Kind)
+    }
+}
+
+struct KindVisitor<const SPANNED: bool>(PhantomData<()>);
+
+impl<'de, const SPANNED: bool> Visitor<'de> for KindVisitor<SPANNED> {
+    type Value = NodeKind;
+
+    fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+        f.write_str("a mechanism value")
+    }
+
+    fn visit_bool<E>(self, v: bool) -> Result<NodeKind, E> {
+        Ok(NodeKind::Bool(v))
+    }
+
+    fn visit_i64<E>(self, v: i64) -> Result<NodeKind, E> {
+        Ok(NodeKind::Int(v))
+    }
+
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<NodeKind, E> {
+        match i64::try_from(v) {
+            Ok(i) => Ok(NodeKind::Int(i)),
+            Err(_) => Ok(NodeKind::Float(v as f64)),
+        }
+    }
+
+    fn visit_f64<E>(self, v: f64) -> Result<NodeKind, E> {
+        Ok(NodeKind::Float(v))
+    }
+
+    fn visit_str<E>(self, v: &str) -> Result<NodeKind, E> {
+        Ok(NodeKind::Str(v.to_string()))
+    }
+
+    fn visit_string<E>(self, v: String) -> Result<NodeKind, E> {
+        Ok(NodeKind::Str(v))
+    }
+
+    fn visit_unit<E>(self) -> Result<NodeKind, E> {
+        Ok(NodeKind::Other("null"))
+    }
+
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<NodeKind, A::Error> {
+        let mut items = Vec::new();
+        while let Some(item) = seq.next_element_seed(NodeSeed::<SPANNED>)? {
+            items.push(item);
+        }
+        Ok(NodeKind::Array(items))
+    }
+
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<NodeKind, A::Error> {
+        let mut entries = Vec::new();
+        while let Some(key) = map.next_key_seed(KeySeed::<SPANNED>)? {
+            let value = map.next_value_seed(NodeSeed::<SPANNED>)?;
+            entries.push((key, value));
+        }
+        Ok(NodeKind::Table(entries))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn toml_nodes_carry_spans_in_document_order() {
+        let text = "b = 1\na = [1.5, 2]\n[t]\nx = \"y\"\n";
+        let node = parse_toml(text).unwrap();
+        let NodeKind::Table(entries) = node.kind else {
+            panic!("not a table")
+        };
+        let names: Vec<_> = entries.iter().map(|(k, _)| k.name.as_str()).collect();
+        assert_eq!(names, ["b", "a", "t"]);
+        let span = entries[1].1.span.clone().unwrap();
+        assert_eq!(&text[span], "[1.5, 2]");
+    }
+
+    #[test]
+    fn json_errors_have_line_and_column() {
+        let err = parse_json("{\n \"a\": [1, }").unwrap_err();
+        assert_eq!(err.line_col.map(|l| l.0), Some(2));
+    }
+}

@@ -1,0 +1,156 @@
+//! Running a plan frame after frame under a breaking policy.
+//!
+//! Both back ends implement [`Solver`]: a generated plan module and the
+//! compiler's interpreter. The breaking policies live here, once, on top of
+//! that trait — they only need "run the plan at these inputs" and a copy of
+//! the last valid state.
+
+use crate::frame::{Break, BreakPolicy, Ctx, FrameStatus, Options};
+
+/// A plan that can be executed: one execution places every body for one set
+/// of input values.
+pub trait Solver {
+    /// Everything a plan execution reads from the previous frame and writes:
+    /// body poses, the last point of every branching step, branch signs.
+    /// Generated plans use fixed-size arrays, so cloning never allocates.
+    type State: Clone;
+    /// Input values, one per input in plan order.
+    type Inputs: Clone + AsRef<[f64]> + AsMut<[f64]>;
+
+    /// The drawn pose (every input at 0).
+    fn initial_state(&self) -> Self::State;
+    /// All inputs at 0.
+    fn initial_inputs(&self) -> Self::Inputs;
+    /// Executes every step of the plan for `inputs`, warm-started from
+    /// `state`. On error `state` is partly updated and must be discarded.
+    fn solve(&self, state: &mut Self::State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break>;
+}
+
+/// Drives a [`Solver`] frame after frame, keeping the last valid pose and
+/// applying the breaking policy when an input cannot be met.
+///
+/// A frame allocates nothing: the driver owns every buffer it needs.
+pub struct Driver<S: Solver> {
+    solver: S,
+    options: Options,
+    state: S::State,
+    trial: S::State,
+    last: S::Inputs,
+    probe: S::Inputs,
+}
+
+impl<S: Solver> Driver<S> {
+    /// A driver at the drawn pose.
+    pub fn new(solver: S, options: Options) -> Self {
+        let state = solver.initial_state();
+        let last = solver.initial_inputs();
+        Driver {
+            trial: state.clone(),
+            probe: last.clone(),
+            state,
+            last,
+            solver,
+            options,
+        }
+    }
+
+    /// The plan being driven.
+    pub fn solver(&self) -> &S {
+        &self.solver
+    }
+
+    /// The options in force.
+    pub fn options(&self) -> &Options {
+        &self.options
+    }
+
+    /// The current (last valid) state.
+    pub fn state(&self) -> &S::State {
+        &self.state
+    }
+
+    /// The input values of the current pose (differs from the last request
+    /// after a break).
+    pub fn inputs(&self) -> &[f64] {
+        self.last.as_ref()
+    }
+
+    /// Back to the drawn pose.
+    pub fn reset(&mut self) {
+        self.state = self.solver.initial_state();
+        self.last = self.solver.initial_inputs();
+    }
+
+    /// Moves to `inputs` (one value per input, in plan order).
+    pub fn frame(&mut self, inputs: &[f64]) -> FrameStatus {
+        let stretch = self.options.breaking == BreakPolicy::Stretch;
+        let mut ctx = Ctx::new(self.options.branch, stretch);
+        self.trial.clone_from(&self.state);
+        match self.solver.solve(&mut self.trial, inputs, &mut ctx) {
+            Ok(()) => {
+                std::mem::swap(&mut self.state, &mut self.trial);
+                self.last.as_mut().copy_from_slice(inputs);
+                match ctx.stretched {
+                    None => FrameStatus::Solved,
+                    Some((step, residual)) => FrameStatus::Stretched { step, residual },
+                }
+            }
+            Err(brk) => match self.options.breaking {
+                BreakPolicy::Search => self.search(inputs, brk),
+                // Stretch relaxes every step it can; a step that cannot be
+                // relaxed (none today) falls back to the limit policy.
+                BreakPolicy::Limit | BreakPolicy::Stretch => FrameStatus::Limited { brk },
+            },
+        }
+    }
+
+    /// Bisects between the last valid inputs and `requested` for the break
+    /// point and moves there.
+    fn search(&mut self, requested: &[f64], brk: Break) -> FrameStatus {
+        let span = requested
+            .iter()
+            .zip(self.last.as_ref())
+            .fold(0.0_f64, |m, (r, l)| m.max((r - l).abs()));
+        let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+        while (hi - lo) * span > self.options.search_tolerance {
+            let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break; // the bracket is as narrow as f64 allows
+            }
+            if self.try_at(requested, mid).is_ok() {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        if lo > 0.0 {
+            // Re-run at the bracket's valid end; it succeeded from the same
+            // warm start, so it succeeds again with the same result.
+            if self.try_at(requested, lo).is_ok() {
+                std::mem::swap(&mut self.state, &mut self.trial);
+                self.last.clone_from(&self.probe);
+            } else {
+                lo = 0.0;
+            }
+        }
+        FrameStatus::Searched { brk, reached: lo }
+    }
+
+    /// Solves into `trial` at the fraction `t` from the last inputs toward
+    /// `requested` (the probe inputs are left in `probe`).
+    fn try_at(&mut self, requested: &[f64], t: f64) -> Result<(), Break> {
+        for ((p, l), r) in self
+            .probe
+            .as_mut()
+            .iter_mut()
+            .zip(self.last.as_ref())
+            .zip(requested)
+        {
+            *p = l + t * (r - l);
+        }
+        self.trial.clone_from(&self.state);
+        let mut ctx = Ctx::new(self.options.branch, false);
+        self.solver
+            .solve(&mut self.trial, self.probe.as_ref(), &mut ctx)
+    }
+}

@@ -1,0 +1,210 @@
+//! What one frame reports, the policies that shape it, and the context the
+//! steps of one plan execution share.
+
+/// Index of a step in its plan (the plan IR's numbering, shown by
+/// `dofplan plan`), so a break can name the step that could not be met.
+pub type StepId = u32;
+
+/// Which of the (at most two) roots of an intersection a step takes.
+///
+/// The sign is geometric, not an index into a sorted list: for two circles
+/// it is the side of the centre line the point lies on, for a circle and a
+/// line it is the direction along the line. A smooth motion away from
+/// singular poses therefore never changes the sign, which is what makes
+/// "keep the branch" flip-free.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum Branch {
+    /// The root on the positive side.
+    Plus,
+    /// The root on the negative side.
+    Minus,
+}
+
+impl Branch {
+    /// +1.0 or −1.0.
+    #[inline]
+    pub fn sign(self) -> f64 {
+        match self {
+            Branch::Plus => 1.0,
+            Branch::Minus => -1.0,
+        }
+    }
+
+    /// "+" or "−" for explanations.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Branch::Plus => "+",
+            Branch::Minus => "-",
+        }
+    }
+}
+
+/// How a step picks its root at move time.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum BranchPolicy {
+    /// Keep the branch chosen at plan time (the one of the drawn pose).
+    #[default]
+    Keep,
+    /// Take the root nearest the previous frame's and remember its branch.
+    Nearest,
+}
+
+/// What to do when an input value cannot be met (Brunkhart §3.3.5).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum BreakPolicy {
+    /// Stay at the last valid pose and report the step that broke.
+    #[default]
+    Limit,
+    /// Bisect between the last valid input and the requested one to find the
+    /// break point (to [`Options::search_tolerance`]) and move there.
+    Search,
+    /// Relax the failing step: place the markers as close as possible and
+    /// report the residual.
+    Stretch,
+}
+
+/// Move-time options of a frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Options {
+    /// Branch policy.
+    pub branch: BranchPolicy,
+    /// Breaking policy.
+    pub breaking: BreakPolicy,
+    /// Search stops when the bracket around the break point is this narrow
+    /// in every input (degrees or length units).
+    pub search_tolerance: f64,
+}
+
+impl Default for Options {
+    fn default() -> Self {
+        Options {
+            branch: BranchPolicy::Keep,
+            breaking: BreakPolicy::Limit,
+            search_tolerance: 1e-9,
+        }
+    }
+}
+
+/// Why a step could not be met.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum BreakKind {
+    /// Two circles are too far apart or one lies inside the other.
+    CirclesApart,
+    /// A line misses a circle.
+    LineMissesCircle,
+    /// Two lines are parallel.
+    ParallelLines,
+    /// A line turning about a pivot cannot reach a point.
+    LineCannotReach,
+}
+
+impl BreakKind {
+    /// A short description for reports.
+    pub fn describe(self) -> &'static str {
+        match self {
+            BreakKind::CirclesApart => "the circles do not meet",
+            BreakKind::LineMissesCircle => "the line misses the circle",
+            BreakKind::ParallelLines => "the lines are parallel",
+            BreakKind::LineCannotReach => "the line cannot reach the point",
+        }
+    }
+}
+
+/// A step that could not be met.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Break {
+    /// The step, numbered as in the plan.
+    pub step: StepId,
+    /// What went wrong.
+    pub kind: BreakKind,
+    /// How far from being met (a distance in length units).
+    pub gap: f64,
+}
+
+/// What happened in one frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(tag = "status", rename_all = "snake_case"))]
+pub enum FrameStatus {
+    /// Every step met exactly.
+    Solved,
+    /// The input could not be met; the pose stayed at the last valid frame.
+    Limited {
+        /// The step that broke.
+        brk: Break,
+    },
+    /// The input could not be met; the pose moved to the break point, the
+    /// fraction `reached` of the way from the last valid input to the
+    /// requested one.
+    Searched {
+        /// The step that broke at the requested input.
+        brk: Break,
+        /// 0 = stayed at the last valid input, 1 = reached the request.
+        reached: f64,
+    },
+    /// The input was applied but steps were relaxed.
+    Stretched {
+        /// The first relaxed step.
+        step: StepId,
+        /// The largest gap left by a relaxed step.
+        residual: f64,
+    },
+}
+
+impl FrameStatus {
+    /// True when the requested input was met exactly.
+    pub fn is_solved(&self) -> bool {
+        matches!(self, FrameStatus::Solved)
+    }
+
+    /// A one-word name: solved, limited, searched or stretched.
+    pub fn name(&self) -> &'static str {
+        match self {
+            FrameStatus::Solved => "solved",
+            FrameStatus::Limited { .. } => "limited",
+            FrameStatus::Searched { .. } => "searched",
+            FrameStatus::Stretched { .. } => "stretched",
+        }
+    }
+}
+
+/// State shared by the steps of one plan execution.
+#[derive(Clone, Copy, Debug)]
+pub struct Ctx {
+    /// How roots are chosen.
+    pub branch: BranchPolicy,
+    /// Relax failing steps instead of breaking.
+    pub stretch: bool,
+    /// The first step relaxed in this execution and the largest gap so far.
+    pub stretched: Option<(StepId, f64)>,
+}
+
+impl Ctx {
+    /// A fresh context for one plan execution.
+    pub fn new(branch: BranchPolicy, stretch: bool) -> Ctx {
+        Ctx {
+            branch,
+            stretch,
+            stretched: None,
+        }
+    }
+
+    /// Either records a relaxation (stretch policy) or returns the break.
+    #[inline]
+    pub(crate) fn fail(&mut self, step: StepId, kind: BreakKind, gap: f64) -> Result<(), Break> {
+        if self.stretch {
+            self.stretched = Some(match self.stretched {
+                None => (step, gap),
+                Some((first, worst)) => (first, worst.max(gap)),
+            });
+            Ok(())
+        } else {
+            Err(Break { step, kind, gap })
+        }
+    }
+}

@@ -1,0 +1,299 @@
+//! Intersections of loci: the closed-form core of a planar plan.
+//!
+//! Each function either returns the point (or rotation) that meets both
+//! loci, or — when none exists — reports a [`Break`] through the context,
+//! which under the stretch policy instead returns the point that comes
+//! closest and records the gap. Roots are chosen by [`Branch`] sign so that
+//! the branch of the drawn pose is kept along smooth motions.
+
+use super::{add, cross, dist2, dot, perp, scale, sub, Point, Rot};
+use crate::frame::{Branch, BranchPolicy, Break, BreakKind, Ctx, StepId};
+
+/// Squared half-chords smaller than this (relative to the squared radii)
+/// count as tangency rather than a miss: round-off at a tangent pose must
+/// not break a mechanism that is exactly at its limit.
+const TANGENT_TOLERANCE: f64 = 1e-12;
+
+/// Picks one of two roots `base ± off` by policy and records the choice.
+#[inline]
+fn pick(ctx: &Ctx, base: Point, off: Point, branch: &mut Branch, last: &mut Point) -> Point {
+    let plus = add(base, off);
+    let minus = sub(base, off);
+    if ctx.branch == BranchPolicy::Nearest {
+        *branch = if dist2(plus, *last) <= dist2(minus, *last) {
+            Branch::Plus
+        } else {
+            Branch::Minus
+        };
+    }
+    let x = match *branch {
+        Branch::Plus => plus,
+        Branch::Minus => minus,
+    };
+    *last = x;
+    x
+}
+
+/// The point at distance `r1` from `c1` and `r2` from `c2` (RRR dyad).
+///
+/// Branch + lies to the left of the directed line `c1 → c2`.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn circle_circle(
+    ctx: &mut Ctx,
+    step: StepId,
+    c1: Point,
+    r1: f64,
+    c2: Point,
+    r2: f64,
+    branch: &mut Branch,
+    last: &mut Point,
+) -> Result<Point, Break> {
+    let d_vec = sub(c2, c1);
+    let d2 = dot(d_vec, d_vec);
+    let d = d2.sqrt();
+    if d == 0.0 {
+        // Concentric circles: no isolated intersection. Stretching puts the
+        // point on the first circle, on the side of the last frame.
+        ctx.fail(step, BreakKind::CirclesApart, (r1 - r2).abs())?;
+        let toward = sub(*last, c1);
+        let n = dot(toward, toward).sqrt();
+        let u = if n > 0.0 { scale(toward, 1.0 / n) } else { [1.0, 0.0] };
+        let x = add(c1, scale(u, r1));
+        *last = x;
+        return Ok(x);
+    }
+    let u = scale(d_vec, 1.0 / d);
+    // Distance from c1 to the chord, along u.
+    let a = (r1 * r1 - r2 * r2 + d2) / (2.0 * d);
+    let h2 = r1 * r1 - a * a;
+    let h = if h2 >= 0.0 {
+        h2.sqrt()
+    } else if h2 >= -TANGENT_TOLERANCE * (r1 * r1 + r2 * r2) {
+        0.0
+    } else {
+        // Apart (d > r1 + r2) or nested (d < |r1 - r2|): the closest pair of
+        // points lies on the centre line; stretching takes their midpoint.
+        let gap = if d > r1 + r2 {
+            d - r1 - r2
+        } else {
+            (r1 - r2).abs() - d
+        };
+        ctx.fail(step, BreakKind::CirclesApart, gap)?;
+        let on1 = if d > r1 + r2 || r1 >= r2 {
+            add(c1, scale(u, r1))
+        } else {
+            sub(c1, scale(u, r1))
+        };
+        let on2 = if d > r1 + r2 || r2 >= r1 {
+            sub(c2, scale(u, r2))
+        } else {
+            add(c2, scale(u, r2))
+        };
+        let x = scale(add(on1, on2), 0.5);
+        *last = x;
+        return Ok(x);
+    };
+    let base = add(c1, scale(u, a));
+    Ok(pick(ctx, base, scale(perp(u), h), branch, last))
+}
+
+/// The point at distance `r` from `c` on the line through `p` along the unit
+/// direction `dir` (RRP dyad). Branch + lies ahead of the foot of `c` along
+/// `dir`.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn circle_line(
+    ctx: &mut Ctx,
+    step: StepId,
+    c: Point,
+    r: f64,
+    p: Point,
+    dir: Point,
+    branch: &mut Branch,
+    last: &mut Point,
+) -> Result<Point, Break> {
+    let foot = add(p, scale(dir, dot(sub(c, p), dir)));
+    let off2 = dist2(c, foot);
+    let h2 = r * r - off2;
+    let h = if h2 >= 0.0 {
+        h2.sqrt()
+    } else if h2 >= -TANGENT_TOLERANCE * r * r {
+        0.0
+    } else {
+        let off = off2.sqrt();
+        ctx.fail(step, BreakKind::LineMissesCircle, off - r)?;
+        // Midway between the line and the circle's nearest point.
+        let on_circle = add(c, scale(sub(foot, c), r / off));
+        let x = scale(add(on_circle, foot), 0.5);
+        *last = x;
+        return Ok(x);
+    };
+    Ok(pick(ctx, foot, scale(dir, h), branch, last))
+}
+
+/// The point common to the line through `p1` along `d1` and the line through
+/// `p2` along `d2` (PRP dyad; directions of unit length).
+#[inline]
+pub fn line_line(
+    ctx: &mut Ctx,
+    step: StepId,
+    p1: Point,
+    d1: Point,
+    p2: Point,
+    d2: Point,
+) -> Result<Point, Break> {
+    let det = cross(d1, d2);
+    if det.abs() < 1e-12 {
+        let gap = cross(sub(p2, p1), d1).abs();
+        ctx.fail(step, BreakKind::ParallelLines, gap)?;
+        // Midway between the two parallel lines, at the foot of p1.
+        let foot = add(p2, scale(d2, dot(sub(p1, p2), d2)));
+        return Ok(scale(add(p1, foot), 0.5));
+    }
+    let s = cross(sub(p2, p1), d2) / det;
+    Ok(add(p1, scale(d1, s)))
+}
+
+/// The rotation `R` of a body pinned at `pivot` whose line (local unit
+/// direction `dir`) must pass at signed distance `kappa` from `target`:
+/// `cross(target − pivot, R·dir) = kappa` (RPR dyad, or a slotted link
+/// turning through a placed point).
+///
+/// Branch + has the line pointing away from the pivot towards the target
+/// (positive cosine between `R·dir` and `target − pivot`). `last` keeps the
+/// previous (cos, sin) for the nearest policy.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn turn_line_through(
+    ctx: &mut Ctx,
+    step: StepId,
+    pivot: Point,
+    target: Point,
+    dir: Point,
+    kappa: f64,
+    branch: &mut Branch,
+    last: &mut Point,
+) -> Result<Rot, Break> {
+    let e_vec = sub(target, pivot);
+    let e = dot(e_vec, e_vec).sqrt();
+    let mut sin_a = if e > 0.0 { kappa / e } else { f64::INFINITY };
+    if sin_a.abs() > 1.0 {
+        if sin_a.abs() > 1.0 + TANGENT_TOLERANCE {
+            ctx.fail(step, BreakKind::LineCannotReach, kappa.abs() - e)?;
+        }
+        if e == 0.0 {
+            // The target sits on the pivot: any rotation is as good; keep
+            // the last one.
+            return Ok(Rot {
+                c: last[0],
+                s: last[1],
+            });
+        }
+        sin_a = sin_a.signum();
+    }
+    let cos_a = (1.0 - sin_a * sin_a).max(0.0).sqrt();
+    let eu = scale(e_vec, 1.0 / e);
+    // World direction of the line for each root: eu turned by ±alpha.
+    let line_dir = |cos: f64| -> Rot {
+        let w = [eu[0] * cos - eu[1] * sin_a, eu[0] * sin_a + eu[1] * cos];
+        // R maps dir to w: R = w · conj(dir) as complex numbers.
+        Rot {
+            c: w[0] * dir[0] + w[1] * dir[1],
+            s: w[1] * dir[0] - w[0] * dir[1],
+        }
+    };
+    let plus = line_dir(cos_a);
+    let minus = line_dir(-cos_a);
+    if ctx.branch == BranchPolicy::Nearest {
+        let dp = (plus.c - last[0]).powi(2) + (plus.s - last[1]).powi(2);
+        let dm = (minus.c - last[0]).powi(2) + (minus.s - last[1]).powi(2);
+        *branch = if dp <= dm { Branch::Plus } else { Branch::Minus };
+    }
+    let r = match *branch {
+        Branch::Plus => plus,
+        Branch::Minus => minus,
+    };
+    *last = [r.c, r.s];
+    Ok(r)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn ctx() -> Ctx {
+        Ctx::new(BranchPolicy::Keep, false)
+    }
+
+    #[test]
+    fn circles_meet_on_both_sides() {
+        let mut last = [0.0; 2];
+        let mut b = Branch::Plus;
+        let x = circle_circle(&mut ctx(), 0, [0.0, 0.0], 5.0, [8.0, 0.0], 5.0, &mut b, &mut last)
+            .unwrap();
+        assert!((x[0] - 4.0).abs() < 1e-12 && (x[1] - 3.0).abs() < 1e-12);
+        let mut b = Branch::Minus;
+        let x = circle_circle(&mut ctx(), 0, [0.0, 0.0], 5.0, [8.0, 0.0], 5.0, &mut b, &mut last)
+            .unwrap();
+        assert!((x[1] + 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn apart_circles_break_or_stretch() {
+        let mut last = [0.0; 2];
+        let mut b = Branch::Plus;
+        let e = circle_circle(&mut ctx(), 7, [0.0, 0.0], 1.0, [5.0, 0.0], 1.0, &mut b, &mut last)
+            .unwrap_err();
+        assert_eq!(e.step, 7);
+        assert!((e.gap - 3.0).abs() < 1e-12);
+        let mut s = Ctx::new(BranchPolicy::Keep, true);
+        let x = circle_circle(&mut s, 7, [0.0, 0.0], 1.0, [5.0, 0.0], 1.0, &mut b, &mut last)
+            .unwrap();
+        assert!((x[0] - 2.5).abs() < 1e-12);
+        assert_eq!(s.stretched, Some((7, 3.0)));
+    }
+
+    #[test]
+    fn nearest_policy_follows_the_last_point() {
+        let mut last = [4.0, -2.9];
+        let mut b = Branch::Plus;
+        let mut c = Ctx::new(BranchPolicy::Nearest, false);
+        let x = circle_circle(&mut c, 0, [0.0, 0.0], 5.0, [8.0, 0.0], 5.0, &mut b, &mut last)
+            .unwrap();
+        assert_eq!(b, Branch::Minus);
+        assert!((x[1] + 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn circle_meets_line() {
+        let mut last = [0.0; 2];
+        let mut b = Branch::Plus;
+        let x = circle_line(&mut ctx(), 0, [0.0, 0.0], 5.0, [-10.0, 3.0], [1.0, 0.0], &mut b, &mut last)
+            .unwrap();
+        assert!((x[0] - 4.0).abs() < 1e-12 && (x[1] - 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn lines_meet() {
+        let x = line_line(&mut ctx(), 0, [0.0, 1.0], [1.0, 0.0], [2.0, 0.0], [0.0, 1.0]).unwrap();
+        assert_eq!(x, [2.0, 1.0]);
+        assert!(line_line(&mut ctx(), 0, [0.0, 1.0], [1.0, 0.0], [2.0, 0.0], [1.0, 0.0]).is_err());
+    }
+
+    #[test]
+    fn turned_line_passes_through_target() {
+        // A slot through the pivot (kappa = 0) must point at the target.
+        let mut last = [1.0, 0.0];
+        let mut b = Branch::Plus;
+        let r = turn_line_through(&mut ctx(), 0, [0.0, 0.0], [0.0, 2.0], [1.0, 0.0], 0.0, &mut b, &mut last)
+            .unwrap();
+        let w = r.apply([1.0, 0.0]);
+        assert!(w[0].abs() < 1e-12 && (w[1] - 1.0).abs() < 1e-12);
+        // An offset slot: the line at signed distance 1 from the target.
+        let r = turn_line_through(&mut ctx(), 0, [0.0, 0.0], [3.0, 0.0], [1.0, 0.0], 1.0, &mut b, &mut last)
+            .unwrap();
+        let w = r.apply([1.0, 0.0]);
+        assert!((cross([3.0, 0.0], w) - 1.0).abs() < 1e-12);
+    }
+}

@@ -1,0 +1,63 @@
+//! Placing a body once its loci are met.
+
+use super::{cross, dot, sub, Point, Pose, Rot};
+
+/// Sets a body's rotation to `from` followed by `rel` (a relative rotation
+/// carried by a joint: the identity for a prismatic joint or an offset
+/// constraint, the input angle for a driven revolute).
+#[inline]
+pub fn orient(pose: &mut Pose, from: Rot, rel: Rot) {
+    pose.rot = from.then(rel);
+}
+
+/// Translates a body whose rotation is known so that its marker `local`
+/// lands on the world point `at`.
+#[inline]
+pub fn anchor(pose: &mut Pose, local: Point, at: Point) {
+    let r = pose.rot.apply(local);
+    pose.at = [at[0] - r[0], at[1] - r[1]];
+}
+
+/// Places a body by two of its markers: `p` lands on `p_at` and `q` lies on
+/// the ray from `p_at` through `q_at` (exactly on `q_at` when the distances
+/// agree, which the step that computed `q_at` guarantees unless it was
+/// stretched).
+#[inline]
+pub fn align(pose: &mut Pose, p: Point, p_at: Point, q: Point, q_at: Point) {
+    let dl = sub(q, p);
+    let dw = sub(q_at, p_at);
+    let norm = (dot(dl, dl) * dot(dw, dw)).sqrt();
+    // A zero-length world span leaves the rotation undefined; keeping the
+    // previous one is the continuous choice.
+    if norm > 0.0 {
+        pose.rot = Rot {
+            c: dot(dl, dw) / norm,
+            s: cross(dl, dw) / norm,
+        };
+    }
+    anchor(pose, p, p_at);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn align_maps_both_markers() {
+        let mut pose = Pose::IDENTITY;
+        align(&mut pose, [1.0, 1.0], [2.0, 0.0], [3.0, 1.0], [2.0, 2.0]);
+        let a = pose.world([1.0, 1.0]);
+        let b = pose.world([3.0, 1.0]);
+        assert!((a[0] - 2.0).abs() < 1e-12 && a[1].abs() < 1e-12);
+        assert!((b[0] - 2.0).abs() < 1e-12 && (b[1] - 2.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn orient_then_anchor() {
+        let mut pose = Pose::IDENTITY;
+        orient(&mut pose, Rot::from_degrees(90.0), Rot::IDENTITY);
+        anchor(&mut pose, [1.0, 0.0], [0.0, 0.0]);
+        let o = pose.world([0.0, 0.0]);
+        assert!(o[0].abs() < 1e-12 && (o[1] + 1.0).abs() < 1e-12);
+    }
+}
