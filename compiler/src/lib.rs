@@ -14,3 +14,6 @@
 //! - [`build`]: the `build.rs` API.
 
 pub mod model;
+pub mod analysis;
+pub mod interp;
+pub mod plan;

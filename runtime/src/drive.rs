@@ -6,6 +6,7 @@
 //! the last valid state.
 
 use crate::frame::{Break, BreakPolicy, Ctx, FrameStatus, Options};
+use crate::planar::Pose;
 
 /// A plan that can be executed: one execution places every body for one set
 /// of input values.
@@ -21,6 +22,8 @@ pub trait Solver {
     fn initial_state(&self) -> Self::State;
     /// All inputs at 0.
     fn initial_inputs(&self) -> Self::Inputs;
+    /// The body poses held by a state, in the mechanism's body order.
+    fn poses(state: &Self::State) -> &[Pose];
     /// Executes every step of the plan for `inputs`, warm-started from
     /// `state`. On error `state` is partly updated and must be discarded.
     fn solve(&self, state: &mut Self::State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break>;
@@ -67,6 +70,11 @@ impl<S: Solver> Driver<S> {
     /// The current (last valid) state.
     pub fn state(&self) -> &S::State {
         &self.state
+    }
+
+    /// The body poses of the current (last valid) frame.
+    pub fn poses(&self) -> &[Pose] {
+        S::poses(&self.state)
     }
 
     /// The input values of the current pose (differs from the last request
@@ -152,5 +160,34 @@ impl<S: Solver> Driver<S> {
         let mut ctx = Ctx::new(self.options.branch, false);
         self.solver
             .solve(&mut self.trial, self.probe.as_ref(), &mut ctx)
+    }
+}
+
+/// A driven plan behind a trait object, for callers that pick a compiled
+/// mechanism by name at run time (each generated plan has its own state
+/// type, so [`Driver`] itself cannot be named without it).
+pub trait Animate {
+    /// Moves to `inputs`; see [`Driver::frame`].
+    fn frame(&mut self, inputs: &[f64]) -> FrameStatus;
+    /// The body poses of the current frame.
+    fn poses(&self) -> &[Pose];
+    /// The input values of the current frame.
+    fn inputs(&self) -> &[f64];
+    /// Back to the drawn pose.
+    fn reset(&mut self);
+}
+
+impl<S: Solver> Animate for Driver<S> {
+    fn frame(&mut self, inputs: &[f64]) -> FrameStatus {
+        Driver::frame(self, inputs)
+    }
+    fn poses(&self) -> &[Pose] {
+        Driver::poses(self)
+    }
+    fn inputs(&self) -> &[f64] {
+        Driver::inputs(self)
+    }
+    fn reset(&mut self) {
+        Driver::reset(self)
     }
 }

@@ -19,7 +19,7 @@ pub mod drive;
 pub mod frame;
 pub mod planar;
 
-pub use drive::{Driver, Solver};
+pub use drive::{Animate, Driver, Solver};
 pub use frame::{
     Branch, BranchPolicy, Break, BreakKind, BreakPolicy, Ctx, FrameStatus, Options, StepId,
 };

@@ -1,0 +1,178 @@
+//! Plan-time analysis: mobility, primitive equations, the DOF-driven
+//! planner, and the branch choice that makes a plan reproduce the drawn
+//! pose.
+
+pub mod equations;
+pub mod mobility;
+mod planner;
+
+use std::fmt;
+
+use dofplan_runtime::{BranchPolicy, Ctx, Solver};
+
+use crate::interp::Interpreter;
+use crate::model::Mechanism;
+use crate::plan::{Plan, PlanBody, PlanInput};
+pub use equations::{Equation, Sourced};
+pub use mobility::{Class, Mobility};
+
+/// Everything plan time learns about a mechanism.
+#[derive(Clone, Debug)]
+pub struct Analysis {
+    /// Grübler's count.
+    pub mobility: Mobility,
+    /// The primitive equations of joints, constraints and inputs.
+    pub equations: Vec<Sourced>,
+    /// The closed-form plan, or why there is none.
+    pub plan: Result<Plan, PlanError>,
+    /// Equations no step used (redundant, or on bodies left over), by origin.
+    pub unused: Vec<String>,
+}
+
+/// Why a mechanism has no closed-form plan.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PlanError {
+    /// Propagation and dyads stop before every body is placed.
+    NotClosedForm {
+        /// Bodies placed.
+        placed: Vec<String>,
+        /// Bodies left over.
+        left: Vec<String>,
+    },
+    /// The plan does not reproduce the pose as drawn (an analysis bug,
+    /// reported rather than hidden).
+    DrawnPoseMismatch {
+        /// The body that lands elsewhere.
+        body: String,
+        /// How far off.
+        gap: f64,
+    },
+    /// A step cannot be met even at the drawn pose.
+    BrokenAtDrawnPose {
+        /// The step.
+        step: usize,
+        /// Its explanation.
+        explanation: String,
+    },
+}
+
+impl fmt::Display for PlanError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            PlanError::NotClosedForm { placed, left } => write!(
+                f,
+                "not solvable in closed form by propagation and dyads: bodies left over: {} (placed: {}); \
+                 a numerical cluster for these is not available yet — add an input or a joint that makes \
+                 them a dyad, or drive the mechanism from another joint",
+                left.join(", "),
+                if placed.is_empty() { "none".to_string() } else { placed.join(", ") }
+            ),
+            PlanError::DrawnPoseMismatch { body, gap } => write!(
+                f,
+                "internal error: the plan does not reproduce the drawn pose (body {body} is {gap:.3e} off); please report it with the file"
+            ),
+            PlanError::BrokenAtDrawnPose { step, explanation } => {
+                write!(f, "step {step} cannot be met at the drawn pose: {explanation}")
+            }
+        }
+    }
+}
+
+impl std::error::Error for PlanError {}
+
+/// Analyses a mechanism and plans it.
+pub fn analyse(m: &Mechanism) -> Analysis {
+    let mobility = Mobility::of(m);
+    let eqs = equations::equations(m);
+    let planned = planner::plan(m, &eqs);
+    let unused = planned.unused.iter().map(|&i| eqs[i].origin.clone()).collect();
+    let plan = if planned.unplaced.is_empty() {
+        let plan = Plan {
+            mechanism: m.name.clone(),
+            source: file_name(&m.source.name),
+            bodies: m
+                .bodies
+                .iter()
+                .map(|b| PlanBody {
+                    name: b.name.clone(),
+                    fixed: b.fixed,
+                })
+                .collect(),
+            inputs: m
+                .inputs
+                .iter()
+                .map(|i| PlanInput {
+                    name: i.name.clone(),
+                    kind: i.kind,
+                })
+                .collect(),
+            temps: planned.temps,
+            branches: planned.branches,
+            steps: planned.steps,
+        };
+        choose_branches(m, plan)
+    } else {
+        let names = |placed: bool| {
+            m.bodies
+                .iter()
+                .enumerate()
+                .filter(|(i, b)| !b.fixed && planned.unplaced.contains(i) != placed)
+                .map(|(_, b)| b.name.clone())
+                .collect()
+        };
+        Err(PlanError::NotClosedForm {
+            placed: names(true),
+            left: names(false),
+        })
+    };
+    Analysis {
+        mobility,
+        equations: eqs,
+        plan,
+        unused,
+    }
+}
+
+/// The file name without its directories (plans and generated code must not
+/// depend on where the file was read from).
+fn file_name(path: &str) -> String {
+    std::path::Path::new(path)
+        .file_name()
+        .map_or_else(|| path.to_string(), |f| f.to_string_lossy().into_owned())
+}
+
+/// Chooses every branch so the plan reproduces the drawn pose, then checks
+/// that it does.
+///
+/// Running the plan once at zero input with the nearest-root policy, with
+/// every slot's "previous" value set to its drawn value, picks at each step
+/// the root nearest the drawing — the same code path move time uses.
+fn choose_branches(m: &Mechanism, mut plan: Plan) -> Result<Plan, PlanError> {
+    let interp = Interpreter::new(plan.clone());
+    let mut state = interp.initial_state();
+    let zeros = interp.initial_inputs();
+    let mut ctx = Ctx::new(BranchPolicy::Nearest, false);
+    if let Err(brk) = interp.solve(&mut state, &zeros, &mut ctx) {
+        return Err(PlanError::BrokenAtDrawnPose {
+            step: brk.step as usize,
+            explanation: plan.explain(brk.step as usize),
+        });
+    }
+    for (slot, chosen) in plan.branches.iter_mut().zip(&state.branches) {
+        slot.initial = *chosen;
+    }
+    let tol = 1e-9 * m.size();
+    for (b, body) in m.bodies.iter().enumerate() {
+        for marker in &body.markers {
+            let w = state.poses[b].world(marker.at);
+            let gap = ((w[0] - marker.at[0]).powi(2) + (w[1] - marker.at[1]).powi(2)).sqrt();
+            if gap > tol {
+                return Err(PlanError::DrawnPoseMismatch {
+                    body: body.name.clone(),
+                    gap,
+                });
+            }
+        }
+    }
+    Ok(plan)
+}

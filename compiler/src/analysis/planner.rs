@@ -1,0 +1,522 @@
+//! Degrees-of-freedom analysis for planar bodies: the plan-fragment table.
+//!
+//! Each body's remaining freedom is tracked as a [`Know`] state (Kramer's
+//! TDOF/RDOF bookkeeping in 2D). Rules consume primitive equations whose
+//! other end is already known and either narrow a body's state or place it
+//! by a closed-form step:
+//!
+//! | state     | + equation to something known    | fragment                   |
+//! |-----------|----------------------------------|----------------------------|
+//! | any       | parallel (rotation known)        | orient (propagation)       |
+//! | free      | coincident                       | pinned (1 RDOF left)       |
+//! | oriented  | coincident                       | anchor → placed            |
+//! | oriented  | in-line                          | sliding (1 TDOF left)      |
+//! | sliding   | in-line                          | line ∩ line → placed       |
+//! | pinned    | in-line (its point on a line)    | circle ∩ line → placed     |
+//! | pinned    | in-line (its line through point) | turn line → placed         |
+//! | pinned    | coincident (another marker)      | two points → placed        |
+//!
+//! and dyads — two bodies, each with one freedom left, joined to each
+//! other (contraction of a three-node loop, Brunkhart §3.3):
+//!
+//! | pair                | joined by            | fragment                  |
+//! |---------------------|----------------------|---------------------------|
+//! | pinned + pinned     | coincident (RRR)     | circle ∩ circle           |
+//! | pinned + sliding    | coincident (RRP)     | circle ∩ line             |
+//! | sliding + sliding   | coincident (PRP)     | line ∩ line               |
+//! | pinned + pinned     | prismatic (RPR)      | turn line through pivot   |
+//!
+//! Sliding bodies are translated provisionally onto their line so that any
+//! of their markers, read at that pose, is a point of its own line locus.
+
+use dofplan_runtime::{Branch, Point};
+
+use super::equations::{Equation, Sourced};
+use crate::model::Mechanism;
+use crate::plan::{BodyId, BranchSlot, DirRef, Line, PointRef, Rel, Step, StepKind, Temp};
+
+/// Two local points closer than this (relative to the mechanism's size) are
+/// the same point.
+const SAME_POINT: f64 = 1e-9;
+
+/// What is known about a body's pose.
+#[derive(Clone, Debug)]
+enum Know {
+    /// Nothing: 3 DOF.
+    Free,
+    /// Its marker `local` is at the known point `at`: 1 RDOF.
+    Pinned { local: Point, at: PointRef },
+    /// Its rotation is known: 2 TDOF.
+    Oriented,
+    /// Rotation known and translation on a line of direction `dir`; the
+    /// body sits provisionally on that line: 1 TDOF.
+    Sliding { dir: DirRef },
+    /// Fully known.
+    Placed,
+}
+
+impl Know {
+    fn rot_known(&self) -> bool {
+        matches!(self, Know::Oriented | Know::Sliding { .. } | Know::Placed)
+    }
+}
+
+/// The outcome of planning.
+pub struct Planned {
+    /// Steps in order.
+    pub steps: Vec<Step>,
+    /// Computed points.
+    pub temps: Vec<Temp>,
+    /// Branch slots (initial branch still to be chosen).
+    pub branches: Vec<BranchSlot>,
+    /// Bodies the rules could not place.
+    pub unplaced: Vec<BodyId>,
+    /// Equations no rule used (redundant ones, or ones on unplaced bodies).
+    pub unused: Vec<usize>,
+}
+
+struct Planner<'m> {
+    m: &'m Mechanism,
+    eqs: &'m [Sourced],
+    used: Vec<bool>,
+    know: Vec<Know>,
+    /// Origins consumed for a body that no step has reported yet (a pin
+    /// records no step; the step that finally places the body serves it).
+    pending: Vec<Vec<String>>,
+    steps: Vec<Step>,
+    temps: Vec<Temp>,
+    branches: Vec<BranchSlot>,
+    tol: f64,
+}
+
+/// Plans a mechanism from its equations.
+pub fn plan(m: &Mechanism, eqs: &[Sourced]) -> Planned {
+    let mut p = Planner {
+        m,
+        eqs,
+        used: vec![false; eqs.len()],
+        know: m
+            .bodies
+            .iter()
+            .map(|b| if b.fixed { Know::Placed } else { Know::Free })
+            .collect(),
+        pending: vec![Vec::new(); m.bodies.len()],
+        steps: Vec::new(),
+        temps: Vec::new(),
+        branches: Vec::new(),
+        tol: SAME_POINT * m.size(),
+    };
+    while p.know.iter().any(|k| !matches!(k, Know::Placed)) {
+        let progressed = p.rotation_rule() || p.coincident_rule() || p.in_line_rule() || p.dyad_rule();
+        if !progressed {
+            break;
+        }
+    }
+    Planned {
+        unplaced: (0..m.bodies.len())
+            .filter(|&b| !matches!(p.know[b], Know::Placed))
+            .collect(),
+        unused: (0..eqs.len()).filter(|&i| !p.used[i]).collect(),
+        steps: p.steps,
+        temps: p.temps,
+        branches: p.branches,
+    }
+}
+
+fn dist(a: Point, b: Point) -> f64 {
+    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()
+}
+
+fn cross(a: Point, b: Point) -> f64 {
+    a[0] * b[1] - a[1] * b[0]
+}
+
+fn sub(a: Point, b: Point) -> Point {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+impl Planner<'_> {
+    fn placed(&self, body: BodyId) -> bool {
+        matches!(self.know[body], Know::Placed)
+    }
+
+    /// A marker of a placed body as a point reference.
+    fn marker_point(&self, body: BodyId, local: Point, name: &str) -> PointRef {
+        if self.m.bodies[body].fixed {
+            PointRef::Fixed {
+                at: local,
+                name: name.to_string(),
+            }
+        } else {
+            PointRef::Marker {
+                body,
+                local,
+                name: name.to_string(),
+            }
+        }
+    }
+
+    /// The world point of a marker, if known: a marker of a placed body, or
+    /// the pin point of a pinned body.
+    fn known_point(&self, body: BodyId, local: Point, name: &str) -> Option<PointRef> {
+        match &self.know[body] {
+            Know::Placed => Some(self.marker_point(body, local, name)),
+            Know::Pinned { local: l, at } if dist(*l, local) <= self.tol => Some(at.clone()),
+            _ => None,
+        }
+    }
+
+    fn dir_ref(&self, body: BodyId, local: Point) -> DirRef {
+        if self.m.bodies[body].fixed {
+            DirRef::Fixed(local)
+        } else {
+            DirRef::Body { body, local }
+        }
+    }
+
+    fn consume(&mut self, i: usize) -> String {
+        self.used[i] = true;
+        self.eqs[i].origin.clone()
+    }
+
+    fn push(&mut self, kind: StepKind, mut serves: Vec<String>) {
+        for b in kind.writes() {
+            serves.append(&mut self.pending[b]);
+        }
+        serves.dedup();
+        self.steps.push(Step { kind, serves });
+    }
+
+    fn temp(&mut self, name: &str) -> usize {
+        self.temps.push(Temp {
+            name: name.to_string(),
+        });
+        self.temps.len() - 1
+    }
+
+    fn branch_slot(&mut self, drawn: Point) -> usize {
+        self.branches.push(BranchSlot {
+            step: self.steps.len(),
+            initial: Branch::Plus,
+            drawn,
+        });
+        self.branches.len() - 1
+    }
+
+    /// Propagation of rotation through parallel equations.
+    fn rotation_rule(&mut self) -> bool {
+        for i in 0..self.eqs.len() {
+            if self.used[i] {
+                continue;
+            }
+            let Equation::Parallel { a, b, input } = self.eqs[i].eq else {
+                continue;
+            };
+            let (target, from, rel) = match (self.know[a].rot_known(), self.know[b].rot_known()) {
+                (true, false) => (b, a, input.map_or(Rel::Identity, |i| Rel::Input { input: i, inverse: false })),
+                (false, true) => (a, b, input.map_or(Rel::Identity, |i| Rel::Input { input: i, inverse: true })),
+                _ => continue,
+            };
+            let origin = self.consume(i);
+            self.push(StepKind::Orient { body: target, from, rel }, vec![origin]);
+            self.know[target] = match std::mem::replace(&mut self.know[target], Know::Placed) {
+                Know::Pinned { local, at } => {
+                    self.push(StepKind::Anchor { body: target, local, at }, vec![]);
+                    Know::Placed
+                }
+                _ => Know::Oriented,
+            };
+            return true;
+        }
+        false
+    }
+
+    /// A marker meets a known point.
+    fn coincident_rule(&mut self) -> bool {
+        for i in 0..self.eqs.len() {
+            if self.used[i] {
+                continue;
+            }
+            let Equation::Coincident { a, b, slide } = &self.eqs[i].eq else {
+                continue;
+            };
+            // The point each side's marker must reach, when the other side
+            // knows it.
+            let for_b = match slide {
+                Some((input, dir)) if self.placed(a.body) => Some(PointRef::Slid {
+                    body: a.body,
+                    local: a.local,
+                    dir: *dir,
+                    input: *input,
+                    sign: 1.0,
+                    name: a.name.clone(),
+                }),
+                Some(_) => None,
+                None => self.known_point(a.body, a.local, &a.name),
+            };
+            let for_a = match slide {
+                Some((input, dir)) if self.placed(b.body) => Some(PointRef::Slid {
+                    body: b.body,
+                    local: b.local,
+                    dir: *dir,
+                    input: *input,
+                    sign: -1.0,
+                    name: b.name.clone(),
+                }),
+                Some(_) => None,
+                None => self.known_point(b.body, b.local, &b.name),
+            };
+            let candidates = [(b.body, b.local, for_b), (a.body, a.local, for_a)];
+            for (body, local, at) in candidates {
+                let Some(at) = at else { continue };
+                let next = match &self.know[body] {
+                    Know::Free => Some(None),
+                    Know::Oriented => Some(Some(StepKind::Anchor { body, local, at: at.clone() })),
+                    Know::Pinned { local: l0, at: at0 } if dist(*l0, local) > self.tol => Some(Some(StepKind::Align {
+                        body,
+                        p: *l0,
+                        p_at: at0.clone(),
+                        q: local,
+                        q_at: at.clone(),
+                    })),
+                    _ => None,
+                };
+                let Some(step) = next else { continue };
+                let origin = self.consume(i);
+                match step {
+                    None => {
+                        self.pending[body].push(origin);
+                        self.know[body] = Know::Pinned { local, at };
+                    }
+                    Some(kind) => {
+                        self.push(kind, vec![origin]);
+                        self.know[body] = Know::Placed;
+                    }
+                }
+                return true;
+            }
+        }
+        false
+    }
+
+    /// A marker on a known line, or a body's line through a known point.
+    fn in_line_rule(&mut self) -> bool {
+        for i in 0..self.eqs.len() {
+            if self.used[i] {
+                continue;
+            }
+            let Equation::InLine { line, dir, point } = &self.eqs[i].eq else {
+                continue;
+            };
+            let (line, dir, point) = (line.clone(), *dir, point.clone());
+            if self.placed(line.body) && !self.placed(point.body) {
+                let through = self.marker_point(line.body, line.local, &line.name);
+                let ldir = self.dir_ref(line.body, dir);
+                let body = point.body;
+                match self.know[body].clone() {
+                    Know::Oriented => {
+                        let origin = self.consume(i);
+                        self.push(StepKind::Anchor { body, local: point.local, at: through }, vec![origin]);
+                        self.know[body] = Know::Sliding { dir: ldir };
+                    }
+                    Know::Sliding { dir: d1 } => {
+                        let origin = self.consume(i);
+                        let out = self.temp(&point.name);
+                        let own = Line {
+                            through: PointRef::Marker { body, local: point.local, name: point.name.clone() },
+                            dir: d1,
+                        };
+                        self.push(StepKind::LineLine { out, a: own, b: Line { through, dir: ldir } }, vec![origin]);
+                        self.push(StepKind::Anchor { body, local: point.local, at: PointRef::Temp { id: out } }, vec![]);
+                        self.know[body] = Know::Placed;
+                    }
+                    Know::Pinned { local: l0, at: at0 } if dist(l0, point.local) > self.tol => {
+                        let origin = self.consume(i);
+                        let out = self.temp(&point.name);
+                        let branch = self.branch_slot(point.local);
+                        self.push(
+                            StepKind::CircleLine {
+                                out,
+                                c: at0.clone(),
+                                r: dist(l0, point.local),
+                                line: Line { through, dir: ldir },
+                                branch,
+                            },
+                            vec![origin],
+                        );
+                        self.push(
+                            StepKind::Align { body, p: l0, p_at: at0, q: point.local, q_at: PointRef::Temp { id: out } },
+                            vec![],
+                        );
+                        self.know[body] = Know::Placed;
+                    }
+                    _ => continue,
+                }
+                return true;
+            }
+            if !self.placed(line.body) {
+                let Some(q) = self.known_point(point.body, point.local, &point.name) else { continue };
+                if !self.placed(point.body) {
+                    continue; // the point is known but its body still turns
+                }
+                let body = line.body;
+                match self.know[body].clone() {
+                    Know::Oriented => {
+                        let origin = self.consume(i);
+                        self.push(StepKind::Anchor { body, local: line.local, at: q }, vec![origin]);
+                        self.know[body] = Know::Sliding { dir: DirRef::Body { body, local: dir } };
+                    }
+                    Know::Sliding { dir: d1 } => {
+                        let origin = self.consume(i);
+                        let out = self.temp(&line.name);
+                        let own = Line {
+                            through: PointRef::Marker { body, local: line.local, name: line.name.clone() },
+                            dir: d1,
+                        };
+                        let through_q = Line { through: q, dir: DirRef::Body { body, local: dir } };
+                        self.push(StepKind::LineLine { out, a: own, b: through_q }, vec![origin]);
+                        self.push(StepKind::Anchor { body, local: line.local, at: PointRef::Temp { id: out } }, vec![]);
+                        self.know[body] = Know::Placed;
+                    }
+                    Know::Pinned { local: l0, at: at0 } => {
+                        let origin = self.consume(i);
+                        let branch = self.branch_slot([1.0, 0.0]);
+                        self.push(
+                            StepKind::TurnLine {
+                                body,
+                                pivot: at0.clone(),
+                                target: q,
+                                dir,
+                                kappa: cross(sub(line.local, l0), dir),
+                                branch,
+                            },
+                            vec![origin],
+                        );
+                        self.push(StepKind::Anchor { body, local: l0, at: at0 }, vec![]);
+                        self.know[body] = Know::Placed;
+                    }
+                    _ => continue,
+                }
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Contraction of a three-node loop: two bodies with one freedom each,
+    /// joined to each other.
+    fn dyad_rule(&mut self) -> bool {
+        for i in 0..self.eqs.len() {
+            if self.used[i] {
+                continue;
+            }
+            match &self.eqs[i].eq {
+                Equation::Coincident { a, b, slide: None } if !self.placed(a.body) && !self.placed(b.body) => {
+                    let (a, b) = (a.clone(), b.clone());
+                    let (ka, kb) = (self.know[a.body].clone(), self.know[b.body].clone());
+                    let (la, lb) = (a.local, b.local);
+                    match (ka, kb) {
+                        (Know::Pinned { local: l1, at: p1 }, Know::Pinned { local: l2, at: p2 })
+                            if dist(l1, la) > self.tol && dist(l2, lb) > self.tol =>
+                        {
+                            let origin = self.consume(i);
+                            let out = self.temp(&a.name);
+                            let branch = self.branch_slot(la);
+                            self.push(
+                                StepKind::CircleCircle { out, c1: p1.clone(), r1: dist(l1, la), c2: p2.clone(), r2: dist(l2, lb), branch },
+                                vec![origin],
+                            );
+                            let x = PointRef::Temp { id: out };
+                            self.push(StepKind::Align { body: a.body, p: l1, p_at: p1, q: la, q_at: x.clone() }, vec![]);
+                            self.push(StepKind::Align { body: b.body, p: l2, p_at: p2, q: lb, q_at: x }, vec![]);
+                        }
+                        (Know::Pinned { local: l1, at: p1 }, Know::Sliding { dir }) if dist(l1, la) > self.tol => {
+                            self.pinned_sliding(i, a.body, l1, p1, la, &a.name, b.body, lb, &b.name, dir);
+                        }
+                        (Know::Sliding { dir }, Know::Pinned { local: l2, at: p2 }) if dist(l2, lb) > self.tol => {
+                            self.pinned_sliding(i, b.body, l2, p2, lb, &b.name, a.body, la, &a.name, dir);
+                        }
+                        (Know::Sliding { dir: d1 }, Know::Sliding { dir: d2 }) => {
+                            let origin = self.consume(i);
+                            let out = self.temp(&a.name);
+                            let la_ref = PointRef::Marker { body: a.body, local: la, name: a.name.clone() };
+                            let lb_ref = PointRef::Marker { body: b.body, local: lb, name: b.name.clone() };
+                            self.push(
+                                StepKind::LineLine { out, a: Line { through: la_ref, dir: d1 }, b: Line { through: lb_ref, dir: d2 } },
+                                vec![origin],
+                            );
+                            let x = PointRef::Temp { id: out };
+                            self.push(StepKind::Anchor { body: a.body, local: la, at: x.clone() }, vec![]);
+                            self.push(StepKind::Anchor { body: b.body, local: lb, at: x }, vec![]);
+                        }
+                        _ => continue,
+                    }
+                    self.know[a.body] = Know::Placed;
+                    self.know[b.body] = Know::Placed;
+                    return true;
+                }
+                Equation::InLine { line, dir, point } => {
+                    let (line, dir, point) = (line.clone(), *dir, point.clone());
+                    let (Know::Pinned { local: l1, at: p1 }, Know::Pinned { local: l2, at: p2 }) =
+                        (self.know[line.body].clone(), self.know[point.body].clone())
+                    else {
+                        continue;
+                    };
+                    // An RPR dyad also needs the prismatic's parallel
+                    // equation between the same two bodies.
+                    let Some(par) = (0..self.eqs.len()).find(|&j| {
+                        !self.used[j]
+                            && matches!(self.eqs[j].eq, Equation::Parallel { a, b, input: None }
+                                if (a == line.body && b == point.body) || (a == point.body && b == line.body))
+                    }) else {
+                        continue;
+                    };
+                    let o1 = self.consume(i);
+                    let o2 = self.consume(par);
+                    let branch = self.branch_slot([1.0, 0.0]);
+                    let kappa = cross(sub(sub(line.local, l1), sub(point.local, l2)), dir);
+                    self.push(
+                        StepKind::TurnLine { body: line.body, pivot: p1.clone(), target: p2.clone(), dir, kappa, branch },
+                        vec![o1, o2],
+                    );
+                    self.push(StepKind::Orient { body: point.body, from: line.body, rel: Rel::Identity }, vec![]);
+                    self.push(StepKind::Anchor { body: line.body, local: l1, at: p1 }, vec![]);
+                    self.push(StepKind::Anchor { body: point.body, local: l2, at: p2 }, vec![]);
+                    self.know[line.body] = Know::Placed;
+                    self.know[point.body] = Know::Placed;
+                    return true;
+                }
+                _ => {}
+            }
+        }
+        false
+    }
+
+    /// RRP: a pinned body's marker meets a sliding body's marker.
+    #[allow(clippy::too_many_arguments)]
+    fn pinned_sliding(
+        &mut self,
+        i: usize,
+        pinned: BodyId,
+        l1: Point,
+        p1: PointRef,
+        local1: Point,
+        name1: &str,
+        sliding: BodyId,
+        local2: Point,
+        name2: &str,
+        dir: DirRef,
+    ) {
+        let origin = self.consume(i);
+        let out = self.temp(name1);
+        let branch = self.branch_slot(local1);
+        let through = PointRef::Marker { body: sliding, local: local2, name: name2.to_string() };
+        self.push(
+            StepKind::CircleLine { out, c: p1.clone(), r: dist(l1, local1), line: Line { through, dir }, branch },
+            vec![origin],
+        );
+        let x = PointRef::Temp { id: out };
+        self.push(StepKind::Align { body: pinned, p: l1, p_at: p1, q: local1, q_at: x.clone() }, vec![]);
+        self.push(StepKind::Anchor { body: sliding, local: local2, at: x }, vec![]);
+    }
+}

@@ -1,0 +1,198 @@
+//! The plan interpreter: executes a plan IR loaded at run time (the CLI on
+//! a user's file, an editor) by calling, for each step, the same runtime
+//! function the generated code calls.
+
+use dofplan_runtime::planar::{self, Point, Pose, Rot};
+use dofplan_runtime::{Branch, Break, Ctx, Solver};
+
+use crate::model::InputKind;
+use crate::plan::{DirRef, Plan, PointRef, Rel, StepKind};
+
+/// Executes a [`Plan`].
+#[derive(Clone, Debug)]
+pub struct Interpreter {
+    plan: Plan,
+}
+
+/// What the interpreter carries from frame to frame. Its buffers are sized
+/// once, so a driven frame reuses them (`clone_from`) without allocating.
+#[derive(Clone, Debug)]
+pub struct InterpState {
+    /// Body poses, in the plan's body order.
+    pub poses: Vec<Pose>,
+    /// Each branching step's last root (point, or rotation as cos/sin).
+    pub last: Vec<Point>,
+    /// Each branching step's current branch.
+    pub branches: Vec<Branch>,
+    temps: Vec<Point>,
+    rots: Vec<Rot>,
+}
+
+impl Interpreter {
+    /// An interpreter for `plan`.
+    pub fn new(plan: Plan) -> Interpreter {
+        Interpreter { plan }
+    }
+
+    /// The plan it executes.
+    pub fn plan(&self) -> &Plan {
+        &self.plan
+    }
+
+    fn point(&self, s: &InterpState, inputs: &[f64], p: &PointRef) -> Point {
+        match p {
+            PointRef::Fixed { at, .. } => *at,
+            PointRef::Marker { body, local, .. } => s.poses[*body].world(*local),
+            PointRef::Slid {
+                body,
+                local,
+                dir,
+                input,
+                sign,
+                ..
+            } => {
+                let u = sign * inputs[*input];
+                s.poses[*body].world([local[0] + u * dir[0], local[1] + u * dir[1]])
+            }
+            PointRef::Temp { id } => s.temps[*id],
+        }
+    }
+
+    fn dir(&self, s: &InterpState, d: &DirRef) -> Point {
+        match d {
+            DirRef::Fixed(v) => *v,
+            DirRef::Body { body, local } => s.poses[*body].world_dir(*local),
+        }
+    }
+}
+
+impl Solver for Interpreter {
+    type State = InterpState;
+    type Inputs = Vec<f64>;
+
+    fn initial_state(&self) -> InterpState {
+        InterpState {
+            poses: vec![Pose::IDENTITY; self.plan.bodies.len()],
+            last: self.plan.branches.iter().map(|b| b.drawn).collect(),
+            branches: self.plan.branches.iter().map(|b| b.initial).collect(),
+            temps: vec![[0.0; 2]; self.plan.temps.len()],
+            rots: vec![Rot::IDENTITY; self.plan.inputs.len()],
+        }
+    }
+
+    fn initial_inputs(&self) -> Vec<f64> {
+        vec![0.0; self.plan.inputs.len()]
+    }
+
+    fn poses(state: &InterpState) -> &[Pose] {
+        &state.poses
+    }
+
+    fn solve(&self, s: &mut InterpState, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+        for (k, input) in self.plan.inputs.iter().enumerate() {
+            if input.kind == InputKind::Angle {
+                s.rots[k] = Rot::from_degrees(inputs[k]);
+            }
+        }
+        for (i, step) in self.plan.steps.iter().enumerate() {
+            let id = i as u32;
+            match &step.kind {
+                StepKind::Orient { body, from, rel } => {
+                    let r = match rel {
+                        Rel::Identity => Rot::IDENTITY,
+                        Rel::Input { input, inverse: false } => s.rots[*input],
+                        Rel::Input { input, inverse: true } => s.rots[*input].inverse(),
+                    };
+                    let from = s.poses[*from].rot;
+                    planar::orient(&mut s.poses[*body], from, r);
+                }
+                StepKind::Anchor { body, local, at } => {
+                    let at = self.point(s, inputs, at);
+                    planar::anchor(&mut s.poses[*body], *local, at);
+                }
+                StepKind::Align {
+                    body,
+                    p,
+                    p_at,
+                    q,
+                    q_at,
+                } => {
+                    let p_at = self.point(s, inputs, p_at);
+                    let q_at = self.point(s, inputs, q_at);
+                    planar::align(&mut s.poses[*body], *p, p_at, *q, q_at);
+                }
+                StepKind::CircleCircle {
+                    out,
+                    c1,
+                    r1,
+                    c2,
+                    r2,
+                    branch,
+                } => {
+                    let c1 = self.point(s, inputs, c1);
+                    let c2 = self.point(s, inputs, c2);
+                    s.temps[*out] = planar::circle_circle(
+                        ctx,
+                        id,
+                        c1,
+                        *r1,
+                        c2,
+                        *r2,
+                        &mut s.branches[*branch],
+                        &mut s.last[*branch],
+                    )?;
+                }
+                StepKind::CircleLine {
+                    out,
+                    c,
+                    r,
+                    line,
+                    branch,
+                } => {
+                    let c = self.point(s, inputs, c);
+                    let p = self.point(s, inputs, &line.through);
+                    let d = self.dir(s, &line.dir);
+                    s.temps[*out] = planar::circle_line(
+                        ctx,
+                        id,
+                        c,
+                        *r,
+                        p,
+                        d,
+                        &mut s.branches[*branch],
+                        &mut s.last[*branch],
+                    )?;
+                }
+                StepKind::LineLine { out, a, b } => {
+                    let p1 = self.point(s, inputs, &a.through);
+                    let d1 = self.dir(s, &a.dir);
+                    let p2 = self.point(s, inputs, &b.through);
+                    let d2 = self.dir(s, &b.dir);
+                    s.temps[*out] = planar::line_line(ctx, id, p1, d1, p2, d2)?;
+                }
+                StepKind::TurnLine {
+                    body,
+                    pivot,
+                    target,
+                    dir,
+                    kappa,
+                    branch,
+                } => {
+                    let pivot = self.point(s, inputs, pivot);
+                    let target = self.point(s, inputs, target);
+                    s.poses[*body].rot = planar::turn_line_through(
+                        ctx,
+                        id,
+                        pivot,
+                        target,
+                        *dir,
+                        *kappa,
+                        &mut s.branches[*branch],
+                        &mut s.last[*branch],
+                    )?;
+                }
+            }
+        }
+        Ok(())
+    }
+}

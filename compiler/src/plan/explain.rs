@@ -1,0 +1,160 @@
+//! One-line explanations of steps, as TLA printed them: what is placed,
+//! from which loci, on which branch.
+
+use std::fmt::Write;
+
+use super::{DirRef, Line, Plan, PointRef, Rel, StepKind};
+
+/// A number for people: at most 4 decimals, trailing zeros dropped.
+pub fn num(x: f64) -> String {
+    let s = format!("{x:.4}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".to_string()
+    } else {
+        s.to_string()
+    }
+}
+
+fn pair(p: [f64; 2]) -> String {
+    format!("({}, {})", num(p[0]), num(p[1]))
+}
+
+impl Plan {
+    /// The name of a point as a person would say it.
+    pub fn point_name(&self, p: &PointRef) -> String {
+        match p {
+            PointRef::Fixed { name, .. } | PointRef::Marker { name, .. } => name.clone(),
+            PointRef::Slid {
+                name, input, sign, ..
+            } => {
+                let op = if *sign > 0.0 { "+" } else { "-" };
+                format!("{name} {op} {}", self.inputs[*input].name)
+            }
+            PointRef::Temp { id } => self.temps[*id].name.clone(),
+        }
+    }
+
+    fn dir_name(&self, d: &DirRef) -> String {
+        match d {
+            DirRef::Fixed(v) => pair(*v),
+            DirRef::Body { body, local } => format!("{} {}", self.bodies[*body].name, pair(*local)),
+        }
+    }
+
+    fn line_name(&self, l: &Line) -> String {
+        format!("line through {} along {}", self.point_name(&l.through), self.dir_name(&l.dir))
+    }
+
+    fn branch_symbol(&self, slot: usize) -> &'static str {
+        self.branches[slot].initial.symbol()
+    }
+
+    /// The one-line explanation of step `i`.
+    pub fn explain(&self, i: usize) -> String {
+        let body = |b: &usize| self.bodies[*b].name.as_str();
+        match &self.steps[i].kind {
+            StepKind::Orient { body: b, from, rel } => match rel {
+                Rel::Identity => format!("{}: rotation of {}", body(b), body(from)),
+                Rel::Input { input, inverse } => format!(
+                    "{}: rotation of {} {} input {}",
+                    body(b),
+                    body(from),
+                    if *inverse { "minus" } else { "plus" },
+                    self.inputs[*input].name
+                ),
+            },
+            StepKind::Anchor { body: b, local, at } => {
+                format!("{}: translate so {} lands on {}", body(b), pair(*local), self.point_name(at))
+            }
+            StepKind::Align { body: b, p_at, q_at, .. } => format!(
+                "{}: place by two points, onto {} and toward {}",
+                body(b),
+                self.point_name(p_at),
+                self.point_name(q_at)
+            ),
+            StepKind::CircleCircle {
+                out,
+                c1,
+                r1,
+                c2,
+                r2,
+                branch,
+            } => format!(
+                "{}: circle about {} r={} ∩ circle about {} r={}, branch {}",
+                self.temps[*out].name,
+                self.point_name(c1),
+                num(*r1),
+                self.point_name(c2),
+                num(*r2),
+                self.branch_symbol(*branch)
+            ),
+            StepKind::CircleLine {
+                out,
+                c,
+                r,
+                line,
+                branch,
+            } => format!(
+                "{}: circle about {} r={} ∩ {}, branch {}",
+                self.temps[*out].name,
+                self.point_name(c),
+                num(*r),
+                self.line_name(line),
+                self.branch_symbol(*branch)
+            ),
+            StepKind::LineLine { out, a, b } => format!(
+                "{}: {} ∩ {}",
+                self.temps[*out].name,
+                self.line_name(a),
+                self.line_name(b)
+            ),
+            StepKind::TurnLine {
+                body: b,
+                pivot,
+                target,
+                dir,
+                kappa,
+                branch,
+            } => format!(
+                "{}: turn about {} until its line along {} passes {} at offset {}, branch {}",
+                body(b),
+                self.point_name(pivot),
+                pair(*dir),
+                self.point_name(target),
+                num(*kappa),
+                self.branch_symbol(*branch)
+            ),
+        }
+    }
+
+    /// The whole plan, one numbered line per step, as `dofplan plan` prints
+    /// it.
+    pub fn explain_all(&self) -> String {
+        let mut out = String::new();
+        let inputs: Vec<String> = self
+            .inputs
+            .iter()
+            .map(|i| format!("{} ({})", i.name, i.kind.name()))
+            .collect();
+        let _ = writeln!(
+            out,
+            "plan for {} ({}): {} steps, {} branch{}, inputs: {}",
+            self.mechanism,
+            self.source,
+            self.steps.len(),
+            self.branches.len(),
+            if self.branches.len() == 1 { "" } else { "es" },
+            if inputs.is_empty() { "none".to_string() } else { inputs.join(", ") }
+        );
+        for (i, step) in self.steps.iter().enumerate() {
+            let serves = if step.serves.is_empty() {
+                String::new()
+            } else {
+                format!("  [{}]", step.serves.join(", "))
+            };
+            let _ = writeln!(out, "{i:>4}  {}{serves}", self.explain(i));
+        }
+        out
+    }
+}

@@ -1,0 +1,276 @@
+//! The plan IR: the contract between analysis and both back ends.
+//!
+//! A [`Plan`] is straight-line: its [`Step`]s run in order, each one call to
+//! a runtime function, each reading what earlier steps placed. The
+//! interpreter walks the steps; the emitter writes one Rust block per step.
+//! Neither re-analyses anything: every constant a step needs (local marker
+//! coordinates, radii, unit directions, branch slots) is in the IR.
+
+mod explain;
+
+pub use explain::num;
+
+use dofplan_runtime::{Branch, Point};
+
+use crate::model::InputKind;
+
+/// Index of a body in [`Plan::bodies`] (the mechanism's body order).
+pub type BodyId = usize;
+
+/// A world point a step reads.
+#[derive(Clone, Debug, PartialEq)]
+pub enum PointRef {
+    /// A marker of a fixed body: a constant.
+    Fixed {
+        /// World position (= drawn position).
+        at: Point,
+        /// "body.marker".
+        name: String,
+    },
+    /// A marker of a body placed by an earlier step.
+    Marker {
+        /// The body.
+        body: BodyId,
+        /// Local (= drawn) coordinates.
+        local: Point,
+        /// "body.marker".
+        name: String,
+    },
+    /// A marker carried along a slide input: `body.world(local + sign·u·dir)`
+    /// where `u` is the slide input's value.
+    Slid {
+        /// The body whose frame the point is fixed in, up to the slide.
+        body: BodyId,
+        /// Local coordinates at zero slide.
+        local: Point,
+        /// Unit slide direction in the body's frame.
+        dir: Point,
+        /// The slide input.
+        input: usize,
+        /// +1 or −1 (the slide seen from the other body).
+        sign: f64,
+        /// "body.marker".
+        name: String,
+    },
+    /// A point computed by an earlier intersection step.
+    Temp {
+        /// Index into [`Plan::temps`].
+        id: usize,
+    },
+}
+
+/// A world direction a step reads (unit length).
+#[derive(Clone, Debug, PartialEq)]
+pub enum DirRef {
+    /// The direction of a marker on a fixed body: a constant.
+    Fixed(Point),
+    /// The direction of a marker of a body whose rotation is known.
+    Body {
+        /// The body.
+        body: BodyId,
+        /// Unit direction in the body's frame.
+        local: Point,
+    },
+}
+
+/// A straight-line locus.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Line {
+    /// A point on it.
+    pub through: PointRef,
+    /// Its direction.
+    pub dir: DirRef,
+}
+
+/// A relative rotation carried by a joint.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Rel {
+    /// No relative rotation (prismatic joint, offset constraint).
+    Identity,
+    /// The angle input, or its inverse when the driven body is the joint's
+    /// first.
+    Input {
+        /// The angle input.
+        input: usize,
+        /// Apply the inverse rotation.
+        inverse: bool,
+    },
+}
+
+/// What a step does.
+#[derive(Clone, Debug, PartialEq)]
+pub enum StepKind {
+    /// Sets `body`'s rotation to `from`'s followed by `rel`.
+    Orient {
+        /// The body turned.
+        body: BodyId,
+        /// The body whose rotation is known.
+        from: BodyId,
+        /// The relative rotation.
+        rel: Rel,
+    },
+    /// Translates `body` (rotation known) so its marker `local` lands on `at`.
+    Anchor {
+        /// The body moved.
+        body: BodyId,
+        /// Its marker, local coordinates.
+        local: Point,
+        /// Where it goes.
+        at: PointRef,
+    },
+    /// Places `body` by two markers: `p` onto `p_at`, `q` toward `q_at`.
+    Align {
+        /// The body placed.
+        body: BodyId,
+        /// First marker (local).
+        p: Point,
+        /// Where it goes.
+        p_at: PointRef,
+        /// Second marker (local).
+        q: Point,
+        /// Where it goes.
+        q_at: PointRef,
+    },
+    /// Intersects two circles into temp `out`.
+    CircleCircle {
+        /// The temp written.
+        out: usize,
+        /// First centre.
+        c1: PointRef,
+        /// First radius.
+        r1: f64,
+        /// Second centre.
+        c2: PointRef,
+        /// Second radius.
+        r2: f64,
+        /// Index into [`Plan::branches`].
+        branch: usize,
+    },
+    /// Intersects a circle and a line into temp `out`.
+    CircleLine {
+        /// The temp written.
+        out: usize,
+        /// Centre.
+        c: PointRef,
+        /// Radius.
+        r: f64,
+        /// The line.
+        line: Line,
+        /// Index into [`Plan::branches`].
+        branch: usize,
+    },
+    /// Intersects two lines into temp `out`.
+    LineLine {
+        /// The temp written.
+        out: usize,
+        /// First line.
+        a: Line,
+        /// Second line.
+        b: Line,
+    },
+    /// Turns `body` about `pivot` until its line (local unit `dir`) passes at
+    /// signed distance `kappa` from `target` (sets the rotation only).
+    TurnLine {
+        /// The body turned.
+        body: BodyId,
+        /// The pivot's world position.
+        pivot: PointRef,
+        /// The point the line must pass.
+        target: PointRef,
+        /// The line's unit direction in the body's frame.
+        dir: Point,
+        /// `cross(target − pivot, R·dir)` required.
+        kappa: f64,
+        /// Index into [`Plan::branches`].
+        branch: usize,
+    },
+}
+
+/// One step of a plan.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Step {
+    /// What it does.
+    pub kind: StepKind,
+    /// The joints, constraints and inputs it satisfies (by name).
+    pub serves: Vec<String>,
+}
+
+/// A branching step's slot: its root choice and the point (or rotation, as
+/// cos/sin) of the drawn pose, which is also the first "previous frame"
+/// value of the nearest-root policy.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BranchSlot {
+    /// The step that owns the slot.
+    pub step: usize,
+    /// The branch that reproduces the drawn pose.
+    pub initial: Branch,
+    /// The drawn value.
+    pub drawn: Point,
+}
+
+/// An input as the plan sees it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlanInput {
+    /// Name.
+    pub name: String,
+    /// Angle or slide.
+    pub kind: InputKind,
+}
+
+/// A body as the plan sees it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PlanBody {
+    /// Name.
+    pub name: String,
+    /// Part of the ground (never moved).
+    pub fixed: bool,
+}
+
+/// A computed point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Temp {
+    /// The markers that meet there, e.g. "coupler.C".
+    pub name: String,
+}
+
+/// A complete plan for one mechanism and choice of inputs.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    /// The mechanism's name.
+    pub mechanism: String,
+    /// The source file name (for the generated header).
+    pub source: String,
+    /// Bodies in mechanism order.
+    pub bodies: Vec<PlanBody>,
+    /// Inputs in mechanism order.
+    pub inputs: Vec<PlanInput>,
+    /// Points computed per frame.
+    pub temps: Vec<Temp>,
+    /// Branch slots of the branching steps.
+    pub branches: Vec<BranchSlot>,
+    /// The steps, in execution order.
+    pub steps: Vec<Step>,
+}
+
+impl StepKind {
+    /// The bodies whose poses this step writes.
+    pub fn writes(&self) -> Vec<BodyId> {
+        match self {
+            StepKind::Orient { body, .. }
+            | StepKind::Anchor { body, .. }
+            | StepKind::Align { body, .. }
+            | StepKind::TurnLine { body, .. } => vec![*body],
+            StepKind::CircleCircle { .. } | StepKind::CircleLine { .. } | StepKind::LineLine { .. } => vec![],
+        }
+    }
+
+    /// The branch slot this step owns, if it has two roots.
+    pub fn branch(&self) -> Option<usize> {
+        match self {
+            StepKind::CircleCircle { branch, .. }
+            | StepKind::CircleLine { branch, .. }
+            | StepKind::TurnLine { branch, .. } => Some(*branch),
+            _ => None,
+        }
+    }
+}
