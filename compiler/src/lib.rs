@@ -17,3 +17,7 @@ pub mod model;
 pub mod analysis;
 pub mod interp;
 pub mod plan;
+pub mod emit;
+pub mod build;
+pub mod simulate;
+pub mod svg;

@@ -1,1 +1,375 @@
-fn main() {}
+//! The dofplan command line: check, explain, emit and simulate mechanism
+//! files.
+
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+use codespan_reporting::diagnostic::{Diagnostic as Report, Label};
+use codespan_reporting::files::SimpleFile;
+use codespan_reporting::term::{self, termcolor};
+use serde_json::{json, Map, Value};
+
+use dofplan::analysis::{analyse, Analysis};
+use dofplan::emit::emit;
+use dofplan::interp::Interpreter;
+use dofplan::model::{load_file, Location, Mechanism, ModelError};
+use dofplan::plan::{num, Plan};
+use dofplan::simulate::{marker_positions, run, sweep_inputs, Frame};
+use dofplan::svg::{render, SvgOptions};
+use dofplan_runtime::{BranchPolicy, BreakPolicy, FrameStatus, Options};
+
+/// Plan, explain and simulate mechanisms.
+#[derive(Parser)]
+#[command(name = "dofplan", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Validate a file and report its mobility, classification and plan.
+    Check {
+        /// Mechanism file (TOML, or JSON with a .json extension).
+        file: PathBuf,
+    },
+    /// Print the explained plan, one line per step.
+    Plan {
+        /// Mechanism file.
+        file: PathBuf,
+    },
+    /// Print the generated Rust module of the plan.
+    Emit {
+        /// Mechanism file.
+        file: PathBuf,
+    },
+    /// Run the file's sweep and print or draw every frame.
+    Simulate {
+        /// Mechanism file.
+        file: PathBuf,
+        /// Override the sweep's number of steps.
+        #[arg(long)]
+        steps: Option<usize>,
+        /// What to do when an input cannot be met.
+        #[arg(long, value_enum, default_value_t = PolicyArg::Limit)]
+        policy: PolicyArg,
+        /// How intersections pick their root at move time.
+        #[arg(long, value_enum, default_value_t = BranchArg::Keep)]
+        branch: BranchArg,
+        /// Print one JSON document {"frames": [...]}.
+        #[arg(long, conflicts_with = "csv")]
+        json: bool,
+        /// Print CSV, one row per frame.
+        #[arg(long)]
+        csv: bool,
+        /// Draw the mechanism at several poses and the traces into this SVG file.
+        #[arg(long, value_name = "OUT")]
+        svg: Option<PathBuf>,
+    },
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum PolicyArg {
+    /// Stay at the last valid pose.
+    Limit,
+    /// Move to the break point (found to 1e-9).
+    Search,
+    /// Relax the failing step and report the residual.
+    Stretch,
+}
+
+#[derive(Clone, Copy, ValueEnum)]
+enum BranchArg {
+    /// Keep the branch of the drawn pose.
+    Keep,
+    /// Take the root nearest the previous frame.
+    Nearest,
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match cli.command {
+        Command::Check { file } => check(&file),
+        Command::Plan { file } => with_plan(&file, |_, plan| {
+            print!("{}", plan.explain_all());
+            ExitCode::SUCCESS
+        }),
+        Command::Emit { file } => with_plan(&file, |_, plan| {
+            print!("{}", emit(plan));
+            ExitCode::SUCCESS
+        }),
+        Command::Simulate {
+            file,
+            steps,
+            policy,
+            branch,
+            json,
+            csv,
+            svg,
+        } => with_plan(&file, |m, plan| {
+            let options = Options {
+                breaking: match policy {
+                    PolicyArg::Limit => BreakPolicy::Limit,
+                    PolicyArg::Search => BreakPolicy::Search,
+                    PolicyArg::Stretch => BreakPolicy::Stretch,
+                },
+                branch: match branch {
+                    BranchArg::Keep => BranchPolicy::Keep,
+                    BranchArg::Nearest => BranchPolicy::Nearest,
+                },
+                ..Options::default()
+            };
+            simulate(m, plan, steps, options, json, csv, svg.as_deref())
+        }),
+    }
+}
+
+/// Prints model errors, with source snippets where there are spans.
+fn report_model_error(err: &ModelError) {
+    let writer = termcolor::StandardStream::stderr(termcolor::ColorChoice::Auto);
+    let config = term::Config::default();
+    for d in &err.diagnostics {
+        match &d.location {
+            Location::Span(span) => {
+                let file = SimpleFile::new(d.file.name.clone(), d.file.text.to_string());
+                let mut labels = vec![Label::primary((), span.clone())];
+                for n in &d.notes {
+                    if let Location::Span(s) = &n.location {
+                        labels.push(Label::secondary((), s.clone()).with_message(n.message.clone()));
+                    }
+                }
+                // The plain "file:line:col" line first, so editors and
+                // scripts can jump to it; the snippet follows.
+                eprintln!("{}: error: {}", d.position(&d.location), d.message);
+                let mut report = Report::error().with_message(d.message.clone()).with_labels(labels);
+                if let Some(help) = &d.help {
+                    report = report.with_notes(vec![format!("help: {help}")]);
+                }
+                let _ = term::emit_to_write_style(&mut writer.lock(), &config, &file, &report);
+            }
+            _ => eprintln!("{d}"),
+        }
+    }
+}
+
+fn load(file: &Path) -> Result<Mechanism, ExitCode> {
+    load_file(file).map_err(|e| {
+        report_model_error(&e);
+        ExitCode::FAILURE
+    })
+}
+
+fn with_plan(file: &Path, f: impl FnOnce(&Mechanism, &Plan) -> ExitCode) -> ExitCode {
+    let m = match load(file) {
+        Ok(m) => m,
+        Err(code) => return code,
+    };
+    let analysis = analyse(&m);
+    match &analysis.plan {
+        Ok(plan) => f(&m, plan),
+        Err(e) => {
+            eprintln!("{}: error: {e}", file.display());
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn check(file: &Path) -> ExitCode {
+    let m = match load(file) {
+        Ok(m) => m,
+        Err(code) => return code,
+    };
+    let Analysis {
+        mobility: mob,
+        plan,
+        unused,
+        ..
+    } = analyse(&m);
+    let fixed = m.bodies.iter().filter(|b| b.fixed).count();
+    println!("{} ({})", m.name, file.display());
+    println!(
+        "  bodies: {} ({} fixed, {} mobile), joints: {}, constraints: {}, inputs: {}",
+        m.bodies.len(),
+        fixed,
+        m.bodies.len() - fixed,
+        m.joints.len(),
+        m.constraints.len(),
+        m.inputs.len()
+    );
+    for input in &m.inputs {
+        println!("    input {}: {} at joint {}", input.name, input.kind.name(), m.joints[input.joint].name);
+    }
+    let extra = if mob.constraint_equations > 0 {
+        format!(" − {}", mob.constraint_equations)
+    } else {
+        String::new()
+    };
+    println!(
+        "  mobility (Grübler): D = 3(L−1) − 2J{} = 3·{} − 2·{}{} = {}",
+        if mob.constraint_equations > 0 { " − (constraint equations)" } else { "" },
+        mob.links - 1,
+        mob.joints,
+        extra,
+        mob.dof
+    );
+    println!("  with {} input(s): {} ({} free DOF)", mob.inputs, mob.class().name(), mob.free());
+    let code = match &plan {
+        Ok(p) => {
+            println!(
+                "  plan: closed form, {} steps, {} branch slot(s) — `dofplan plan {}` explains it",
+                p.steps.len(),
+                p.branches.len(),
+                file.display()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            println!("  plan: {e}");
+            ExitCode::FAILURE
+        }
+    };
+    if !unused.is_empty() {
+        println!("  equations no step uses (redundant or on unplaced bodies): {}", unused.join(", "));
+    }
+    code
+}
+
+fn status_json(plan: &Plan, status: &FrameStatus) -> (Value, Option<(&'static str, Value)>) {
+    let brk = |b: &dofplan_runtime::Break| {
+        json!({
+            "step": b.step,
+            "explanation": plan.explain(b.step as usize),
+            "reason": b.kind.describe(),
+            "gap": b.gap,
+        })
+    };
+    let detail = match status {
+        FrameStatus::Solved => None,
+        FrameStatus::Limited { brk: b } => Some(("break", brk(b))),
+        FrameStatus::Searched { brk: b, reached } => Some(("break", {
+            let mut v = brk(b);
+            v["reached"] = json!(reached);
+            v
+        })),
+        FrameStatus::Stretched { step, residual } => Some((
+            "stretch",
+            json!({"step": step, "explanation": plan.explain(*step as usize), "residual": residual}),
+        )),
+    };
+    (json!(status.name()), detail)
+}
+
+fn simulate(
+    m: &Mechanism,
+    plan: &Plan,
+    steps: Option<usize>,
+    options: Options,
+    json: bool,
+    csv: bool,
+    svg: Option<&Path>,
+) -> ExitCode {
+    if m.sweep.is_none() {
+        eprintln!("{}: error: the file has no [sweep] to simulate", m.source.name);
+        eprintln!("  help: add [sweep] with input, from, to, steps (and optionally trace)");
+        return ExitCode::FAILURE;
+    }
+    let requested = sweep_inputs(m, steps);
+    let frames = run(Interpreter::new(plan.clone()), options, &requested);
+    if json {
+        let names: Vec<&str> = m.inputs.iter().map(|i| i.name.as_str()).collect();
+        let frames_json: Vec<Value> = frames
+            .iter()
+            .map(|f| {
+                let mut o = Map::new();
+                let named = |vals: &[f64]| -> Value {
+                    Value::Object(names.iter().zip(vals).map(|(n, v)| (n.to_string(), json!(v))).collect())
+                };
+                o.insert("inputs".into(), named(&f.requested));
+                o.insert("reached".into(), named(&f.inputs));
+                let (status, detail) = status_json(plan, &f.status);
+                o.insert("status".into(), status);
+                if let Some((k, v)) = detail {
+                    o.insert(k.into(), v);
+                }
+                o.insert(
+                    "markers".into(),
+                    Value::Object(marker_positions(m, &f.poses).into_iter().map(|(k, p)| (k, json!(p))).collect()),
+                );
+                Value::Object(o)
+            })
+            .collect();
+        let doc = json!({ "mechanism": m.name, "frames": frames_json });
+        println!("{}", serde_json::to_string_pretty(&doc).expect("JSON of plain values"));
+    } else if csv {
+        print_csv(m, &frames);
+    } else if svg.is_none() {
+        print_summary(m, plan, &frames);
+    }
+    if let Some(out) = svg {
+        let trace = m.sweep.as_ref().map(|s| s.trace.clone()).unwrap_or_default();
+        let text = render(m, &frames, &trace, &SvgOptions::default());
+        if let Err(e) = std::fs::write(out, text) {
+            eprintln!("{}: error: cannot write the SVG: {e}", out.display());
+            return ExitCode::FAILURE;
+        }
+        if !json && !csv {
+            print_summary(m, plan, &frames);
+            println!("wrote {}", out.display());
+        }
+    }
+    ExitCode::SUCCESS
+}
+
+fn print_csv(m: &Mechanism, frames: &[Frame]) {
+    let mut header = vec!["frame".to_string()];
+    header.extend(m.inputs.iter().map(|i| i.name.clone()));
+    header.push("status".into());
+    for id in m.all_markers() {
+        let n = m.marker_name(id);
+        header.push(format!("{n}.x"));
+        header.push(format!("{n}.y"));
+    }
+    println!("{}", header.join(","));
+    for (i, f) in frames.iter().enumerate() {
+        let mut row = vec![i.to_string()];
+        row.extend(f.requested.iter().map(|v| v.to_string()));
+        row.push(f.status.name().to_string());
+        for (_, p) in marker_positions(m, &f.poses) {
+            row.push(p[0].to_string());
+            row.push(p[1].to_string());
+        }
+        println!("{}", row.join(","));
+    }
+}
+
+fn print_summary(m: &Mechanism, plan: &Plan, frames: &[Frame]) {
+    let count = |name: &str| frames.iter().filter(|f| f.status.name() == name).count();
+    println!(
+        "{}: {} frames — {} solved, {} limited, {} searched, {} stretched",
+        m.name,
+        frames.len(),
+        count("solved"),
+        count("limited"),
+        count("searched"),
+        count("stretched")
+    );
+    let mut last: Option<&str> = None;
+    for (i, f) in frames.iter().enumerate() {
+        let name = f.status.name();
+        if name != "solved" && last != Some(name) {
+            let detail = match &f.status {
+                FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. } => {
+                    format!("step {} broke ({}, gap {}): {}", brk.step, brk.kind.describe(), num(brk.gap), plan.explain(brk.step as usize))
+                }
+                FrameStatus::Stretched { step, residual } => {
+                    format!("step {step} stretched, residual {}: {}", num(*residual), plan.explain(*step as usize))
+                }
+                FrameStatus::Solved => String::new(),
+            };
+            let inputs: Vec<String> = f.requested.iter().map(|v| num(*v)).collect();
+            println!("  frame {i} (inputs {}): {name} — {detail}", inputs.join(", "));
+        }
+        last = Some(name);
+    }
+}

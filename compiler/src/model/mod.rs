@@ -150,27 +150,7 @@ pub struct Input {
     pub joint: usize,
 }
 
-/// Input kinds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum InputKind {
-    /// The angle of a revolute joint, degrees counter-clockwise from the
-    /// drawn pose, positive = the second marker's body turning
-    /// counter-clockwise relative to the first's.
-    Angle,
-    /// The displacement of a prismatic joint along the first marker's
-    /// direction from the drawn pose, in length units.
-    Slide,
-}
-
-impl InputKind {
-    /// The name used in files.
-    pub fn name(self) -> &'static str {
-        match self {
-            InputKind::Angle => "angle",
-            InputKind::Slide => "slide",
-        }
-    }
-}
+pub use dofplan_runtime::planar::InputKind;
 
 /// A sweep of one input.
 #[derive(Clone, Debug)]

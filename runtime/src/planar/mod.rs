@@ -164,3 +164,23 @@ mod tests {
         assert!((w[0] - 1.0).abs() < 1e-15 && (w[1] - 3.0).abs() < 1e-15);
     }
 }
+
+/// The kind of a driving input, as generated plans describe their inputs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum InputKind {
+    /// A joint angle in degrees.
+    Angle,
+    /// A slide in length units.
+    Slide,
+}
+
+impl InputKind {
+    /// The name used in mechanism files.
+    pub fn name(self) -> &'static str {
+        match self {
+            InputKind::Angle => "angle",
+            InputKind::Slide => "slide",
+        }
+    }
+}

@@ -1,0 +1,404 @@
+//! The Rust back end: a plan IR becomes one straight-line module per
+//! mechanism (tokens by `quote`, checked by `syn`, laid out by
+//! `prettyplease`).
+//!
+//! Every step becomes one block calling the same runtime function the
+//! interpreter calls, under a comment holding the step's explanation and
+//! the joints it serves. Bodies live in a fixed-size array in the state
+//! struct, so a frame allocates nothing.
+
+use proc_macro2::{Ident, Literal, Span, TokenStream};
+use quote::{format_ident, quote};
+
+use crate::model::InputKind;
+use crate::plan::{DirRef, Plan, PointRef, Rel, StepKind};
+
+/// A Rust identifier made from a user's name ("coupler.C" → `coupler_c`).
+pub fn ident_for(name: &str) -> String {
+    let mut s: String = name
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '_' })
+        .collect();
+    if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit()) {
+        s.insert_str(0, "m_");
+    }
+    if syn::parse_str::<Ident>(&s).is_err() {
+        s.push('_'); // a keyword
+    }
+    s
+}
+
+fn lit(x: f64) -> Literal {
+    Literal::f64_unsuffixed(x)
+}
+
+fn point_lit(p: [f64; 2]) -> TokenStream {
+    let (x, y) = (lit(p[0]), lit(p[1]));
+    quote!([#x, #y])
+}
+
+fn index(i: usize) -> Literal {
+    Literal::usize_unsuffixed(i)
+}
+
+struct Emitter<'p> {
+    plan: &'p Plan,
+    input_idents: Vec<Ident>,
+    temp_idents: Vec<Ident>,
+}
+
+impl Emitter<'_> {
+    /// Binds a point to a local inside a step's block and returns the
+    /// expression that names it.
+    fn point(&self, p: &PointRef, prelude: &mut Vec<TokenStream>) -> TokenStream {
+        match p {
+            PointRef::Fixed { at, .. } => point_lit(*at),
+            PointRef::Marker { body, local, name } => {
+                let id = format_ident!("{}", ident_for(name));
+                let (b, l) = (index(*body), point_lit(*local));
+                prelude.push(quote!(let #id = s.poses[#b].world(#l);));
+                quote!(#id)
+            }
+            PointRef::Slid {
+                body,
+                local,
+                dir,
+                input,
+                sign,
+                name,
+            } => {
+                let id = format_ident!("{}", ident_for(name));
+                let b = index(*body);
+                let u = &self.input_idents[*input];
+                let u = if *sign < 0.0 { quote!((-#u)) } else { quote!(#u) };
+                let (lx, ly, dx, dy) = (lit(local[0]), lit(local[1]), lit(dir[0]), lit(dir[1]));
+                prelude.push(quote!(let #id = s.poses[#b].world([#lx + #u * #dx, #ly + #u * #dy]);));
+                quote!(#id)
+            }
+            PointRef::Temp { id } => {
+                let t = &self.temp_idents[*id];
+                quote!(#t)
+            }
+        }
+    }
+
+    fn dir(&self, d: &DirRef, name: &str, prelude: &mut Vec<TokenStream>) -> TokenStream {
+        match d {
+            DirRef::Fixed(v) => point_lit(*v),
+            DirRef::Body { body, local } => {
+                let id = format_ident!("{}", name);
+                let (b, l) = (index(*body), point_lit(*local));
+                prelude.push(quote!(let #id = s.poses[#b].world_dir(#l);));
+                quote!(#id)
+            }
+        }
+    }
+
+    fn step(&self, i: usize) -> TokenStream {
+        let step = &self.plan.steps[i];
+        let id = Literal::u32_unsuffixed(i as u32);
+        let mut pre = Vec::new();
+        let marker = quote!(__dofplan_step!(#id););
+        match &step.kind {
+            StepKind::Orient { body, from, rel } => {
+                let (b, f) = (index(*body), index(*from));
+                let r = match rel {
+                    Rel::Identity => quote!(Rot::IDENTITY),
+                    Rel::Input { input, inverse } => {
+                        let u = &self.input_idents[*input];
+                        if *inverse {
+                            quote!(#u.inverse())
+                        } else {
+                            quote!(#u)
+                        }
+                    }
+                };
+                quote! {
+                    #marker
+                    {
+                        let from = s.poses[#f].rot;
+                        planar::orient(&mut s.poses[#b], from, #r);
+                    }
+                }
+            }
+            StepKind::Anchor { body, local, at } => {
+                let at = self.point(at, &mut pre);
+                let (b, l) = (index(*body), point_lit(*local));
+                quote! {
+                    #marker
+                    {
+                        #(#pre)*
+                        planar::anchor(&mut s.poses[#b], #l, #at);
+                    }
+                }
+            }
+            StepKind::Align {
+                body,
+                p,
+                p_at,
+                q,
+                q_at,
+            } => {
+                let p_at = self.point(p_at, &mut pre);
+                let q_at = self.point(q_at, &mut pre);
+                let (b, p, q) = (index(*body), point_lit(*p), point_lit(*q));
+                quote! {
+                    #marker
+                    {
+                        #(#pre)*
+                        planar::align(&mut s.poses[#b], #p, #p_at, #q, #q_at);
+                    }
+                }
+            }
+            StepKind::CircleCircle {
+                out,
+                c1,
+                r1,
+                c2,
+                r2,
+                branch,
+            } => {
+                let t = &self.temp_idents[*out];
+                let c1 = self.point(c1, &mut pre);
+                let c2 = self.point(c2, &mut pre);
+                let (r1, r2, k) = (lit(*r1), lit(*r2), index(*branch));
+                quote! {
+                    #marker
+                    let #t = {
+                        #(#pre)*
+                        planar::circle_circle(ctx, #id, #c1, #r1, #c2, #r2, &mut s.branches[#k], &mut s.last[#k])?
+                    };
+                }
+            }
+            StepKind::CircleLine {
+                out,
+                c,
+                r,
+                line,
+                branch,
+            } => {
+                let t = &self.temp_idents[*out];
+                let c = self.point(c, &mut pre);
+                let p = self.point(&line.through, &mut pre);
+                let d = self.dir(&line.dir, "line_dir", &mut pre);
+                let (r, k) = (lit(*r), index(*branch));
+                quote! {
+                    #marker
+                    let #t = {
+                        #(#pre)*
+                        planar::circle_line(ctx, #id, #c, #r, #p, #d, &mut s.branches[#k], &mut s.last[#k])?
+                    };
+                }
+            }
+            StepKind::LineLine { out, a, b } => {
+                let t = &self.temp_idents[*out];
+                let p1 = self.point(&a.through, &mut pre);
+                let d1 = self.dir(&a.dir, "dir_a", &mut pre);
+                let p2 = self.point(&b.through, &mut pre);
+                let d2 = self.dir(&b.dir, "dir_b", &mut pre);
+                quote! {
+                    #marker
+                    let #t = {
+                        #(#pre)*
+                        planar::line_line(ctx, #id, #p1, #d1, #p2, #d2)?
+                    };
+                }
+            }
+            StepKind::TurnLine {
+                body,
+                pivot,
+                target,
+                dir,
+                kappa,
+                branch,
+            } => {
+                let pv = self.point(pivot, &mut pre);
+                let tg = self.point(target, &mut pre);
+                let (b, d, kp, k) = (index(*body), point_lit(*dir), lit(*kappa), index(*branch));
+                quote! {
+                    #marker
+                    {
+                        #(#pre)*
+                        s.poses[#b].rot = planar::turn_line_through(ctx, #id, #pv, #tg, #d, #kp, &mut s.branches[#k], &mut s.last[#k])?;
+                    }
+                }
+            }
+        }
+    }
+
+    fn module(&self) -> TokenStream {
+        let plan = self.plan;
+        let name = &plan.mechanism;
+        let nb = index(plan.bodies.len());
+        let nsteps = index(plan.steps.len());
+        let nk = index(plan.branches.len());
+        let ni = index(plan.inputs.len());
+        let body_names = plan.bodies.iter().map(|b| &b.name);
+        let input_names = plan.inputs.iter().map(|i| &i.name);
+        let input_kinds = plan.inputs.iter().map(|i| match i.kind {
+            InputKind::Angle => quote!(InputKind::Angle),
+            InputKind::Slide => quote!(InputKind::Slide),
+        });
+        let fixed = plan.bodies.iter().map(|b| b.fixed);
+        let drawn = plan.branches.iter().map(|b| point_lit(b.drawn));
+        let initial = plan.branches.iter().map(|b| match b.initial {
+            dofplan_runtime::Branch::Plus => quote!(Branch::Plus),
+            dofplan_runtime::Branch::Minus => quote!(Branch::Minus),
+        });
+        let bind_inputs = plan.inputs.iter().enumerate().map(|(k, input)| {
+            let id = &self.input_idents[k];
+            let k = index(k);
+            match input.kind {
+                InputKind::Angle => quote!(let #id = Rot::from_degrees(inputs[#k]);),
+                InputKind::Slide => quote!(let #id = inputs[#k];),
+            }
+        });
+        let steps = (0..plan.steps.len()).map(|i| self.step(i));
+        let fallible = plan.steps.iter().any(|s| {
+            matches!(
+                s.kind,
+                StepKind::CircleCircle { .. } | StepKind::CircleLine { .. } | StepKind::LineLine { .. } | StepKind::TurnLine { .. }
+            )
+        });
+        let unused_ctx = if fallible { quote!() } else { quote!(let _ = ctx;) };
+        let unused_inputs = if plan.inputs.is_empty() { quote!(let _ = inputs;) } else { quote!() };
+        let doc_solve = format!(
+            "Places every body for `inputs` ({}), warm-started from `s`. On a break `s` is partly written and must be discarded ([`dofplan_runtime::Driver`] does that).",
+            if plan.inputs.is_empty() {
+                "none".to_string()
+            } else {
+                plan.inputs.iter().map(|i| format!("{} in {}", i.name, match i.kind {
+                    InputKind::Angle => "degrees",
+                    InputKind::Slide => "length units",
+                })).collect::<Vec<_>>().join(", ")
+            }
+        );
+        quote! {
+            use dofplan_runtime::planar::{self, Point, Pose, Rot};
+            use dofplan_runtime::{Branch, Break, Ctx, Solver};
+
+            /// Kind of an input.
+            pub use dofplan_runtime::planar::InputKind;
+
+            /// The mechanism's name.
+            pub const NAME: &str = #name;
+            /// Body names, in the order of [`State::poses`].
+            pub const BODIES: [&str; #nb] = [#(#body_names),*];
+            /// Which bodies are fixed (ground).
+            pub const FIXED: [bool; #nb] = [#(#fixed),*];
+            /// Input names, in the order [`solve`] takes them.
+            pub const INPUTS: [&str; #ni] = [#(#input_names),*];
+            /// Input kinds (angles in degrees, slides in length units).
+            pub const INPUT_KINDS: [InputKind; #ni] = [#(#input_kinds),*];
+            /// Number of plan steps.
+            pub const STEPS: usize = #nsteps;
+
+            /// What a frame reads from the previous one and writes.
+            #[derive(Clone, Copy, Debug, PartialEq)]
+            pub struct State {
+                /// Body poses, in [`BODIES`] order.
+                pub poses: [Pose; #nb],
+                /// Each branching step's last root (nearest-root policy).
+                pub last: [Point; #nk],
+                /// Each branching step's branch.
+                pub branches: [Branch; #nk],
+            }
+
+            impl State {
+                /// The drawn pose.
+                pub const DRAWN: State = State {
+                    poses: [Pose::IDENTITY; #nb],
+                    last: [#(#drawn),*],
+                    branches: [#(#initial),*],
+                };
+            }
+
+            /// The compiled plan, for [`dofplan_runtime::Driver`].
+            #[derive(Clone, Copy, Debug, Default)]
+            pub struct Plan;
+
+            impl Solver for Plan {
+                type State = State;
+                type Inputs = [f64; #ni];
+
+                fn initial_state(&self) -> State {
+                    State::DRAWN
+                }
+
+                fn initial_inputs(&self) -> [f64; #ni] {
+                    [0.0; #ni]
+                }
+
+                fn poses(state: &State) -> &[Pose] {
+                    &state.poses
+                }
+
+                fn solve(&self, s: &mut State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+                    solve(s, inputs, ctx)
+                }
+            }
+
+            #[doc = #doc_solve]
+            #[inline]
+            pub fn solve(s: &mut State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+                #unused_ctx
+                #unused_inputs
+                #(#bind_inputs)*
+                #(#steps)*
+                Ok(())
+            }
+        }
+    }
+}
+
+/// Rust source of the compiled plan module of `plan`.
+pub fn emit(plan: &Plan) -> String {
+    let mut used = std::collections::HashSet::new();
+    let mut unique = |base: String| {
+        let mut name = base.clone();
+        let mut n = 2;
+        while !used.insert(name.clone()) {
+            name = format!("{base}_{n}");
+            n += 1;
+        }
+        Ident::new(&name, Span::call_site())
+    };
+    let input_idents = plan.inputs.iter().map(|i| unique(format!("input_{}", ident_for(&i.name)))).collect();
+    let temp_idents = plan.temps.iter().map(|t| unique(format!("at_{}", ident_for(&t.name)))).collect();
+    let e = Emitter {
+        plan,
+        input_idents,
+        temp_idents,
+    };
+    let tokens = e.module();
+    let file = syn::parse2::<syn::File>(tokens).expect("the emitter produces valid Rust");
+    let pretty = prettyplease::unparse(&file);
+    // Comments are not tokens: each step was marked by a macro call that is
+    // replaced here by the step's explanation.
+    let mut out = format!(
+        "// @generated by dofplan from {} — do not edit.\n// Compiled plan of mechanism `{}`: {} steps, {} branch slots.\n// Regenerate with `dofplan emit {}` or by rebuilding the crate that compiles it.\n\n",
+        plan.source,
+        plan.mechanism,
+        plan.steps.len(),
+        plan.branches.len(),
+        plan.source
+    );
+    for line in pretty.lines() {
+        let trimmed = line.trim_start();
+        if let Some(rest) = trimmed.strip_prefix("__dofplan_step!(") {
+            let indent = &line[..line.len() - trimmed.len()];
+            let i: usize = rest.trim_end_matches(");").parse().expect("step marker");
+            let step = &plan.steps[i];
+            let serves = if step.serves.is_empty() {
+                String::new()
+            } else {
+                format!("  [{}]", step.serves.join(", "))
+            };
+            out.push_str(&format!("{indent}// {i}: {}{serves}\n", plan.explain(i)));
+        } else {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    out
+}
