@@ -217,8 +217,9 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
     );
     let mut lg = Group::new().set("font-size", 12).set("fill", INK);
     for (i, (kind, colour, label)) in legend.iter().enumerate() {
-        let x = PAD + (i % cols) as f64 * col_w;
-        let y = legend_top + (i / cols) as f64 * LEGEND_ROW;
+        // Column by column, so that a long list reads downwards.
+        let x = PAD + (i / rows) as f64 * col_w;
+        let y = legend_top + (i % rows) as f64 * LEGEND_ROW;
         lg = match kind {
             LegendKind::Trace => lg.add(
                 Line::new()
@@ -834,16 +835,31 @@ fn draw_pose(
             }
         }
         if m.joints.len() <= 24 {
-            let mut labels = Group::new().set("font-size", 11).set("fill", "#333333");
+            // Joints on one spot share a label ("O1, A1").
+            let mut spots: Vec<(Point, String)> = Vec::new();
             for j in &m.joints {
-                if let Some(p) = world(m, poses, j.markers[0]) {
-                    let q = view.px(p);
-                    labels = labels.add(
-                        Text::new(j.name.clone())
-                            .set("x", num(q[0] + 6.0))
-                            .set("y", num(q[1] - 6.0)),
-                    );
+                let Some(p) = world(m, poses, j.markers[0]) else {
+                    continue;
+                };
+                let q = view.px(p);
+                match spots
+                    .iter_mut()
+                    .find(|(s, _)| (s[0] - q[0]).abs() < 3.0 && (s[1] - q[1]).abs() < 3.0)
+                {
+                    Some((_, names)) => {
+                        names.push_str(", ");
+                        names.push_str(&j.name);
+                    }
+                    None => spots.push((q, j.name.clone())),
                 }
+            }
+            let mut labels = Group::new().set("font-size", 11).set("fill", "#333333");
+            for (q, names) in spots {
+                labels = labels.add(
+                    Text::new(names)
+                        .set("x", num(q[0] + 6.0))
+                        .set("y", num(q[1] - 6.0)),
+                );
             }
             g = g.add(labels);
         }
