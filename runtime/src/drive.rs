@@ -93,22 +93,27 @@ impl<S: Solver> Driver<S> {
     pub fn frame(&mut self, inputs: &[f64]) -> FrameStatus {
         let stretch = self.options.breaking == BreakPolicy::Stretch;
         let mut ctx = Ctx::new(self.options.branch, stretch);
+        // Solve in place and keep a copy to roll back to on a break: the
+        // copy is written off the solve's critical path, whereas solving
+        // into a fresh copy would make every frame wait for it.
         self.trial.clone_from(&self.state);
-        match self.solver.solve(&mut self.trial, inputs, &mut ctx) {
+        match self.solver.solve(&mut self.state, inputs, &mut ctx) {
             Ok(()) => {
-                std::mem::swap(&mut self.state, &mut self.trial);
                 self.last.as_mut().copy_from_slice(inputs);
                 match ctx.stretched {
                     None => FrameStatus::Solved,
                     Some((step, residual)) => FrameStatus::Stretched { step, residual },
                 }
             }
-            Err(brk) => match self.options.breaking {
-                BreakPolicy::Search => self.search(inputs, brk),
-                // Stretch relaxes every step it can; a step that cannot be
-                // relaxed (none today) falls back to the limit policy.
-                BreakPolicy::Limit | BreakPolicy::Stretch => FrameStatus::Limited { brk },
-            },
+            Err(brk) => {
+                std::mem::swap(&mut self.state, &mut self.trial);
+                match self.options.breaking {
+                    BreakPolicy::Search => self.search(inputs, brk),
+                    // Stretch relaxes every step it can; a step that cannot
+                    // be relaxed falls back to the limit policy.
+                    BreakPolicy::Limit | BreakPolicy::Stretch => FrameStatus::Limited { brk },
+                }
+            }
         }
     }
 

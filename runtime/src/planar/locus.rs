@@ -15,7 +15,7 @@ use crate::frame::{Branch, BranchPolicy, Break, BreakKind, Ctx, StepId};
 const TANGENT_TOLERANCE: f64 = 1e-12;
 
 /// Picks one of two roots `base ± off` by policy and records the choice.
-#[inline]
+#[inline(always)]
 fn pick(ctx: &Ctx, base: Point, off: Point, branch: &mut Branch, last: &mut Point) -> Point {
     let plus = add(base, off);
     let minus = sub(base, off);
@@ -38,7 +38,7 @@ fn pick(ctx: &Ctx, base: Point, off: Point, branch: &mut Branch, last: &mut Poin
 ///
 /// Branch + lies to the left of the directed line `c1 → c2`.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 pub fn circle_circle(
     ctx: &mut Ctx,
     step: StepId,
@@ -51,8 +51,7 @@ pub fn circle_circle(
 ) -> Result<Point, Break> {
     let d_vec = sub(c2, c1);
     let d2 = dot(d_vec, d_vec);
-    let d = d2.sqrt();
-    if d == 0.0 {
+    if d2 == 0.0 {
         // Concentric circles: no isolated intersection. Stretching puts the
         // point on the first circle, on the side of the last frame.
         ctx.fail(step, BreakKind::CirclesApart, (r1 - r2).abs())?;
@@ -63,17 +62,21 @@ pub fn circle_circle(
         *last = x;
         return Ok(x);
     }
-    let u = scale(d_vec, 1.0 / d);
-    // Distance from c1 to the chord, along u.
-    let a = (r1 * r1 - r2 * r2 + d2) / (2.0 * d);
-    let h2 = r1 * r1 - a * a;
-    let h = if h2 >= 0.0 {
-        h2.sqrt()
-    } else if h2 >= -TANGENT_TOLERANCE * (r1 * r1 + r2 * r2) {
+    // Everything in units of the centre distance d, so that the solution
+    // costs one division and one square root: the chord's foot is at
+    // c1 + k·(c2 − c1) and the half-chord is hd·d.
+    let inv_d2 = 1.0 / d2;
+    let k = 0.5 * (r1 * r1 - r2 * r2 + d2) * inv_d2;
+    let hd2 = r1 * r1 * inv_d2 - k * k;
+    let hd = if hd2 >= 0.0 {
+        hd2.sqrt()
+    } else if hd2 >= -TANGENT_TOLERANCE * (r1 * r1 + r2 * r2) * inv_d2 {
         0.0
     } else {
         // Apart (d > r1 + r2) or nested (d < |r1 - r2|): the closest pair of
         // points lies on the centre line; stretching takes their midpoint.
+        let d = d2.sqrt();
+        let u = scale(d_vec, 1.0 / d);
         let gap = if d > r1 + r2 {
             d - r1 - r2
         } else {
@@ -94,15 +97,15 @@ pub fn circle_circle(
         *last = x;
         return Ok(x);
     };
-    let base = add(c1, scale(u, a));
-    Ok(pick(ctx, base, scale(perp(u), h), branch, last))
+    let base = add(c1, scale(d_vec, k));
+    Ok(pick(ctx, base, scale(perp(d_vec), hd), branch, last))
 }
 
 /// The point at distance `r` from `c` on the line through `p` along the unit
 /// direction `dir` (RRP dyad). Branch + lies ahead of the foot of `c` along
 /// `dir`.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 pub fn circle_line(
     ctx: &mut Ctx,
     step: StepId,
@@ -134,7 +137,7 @@ pub fn circle_line(
 
 /// The point common to the line through `p1` along `d1` and the line through
 /// `p2` along `d2` (PRP dyad; directions of unit length).
-#[inline]
+#[inline(always)]
 pub fn line_line(
     ctx: &mut Ctx,
     step: StepId,
@@ -164,7 +167,7 @@ pub fn line_line(
 /// (positive cosine between `R·dir` and `target − pivot`). `last` keeps the
 /// previous (cos, sin) for the nearest policy.
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[inline(always)]
 pub fn turn_line_through(
     ctx: &mut Ctx,
     step: StepId,

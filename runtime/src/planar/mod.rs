@@ -57,7 +57,7 @@ impl Rot {
     }
 
     /// Rotates a vector.
-    #[inline]
+    #[inline(always)]
     pub fn apply(self, v: Point) -> Point {
         [self.c * v[0] - self.s * v[1], self.s * v[0] + self.c * v[1]]
     }
@@ -86,7 +86,7 @@ impl Pose {
     };
 
     /// World position of a marker given in local (= drawn) coordinates.
-    #[inline]
+    #[inline(always)]
     pub fn world(&self, local: Point) -> Point {
         let r = self.rot.apply(local);
         [self.at[0] + r[0], self.at[1] + r[1]]

@@ -5,14 +5,14 @@ use super::{cross, dot, sub, Point, Pose, Rot};
 /// Sets a body's rotation to `from` followed by `rel` (a relative rotation
 /// carried by a joint: the identity for a prismatic joint or an offset
 /// constraint, the input angle for a driven revolute).
-#[inline]
+#[inline(always)]
 pub fn orient(pose: &mut Pose, from: Rot, rel: Rot) {
     pose.rot = from.then(rel);
 }
 
 /// Translates a body whose rotation is known so that its marker `local`
 /// lands on the world point `at`.
-#[inline]
+#[inline(always)]
 pub fn anchor(pose: &mut Pose, local: Point, at: Point) {
     let r = pose.rot.apply(local);
     pose.at = [at[0] - r[0], at[1] - r[1]];
@@ -22,20 +22,38 @@ pub fn anchor(pose: &mut Pose, local: Point, at: Point) {
 /// the ray from `p_at` through `q_at` (exactly on `q_at` when the distances
 /// agree, which the step that computed `q_at` guarantees unless it was
 /// stretched).
-#[inline]
+#[inline(always)]
 pub fn align(pose: &mut Pose, p: Point, p_at: Point, q: Point, q_at: Point) {
     let dl = sub(q, p);
     let dw = sub(q_at, p_at);
-    let norm = (dot(dl, dl) * dot(dw, dw)).sqrt();
+    let l2 = dot(dl, dl);
+    let w2 = dot(dw, dw);
+    // The usual case: the world span has the local length (the step that
+    // computed q_at put it on the circle of that radius), so normalising is
+    // a multiplication by a constant; otherwise (a stretched step) it takes
+    // a square root.
+    let inv = if (w2 - l2).abs() <= 1e-12 * l2 {
+        1.0 / l2
+    } else {
+        stretched_norm(l2, w2)
+    };
     // A zero-length world span leaves the rotation undefined; keeping the
     // previous one is the continuous choice.
-    if norm > 0.0 {
+    if w2 > 0.0 && l2 > 0.0 {
         pose.rot = Rot {
-            c: dot(dl, dw) / norm,
-            s: cross(dl, dw) / norm,
+            c: dot(dl, dw) * inv,
+            s: cross(dl, dw) * inv,
         };
     }
     anchor(pose, p, p_at);
+}
+
+/// Out of line so the compiler cannot compute the square root
+/// speculatively on the common path.
+#[cold]
+#[inline(never)]
+fn stretched_norm(l2: f64, w2: f64) -> f64 {
+    1.0 / (l2 * w2).sqrt()
 }
 
 #[cfg(test)]
