@@ -2,9 +2,9 @@ use std::hint::black_box;
 use std::time::Instant;
 use dofplan_runtime::{Driver, Options};
 fn main() {
-    let n = 3_610_000;
+    let n = 36_100_000;
     let inputs: Vec<f64> = (0..361).map(|i| i as f64).collect();
-    let mut d = Driver::new(dofplan_generated::stress_50::Plan, Options::default());
+    let mut d = Driver::new(dofplan_generated::fourbar::Plan, Options::default());
     let t = Instant::now();
     for k in 0..n { black_box(d.frame(&[inputs[k % 361]])); }
     println!("typed driver {:.1} ns", t.elapsed().as_secs_f64()*1e9/n as f64);

@@ -25,7 +25,8 @@ pub trait Solver {
     /// The body poses held by a state, in the mechanism's body order.
     fn poses(state: &Self::State) -> &[Pose];
     /// Executes every step of the plan for `inputs`, warm-started from
-    /// `state`. On error `state` is partly updated and must be discarded.
+    /// `state`. On error `state` must be left as it was (a break is a
+    /// transaction that did not commit), so drivers need no copy per frame.
     fn solve(&self, state: &mut Self::State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break>;
 }
 
@@ -93,10 +94,6 @@ impl<S: Solver> Driver<S> {
     pub fn frame(&mut self, inputs: &[f64]) -> FrameStatus {
         let stretch = self.options.breaking == BreakPolicy::Stretch;
         let mut ctx = Ctx::new(self.options.branch, stretch);
-        // Solve in place and keep a copy to roll back to on a break: the
-        // copy is written off the solve's critical path, whereas solving
-        // into a fresh copy would make every frame wait for it.
-        self.trial.clone_from(&self.state);
         match self.solver.solve(&mut self.state, inputs, &mut ctx) {
             Ok(()) => {
                 self.last.as_mut().copy_from_slice(inputs);
@@ -105,15 +102,12 @@ impl<S: Solver> Driver<S> {
                     Some((step, residual)) => FrameStatus::Stretched { step, residual },
                 }
             }
-            Err(brk) => {
-                std::mem::swap(&mut self.state, &mut self.trial);
-                match self.options.breaking {
-                    BreakPolicy::Search => self.search(inputs, brk),
-                    // Stretch relaxes every step it can; a step that cannot
-                    // be relaxed falls back to the limit policy.
-                    BreakPolicy::Limit | BreakPolicy::Stretch => FrameStatus::Limited { brk },
-                }
-            }
+            Err(brk) => match self.options.breaking {
+                BreakPolicy::Search => self.search(inputs, brk),
+                // Stretch relaxes every step it can; a step that cannot be
+                // relaxed falls back to the limit policy.
+                BreakPolicy::Limit | BreakPolicy::Stretch => FrameStatus::Limited { brk },
+            },
         }
     }
 

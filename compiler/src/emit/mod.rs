@@ -56,7 +56,7 @@ impl Emitter<'_> {
             PointRef::Marker { body, local, name } => {
                 let id = format_ident!("{}", ident_for(name));
                 let (b, l) = (index(*body), point_lit(*local));
-                prelude.push(quote!(let #id = s.poses[#b].world(#l);));
+                prelude.push(quote!(let #id = poses[#b].world(#l);));
                 quote!(#id)
             }
             PointRef::Slid {
@@ -72,7 +72,7 @@ impl Emitter<'_> {
                 let u = &self.input_idents[*input];
                 let u = if *sign < 0.0 { quote!((-#u)) } else { quote!(#u) };
                 let (lx, ly, dx, dy) = (lit(local[0]), lit(local[1]), lit(dir[0]), lit(dir[1]));
-                prelude.push(quote!(let #id = s.poses[#b].world([#lx + #u * #dx, #ly + #u * #dy]);));
+                prelude.push(quote!(let #id = poses[#b].world([#lx + #u * #dx, #ly + #u * #dy]);));
                 quote!(#id)
             }
             PointRef::Temp { id } => {
@@ -88,7 +88,7 @@ impl Emitter<'_> {
             DirRef::Body { body, local } => {
                 let id = format_ident!("{}", name);
                 let (b, l) = (index(*body), point_lit(*local));
-                prelude.push(quote!(let #id = s.poses[#b].world_dir(#l);));
+                prelude.push(quote!(let #id = poses[#b].world_dir(#l);));
                 quote!(#id)
             }
         }
@@ -101,7 +101,14 @@ impl Emitter<'_> {
         let marker = quote!(__dofplan_step!(#id););
         match &step.kind {
             StepKind::Orient { body, from, rel } => {
-                let (b, f) = (index(*body), index(*from));
+                let b = index(*body);
+                // A fixed body never turns: its rotation is a constant.
+                let from = if self.plan.bodies[*from].fixed {
+                    quote!(Rot::IDENTITY)
+                } else {
+                    let f = index(*from);
+                    quote!(poses[#f].rot)
+                };
                 let r = match rel {
                     Rel::Identity => quote!(Rot::IDENTITY),
                     Rel::Input { input, inverse } => {
@@ -116,8 +123,8 @@ impl Emitter<'_> {
                 quote! {
                     #marker
                     {
-                        let from = s.poses[#f].rot;
-                        planar::orient(&mut s.poses[#b], from, #r);
+                        let from = #from;
+                        planar::orient(&mut poses[#b], from, #r);
                     }
                 }
             }
@@ -128,7 +135,7 @@ impl Emitter<'_> {
                     #marker
                     {
                         #(#pre)*
-                        planar::anchor(&mut s.poses[#b], #l, #at);
+                        planar::anchor(&mut poses[#b], #l, #at);
                     }
                 }
             }
@@ -146,7 +153,7 @@ impl Emitter<'_> {
                     #marker
                     {
                         #(#pre)*
-                        planar::align(&mut s.poses[#b], #p, #p_at, #q, #q_at);
+                        planar::align(&mut poses[#b], #p, #p_at, #q, #q_at);
                     }
                 }
             }
@@ -166,7 +173,7 @@ impl Emitter<'_> {
                     #marker
                     let #t = {
                         #(#pre)*
-                        planar::circle_circle(ctx, #id, #c1, #r1, #c2, #r2, &mut s.branches[#k], &mut s.last[#k])?
+                        planar::circle_circle(ctx, #id, #c1, #r1, #c2, #r2, &mut branches[#k], &mut last[#k])?
                     };
                 }
             }
@@ -186,7 +193,7 @@ impl Emitter<'_> {
                     #marker
                     let #t = {
                         #(#pre)*
-                        planar::circle_line(ctx, #id, #c, #r, #p, #d, &mut s.branches[#k], &mut s.last[#k])?
+                        planar::circle_line(ctx, #id, #c, #r, #p, #d, &mut branches[#k], &mut last[#k])?
                     };
                 }
             }
@@ -219,7 +226,7 @@ impl Emitter<'_> {
                     #marker
                     {
                         #(#pre)*
-                        s.poses[#b].rot = planar::turn_line_through(ctx, #id, #pv, #tg, #d, #kp, &mut s.branches[#k], &mut s.last[#k])?;
+                        poses[#b].rot = planar::turn_line_through(ctx, #id, #pv, #tg, #d, #kp, &mut branches[#k], &mut last[#k])?;
                     }
                 }
             }
@@ -260,10 +267,18 @@ impl Emitter<'_> {
                 StepKind::CircleCircle { .. } | StepKind::CircleLine { .. } | StepKind::LineLine { .. } | StepKind::TurnLine { .. }
             )
         });
+        let (take, commit) = match (plan.steps.is_empty(), plan.branches.is_empty()) {
+            (true, _) => (quote!(), quote!()),
+            (false, true) => (quote!(let mut poses = s.poses;), quote!(s.poses = poses;)),
+            (false, false) => (
+                quote!(let mut poses = s.poses; let mut last = s.last; let mut branches = s.branches;),
+                quote!(s.poses = poses; s.last = last; s.branches = branches;),
+            ),
+        };
         let unused_ctx = if fallible { quote!() } else { quote!(let _ = ctx;) };
         let unused_inputs = if plan.inputs.is_empty() { quote!(let _ = inputs;) } else { quote!() };
         let doc_solve = format!(
-            "Places every body for `inputs` ({}), warm-started from `s`. On a break `s` is partly written and must be discarded ([`dofplan_runtime::Driver`] does that).",
+            "Places every body for `inputs` ({}), warm-started from `s`. On a break `s` is left unchanged.",
             if plan.inputs.is_empty() {
                 "none".to_string()
             } else {
@@ -343,8 +358,13 @@ impl Emitter<'_> {
             pub fn solve(s: &mut State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
                 #unused_ctx
                 #unused_inputs
+                // Work on copies and commit at the end: a break (an early
+                // return) leaves `s` as it was, so no caller has to copy the
+                // state per frame to roll back.
+                #take
                 #(#bind_inputs)*
                 #(#steps)*
+                #commit
                 Ok(())
             }
         }

@@ -15,7 +15,7 @@ pub struct Interpreter {
 }
 
 /// What the interpreter carries from frame to frame. Its buffers are sized
-/// once, so a driven frame reuses them (`clone_from`) without allocating.
+/// once, so a frame reuses them without allocating.
 #[derive(Clone, Debug)]
 pub struct InterpState {
     /// Body poses, in the plan's body order.
@@ -24,6 +24,16 @@ pub struct InterpState {
     pub last: Vec<Point>,
     /// Each branching step's current branch.
     pub branches: Vec<Branch>,
+    /// The frame being computed; swapped in when every step succeeded, so a
+    /// break leaves the state above untouched.
+    work: Work,
+}
+
+#[derive(Clone, Debug)]
+struct Work {
+    poses: Vec<Pose>,
+    last: Vec<Point>,
+    branches: Vec<Branch>,
     temps: Vec<Point>,
     rots: Vec<Rot>,
 }
@@ -39,7 +49,7 @@ impl Interpreter {
         &self.plan
     }
 
-    fn point(&self, s: &InterpState, inputs: &[f64], p: &PointRef) -> Point {
+    fn point(&self, s: &Work, inputs: &[f64], p: &PointRef) -> Point {
         match p {
             PointRef::Fixed { at, .. } => *at,
             PointRef::Marker { body, local, .. } => s.poses[*body].world(*local),
@@ -58,7 +68,7 @@ impl Interpreter {
         }
     }
 
-    fn dir(&self, s: &InterpState, d: &DirRef) -> Point {
+    fn dir(&self, s: &Work, d: &DirRef) -> Point {
         match d {
             DirRef::Fixed(v) => *v,
             DirRef::Body { body, local } => s.poses[*body].world_dir(*local),
@@ -71,12 +81,18 @@ impl Solver for Interpreter {
     type Inputs = Vec<f64>;
 
     fn initial_state(&self) -> InterpState {
-        InterpState {
+        let work = Work {
             poses: vec![Pose::IDENTITY; self.plan.bodies.len()],
             last: self.plan.branches.iter().map(|b| b.drawn).collect(),
             branches: self.plan.branches.iter().map(|b| b.initial).collect(),
             temps: vec![[0.0; 2]; self.plan.temps.len()],
             rots: vec![Rot::IDENTITY; self.plan.inputs.len()],
+        };
+        InterpState {
+            poses: work.poses.clone(),
+            last: work.last.clone(),
+            branches: work.branches.clone(),
+            work,
         }
     }
 
@@ -88,7 +104,22 @@ impl Solver for Interpreter {
         &state.poses
     }
 
-    fn solve(&self, s: &mut InterpState, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+    fn solve(&self, state: &mut InterpState, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+        let w = &mut state.work;
+        w.poses.copy_from_slice(&state.poses);
+        w.last.copy_from_slice(&state.last);
+        w.branches.copy_from_slice(&state.branches);
+        self.run(w, inputs, ctx)?;
+        std::mem::swap(&mut state.poses, &mut w.poses);
+        std::mem::swap(&mut state.last, &mut w.last);
+        std::mem::swap(&mut state.branches, &mut w.branches);
+        Ok(())
+    }
+}
+
+impl Interpreter {
+    /// Executes every step on the work buffers.
+    fn run(&self, s: &mut Work, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
         for (k, input) in self.plan.inputs.iter().enumerate() {
             if input.kind == InputKind::Angle {
                 s.rots[k] = Rot::from_degrees(inputs[k]);

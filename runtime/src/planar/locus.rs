@@ -62,15 +62,16 @@ pub fn circle_circle(
         *last = x;
         return Ok(x);
     }
-    // Everything in units of the centre distance d, so that the solution
-    // costs one division and one square root: the chord's foot is at
-    // c1 + k·(c2 − c1) and the half-chord is hd·d.
+    // With d² = |c2 − c1|², the chord's foot is c1 + k/d²·(c2 − c1) and the
+    // half-chord (h·d)/d²·|c2 − c1|, where k = (r1² − r2² + d²)/2 and (h·d)² = r1²·d² − k².
+    // Written this way the one division (1/d²) and the one square root
+    // (of (h·d)²) do not wait for each other.
+    let k = 0.5 * (r1 * r1 - r2 * r2 + d2);
+    let hd2 = r1 * r1 * d2 - k * k;
     let inv_d2 = 1.0 / d2;
-    let k = 0.5 * (r1 * r1 - r2 * r2 + d2) * inv_d2;
-    let hd2 = r1 * r1 * inv_d2 - k * k;
     let hd = if hd2 >= 0.0 {
         hd2.sqrt()
-    } else if hd2 >= -TANGENT_TOLERANCE * (r1 * r1 + r2 * r2) * inv_d2 {
+    } else if hd2 >= -TANGENT_TOLERANCE * (r1 * r1 + r2 * r2) * d2 {
         0.0
     } else {
         // Apart (d > r1 + r2) or nested (d < |r1 - r2|): the closest pair of
@@ -97,8 +98,8 @@ pub fn circle_circle(
         *last = x;
         return Ok(x);
     };
-    let base = add(c1, scale(d_vec, k));
-    Ok(pick(ctx, base, scale(perp(d_vec), hd), branch, last))
+    let base = add(c1, scale(d_vec, k * inv_d2));
+    Ok(pick(ctx, base, scale(perp(d_vec), hd * inv_d2), branch, last))
 }
 
 /// The point at distance `r` from `c` on the line through `p` along the unit

@@ -28,32 +28,32 @@ pub fn align(pose: &mut Pose, p: Point, p_at: Point, q: Point, q_at: Point) {
     let dw = sub(q_at, p_at);
     let l2 = dot(dl, dl);
     let w2 = dot(dw, dw);
+    let (c, s) = (dot(dl, dw), cross(dl, dw));
     // The usual case: the world span has the local length (the step that
     // computed q_at put it on the circle of that radius), so normalising is
-    // a multiplication by a constant; otherwise (a stretched step) it takes
-    // a square root.
-    let inv = if (w2 - l2).abs() <= 1e-12 * l2 {
-        1.0 / l2
+    // a multiplication by a constant. The rest (a stretched step, a span of
+    // zero length) is out of line: the hot path then neither computes a
+    // square root speculatively nor depends on the previous frame's pose.
+    if l2 > 0.0 && (w2 - l2).abs() <= 1e-12 * l2 {
+        let inv = 1.0 / l2;
+        pose.rot = Rot { c: c * inv, s: s * inv };
     } else {
-        stretched_norm(l2, w2)
-    };
-    // A zero-length world span leaves the rotation undefined; keeping the
-    // previous one is the continuous choice.
-    if w2 > 0.0 && l2 > 0.0 {
-        pose.rot = Rot {
-            c: dot(dl, dw) * inv,
-            s: cross(dl, dw) * inv,
-        };
+        align_rotation_slow(pose, l2, w2, c, s);
     }
     anchor(pose, p, p_at);
 }
 
-/// Out of line so the compiler cannot compute the square root
-/// speculatively on the common path.
+/// The rotation of [`align`] when the world span's length differs from the
+/// local one: normalise by both lengths, or keep the previous rotation when
+/// either is zero (the rotation is undefined; keeping it is the continuous
+/// choice).
 #[cold]
 #[inline(never)]
-fn stretched_norm(l2: f64, w2: f64) -> f64 {
-    1.0 / (l2 * w2).sqrt()
+fn align_rotation_slow(pose: &mut Pose, l2: f64, w2: f64, c: f64, s: f64) {
+    let n = (l2 * w2).sqrt();
+    if n > 0.0 {
+        pose.rot = Rot { c: c / n, s: s / n };
+    }
 }
 
 #[cfg(test)]
