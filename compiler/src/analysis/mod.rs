@@ -96,6 +96,7 @@ pub fn analyse(m: &Mechanism) -> Analysis {
                 .map(|b| PlanBody {
                     name: b.name.clone(),
                     fixed: b.fixed,
+                    markers: b.markers.iter().map(|mk| (mk.name.clone(), mk.at)).collect(),
                 })
                 .collect(),
             inputs: m

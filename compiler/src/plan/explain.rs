@@ -31,8 +31,26 @@ impl Plan {
                 let op = if *sign > 0.0 { "+" } else { "-" };
                 format!("{name} {op} {}", self.inputs[*input].name)
             }
-            PointRef::Temp { id } => self.temps[*id].name.clone(),
+            PointRef::Temp { id } => {
+                let step = self.steps.iter().position(|s| {
+                    matches!(s.kind, StepKind::CircleCircle { out, .. } | StepKind::CircleLine { out, .. } | StepKind::LineLine { out, .. } if out == *id)
+                });
+                match step {
+                    Some(k) => format!("{} (step {k})", self.temps[*id].name),
+                    None => self.temps[*id].name.clone(),
+                }
+            }
         }
+    }
+
+    /// "body.marker" of the marker of `body` at `local` (the first one when
+    /// several share the position), or the coordinates if none.
+    pub fn local_name(&self, body: usize, local: [f64; 2]) -> String {
+        let b = &self.bodies[body];
+        b.markers
+            .iter()
+            .find(|(_, at)| (at[0] - local[0]).abs() <= 1e-12 * (1.0 + at[0].abs()) && (at[1] - local[1]).abs() <= 1e-12 * (1.0 + at[1].abs()))
+            .map_or_else(|| format!("{} {}", b.name, pair(local)), |(n, _)| format!("{}.{n}", b.name))
     }
 
     fn dir_name(&self, d: &DirRef) -> String {
@@ -65,12 +83,23 @@ impl Plan {
                 ),
             },
             StepKind::Anchor { body: b, local, at } => {
-                format!("{}: translate so {} lands on {}", body(b), pair(*local), self.point_name(at))
+                // An anchor followed by another write of the same body puts
+                // it on its line locus for now (Kramer's 1-TDOF state).
+                let provisional = self.steps[i + 1..].iter().any(|s| s.kind.writes().contains(b));
+                format!(
+                    "{}: translate {} onto {}{}",
+                    body(b),
+                    self.local_name(*b, *local),
+                    self.point_name(at),
+                    if provisional { " (for now: it slides along its line from there)" } else { "" }
+                )
             }
-            StepKind::Align { body: b, p_at, q_at, .. } => format!(
-                "{}: place by two points, onto {} and toward {}",
+            StepKind::Align { body: b, p, p_at, q, q_at } => format!(
+                "{}: {} onto {}, {} toward {}",
                 body(b),
+                self.local_name(*b, *p),
                 self.point_name(p_at),
+                self.local_name(*b, *q),
                 self.point_name(q_at)
             ),
             StepKind::CircleCircle {

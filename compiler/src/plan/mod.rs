@@ -224,6 +224,8 @@ pub struct PlanBody {
     pub name: String,
     /// Part of the ground (never moved).
     pub fixed: bool,
+    /// Its markers' names and local coordinates (for explanations).
+    pub markers: Vec<(String, Point)>,
 }
 
 /// A computed point.

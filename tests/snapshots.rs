@@ -1,0 +1,43 @@
+//! Snapshots of every bundled mechanism's explained plan and generated
+//! Rust, so every change to a plan is a reviewable diff. The generated
+//! snapshot is also exactly the source `dofplan-generated` compiles (checked
+//! below), so a snapshot that would not compile fails the build.
+
+use dofplan::emit::emit;
+use dofplan_tests::{bundled, load, plan};
+
+fn settings() -> insta::Settings {
+    let mut s = insta::Settings::clone_current();
+    s.set_prepend_module_to_snapshot(false);
+    s.set_omit_expression(true);
+    s
+}
+
+#[test]
+fn explained_plans() {
+    settings().bind(|| {
+        for name in bundled() {
+            let p = plan(&load(&name));
+            insta::assert_snapshot!(format!("plan_{name}"), p.explain_all());
+        }
+    });
+}
+
+#[test]
+fn generated_rust() {
+    settings().bind(|| {
+        for name in bundled() {
+            let p = plan(&load(&name));
+            insta::assert_snapshot!(format!("emit_{name}"), emit(&p));
+        }
+    });
+}
+
+#[test]
+fn compiled_crate_holds_exactly_the_snapshotted_source() {
+    for name in bundled() {
+        let p = plan(&load(&name));
+        let compiled = dofplan_generated::source(&name).expect("compiled");
+        assert_eq!(compiled, emit(&p), "{name}: dofplan-generated is stale");
+    }
+}
