@@ -16,7 +16,7 @@ pub struct Interpreter {
 
 /// What the interpreter carries from frame to frame. Its buffers are sized
 /// once, so a frame reuses them without allocating.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct InterpState {
     /// Body poses, in the plan's body order.
     pub poses: Vec<Pose>,
@@ -29,13 +29,53 @@ pub struct InterpState {
     work: Work,
 }
 
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 struct Work {
     poses: Vec<Pose>,
     last: Vec<Point>,
     branches: Vec<Branch>,
     temps: Vec<Point>,
     rots: Vec<Rot>,
+}
+
+// Written out so that `clone_from` reuses the buffers: the driver's search
+// policy copies states on the per-frame path.
+impl Clone for InterpState {
+    fn clone(&self) -> Self {
+        InterpState {
+            poses: self.poses.clone(),
+            last: self.last.clone(),
+            branches: self.branches.clone(),
+            work: self.work.clone(),
+        }
+    }
+
+    fn clone_from(&mut self, source: &Self) {
+        self.poses.clone_from(&source.poses);
+        self.last.clone_from(&source.last);
+        self.branches.clone_from(&source.branches);
+        self.work.clone_from(&source.work);
+    }
+}
+
+impl Clone for Work {
+    fn clone(&self) -> Self {
+        Work {
+            poses: self.poses.clone(),
+            last: self.last.clone(),
+            branches: self.branches.clone(),
+            temps: self.temps.clone(),
+            rots: self.rots.clone(),
+        }
+    }
+
+    fn clone_from(&mut self, source: &Self) {
+        self.poses.clone_from(&source.poses);
+        self.last.clone_from(&source.last);
+        self.branches.clone_from(&source.branches);
+        self.temps.clone_from(&source.temps);
+        self.rots.clone_from(&source.rots);
+    }
 }
 
 impl Interpreter {

@@ -1,0 +1,105 @@
+//! A compiled frame allocates nothing — nor does an interpreted one once
+//! its buffers exist — under every breaking policy. Counted by a global
+//! allocator that counts only on the thread and span being measured.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+use dofplan::interp::Interpreter;
+use dofplan::simulate::sweep_inputs;
+use dofplan_runtime::{BranchPolicy, BreakPolicy, Driver, Options, Solver};
+use dofplan_tests::{load, plan};
+
+struct Counting;
+
+thread_local! {
+    static ARMED: Cell<bool> = const { Cell::new(false) };
+    static COUNT: Cell<usize> = const { Cell::new(0) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if ARMED.with(Cell::get) {
+            COUNT.with(|c| c.set(c.get() + 1));
+        }
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        if ARMED.with(Cell::get) {
+            COUNT.with(|c| c.set(c.get() + 1));
+        }
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// Allocations made while running `f` on this thread.
+fn allocations(f: impl FnOnce()) -> usize {
+    COUNT.with(|c| c.set(0));
+    ARMED.with(|a| a.set(true));
+    f();
+    ARMED.with(|a| a.set(false));
+    COUNT.with(Cell::get)
+}
+
+fn all_options() -> Vec<Options> {
+    let mut out = Vec::new();
+    for breaking in [BreakPolicy::Limit, BreakPolicy::Search, BreakPolicy::Stretch] {
+        for branch in [BranchPolicy::Keep, BranchPolicy::Nearest] {
+            out.push(Options {
+                breaking,
+                branch,
+                ..Options::default()
+            });
+        }
+    }
+    out
+}
+
+/// Drives `solver` through `inputs` and counts allocations in the frames.
+fn frame_allocations<S: Solver>(solver: S, options: Options, inputs: &[Vec<f64>]) -> usize {
+    let mut driver = Driver::new(solver, options);
+    allocations(|| {
+        for i in inputs {
+            std::hint::black_box(driver.frame(i));
+        }
+    })
+}
+
+#[test]
+fn the_counter_counts() {
+    // A test that cannot fail proves nothing: make sure an allocation in
+    // the measured span is seen.
+    assert_eq!(allocations(|| drop(std::hint::black_box(vec![1u8; 10]))), 1);
+}
+
+#[test]
+fn compiled_frames_allocate_nothing() {
+    for options in all_options() {
+        let fourbar = sweep_inputs(&load("fourbar"), None);
+        assert_eq!(frame_allocations(dofplan_generated::fourbar::Plan, options, &fourbar), 0);
+        let rocker = sweep_inputs(&load("rocker_rocker"), None);
+        assert_eq!(frame_allocations(dofplan_generated::rocker_rocker::Plan, options, &rocker), 0);
+        let stress = sweep_inputs(&load("stress_50"), None);
+        assert_eq!(frame_allocations(dofplan_generated::stress_50::Plan, options, &stress), 0);
+        let trammel = sweep_inputs(&load("trammel"), None);
+        assert_eq!(frame_allocations(dofplan_generated::trammel::Plan, options, &trammel), 0);
+    }
+}
+
+#[test]
+fn interpreted_frames_allocate_nothing_once_built() {
+    for name in ["fourbar", "rocker_rocker", "inverted_slider_crank", "stress_10"] {
+        let m = load(name);
+        let inputs = sweep_inputs(&m, None);
+        for options in all_options() {
+            let n = frame_allocations(Interpreter::new(plan(&m)), options, &inputs);
+            assert_eq!(n, 0, "{name} {options:?}");
+        }
+    }
+}
