@@ -91,6 +91,7 @@ impl<S: Solver> Driver<S> {
     }
 
     /// Moves to `inputs` (one value per input, in plan order).
+    #[inline]
     pub fn frame(&mut self, inputs: &[f64]) -> FrameStatus {
         let stretch = self.options.breaking == BreakPolicy::Stretch;
         let mut ctx = Ctx::new(self.options.branch, stretch);
@@ -113,6 +114,8 @@ impl<S: Solver> Driver<S> {
 
     /// Bisects between the last valid inputs and `requested` for the break
     /// point and moves there.
+    #[cold]
+    #[inline(never)]
     fn search(&mut self, requested: &[f64], brk: Break) -> FrameStatus {
         let span = requested
             .iter()

@@ -4,7 +4,7 @@
 //! every error of a file at once; each error carries a position and the
 //! names involved.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -68,22 +68,40 @@ pub fn load_str(file_name: &str, text: &str, format: Format) -> Result<Mechanism
         Format::Toml => parse_toml(text),
         Format::Json => parse_json(text),
     };
-    let root = parsed.map_err(|e| ModelError {
-        diagnostics: vec![Diagnostic {
-            file: file.clone(),
-            location: match (e.span, e.line_col) {
-                (Some(span), _) => Location::Span(span),
-                (None, Some((l, c))) => Location::LineCol(l, c),
-                (None, None) => Location::File,
-            },
-            message: format!("{} syntax error: {}", format_name(format), e.message.trim()),
-            notes: vec![],
-            help: None,
-        }],
+    let root = parsed.map_err(|e| {
+        let mut message = format!("{} syntax error: {}", format_name(format), e.message.trim());
+        let mut help = None;
+        // A TOML date reaches the span-keeping reader as serde's private
+        // datetime marker; say what it is rather than leak the marker name.
+        if e.message.contains("$__toml_private_datetime") {
+            message = "a date or time is not a valid value in a mechanism file".into();
+            help = Some("write a number, string, boolean, array or table".into());
+        }
+        // toml says only "duplicate key"; name the key (its span).
+        if let Some(key) = e.span.as_ref().and_then(|s| text.get(s.clone())).filter(|k| !k.is_empty()) {
+            if e.message.trim() == "duplicate key" {
+                message = format!("{message} `{key}`");
+                help = Some("a name may be defined only once in a table: rename or merge the two".into());
+            }
+        }
+        ModelError {
+            diagnostics: vec![Diagnostic {
+                file: file.clone(),
+                location: match (e.span, e.line_col) {
+                    (Some(span), _) => Location::Span(span),
+                    (None, Some((l, c))) => Location::LineCol(l, c),
+                    (None, None) => Location::File,
+                },
+                message,
+                notes: vec![],
+                help,
+            }],
+        }
     })?;
     let mut v = Validator {
         file,
         diags: Vec::new(),
+        broken: HashSet::new(),
     };
     let mechanism = v.mechanism(&root);
     match mechanism {
@@ -110,6 +128,10 @@ struct Written<'a> {
 struct Validator {
     file: SourceFile,
     diags: Vec<Diagnostic>,
+    /// "body" and "body.marker" names that are written but failed
+    /// validation (with an error already): references to them get no second
+    /// error.
+    broken: HashSet<String>,
 }
 
 impl Validator {
@@ -302,8 +324,12 @@ impl Validator {
             Some(n) => self.inputs(n, joints_node, &joints, &bodies),
             None => Vec::new(),
         };
+        let written_inputs: Vec<&str> = match Self::get(top, "inputs").map(|n| &n.kind) {
+            Some(NodeKind::Table(t)) => t.iter().map(|(k, _)| k.name.as_str()).collect(),
+            _ => vec![],
+        };
         let sweep = match Self::get(top, "sweep") {
-            Some(n) => self.sweep(n, &inputs, &bodies),
+            Some(n) => self.sweep(n, &inputs, &written_inputs, &bodies),
             None => None,
         };
         let mechanism = Mechanism {
@@ -328,7 +354,10 @@ impl Validator {
         for (key, bnode) in entries {
             let path = join("bodies", &key.name);
             self.check_name(key, &path, "body");
-            let Some(fields) = self.table(bnode, &path) else { continue };
+            let Some(fields) = self.table(bnode, &path) else {
+                self.broken.insert(key.name.clone());
+                continue;
+            };
             self.check_keys(fields, &["fixed", "markers"], &path);
             let fixed = match Self::get(fields, "fixed") {
                 None => false,
@@ -342,15 +371,22 @@ impl Validator {
                 },
             };
             let mut markers = Vec::new();
-            if let Some(mnode) = self.required(fields, "markers", bnode, &path) {
-                let mpath = join(&path, "markers");
-                if let Some(mentries) = self.table(mnode, &mpath) {
+            let mentries = self.required(fields, "markers", bnode, &path).and_then(|mnode| self.table(mnode, &join(&path, "markers")));
+            match mentries {
+                None => {
+                    self.broken.insert(key.name.clone());
+                }
+                Some(mentries) => {
+                    let mpath = join(&path, "markers");
                     self.check_keys(mentries, &[], &mpath);
                     for (mkey, m) in mentries {
                         let p = join(&mpath, &mkey.name);
                         self.check_name(mkey, &p, "marker");
-                        if let Some(marker) = self.marker(&mkey.name, m, &p) {
-                            markers.push(marker);
+                        match self.marker(&key.name, &mkey.name, m, &p) {
+                            Some(marker) => markers.push(marker),
+                            None => {
+                                self.broken.insert(format!("{}.{}", key.name, mkey.name));
+                            }
                         }
                     }
                 }
@@ -385,10 +421,11 @@ impl Validator {
         }
     }
 
-    fn marker(&mut self, name: &str, node: &Node, path: &str) -> Option<Marker> {
+    fn marker(&mut self, body: &str, short: &str, node: &Node, path: &str) -> Option<Marker> {
+        let name = format!("{body}.{short}");
         match &node.kind {
             NodeKind::Array(_) => Some(Marker {
-                name: name.to_string(),
+                name: short.to_string(),
                 at: self.point(node, path)?,
                 dir: None,
             }),
@@ -400,16 +437,21 @@ impl Validator {
                     Some(d) => {
                         let dpath = join(path, "dir");
                         let v = self.point(d, &dpath)?;
-                        if v[0] == 0.0 && v[1] == 0.0 {
+                        if !(v[0] * v[0] + v[1] * v[1]).is_normal() {
                             let loc = self.loc(d, &dpath);
-                            self.error(loc, format!("marker `{name}` has a zero direction"), Some("a direction needs a non-zero length, e.g. dir = [1, 0]".into()));
+                            let what = if v[0] == 0.0 && v[1] == 0.0 {
+                                "a zero direction".to_string()
+                            } else {
+                                "a direction too short or too long to normalise".to_string()
+                            };
+                            self.error(loc, format!("marker `{name}` has {what}"), Some("a direction needs a non-zero length, e.g. dir = [1, 0]".into()));
                             return None;
                         }
                         Some(v)
                     }
                 };
                 Some(Marker {
-                    name: name.to_string(),
+                    name: short.to_string(),
                     at: at?,
                     dir,
                 })
@@ -435,11 +477,17 @@ impl Validator {
             return None;
         };
         let Some(bi) = bodies.iter().position(|x| x.name == b) else {
+            if self.broken.contains(b) {
+                return None;
+            }
             let names: Vec<_> = bodies.iter().map(|b| b.name.as_str()).collect();
             self.error(loc, format!("{owner}: unknown body `{b}` in `{text}`"), Some(format!("bodies are: {}", names.join(", "))));
             return None;
         };
         let Some(mi) = bodies[bi].markers.iter().position(|x| x.name == m) else {
+            if self.broken.contains(b) || self.broken.contains(text) {
+                return None;
+            }
             let names: Vec<_> = bodies[bi].markers.iter().map(|m| m.name.as_str()).collect();
             self.error(
                 loc,
@@ -734,7 +782,7 @@ impl Validator {
         inputs
     }
 
-    fn sweep(&mut self, node: &Node, inputs: &[Input], bodies: &[Body]) -> Option<Sweep> {
+    fn sweep(&mut self, node: &Node, inputs: &[Input], written_inputs: &[&str], bodies: &[Body]) -> Option<Sweep> {
         let fields = self.table(node, "sweep")?;
         self.check_keys(fields, &["input", "from", "to", "steps", "trace"], "sweep");
         let inode = self.required(fields, "input", node, "sweep");
@@ -771,6 +819,11 @@ impl Validator {
         }
         let (name, inode) = input?;
         let Some(index) = inputs.iter().position(|i| i.name == name) else {
+            // An input that was written but failed validation has its own
+            // error already.
+            if written_inputs.contains(&name) {
+                return None;
+            }
             let loc = self.loc(inode, "sweep.input");
             let names: Vec<_> = inputs.iter().map(|i| i.name.as_str()).collect();
             self.error(
