@@ -82,13 +82,25 @@ fn the_counter_counts() {
 fn compiled_frames_allocate_nothing() {
     for options in all_options() {
         let fourbar = sweep_inputs(&load("fourbar"), None);
-        assert_eq!(frame_allocations(dofplan_generated::fourbar::Plan, options, &fourbar), 0);
+        assert_eq!(
+            frame_allocations(dofplan_generated::fourbar::Plan, options, &fourbar),
+            0
+        );
         let rocker = sweep_inputs(&load("rocker_rocker"), None);
-        assert_eq!(frame_allocations(dofplan_generated::rocker_rocker::Plan, options, &rocker), 0);
+        assert_eq!(
+            frame_allocations(dofplan_generated::rocker_rocker::Plan, options, &rocker),
+            0
+        );
         let stress = sweep_inputs(&load("stress_50"), None);
-        assert_eq!(frame_allocations(dofplan_generated::stress_50::Plan, options, &stress), 0);
+        assert_eq!(
+            frame_allocations(dofplan_generated::stress_50::Plan, options, &stress),
+            0
+        );
         let trammel = sweep_inputs(&load("trammel"), None);
-        assert_eq!(frame_allocations(dofplan_generated::trammel::Plan, options, &trammel), 0);
+        assert_eq!(
+            frame_allocations(dofplan_generated::trammel::Plan, options, &trammel),
+            0
+        );
     }
 }
 

@@ -66,7 +66,8 @@ const FOURBAR_JSON: [&str; 17] = [
     /* 13 */ r#"    "D": { "kind": "revolute", "markers": ["rocker.D", "ground.D"] }"#,
     /* 14 */ r#"  },"#,
     /* 15 */ r#"  "inputs": { "theta": { "kind": "angle", "joint": "A" } },"#,
-    /* 16 */ r#"  "sweep": { "input": "theta", "from": 0, "to": 360, "steps": 361, "trace": ["coupler.P"] }"#,
+    /* 16 */
+    r#"  "sweep": { "input": "theta", "from": 0, "to": 360, "steps": 361, "trace": ["coupler.P"] }"#,
     /* 17 */ r#"}"#,
 ];
 
@@ -131,10 +132,7 @@ fn assert_one(e: &ModelError, position: &str, needles: &[&str]) {
         "expected the error at `{position}`, got:\n{shown}"
     );
     for needle in needles {
-        assert!(
-            shown.contains(needle),
-            "expected `{needle}` in:\n{shown}"
-        );
+        assert!(shown.contains(needle), "expected `{needle}` in:\n{shown}");
     }
 }
 
@@ -311,7 +309,11 @@ fn bad_names() {
         (16, r#"markers = ["crank.B 1", "coupler.B"]"#),
     ]));
     assert_eq!(e.diagnostics.len(), 1, "{e}");
-    assert!(e.to_string().starts_with("t.toml:6:25: error: marker name `B 1` must be non-empty, without dots or spaces"), "{e}");
+    assert!(
+        e.to_string()
+            .starts_with("t.toml:6:25: error: marker name `B 1` must be non-empty, without dots or spaces"),
+        "{e}"
+    );
 }
 
 // ------------------------------------------------------------------ ground
@@ -413,7 +415,20 @@ fn marker_with_three_coordinates() {
 fn sweep_steps_must_be_positive() {
     // `0` is at column 9 of line 30.
     let e = toml_err(&fourbar(&[(30, "steps = 0")]));
-    assert_one(&e, "t.toml:30:9", &["`sweep.steps` must be a whole number of at least 1"]);
+    assert_one(
+        &e,
+        "t.toml:30:9",
+        &["`sweep.steps` must be a whole number from 1 to 1000000"],
+    );
+    // A count no sweep could allocate is rejected too, rather than panicking
+    // later when the frames are made.
+    let e = toml_err(&fourbar(&[(30, "steps = 9223372036854775807")]));
+    assert_one(
+        &e,
+        "t.toml:30:9",
+        &["`sweep.steps` must be a whole number from 1 to 1000000"],
+    );
+    load_toml(&fourbar(&[(30, "steps = 1000000")])).unwrap_or_else(|e| panic!("{e}"));
 }
 
 // ------------------------------------------------------------------ joints
@@ -456,14 +471,22 @@ fn the_drawn_pose_tolerance_is_1e_9_relative() {
     load_toml(&fourbar(&[(6, "markers = { A = [0, 0], B = [1, 1.000000001] }")]))
         .unwrap_or_else(|e| panic!("{e}"));
     let e = toml_err(&fourbar(&[(6, "markers = { A = [0, 0], B = [1, 1.00000001] }")]));
-    assert_one(&e, "t.toml:14:1", &["joint `B`", "1.000e-8 apart", "tolerance 5.7e-9"]);
+    assert_one(
+        &e,
+        "t.toml:14:1",
+        &["joint `B`", "1.000e-8 apart", "tolerance 5.7e-9"],
+    );
     // Relative: the same 1e-6 gap fails on a 5-unit mechanism and holds on
     // a 5000-unit one.
     let small = "name = \"s\"\n[bodies.ground]\nfixed = true\nmarkers = { O = [0, 0], F = [3, 4] }\n\
                  [bodies.crank]\nmarkers = { O = [0.000001, 0] }\n\
                  [joints.O]\nkind = \"revolute\"\nmarkers = [\"ground.O\", \"crank.O\"]\n";
     let e = toml_err(small);
-    assert_one(&e, "t.toml:7:1", &["joint `O`", "1.000e-6 apart", "tolerance 5.0e-9"]);
+    assert_one(
+        &e,
+        "t.toml:7:1",
+        &["joint `O`", "1.000e-6 apart", "tolerance 5.0e-9"],
+    );
     let big = small.replace("[3, 4]", "[3000, 4000]");
     load_toml(&big).unwrap_or_else(|e| panic!("{e}"));
 }
@@ -495,7 +518,10 @@ fn prismatic_joint_off_its_line() {
     assert_one(
         &e,
         "t.toml:11:1",
-        &["joint `A` does not hold in the drawn pose", "crank.A is 5.000e-1 off the line of ground.A"],
+        &[
+            "joint `A` does not hold in the drawn pose",
+            "crank.A is 5.000e-1 off the line of ground.A",
+        ],
     );
 }
 
@@ -506,7 +532,10 @@ fn unknown_joint_kind() {
     assert_one(
         &e,
         "t.toml:12:8",
-        &["joint `A`: unknown kind `hinge`", "help: expected one of: revolute, prismatic"],
+        &[
+            "joint `A`: unknown kind `hinge`",
+            "help: expected one of: revolute, prismatic",
+        ],
     );
 }
 
@@ -615,7 +644,10 @@ fn unknown_top_level_key() {
         shown.starts_with("t.toml:1:1: error: unknown key `nme` in `the file`"),
         "{shown}"
     );
-    assert!(shown.contains("help: expected one of: name, dimension, bodies"), "{shown}");
+    assert!(
+        shown.contains("help: expected one of: name, dimension, bodies"),
+        "{shown}"
+    );
     assert!(shown.contains("is missing `name`"), "{shown}");
 }
 
@@ -631,9 +663,8 @@ fn wrong_type() {
     // `fixed = 1`: the value at column 9 of line 3.
     let e = toml_err(&fourbar(&[(3, "fixed = 1")]));
     assert!(
-        e.to_string().starts_with(
-            "t.toml:3:9: error: `bodies.ground.fixed` must be true or false, found an integer"
-        ),
+        e.to_string()
+            .starts_with("t.toml:3:9: error: `bodies.ground.fixed` must be true or false, found an integer"),
         "{e}"
     );
     // A date where a number belongs: column 21 of line 6.
@@ -681,7 +712,10 @@ fn json_semantic_error_names_the_path() {
     assert_one(
         &e,
         "t.json (at joints.A.markers[1])",
-        &["joint `A`: unknown body `crnk` in `crnk.A`", "help: bodies are: ground, crank, coupler, rocker"],
+        &[
+            "joint `A`: unknown body `crnk` in `crnk.A`",
+            "help: bodies are: ground, crank, coupler, rocker",
+        ],
     );
 }
 
@@ -706,7 +740,10 @@ fn json_wrong_kind_and_unknown_sweep_input() {
     assert_one(
         &e,
         "t.json (at sweep.input)",
-        &["the sweep drives input `phi`, which does not exist", "help: inputs are: theta"],
+        &[
+            "the sweep drives input `phi`, which does not exist",
+            "help: inputs are: theta",
+        ],
     );
 }
 
@@ -817,17 +854,33 @@ fn marker_tables_with_a_direction() {
 
 /// Loads `text`; if it loads, analyses it and runs a short sweep of its
 /// plan. Returns a description of a panic, if any.
-fn exercise(label: &str, text: &str, format: Format) -> Option<String> {
+fn exercise(label: &str, text: &str, format: Format) -> Result<Reached, String> {
     let outcome = catch_unwind(AssertUnwindSafe(|| {
-        let file = if format == Format::Json { "t.json" } else { "t.toml" };
-        let Ok(m) = load_str(file, text, format) else { return };
+        let file = if format == Format::Json {
+            "t.json"
+        } else {
+            "t.toml"
+        };
+        let m = match load_str(file, text, format) {
+            Ok(m) => m,
+            Err(e) => {
+                // Every error can be shown, and has at least one diagnostic.
+                assert!(!e.diagnostics.is_empty(), "an error without diagnostics");
+                let _ = e.to_string();
+                return Reached::Rejected;
+            }
+        };
         let analysis = analyse(&m);
-        if let Ok(plan) = analysis.plan {
-            let requested = sweep_inputs(&m, Some(5));
-            let _ = run(Interpreter::new(plan), Default::default(), &requested);
-        }
+        let Ok(plan) = analysis.plan else {
+            return Reached::Loaded;
+        };
+        // The whole sweep's inputs (bounded by validation), then 5 frames.
+        let _ = sweep_inputs(&m, None);
+        let requested = sweep_inputs(&m, Some(5));
+        let _ = run(Interpreter::new(plan), Default::default(), &requested);
+        Reached::Simulated
     }));
-    outcome.err().map(|p| {
+    outcome.map_err(|p| {
         let what = p
             .downcast_ref::<String>()
             .cloned()
@@ -837,6 +890,17 @@ fn exercise(label: &str, text: &str, format: Format) -> Option<String> {
     })
 }
 
+/// How far [`exercise`] got with a text.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum Reached {
+    /// The loader rejected it.
+    Rejected,
+    /// It loaded and was analysed, without a plan.
+    Loaded,
+    /// It was planned and simulated.
+    Simulated,
+}
+
 /// Byte ranges of number literals (and `nan`/`inf`-free digits runs).
 fn number_spans(text: &str) -> Vec<(usize, usize)> {
     let bytes = text.as_bytes();
@@ -844,7 +908,8 @@ fn number_spans(text: &str) -> Vec<(usize, usize)> {
     let mut i = 0;
     while i < bytes.len() {
         let starts = (bytes[i].is_ascii_digit() || bytes[i] == b'-')
-            && (i == 0 || !(bytes[i - 1].is_ascii_alphanumeric() || bytes[i - 1] == b'.' || bytes[i - 1] == b'_'));
+            && (i == 0
+                || !(bytes[i - 1].is_ascii_alphanumeric() || bytes[i - 1] == b'.' || bytes[i - 1] == b'_'));
         if starts {
             let mut j = i + 1;
             while j < bytes.len() && (bytes[j].is_ascii_digit() || bytes[j] == b'.' || bytes[j] == b'e') {
@@ -890,11 +955,29 @@ fn mutations(text: &str, json: bool) -> Vec<(String, String)> {
         }
     }
     let number_subs: &[&str] = if json {
-        &["\"s\"", "[]", "{}", "null", "true", "1e300", "-1e300", "1e-300", "0", "-0.0", "3", "-1", "1e-200"]
+        &[
+            "\"s\"", "[]", "{}", "null", "true", "1e300", "-1e300", "1e-300", "0", "-0.0", "3", "-1",
+            "1e-200",
+        ]
     } else {
         &[
-            "nan", "inf", "-inf", "\"s\"", "[]", "{}", "true", "1e300", "-1e300", "1e-300", "0", "-0.0",
-            "3", "-1", "1e-200", "1979-05-27", "9223372036854775807",
+            "nan",
+            "inf",
+            "-inf",
+            "\"s\"",
+            "[]",
+            "{}",
+            "true",
+            "1e300",
+            "-1e300",
+            "1e-300",
+            "0",
+            "-0.0",
+            "3",
+            "-1",
+            "1e-200",
+            "1979-05-27",
+            "9223372036854775807",
         ]
     };
     for (s, e) in number_spans(text) {
@@ -905,7 +988,16 @@ fn mutations(text: &str, json: bool) -> Vec<(String, String)> {
             ));
         }
     }
-    let string_subs: &[&str] = &["\"\"", "\".\"", "\"x.y\"", "\"ground.A\"", "\"A\"", "1", "[]", "{}"];
+    let string_subs: &[&str] = &[
+        "\"\"",
+        "\".\"",
+        "\"x.y\"",
+        "\"ground.A\"",
+        "\"A\"",
+        "1",
+        "[]",
+        "{}",
+    ];
     for (s, e) in string_spans(text) {
         for sub in string_subs {
             out.push((
@@ -933,16 +1025,29 @@ fn never_panics() {
     ];
     let mut panics = Vec::new();
     let mut tried = 0;
+    let mut reached = std::collections::HashMap::new();
     for (name, text, format) in &bases {
-        assert!(exercise(name, text, *format).is_none(), "{name} base panics");
+        assert_eq!(
+            exercise(name, text, *format),
+            Ok(Reached::Simulated),
+            "{name} base"
+        );
         for (label, mutated) in mutations(text, *format == Format::Json) {
             tried += 1;
-            if let Some(p) = exercise(&format!("{name}, {label}"), &mutated, *format) {
-                panics.push(p);
+            match exercise(&format!("{name}, {label}"), &mutated, *format) {
+                Ok(r) => *reached.entry(r).or_insert(0) += 1,
+                Err(p) => panics.push(p),
             }
         }
     }
     assert!(tried > 1000, "only {tried} mutations");
+    // The mutations reach every stage, not just the loader's errors.
+    for stage in [Reached::Rejected, Reached::Loaded, Reached::Simulated] {
+        assert!(
+            reached.get(&stage).copied().unwrap_or(0) > 10,
+            "few mutations reach {stage:?}: {reached:?}"
+        );
+    }
     assert!(
         panics.is_empty(),
         "{} of {tried} mutations panic:\n{}",
@@ -960,10 +1065,24 @@ fn garbage_never_panics() {
         "name = \"x\"\nsweep = { input = 1 }\n[bodies.g]\nfixed = true\nmarkers = { O = [0, 0] }\n",
         "name = \"x\"\n[bodies.g]\nfixed = true\nmarkers = { O = [0, 0] }\n[inputs.i]\nkind = \"angle\"\njoint = \"j\"\n",
     ] {
-        assert!(exercise("toml garbage", text, Format::Toml).is_none(), "{text:?}");
+        if let Err(p) = exercise("toml garbage", text, Format::Toml) {
+            panic!("{p}");
+        }
     }
-    for text in ["", "{", "null", "[]", "1", "\"s\"", "{\"name\": {}}", "{} {}", "{\"bodies\": {\"a\": null}}"] {
-        assert!(exercise("json garbage", text, Format::Json).is_none(), "{text:?}");
+    for text in [
+        "",
+        "{",
+        "null",
+        "[]",
+        "1",
+        "\"s\"",
+        "{\"name\": {}}",
+        "{} {}",
+        "{\"bodies\": {\"a\": null}}",
+    ] {
+        if let Err(p) = exercise("json garbage", text, Format::Json) {
+            panic!("{p}");
+        }
         assert!(load_json(text).is_err(), "{text:?}");
     }
 }

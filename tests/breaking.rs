@@ -11,9 +11,7 @@
 use dofplan::interp::Interpreter;
 use dofplan::model::Mechanism;
 use dofplan::plan::{Plan, StepKind};
-use dofplan::simulate::{
-    marker_at, max_relative_residual, residuals, run, run_animate, sweep_inputs,
-};
+use dofplan::simulate::{marker_at, max_relative_residual, residuals, run, run_animate, sweep_inputs};
 use dofplan_generated::rocker_rocker;
 use dofplan_runtime::{
     Animate, BranchPolicy, BreakKind, BreakPolicy, Ctx, Driver, FrameStatus, Options, Pose, StepId,
@@ -46,11 +44,8 @@ fn rotate(v: P, degrees: f64) -> P {
 
 /// Drawn (= local) position of the marker "body.marker".
 fn drawn(m: &Mechanism, name: &str) -> P {
-    m.marker(
-        m.find_marker(name)
-            .unwrap_or_else(|| panic!("no marker {name}")),
-    )
-    .at
+    m.marker(m.find_marker(name).unwrap_or_else(|| panic!("no marker {name}")))
+        .at
 }
 
 /// World position of the marker "body.marker" in `poses`.
@@ -94,10 +89,7 @@ impl Closed {
         let cos_star = (a * a + d * d - (b + c).powi(2)) / (2.0 * a * d);
         let phi_star = cos_star.acos().to_degrees();
         // The folded break |BD| = |b − c| is out of reach (|BD| ≥ d − a).
-        assert!(
-            (b - c).abs() < d - a,
-            "rocker_rocker: folded break reachable"
-        );
+        assert!((b - c).abs() < d - a, "rocker_rocker: folded break reachable");
         Closed {
             a_pivot,
             b0,
@@ -181,11 +173,7 @@ fn break_angles_match_the_law_of_cosines() {
     let cf = Closed::new(&m);
     // The header's rounded values, as a check on the derivation above.
     assert!((cf.hi - 45.5224878141).abs() < 1e-9, "theta_hi = {}", cf.hi);
-    assert!(
-        (cf.lo + 105.5224878141).abs() < 1e-9,
-        "theta_lo = {}",
-        cf.lo
-    );
+    assert!((cf.lo + 105.5224878141).abs() < 1e-9, "theta_lo = {}", cf.lo);
     // At the break points the circles are exactly tangent.
     assert!(cf.gap(cf.hi).abs() < 1e-12 && cf.gap(cf.lo).abs() < 1e-12);
     assert!(cf.gap(cf.hi + 1e-3) > 0.0 && cf.gap(cf.hi - 1e-3) < 0.0);
@@ -247,12 +235,7 @@ fn limit_keeps_the_last_valid_pose_bit_for_bit() {
     let cf = Closed::new(&m);
     let (step, _) = breaking_step(&plan(&m));
     for (backend, mut driver) in drivers(&m, options(BreakPolicy::Limit)) {
-        for (valid, beyond) in [
-            (40.0, 60.0),
-            (45.0, 100.0),
-            (-100.0, -110.0),
-            (-105.0, -180.0),
-        ] {
+        for (valid, beyond) in [(40.0, 60.0), (45.0, 100.0), (-100.0, -110.0), (-105.0, -180.0)] {
             assert!(cf.assembles(valid) && !cf.assembles(beyond));
             assert_eq!(
                 driver.frame(&[valid]),
@@ -334,31 +317,19 @@ fn stretch_applies_the_input_and_reports_the_closed_form_gap() {
                         r.value
                     );
                 } else {
-                    assert!(
-                        r.value <= 1e-9 * size,
-                        "{what}: {} off by {:e}",
-                        r.name,
-                        r.value
-                    );
+                    assert!(r.value <= 1e-9 * size, "{what}: {} off by {:e}", r.name, r.value);
                 }
             }
         }
         // Back in range the pose is exactly the one a fresh driver reaches.
-        assert_eq!(
-            driver.frame(&[30.0]),
-            FrameStatus::Solved,
-            "{backend} back at 30"
-        );
+        assert_eq!(driver.frame(&[30.0]), FrameStatus::Solved, "{backend} back at 30");
         let mut fresh = Driver::new(Interpreter::new(plan(&m)), Options::default());
         assert_eq!(fresh.frame(&[30.0]), FrameStatus::Solved);
         for (p, q) in driver.poses().iter().zip(fresh.poses()) {
             let d = dist(p.at, q.at)
                 .max((p.rot.c - q.rot.c).abs())
                 .max((p.rot.s - q.rot.s).abs());
-            assert!(
-                d <= 1e-12,
-                "{backend}: after stretching, 30 lands {d:e} off"
-            );
+            assert!(d <= 1e-12, "{backend}: after stretching, 30 lands {d:e} off");
         }
     }
 }

@@ -126,11 +126,7 @@ fn carry(p0: P, q0: P, p: P, q: P, x0: P) -> P {
 }
 
 /// Both back ends over `requested`: (label, frames).
-fn both_on(
-    m: &Mechanism,
-    opts: Options,
-    requested: &[Vec<f64>],
-) -> Vec<(&'static str, Vec<Frame>)> {
+fn both_on(m: &Mechanism, opts: Options, requested: &[Vec<f64>]) -> Vec<(&'static str, Vec<Frame>)> {
     let interpreted = run(Interpreter::new(plan(m)), opts, requested);
     let mut driver = dofplan_generated::driver(&m.name, opts)
         .unwrap_or_else(|| panic!("{} is not compiled into dofplan-generated", m.name));
@@ -148,17 +144,10 @@ fn solved_sweep(name: &str) -> (Mechanism, Vec<(&'static str, Vec<Frame>)>) {
     for (backend, frames) in &runs {
         assert_eq!(frames.len(), requested.len());
         for (i, f) in frames.iter().enumerate() {
-            assert_eq!(
-                f.status,
-                FrameStatus::Solved,
-                "{name} ({backend}) frame {i}"
-            );
+            assert_eq!(f.status, FrameStatus::Solved, "{name} ({backend}) frame {i}");
             assert_eq!(f.inputs, f.requested, "{name} ({backend}) frame {i}");
             let r = max_relative_residual(&m, &f.poses, &f.inputs);
-            assert!(
-                r <= 1e-9,
-                "{name} ({backend}) frame {i}: relative residual {r:e}"
-            );
+            assert!(r <= 1e-9, "{name} ({backend}) frame {i}: relative residual {r:e}");
         }
     }
     (m, runs)
@@ -263,12 +252,7 @@ fn inverted_slider_crank_rocker_follows_atan2() {
         let (mut worst_psi, mut worst_s) = (0.0_f64, 0.0_f64);
         for f in frames {
             let phi = phi0 + f.inputs[0].to_radians();
-            let what = |n: &str| {
-                format!(
-                    "inverted_slider_crank ({backend}) theta = {}: {n}",
-                    f.inputs[0]
-                )
-            };
+            let what = |n: &str| format!("inverted_slider_crank ({backend}) theta = {}: {n}", f.inputs[0]);
             let turn = wrap(rotation(&m, f, "rocker") - (psi(phi) - psi(phi0))).abs();
             worst_psi = worst_psi.max(check(turn, || what("rocker rotation")));
             let s = dist(at(&m, f, "block.S"), at(&m, f, "rocker.O4"));
@@ -481,11 +465,7 @@ fn parallelogram_switches_to_the_antiparallelogram_between_the_change_points() {
     };
     // The change points of the sweep: the crank collinear with the ground.
     let change = |theta: f64| cross(sub(d, a), sub(pin(theta), a)).abs() <= 1e-12;
-    let changes: Vec<f64> = requested
-        .iter()
-        .map(|r| r[0])
-        .filter(|&t| change(t))
-        .collect();
+    let changes: Vec<f64> = requested.iter().map(|r| r[0]).filter(|&t| change(t)).collect();
     assert_eq!(changes, [120.0, 300.0], "change points of the sweep");
 
     let mut keep = None;
@@ -514,11 +494,7 @@ fn parallelogram_switches_to_the_antiparallelogram_between_the_change_points() {
                             "{what}: modes apart by {:e}",
                             dist(par, anti)
                         );
-                        assert!(
-                            dist(c, par) <= TOL,
-                            "{what}: {name} off by {:e}",
-                            dist(c, par)
-                        );
+                        assert!(dist(c, par) <= TOL, "{what}: {name} off by {:e}", dist(c, par));
                     } else if (120.0..=300.0).contains(&theta) {
                         // Strictly between the change points.
                         assert!(
@@ -586,13 +562,7 @@ fn stress_chains_plan_two_steps_plus_three_per_dyad() {
         .collect();
     assert_eq!(
         names,
-        [
-            "stress_10",
-            "stress_20",
-            "stress_30",
-            "stress_40",
-            "stress_50"
-        ]
+        ["stress_10", "stress_20", "stress_30", "stress_40", "stress_50"]
     );
     for name in names {
         let m = load(&name);

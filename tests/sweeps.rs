@@ -58,8 +58,14 @@ fn sweeps_without_break_points_solve_every_frame() {
     // turns through its whole sweep.
     for name in bundled().into_iter().filter(|n| n != "rocker_rocker") {
         let m = load(&name);
-        let frames = run(Interpreter::new(plan(&m)), Options::default(), &sweep_inputs(&m, None));
-        let broken: Vec<usize> = (0..frames.len()).filter(|&i| !frames[i].status.is_solved()).collect();
+        let frames = run(
+            Interpreter::new(plan(&m)),
+            Options::default(),
+            &sweep_inputs(&m, None),
+        );
+        let broken: Vec<usize> = (0..frames.len())
+            .filter(|&i| !frames[i].status.is_solved())
+            .collect();
         assert!(broken.is_empty(), "{name}: frames {broken:?} did not solve");
     }
 }
@@ -76,7 +82,10 @@ fn compiled_and_interpreted_agree_on_every_frame() {
                 let b = compiled(&name, opts, &requested);
                 assert_eq!(a.len(), b.len());
                 for (i, (fa, fb)) in a.iter().zip(&b).enumerate() {
-                    assert_eq!(fa.status, fb.status, "{name} frame {i} status ({policy:?}, {branch:?})");
+                    assert_eq!(
+                        fa.status, fb.status,
+                        "{name} frame {i} status ({policy:?}, {branch:?})"
+                    );
                     assert_eq!(fa.inputs, fb.inputs, "{name} frame {i} inputs");
                     for (pa, pb) in fa.poses.iter().zip(&fb.poses) {
                         let d = (pa.at[0] - pb.at[0])
@@ -84,7 +93,10 @@ fn compiled_and_interpreted_agree_on_every_frame() {
                             .max((pa.at[1] - pb.at[1]).abs())
                             .max((pa.rot.c - pb.rot.c).abs())
                             .max((pa.rot.s - pb.rot.s).abs());
-                        assert!(d <= 1e-12, "{name} frame {i}: compiled and interpreted differ by {d:e}");
+                        assert!(
+                            d <= 1e-12,
+                            "{name} frame {i}: compiled and interpreted differ by {d:e}"
+                        );
                     }
                 }
             }
@@ -102,7 +114,12 @@ fn plans_reproduce_the_drawn_pose_at_zero_input() {
             for marker in &m.bodies[id].markers {
                 let w = pose.world(marker.at);
                 let gap = (w[0] - marker.at[0]).hypot(w[1] - marker.at[1]);
-                assert!(gap <= 1e-9 * m.size(), "{name}: {}.{} off by {gap:e}", m.bodies[id].name, marker.name);
+                assert!(
+                    gap <= 1e-9 * m.size(),
+                    "{name}: {}.{} off by {gap:e}",
+                    m.bodies[id].name,
+                    marker.name
+                );
             }
         }
     }
@@ -112,14 +129,26 @@ fn plans_reproduce_the_drawn_pose_at_zero_input() {
 fn keep_branch_never_flips_on_a_smooth_sweep() {
     // Away from singular poses, consecutive frames of a fine sweep move every
     // marker by a small amount: a branch flip would jump.
-    for name in bundled().into_iter().filter(|n| n != "rocker_rocker" && n != "parallelogram") {
+    for name in bundled()
+        .into_iter()
+        .filter(|n| n != "rocker_rocker" && n != "parallelogram")
+    {
         let m = load(&name);
-        let frames = run(Interpreter::new(plan(&m)), Options::default(), &sweep_inputs(&m, Some(3601)));
+        let frames = run(
+            Interpreter::new(plan(&m)),
+            Options::default(),
+            &sweep_inputs(&m, Some(3601)),
+        );
         let size = m.size();
         for w in frames.windows(2) {
             for (pa, pb) in w[0].poses.iter().zip(&w[1].poses) {
                 let jump = (pa.at[0] - pb.at[0]).hypot(pa.at[1] - pb.at[1]);
-                assert!(jump < 0.05 * size, "{name}: a body jumps {jump} between frames {:?} and {:?}", w[0].requested, w[1].requested);
+                assert!(
+                    jump < 0.05 * size,
+                    "{name}: a body jumps {jump} between frames {:?} and {:?}",
+                    w[0].requested,
+                    w[1].requested
+                );
             }
         }
     }

@@ -13,11 +13,11 @@
 //! - [`emit`]: writes a plan as straight-line Rust.
 //! - [`build`]: the `build.rs` API.
 
-pub mod model;
 pub mod analysis;
-pub mod interp;
-pub mod plan;
-pub mod emit;
 pub mod build;
+pub mod emit;
+pub mod interp;
+pub mod model;
+pub mod plan;
 pub mod simulate;
 pub mod svg;

@@ -114,7 +114,10 @@ pub fn residuals(m: &Mechanism, poses: &[Pose], inputs: &[f64]) -> Vec<Residual>
     let size = m.size();
     let at = |id: MarkerId| marker_at(m, poses, id);
     let line = |id: MarkerId| {
-        let d = m.marker(id).unit_dir().expect("validated: line markers carry a dir");
+        let d = m
+            .marker(id)
+            .unit_dir()
+            .expect("validated: line markers carry a dir");
         (at(id), poses[id.body].world_dir(d))
     };
     let mut out = Vec::new();

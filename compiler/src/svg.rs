@@ -35,15 +35,12 @@ impl Default for SvgOptions {
 /// Colours of the mobile bodies, in order (a colour-blind-friendly
 /// categorical palette without its grey, kept for the ground).
 const BODY_COLOURS: [&str; 9] = [
-    "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#bcbd22",
-    "#17becf",
+    "#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#bcbd22", "#17becf",
 ];
 /// Colour of fixed bodies.
 const GROUND_COLOUR: &str = "#7f7f7f";
 /// Colours of the traces: darker and more saturated than the bodies'.
-const TRACE_COLOURS: [&str; 6] = [
-    "#c2185b", "#00695c", "#4527a0", "#e65100", "#1b5e20", "#283593",
-];
+const TRACE_COLOURS: [&str; 6] = ["#c2185b", "#00695c", "#4527a0", "#e65100", "#1b5e20", "#283593"];
 /// Dark ink for outlines and text.
 const INK: &str = "#222222";
 
@@ -128,10 +125,7 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
     // Layout.
     let plot_w = width - 2.0 * PAD;
     let view = View::fit(&bbox, size, plot_w, PAD, HEADER);
-    let label_w = legend
-        .iter()
-        .map(|e| text_width(&e.2, 12.0))
-        .fold(0.0, f64::max);
+    let label_w = legend.iter().map(|e| text_width(&e.2, 12.0)).fold(0.0, f64::max);
     let col_w = (label_w + 34.0).min(plot_w);
     let cols = ((plot_w / col_w).floor() as usize).max(1);
     let rows = legend.len().div_ceil(cols);
@@ -295,9 +289,7 @@ fn dedupe_identical(m: &Mechanism, sets: &mut Vec<&[Pose]>, frames: &mut Vec<usi
             keep[j]
                 && m.all_markers()
                     .all(|id| match (world(m, sets[j], id), world(m, sets[k], id)) {
-                        (Some(a), Some(b)) => {
-                            (a[0] - b[0]).abs() <= tol && (a[1] - b[1]).abs() <= tol
-                        }
+                        (Some(a), Some(b)) => (a[0] - b[0]).abs() <= tol && (a[1] - b[1]).abs() <= tol,
                         (None, None) => true,
                         _ => false,
                     })
@@ -374,9 +366,7 @@ fn world(m: &Mechanism, poses: &[Pose], id: MarkerId) -> Option<Point> {
 }
 
 fn valid(m: &Mechanism, id: MarkerId) -> bool {
-    m.bodies
-        .get(id.body)
-        .is_some_and(|b| id.marker < b.markers.len())
+    m.bodies.get(id.body).is_some_and(|b| id.marker < b.markers.len())
 }
 
 fn finite(p: Point) -> bool {
@@ -551,8 +541,7 @@ fn slide_ranges(m: &Mechanism, all_poses: &[&[Pose]], size: f64) -> Vec<Slide> {
         }
         let (mut lo, mut hi) = (0.0f64, 0.0f64);
         for poses in all_poses {
-            let (Some((a, d)), Some(b)) = (line_of(m, poses, ji), world(m, poses, j.markers[1]))
-            else {
+            let (Some((a, d)), Some(b)) = (line_of(m, poses, ji), world(m, poses, j.markers[1])) else {
                 continue;
             };
             let t = (b[0] - a[0]) * d[0] + (b[1] - a[1]) * d[1];
@@ -645,12 +634,7 @@ fn draw_ground(m: &Mechanism, poses: &[Pose], slides: &[Slide], view: &View) -> 
                 "points",
                 points(&[[x, y], [x - 8.0, y + 13.0], [x + 8.0, y + 13.0]]),
             ));
-            hatch.push_str(&format!(
-                "M{} {}H{}",
-                num(x - 13.0),
-                num(y + 13.0),
-                num(x + 13.0)
-            ));
+            hatch.push_str(&format!("M{} {}H{}", num(x - 13.0), num(y + 13.0), num(x + 13.0)));
             for i in 0..5 {
                 let hx = x - 9.0 + 5.5 * i as f64;
                 hatch.push_str(&format!(
@@ -684,9 +668,7 @@ fn hull(mut ps: Vec<Point>) -> Vec<Point> {
     if ps.len() < 3 {
         return ps;
     }
-    let cross = |o: Point, a: Point, b: Point| {
-        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
-    };
+    let cross = |o: Point, a: Point, b: Point| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
     let mut out: Vec<Point> = Vec::with_capacity(2 * ps.len());
     for pass in 0..2 {
         let start = out.len();
@@ -696,8 +678,7 @@ fn hull(mut ps: Vec<Point>) -> Vec<Point> {
             Box::new(ps.iter().rev())
         };
         for &p in iter {
-            while out.len() >= start + 2 && cross(out[out.len() - 2], out[out.len() - 1], p) <= 0.0
-            {
+            while out.len() >= start + 2 && cross(out[out.len() - 2], out[out.len() - 1], p) <= 0.0 {
                 out.pop();
             }
             out.push(p);
@@ -950,10 +931,7 @@ trace = ["coupler.P"]
     }
 
     fn trace_of(m: &Mechanism) -> Vec<MarkerId> {
-        m.sweep
-            .as_ref()
-            .map(|s| s.trace.clone())
-            .unwrap_or_default()
+        m.sweep.as_ref().map(|s| s.trace.clone()).unwrap_or_default()
     }
 
     /// Checks that tags nest properly, with a single `<svg>` root.
@@ -966,11 +944,7 @@ trace = ["coupler.P"]
             let tag = &rest[start + 1..end];
             rest = &rest[end + 1..];
             if let Some(name) = tag.strip_prefix('/') {
-                assert_eq!(
-                    stack.pop().as_deref(),
-                    Some(name.trim()),
-                    "mismatched </{name}>"
-                );
+                assert_eq!(stack.pop().as_deref(), Some(name.trim()), "mismatched </{name}>");
                 continue;
             }
             assert!(
@@ -1023,15 +997,10 @@ trace = ["coupler.P"]
         assert_eq!(trace_points(&svg), vec![37]);
         assert_well_formed(&svg);
         // 6 poses asked, the last equals the first (a full turn): 5 drawn.
-        assert!(
-            svg.contains("5 poses at theta = 0\u{b0}, 70\u{b0}, 140\u{b0}, 220\u{b0}, 290\u{b0}")
-        );
+        assert!(svg.contains("5 poses at theta = 0\u{b0}, 70\u{b0}, 140\u{b0}, 220\u{b0}, 290\u{b0}"));
         // Two ground pivots, four revolute pins in each of the 5 poses.
         assert_eq!(svg.matches("<circle").count(), 5 * 4 + 1);
-        assert_eq!(
-            svg,
-            render(&m, &frames, &trace_of(&m), &SvgOptions::default())
-        );
+        assert_eq!(svg, render(&m, &frames, &trace_of(&m), &SvgOptions::default()));
     }
 
     #[test]
@@ -1093,9 +1062,7 @@ trace = ["coupler.P"]
         assert_eq!(trace_points(&svg), vec![9]);
         assert_well_formed(&svg);
         // Only solved frames are drawn as poses: 0..=6.
-        assert!(svg.contains(
-            "poses at theta = 0\u{b0}, 10\u{b0}, 20\u{b0}, 40\u{b0}, 50\u{b0}, 60\u{b0}"
-        ));
+        assert!(svg.contains("poses at theta = 0\u{b0}, 10\u{b0}, 20\u{b0}, 40\u{b0}, 50\u{b0}, 60\u{b0}"));
 
         // All frames unsolved: poses are still drawn, poses vectors too
         // short and bogus trace ids do not panic.
@@ -1103,10 +1070,7 @@ trace = ["coupler.P"]
             f.status = limited;
         }
         frames[9].poses.truncate(1);
-        let bogus = [
-            MarkerId { body: 9, marker: 0 },
-            MarkerId { body: 2, marker: 7 },
-        ];
+        let bogus = [MarkerId { body: 9, marker: 0 }, MarkerId { body: 2, marker: 7 }];
         let svg = render(
             &m,
             &frames,

@@ -4,7 +4,9 @@ use std::path::PathBuf;
 use std::process::{Command, Output};
 
 fn mechanism(name: &str) -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../mechanisms").join(format!("{name}.toml"))
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../mechanisms")
+        .join(format!("{name}.toml"))
 }
 
 fn dofplan(args: &[&str]) -> Output {
@@ -37,8 +39,16 @@ fn plan_explains_every_step() {
     let o = dofplan(&["plan", mechanism("fourbar").to_str().unwrap()]);
     assert!(o.status.success());
     let out = stdout(&o);
-    assert!(out.contains("coupler.C: circle about crank.B r=3.8079 ∩ circle about ground.D r=2.5495, branch +"), "{out}");
-    assert_eq!(out.lines().filter(|l| l.trim_start().starts_with(char::is_numeric)).count(), 5);
+    assert!(
+        out.contains("coupler.C: circle about crank.B r=3.8079 ∩ circle about ground.D r=2.5495, branch +"),
+        "{out}"
+    );
+    assert_eq!(
+        out.lines()
+            .filter(|l| l.trim_start().starts_with(char::is_numeric))
+            .count(),
+        5
+    );
 }
 
 #[test]
@@ -53,7 +63,13 @@ fn emit_prints_the_generated_module() {
 
 #[test]
 fn simulate_json_has_inputs_status_and_every_marker() {
-    let o = dofplan(&["simulate", mechanism("fourbar").to_str().unwrap(), "--steps", "37", "--json"]);
+    let o = dofplan(&[
+        "simulate",
+        mechanism("fourbar").to_str().unwrap(),
+        "--steps",
+        "37",
+        "--json",
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let doc: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("one JSON document");
     let frames = doc["frames"].as_array().expect("frames");
@@ -72,18 +88,33 @@ fn simulate_json_has_inputs_status_and_every_marker() {
 
 #[test]
 fn simulate_search_reports_breaks_in_json() {
-    let o = dofplan(&["simulate", mechanism("rocker_rocker").to_str().unwrap(), "--policy", "search", "--json"]);
+    let o = dofplan(&[
+        "simulate",
+        mechanism("rocker_rocker").to_str().unwrap(),
+        "--policy",
+        "search",
+        "--json",
+    ]);
     assert!(o.status.success());
     let doc: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
     let frames = doc["frames"].as_array().unwrap();
     let searched: Vec<&serde_json::Value> = frames.iter().filter(|f| f["status"] == "searched").collect();
     assert!(!searched.is_empty());
-    assert!(searched[0]["break"]["explanation"].as_str().unwrap().contains("circle about"));
+    assert!(searched[0]["break"]["explanation"]
+        .as_str()
+        .unwrap()
+        .contains("circle about"));
 }
 
 #[test]
 fn simulate_csv_has_a_row_per_frame() {
-    let o = dofplan(&["simulate", mechanism("slider_crank").to_str().unwrap(), "--steps", "10", "--csv"]);
+    let o = dofplan(&[
+        "simulate",
+        mechanism("slider_crank").to_str().unwrap(),
+        "--steps",
+        "10",
+        "--csv",
+    ]);
     assert!(o.status.success());
     let out = stdout(&o);
     let lines: Vec<&str> = out.lines().collect();
@@ -94,7 +125,12 @@ fn simulate_csv_has_a_row_per_frame() {
 #[test]
 fn simulate_svg_writes_a_drawing() {
     let out = std::env::temp_dir().join(format!("dofplan-cli-{}.svg", std::process::id()));
-    let o = dofplan(&["simulate", mechanism("fourbar").to_str().unwrap(), "--svg", out.to_str().unwrap()]);
+    let o = dofplan(&[
+        "simulate",
+        mechanism("fourbar").to_str().unwrap(),
+        "--svg",
+        out.to_str().unwrap(),
+    ]);
     assert!(o.status.success(), "{}", stderr(&o));
     let svg = std::fs::read_to_string(&out).unwrap();
     assert!(svg.starts_with("<svg"));
@@ -115,7 +151,10 @@ fn bad_files_get_a_position_and_a_failing_status() {
     let o = dofplan(&["check", file.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1));
     let err = stderr(&o);
-    assert!(err.contains("bad.toml:9:24: error: joint `A`: unknown body `crnk`"), "{err}");
+    assert!(
+        err.contains("bad.toml:9:24: error: joint `A`: unknown body `crnk`"),
+        "{err}"
+    );
     let o = dofplan(&["simulate", dir.join("missing.toml").to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("cannot read the file"));

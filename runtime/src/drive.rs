@@ -160,8 +160,7 @@ impl<S: Solver> Driver<S> {
         }
         self.trial.clone_from(&self.state);
         let mut ctx = Ctx::new(self.options.branch, false);
-        self.solver
-            .solve(&mut self.trial, self.probe.as_ref(), &mut ctx)
+        self.solver.solve(&mut self.trial, self.probe.as_ref(), &mut ctx)
     }
 }
 

@@ -20,7 +20,5 @@ pub mod frame;
 pub mod planar;
 
 pub use drive::{Animate, Driver, Solver};
-pub use frame::{
-    Branch, BranchPolicy, Break, BreakKind, BreakPolicy, Ctx, FrameStatus, Options, StepId,
-};
+pub use frame::{Branch, BranchPolicy, Break, BreakKind, BreakPolicy, Ctx, FrameStatus, Options, StepId};
 pub use planar::{Point, Pose, Rot};

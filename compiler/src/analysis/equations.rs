@@ -122,7 +122,10 @@ pub fn equations(m: &Mechanism) -> Vec<Sourced> {
                 }
             }
             JointKind::Prismatic => {
-                let dir = m.marker(a).unit_dir().expect("validated: prismatic markers carry a dir");
+                let dir = m
+                    .marker(a)
+                    .unit_dir()
+                    .expect("validated: prismatic markers carry a dir");
                 out.push(Sourced {
                     eq: Equation::Parallel {
                         a: a.body,
@@ -170,7 +173,10 @@ pub fn equations(m: &Mechanism) -> Vec<Sourced> {
             },
             ConstraintKind::InLine => Equation::InLine {
                 line: end(m, a),
-                dir: m.marker(a).unit_dir().expect("validated: in-line markers carry a dir"),
+                dir: m
+                    .marker(a)
+                    .unit_dir()
+                    .expect("validated: in-line markers carry a dir"),
                 point: end(m, b),
             },
             ConstraintKind::Offset => Equation::Parallel {

@@ -213,15 +213,43 @@ impl Planner<'_> {
                 continue;
             };
             let (target, from, rel) = match (self.know[a].rot_known(), self.know[b].rot_known()) {
-                (true, false) => (b, a, input.map_or(Rel::Identity, |i| Rel::Input { input: i, inverse: false })),
-                (false, true) => (a, b, input.map_or(Rel::Identity, |i| Rel::Input { input: i, inverse: true })),
+                (true, false) => (
+                    b,
+                    a,
+                    input.map_or(Rel::Identity, |i| Rel::Input {
+                        input: i,
+                        inverse: false,
+                    }),
+                ),
+                (false, true) => (
+                    a,
+                    b,
+                    input.map_or(Rel::Identity, |i| Rel::Input {
+                        input: i,
+                        inverse: true,
+                    }),
+                ),
                 _ => continue,
             };
             let origin = self.consume(i);
-            self.push(StepKind::Orient { body: target, from, rel }, vec![origin]);
+            self.push(
+                StepKind::Orient {
+                    body: target,
+                    from,
+                    rel,
+                },
+                vec![origin],
+            );
             self.know[target] = match std::mem::replace(&mut self.know[target], Know::Placed) {
                 Know::Pinned { local, at } => {
-                    self.push(StepKind::Anchor { body: target, local, at }, vec![]);
+                    self.push(
+                        StepKind::Anchor {
+                            body: target,
+                            local,
+                            at,
+                        },
+                        vec![],
+                    );
                     Know::Placed
                 }
                 _ => Know::Oriented,
@@ -271,14 +299,20 @@ impl Planner<'_> {
                 let Some(at) = at else { continue };
                 let next = match &self.know[body] {
                     Know::Free => Some(None),
-                    Know::Oriented => Some(Some(StepKind::Anchor { body, local, at: at.clone() })),
-                    Know::Pinned { local: l0, at: at0 } if dist(*l0, local) > self.tol => Some(Some(StepKind::Align {
+                    Know::Oriented => Some(Some(StepKind::Anchor {
                         body,
-                        p: *l0,
-                        p_at: at0.clone(),
-                        q: local,
-                        q_at: at.clone(),
+                        local,
+                        at: at.clone(),
                     })),
+                    Know::Pinned { local: l0, at: at0 } if dist(*l0, local) > self.tol => {
+                        Some(Some(StepKind::Align {
+                            body,
+                            p: *l0,
+                            p_at: at0.clone(),
+                            q: local,
+                            q_at: at.clone(),
+                        }))
+                    }
                     _ => None,
                 };
                 let Some(step) = next else { continue };
@@ -316,18 +350,43 @@ impl Planner<'_> {
                 match self.know[body].clone() {
                     Know::Oriented => {
                         let origin = self.consume(i);
-                        self.push(StepKind::Anchor { body, local: point.local, at: through }, vec![origin]);
+                        self.push(
+                            StepKind::Anchor {
+                                body,
+                                local: point.local,
+                                at: through,
+                            },
+                            vec![origin],
+                        );
                         self.know[body] = Know::Sliding { dir: ldir };
                     }
                     Know::Sliding { dir: d1 } => {
                         let origin = self.consume(i);
                         let out = self.temp(&point.name);
                         let own = Line {
-                            through: PointRef::Marker { body, local: point.local, name: point.name.clone() },
+                            through: PointRef::Marker {
+                                body,
+                                local: point.local,
+                                name: point.name.clone(),
+                            },
                             dir: d1,
                         };
-                        self.push(StepKind::LineLine { out, a: own, b: Line { through, dir: ldir } }, vec![origin]);
-                        self.push(StepKind::Anchor { body, local: point.local, at: PointRef::Temp { id: out } }, vec![]);
+                        self.push(
+                            StepKind::LineLine {
+                                out,
+                                a: own,
+                                b: Line { through, dir: ldir },
+                            },
+                            vec![origin],
+                        );
+                        self.push(
+                            StepKind::Anchor {
+                                body,
+                                local: point.local,
+                                at: PointRef::Temp { id: out },
+                            },
+                            vec![],
+                        );
                         self.know[body] = Know::Placed;
                     }
                     Know::Pinned { local: l0, at: at0 } if dist(l0, point.local) > self.tol => {
@@ -345,7 +404,13 @@ impl Planner<'_> {
                             vec![origin],
                         );
                         self.push(
-                            StepKind::Align { body, p: l0, p_at: at0, q: point.local, q_at: PointRef::Temp { id: out } },
+                            StepKind::Align {
+                                body,
+                                p: l0,
+                                p_at: at0,
+                                q: point.local,
+                                q_at: PointRef::Temp { id: out },
+                            },
                             vec![],
                         );
                         self.know[body] = Know::Placed;
@@ -355,7 +420,9 @@ impl Planner<'_> {
                 return true;
             }
             if !self.placed(line.body) {
-                let Some(q) = self.known_point(point.body, point.local, &point.name) else { continue };
+                let Some(q) = self.known_point(point.body, point.local, &point.name) else {
+                    continue;
+                };
                 if !self.placed(point.body) {
                     continue; // the point is known but its body still turns
                 }
@@ -363,19 +430,49 @@ impl Planner<'_> {
                 match self.know[body].clone() {
                     Know::Oriented => {
                         let origin = self.consume(i);
-                        self.push(StepKind::Anchor { body, local: line.local, at: q }, vec![origin]);
-                        self.know[body] = Know::Sliding { dir: DirRef::Body { body, local: dir } };
+                        self.push(
+                            StepKind::Anchor {
+                                body,
+                                local: line.local,
+                                at: q,
+                            },
+                            vec![origin],
+                        );
+                        self.know[body] = Know::Sliding {
+                            dir: DirRef::Body { body, local: dir },
+                        };
                     }
                     Know::Sliding { dir: d1 } => {
                         let origin = self.consume(i);
                         let out = self.temp(&line.name);
                         let own = Line {
-                            through: PointRef::Marker { body, local: line.local, name: line.name.clone() },
+                            through: PointRef::Marker {
+                                body,
+                                local: line.local,
+                                name: line.name.clone(),
+                            },
                             dir: d1,
                         };
-                        let through_q = Line { through: q, dir: DirRef::Body { body, local: dir } };
-                        self.push(StepKind::LineLine { out, a: own, b: through_q }, vec![origin]);
-                        self.push(StepKind::Anchor { body, local: line.local, at: PointRef::Temp { id: out } }, vec![]);
+                        let through_q = Line {
+                            through: q,
+                            dir: DirRef::Body { body, local: dir },
+                        };
+                        self.push(
+                            StepKind::LineLine {
+                                out,
+                                a: own,
+                                b: through_q,
+                            },
+                            vec![origin],
+                        );
+                        self.push(
+                            StepKind::Anchor {
+                                body,
+                                local: line.local,
+                                at: PointRef::Temp { id: out },
+                            },
+                            vec![],
+                        );
                         self.know[body] = Know::Placed;
                     }
                     Know::Pinned { local: l0, at: at0 } => {
@@ -392,7 +489,14 @@ impl Planner<'_> {
                             },
                             vec![origin],
                         );
-                        self.push(StepKind::Anchor { body, local: l0, at: at0 }, vec![]);
+                        self.push(
+                            StepKind::Anchor {
+                                body,
+                                local: l0,
+                                at: at0,
+                            },
+                            vec![],
+                        );
                         self.know[body] = Know::Placed;
                     }
                     _ => continue,
@@ -411,7 +515,9 @@ impl Planner<'_> {
                 continue;
             }
             match &self.eqs[i].eq {
-                Equation::Coincident { a, b, slide: None } if !self.placed(a.body) && !self.placed(b.body) => {
+                Equation::Coincident { a, b, slide: None }
+                    if !self.placed(a.body) && !self.placed(b.body) =>
+                {
                     let (a, b) = (a.clone(), b.clone());
                     let (ka, kb) = (self.know[a.body].clone(), self.know[b.body].clone());
                     let (la, lb) = (a.local, b.local);
@@ -423,31 +529,92 @@ impl Planner<'_> {
                             let out = self.temp(&a.name);
                             let branch = self.branch_slot(la);
                             self.push(
-                                StepKind::CircleCircle { out, c1: p1.clone(), r1: dist(l1, la), c2: p2.clone(), r2: dist(l2, lb), branch },
+                                StepKind::CircleCircle {
+                                    out,
+                                    c1: p1.clone(),
+                                    r1: dist(l1, la),
+                                    c2: p2.clone(),
+                                    r2: dist(l2, lb),
+                                    branch,
+                                },
                                 vec![origin],
                             );
                             let x = PointRef::Temp { id: out };
-                            self.push(StepKind::Align { body: a.body, p: l1, p_at: p1, q: la, q_at: x.clone() }, vec![]);
-                            self.push(StepKind::Align { body: b.body, p: l2, p_at: p2, q: lb, q_at: x }, vec![]);
+                            self.push(
+                                StepKind::Align {
+                                    body: a.body,
+                                    p: l1,
+                                    p_at: p1,
+                                    q: la,
+                                    q_at: x.clone(),
+                                },
+                                vec![],
+                            );
+                            self.push(
+                                StepKind::Align {
+                                    body: b.body,
+                                    p: l2,
+                                    p_at: p2,
+                                    q: lb,
+                                    q_at: x,
+                                },
+                                vec![],
+                            );
                         }
-                        (Know::Pinned { local: l1, at: p1 }, Know::Sliding { dir }) if dist(l1, la) > self.tol => {
+                        (Know::Pinned { local: l1, at: p1 }, Know::Sliding { dir })
+                            if dist(l1, la) > self.tol =>
+                        {
                             self.pinned_sliding(i, a.body, l1, p1, la, &a.name, b.body, lb, &b.name, dir);
                         }
-                        (Know::Sliding { dir }, Know::Pinned { local: l2, at: p2 }) if dist(l2, lb) > self.tol => {
+                        (Know::Sliding { dir }, Know::Pinned { local: l2, at: p2 })
+                            if dist(l2, lb) > self.tol =>
+                        {
                             self.pinned_sliding(i, b.body, l2, p2, lb, &b.name, a.body, la, &a.name, dir);
                         }
                         (Know::Sliding { dir: d1 }, Know::Sliding { dir: d2 }) => {
                             let origin = self.consume(i);
                             let out = self.temp(&a.name);
-                            let la_ref = PointRef::Marker { body: a.body, local: la, name: a.name.clone() };
-                            let lb_ref = PointRef::Marker { body: b.body, local: lb, name: b.name.clone() };
+                            let la_ref = PointRef::Marker {
+                                body: a.body,
+                                local: la,
+                                name: a.name.clone(),
+                            };
+                            let lb_ref = PointRef::Marker {
+                                body: b.body,
+                                local: lb,
+                                name: b.name.clone(),
+                            };
                             self.push(
-                                StepKind::LineLine { out, a: Line { through: la_ref, dir: d1 }, b: Line { through: lb_ref, dir: d2 } },
+                                StepKind::LineLine {
+                                    out,
+                                    a: Line {
+                                        through: la_ref,
+                                        dir: d1,
+                                    },
+                                    b: Line {
+                                        through: lb_ref,
+                                        dir: d2,
+                                    },
+                                },
                                 vec![origin],
                             );
                             let x = PointRef::Temp { id: out };
-                            self.push(StepKind::Anchor { body: a.body, local: la, at: x.clone() }, vec![]);
-                            self.push(StepKind::Anchor { body: b.body, local: lb, at: x }, vec![]);
+                            self.push(
+                                StepKind::Anchor {
+                                    body: a.body,
+                                    local: la,
+                                    at: x.clone(),
+                                },
+                                vec![],
+                            );
+                            self.push(
+                                StepKind::Anchor {
+                                    body: b.body,
+                                    local: lb,
+                                    at: x,
+                                },
+                                vec![],
+                            );
                         }
                         _ => continue,
                     }
@@ -476,12 +643,40 @@ impl Planner<'_> {
                     let branch = self.branch_slot([1.0, 0.0]);
                     let kappa = cross(sub(sub(line.local, l1), sub(point.local, l2)), dir);
                     self.push(
-                        StepKind::TurnLine { body: line.body, pivot: p1.clone(), target: p2.clone(), dir, kappa, branch },
+                        StepKind::TurnLine {
+                            body: line.body,
+                            pivot: p1.clone(),
+                            target: p2.clone(),
+                            dir,
+                            kappa,
+                            branch,
+                        },
                         vec![o1, o2],
                     );
-                    self.push(StepKind::Orient { body: point.body, from: line.body, rel: Rel::Identity }, vec![]);
-                    self.push(StepKind::Anchor { body: line.body, local: l1, at: p1 }, vec![]);
-                    self.push(StepKind::Anchor { body: point.body, local: l2, at: p2 }, vec![]);
+                    self.push(
+                        StepKind::Orient {
+                            body: point.body,
+                            from: line.body,
+                            rel: Rel::Identity,
+                        },
+                        vec![],
+                    );
+                    self.push(
+                        StepKind::Anchor {
+                            body: line.body,
+                            local: l1,
+                            at: p1,
+                        },
+                        vec![],
+                    );
+                    self.push(
+                        StepKind::Anchor {
+                            body: point.body,
+                            local: l2,
+                            at: p2,
+                        },
+                        vec![],
+                    );
                     self.know[line.body] = Know::Placed;
                     self.know[point.body] = Know::Placed;
                     return true;
@@ -510,13 +705,39 @@ impl Planner<'_> {
         let origin = self.consume(i);
         let out = self.temp(name1);
         let branch = self.branch_slot(local1);
-        let through = PointRef::Marker { body: sliding, local: local2, name: name2.to_string() };
+        let through = PointRef::Marker {
+            body: sliding,
+            local: local2,
+            name: name2.to_string(),
+        };
         self.push(
-            StepKind::CircleLine { out, c: p1.clone(), r: dist(l1, local1), line: Line { through, dir }, branch },
+            StepKind::CircleLine {
+                out,
+                c: p1.clone(),
+                r: dist(l1, local1),
+                line: Line { through, dir },
+                branch,
+            },
             vec![origin],
         );
         let x = PointRef::Temp { id: out };
-        self.push(StepKind::Align { body: pinned, p: l1, p_at: p1, q: local1, q_at: x.clone() }, vec![]);
-        self.push(StepKind::Anchor { body: sliding, local: local2, at: x }, vec![]);
+        self.push(
+            StepKind::Align {
+                body: pinned,
+                p: l1,
+                p_at: p1,
+                q: local1,
+                q_at: x.clone(),
+            },
+            vec![],
+        );
+        self.push(
+            StepKind::Anchor {
+                body: sliding,
+                local: local2,
+                at: x,
+            },
+            vec![],
+        );
     }
 }

@@ -142,7 +142,9 @@ fn report_model_error(err: &ModelError) {
                 // The plain "file:line:col" line first, so editors and
                 // scripts can jump to it; the snippet follows.
                 eprintln!("{}: error: {}", d.position(&d.location), d.message);
-                let mut report = Report::error().with_message(d.message.clone()).with_labels(labels);
+                let mut report = Report::error()
+                    .with_message(d.message.clone())
+                    .with_labels(labels);
                 if let Some(help) = &d.help {
                     report = report.with_notes(vec![format!("help: {help}")]);
                 }
@@ -198,7 +200,12 @@ fn check(file: &Path) -> ExitCode {
         m.inputs.len()
     );
     for input in &m.inputs {
-        println!("    input {}: {} at joint {}", input.name, input.kind.name(), m.joints[input.joint].name);
+        println!(
+            "    input {}: {} at joint {}",
+            input.name,
+            input.kind.name(),
+            m.joints[input.joint].name
+        );
     }
     let extra = if mob.constraint_equations > 0 {
         format!(" − {}", mob.constraint_equations)
@@ -207,13 +214,22 @@ fn check(file: &Path) -> ExitCode {
     };
     println!(
         "  mobility (Grübler): D = 3(L−1) − 2J{} = 3·{} − 2·{}{} = {}",
-        if mob.constraint_equations > 0 { " − (constraint equations)" } else { "" },
+        if mob.constraint_equations > 0 {
+            " − (constraint equations)"
+        } else {
+            ""
+        },
         mob.links - 1,
         mob.joints,
         extra,
         mob.dof
     );
-    println!("  with {} input(s): {} ({} free DOF)", mob.inputs, mob.class().name(), mob.free());
+    println!(
+        "  with {} input(s): {} ({} free DOF)",
+        mob.inputs,
+        mob.class().name(),
+        mob.free()
+    );
     let code = match &plan {
         Ok(p) => {
             println!(
@@ -230,7 +246,10 @@ fn check(file: &Path) -> ExitCode {
         }
     };
     if !unused.is_empty() {
-        println!("  equations no step uses (redundant or on unplaced bodies): {}", unused.join(", "));
+        println!(
+            "  equations no step uses (redundant or on unplaced bodies): {}",
+            unused.join(", ")
+        );
     }
     code
 }
@@ -283,7 +302,13 @@ fn simulate(
             .map(|f| {
                 let mut o = Map::new();
                 let named = |vals: &[f64]| -> Value {
-                    Value::Object(names.iter().zip(vals).map(|(n, v)| (n.to_string(), json!(v))).collect())
+                    Value::Object(
+                        names
+                            .iter()
+                            .zip(vals)
+                            .map(|(n, v)| (n.to_string(), json!(v)))
+                            .collect(),
+                    )
                 };
                 o.insert("inputs".into(), named(&f.requested));
                 o.insert("reached".into(), named(&f.inputs));
@@ -294,13 +319,21 @@ fn simulate(
                 }
                 o.insert(
                     "markers".into(),
-                    Value::Object(marker_positions(m, &f.poses).into_iter().map(|(k, p)| (k, json!(p))).collect()),
+                    Value::Object(
+                        marker_positions(m, &f.poses)
+                            .into_iter()
+                            .map(|(k, p)| (k, json!(p)))
+                            .collect(),
+                    ),
                 );
                 Value::Object(o)
             })
             .collect();
         let doc = json!({ "mechanism": m.name, "frames": frames_json });
-        println!("{}", serde_json::to_string_pretty(&doc).expect("JSON of plain values"));
+        println!(
+            "{}",
+            serde_json::to_string_pretty(&doc).expect("JSON of plain values")
+        );
     } else if csv {
         print_csv(m, &frames);
     } else if svg.is_none() {
@@ -360,10 +393,20 @@ fn print_summary(m: &Mechanism, plan: &Plan, frames: &[Frame]) {
         if name != "solved" && last != Some(name) {
             let detail = match &f.status {
                 FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. } => {
-                    format!("step {} broke ({}, gap {}): {}", brk.step, brk.kind.describe(), num(brk.gap), plan.explain(brk.step as usize))
+                    format!(
+                        "step {} broke ({}, gap {}): {}",
+                        brk.step,
+                        brk.kind.describe(),
+                        num(brk.gap),
+                        plan.explain(brk.step as usize)
+                    )
                 }
                 FrameStatus::Stretched { step, residual } => {
-                    format!("step {step} stretched, residual {}: {}", num(*residual), plan.explain(*step as usize))
+                    format!(
+                        "step {step} stretched, residual {}: {}",
+                        num(*residual),
+                        plan.explain(*step as usize)
+                    )
                 }
                 FrameStatus::Solved => String::new(),
             };

@@ -59,7 +59,9 @@ impl fmt::Display for BuildError {
                 files[0].display(),
                 files[1].display()
             ),
-            BuildError::NoOutDir => write!(f, "OUT_DIR is not set: call Config::out_dir or run from build.rs"),
+            BuildError::NoOutDir => {
+                write!(f, "OUT_DIR is not set: call Config::out_dir or run from build.rs")
+            }
         }
     }
 }
@@ -108,7 +110,9 @@ impl Config {
     pub fn compile(&self, files: &[impl AsRef<Path>]) -> Result<Vec<String>, BuildError> {
         let out_dir = match &self.out_dir {
             Some(d) => d.clone(),
-            None => std::env::var_os("OUT_DIR").map(PathBuf::from).ok_or(BuildError::NoOutDir)?,
+            None => std::env::var_os("OUT_DIR")
+                .map(PathBuf::from)
+                .ok_or(BuildError::NoOutDir)?,
         };
         let mut modules: Vec<(String, PathBuf, PathBuf)> = Vec::new();
         for file in files {

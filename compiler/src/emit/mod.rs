@@ -17,7 +17,13 @@ use crate::plan::{DirRef, Plan, PointRef, Rel, StepKind};
 pub fn ident_for(name: &str) -> String {
     let mut s: String = name
         .chars()
-        .map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '_' })
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_lowercase()
+            } else {
+                '_'
+            }
+        })
         .collect();
     if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit()) {
         s.insert_str(0, "m_");
@@ -264,7 +270,10 @@ impl Emitter<'_> {
         let fallible = plan.steps.iter().any(|s| {
             matches!(
                 s.kind,
-                StepKind::CircleCircle { .. } | StepKind::CircleLine { .. } | StepKind::LineLine { .. } | StepKind::TurnLine { .. }
+                StepKind::CircleCircle { .. }
+                    | StepKind::CircleLine { .. }
+                    | StepKind::LineLine { .. }
+                    | StepKind::TurnLine { .. }
             )
         });
         let (take, commit) = match (plan.steps.is_empty(), plan.branches.is_empty()) {
@@ -276,8 +285,13 @@ impl Emitter<'_> {
             ),
         };
         let unused_ctx = if fallible { quote!() } else { quote!(let _ = ctx;) };
-        let unused_inputs = if plan.inputs.is_empty() { quote!(let _ = inputs;) } else { quote!() };
-        let doc_solve = format!(
+        let unused_inputs = if plan.inputs.is_empty() {
+            quote!(let _ = inputs;)
+        } else {
+            quote!()
+        };
+        let doc_solve =
+            format!(
             "Places every body for `inputs` ({}), warm-started from `s`. On a break `s` is left unchanged.",
             if plan.inputs.is_empty() {
                 "none".to_string()
@@ -383,8 +397,16 @@ pub fn emit(plan: &Plan) -> String {
         }
         Ident::new(&name, Span::call_site())
     };
-    let input_idents = plan.inputs.iter().map(|i| unique(format!("input_{}", ident_for(&i.name)))).collect();
-    let temp_idents = plan.temps.iter().map(|t| unique(format!("at_{}", ident_for(&t.name)))).collect();
+    let input_idents = plan
+        .inputs
+        .iter()
+        .map(|i| unique(format!("input_{}", ident_for(&i.name))))
+        .collect();
+    let temp_idents = plan
+        .temps
+        .iter()
+        .map(|t| unique(format!("at_{}", ident_for(&t.name))))
+        .collect();
     let e = Emitter {
         plan,
         input_idents,

@@ -171,7 +171,10 @@ impl Interpreter {
                 StepKind::Orient { body, from, rel } => {
                     let r = match rel {
                         Rel::Identity => Rot::IDENTITY,
-                        Rel::Input { input, inverse: false } => s.rots[*input],
+                        Rel::Input {
+                            input,
+                            inverse: false,
+                        } => s.rots[*input],
                         Rel::Input { input, inverse: true } => s.rots[*input].inverse(),
                     };
                     let from = s.poses[*from].rot;

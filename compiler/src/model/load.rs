@@ -13,13 +13,15 @@ use dofplan_runtime::Point;
 use super::error::{Diagnostic, Location, ModelError, Note, SourceFile};
 use super::source::{parse_json, parse_toml, Key, Node, NodeKind};
 use super::{
-    Body, Constraint, ConstraintKind, Input, InputKind, Joint, JointKind, Marker, MarkerId,
-    Mechanism, Sweep,
+    Body, Constraint, ConstraintKind, Input, InputKind, Joint, JointKind, Marker, MarkerId, Mechanism, Sweep,
 };
 
 /// Joints must hold in the drawn pose to this, relative to the mechanism's
 /// size.
 pub const DRAWN_TOLERANCE: f64 = 1e-9;
+
+/// The most values a sweep may have.
+pub const MAX_STEPS: i64 = 1_000_000;
 
 /// The syntax of a mechanism file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -78,7 +80,12 @@ pub fn load_str(file_name: &str, text: &str, format: Format) -> Result<Mechanism
             help = Some("write a number, string, boolean, array or table".into());
         }
         // toml says only "duplicate key"; name the key (its span).
-        if let Some(key) = e.span.as_ref().and_then(|s| text.get(s.clone())).filter(|k| !k.is_empty()) {
+        if let Some(key) = e
+            .span
+            .as_ref()
+            .and_then(|s| text.get(s.clone()))
+            .filter(|k| !k.is_empty())
+        {
             if e.message.trim() == "duplicate key" {
                 message = format!("{message} `{key}`");
                 help = Some("a name may be defined only once in a table: rename or merge the two".into());
@@ -106,9 +113,7 @@ pub fn load_str(file_name: &str, text: &str, format: Format) -> Result<Mechanism
     let mechanism = v.mechanism(&root);
     match mechanism {
         Some(m) if v.diags.is_empty() => Ok(m),
-        _ => Err(ModelError {
-            diagnostics: v.diags,
-        }),
+        _ => Err(ModelError { diagnostics: v.diags }),
     }
 }
 
@@ -174,7 +179,11 @@ impl Validator {
             NodeKind::Table(t) => Some(t),
             other => {
                 let loc = self.loc(node, path);
-                self.error(loc, format!("`{path}` must be a table, found {}", other.type_name()), None);
+                self.error(
+                    loc,
+                    format!("`{path}` must be a table, found {}", other.type_name()),
+                    None,
+                );
                 None
             }
         }
@@ -216,7 +225,13 @@ impl Validator {
         entries.iter().find(|(k, _)| k.name == name).map(|(_, n)| n)
     }
 
-    fn required<'n>(&mut self, entries: &'n [(Key, Node)], name: &str, parent: &Node, path: &str) -> Option<&'n Node> {
+    fn required<'n>(
+        &mut self,
+        entries: &'n [(Key, Node)],
+        name: &str,
+        parent: &Node,
+        path: &str,
+    ) -> Option<&'n Node> {
         let found = Self::get(entries, name);
         if found.is_none() {
             let loc = self.loc(parent, path);
@@ -230,7 +245,11 @@ impl Validator {
             NodeKind::Str(s) => Some(s),
             other => {
                 let loc = self.loc(node, path);
-                self.error(loc, format!("`{path}` must be a string, found {}", other.type_name()), None);
+                self.error(
+                    loc,
+                    format!("`{path}` must be a string, found {}", other.type_name()),
+                    None,
+                );
                 None
             }
         }
@@ -242,7 +261,11 @@ impl Validator {
             NodeKind::Float(f) => *f,
             other => {
                 let loc = self.loc(node, path);
-                self.error(loc, format!("`{path}` must be a number, found {}", other.type_name()), None);
+                self.error(
+                    loc,
+                    format!("`{path}` must be a number, found {}", other.type_name()),
+                    None,
+                );
                 return None;
             }
         };
@@ -276,7 +299,11 @@ impl Validator {
             }
             other => {
                 let loc = self.loc(node, path);
-                self.error(loc, format!("`{path}` must be [x, y], found {}", other.type_name()), None);
+                self.error(
+                    loc,
+                    format!("`{path}` must be [x, y], found {}", other.type_name()),
+                    None,
+                );
                 None
             }
         }
@@ -284,7 +311,19 @@ impl Validator {
 
     fn mechanism(&mut self, root: &Node) -> Option<Mechanism> {
         let top = self.table(root, "")?;
-        self.check_keys(top, &["name", "dimension", "bodies", "joints", "constraints", "inputs", "sweep"], "");
+        self.check_keys(
+            top,
+            &[
+                "name",
+                "dimension",
+                "bodies",
+                "joints",
+                "constraints",
+                "inputs",
+                "sweep",
+            ],
+            "",
+        );
         let name = self
             .required(top, "name", root, "")
             .and_then(|n| self.string(n, "name").map(str::to_string));
@@ -299,7 +338,11 @@ impl Validator {
                 NodeKind::Int(2) => {}
                 NodeKind::Int(3) => {
                     let loc = self.loc(d, "dimension");
-                    self.error(loc, "dimension 3 (spatial mechanisms) is not supported yet".into(), Some("only planar mechanisms (dimension = 2) can be planned today".into()));
+                    self.error(
+                        loc,
+                        "dimension 3 (spatial mechanisms) is not supported yet".into(),
+                        Some("only planar mechanisms (dimension = 2) can be planned today".into()),
+                    );
                 }
                 _ => {
                     let loc = self.loc(d, "dimension");
@@ -365,13 +408,22 @@ impl Validator {
                     NodeKind::Bool(b) => b,
                     ref other => {
                         let loc = self.loc(f, &join(&path, "fixed"));
-                        self.error(loc, format!("`{path}.fixed` must be true or false, found {}", other.type_name()), None);
+                        self.error(
+                            loc,
+                            format!(
+                                "`{path}.fixed` must be true or false, found {}",
+                                other.type_name()
+                            ),
+                            None,
+                        );
                         false
                     }
                 },
             };
             let mut markers = Vec::new();
-            let mentries = self.required(fields, "markers", bnode, &path).and_then(|mnode| self.table(mnode, &join(&path, "markers")));
+            let mentries = self
+                .required(fields, "markers", bnode, &path)
+                .and_then(|mnode| self.table(mnode, &join(&path, "markers")));
             match mentries {
                 None => {
                     self.broken.insert(key.name.clone());
@@ -402,7 +454,10 @@ impl Validator {
             self.error(
                 loc,
                 "no fixed body: a mechanism needs a ground".into(),
-                Some(format!("add `fixed = true` to the ground body (e.g. [bodies.{}])", bodies[0].name)),
+                Some(format!(
+                    "add `fixed = true` to the ground body (e.g. [bodies.{}])",
+                    bodies[0].name
+                )),
             );
         }
         bodies
@@ -415,7 +470,10 @@ impl Validator {
             let loc = self.key_loc(key, path);
             self.error(
                 loc,
-                format!("{what} name `{}` must be non-empty, without dots or spaces", key.name),
+                format!(
+                    "{what} name `{}` must be non-empty, without dots or spaces",
+                    key.name
+                ),
                 None,
             );
         }
@@ -431,7 +489,9 @@ impl Validator {
             }),
             NodeKind::Table(fields) => {
                 self.check_keys(fields, &["at", "dir"], path);
-                let at = self.required(fields, "at", node, path).and_then(|n| self.point(n, &join(path, "at")));
+                let at = self
+                    .required(fields, "at", node, path)
+                    .and_then(|n| self.point(n, &join(path, "at")));
                 let dir = match Self::get(fields, "dir") {
                     None => None,
                     Some(d) => {
@@ -444,7 +504,11 @@ impl Validator {
                             } else {
                                 "a direction too short or too long to normalise".to_string()
                             };
-                            self.error(loc, format!("marker `{name}` has {what}"), Some("a direction needs a non-zero length, e.g. dir = [1, 0]".into()));
+                            self.error(
+                                loc,
+                                format!("marker `{name}` has {what}"),
+                                Some("a direction needs a non-zero length, e.g. dir = [1, 0]".into()),
+                            );
                             return None;
                         }
                         Some(v)
@@ -460,7 +524,10 @@ impl Validator {
                 let loc = self.loc(node, path);
                 self.error(
                     loc,
-                    format!("marker `{name}` must be [x, y] or {{ at = [x, y], dir = [dx, dy] }}, found {}", other.type_name()),
+                    format!(
+                        "marker `{name}` must be [x, y] or {{ at = [x, y], dir = [dx, dy] }}, found {}",
+                        other.type_name()
+                    ),
                     None,
                 );
                 None
@@ -473,7 +540,11 @@ impl Validator {
         let text = self.string(w.node, &w.path)?;
         let loc = self.loc(w.node, &w.path);
         let Some((b, m)) = text.split_once('.') else {
-            self.error(loc, format!("{owner}: `{text}` is not of the form \"body.marker\""), None);
+            self.error(
+                loc,
+                format!("{owner}: `{text}` is not of the form \"body.marker\""),
+                None,
+            );
             return None;
         };
         let Some(bi) = bodies.iter().position(|x| x.name == b) else {
@@ -481,7 +552,11 @@ impl Validator {
                 return None;
             }
             let names: Vec<_> = bodies.iter().map(|b| b.name.as_str()).collect();
-            self.error(loc, format!("{owner}: unknown body `{b}` in `{text}`"), Some(format!("bodies are: {}", names.join(", "))));
+            self.error(
+                loc,
+                format!("{owner}: unknown body `{b}` in `{text}`"),
+                Some(format!("bodies are: {}", names.join(", "))),
+            );
             return None;
         };
         let Some(mi) = bodies[bi].markers.iter().position(|x| x.name == m) else {
@@ -500,25 +575,53 @@ impl Validator {
     }
 
     /// The two markers of a joint or constraint.
-    fn pair(&mut self, fields: &[(Key, Node)], node: &Node, path: &str, bodies: &[Body], owner: &str) -> Option<[MarkerId; 2]> {
+    fn pair(
+        &mut self,
+        fields: &[(Key, Node)],
+        node: &Node,
+        path: &str,
+        bodies: &[Body],
+        owner: &str,
+    ) -> Option<[MarkerId; 2]> {
         let mnode = self.required(fields, "markers", node, path)?;
         let mpath = join(path, "markers");
         let items = match &mnode.kind {
             NodeKind::Array(items) if items.len() == 2 => items,
             _ => {
                 let loc = self.loc(mnode, &mpath);
-                self.error(loc, format!("{owner}: `markers` must be two markers [\"body.A\", \"other.B\"]"), None);
+                self.error(
+                    loc,
+                    format!("{owner}: `markers` must be two markers [\"body.A\", \"other.B\"]"),
+                    None,
+                );
                 return None;
             }
         };
-        let a = self.marker_ref(&Written { node: &items[0], path: format!("{mpath}[0]") }, bodies, owner);
-        let b = self.marker_ref(&Written { node: &items[1], path: format!("{mpath}[1]") }, bodies, owner);
+        let a = self.marker_ref(
+            &Written {
+                node: &items[0],
+                path: format!("{mpath}[0]"),
+            },
+            bodies,
+            owner,
+        );
+        let b = self.marker_ref(
+            &Written {
+                node: &items[1],
+                path: format!("{mpath}[1]"),
+            },
+            bodies,
+            owner,
+        );
         let (a, b) = (a?, b?);
         if a.body == b.body {
             let loc = self.loc(mnode, &mpath);
             self.error(
                 loc,
-                format!("{owner} joins two markers of the same body `{}`", bodies[a.body].name),
+                format!(
+                    "{owner} joins two markers of the same body `{}`",
+                    bodies[a.body].name
+                ),
                 Some("a joint or constraint connects markers of two different bodies".into()),
             );
             return None;
@@ -526,12 +629,23 @@ impl Validator {
         Some([a, b])
     }
 
-    fn kind<'n>(&mut self, fields: &'n [(Key, Node)], node: &Node, path: &str, allowed: &[&str], owner: &str) -> Option<(&'n str, &'n Node)> {
+    fn kind<'n>(
+        &mut self,
+        fields: &'n [(Key, Node)],
+        node: &Node,
+        path: &str,
+        allowed: &[&str],
+        owner: &str,
+    ) -> Option<(&'n str, &'n Node)> {
         let knode = self.required(fields, "kind", node, path)?;
         let kind = self.string(knode, &join(path, "kind"))?;
         if !allowed.contains(&kind) {
             let loc = self.loc(knode, &join(path, "kind"));
-            self.error(loc, format!("{owner}: unknown kind `{kind}`"), Some(format!("expected one of: {}", allowed.join(", "))));
+            self.error(
+                loc,
+                format!("{owner}: unknown kind `{kind}`"),
+                Some(format!("expected one of: {}", allowed.join(", "))),
+            );
             return None;
         }
         Some((kind, knode))
@@ -547,15 +661,25 @@ impl Validator {
             let path = join("joints", &key.name);
             let owner = format!("joint `{}`", key.name);
             self.check_name(key, &path, "joint");
-            let Some(fields) = self.table(jnode, &path) else { continue };
+            let Some(fields) = self.table(jnode, &path) else {
+                continue;
+            };
             self.check_keys(fields, &["kind", "markers"], &path);
             let kind = self.kind(fields, jnode, &path, &["revolute", "prismatic"], &owner);
             let pair = self.pair(fields, jnode, &path, bodies, &owner);
-            let (Some((kind, _)), Some(markers)) = (kind, pair) else { continue };
-            let kind = if kind == "revolute" { JointKind::Revolute } else { JointKind::Prismatic };
+            let (Some((kind, _)), Some(markers)) = (kind, pair) else {
+                continue;
+            };
+            let kind = if kind == "revolute" {
+                JointKind::Revolute
+            } else {
+                JointKind::Prismatic
+            };
             let ok = match kind {
                 JointKind::Revolute => self.check_coincident(markers, bodies, jnode, &path, &owner),
-                JointKind::Prismatic => self.check_in_line(markers, bodies, jnode, &path, &owner, "prismatic joint"),
+                JointKind::Prismatic => {
+                    self.check_in_line(markers, bodies, jnode, &path, &owner, "prismatic joint")
+                }
             };
             if ok {
                 joints.push((
@@ -581,14 +705,24 @@ impl Validator {
             let path = join("constraints", &key.name);
             let owner = format!("constraint `{}`", key.name);
             self.check_name(key, &path, "constraint");
-            let Some(fields) = self.table(cnode, &path) else { continue };
+            let Some(fields) = self.table(cnode, &path) else {
+                continue;
+            };
             self.check_keys(fields, &["kind", "markers"], &path);
             let kind = self.kind(fields, cnode, &path, &["coincident", "in-line", "offset"], &owner);
             let pair = self.pair(fields, cnode, &path, bodies, &owner);
-            let (Some((kind, _)), Some(markers)) = (kind, pair) else { continue };
+            let (Some((kind, _)), Some(markers)) = (kind, pair) else {
+                continue;
+            };
             let (kind, ok) = match kind {
-                "coincident" => (ConstraintKind::Coincident, self.check_coincident(markers, bodies, cnode, &path, &owner)),
-                "in-line" => (ConstraintKind::InLine, self.check_in_line(markers, bodies, cnode, &path, &owner, "in-line constraint")),
+                "coincident" => (
+                    ConstraintKind::Coincident,
+                    self.check_coincident(markers, bodies, cnode, &path, &owner),
+                ),
+                "in-line" => (
+                    ConstraintKind::InLine,
+                    self.check_in_line(markers, bodies, cnode, &path, &owner, "in-line constraint"),
+                ),
                 _ => {
                     let mut ok = true;
                     for id in markers {
@@ -658,7 +792,14 @@ impl Validator {
         m.size()
     }
 
-    fn check_coincident(&mut self, ids: [MarkerId; 2], bodies: &[Body], node: &Node, path: &str, owner: &str) -> bool {
+    fn check_coincident(
+        &mut self,
+        ids: [MarkerId; 2],
+        bodies: &[Body],
+        node: &Node,
+        path: &str,
+        owner: &str,
+    ) -> bool {
         let a = &bodies[ids[0].body].markers[ids[0].marker];
         let b = &bodies[ids[1].body].markers[ids[1].marker];
         let gap = ((a.at[0] - b.at[0]).powi(2) + (a.at[1] - b.at[1]).powi(2)).sqrt();
@@ -678,15 +819,29 @@ impl Validator {
         true
     }
 
-    fn check_in_line(&mut self, ids: [MarkerId; 2], bodies: &[Body], node: &Node, path: &str, owner: &str, what: &str) -> bool {
+    fn check_in_line(
+        &mut self,
+        ids: [MarkerId; 2],
+        bodies: &[Body],
+        node: &Node,
+        path: &str,
+        owner: &str,
+        what: &str,
+    ) -> bool {
         let a = &bodies[ids[0].body].markers[ids[0].marker];
         let b = &bodies[ids[1].body].markers[ids[1].marker];
         let Some(d) = a.unit_dir() else {
             let loc = self.loc(node, path);
             self.error(
                 loc,
-                format!("{owner}: the first marker of a {what} carries the line, but `{}.{}` has no direction", bodies[ids[0].body].name, a.name),
-                Some(format!("write it as {} = {{ at = [{}, {}], dir = [dx, dy] }}", a.name, a.at[0], a.at[1])),
+                format!(
+                    "{owner}: the first marker of a {what} carries the line, but `{}.{}` has no direction",
+                    bodies[ids[0].body].name, a.name
+                ),
+                Some(format!(
+                    "write it as {} = {{ at = [{}, {}], dir = [dx, dy] }}",
+                    a.name, a.at[0], a.at[1]
+                )),
             );
             return false;
         };
@@ -698,7 +853,11 @@ impl Validator {
                 loc,
                 format!(
                     "{owner} does not hold in the drawn pose: {}.{} is {:.3e} off the line of {}.{}",
-                    bodies[ids[1].body].name, b.name, off.abs(), bodies[ids[0].body].name, a.name
+                    bodies[ids[1].body].name,
+                    b.name,
+                    off.abs(),
+                    bodies[ids[0].body].name,
+                    a.name
                 ),
                 Some("the second marker must lie on the line through the first along its dir".into()),
             );
@@ -707,7 +866,13 @@ impl Validator {
         true
     }
 
-    fn inputs(&mut self, node: &Node, joints_node: &Node, joints: &[(Joint, Node)], bodies: &[Body]) -> Vec<Input> {
+    fn inputs(
+        &mut self,
+        node: &Node,
+        joints_node: &Node,
+        joints: &[(Joint, Node)],
+        bodies: &[Body],
+    ) -> Vec<Input> {
         let Some(entries) = self.table(node, "inputs") else {
             return Vec::new();
         };
@@ -721,13 +886,21 @@ impl Validator {
             let path = join("inputs", &key.name);
             let owner = format!("input `{}`", key.name);
             self.check_name(key, &path, "input");
-            let Some(fields) = self.table(inode, &path) else { continue };
+            let Some(fields) = self.table(inode, &path) else {
+                continue;
+            };
             self.check_keys(fields, &["kind", "joint"], &path);
             let kind = self.kind(fields, inode, &path, &["angle", "slide"], &owner);
             let jnode = self.required(fields, "joint", inode, &path);
             let jname = jnode.and_then(|n| self.string(n, &join(&path, "joint")));
-            let (Some((kind, knode)), Some(jname), Some(jnode)) = (kind, jname, jnode) else { continue };
-            let kind = if kind == "angle" { InputKind::Angle } else { InputKind::Slide };
+            let (Some((kind, knode)), Some(jname), Some(jnode)) = (kind, jname, jnode) else {
+                continue;
+            };
+            let kind = if kind == "angle" {
+                InputKind::Angle
+            } else {
+                InputKind::Slide
+            };
             let Some(ji) = joints.iter().position(|(j, _)| j.name == jname) else {
                 // A joint that was written but failed validation has its own
                 // error already.
@@ -736,7 +909,14 @@ impl Validator {
                     self.error(
                         loc,
                         format!("{owner} drives joint `{jname}`, which does not exist"),
-                        Some(format!("joints are: {}", joints.iter().map(|(j, _)| j.name.as_str()).collect::<Vec<_>>().join(", "))),
+                        Some(format!(
+                            "joints are: {}",
+                            joints
+                                .iter()
+                                .map(|(j, _)| j.name.as_str())
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        )),
                     );
                 }
                 continue;
@@ -765,12 +945,23 @@ impl Validator {
             }
             if joint.markers.iter().all(|m| bodies[m.body].fixed) {
                 let loc = self.loc(jnode, &join(&path, "joint"));
-                self.error(loc, format!("{owner} drives joint `{jname}`, which joins two fixed bodies"), Some("drive a joint of a mobile body".into()));
+                self.error(
+                    loc,
+                    format!("{owner} drives joint `{jname}`, which joins two fixed bodies"),
+                    Some("drive a joint of a mobile body".into()),
+                );
                 continue;
             }
             if let Some(other) = inputs.iter().find(|i| i.joint == ji) {
                 let loc = self.loc(jnode, &join(&path, "joint"));
-                self.error(loc, format!("{owner} drives joint `{jname}`, already driven by input `{}`", other.name), None);
+                self.error(
+                    loc,
+                    format!(
+                        "{owner} drives joint `{jname}`, already driven by input `{}`",
+                        other.name
+                    ),
+                    None,
+                );
                 continue;
             }
             inputs.push(Input {
@@ -782,19 +973,35 @@ impl Validator {
         inputs
     }
 
-    fn sweep(&mut self, node: &Node, inputs: &[Input], written_inputs: &[&str], bodies: &[Body]) -> Option<Sweep> {
+    fn sweep(
+        &mut self,
+        node: &Node,
+        inputs: &[Input],
+        written_inputs: &[&str],
+        bodies: &[Body],
+    ) -> Option<Sweep> {
         let fields = self.table(node, "sweep")?;
         self.check_keys(fields, &["input", "from", "to", "steps", "trace"], "sweep");
         let inode = self.required(fields, "input", node, "sweep");
         let input = inode.and_then(|n| self.string(n, "sweep.input").map(|s| (s, n)));
-        let from = self.required(fields, "from", node, "sweep").and_then(|n| self.number(n, "sweep.from"));
-        let to = self.required(fields, "to", node, "sweep").and_then(|n| self.number(n, "sweep.to"));
+        let from = self
+            .required(fields, "from", node, "sweep")
+            .and_then(|n| self.number(n, "sweep.from"));
+        let to = self
+            .required(fields, "to", node, "sweep")
+            .and_then(|n| self.number(n, "sweep.to"));
         let steps = match self.required(fields, "steps", node, "sweep") {
             Some(n) => match n.kind {
-                NodeKind::Int(i) if i >= 1 => Some(i as usize),
+                NodeKind::Int(i) if (1..=MAX_STEPS).contains(&i) => Some(i as usize),
                 _ => {
                     let loc = self.loc(n, "sweep.steps");
-                    self.error(loc, "`sweep.steps` must be a whole number of at least 1".into(), None);
+                    // An unbounded count would make the sweep's frames an
+                    // allocation that cannot succeed.
+                    self.error(
+                        loc,
+                        format!("`sweep.steps` must be a whole number from 1 to {MAX_STEPS}"),
+                        None,
+                    );
                     None
                 }
             },
@@ -805,7 +1012,10 @@ impl Validator {
             match &t.kind {
                 NodeKind::Array(items) => {
                     for (i, item) in items.iter().enumerate() {
-                        let w = Written { node: item, path: format!("sweep.trace[{i}]") };
+                        let w = Written {
+                            node: item,
+                            path: format!("sweep.trace[{i}]"),
+                        };
                         if let Some(id) = self.marker_ref(&w, bodies, "sweep trace") {
                             trace.push(id);
                         }
@@ -813,7 +1023,14 @@ impl Validator {
                 }
                 other => {
                     let loc = self.loc(t, "sweep.trace");
-                    self.error(loc, format!("`sweep.trace` must be an array of \"body.marker\", found {}", other.type_name()), None);
+                    self.error(
+                        loc,
+                        format!(
+                            "`sweep.trace` must be an array of \"body.marker\", found {}",
+                            other.type_name()
+                        ),
+                        None,
+                    );
                 }
             }
         }
@@ -829,7 +1046,11 @@ impl Validator {
             self.error(
                 loc,
                 format!("the sweep drives input `{name}`, which does not exist"),
-                Some(if names.is_empty() { "declare it under [inputs]".into() } else { format!("inputs are: {}", names.join(", ")) }),
+                Some(if names.is_empty() {
+                    "declare it under [inputs]".into()
+                } else {
+                    format!("inputs are: {}", names.join(", "))
+                }),
             );
             return None;
         };

@@ -197,8 +197,7 @@ impl Mechanism {
     pub fn marker_name(&self, id: MarkerId) -> String {
         format!(
             "{}.{}",
-            self.bodies[id.body].name,
-            self.bodies[id.body].markers[id.marker].name
+            self.bodies[id.body].name, self.bodies[id.body].markers[id.marker].name
         )
     }
 
@@ -212,9 +211,10 @@ impl Mechanism {
 
     /// Every marker, body by body, in file order.
     pub fn all_markers(&self) -> impl Iterator<Item = MarkerId> + '_ {
-        self.bodies.iter().enumerate().flat_map(|(b, body)| {
-            (0..body.markers.len()).map(move |m| MarkerId { body: b, marker: m })
-        })
+        self.bodies
+            .iter()
+            .enumerate()
+            .flat_map(|(b, body)| (0..body.markers.len()).map(move |m| MarkerId { body: b, marker: m }))
     }
 
     /// The size of the mechanism: the diagonal of its markers' bounding box

@@ -49,8 +49,14 @@ impl Plan {
         let b = &self.bodies[body];
         b.markers
             .iter()
-            .find(|(_, at)| (at[0] - local[0]).abs() <= 1e-12 * (1.0 + at[0].abs()) && (at[1] - local[1]).abs() <= 1e-12 * (1.0 + at[1].abs()))
-            .map_or_else(|| format!("{} {}", b.name, pair(local)), |(n, _)| format!("{}.{n}", b.name))
+            .find(|(_, at)| {
+                (at[0] - local[0]).abs() <= 1e-12 * (1.0 + at[0].abs())
+                    && (at[1] - local[1]).abs() <= 1e-12 * (1.0 + at[1].abs())
+            })
+            .map_or_else(
+                || format!("{} {}", b.name, pair(local)),
+                |(n, _)| format!("{}.{n}", b.name),
+            )
     }
 
     fn dir_name(&self, d: &DirRef) -> String {
@@ -61,7 +67,11 @@ impl Plan {
     }
 
     fn line_name(&self, l: &Line) -> String {
-        format!("line through {} along {}", self.point_name(&l.through), self.dir_name(&l.dir))
+        format!(
+            "line through {} along {}",
+            self.point_name(&l.through),
+            self.dir_name(&l.dir)
+        )
     }
 
     fn branch_symbol(&self, slot: usize) -> &'static str {
@@ -91,10 +101,20 @@ impl Plan {
                     body(b),
                     self.local_name(*b, *local),
                     self.point_name(at),
-                    if provisional { " (for now: it slides along its line from there)" } else { "" }
+                    if provisional {
+                        " (for now: it slides along its line from there)"
+                    } else {
+                        ""
+                    }
                 )
             }
-            StepKind::Align { body: b, p, p_at, q, q_at } => format!(
+            StepKind::Align {
+                body: b,
+                p,
+                p_at,
+                q,
+                q_at,
+            } => format!(
                 "{}: {} onto {}, {} toward {}",
                 body(b),
                 self.local_name(*b, *p),
@@ -174,7 +194,11 @@ impl Plan {
             self.steps.len(),
             self.branches.len(),
             if self.branches.len() == 1 { "" } else { "es" },
-            if inputs.is_empty() { "none".to_string() } else { inputs.join(", ") }
+            if inputs.is_empty() {
+                "none".to_string()
+            } else {
+                inputs.join(", ")
+            }
         );
         for (i, step) in self.steps.iter().enumerate() {
             let serves = if step.serves.is_empty() {

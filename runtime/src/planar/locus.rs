@@ -57,7 +57,11 @@ pub fn circle_circle(
         ctx.fail(step, BreakKind::CirclesApart, (r1 - r2).abs())?;
         let toward = sub(*last, c1);
         let n = dot(toward, toward).sqrt();
-        let u = if n > 0.0 { scale(toward, 1.0 / n) } else { [1.0, 0.0] };
+        let u = if n > 0.0 {
+            scale(toward, 1.0 / n)
+        } else {
+            [1.0, 0.0]
+        };
         let x = add(c1, scale(u, r1));
         *last = x;
         return Ok(x);
@@ -234,12 +238,10 @@ mod tests {
     fn circles_meet_on_both_sides() {
         let mut last = [0.0; 2];
         let mut b = Branch::Plus;
-        let x = circle_circle(&mut ctx(), 0, [0.0, 0.0], 5.0, [8.0, 0.0], 5.0, &mut b, &mut last)
-            .unwrap();
+        let x = circle_circle(&mut ctx(), 0, [0.0, 0.0], 5.0, [8.0, 0.0], 5.0, &mut b, &mut last).unwrap();
         assert!((x[0] - 4.0).abs() < 1e-12 && (x[1] - 3.0).abs() < 1e-12);
         let mut b = Branch::Minus;
-        let x = circle_circle(&mut ctx(), 0, [0.0, 0.0], 5.0, [8.0, 0.0], 5.0, &mut b, &mut last)
-            .unwrap();
+        let x = circle_circle(&mut ctx(), 0, [0.0, 0.0], 5.0, [8.0, 0.0], 5.0, &mut b, &mut last).unwrap();
         assert!((x[1] + 3.0).abs() < 1e-12);
     }
 
@@ -247,13 +249,12 @@ mod tests {
     fn apart_circles_break_or_stretch() {
         let mut last = [0.0; 2];
         let mut b = Branch::Plus;
-        let e = circle_circle(&mut ctx(), 7, [0.0, 0.0], 1.0, [5.0, 0.0], 1.0, &mut b, &mut last)
-            .unwrap_err();
+        let e =
+            circle_circle(&mut ctx(), 7, [0.0, 0.0], 1.0, [5.0, 0.0], 1.0, &mut b, &mut last).unwrap_err();
         assert_eq!(e.step, 7);
         assert!((e.gap - 3.0).abs() < 1e-12);
         let mut s = Ctx::new(BranchPolicy::Keep, true);
-        let x = circle_circle(&mut s, 7, [0.0, 0.0], 1.0, [5.0, 0.0], 1.0, &mut b, &mut last)
-            .unwrap();
+        let x = circle_circle(&mut s, 7, [0.0, 0.0], 1.0, [5.0, 0.0], 1.0, &mut b, &mut last).unwrap();
         assert!((x[0] - 2.5).abs() < 1e-12);
         assert_eq!(s.stretched, Some((7, 3.0)));
     }
@@ -263,8 +264,7 @@ mod tests {
         let mut last = [4.0, -2.9];
         let mut b = Branch::Plus;
         let mut c = Ctx::new(BranchPolicy::Nearest, false);
-        let x = circle_circle(&mut c, 0, [0.0, 0.0], 5.0, [8.0, 0.0], 5.0, &mut b, &mut last)
-            .unwrap();
+        let x = circle_circle(&mut c, 0, [0.0, 0.0], 5.0, [8.0, 0.0], 5.0, &mut b, &mut last).unwrap();
         assert_eq!(b, Branch::Minus);
         assert!((x[1] + 3.0).abs() < 1e-12);
     }
@@ -273,8 +273,17 @@ mod tests {
     fn circle_meets_line() {
         let mut last = [0.0; 2];
         let mut b = Branch::Plus;
-        let x = circle_line(&mut ctx(), 0, [0.0, 0.0], 5.0, [-10.0, 3.0], [1.0, 0.0], &mut b, &mut last)
-            .unwrap();
+        let x = circle_line(
+            &mut ctx(),
+            0,
+            [0.0, 0.0],
+            5.0,
+            [-10.0, 3.0],
+            [1.0, 0.0],
+            &mut b,
+            &mut last,
+        )
+        .unwrap();
         assert!((x[0] - 4.0).abs() < 1e-12 && (x[1] - 3.0).abs() < 1e-12);
     }
 
@@ -290,13 +299,31 @@ mod tests {
         // A slot through the pivot (kappa = 0) must point at the target.
         let mut last = [1.0, 0.0];
         let mut b = Branch::Plus;
-        let r = turn_line_through(&mut ctx(), 0, [0.0, 0.0], [0.0, 2.0], [1.0, 0.0], 0.0, &mut b, &mut last)
-            .unwrap();
+        let r = turn_line_through(
+            &mut ctx(),
+            0,
+            [0.0, 0.0],
+            [0.0, 2.0],
+            [1.0, 0.0],
+            0.0,
+            &mut b,
+            &mut last,
+        )
+        .unwrap();
         let w = r.apply([1.0, 0.0]);
         assert!(w[0].abs() < 1e-12 && (w[1] - 1.0).abs() < 1e-12);
         // An offset slot: the line at signed distance 1 from the target.
-        let r = turn_line_through(&mut ctx(), 0, [0.0, 0.0], [3.0, 0.0], [1.0, 0.0], 1.0, &mut b, &mut last)
-            .unwrap();
+        let r = turn_line_through(
+            &mut ctx(),
+            0,
+            [0.0, 0.0],
+            [3.0, 0.0],
+            [1.0, 0.0],
+            1.0,
+            &mut b,
+            &mut last,
+        )
+        .unwrap();
         let w = r.apply([1.0, 0.0]);
         assert!((cross([3.0, 0.0], w) - 1.0).abs() < 1e-12);
     }

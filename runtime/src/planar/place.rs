@@ -36,7 +36,10 @@ pub fn align(pose: &mut Pose, p: Point, p_at: Point, q: Point, q_at: Point) {
     // square root speculatively nor depends on the previous frame's pose.
     if l2 > 0.0 && (w2 - l2).abs() <= 1e-12 * l2 {
         let inv = 1.0 / l2;
-        pose.rot = Rot { c: c * inv, s: s * inv };
+        pose.rot = Rot {
+            c: c * inv,
+            s: s * inv,
+        };
     } else {
         align_rotation_slow(pose, l2, w2, c, s);
     }
