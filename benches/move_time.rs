@@ -10,10 +10,10 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use dofplan::interp::Interpreter;
 use dofplan::simulate::sweep_inputs;
-use dofplan_runtime::{Animate, Driver, Options};
+use dofplan_runtime::{Driver, Options, Solver};
 use dofplan_tests::{bundled, load, plan};
 
-fn sweep(driver: &mut dyn Animate, inputs: &[Vec<f64>]) {
+fn sweep<S: Solver>(driver: &mut Driver<S>, inputs: &[Vec<f64>]) {
     for i in inputs {
         black_box(driver.frame(black_box(i)));
     }
@@ -25,8 +25,11 @@ fn move_time(c: &mut Criterion) {
         let inputs = sweep_inputs(&m, None);
         let mut group = c.benchmark_group(&name);
         group.throughput(Throughput::Elements(inputs.len() as u64));
-        let mut compiled = dofplan_generated::driver(&name, Options::default()).expect("compiled");
-        group.bench_function("compiled", |b| b.iter(|| sweep(compiled.as_mut(), &inputs)));
+        dofplan_generated::with_plan!(name.as_str(), |plan| {
+            let mut compiled = Driver::new(plan, Options::default());
+            group.bench_function("compiled", |b| b.iter(|| sweep(&mut compiled, &inputs)));
+        })
+        .expect("compiled");
         let mut interpreted = Driver::new(Interpreter::new(plan(&m)), Options::default());
         group.bench_function("interpreted", |b| b.iter(|| sweep(&mut interpreted, &inputs)));
         group.finish();

@@ -11,12 +11,12 @@ use std::time::Instant;
 
 use dofplan::interp::Interpreter;
 use dofplan::simulate::sweep_inputs;
-use dofplan_runtime::{Animate, Driver, Options};
+use dofplan_runtime::{Driver, Options, Solver};
 use dofplan_tests::{bundled, load, plan};
 
 /// Median ns per frame of driving `driver` through `inputs`, over `passes`
 /// passes each long enough to take a few milliseconds.
-fn ns_per_frame(driver: &mut dyn Animate, inputs: &[Vec<f64>], passes: usize) -> f64 {
+fn ns_per_frame<S: Solver>(driver: &mut Driver<S>, inputs: &[Vec<f64>], passes: usize) -> f64 {
     // Warm up and size each pass to ~5 ms.
     let start = Instant::now();
     let mut frames = 0usize;
@@ -60,9 +60,13 @@ fn main() {
         // joints exclude the driving link's ground joint.
         let mobile = m.bodies.iter().filter(|b| !b.fixed).count() - m.inputs.len();
         let joints = m.joints.len() - m.inputs.len();
-        let mut compiled = dofplan_generated::driver(&name, Options::default()).expect("compiled");
+        // The compiled plan's own Driver type (monomorphised, no trait object
+        // between the loop and the plan), as a user's simulator has it.
+        let c = dofplan_generated::with_plan!(name.as_str(), |plan| {
+            ns_per_frame(&mut Driver::new(plan, Options::default()), &inputs, 21)
+        })
+        .expect("compiled");
         let mut interpreted = Driver::new(Interpreter::new(p.clone()), Options::default());
-        let c = ns_per_frame(compiled.as_mut(), &inputs, 21);
         let i = ns_per_frame(&mut interpreted, &inputs, 21);
         println!(
             "| {name} | {mobile} | {joints} | {} | {c:.1} | {i:.1} | {:.2} |",

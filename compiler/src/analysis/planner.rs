@@ -232,6 +232,7 @@ impl Planner<'_> {
                 _ => continue,
             };
             let origin = self.consume(i);
+            let from = (!self.m.bodies[from].fixed).then_some(from);
             self.push(
                 StepKind::Orient {
                     body: target,
@@ -656,7 +657,7 @@ impl Planner<'_> {
                     self.push(
                         StepKind::Orient {
                             body: point.body,
-                            from: line.body,
+                            from: Some(line.body),
                             rel: Rel::Identity,
                         },
                         vec![],

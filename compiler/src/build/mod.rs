@@ -161,7 +161,16 @@ impl Config {
         for (module, _, _) in &modules {
             index.push_str(&format!("        {module:?} => Some({module}::SOURCE),\n"));
         }
-        index.push_str("        _ => None,\n    }\n}\n");
+        index.push_str("        _ => None,\n    }\n}\n\n");
+        index.push_str(
+            "/// Evaluates `$body` with `$plan` bound to the compiled plan of the mechanism\n/// named `$name`, monomorphised per mechanism (no trait object): `Some(value)`,\n/// or `None` for an unknown name.\n#[macro_export]\nmacro_rules! with_plan {\n    ($name:expr, |$plan:ident| $body:expr) => {\n        match $name {\n",
+        );
+        for (module, _, _) in &modules {
+            index.push_str(&format!(
+                "            {module:?} => {{\n                let $plan = $crate::{module}::Plan;\n                Some($body)\n            }}\n"
+            ));
+        }
+        index.push_str("            _ => None,\n        }\n    };\n}\n");
         write_if_changed(&out_dir.join("mechanisms.rs"), &index)?;
         Ok(modules.into_iter().map(|(m, _, _)| m).collect())
     }

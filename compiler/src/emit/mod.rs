@@ -34,6 +34,22 @@ pub fn ident_for(name: &str) -> String {
     s
 }
 
+/// The local naming a marker's world point inside a step's block; never
+/// one of the prefixes of the frame-wide locals (poses, temps, inputs).
+fn point_ident(name: &str) -> String {
+    let id = ident_for(name);
+    if ["pose_", "at_", "input_"].iter().any(|p| id.starts_with(p))
+        || [
+            "from", "line_dir", "dir_a", "dir_b", "last", "branches", "s", "ctx", "inputs",
+        ]
+        .contains(&id.as_str())
+    {
+        format!("m_{id}")
+    } else {
+        id
+    }
+}
+
 fn lit(x: f64) -> Literal {
     Literal::f64_unsuffixed(x)
 }
@@ -51,18 +67,32 @@ struct Emitter<'p> {
     plan: &'p Plan,
     input_idents: Vec<Ident>,
     temp_idents: Vec<Ident>,
+    /// The local holding each mobile body's pose during a frame.
+    pose_idents: Vec<Ident>,
 }
 
 impl Emitter<'_> {
+    /// A body's pose: its local for a mobile body, the state's (never
+    /// written) entry for a fixed one.
+    fn pose(&self, body: usize) -> TokenStream {
+        if self.plan.bodies[body].fixed {
+            let b = index(body);
+            quote!(s.poses[#b])
+        } else {
+            let id = &self.pose_idents[body];
+            quote!(#id)
+        }
+    }
+
     /// Binds a point to a local inside a step's block and returns the
     /// expression that names it.
     fn point(&self, p: &PointRef, prelude: &mut Vec<TokenStream>) -> TokenStream {
         match p {
             PointRef::Fixed { at, .. } => point_lit(*at),
             PointRef::Marker { body, local, name } => {
-                let id = format_ident!("{}", ident_for(name));
-                let (b, l) = (index(*body), point_lit(*local));
-                prelude.push(quote!(let #id = poses[#b].world(#l);));
+                let id = format_ident!("{}", point_ident(name));
+                let (b, l) = (self.pose(*body), point_lit(*local));
+                prelude.push(quote!(let #id = #b.world(#l);));
                 quote!(#id)
             }
             PointRef::Slid {
@@ -73,12 +103,12 @@ impl Emitter<'_> {
                 sign,
                 name,
             } => {
-                let id = format_ident!("{}", ident_for(name));
-                let b = index(*body);
+                let id = format_ident!("{}", point_ident(name));
+                let b = self.pose(*body);
                 let u = &self.input_idents[*input];
                 let u = if *sign < 0.0 { quote!((-#u)) } else { quote!(#u) };
                 let (lx, ly, dx, dy) = (lit(local[0]), lit(local[1]), lit(dir[0]), lit(dir[1]));
-                prelude.push(quote!(let #id = poses[#b].world([#lx + #u * #dx, #ly + #u * #dy]);));
+                prelude.push(quote!(let #id = #b.world([#lx + #u * #dx, #ly + #u * #dy]);));
                 quote!(#id)
             }
             PointRef::Temp { id } => {
@@ -93,8 +123,8 @@ impl Emitter<'_> {
             DirRef::Fixed(v) => point_lit(*v),
             DirRef::Body { body, local } => {
                 let id = format_ident!("{}", name);
-                let (b, l) = (index(*body), point_lit(*local));
-                prelude.push(quote!(let #id = poses[#b].world_dir(#l);));
+                let (b, l) = (self.pose(*body), point_lit(*local));
+                prelude.push(quote!(let #id = #b.world_dir(#l);));
                 quote!(#id)
             }
         }
@@ -107,14 +137,7 @@ impl Emitter<'_> {
         let marker = quote!(__dofplan_step!(#id););
         match &step.kind {
             StepKind::Orient { body, from, rel } => {
-                let b = index(*body);
-                // A fixed body never turns: its rotation is a constant.
-                let from = if self.plan.bodies[*from].fixed {
-                    quote!(Rot::IDENTITY)
-                } else {
-                    let f = index(*from);
-                    quote!(poses[#f].rot)
-                };
+                let b = self.pose(*body);
                 let r = match rel {
                     Rel::Identity => quote!(Rot::IDENTITY),
                     Rel::Input { input, inverse } => {
@@ -126,22 +149,28 @@ impl Emitter<'_> {
                         }
                     }
                 };
-                quote! {
-                    #marker
-                    {
-                        let from = #from;
-                        planar::orient(&mut poses[#b], from, #r);
+                match from {
+                    Some(f) => {
+                        let f = self.pose(*f);
+                        quote! {
+                            #marker
+                            planar::orient(&mut #b, #f.rot, #r);
+                        }
                     }
+                    None => quote! {
+                        #marker
+                        planar::set_rotation(&mut #b, #r);
+                    },
                 }
             }
             StepKind::Anchor { body, local, at } => {
                 let at = self.point(at, &mut pre);
-                let (b, l) = (index(*body), point_lit(*local));
+                let (b, l) = (self.pose(*body), point_lit(*local));
                 quote! {
                     #marker
                     {
                         #(#pre)*
-                        planar::anchor(&mut poses[#b], #l, #at);
+                        planar::anchor(&mut #b, #l, #at);
                     }
                 }
             }
@@ -154,12 +183,12 @@ impl Emitter<'_> {
             } => {
                 let p_at = self.point(p_at, &mut pre);
                 let q_at = self.point(q_at, &mut pre);
-                let (b, p, q) = (index(*body), point_lit(*p), point_lit(*q));
+                let (b, p, q) = (self.pose(*body), point_lit(*p), point_lit(*q));
                 quote! {
                     #marker
                     {
                         #(#pre)*
-                        planar::align(&mut poses[#b], #p, #p_at, #q, #q_at);
+                        planar::align(&mut #b, #p, #p_at, #q, #q_at);
                     }
                 }
             }
@@ -227,12 +256,12 @@ impl Emitter<'_> {
             } => {
                 let pv = self.point(pivot, &mut pre);
                 let tg = self.point(target, &mut pre);
-                let (b, d, kp, k) = (index(*body), point_lit(*dir), lit(*kappa), index(*branch));
+                let (b, d, kp, k) = (self.pose(*body), point_lit(*dir), lit(*kappa), index(*branch));
                 quote! {
                     #marker
                     {
                         #(#pre)*
-                        poses[#b].rot = planar::turn_line_through(ctx, #id, #pv, #tg, #d, #kp, &mut branches[#k], &mut last[#k])?;
+                        #b.rot = planar::turn_line_through(ctx, #id, #pv, #tg, #d, #kp, &mut branches[#k], &mut last[#k])?;
                     }
                 }
             }
@@ -276,13 +305,31 @@ impl Emitter<'_> {
                     | StepKind::TurnLine { .. }
             )
         });
-        let (take, commit) = match (plan.steps.is_empty(), plan.branches.is_empty()) {
-            (true, _) => (quote!(), quote!()),
-            (false, true) => (quote!(let mut poses = s.poses;), quote!(s.poses = poses;)),
-            (false, false) => (
-                quote!(let mut poses = s.poses; let mut last = s.last; let mut branches = s.branches;),
-                quote!(s.poses = poses; s.last = last; s.branches = branches;),
-            ),
+        // Each mobile body's pose is a named local for the frame, written
+        // back at the end; fixed bodies are never copied.
+        let mobile: Vec<usize> = (0..plan.bodies.len())
+            .filter(|&b| !plan.bodies[b].fixed)
+            .collect();
+        let written: Vec<usize> = mobile
+            .iter()
+            .copied()
+            .filter(|b| plan.steps.iter().any(|s| s.kind.writes().contains(b)))
+            .collect();
+        let take_poses = written.iter().map(|&b| {
+            let (id, i) = (&self.pose_idents[b], index(b));
+            quote!(let mut #id = s.poses[#i];)
+        });
+        let commit_poses = written.iter().map(|&b| {
+            let (id, i) = (&self.pose_idents[b], index(b));
+            quote!(s.poses[#i] = #id;)
+        });
+        let (take, commit) = if plan.branches.is_empty() {
+            (quote!(#(#take_poses)*), quote!(#(#commit_poses)*))
+        } else {
+            (
+                quote!(#(#take_poses)* let mut last = s.last; let mut branches = s.branches;),
+                quote!(#(#commit_poses)* s.last = last; s.branches = branches;),
+            )
         };
         let unused_ctx = if fallible { quote!() } else { quote!(let _ = ctx;) };
         let unused_inputs = if plan.inputs.is_empty() {
@@ -407,10 +454,16 @@ pub fn emit(plan: &Plan) -> String {
         .iter()
         .map(|t| unique(format!("at_{}", ident_for(&t.name))))
         .collect();
+    let pose_idents = plan
+        .bodies
+        .iter()
+        .map(|b| unique(format!("pose_{}", ident_for(&b.name))))
+        .collect();
     let e = Emitter {
         plan,
         input_idents,
         temp_idents,
+        pose_idents,
     };
     let tokens = e.module();
     let file = syn::parse2::<syn::File>(tokens).expect("the emitter produces valid Rust");

@@ -177,8 +177,13 @@ impl Interpreter {
                         } => s.rots[*input],
                         Rel::Input { input, inverse: true } => s.rots[*input].inverse(),
                     };
-                    let from = s.poses[*from].rot;
-                    planar::orient(&mut s.poses[*body], from, r);
+                    match from {
+                        Some(from) => {
+                            let from = s.poses[*from].rot;
+                            planar::orient(&mut s.poses[*body], from, r);
+                        }
+                        None => planar::set_rotation(&mut s.poses[*body], r),
+                    }
                 }
                 StepKind::Anchor { body, local, at } => {
                     let at = self.point(s, inputs, at);

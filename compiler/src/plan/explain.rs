@@ -83,11 +83,15 @@ impl Plan {
         let body = |b: &usize| self.bodies[*b].name.as_str();
         match &self.steps[i].kind {
             StepKind::Orient { body: b, from, rel } => match rel {
-                Rel::Identity => format!("{}: rotation of {}", body(b), body(from)),
+                Rel::Identity => format!(
+                    "{}: rotation of {}",
+                    body(b),
+                    from.as_ref().map_or("the ground", body)
+                ),
                 Rel::Input { input, inverse } => format!(
                     "{}: rotation of {} {} input {}",
                     body(b),
-                    body(from),
+                    from.as_ref().map_or("the ground", body),
                     if *inverse { "minus" } else { "plus" },
                     self.inputs[*input].name
                 ),

@@ -104,8 +104,9 @@ pub enum StepKind {
     Orient {
         /// The body turned.
         body: BodyId,
-        /// The body whose rotation is known.
-        from: BodyId,
+        /// The body whose rotation is known; `None` for the ground, whose
+        /// rotation is the identity, so `rel` is the rotation itself.
+        from: Option<BodyId>,
         /// The relative rotation.
         rel: Rel,
     },

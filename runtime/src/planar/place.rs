@@ -10,6 +10,13 @@ pub fn orient(pose: &mut Pose, from: Rot, rel: Rot) {
     pose.rot = from.then(rel);
 }
 
+/// Sets a body's rotation relative to the ground (whose rotation is the
+/// identity, so composing with it would only cost multiplications).
+#[inline(always)]
+pub fn set_rotation(pose: &mut Pose, rot: Rot) {
+    pose.rot = rot;
+}
+
 /// Translates a body whose rotation is known so that its marker `local`
 /// lands on the world point `at`.
 #[inline(always)]
