@@ -2,6 +2,10 @@
 //! (Python's math.cos/math.sin on the first quadrant, the rest by exact
 //! symmetry, so multiples of 90° are exact).
 
+// Table entries are the nearest doubles, some of which clippy takes for
+// the named constants they happen to equal.
+#![allow(clippy::approx_constant)]
+
 /// `TURN[k]` = (cos, sin) of k·1.40625°.
 pub(crate) static TURN: [[f64; 2]; 256] = [
     [1.0, 0.0],
