@@ -43,7 +43,7 @@ impl Rot {
     #[inline]
     pub fn from_degrees(degrees: f64) -> Rot {
         const STEP: f64 = 360.0 / 256.0;
-        if !(degrees.abs() < 1e12) {
+        if !degrees.is_finite() || degrees.abs() >= 1e12 {
             return Rot::from_degrees_slow(degrees);
         }
         // Round to the nearest step by the 1.5·2⁵² trick: two additions, where
