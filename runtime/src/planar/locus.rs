@@ -70,8 +70,12 @@ pub fn circle_circle(
     // half-chord (h·d)/d²·|c2 − c1|, where k = (r1² − r2² + d²)/2 and (h·d)² = r1²·d² − k².
     // Written this way the one division (1/d²) and the one square root
     // (of (h·d)²) do not wait for each other.
+    // (h·d)² factored as ((r1 + r2)² − d²)(d² − (r1 − r2)²)/4: no
+    // cancellation near tangency, and a shorter chain of operations.
     let k = 0.5 * (r1 * r1 - r2 * r2 + d2);
-    let hd2 = r1 * r1 * d2 - k * k;
+    let sum = r1 + r2;
+    let diff = r1 - r2;
+    let hd2 = 0.25 * ((sum * sum - d2) * (d2 - diff * diff));
     let inv_d2 = 1.0 / d2;
     let hd = if hd2 >= 0.0 {
         hd2.sqrt()
