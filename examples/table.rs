@@ -14,34 +14,45 @@ use dofplan::simulate::sweep_inputs;
 use dofplan_runtime::{Driver, Options, Solver};
 use dofplan_tests::{bundled, load, plan};
 
-/// Median ns per frame of driving `driver` through `inputs`, over `passes`
-/// passes each long enough to take a few milliseconds.
-fn ns_per_frame<S: Solver>(driver: &mut Driver<S>, inputs: &[Vec<f64>], passes: usize) -> f64 {
-    // Warm up and size each pass to ~5 ms.
-    let start = Instant::now();
-    let mut frames = 0usize;
-    while start.elapsed().as_millis() < 20 {
+/// Times one pass of `reps` sweeps, in ns per frame.
+fn pass<S: Solver>(driver: &mut Driver<S>, inputs: &[Vec<f64>], reps: usize) -> f64 {
+    driver.reset();
+    let t = Instant::now();
+    for _ in 0..reps {
         for i in inputs {
             black_box(driver.frame(black_box(i)));
         }
-        frames += inputs.len();
     }
-    let per = start.elapsed().as_secs_f64() / frames as f64;
-    let reps = ((5e-3 / per) as usize / inputs.len()).max(1);
-    let mut samples: Vec<f64> = (0..passes)
-        .map(|_| {
-            driver.reset();
-            let t = Instant::now();
-            for _ in 0..reps {
-                for i in inputs {
-                    black_box(driver.frame(black_box(i)));
-                }
-            }
-            t.elapsed().as_secs_f64() * 1e9 / (reps * inputs.len()) as f64
-        })
-        .collect();
-    samples.sort_by(f64::total_cmp);
-    samples[samples.len() / 2]
+    t.elapsed().as_secs_f64() * 1e9 / (reps * inputs.len()) as f64
+}
+
+/// Sweeps repeated so one pass takes about 5 ms.
+fn reps_for<S: Solver>(driver: &mut Driver<S>, inputs: &[Vec<f64>]) -> usize {
+    let per_frame = pass(driver, inputs, 1).max(pass(driver, inputs, 1)) * 1e-9;
+    ((5e-3 / per_frame) as usize / inputs.len()).max(1)
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Median ns per frame of the compiled and the interpreted driver, passes
+/// alternating so that both see the same machine (these machines are noisy).
+fn compare<S: Solver, T: Solver>(
+    compiled: &mut Driver<S>,
+    interpreted: &mut Driver<T>,
+    inputs: &[Vec<f64>],
+    passes: usize,
+) -> (f64, f64) {
+    let (rc, ri) = (reps_for(compiled, inputs), reps_for(interpreted, inputs));
+    let mut c = Vec::new();
+    let mut i = Vec::new();
+    for _ in 0..passes {
+        c.push(pass(compiled, inputs, rc));
+        i.push(pass(interpreted, inputs, ri));
+    }
+    (median(c), median(i))
 }
 
 fn main() {
@@ -62,12 +73,16 @@ fn main() {
         let joints = m.joints.len() - m.inputs.len();
         // The compiled plan's own Driver type (monomorphised, no trait object
         // between the loop and the plan), as a user's simulator has it.
-        let c = dofplan_generated::with_plan!(name.as_str(), |plan| {
-            ns_per_frame(&mut Driver::new(plan, Options::default()), &inputs, 21)
+        let mut interpreted = Driver::new(Interpreter::new(p.clone()), Options::default());
+        let (c, i) = dofplan_generated::with_plan!(name.as_str(), |plan| {
+            compare(
+                &mut Driver::new(plan, Options::default()),
+                &mut interpreted,
+                &inputs,
+                31,
+            )
         })
         .expect("compiled");
-        let mut interpreted = Driver::new(Interpreter::new(p.clone()), Options::default());
-        let i = ns_per_frame(&mut interpreted, &inputs, 21);
         println!(
             "| {name} | {mobile} | {joints} | {} | {c:.1} | {i:.1} | {:.2} |",
             p.steps.len(),

@@ -18,28 +18,14 @@ use dofplan_runtime::{
 };
 use dofplan_tests::{load, plan};
 
-type P = [f64; 2];
+use dofplan_tests::vec2::{add, dist, rotate, sub, P};
 
 /// Tolerance on break angles (degrees) and gaps (length units).
 const TOL: f64 = 1e-9;
 
-fn sub(a: P, b: P) -> P {
-    [a[0] - b[0], a[1] - b[1]]
-}
-
-fn add(a: P, b: P) -> P {
-    [a[0] + b[0], a[1] + b[1]]
-}
-
-fn dist(a: P, b: P) -> f64 {
-    let d = sub(a, b);
-    d[0].hypot(d[1])
-}
-
 /// `v` turned by `degrees` counter-clockwise.
-fn rotate(v: P, degrees: f64) -> P {
-    let (s, c) = degrees.to_radians().sin_cos();
-    [c * v[0] - s * v[1], s * v[0] + c * v[1]]
+fn rotate_deg(v: P, degrees: f64) -> P {
+    rotate(v, degrees.to_radians())
 }
 
 /// Drawn (= local) position of the marker "body.marker".
@@ -103,7 +89,7 @@ impl Closed {
 
     /// The input link's pin at input θ (degrees).
     fn pin(&self, theta: f64) -> P {
-        add(self.a_pivot, rotate(sub(self.b0, self.a_pivot), theta))
+        add(self.a_pivot, rotate_deg(sub(self.b0, self.a_pivot), theta))
     }
 
     /// How far circle(B, b) and circle(D, c) are apart at input θ.

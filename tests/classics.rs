@@ -14,54 +14,11 @@ use dofplan::simulate::{marker_at, max_relative_residual, run, run_animate, swee
 use dofplan_runtime::{BranchPolicy, FrameStatus, Options};
 use dofplan_tests::{bundled, load, plan};
 
-type P = [f64; 2];
+use dofplan_tests::vec2::{add, cross, dist, dot, norm, perp, rotate, scale, sub, unit, P};
 
 /// Tolerance of every closed-form comparison (absolute, in the mechanisms'
 /// length units or radians; the bundled mechanisms are a few units across).
 const TOL: f64 = 1e-9;
-
-fn sub(a: P, b: P) -> P {
-    [a[0] - b[0], a[1] - b[1]]
-}
-
-fn add(a: P, b: P) -> P {
-    [a[0] + b[0], a[1] + b[1]]
-}
-
-fn scale(a: P, k: f64) -> P {
-    [a[0] * k, a[1] * k]
-}
-
-fn dot(a: P, b: P) -> f64 {
-    a[0] * b[0] + a[1] * b[1]
-}
-
-fn cross(a: P, b: P) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
-}
-
-fn norm(a: P) -> f64 {
-    a[0].hypot(a[1])
-}
-
-fn dist(a: P, b: P) -> f64 {
-    norm(sub(a, b))
-}
-
-fn unit(a: P) -> P {
-    scale(a, 1.0 / norm(a))
-}
-
-/// `a` turned a quarter turn counter-clockwise.
-fn perp(a: P) -> P {
-    [-a[1], a[0]]
-}
-
-/// `v` turned by `angle` radians counter-clockwise.
-fn rotate(v: P, angle: f64) -> P {
-    let (s, c) = angle.sin_cos();
-    [c * v[0] - s * v[1], s * v[0] + c * v[1]]
-}
 
 /// Wraps an angle (radians) into [−π, π).
 fn wrap(angle: f64) -> f64 {

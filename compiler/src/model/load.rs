@@ -651,107 +651,119 @@ impl Validator {
         Some((kind, knode))
     }
 
-    fn joints(&mut self, node: &Node, bodies: &[Body]) -> Vec<(Joint, Node)> {
-        let Some(entries) = self.table(node, "joints") else {
+    /// Walks `[joints]` or `[constraints]`: every entry is a table with a
+    /// `kind` among `kinds` and two `markers`. Calls `check` with the kind
+    /// and the resolved markers; entries it accepts are returned.
+    fn connections<T>(
+        &mut self,
+        node: &Node,
+        bodies: &[Body],
+        section: &str,
+        what: &str,
+        kinds: &[&str],
+        mut check: impl FnMut(&mut Self, &str, [MarkerId; 2], &Node, &str, &str) -> Option<T>,
+    ) -> Vec<(String, T, [MarkerId; 2], Node)> {
+        let Some(entries) = self.table(node, section) else {
             return Vec::new();
         };
-        self.check_keys(entries, &[], "joints");
-        let mut joints = Vec::new();
-        for (key, jnode) in entries {
-            let path = join("joints", &key.name);
-            let owner = format!("joint `{}`", key.name);
-            self.check_name(key, &path, "joint");
-            let Some(fields) = self.table(jnode, &path) else {
-                continue;
-            };
-            self.check_keys(fields, &["kind", "markers"], &path);
-            let kind = self.kind(fields, jnode, &path, &["revolute", "prismatic"], &owner);
-            let pair = self.pair(fields, jnode, &path, bodies, &owner);
-            let (Some((kind, _)), Some(markers)) = (kind, pair) else {
-                continue;
-            };
-            let kind = if kind == "revolute" {
-                JointKind::Revolute
-            } else {
-                JointKind::Prismatic
-            };
-            let ok = match kind {
-                JointKind::Revolute => self.check_coincident(markers, bodies, jnode, &path, &owner),
-                JointKind::Prismatic => {
-                    self.check_in_line(markers, bodies, jnode, &path, &owner, "prismatic joint")
-                }
-            };
-            if ok {
-                joints.push((
-                    Joint {
-                        name: key.name.clone(),
-                        kind,
-                        markers,
-                    },
-                    jnode.clone(),
-                ));
-            }
-        }
-        joints
-    }
-
-    fn constraints(&mut self, node: &Node, bodies: &[Body]) -> Vec<(Constraint, Node)> {
-        let Some(entries) = self.table(node, "constraints") else {
-            return Vec::new();
-        };
-        self.check_keys(entries, &[], "constraints");
+        self.check_keys(entries, &[], section);
         let mut out = Vec::new();
-        for (key, cnode) in entries {
-            let path = join("constraints", &key.name);
-            let owner = format!("constraint `{}`", key.name);
-            self.check_name(key, &path, "constraint");
-            let Some(fields) = self.table(cnode, &path) else {
+        for (key, entry) in entries {
+            let path = join(section, &key.name);
+            let owner = format!("{what} `{}`", key.name);
+            self.check_name(key, &path, what);
+            let Some(fields) = self.table(entry, &path) else {
                 continue;
             };
             self.check_keys(fields, &["kind", "markers"], &path);
-            let kind = self.kind(fields, cnode, &path, &["coincident", "in-line", "offset"], &owner);
-            let pair = self.pair(fields, cnode, &path, bodies, &owner);
+            let kind = self.kind(fields, entry, &path, kinds, &owner);
+            let pair = self.pair(fields, entry, &path, bodies, &owner);
             let (Some((kind, _)), Some(markers)) = (kind, pair) else {
                 continue;
             };
-            let (kind, ok) = match kind {
-                "coincident" => (
-                    ConstraintKind::Coincident,
-                    self.check_coincident(markers, bodies, cnode, &path, &owner),
-                ),
-                "in-line" => (
-                    ConstraintKind::InLine,
-                    self.check_in_line(markers, bodies, cnode, &path, &owner, "in-line constraint"),
-                ),
-                _ => {
-                    let mut ok = true;
-                    for id in markers {
-                        if bodies[id.body].markers[id.marker].dir.is_none() {
-                            ok = false;
-                            let loc = self.loc(cnode, &path);
-                            let m = &bodies[id.body].markers[id.marker];
-                            self.error(
-                                loc,
-                                format!("{owner}: an offset constraint relates directions, but marker `{}.{}` has none", bodies[id.body].name, m.name),
-                                Some(format!("write the marker as {} = {{ at = [{}, {}], dir = [1, 0] }}", m.name, m.at[0], m.at[1])),
-                            );
-                        }
-                    }
-                    (ConstraintKind::Offset, ok)
-                }
-            };
-            if ok {
-                out.push((
-                    Constraint {
-                        name: key.name.clone(),
-                        kind,
-                        markers,
-                    },
-                    cnode.clone(),
-                ));
+            if let Some(value) = check(self, kind, markers, entry, &path, &owner) {
+                out.push((key.name.clone(), value, markers, entry.clone()));
             }
         }
         out
+    }
+
+    fn joints(&mut self, node: &Node, bodies: &[Body]) -> Vec<(Joint, Node)> {
+        let found = self.connections(
+            node,
+            bodies,
+            "joints",
+            "joint",
+            &["revolute", "prismatic"],
+            |v, kind, markers, entry, path, owner| match kind {
+                "revolute" => v
+                    .check_coincident(markers, bodies, entry, path, owner)
+                    .then_some(JointKind::Revolute),
+                _ => v
+                    .check_in_line(markers, bodies, entry, path, owner, "prismatic joint")
+                    .then_some(JointKind::Prismatic),
+            },
+        );
+        found
+            .into_iter()
+            .map(|(name, kind, markers, entry)| (Joint { name, kind, markers }, entry))
+            .collect()
+    }
+
+    fn constraints(&mut self, node: &Node, bodies: &[Body]) -> Vec<(Constraint, Node)> {
+        let found = self.connections(
+            node,
+            bodies,
+            "constraints",
+            "constraint",
+            &["coincident", "in-line", "offset"],
+            |v, kind, markers, entry, path, owner| match kind {
+                "coincident" => v
+                    .check_coincident(markers, bodies, entry, path, owner)
+                    .then_some(ConstraintKind::Coincident),
+                "in-line" => v
+                    .check_in_line(markers, bodies, entry, path, owner, "in-line constraint")
+                    .then_some(ConstraintKind::InLine),
+                _ => v
+                    .check_directions(markers, bodies, entry, path, owner)
+                    .then_some(ConstraintKind::Offset),
+            },
+        );
+        found
+            .into_iter()
+            .map(|(name, kind, markers, entry)| (Constraint { name, kind, markers }, entry))
+            .collect()
+    }
+
+    /// An offset constraint relates the two markers' directions: both need one.
+    fn check_directions(
+        &mut self,
+        ids: [MarkerId; 2],
+        bodies: &[Body],
+        node: &Node,
+        path: &str,
+        owner: &str,
+    ) -> bool {
+        let mut ok = true;
+        for id in ids {
+            let m = &bodies[id.body].markers[id.marker];
+            if m.dir.is_none() {
+                ok = false;
+                let loc = self.loc(node, path);
+                self.error(
+                    loc,
+                    format!(
+                        "{owner}: an offset constraint relates directions, but marker `{}.{}` has none",
+                        bodies[id.body].name, m.name
+                    ),
+                    Some(format!(
+                        "write the marker as {} = {{ at = [{}, {}], dir = [1, 0] }}",
+                        m.name, m.at[0], m.at[1]
+                    )),
+                );
+            }
+        }
+        ok
     }
 
     fn cross_duplicates(&mut self, joints: &Node, constraints: &Node) {
