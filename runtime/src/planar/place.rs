@@ -35,20 +35,20 @@ pub fn align(pose: &mut Pose, p: Point, p_at: Point, q: Point, q_at: Point) {
     let dw = sub(q_at, p_at);
     let l2 = dot(dl, dl);
     let w2 = dot(dw, dw);
-    let (c, s) = (dot(dl, dw), cross(dl, dw));
     // The usual case: the world span has the local length (the step that
     // computed q_at put it on the circle of that radius), so normalising is
-    // a multiplication by a constant. The rest (a stretched step, a span of
-    // zero length) is out of line: the hot path then neither computes a
-    // square root speculatively nor depends on the previous frame's pose.
+    // folded into the local span (a constant in compiled plans). The rest (a
+    // stretched step, a span of zero length) is out of line: the hot path
+    // then neither computes a square root speculatively nor depends on the
+    // previous frame's pose.
     if l2 > 0.0 && (w2 - l2).abs() <= 1e-12 * l2 {
-        let inv = 1.0 / l2;
+        let k = [dl[0] / l2, dl[1] / l2];
         pose.rot = Rot {
-            c: c * inv,
-            s: s * inv,
+            c: dot(k, dw),
+            s: cross(k, dw),
         };
     } else {
-        align_rotation_slow(pose, l2, w2, c, s);
+        align_rotation_slow(pose, l2, w2, dot(dl, dw), cross(dl, dw));
     }
     anchor(pose, p, p_at);
 }
