@@ -11,6 +11,7 @@
 //! - [`plan`]: the plan IR, the contract between analysis and back ends.
 //! - [`interp`]: executes a plan loaded at run time.
 //! - [`emit`]: writes a plan as straight-line Rust.
+//! - [`numeric`]: pure Newton–Raphson (the baseline without analysis).
 //! - [`build`]: the `build.rs` API.
 
 pub mod analysis;
@@ -18,6 +19,7 @@ pub mod build;
 pub mod emit;
 pub mod interp;
 pub mod model;
+pub mod numeric;
 pub mod plan;
 pub mod simulate;
 pub mod svg;

@@ -1,6 +1,7 @@
 //! Running a plan over a sweep and reading the result: marker positions and
 //! the residual of every joint, constraint and input.
 
+use dofplan_runtime::numeric::NewtonReport;
 use dofplan_runtime::planar::{Point, Pose};
 use dofplan_runtime::{Animate, Driver, FrameStatus, Options, Solver};
 
@@ -17,6 +18,8 @@ pub struct Frame {
     pub status: FrameStatus,
     /// Every body's pose, in mechanism order.
     pub poses: Vec<Pose>,
+    /// The Newton–Raphson report, when a numeric solver placed the frame.
+    pub numeric: Option<NewtonReport>,
 }
 
 /// The requested inputs of every frame of the mechanism's sweep (the swept
@@ -58,6 +61,7 @@ pub fn run_animate(driver: &mut dyn Animate, requested: &[Vec<f64>]) -> Vec<Fram
                 inputs: driver.inputs().to_vec(),
                 status,
                 poses: driver.poses().to_vec(),
+                numeric: driver.numeric(),
             }
         })
         .collect()

@@ -6,6 +6,7 @@
 //! the last valid state.
 
 use crate::frame::{Break, BreakPolicy, Ctx, FrameStatus, Options};
+use crate::numeric::NewtonReport;
 use crate::planar::Pose;
 
 /// A plan that can be executed: one execution places every body for one set
@@ -41,6 +42,7 @@ pub struct Driver<S: Solver> {
     trial: S::State,
     last: S::Inputs,
     probe: S::Inputs,
+    numeric: Option<NewtonReport>,
 }
 
 impl<S: Solver> Driver<S> {
@@ -55,6 +57,7 @@ impl<S: Solver> Driver<S> {
             last,
             solver,
             options,
+            numeric: None,
         }
     }
 
@@ -78,6 +81,12 @@ impl<S: Solver> Driver<S> {
         S::poses(&self.state)
     }
 
+    /// The Newton–Raphson report of the last frame's numeric solve (at the
+    /// requested inputs), if the plan has one.
+    pub fn numeric(&self) -> Option<NewtonReport> {
+        self.numeric
+    }
+
     /// The input values of the current pose (differs from the last request
     /// after a break).
     pub fn inputs(&self) -> &[f64] {
@@ -95,7 +104,9 @@ impl<S: Solver> Driver<S> {
     pub fn frame(&mut self, inputs: &[f64]) -> FrameStatus {
         let stretch = self.options.breaking == BreakPolicy::Stretch;
         let mut ctx = Ctx::new(self.options.branch, stretch);
-        match self.solver.solve(&mut self.state, inputs, &mut ctx) {
+        let result = self.solver.solve(&mut self.state, inputs, &mut ctx);
+        self.numeric = ctx.numeric;
+        match result {
             Ok(()) => {
                 self.last.as_mut().copy_from_slice(inputs);
                 match ctx.stretched {
@@ -174,6 +185,8 @@ pub trait Animate {
     fn poses(&self) -> &[Pose];
     /// The input values of the current frame.
     fn inputs(&self) -> &[f64];
+    /// The last frame's Newton–Raphson report, if any.
+    fn numeric(&self) -> Option<NewtonReport>;
     /// Back to the drawn pose.
     fn reset(&mut self);
 }
@@ -187,6 +200,9 @@ impl<S: Solver> Animate for Driver<S> {
     }
     fn inputs(&self) -> &[f64] {
         Driver::inputs(self)
+    }
+    fn numeric(&self) -> Option<NewtonReport> {
+        Driver::numeric(self)
     }
     fn reset(&mut self) {
         Driver::reset(self)

@@ -100,6 +100,11 @@ pub enum BreakKind {
     ParallelLines,
     /// A line turning about a pivot cannot reach a point.
     LineCannotReach,
+    /// Newton–Raphson reached a least-squares minimum with a residual left:
+    /// no solution within reach of the last pose.
+    NoSolution,
+    /// Newton–Raphson ran out of iterations while still improving.
+    NotConverged,
 }
 
 impl BreakKind {
@@ -110,6 +115,8 @@ impl BreakKind {
             BreakKind::LineMissesCircle => "the line misses the circle",
             BreakKind::ParallelLines => "the lines are parallel",
             BreakKind::LineCannotReach => "the line cannot reach the point",
+            BreakKind::NoSolution => "no solution within reach (least-squares minimum)",
+            BreakKind::NotConverged => "Newton-Raphson did not converge within its iterations",
         }
     }
 }
@@ -182,6 +189,8 @@ pub struct Ctx {
     pub stretch: bool,
     /// The first step relaxed in this execution and the largest gap so far.
     pub stretched: Option<(StepId, f64)>,
+    /// The report of the numeric solve of this execution, if there was one.
+    pub numeric: Option<crate::numeric::NewtonReport>,
 }
 
 impl Ctx {
@@ -191,12 +200,14 @@ impl Ctx {
             branch,
             stretch,
             stretched: None,
+            numeric: None,
         }
     }
 
     /// Either records a relaxation (stretch policy) or returns the break.
+    /// Every step that can fail reports through here.
     #[inline]
-    pub(crate) fn fail(&mut self, step: StepId, kind: BreakKind, gap: f64) -> Result<(), Break> {
+    pub fn fail(&mut self, step: StepId, kind: BreakKind, gap: f64) -> Result<(), Break> {
         if self.stretch {
             self.stretched = Some(match self.stretched {
                 None => (step, gap),

@@ -17,8 +17,10 @@
 
 pub mod drive;
 pub mod frame;
+pub mod numeric;
 pub mod planar;
 
 pub use drive::{Animate, Driver, Solver};
 pub use frame::{Branch, BranchPolicy, Break, BreakKind, BreakPolicy, Ctx, FrameStatus, Options, StepId};
+pub use numeric::{Equations, Newton, NewtonOptions, NewtonOutcome, NewtonReport};
 pub use planar::{Point, Pose, Rot};

@@ -14,6 +14,7 @@ use dofplan::analysis::{analyse, Analysis};
 use dofplan::emit::emit;
 use dofplan::interp::Interpreter;
 use dofplan::model::{load_file, Location, Mechanism, ModelError};
+use dofplan::numeric::PureNewton;
 use dofplan::plan::{num, Plan};
 use dofplan::simulate::{marker_positions, run, sweep_inputs, Frame};
 use dofplan::svg::{render, SvgOptions};
@@ -57,6 +58,10 @@ enum Command {
         /// How intersections pick their root at move time.
         #[arg(long, value_enum, default_value_t = BranchArg::Keep)]
         branch: BranchArg,
+        /// Which solver places the bodies: the closed-form plan, or pure
+        /// Newton–Raphson (3 unknowns per mobile link, no analysis).
+        #[arg(long, value_enum, default_value_t = SolverArg::Plan)]
+        solver: SolverArg,
         /// Print one JSON document {"frames": [...]}.
         #[arg(long, conflicts_with = "csv")]
         json: bool,
@@ -77,6 +82,14 @@ enum PolicyArg {
     Search,
     /// Relax the failing step and report the residual.
     Stretch,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+enum SolverArg {
+    /// The plan: closed-form steps.
+    Plan,
+    /// Newton–Raphson on every mobile link, the baseline of Brunkhart's Figure 30.
+    Newton,
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -104,6 +117,7 @@ fn main() -> ExitCode {
             steps,
             policy,
             branch,
+            solver,
             json,
             csv,
             svg,
@@ -120,7 +134,7 @@ fn main() -> ExitCode {
                 },
                 ..Options::default()
             };
-            simulate(m, plan, steps, options, json, csv, svg.as_deref())
+            simulate(m, plan, steps, options, solver, json, csv, svg.as_deref())
         }),
     }
 }
@@ -279,11 +293,13 @@ fn status_json(plan: &Plan, status: &FrameStatus) -> (Value, Option<(&'static st
     (json!(status.name()), detail)
 }
 
+#[allow(clippy::too_many_arguments)]
 fn simulate(
     m: &Mechanism,
     plan: &Plan,
     steps: Option<usize>,
     options: Options,
+    solver: SolverArg,
     json: bool,
     csv: bool,
     svg: Option<&Path>,
@@ -294,7 +310,10 @@ fn simulate(
         return ExitCode::FAILURE;
     }
     let requested = sweep_inputs(m, steps);
-    let frames = run(Interpreter::new(plan.clone()), options, &requested);
+    let frames = match solver {
+        SolverArg::Plan => run(Interpreter::new(plan.clone()), options, &requested),
+        SolverArg::Newton => run(PureNewton::new(m), options, &requested),
+    };
     if json {
         let names: Vec<&str> = m.inputs.iter().map(|i| i.name.as_str()).collect();
         let frames_json: Vec<Value> = frames
@@ -316,6 +335,17 @@ fn simulate(
                 o.insert("status".into(), status);
                 if let Some((k, v)) = detail {
                     o.insert(k.into(), v);
+                }
+                if let Some(n) = &f.numeric {
+                    o.insert(
+                        "newton".into(),
+                        json!({
+                            "outcome": format!("{:?}", n.outcome).to_lowercase(),
+                            "iterations": n.iterations,
+                            "residual": n.residual,
+                            "rank": n.rank,
+                        }),
+                    );
                 }
                 o.insert(
                     "markers".into(),

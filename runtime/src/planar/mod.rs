@@ -128,6 +128,15 @@ impl Pose {
         [self.at[0] + r[0], self.at[1] + r[1]]
     }
 
+    /// World position of a marker and its derivative with respect to the
+    /// body's angle (the point turned a quarter turn about the body's
+    /// origin): the Jacobian columns of a numeric cluster.
+    #[inline(always)]
+    pub fn world_and_turn(&self, local: Point) -> (Point, Point) {
+        let r = self.rot.apply(local);
+        ([self.at[0] + r[0], self.at[1] + r[1]], [-r[1], r[0]])
+    }
+
     /// World direction of a local direction.
     #[inline]
     pub fn world_dir(&self, local: Point) -> Point {
