@@ -1054,6 +1054,7 @@ trace = ["coupler.P"]
                 inputs: vec![10.0 * i as f64],
                 status: if i >= 7 { limited } else { FrameStatus::Solved },
                 poses,
+                numeric: None,
             });
         }
         let svg = render(&m, &frames, &trace_of(&m), &SvgOptions::default());
@@ -1098,6 +1099,7 @@ trace = ["coupler.P"]
                 }
             },
             poses: vec![],
+            numeric: None,
         };
         let frames: Vec<Frame> = (0..361).map(|_| frame(true)).collect();
         assert_eq!(pick_poses(&frames, 6), vec![0, 72, 144, 216, 288, 360]);
