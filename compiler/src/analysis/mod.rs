@@ -5,6 +5,7 @@
 pub mod equations;
 pub mod mobility;
 mod planner;
+pub mod rank;
 
 use std::fmt;
 

@@ -10,6 +10,7 @@ use codespan_reporting::files::SimpleFile;
 use codespan_reporting::term::{self, termcolor};
 use serde_json::{json, Map, Value};
 
+use dofplan::analysis::rank::rank_mobility;
 use dofplan::analysis::{analyse, Analysis};
 use dofplan::emit::emit;
 use dofplan::interp::Interpreter;
@@ -238,6 +239,42 @@ fn check(file: &Path) -> ExitCode {
         extra,
         mob.dof
     );
+    let by_rank = rank_mobility(&m);
+    println!(
+        "  mobility (Jacobian rank at the drawn pose): {} unknowns − rank {} = {}",
+        by_rank.unknowns, by_rank.rank, by_rank.dof
+    );
+    if by_rank.dof == mob.dof {
+        println!("  Grübler's count and the Jacobian agree");
+    } else {
+        let dependent: usize = by_rank.redundant.iter().map(|(_, n)| n).sum();
+        println!(
+            "  they differ by {}: the mechanism is non-generic — {} equation(s) depend on the others, \
+             which Grübler's count takes as independent",
+            by_rank.dof - mob.dof,
+            dependent
+        );
+    }
+    if !by_rank.redundant.is_empty() {
+        let list: Vec<String> = by_rank
+            .redundant
+            .iter()
+            .map(|(o, n)| {
+                if *n == 1 {
+                    o.clone()
+                } else {
+                    format!("{o} ({n} equations)")
+                }
+            })
+            .collect();
+        println!(
+            "  redundant (dependent on the joints before them in the file): {}",
+            list.join(", ")
+        );
+    }
+    for (body, n) in &by_rank.idle {
+        println!("  idle: body {body} can move on its own ({n} DOF) while every other body stays put");
+    }
     println!(
         "  with {} input(s): {} ({} free DOF)",
         mob.inputs,

@@ -48,6 +48,8 @@ struct Drive {
 pub struct PureNewton {
     roles: Vec<Role>,
     rows: Vec<Equation>,
+    /// The joint, constraint or input each of `rows` comes from.
+    origins: Vec<String>,
     unknowns: usize,
     equations: usize,
     size: f64,
@@ -104,16 +106,21 @@ impl PureNewton {
                 unknowns += 3;
             }
         }
-        let rows: Vec<Equation> = equations(m)
+        let (rows, origins): (Vec<Equation>, Vec<String>) = equations(m)
             .into_iter()
-            .map(|s| s.eq)
-            .filter(|eq| eq.bodies().iter().any(|&b| matches!(roles[b], Role::Unknown(_))))
-            .collect();
+            .filter(|s| {
+                s.eq.bodies()
+                    .iter()
+                    .any(|&b| matches!(roles[b], Role::Unknown(_)))
+            })
+            .map(|s| (s.eq, s.origin))
+            .unzip();
         let equations = rows.iter().map(Equation::count).sum();
         let size = m.size();
         PureNewton {
             roles,
             rows,
+            origins,
             unknowns,
             equations,
             size,
@@ -135,6 +142,42 @@ impl PureNewton {
     /// Scalar equations handed to Newton–Raphson.
     pub fn equations(&self) -> usize {
         self.equations
+    }
+
+    /// The Jacobian of every equation at the drawn pose (all inputs at 0),
+    /// with each equation's origin and number of rows, in row order.
+    pub fn drawn_jacobian(&self) -> (DMatrix<f64>, Vec<(String, usize)>) {
+        let mut poses = vec![Pose::IDENTITY; self.roles.len()];
+        let inputs = vec![0.0; self.input_kinds.len()];
+        self.place_driven(&mut poses, &inputs);
+        let mut system = System {
+            solver: self,
+            poses: &mut poses,
+            inputs: &inputs,
+        };
+        let x = DVector::zeros(self.unknowns);
+        let mut r = DVector::zeros(self.equations);
+        let mut j = DMatrix::zeros(self.equations, self.unknowns);
+        system.eval(&x, &mut r, Some(&mut j));
+        let groups = self
+            .rows
+            .iter()
+            .zip(&self.origins)
+            .map(|(eq, o)| (o.clone(), eq.count()))
+            .collect();
+        (j, groups)
+    }
+
+    /// The unknown columns of each body that has them: (body, first column).
+    pub fn unknown_bodies(&self) -> Vec<(usize, usize)> {
+        self.roles
+            .iter()
+            .enumerate()
+            .filter_map(|(b, r)| match r {
+                Role::Unknown(o) => Some((b, *o)),
+                _ => None,
+            })
+            .collect()
     }
 
     fn place_driven(&self, poses: &mut [Pose], inputs: &[f64]) {

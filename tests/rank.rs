@@ -1,0 +1,95 @@
+//! Mobility by Jacobian rank: agrees with Grübler on generic mechanisms,
+//! finds the redundant joint of a non-generic one (Brunkhart fig. 14b: a
+//! parallelogram with an extra parallel link) and names idle freedoms.
+
+use dofplan::analysis::analyse;
+use dofplan::analysis::rank::rank_mobility;
+use dofplan::interp::Interpreter;
+use dofplan::model::{load_str, Format, Mechanism};
+use dofplan::simulate::{max_relative_residual, run};
+use dofplan_runtime::Options;
+use dofplan_tests::{bundled, load};
+
+fn mechanism(text: &str) -> Mechanism {
+    load_str("t.toml", text, Format::Toml).unwrap_or_else(|e| panic!("{e}"))
+}
+
+#[test]
+fn rank_and_grubler_agree_on_every_bundled_mechanism() {
+    for name in bundled() {
+        let m = load(&name);
+        let by_rank = rank_mobility(&m);
+        assert_eq!(by_rank.dof, analyse(&m).mobility.dof, "{name}");
+        assert!(by_rank.redundant.is_empty(), "{name}: {:?}", by_rank.redundant);
+        assert!(by_rank.idle.is_empty(), "{name}: {:?}", by_rank.idle);
+    }
+}
+
+/// Fig. 14b: the extra link is parallel to crank and rocker, so it removes
+/// no freedom though Grübler counts two equations for its second joint.
+const PARALLELOGRAM_EXTRA: &str = r#"
+name = "parallelogram_extra"
+[bodies.ground]
+fixed = true
+markers = { A = [0, 0], E = [2, 0], D = [4, 0] }
+[bodies.crank]
+markers = { A = [0, 0], B = [1, 1.5] }
+[bodies.coupler]
+markers = { B = [1, 1.5], F = [3, 1.5], C = [5, 1.5] }
+[bodies.rocker]
+markers = { D = [4, 0], C = [5, 1.5] }
+[bodies.extra]
+markers = { E = [2, 0], F = [3, 1.5] }
+[joints.A]
+kind = "revolute"
+markers = ["ground.A", "crank.A"]
+[joints.B]
+kind = "revolute"
+markers = ["crank.B", "coupler.B"]
+[joints.C]
+kind = "revolute"
+markers = ["coupler.C", "rocker.C"]
+[joints.D]
+kind = "revolute"
+markers = ["rocker.D", "ground.D"]
+[joints.E]
+kind = "revolute"
+markers = ["ground.E", "extra.E"]
+[joints.F]
+kind = "revolute"
+markers = ["extra.F", "coupler.F"]
+[inputs.theta]
+kind = "angle"
+joint = "A"
+"#;
+
+#[test]
+fn a_redundant_parallel_link_is_found_and_still_animates() {
+    let m = mechanism(PARALLELOGRAM_EXTRA);
+    let analysis = analyse(&m);
+    assert_eq!(analysis.mobility.dof, 0, "Grübler sees a structure");
+    let by_rank = rank_mobility(&m);
+    assert_eq!(by_rank.dof, 1, "the Jacobian sees the parallelogram's motion");
+    assert_eq!(by_rank.redundant, vec![("joint F".to_string(), 1)]);
+    // Consistent redundancy solves and animates (until the change point).
+    let plan = analysis.plan.expect("closed form");
+    let requested: Vec<Vec<f64>> = (0..=40).map(|i| vec![f64::from(i) * 2.0]).collect();
+    for f in run(Interpreter::new(plan), Options::default(), &requested) {
+        assert!(f.status.is_solved());
+        assert!(max_relative_residual(&m, &f.poses, &f.inputs) <= 1e-12);
+    }
+}
+
+#[test]
+fn a_link_on_a_single_pin_is_an_idle_freedom() {
+    let fourbar = std::fs::read_to_string(dofplan_tests::mechanisms_dir().join("fourbar.toml")).unwrap();
+    let text = fourbar.replace(
+        "[bodies.rocker]",
+        "[bodies.flag]\nmarkers = { P = [3, 3.5], Q = [3, 4.5] }\n\n[joints.flag]\nkind = \"revolute\"\nmarkers = [\"coupler.P\", \"flag.P\"]\n\n[bodies.rocker]",
+    );
+    let m = mechanism(&text);
+    let by_rank = rank_mobility(&m);
+    assert_eq!(by_rank.dof, 2);
+    assert_eq!(by_rank.idle, vec![("flag".to_string(), 1)]);
+    assert!(by_rank.redundant.is_empty());
+}
