@@ -1,0 +1,94 @@
+//! Brunkhart's Figure 30, measured: for each row, the unknowns and
+//! equations handed to Newton–Raphson and the time per frame, for pure
+//! Newton (3 unknowns per mobile link, no analysis) and for dofplan's plan.
+//!
+//! `cargo run --release --example figure30`
+//!
+//! Rows whose mechanism needs a numeric cluster (6-bar (b), 8-bar, 10-bar,
+//! Duplex, the chains) are listed as not bundled: mixed plans are not
+//! implemented yet.
+
+use std::hint::black_box;
+use std::time::Instant;
+
+use dofplan::interp::Interpreter;
+use dofplan::numeric::PureNewton;
+use dofplan::simulate::sweep_inputs;
+use dofplan_runtime::{Driver, Options, Solver};
+use dofplan_tests::{load, plan};
+
+/// Median µs per frame over `passes` sweeps of `inputs` (each pass stops
+/// early after `budget` seconds, so pure Newton on large rows stays quick).
+fn us_per_frame<S: Solver>(driver: &mut Driver<S>, inputs: &[Vec<f64>], passes: usize, budget: f64) -> f64 {
+    let mut samples: Vec<f64> = (0..passes)
+        .map(|_| {
+            driver.reset();
+            let t = Instant::now();
+            let mut n = 0;
+            for i in inputs {
+                black_box(driver.frame(black_box(i)));
+                n += 1;
+                // Reading the clock costs as much as a compiled frame: only
+                // every 64 frames.
+                if n % 64 == 0 && t.elapsed().as_secs_f64() > budget {
+                    break;
+                }
+            }
+            t.elapsed().as_secs_f64() * 1e6 / n as f64
+        })
+        .collect();
+    samples.sort_by(f64::total_cmp);
+    samples[samples.len() / 2]
+}
+
+fn main() {
+    // (row, bundled file, 1994 Newton fps, 1994 Mixed fps)
+    let rows: [(&str, Option<&str>, &str, &str); 16] = [
+        ("4-bar", Some("fourbar"), "370", "2875"),
+        ("6-bar (a)", Some("sixbar_a"), "81", "1711"),
+        ("Stress-10", Some("stress_10"), "14", "968"),
+        ("Stress-20", Some("stress_20"), "0.3", "445"),
+        ("Stress-30", Some("stress_30"), "0.07", "282"),
+        ("Stress-40", Some("stress_40"), "≈0.02", "222"),
+        ("Stress-50", Some("stress_50"), "–", "176"),
+        ("6-bar (b)", None, "85", "339"),
+        ("8-bar", None, "32", "86"),
+        ("10-bar", None, "5.1", "42"),
+        ("Duplex", None, "2.9", "17"),
+        ("Chain-4", None, "140", "448"),
+        ("Chain-6", None, "55", "122"),
+        ("Chain-8", None, "23", "45"),
+        ("Chain-10", None, "10", "20"),
+        ("Chain-15", None, "0.8", "1.0"),
+    ];
+    println!(
+        "| mechanism | mobile links | active joints | Newton unk/eqs | Newton µs/frame | mixed unk/eqs | \
+         mixed µs/frame compiled | mixed µs/frame interpreted | Newton ÷ compiled | 1994 Newton fps | 1994 mixed fps |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for (row, file, newton94, mixed94) in rows {
+        let Some(name) = file else {
+            println!("| {row} | | | | not bundled: needs a numeric cluster (mixed plans) | | | | | {newton94} | {mixed94} |");
+            continue;
+        };
+        let m = load(name);
+        let p = plan(&m);
+        let inputs = sweep_inputs(&m, None);
+        let mobile = m.bodies.iter().filter(|b| !b.fixed).count() - m.inputs.len();
+        let joints = m.joints.len() - m.inputs.len();
+        let newton = PureNewton::new(&m);
+        let (nu, ne) = (newton.unknowns(), newton.equations());
+        // Pure Newton on the large rows takes tens of ms per frame: time a
+        // prefix of the sweep (at least 64 frames), three passes.
+        let t_newton = us_per_frame(&mut Driver::new(newton, Options::default()), &inputs, 3, 0.5);
+        let t_compiled = dofplan_generated::with_plan!(name, |plan| {
+            us_per_frame(&mut Driver::new(plan, Options::default()), &inputs, 31, 1.0)
+        })
+        .expect("compiled");
+        let t_interp = us_per_frame(&mut Driver::new(Interpreter::new(p), Options::default()), &inputs, 31, 1.0);
+        println!(
+            "| {row} ({name}) | {mobile} | {joints} | {nu}/{ne} | {t_newton:.1} | 0/0 | {t_compiled:.3} | {t_interp:.3} | {:.0}× | {newton94} | {mixed94} |",
+            t_newton / t_compiled
+        );
+    }
+}
