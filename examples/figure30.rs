@@ -85,7 +85,12 @@ fn main() {
             us_per_frame(&mut Driver::new(plan, Options::default()), &inputs, 31, 1.0)
         })
         .expect("compiled");
-        let t_interp = us_per_frame(&mut Driver::new(Interpreter::new(p), Options::default()), &inputs, 31, 1.0);
+        let t_interp = us_per_frame(
+            &mut Driver::new(Interpreter::new(p), Options::default()),
+            &inputs,
+            31,
+            1.0,
+        );
         println!(
             "| {row} ({name}) | {mobile} | {joints} | {nu}/{ne} | {t_newton:.1} | 0/0 | {t_compiled:.3} | {t_interp:.3} | {:.0}× | {newton94} | {mixed94} |",
             t_newton / t_compiled

@@ -253,8 +253,11 @@ enum LegendKind {
 /// Indices of up to `n` frames evenly spaced among the solved ones (among
 /// all when none is solved), the first and the last included, ascending.
 fn pick_poses(frames: &[Frame], n: usize) -> Vec<usize> {
+    // Frames whose pose belongs to the requested input: solved, or
+    // stretched (the input applied, a step relaxed — a drag's closest
+    // approach).
     let solved: Vec<usize> = (0..frames.len())
-        .filter(|&i| frames[i].status.is_solved())
+        .filter(|&i| frames[i].status.is_solved() || frames[i].status.name() == "stretched")
         .collect();
     let candidates: Vec<usize> = if solved.is_empty() {
         (0..frames.len()).collect()
@@ -330,7 +333,9 @@ fn titles(m: &Mechanism, frames: &[Frame], picked: &[usize]) -> (String, String)
     let title = format!("{} \u{2014} {n} {plural}, {status}", m.name);
 
     let input = m.sweep.as_ref().map(|s| s.input).unwrap_or(0);
-    let at = match m.inputs.get(input) {
+    // Frames of a drag carry targets, not the mechanism's inputs.
+    let of_inputs = frames[0].requested.len() == m.inputs.len();
+    let at = match m.inputs.get(input).filter(|_| of_inputs) {
         Some(inp) => {
             let unit = match inp.kind {
                 InputKind::Angle => "\u{b0}",
@@ -1093,9 +1098,12 @@ trace = ["coupler.P"]
             status: if solved {
                 FrameStatus::Solved
             } else {
-                FrameStatus::Stretched {
-                    step: 0,
-                    residual: 1.0,
+                FrameStatus::Limited {
+                    brk: dofplan_runtime::Break {
+                        step: 0,
+                        kind: dofplan_runtime::BreakKind::CirclesApart,
+                        gap: 1.0,
+                    },
                 }
             },
             poses: vec![],

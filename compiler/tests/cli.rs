@@ -160,3 +160,77 @@ fn bad_files_get_a_position_and_a_failing_status() {
     assert!(stderr(&o).contains("cannot read the file"));
     let _ = std::fs::remove_dir_all(dir);
 }
+
+#[test]
+fn drag_json_is_simulates_document_with_the_target_as_inputs() {
+    let chain = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../mechanisms/drag/open_chain_15.toml");
+    let o = dofplan(&[
+        "drag",
+        chain.to_str().unwrap(),
+        "--marker",
+        "link_15.E",
+        "--to",
+        "9,6",
+        "--steps",
+        "5",
+        "--json",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let doc: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let frames = doc["frames"].as_array().unwrap();
+    assert_eq!(frames.len(), 5);
+    let last = &frames[4];
+    assert_eq!(last["status"], "solved");
+    assert_eq!(last["inputs"]["link_15.E.x"], 9.0);
+    let end = &last["markers"]["link_15.E"];
+    assert!((end[0].as_f64().unwrap() - 9.0).abs() < 1e-9 && (end[1].as_f64().unwrap() - 6.0).abs() < 1e-9);
+    assert_eq!(last["newton"]["outcome"], "converged");
+}
+
+#[test]
+fn drag_rejects_unknown_markers_and_non_finite_targets() {
+    let fourbar = mechanism("fourbar");
+    let o = dofplan(&[
+        "drag",
+        fourbar.to_str().unwrap(),
+        "--marker",
+        "coupler.Q",
+        "--to",
+        "1,2",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stderr(&o).contains("no marker `coupler.Q` to drag"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(stderr(&o).contains("coupler.P"));
+    let o = dofplan(&[
+        "drag",
+        fourbar.to_str().unwrap(),
+        "--marker",
+        "coupler.P",
+        "--to",
+        "NaN,2",
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("not a finite point"), "{}", stderr(&o));
+    let o = dofplan(&[
+        "drag",
+        fourbar.to_str().unwrap(),
+        "--marker",
+        "ground.A",
+        "--to",
+        "1,2",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(stderr(&o).contains("fixed body"));
+}
+
+#[test]
+fn a_file_with_no_inputs_checks_and_drags() {
+    let chain = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../mechanisms/drag/open_chain_15.toml");
+    let o = dofplan(&["check", chain.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stdout(&o));
+    assert!(stdout(&o).contains("no inputs, so nothing to plan"));
+}

@@ -420,6 +420,21 @@ pub fn rank(matrix: &DMatrix<f64>, rank_cutoff: f64) -> usize {
     }
 }
 
+/// The Moore–Penrose pseudo-inverse `J⁺` with the same relative cut-off as
+/// [`min_norm_step`] (singular values at or below `rank_cutoff × σ_max`
+/// dropped). Used where a step must be split between a task and the null
+/// space of the constraints (dragging: `I − J⁺J` projects onto the motions
+/// the joints allow). An empty, zero or non-finite matrix gives zeros.
+pub fn pseudo_inverse(matrix: &DMatrix<f64>, rank_cutoff: f64) -> DMatrix<f64> {
+    let (rows, cols) = matrix.shape();
+    let Some(svd) = decompose(matrix, true) else {
+        return DMatrix::zeros(cols, rows);
+    };
+    let eps = threshold(&svd.singular_values, rank_cutoff);
+    svd.pseudo_inverse(eps)
+        .unwrap_or_else(|_| DMatrix::zeros(cols, rows))
+}
+
 /// Null-space-free min-norm least-squares solve of `J·δ = −r` via SVD with
 /// relative cut-off (the Newton step); returns `(δ, rank)`.
 ///

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use codespan_reporting::diagnostic::{Diagnostic as Report, Label};
+use codespan_reporting::diagnostic::{Diagnostic as Snippet, Label};
 use codespan_reporting::files::SimpleFile;
 use codespan_reporting::term::{self, termcolor};
 use serde_json::{json, Map, Value};
@@ -14,7 +14,8 @@ use dofplan::analysis::rank::rank_mobility;
 use dofplan::analysis::{analyse, Analysis};
 use dofplan::emit::emit;
 use dofplan::interp::Interpreter;
-use dofplan::model::{load_file, Location, Mechanism, ModelError};
+use dofplan::model::{load_file, Location, MarkerId, Mechanism, ModelError};
+use dofplan::numeric::drag::Drag;
 use dofplan::numeric::PureNewton;
 use dofplan::plan::{num, Plan};
 use dofplan::simulate::{marker_positions, run, sweep_inputs, Frame};
@@ -45,6 +46,40 @@ enum Command {
     Emit {
         /// Mechanism file.
         file: PathBuf,
+    },
+    /// Drag a marker to a target point (the file's inputs are released): the
+    /// mechanism follows with the least motion its joints allow.
+    Drag {
+        /// Mechanism file (it may have no inputs at all).
+        file: PathBuf,
+        /// The marker to drag, "body.marker".
+        #[arg(long)]
+        marker: String,
+        /// The last target, "X,Y".
+        #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+        to: [f64; 2],
+        /// The first target, "X,Y" (default: the marker's drawn position).
+        #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
+        from: Option<[f64; 2]>,
+        /// Number of targets, evenly spaced from --from to --to, both included.
+        #[arg(long, default_value_t = 50)]
+        steps: usize,
+        /// What to do when a target is out of reach: stretch (the default)
+        /// relaxes the drag, so the marker comes as close as the joints allow
+        /// — a one-DOF linkage then follows its own curve; limit stays at
+        /// the last pose that met its target; search finds where the path to
+        /// the target leaves the reachable set.
+        #[arg(long, value_enum, default_value_t = PolicyArg::Stretch)]
+        policy: PolicyArg,
+        /// Print one JSON document {"frames": [...]} (as simulate's).
+        #[arg(long, conflicts_with = "csv")]
+        json: bool,
+        /// Print CSV, one row per frame.
+        #[arg(long)]
+        csv: bool,
+        /// Draw the poses and the dragged marker's path into this SVG file.
+        #[arg(long, value_name = "OUT")]
+        svg: Option<PathBuf>,
     },
     /// Run the file's sweep and print or draw every frame.
     Simulate {
@@ -93,6 +128,16 @@ enum SolverArg {
     Newton,
 }
 
+impl From<PolicyArg> for BreakPolicy {
+    fn from(p: PolicyArg) -> BreakPolicy {
+        match p {
+            PolicyArg::Limit => BreakPolicy::Limit,
+            PolicyArg::Search => BreakPolicy::Search,
+            PolicyArg::Stretch => BreakPolicy::Stretch,
+        }
+    }
+}
+
 #[derive(Clone, Copy, ValueEnum)]
 enum BranchArg {
     /// Keep the branch of the drawn pose.
@@ -113,6 +158,33 @@ fn main() -> ExitCode {
             print!("{}", emit(plan));
             ExitCode::SUCCESS
         }),
+        Command::Drag {
+            file,
+            marker,
+            to,
+            from,
+            steps,
+            policy,
+            json,
+            csv,
+            svg,
+        } => {
+            let options = Options {
+                breaking: policy.into(),
+                ..Options::default()
+            };
+            drag(
+                &file,
+                &marker,
+                from,
+                to,
+                steps,
+                options,
+                json,
+                csv,
+                svg.as_deref(),
+            )
+        }
         Command::Simulate {
             file,
             steps,
@@ -124,11 +196,7 @@ fn main() -> ExitCode {
             svg,
         } => with_plan(&file, |m, plan| {
             let options = Options {
-                breaking: match policy {
-                    PolicyArg::Limit => BreakPolicy::Limit,
-                    PolicyArg::Search => BreakPolicy::Search,
-                    PolicyArg::Stretch => BreakPolicy::Stretch,
-                },
+                breaking: policy.into(),
                 branch: match branch {
                     BranchArg::Keep => BranchPolicy::Keep,
                     BranchArg::Nearest => BranchPolicy::Nearest,
@@ -157,7 +225,7 @@ fn report_model_error(err: &ModelError) {
                 // The plain "file:line:col" line first, so editors and
                 // scripts can jump to it; the snippet follows.
                 eprintln!("{}: error: {}", d.position(&d.location), d.message);
-                let mut report = Report::error()
+                let mut report = Snippet::error()
                     .with_message(d.message.clone())
                     .with_labels(labels);
                 if let Some(help) = &d.help {
@@ -281,6 +349,14 @@ fn check(file: &Path) -> ExitCode {
         mob.class().name(),
         mob.free()
     );
+    if m.inputs.is_empty() {
+        // Valid: a file meant for dragging only.
+        println!(
+            "  plan: no inputs, so nothing to plan — drag a marker with `dofplan drag {} --marker BODY.MARKER --to X,Y`",
+            file.display()
+        );
+        return ExitCode::SUCCESS;
+    }
     let code = match &plan {
         Ok(p) => {
             println!(
@@ -305,11 +381,20 @@ fn check(file: &Path) -> ExitCode {
     code
 }
 
-fn status_json(plan: &Plan, status: &FrameStatus) -> (Value, Option<(&'static str, Value)>) {
+/// What the output of a run of frames needs besides the frames: how to
+/// name the inputs, how to explain a step, which markers to trace.
+struct Report<'a> {
+    m: &'a Mechanism,
+    input_names: Vec<String>,
+    explain: Box<dyn Fn(u32) -> String + 'a>,
+    trace: Vec<MarkerId>,
+}
+
+fn status_json(r: &Report, status: &FrameStatus) -> (Value, Option<(&'static str, Value)>) {
     let brk = |b: &dofplan_runtime::Break| {
         json!({
             "step": b.step,
-            "explanation": plan.explain(b.step as usize),
+            "explanation": (r.explain)(b.step),
             "reason": b.kind.describe(),
             "gap": b.gap,
         })
@@ -324,7 +409,7 @@ fn status_json(plan: &Plan, status: &FrameStatus) -> (Value, Option<(&'static st
         })),
         FrameStatus::Stretched { step, residual } => Some((
             "stretch",
-            json!({"step": step, "explanation": plan.explain(*step as usize), "residual": residual}),
+            json!({"step": step, "explanation": (r.explain)(*step), "residual": residual}),
         )),
     };
     (json!(status.name()), detail)
@@ -351,24 +436,102 @@ fn simulate(
         SolverArg::Plan => run(Interpreter::new(plan.clone()), options, &requested),
         SolverArg::Newton => run(PureNewton::new(m), options, &requested),
     };
+    let report = Report {
+        m,
+        input_names: m.inputs.iter().map(|i| i.name.clone()).collect(),
+        explain: Box::new(move |step| match solver {
+            SolverArg::Plan => plan.explain(step as usize),
+            SolverArg::Newton => "Newton-Raphson on every mobile link".to_string(),
+        }),
+        trace: m.sweep.as_ref().map(|s| s.trace.clone()).unwrap_or_default(),
+    };
+    output(&report, &frames, json, csv, svg)
+}
+
+/// Parses "X,Y" into a finite point.
+fn parse_point(text: &str) -> Result<[f64; 2], String> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let [x, y] = parts.as_slice() else {
+        return Err(format!("expected X,Y (two numbers), got `{text}`"));
+    };
+    let x: f64 = x.parse().map_err(|_| format!("`{x}` is not a number"))?;
+    let y: f64 = y.parse().map_err(|_| format!("`{y}` is not a number"))?;
+    if !x.is_finite() || !y.is_finite() {
+        return Err(format!("`{text}` is not a finite point"));
+    }
+    Ok([x, y])
+}
+
+#[allow(clippy::too_many_arguments)]
+fn drag(
+    file: &Path,
+    marker: &str,
+    from: Option<[f64; 2]>,
+    to: [f64; 2],
+    steps: usize,
+    options: Options,
+    json: bool,
+    csv: bool,
+    svg: Option<&Path>,
+) -> ExitCode {
+    let m = match load(file) {
+        Ok(m) => m,
+        Err(code) => return code,
+    };
+    let Some(id) = m.find_marker(marker) else {
+        let names: Vec<String> = m.all_markers().map(|id| m.marker_name(id)).collect();
+        eprintln!("{}: error: no marker `{marker}` to drag", file.display());
+        eprintln!("  help: markers are: {}", names.join(", "));
+        return ExitCode::FAILURE;
+    };
+    let solver = match Drag::new(&m, id) {
+        Ok(d) => d,
+        Err(e) => {
+            eprintln!("{}: error: {e}", file.display());
+            return ExitCode::FAILURE;
+        }
+    };
+    let from = from.unwrap_or(m.marker(id).at);
+    let steps = steps.max(1);
+    let targets: Vec<Vec<f64>> = (0..steps)
+        .map(|i| {
+            let t = if steps == 1 {
+                1.0
+            } else {
+                i as f64 / (steps - 1) as f64
+            };
+            vec![from[0] + t * (to[0] - from[0]), from[1] + t * (to[1] - from[1])]
+        })
+        .collect();
+    let frames = run(solver, options, &targets);
+    let report = Report {
+        m: &m,
+        input_names: vec![format!("{marker}.x"), format!("{marker}.y")],
+        explain: Box::new(|_| format!("drag of {marker}")),
+        trace: vec![id],
+    };
+    output(&report, &frames, json, csv, svg)
+}
+
+fn output(r: &Report, frames: &[Frame], json: bool, csv: bool, svg: Option<&Path>) -> ExitCode {
+    let m = r.m;
     if json {
-        let names: Vec<&str> = m.inputs.iter().map(|i| i.name.as_str()).collect();
         let frames_json: Vec<Value> = frames
             .iter()
             .map(|f| {
                 let mut o = Map::new();
                 let named = |vals: &[f64]| -> Value {
                     Value::Object(
-                        names
+                        r.input_names
                             .iter()
                             .zip(vals)
-                            .map(|(n, v)| (n.to_string(), json!(v)))
+                            .map(|(n, v)| (n.clone(), json!(v)))
                             .collect(),
                     )
                 };
                 o.insert("inputs".into(), named(&f.requested));
                 o.insert("reached".into(), named(&f.inputs));
-                let (status, detail) = status_json(plan, &f.status);
+                let (status, detail) = status_json(r, &f.status);
                 o.insert("status".into(), status);
                 if let Some((k, v)) = detail {
                     o.insert(k.into(), v);
@@ -402,28 +565,28 @@ fn simulate(
             serde_json::to_string_pretty(&doc).expect("JSON of plain values")
         );
     } else if csv {
-        print_csv(m, &frames);
+        print_csv(r, frames);
     } else if svg.is_none() {
-        print_summary(m, plan, &frames);
+        print_summary(r, frames);
     }
     if let Some(out) = svg {
-        let trace = m.sweep.as_ref().map(|s| s.trace.clone()).unwrap_or_default();
-        let text = render(m, &frames, &trace, &SvgOptions::default());
+        let text = render(m, frames, &r.trace, &SvgOptions::default());
         if let Err(e) = std::fs::write(out, text) {
             eprintln!("{}: error: cannot write the SVG: {e}", out.display());
             return ExitCode::FAILURE;
         }
         if !json && !csv {
-            print_summary(m, plan, &frames);
+            print_summary(r, frames);
             println!("wrote {}", out.display());
         }
     }
     ExitCode::SUCCESS
 }
 
-fn print_csv(m: &Mechanism, frames: &[Frame]) {
+fn print_csv(r: &Report, frames: &[Frame]) {
+    let m = r.m;
     let mut header = vec!["frame".to_string()];
-    header.extend(m.inputs.iter().map(|i| i.name.clone()));
+    header.extend(r.input_names.iter().cloned());
     header.push("status".into());
     for id in m.all_markers() {
         let n = m.marker_name(id);
@@ -443,11 +606,11 @@ fn print_csv(m: &Mechanism, frames: &[Frame]) {
     }
 }
 
-fn print_summary(m: &Mechanism, plan: &Plan, frames: &[Frame]) {
+fn print_summary(r: &Report, frames: &[Frame]) {
     let count = |name: &str| frames.iter().filter(|f| f.status.name() == name).count();
     println!(
         "{}: {} frames — {} solved, {} limited, {} searched, {} stretched",
-        m.name,
+        r.m.name,
         frames.len(),
         count("solved"),
         count("limited"),
@@ -459,22 +622,18 @@ fn print_summary(m: &Mechanism, plan: &Plan, frames: &[Frame]) {
         let name = f.status.name();
         if name != "solved" && last != Some(name) {
             let detail = match &f.status {
-                FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. } => {
-                    format!(
-                        "step {} broke ({}, gap {}): {}",
-                        brk.step,
-                        brk.kind.describe(),
-                        num(brk.gap),
-                        plan.explain(brk.step as usize)
-                    )
-                }
-                FrameStatus::Stretched { step, residual } => {
-                    format!(
-                        "step {step} stretched, residual {}: {}",
-                        num(*residual),
-                        plan.explain(*step as usize)
-                    )
-                }
+                FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. } => format!(
+                    "step {} broke ({}, gap {}): {}",
+                    brk.step,
+                    brk.kind.describe(),
+                    num(brk.gap),
+                    (r.explain)(brk.step)
+                ),
+                FrameStatus::Stretched { step, residual } => format!(
+                    "step {step} stretched, residual {}: {}",
+                    num(*residual),
+                    (r.explain)(*step)
+                ),
                 FrameStatus::Solved => String::new(),
             };
             let inputs: Vec<String> = f.requested.iter().map(|v| num(*v)).collect();

@@ -10,6 +10,8 @@
 //! minimum-norm step then weighs turning and sliding alike, and one step
 //! limit fits all.
 
+pub mod drag;
+
 use dofplan_runtime::numeric::{Equations, Newton, NewtonOptions, NewtonOutcome, NewtonReport};
 use dofplan_runtime::planar::{Point, Pose, Rot};
 use dofplan_runtime::{Break, BreakKind, Ctx, Solver};
@@ -168,6 +170,11 @@ impl PureNewton {
         (j, groups)
     }
 
+    /// Number of bodies.
+    pub fn bodies(&self) -> usize {
+        self.roles.len()
+    }
+
     /// The unknown columns of each body that has them: (body, first column).
     pub fn unknown_bodies(&self) -> Vec<(usize, usize)> {
         self.roles
@@ -203,15 +210,15 @@ impl PureNewton {
 }
 
 /// The residuals of pure Newton at one frame.
-struct System<'a> {
-    solver: &'a PureNewton,
-    poses: &'a mut [Pose],
-    inputs: &'a [f64],
+pub(crate) struct System<'a> {
+    pub(crate) solver: &'a PureNewton,
+    pub(crate) poses: &'a mut [Pose],
+    pub(crate) inputs: &'a [f64],
 }
 
 impl System<'_> {
     /// Writes the unknowns `x` into the poses of the unknown bodies.
-    fn apply(&mut self, x: &DVector<f64>) {
+    pub(crate) fn apply(&mut self, x: &DVector<f64>) {
         let size = self.solver.size;
         for (b, role) in self.solver.roles.iter().enumerate() {
             if let Role::Unknown(o) = role {

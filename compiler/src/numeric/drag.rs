@@ -1,0 +1,270 @@
+//! Dragging (Brunkhart §5.1, fig. 28): a marker pulled toward a target by a
+//! temporary coincident constraint to a moving ground point.
+//!
+//! The mechanism's inputs are released and every mobile body is three
+//! unknowns. The joints and constraints are the first task, held exactly;
+//! the drag is the second, solved in the null space of the first (task
+//! priority): each Newton step is
+//!
+//! ```text
+//! δ₁ = −J_c⁺ r_c          meet the joints (minimum-norm)
+//! N  = I − J_c⁺ J_c       the motions the joints allow
+//! δ  = δ₁ + N (J_d N)⁺ (−r_d − J_d δ₁)
+//! ```
+//!
+//! so an under-constrained chain follows with minimum-norm motion, a
+//! well-constrained linkage moves along its own freedom toward the target,
+//! and a target out of reach leaves the joints exact and the marker as
+//! close as the mechanism allows — reported as a break ("no solution within
+//! reach") for the breaking policy to handle: limit keeps the last pose,
+//! search finds the boundary, stretch accepts the closest approach.
+
+use dofplan_runtime::numeric::{pseudo_inverse, rank, Equations, NewtonOutcome, NewtonReport};
+use dofplan_runtime::planar::{Point, Pose};
+use dofplan_runtime::{Break, BreakKind, Ctx, Solver};
+use nalgebra::{DMatrix, DVector};
+
+use super::{PureNewton, System};
+use crate::model::{MarkerId, Mechanism};
+
+const RANK_CUTOFF: f64 = 1e-10;
+const MAX_ITERATIONS: u32 = 50;
+
+/// A marker of a mechanism dragged to targets.
+#[derive(Clone, Debug)]
+pub struct Drag {
+    newton: PureNewton,
+    body: usize,
+    local: Point,
+    column: usize,
+    size: f64,
+}
+
+/// Why a drag cannot be set up.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum DragError {
+    /// The marker belongs to a fixed body.
+    FixedBody(String),
+}
+
+impl std::fmt::Display for DragError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            DragError::FixedBody(name) => {
+                write!(
+                    f,
+                    "marker {name} is on a fixed body: drag a marker of a mobile body"
+                )
+            }
+        }
+    }
+}
+
+impl std::error::Error for DragError {}
+
+/// What a drag carries from frame to frame.
+#[derive(Clone, Debug)]
+pub struct DragState {
+    /// Body poses, in mechanism order.
+    pub poses: Vec<Pose>,
+    work: Vec<Pose>,
+}
+
+impl Drag {
+    /// Drags `marker` of `m` (its inputs released).
+    pub fn new(m: &Mechanism, marker: MarkerId) -> Result<Drag, DragError> {
+        if m.bodies[marker.body].fixed {
+            return Err(DragError::FixedBody(m.marker_name(marker)));
+        }
+        let mut free = m.clone();
+        free.inputs.clear();
+        let newton = PureNewton::new(&free);
+        let column = newton
+            .unknown_bodies()
+            .into_iter()
+            .find(|&(b, _)| b == marker.body)
+            .map(|(_, c)| c)
+            .expect("every mobile body is an unknown once inputs are released");
+        Ok(Drag {
+            size: m.size(),
+            newton,
+            body: marker.body,
+            local: m.marker(marker).at,
+            column,
+        })
+    }
+
+    /// Unknowns (three per mobile body).
+    pub fn unknowns(&self) -> usize {
+        self.newton.unknowns()
+    }
+
+    /// Joint and constraint equations, plus the two of the drag.
+    pub fn equations(&self) -> usize {
+        self.newton.equations() + 2
+    }
+
+    fn unknowns_of(&self, poses: &[Pose]) -> DVector<f64> {
+        let mut x = DVector::zeros(self.newton.unknowns());
+        for (b, o) in self.newton.unknown_bodies() {
+            let p = poses[b];
+            x[o] = p.at[0];
+            x[o + 1] = p.at[1];
+            x[o + 2] = p.rot.s.atan2(p.rot.c) * self.size;
+        }
+        x
+    }
+}
+
+/// The joint residuals at `x` (for the restoring step).
+fn rc_at_x(drag: &Drag, work: &mut [Pose], x: &DVector<f64>, inputs: &[f64], m: usize) -> DVector<f64> {
+    let mut r = DVector::zeros(m);
+    let mut system = System {
+        solver: &drag.newton,
+        poses: work,
+        inputs,
+    };
+    system.eval(x, &mut r, None);
+    r
+}
+
+impl Solver for Drag {
+    type State = DragState;
+    type Inputs = [f64; 2];
+
+    fn initial_state(&self) -> DragState {
+        let poses = vec![Pose::IDENTITY; self.newton.bodies()];
+        DragState {
+            work: poses.clone(),
+            poses,
+        }
+    }
+
+    /// The drawn position of the dragged marker (the first "previous
+    /// target").
+    fn initial_inputs(&self) -> [f64; 2] {
+        self.local
+    }
+
+    fn poses(state: &DragState) -> &[Pose] {
+        &state.poses
+    }
+
+    fn solve(&self, state: &mut DragState, target: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+        let DragState { poses, work } = state;
+        work.copy_from_slice(poses);
+        let (n, m) = (self.newton.unknowns(), self.newton.equations());
+        let mut x = self.unknowns_of(work);
+        let mut rc = DVector::zeros(m);
+        let mut jc = DMatrix::zeros(m, n);
+        let mut jd = DMatrix::zeros(2, n);
+        let tolerance = 1e-12 * self.size;
+        let max_step = 0.1 * self.size;
+        let no_inputs: [f64; 0] = [];
+        let mut report = NewtonReport {
+            outcome: NewtonOutcome::NotConverged,
+            iterations: 0,
+            residual: f64::INFINITY,
+            rank: 0,
+        };
+        let mut previous_drag = f64::INFINITY;
+        for iteration in 0..=MAX_ITERATIONS {
+            let mut system = System {
+                solver: &self.newton,
+                poses: work,
+                inputs: &no_inputs,
+            };
+            system.eval(&x, &mut rc, Some(&mut jc));
+            let (at, turn) = work[self.body].world_and_turn(self.local);
+            let rd = DVector::from_row_slice(&[at[0] - target[0], at[1] - target[1]]);
+            let (joints, drag) = (rc.norm(), rd.norm());
+            report.iterations = iteration;
+            report.residual = drag.max(joints);
+            if joints <= tolerance && drag <= tolerance {
+                report.outcome = NewtonOutcome::Converged;
+                break;
+            }
+            // The drag has (all but) stopped improving with the joints met:
+            // the closest reachable point — no solution within reach of
+            // this pose. Near a singular pose (a chain pulled straight) the
+            // approach is slow, hence a relative threshold rather than
+            // waiting for a zero step.
+            if joints <= tolerance && drag > (1.0 - 1e-6) * previous_drag {
+                report.outcome = NewtonOutcome::NoSolution;
+                report.residual = drag;
+                break;
+            }
+            if iteration == MAX_ITERATIONS || !joints.is_finite() || !drag.is_finite() {
+                break;
+            }
+            previous_drag = if joints <= tolerance { drag } else { f64::INFINITY };
+            jd.fill(0.0);
+            jd[(0, self.column)] = 1.0;
+            jd[(1, self.column + 1)] = 1.0;
+            jd[(0, self.column + 2)] = turn[0] / self.size;
+            jd[(1, self.column + 2)] = turn[1] / self.size;
+            let jc_pinv = pseudo_inverse(&jc, RANK_CUTOFF);
+            report.rank = rank(&jc, RANK_CUTOFF);
+            let step_joints = -(&jc_pinv * &rc);
+            let null = DMatrix::identity(n, n) - &jc_pinv * &jc;
+            let along = &jd * &null;
+            let wanted = -(&rd) - &jd * &step_joints;
+            let mut step = step_joints + &null * (pseudo_inverse(&along, RANK_CUTOFF) * wanted);
+            let largest = step.amax();
+            if largest > max_step {
+                step *= max_step / largest;
+            }
+            // Keep the joints: near a singular pose (a chain pulled
+            // straight) the linearised null space lets a full step open
+            // them. Halve the step until the joints stay within what they
+            // were (or the tolerance); failing that, only restore them.
+            let allowed = (2.0 * joints).max(0.05 * step.norm()).max(tolerance);
+            let mut accepted = false;
+            for _ in 0..30 {
+                let trial = &x + &step;
+                let mut system = System {
+                    solver: &self.newton,
+                    poses: work,
+                    inputs: &no_inputs,
+                };
+                system.eval(&trial, &mut rc, None);
+                if rc.norm() <= allowed {
+                    x = trial;
+                    accepted = true;
+                    break;
+                }
+                step *= 0.5;
+            }
+            if !accepted {
+                x -= &jc_pinv * &rc_at_x(self, work, &x, &no_inputs, m);
+            }
+        }
+        // The pose of the last iterate (the closest approach when out of
+        // reach).
+        let mut system = System {
+            solver: &self.newton,
+            poses: work,
+            inputs: &no_inputs,
+        };
+        system.apply(&x);
+        ctx.numeric = Some(report);
+        // A pose whose joints are open is never shown, whatever the policy:
+        // stretching relaxes the drag, not the mechanism. (Pulling a chain
+        // straight is singular; Newton may fail to hold the joints there.)
+        let joints = rc_at_x(self, work, &x, &no_inputs, m).norm();
+        if joints > 1e-9 * self.size {
+            return Err(Break {
+                step: 0,
+                kind: BreakKind::NotConverged,
+                gap: joints,
+            });
+        }
+        match report.outcome {
+            NewtonOutcome::Converged => {}
+            NewtonOutcome::NoSolution => ctx.fail(0, BreakKind::NoSolution, report.residual)?,
+            NewtonOutcome::NotConverged => ctx.fail(0, BreakKind::NotConverged, report.residual)?,
+        }
+        std::mem::swap(poses, work);
+        Ok(())
+    }
+}
