@@ -116,16 +116,24 @@ impl Drag {
     }
 }
 
-/// The joint residuals at `x` (for the restoring step).
-fn rc_at_x(drag: &Drag, work: &mut [Pose], x: &DVector<f64>, inputs: &[f64], m: usize) -> DVector<f64> {
-    let mut r = DVector::zeros(m);
-    let mut system = System {
-        solver: &drag.newton,
-        poses: work,
-        inputs,
-    };
-    system.eval(x, &mut r, None);
-    r
+impl Drag {
+    /// Evaluates the joint residuals (and Jacobian) at `x`, leaving the
+    /// unknown bodies of `work` at `x`: the mechanism without inputs, so
+    /// every mobile body is an unknown.
+    fn joints(
+        &self,
+        work: &mut [Pose],
+        x: &DVector<f64>,
+        r: &mut DVector<f64>,
+        jacobian: Option<&mut DMatrix<f64>>,
+    ) {
+        let mut system = System {
+            solver: &self.newton,
+            poses: work,
+            inputs: &[],
+        };
+        system.eval(x, r, jacobian);
+    }
 }
 
 impl Solver for Drag {
@@ -160,7 +168,6 @@ impl Solver for Drag {
         let mut jd = DMatrix::zeros(2, n);
         let tolerance = 1e-12 * self.size;
         let max_step = 0.1 * self.size;
-        let no_inputs: [f64; 0] = [];
         let mut report = NewtonReport {
             outcome: NewtonOutcome::NotConverged,
             iterations: 0,
@@ -169,12 +176,7 @@ impl Solver for Drag {
         };
         let mut previous_drag = f64::INFINITY;
         for iteration in 0..=MAX_ITERATIONS {
-            let mut system = System {
-                solver: &self.newton,
-                poses: work,
-                inputs: &no_inputs,
-            };
-            system.eval(&x, &mut rc, Some(&mut jc));
+            self.joints(work, &x, &mut rc, Some(&mut jc));
             let (at, turn) = work[self.body].world_and_turn(self.local);
             let rd = DVector::from_row_slice(&[at[0] - target[0], at[1] - target[1]]);
             let (joints, drag) = (rc.norm(), rd.norm());
@@ -222,12 +224,7 @@ impl Solver for Drag {
             let mut accepted = false;
             for _ in 0..30 {
                 let trial = &x + &step;
-                let mut system = System {
-                    solver: &self.newton,
-                    poses: work,
-                    inputs: &no_inputs,
-                };
-                system.eval(&trial, &mut rc, None);
+                self.joints(work, &trial, &mut rc, None);
                 if rc.norm() <= allowed {
                     x = trial;
                     accepted = true;
@@ -236,22 +233,18 @@ impl Solver for Drag {
                 step *= 0.5;
             }
             if !accepted {
-                x -= &jc_pinv * &rc_at_x(self, work, &x, &no_inputs, m);
+                self.joints(work, &x, &mut rc, None);
+                x -= &jc_pinv * &rc;
             }
         }
         // The pose of the last iterate (the closest approach when out of
         // reach).
-        let mut system = System {
-            solver: &self.newton,
-            poses: work,
-            inputs: &no_inputs,
-        };
-        system.apply(&x);
+        self.joints(work, &x, &mut rc, None);
         ctx.numeric = Some(report);
         // A pose whose joints are open is never shown, whatever the policy:
         // stretching relaxes the drag, not the mechanism. (Pulling a chain
         // straight is singular; Newton may fail to hold the joints there.)
-        let joints = rc_at_x(self, work, &x, &no_inputs, m).norm();
+        let joints = rc.norm();
         if joints > 1e-9 * self.size {
             return Err(Break {
                 step: 0,
