@@ -31,6 +31,8 @@
 //! uses the same rank decision to find redundant constraints and idle degrees
 //! of freedom: plan time and move time then agree on what "dependent" means.
 
+pub mod cluster;
+
 use nalgebra::{DMatrix, DVector, Dyn, SVD};
 
 /// Options of a Newton solve.
