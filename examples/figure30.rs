@@ -73,6 +73,7 @@ fn main() {
         };
         let m = load(name);
         let p = plan(&m);
+        let (mu, me) = p.numeric_size();
         let inputs = sweep_inputs(&m, None);
         let mobile = m.bodies.iter().filter(|b| !b.fixed).count() - m.inputs.len();
         let joints = m.joints.len() - m.inputs.len();
@@ -92,7 +93,7 @@ fn main() {
             1.0,
         );
         println!(
-            "| {row} ({name}) | {mobile} | {joints} | {nu}/{ne} | {t_newton:.1} | 0/0 | {t_compiled:.3} | {t_interp:.3} | {:.0}× | {newton94} | {mixed94} |",
+            "| {row} ({name}) | {mobile} | {joints} | {nu}/{ne} | {t_newton:.1} | {mu}/{me} | {t_compiled:.3} | {t_interp:.3} | {:.0}× | {newton94} | {mixed94} |",
             t_newton / t_compiled
         );
     }

@@ -30,16 +30,9 @@ pub struct Analysis {
     pub unused: Vec<String>,
 }
 
-/// Why a mechanism has no closed-form plan.
+/// Why a mechanism has no plan.
 #[derive(Clone, Debug, PartialEq)]
 pub enum PlanError {
-    /// Propagation and dyads stop before every body is placed.
-    NotClosedForm {
-        /// Bodies placed.
-        placed: Vec<String>,
-        /// Bodies left over.
-        left: Vec<String>,
-    },
     /// The plan does not reproduce the pose as drawn (an analysis bug,
     /// reported rather than hidden).
     DrawnPoseMismatch {
@@ -60,14 +53,6 @@ pub enum PlanError {
 impl fmt::Display for PlanError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            PlanError::NotClosedForm { placed, left } => write!(
-                f,
-                "not solvable in closed form by propagation and dyads: bodies left over: {} (placed: {}); \
-                 a numerical cluster for these is not available yet — add an input or a joint that makes \
-                 them a dyad, or drive the mechanism from another joint",
-                left.join(", "),
-                if placed.is_empty() { "none".to_string() } else { placed.join(", ") }
-            ),
             PlanError::DrawnPoseMismatch { body, gap } => write!(
                 f,
                 "internal error: the plan does not reproduce the drawn pose (body {body} is {gap:.3e} off); please report it with the file"
@@ -87,7 +72,7 @@ pub fn analyse(m: &Mechanism) -> Analysis {
     let eqs = equations::equations(m);
     let planned = planner::plan(m, &eqs);
     let unused = planned.unused.iter().map(|&i| eqs[i].origin.clone()).collect();
-    let plan = if planned.unplaced.is_empty() {
+    let plan = {
         let plan = Plan {
             mechanism: m.name.clone(),
             source: file_name(&m.source.name),
@@ -111,21 +96,9 @@ pub fn analyse(m: &Mechanism) -> Analysis {
             temps: planned.temps,
             branches: planned.branches,
             steps: planned.steps,
+            size: m.size(),
         };
         choose_branches(m, plan)
-    } else {
-        let names = |placed: bool| {
-            m.bodies
-                .iter()
-                .enumerate()
-                .filter(|(i, b)| !b.fixed && planned.unplaced.contains(i) != placed)
-                .map(|(_, b)| b.name.clone())
-                .collect()
-        };
-        Err(PlanError::NotClosedForm {
-            placed: names(true),
-            left: names(false),
-        })
     };
     Analysis {
         mobility,

@@ -33,7 +33,9 @@ use dofplan_runtime::{Branch, Point};
 
 use super::equations::{Equation, Sourced};
 use crate::model::Mechanism;
-use crate::plan::{BodyId, BranchSlot, DirRef, Line, PointRef, Rel, Step, StepKind, Temp};
+use crate::plan::{
+    BodyId, BranchSlot, ClusterParam, ClusterRow, DirRef, Line, PointRef, Rel, Step, StepKind, Temp,
+};
 
 /// Two local points closer than this (relative to the mechanism's size) are
 /// the same point.
@@ -69,8 +71,6 @@ pub struct Planned {
     pub temps: Vec<Temp>,
     /// Branch slots (initial branch still to be chosen).
     pub branches: Vec<BranchSlot>,
-    /// Bodies the rules could not place.
-    pub unplaced: Vec<BodyId>,
     /// Equations no rule used (redundant ones, or ones on unplaced bodies).
     pub unused: Vec<usize>,
 }
@@ -87,9 +87,12 @@ struct Planner<'m> {
     temps: Vec<Temp>,
     branches: Vec<BranchSlot>,
     tol: f64,
+    clusters: usize,
 }
 
-/// Plans a mechanism from its equations.
+/// Plans a mechanism from its equations: closed form as far as it goes, then
+/// a numeric cluster for what is left, then closed form again for what the
+/// cluster determines, and so on.
 pub fn plan(m: &Mechanism, eqs: &[Sourced]) -> Planned {
     let mut p = Planner {
         m,
@@ -105,17 +108,16 @@ pub fn plan(m: &Mechanism, eqs: &[Sourced]) -> Planned {
         temps: Vec::new(),
         branches: Vec::new(),
         tol: SAME_POINT * m.size(),
+        clusters: 0,
     };
     while p.know.iter().any(|k| !matches!(k, Know::Placed)) {
-        let progressed = p.rotation_rule() || p.coincident_rule() || p.in_line_rule() || p.dyad_rule();
+        let progressed =
+            p.rotation_rule() || p.coincident_rule() || p.in_line_rule() || p.dyad_rule() || p.cluster_rule();
         if !progressed {
             break;
         }
     }
     Planned {
-        unplaced: (0..m.bodies.len())
-            .filter(|&b| !matches!(p.know[b], Know::Placed))
-            .collect(),
         unused: (0..eqs.len()).filter(|&i| !p.used[i]).collect(),
         steps: p.steps,
         temps: p.temps,
@@ -686,6 +688,137 @@ impl Planner<'_> {
             }
         }
         false
+    }
+
+    /// Unknowns of a body in a cluster: the fewest its locus allows.
+    fn unknowns_of(&self, body: BodyId) -> usize {
+        match self.know[body] {
+            Know::Free => 3,
+            Know::Oriented => 2,
+            Know::Pinned { .. } | Know::Sliding { .. } => 1,
+            Know::Placed => 0,
+        }
+    }
+
+    /// Unused equations that a cluster `s` would take: every body of the
+    /// equation placed or in `s`, at least one in `s`.
+    fn cluster_equations(&self, s: &[BodyId]) -> Vec<usize> {
+        (0..self.eqs.len())
+            .filter(|&i| {
+                let bodies = self.eqs[i].eq.bodies();
+                !self.used[i]
+                    && bodies.iter().any(|b| s.contains(b))
+                    && bodies.iter().all(|&b| s.contains(&b) || self.placed(b))
+            })
+            .collect()
+    }
+
+    fn cluster_freedom(&self, s: &[BodyId]) -> i64 {
+        let unknowns: usize = s.iter().map(|&b| self.unknowns_of(b)).sum();
+        let equations: usize = self
+            .cluster_equations(s)
+            .iter()
+            .map(|&i| self.eqs[i].eq.count())
+            .sum();
+        unknowns as i64 - equations as i64
+    }
+
+    /// When no closed-form fragment applies: the smallest set of unplaced
+    /// bodies that is rigid against the placed ones (grown from each seed,
+    /// adding the neighbour that removes the most freedom), or all of them
+    /// when none is (an under-constrained mechanism, solved by minimum-norm
+    /// steps), placed together by Newton–Raphson.
+    fn cluster_rule(&mut self) -> bool {
+        let unplaced: Vec<BodyId> = (0..self.m.bodies.len()).filter(|&b| !self.placed(b)).collect();
+        if unplaced.is_empty() {
+            return false;
+        }
+        let mut best: Option<Vec<BodyId>> = None;
+        for &seed in &unplaced {
+            let mut s = vec![seed];
+            while self.cluster_freedom(&s) > 0 {
+                let neighbours = unplaced.iter().copied().filter(|b| {
+                    !s.contains(b)
+                        && (0..self.eqs.len()).any(|i| {
+                            let bodies = self.eqs[i].eq.bodies();
+                            !self.used[i] && bodies.contains(b) && bodies.iter().any(|x| s.contains(x))
+                        })
+                });
+                let next = neighbours.min_by_key(|&b| {
+                    let mut grown = s.clone();
+                    grown.push(b);
+                    self.cluster_freedom(&grown)
+                });
+                match next {
+                    Some(b) => s.push(b),
+                    None => break,
+                }
+            }
+            if self.cluster_freedom(&s) <= 0 && best.as_ref().is_none_or(|b| s.len() < b.len()) {
+                best = Some(s);
+            }
+        }
+        let mut s = best.unwrap_or(unplaced);
+        s.sort_unstable();
+        let eqs = self.cluster_equations(&s);
+        let mut serves = Vec::new();
+        for b in &s {
+            serves.append(&mut self.pending[*b]);
+        }
+        let rows = eqs
+            .iter()
+            .map(|&i| match &self.eqs[i].eq {
+                Equation::Coincident { a, b, slide } => ClusterRow::Coincident {
+                    a: a.body,
+                    la: a.local,
+                    slide: *slide,
+                    b: b.body,
+                    lb: b.local,
+                },
+                Equation::InLine { line, dir, point } => ClusterRow::InLine {
+                    a: line.body,
+                    la: line.local,
+                    dir: *dir,
+                    b: point.body,
+                    lb: point.local,
+                },
+                Equation::Parallel { a, b, input } => ClusterRow::Parallel {
+                    a: *a,
+                    b: *b,
+                    input: *input,
+                },
+            })
+            .collect();
+        for &i in &eqs {
+            serves.push(self.consume(i));
+        }
+        let params = s
+            .iter()
+            .map(|&b| match &self.know[b] {
+                Know::Free | Know::Placed => ClusterParam::Free { body: b },
+                Know::Pinned { local, at } => ClusterParam::Angle {
+                    body: b,
+                    pin: *local,
+                    at: at.clone(),
+                },
+                Know::Sliding { dir } => ClusterParam::Slide {
+                    body: b,
+                    dir: dir.clone(),
+                },
+                Know::Oriented => ClusterParam::Translate { body: b },
+            })
+            .collect();
+        let index = self.clusters;
+        self.clusters += 1;
+        serves.dedup();
+        self.steps.push(Step {
+            kind: StepKind::Cluster { index, params, rows },
+            serves,
+        });
+        for b in s {
+            self.know[b] = Know::Placed;
+        }
+        true
     }
 
     /// RRP: a pinned body's marker meets a sliding body's marker.

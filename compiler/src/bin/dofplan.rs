@@ -359,8 +359,17 @@ fn check(file: &Path) -> ExitCode {
     }
     let code = match &plan {
         Ok(p) => {
+            let (u, e) = p.numeric_size();
+            let kind = if p.clusters() == 0 {
+                "closed form".to_string()
+            } else {
+                format!(
+                    "mixed: {} numeric cluster(s) with {u} unknowns and {e} equations for Newton–Raphson",
+                    p.clusters()
+                )
+            };
             println!(
-                "  plan: closed form, {} steps, {} branch slot(s) — `dofplan plan {}` explains it",
+                "  plan: {kind}, {} steps, {} branch slot(s) — `dofplan plan {}` explains it",
                 p.steps.len(),
                 p.branches.len(),
                 file.display()

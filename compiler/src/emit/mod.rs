@@ -11,7 +11,7 @@ use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 
 use crate::model::InputKind;
-use crate::plan::{DirRef, Plan, PointRef, Rel, StepKind};
+use crate::plan::{ClusterParam, ClusterRow, DirRef, Plan, PointRef, Rel, StepKind};
 
 /// A Rust identifier made from a user's name ("coupler.C" → `coupler_c`).
 pub fn ident_for(name: &str) -> String {
@@ -246,6 +246,81 @@ impl Emitter<'_> {
                     };
                 }
             }
+            StepKind::Cluster { params, rows, .. } => {
+                let (n, m) = step.kind.cluster_size();
+                let param_tokens: Vec<TokenStream> = params
+                    .iter()
+                    .enumerate()
+                    .map(|(k, p)| {
+                        let b = index(p.body());
+                        match p {
+                            ClusterParam::Free { .. } => quote!(cluster::Param::Free { body: #b }),
+                            ClusterParam::Angle { pin, at, .. } => {
+                                let at = self.point(at, &mut pre);
+                                let pin = point_lit(*pin);
+                                quote!(cluster::Param::Angle { body: #b, pin: #pin, at: #at })
+                            }
+                            ClusterParam::Slide { dir, .. } => {
+                                let d = self.dir(dir, &format!("slide_dir_{k}"), &mut pre);
+                                quote!(cluster::Param::Slide { body: #b, dir: #d })
+                            }
+                            ClusterParam::Translate { .. } => quote!(cluster::Param::Translate { body: #b }),
+                        }
+                    })
+                    .collect();
+                let opt = |o: Option<usize>| match o {
+                    Some(i) => {
+                        let i = index(i);
+                        quote!(Some(#i))
+                    }
+                    None => quote!(None),
+                };
+                let row_tokens = rows.iter().map(|r| match *r {
+                    ClusterRow::Coincident { a, la, slide, b, lb } => {
+                        let (a, b, la, lb) = (index(a), index(b), point_lit(la), point_lit(lb));
+                        let slide = match slide {
+                            Some((i, d)) => {
+                                let (i, d) = (index(i), point_lit(d));
+                                quote!(Some((#i, #d)))
+                            }
+                            None => quote!(None),
+                        };
+                        quote!(cluster::Row::Coincident { a: #a, la: #la, slide: #slide, b: #b, lb: #lb })
+                    }
+                    ClusterRow::InLine { a, la, dir, b, lb } => {
+                        let (a, b, la, lb, dir) =
+                            (index(a), index(b), point_lit(la), point_lit(lb), point_lit(dir));
+                        quote!(cluster::Row::InLine { a: #a, la: #la, dir: #dir, b: #b, lb: #lb })
+                    }
+                    ClusterRow::Parallel { a, b, input } => {
+                        let (a, b, input) = (index(a), index(b), opt(input));
+                        quote!(cluster::Row::Parallel { a: #a, b: #b, input: #input })
+                    }
+                });
+                let nrows = index(rows.len());
+                let all: Vec<TokenStream> = (0..self.plan.bodies.len()).map(|b| self.pose(b)).collect();
+                let writes = params.iter().map(|p| {
+                    let b = p.body();
+                    let id = &self.pose_idents[b];
+                    let i = index(b);
+                    quote!(#id = all[#i];)
+                });
+                let (n, m, size) = (index(n), index(m), lit(self.plan.size));
+                quote! {
+                    #marker
+                    {
+                        #(#pre)*
+                        let params = [#(#param_tokens),*];
+                        const ROWS: [cluster::Row; #nrows] = [#(#row_tokens),*];
+                        let mut all = [#(#all),*];
+                        // The Newton work buffers (and nalgebra's SVD) allocate: a
+                        // frame with a cluster is not allocation-free yet.
+                        let mut newton = numeric::Newton::new(#n, #m);
+                        cluster::solve(ctx, #id, &mut all, &params, &ROWS, inputs, #size, &mut newton)?;
+                        #(#writes)*
+                    }
+                }
+            }
             StepKind::TurnLine {
                 body,
                 pivot,
@@ -303,6 +378,7 @@ impl Emitter<'_> {
                     | StepKind::CircleLine { .. }
                     | StepKind::LineLine { .. }
                     | StepKind::TurnLine { .. }
+                    | StepKind::Cluster { .. }
             )
         });
         // Each mobile body's pose is a named local for the frame, written
@@ -331,6 +407,13 @@ impl Emitter<'_> {
                 quote!(#(#commit_poses)* s.last = last; s.branches = branches;),
             )
         };
+        let numeric_use = if plan.clusters() > 0 {
+            quote!(
+                use dofplan_runtime::numeric::{self, cluster};
+            )
+        } else {
+            quote!()
+        };
         let unused_ctx = if fallible { quote!() } else { quote!(let _ = ctx;) };
         let unused_inputs = if plan.inputs.is_empty() {
             quote!(let _ = inputs;)
@@ -352,6 +435,7 @@ impl Emitter<'_> {
         quote! {
             use dofplan_runtime::planar::{self, Point, Pose, Rot};
             use dofplan_runtime::{Branch, Break, Ctx, Solver};
+            #numeric_use
 
             /// Kind of an input.
             pub use dofplan_runtime::planar::InputKind;

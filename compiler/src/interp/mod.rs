@@ -2,11 +2,12 @@
 //! a user's file, an editor) by calling, for each step, the same runtime
 //! function the generated code calls.
 
+use dofplan_runtime::numeric::{cluster, Newton};
 use dofplan_runtime::planar::{self, Point, Pose, Rot};
 use dofplan_runtime::{Branch, Break, Ctx, Solver};
 
 use crate::model::InputKind;
-use crate::plan::{DirRef, Plan, PointRef, Rel, StepKind};
+use crate::plan::{ClusterParam, DirRef, Plan, PointRef, Rel, StepKind};
 
 /// Executes a [`Plan`].
 #[derive(Clone, Debug)]
@@ -36,6 +37,8 @@ struct Work {
     branches: Vec<Branch>,
     temps: Vec<Point>,
     rots: Vec<Rot>,
+    /// Newton work buffers, one per cluster.
+    newtons: Vec<Newton>,
 }
 
 // Written out so that `clone_from` reuses the buffers: the driver's search
@@ -66,6 +69,7 @@ impl Clone for Work {
             branches: self.branches.clone(),
             temps: self.temps.clone(),
             rots: self.rots.clone(),
+            newtons: self.newtons.clone(),
         }
     }
 
@@ -75,6 +79,7 @@ impl Clone for Work {
         self.branches.clone_from(&source.branches);
         self.temps.clone_from(&source.temps);
         self.rots.clone_from(&source.rots);
+        self.newtons.clone_from(&source.newtons);
     }
 }
 
@@ -127,6 +132,16 @@ impl Solver for Interpreter {
             branches: self.plan.branches.iter().map(|b| b.initial).collect(),
             temps: vec![[0.0; 2]; self.plan.temps.len()],
             rots: vec![Rot::IDENTITY; self.plan.inputs.len()],
+            newtons: self
+                .plan
+                .steps
+                .iter()
+                .filter(|s| matches!(s.kind, StepKind::Cluster { .. }))
+                .map(|s| {
+                    let (n, m) = s.kind.cluster_size();
+                    Newton::new(n, m)
+                })
+                .collect(),
         };
         InterpState {
             poses: work.poses.clone(),
@@ -248,6 +263,34 @@ impl Interpreter {
                     let p2 = self.point(s, inputs, &b.through);
                     let d2 = self.dir(s, &b.dir);
                     s.temps[*out] = planar::line_line(ctx, id, p1, d1, p2, d2)?;
+                }
+                StepKind::Cluster { index, params, rows } => {
+                    let params: Vec<cluster::Param> = params
+                        .iter()
+                        .map(|p| match p {
+                            ClusterParam::Free { body } => cluster::Param::Free { body: *body },
+                            ClusterParam::Angle { body, pin, at } => cluster::Param::Angle {
+                                body: *body,
+                                pin: *pin,
+                                at: self.point(s, inputs, at),
+                            },
+                            ClusterParam::Slide { body, dir } => cluster::Param::Slide {
+                                body: *body,
+                                dir: self.dir(s, dir),
+                            },
+                            ClusterParam::Translate { body } => cluster::Param::Translate { body: *body },
+                        })
+                        .collect();
+                    cluster::solve(
+                        ctx,
+                        id,
+                        &mut s.poses,
+                        &params,
+                        rows,
+                        inputs,
+                        self.plan.size,
+                        &mut s.newtons[*index],
+                    )?;
                 }
                 StepKind::TurnLine {
                     body,

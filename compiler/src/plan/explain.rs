@@ -3,7 +3,7 @@
 
 use std::fmt::Write;
 
-use super::{DirRef, Line, Plan, PointRef, Rel, StepKind};
+use super::{ClusterParam, DirRef, Line, Plan, PointRef, Rel, StepKind};
 
 /// A number for people: at most 4 decimals, trailing zeros dropped.
 pub fn num(x: f64) -> String {
@@ -162,6 +162,30 @@ impl Plan {
                 self.line_name(a),
                 self.line_name(b)
             ),
+            StepKind::Cluster { params, .. } => {
+                let (u, e) = self.steps[i].kind.cluster_size();
+                let bodies: Vec<String> = params
+                    .iter()
+                    .map(|p| match p {
+                        ClusterParam::Free { body: b } => format!("{} (free)", body(b)),
+                        ClusterParam::Angle { body: b, at, .. } => {
+                            format!("{} (angle about {})", body(b), self.point_name(at))
+                        }
+                        ClusterParam::Slide { body: b, dir } => {
+                            format!("{} (slide along {})", body(b), self.dir_name(dir))
+                        }
+                        ClusterParam::Translate { body: b } => format!("{} (translation)", body(b)),
+                    })
+                    .collect();
+                format!(
+                    "cluster {}: {} by Newton–Raphson, {u} unknowns, {e} equations",
+                    match &self.steps[i].kind {
+                        StepKind::Cluster { index, .. } => *index,
+                        _ => 0,
+                    },
+                    bodies.join(", ")
+                )
+            }
             StepKind::TurnLine {
                 body: b,
                 pivot,

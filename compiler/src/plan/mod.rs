@@ -12,6 +12,9 @@ pub use explain::num;
 
 use dofplan_runtime::{Branch, Point};
 
+/// A primitive equation of a numeric cluster, as the runtime evaluates it.
+pub use dofplan_runtime::numeric::cluster::Row as ClusterRow;
+
 use crate::model::InputKind;
 
 /// Index of a body in [`Plan::bodies`] (the mechanism's body order).
@@ -95,6 +98,59 @@ pub enum Rel {
         /// Apply the inverse rotation.
         inverse: bool,
     },
+}
+
+/// How a cluster body is parametrised, with the points and directions it
+/// depends on still to be evaluated each frame.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ClusterParam {
+    /// Translation and angle (3 unknowns).
+    Free {
+        /// The body.
+        body: BodyId,
+    },
+    /// Pinned at a placed point: its angle (1 unknown).
+    Angle {
+        /// The body.
+        body: BodyId,
+        /// The pinned marker, local.
+        pin: Point,
+        /// Where it is pinned.
+        at: PointRef,
+    },
+    /// Rotation known, on a line: the displacement along it (1 unknown).
+    Slide {
+        /// The body.
+        body: BodyId,
+        /// The line's direction.
+        dir: DirRef,
+    },
+    /// Rotation known: translation (2 unknowns).
+    Translate {
+        /// The body.
+        body: BodyId,
+    },
+}
+
+impl ClusterParam {
+    /// The body.
+    pub fn body(&self) -> BodyId {
+        match self {
+            ClusterParam::Free { body }
+            | ClusterParam::Angle { body, .. }
+            | ClusterParam::Slide { body, .. }
+            | ClusterParam::Translate { body } => *body,
+        }
+    }
+
+    /// Number of unknowns.
+    pub fn count(&self) -> usize {
+        match self {
+            ClusterParam::Free { .. } => 3,
+            ClusterParam::Translate { .. } => 2,
+            ClusterParam::Angle { .. } | ClusterParam::Slide { .. } => 1,
+        }
+    }
 }
 
 /// What a step does.
@@ -185,6 +241,29 @@ pub enum StepKind {
         /// Index into [`Plan::branches`].
         branch: usize,
     },
+    /// Places the bodies the closed form could not, by Newton–Raphson on
+    /// the fewest unknowns their loci allow (a mixed plan's numeric part).
+    Cluster {
+        /// Index of this cluster among the plan's clusters (its work slot).
+        index: usize,
+        /// The cluster bodies and their unknowns.
+        params: Vec<ClusterParam>,
+        /// The equations among them and the placed bodies.
+        rows: Vec<ClusterRow>,
+    },
+}
+
+impl StepKind {
+    /// Unknowns and scalar equations of a cluster step ((0, 0) otherwise).
+    pub fn cluster_size(&self) -> (usize, usize) {
+        match self {
+            StepKind::Cluster { params, rows, .. } => (
+                params.iter().map(ClusterParam::count).sum(),
+                rows.iter().map(ClusterRow::count).sum(),
+            ),
+            _ => (0, 0),
+        }
+    }
 }
 
 /// One step of a plan.
@@ -253,6 +332,28 @@ pub struct Plan {
     pub branches: Vec<BranchSlot>,
     /// The steps, in execution order.
     pub steps: Vec<Step>,
+    /// The mechanism's size (tolerances and the scaling of angles in
+    /// numeric clusters are relative to it).
+    pub size: f64,
+}
+
+impl Plan {
+    /// Unknowns and equations handed to Newton–Raphson, over all clusters
+    /// (Figure 30's "Mixed" column; (0, 0) for a closed-form plan).
+    pub fn numeric_size(&self) -> (usize, usize) {
+        self.steps
+            .iter()
+            .map(|s| s.kind.cluster_size())
+            .fold((0, 0), |a, b| (a.0 + b.0, a.1 + b.1))
+    }
+
+    /// Number of cluster steps.
+    pub fn clusters(&self) -> usize {
+        self.steps
+            .iter()
+            .filter(|s| matches!(s.kind, StepKind::Cluster { .. }))
+            .count()
+    }
 }
 
 impl StepKind {
@@ -263,6 +364,7 @@ impl StepKind {
             | StepKind::Anchor { body, .. }
             | StepKind::Align { body, .. }
             | StepKind::TurnLine { body, .. } => vec![*body],
+            StepKind::Cluster { params, .. } => params.iter().map(ClusterParam::body).collect(),
             StepKind::CircleCircle { .. } | StepKind::CircleLine { .. } | StepKind::LineLine { .. } => vec![],
         }
     }
