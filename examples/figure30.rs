@@ -50,7 +50,7 @@ fn main() {
         ("Stress-30", Some("stress_30"), "0.07", "282"),
         ("Stress-40", Some("stress_40"), "≈0.02", "222"),
         ("Stress-50", Some("stress_50"), "–", "176"),
-        ("6-bar (b)", None, "85", "339"),
+        ("6-bar (b)", Some("sixbar_b"), "85", "339"),
         ("8-bar", None, "32", "86"),
         ("10-bar", None, "5.1", "42"),
         ("Duplex", None, "2.9", "17"),
