@@ -10,8 +10,11 @@ use dofplan_runtime::Options;
 use dofplan_tests::{bundled, load, plan};
 
 /// (file, Figure 30 Mixed unknowns, equations)
-const ROWS: [(&str, usize, usize); 6] = [
+const ROWS: [(&str, usize, usize); 9] = [
     ("sixbar_b", 6, 6),
+    ("eightbar", 12, 12),
+    ("tenbar", 14, 14),
+    ("duplex", 20, 20),
     ("chain_4", 5, 4),
     ("chain_6", 11, 8),
     ("chain_8", 17, 12),
