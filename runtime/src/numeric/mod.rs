@@ -316,13 +316,24 @@ impl Newton {
                 return report(NewtonOutcome::Converged, iterations, residual, rank);
             }
 
-            let Some(spectrum) = Spectrum::new(&self.jacobian, &self.r, options.rank_cutoff) else {
-                // A non-finite Jacobian (or an SVD that did not converge):
-                // no direction to go.
-                return report(NewtonOutcome::NoSolution, iterations, residual, 0);
-            };
-            rank = spectrum.rank;
-            spectrum.min_norm(&self.r, &mut self.step);
+            // The SVD is only needed when the Jacobian is not of full rank
+            // and well conditioned (or to damp a rejected step): otherwise
+            // the minimum-norm step is the same through a Cholesky solve of
+            // the (much cheaper) normal equations.
+            let mut spectrum: Option<Spectrum> = None;
+            match full_rank_step(&self.jacobian, &self.r, &mut self.step) {
+                Some(full) => rank = full,
+                None => {
+                    let Some(s) = Spectrum::new(&self.jacobian, &self.r, options.rank_cutoff) else {
+                        // A non-finite Jacobian (or an SVD that did not
+                        // converge): no direction to go.
+                        return report(NewtonOutcome::NoSolution, iterations, residual, 0);
+                    };
+                    rank = s.rank;
+                    s.min_norm(&self.r, &mut self.step);
+                    spectrum = Some(s);
+                }
+            }
             // J·δ is minus the part of r in the range of J. When that part
             // is a vanishing share of r, r is (numerically) orthogonal to
             // the range: a least-squares minimum above the tolerance. Far
@@ -360,16 +371,20 @@ impl Newton {
             // Backtracking on the residual norm: the full min-norm step,
             // then ever more damped ones (see `Spectrum::damped`).
             let target = residual * (1.0 - MIN_DECREASE);
-            let low = spectrum.smallest();
-            let lambda_limit = spectrum.largest().powi(2) * 2f64.powi(MAX_HALVINGS);
             let mut accepted = false;
             for trial in 0..MAX_TRIALS {
                 if trial > 0 {
+                    if spectrum.is_none() {
+                        spectrum = Spectrum::new(&self.jacobian, &self.r, options.rank_cutoff);
+                    }
+                    let Some(sp) = spectrum.as_ref() else { break };
+                    let low = sp.smallest();
+                    let lambda_limit = sp.largest().powi(2) * 2f64.powi(MAX_HALVINGS);
                     let lambda = low * low * (2f64.powi(trial) - 1.0);
                     if lambda > lambda_limit {
                         break;
                     }
-                    spectrum.damped(lambda, &mut self.step);
+                    sp.damped(lambda, &mut self.step);
                     if !clamp(&mut self.step, &mut limit)
                         || self.step.norm() <= NEGLIGIBLE_STEP * (1.0 + x.norm())
                     {
@@ -420,6 +435,43 @@ pub fn rank(matrix: &DMatrix<f64>, rank_cutoff: f64) -> usize {
         }
         None => 0,
     }
+}
+
+/// The minimum-norm step `δ = −J⁺·r` by the normal equations when `J` has
+/// full rank and is well conditioned: `δ = −Jᵀ(JJᵀ)⁻¹r` for a wide or
+/// square `J`, `δ = −(JᵀJ)⁻¹Jᵀr` for a tall one (its unique least-squares
+/// solution). Returns the rank, or `None` — leave it to the SVD — when the
+/// Cholesky factor is missing or its diagonal spans more than 1e5 (a
+/// condition number of `J` beyond about 1e5, where squaring it in the normal
+/// equations would cost accuracy the SVD keeps).
+fn full_rank_step(j: &DMatrix<f64>, r: &DVector<f64>, step: &mut DVector<f64>) -> Option<usize> {
+    let (m, n) = j.shape();
+    if m == 0 || n == 0 {
+        return None;
+    }
+    let wide = m <= n;
+    let gram = if wide {
+        j * j.transpose()
+    } else {
+        j.transpose() * j
+    };
+    let chol = nalgebra::Cholesky::new(gram)?;
+    let l = chol.l_dirty();
+    let diag = (0..l.nrows()).map(|i| l[(i, i)].abs());
+    let (lo, hi) = diag.fold((f64::INFINITY, 0.0_f64), |(lo, hi), d| (lo.min(d), hi.max(d)));
+    if lo.is_nan() || lo <= 1e-5 * hi {
+        return None;
+    }
+    let solved = if wide {
+        j.transpose() * chol.solve(r)
+    } else {
+        chol.solve(&(j.transpose() * r))
+    };
+    if solved.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    step.copy_from(&(-solved));
+    Some(m.min(n))
 }
 
 /// The Moore–Penrose pseudo-inverse `J⁺` with the same relative cut-off as
