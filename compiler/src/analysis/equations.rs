@@ -64,6 +64,33 @@ impl Equation {
         }
     }
 
+    /// The equation as a numeric cluster's row (the runtime's residual
+    /// form of it).
+    pub fn row(&self) -> crate::plan::ClusterRow {
+        use crate::plan::ClusterRow;
+        match self {
+            Equation::Coincident { a, b, slide } => ClusterRow::Coincident {
+                a: a.body,
+                la: a.local,
+                slide: *slide,
+                b: b.body,
+                lb: b.local,
+            },
+            Equation::InLine { line, dir, point } => ClusterRow::InLine {
+                a: line.body,
+                la: line.local,
+                dir: *dir,
+                b: point.body,
+                lb: point.local,
+            },
+            Equation::Parallel { a, b, input } => ClusterRow::Parallel {
+                a: *a,
+                b: *b,
+                input: *input,
+            },
+        }
+    }
+
     /// The two bodies it relates.
     pub fn bodies(&self) -> [usize; 2] {
         match self {

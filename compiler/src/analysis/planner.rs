@@ -33,9 +33,7 @@ use dofplan_runtime::{Branch, Point};
 
 use super::equations::{Equation, Sourced};
 use crate::model::Mechanism;
-use crate::plan::{
-    BodyId, BranchSlot, ClusterParam, ClusterRow, DirRef, Line, PointRef, Rel, Step, StepKind, Temp,
-};
+use crate::plan::{BodyId, BranchSlot, ClusterParam, DirRef, Line, PointRef, Rel, Step, StepKind, Temp};
 
 /// Two local points closer than this (relative to the mechanism's size) are
 /// the same point.
@@ -765,30 +763,7 @@ impl Planner<'_> {
         for b in &s {
             serves.append(&mut self.pending[*b]);
         }
-        let rows = eqs
-            .iter()
-            .map(|&i| match &self.eqs[i].eq {
-                Equation::Coincident { a, b, slide } => ClusterRow::Coincident {
-                    a: a.body,
-                    la: a.local,
-                    slide: *slide,
-                    b: b.body,
-                    lb: b.local,
-                },
-                Equation::InLine { line, dir, point } => ClusterRow::InLine {
-                    a: line.body,
-                    la: line.local,
-                    dir: *dir,
-                    b: point.body,
-                    lb: point.local,
-                },
-                Equation::Parallel { a, b, input } => ClusterRow::Parallel {
-                    a: *a,
-                    b: *b,
-                    input: *input,
-                },
-            })
-            .collect();
+        let rows = eqs.iter().map(|&i| self.eqs[i].eq.row()).collect();
         for &i in &eqs {
             serves.push(self.consume(i));
         }

@@ -24,7 +24,9 @@ use dofplan_runtime::planar::{Point, Pose};
 use dofplan_runtime::{Break, BreakKind, Ctx, Solver};
 use nalgebra::{DMatrix, DVector};
 
-use super::{PureNewton, System};
+use dofplan_runtime::numeric::cluster;
+
+use super::PureNewton;
 use crate::model::{MarkerId, Mechanism};
 
 const RANK_CUTOFF: f64 = 1e-10;
@@ -103,37 +105,6 @@ impl Drag {
     pub fn equations(&self) -> usize {
         self.newton.equations() + 2
     }
-
-    fn unknowns_of(&self, poses: &[Pose]) -> DVector<f64> {
-        let mut x = DVector::zeros(self.newton.unknowns());
-        for (b, o) in self.newton.unknown_bodies() {
-            let p = poses[b];
-            x[o] = p.at[0];
-            x[o + 1] = p.at[1];
-            x[o + 2] = p.rot.s.atan2(p.rot.c) * self.size;
-        }
-        x
-    }
-}
-
-impl Drag {
-    /// Evaluates the joint residuals (and Jacobian) at `x`, leaving the
-    /// unknown bodies of `work` at `x`: the mechanism without inputs, so
-    /// every mobile body is an unknown.
-    fn joints(
-        &self,
-        work: &mut [Pose],
-        x: &DVector<f64>,
-        r: &mut DVector<f64>,
-        jacobian: Option<&mut DMatrix<f64>>,
-    ) {
-        let mut system = System {
-            solver: &self.newton,
-            poses: work,
-            inputs: &[],
-        };
-        system.eval(x, r, jacobian);
-    }
 }
 
 impl Solver for Drag {
@@ -162,7 +133,10 @@ impl Solver for Drag {
         let DragState { poses, work } = state;
         work.copy_from_slice(poses);
         let (n, m) = (self.newton.unknowns(), self.newton.equations());
-        let mut x = self.unknowns_of(work);
+        // The joints: the runtime's cluster system over every mobile body
+        // (free), warm-started from the last frame.
+        let (mut joints_system, mut x) =
+            cluster::System::new(work, self.newton.params(), self.newton.rows(), &[], self.size);
         let mut rc = DVector::zeros(m);
         let mut jc = DMatrix::zeros(m, n);
         let mut jd = DMatrix::zeros(2, n);
@@ -176,8 +150,8 @@ impl Solver for Drag {
         };
         let mut previous_drag = f64::INFINITY;
         for iteration in 0..=MAX_ITERATIONS {
-            self.joints(work, &x, &mut rc, Some(&mut jc));
-            let (at, turn) = work[self.body].world_and_turn(self.local);
+            joints_system.eval(&x, &mut rc, Some(&mut jc));
+            let (at, turn) = joints_system.poses()[self.body].world_and_turn(self.local);
             let rd = DVector::from_row_slice(&[at[0] - target[0], at[1] - target[1]]);
             let (joints, drag) = (rc.norm(), rd.norm());
             report.iterations = iteration;
@@ -219,12 +193,13 @@ impl Solver for Drag {
             // Keep the joints: near a singular pose (a chain pulled
             // straight) the linearised null space lets a full step open
             // them. Halve the step until the joints stay within what they
-            // were (or the tolerance); failing that, only restore them.
+            // were (or a share of the step); failing that, only restore
+            // them.
             let allowed = (2.0 * joints).max(0.05 * step.norm()).max(tolerance);
             let mut accepted = false;
             for _ in 0..30 {
                 let trial = &x + &step;
-                self.joints(work, &trial, &mut rc, None);
+                joints_system.eval(&trial, &mut rc, None);
                 if rc.norm() <= allowed {
                     x = trial;
                     accepted = true;
@@ -233,13 +208,14 @@ impl Solver for Drag {
                 step *= 0.5;
             }
             if !accepted {
-                self.joints(work, &x, &mut rc, None);
+                joints_system.eval(&x, &mut rc, None);
                 x -= &jc_pinv * &rc;
             }
         }
         // The pose of the last iterate (the closest approach when out of
-        // reach).
-        self.joints(work, &x, &mut rc, None);
+        // reach), and its joints.
+        joints_system.eval(&x, &mut rc, None);
+        drop(joints_system);
         ctx.numeric = Some(report);
         // A pose whose joints are open is never shown, whatever the policy:
         // stretching relaxes the drag, not the mechanism. (Pulling a chain

@@ -12,13 +12,15 @@
 
 pub mod drag;
 
+use dofplan_runtime::numeric::cluster::{self, Param};
 use dofplan_runtime::numeric::{Equations, Newton, NewtonOptions, NewtonOutcome, NewtonReport};
 use dofplan_runtime::planar::{Point, Pose, Rot};
 use dofplan_runtime::{Break, BreakKind, Ctx, Solver};
 use nalgebra::{DMatrix, DVector};
 
-use crate::analysis::equations::{equations, Equation};
+use crate::analysis::equations::equations;
 use crate::model::{InputKind, JointKind, Mechanism};
+use crate::plan::ClusterRow;
 
 /// How pure Newton treats a body.
 #[derive(Clone, Debug)]
@@ -27,8 +29,8 @@ enum Role {
     Fixed,
     /// Placed directly from an input at a joint to the ground.
     Driven(Drive),
-    /// Three unknowns starting at this offset.
-    Unknown(usize),
+    /// Three unknowns (free).
+    Unknown,
 }
 
 #[derive(Clone, Debug)]
@@ -45,11 +47,15 @@ struct Drive {
     inverse: bool,
 }
 
-/// A mechanism solved by Newton–Raphson alone.
+/// A mechanism solved by Newton–Raphson alone: one numeric cluster of every
+/// mobile body not driven directly, each free (three unknowns), over every
+/// equation — evaluated by the runtime's cluster system, the same residuals
+/// and Jacobian as a mixed plan's clusters.
 #[derive(Clone, Debug)]
 pub struct PureNewton {
     roles: Vec<Role>,
-    rows: Vec<Equation>,
+    params: Vec<Param>,
+    rows: Vec<ClusterRow>,
     /// The joint, constraint or input each of `rows` comes from.
     origins: Vec<String>,
     unknowns: usize,
@@ -65,7 +71,6 @@ pub struct NewtonState {
     /// Body poses, in mechanism order.
     pub poses: Vec<Pose>,
     work: Vec<Pose>,
-    x: DVector<f64>,
     newton: Newton,
 }
 
@@ -75,7 +80,7 @@ impl PureNewton {
         let mut roles: Vec<Role> = m
             .bodies
             .iter()
-            .map(|b| if b.fixed { Role::Fixed } else { Role::Unknown(0) })
+            .map(|b| if b.fixed { Role::Fixed } else { Role::Unknown })
             .collect();
         for (i, input) in m.inputs.iter().enumerate() {
             let joint = &m.joints[input.joint];
@@ -85,7 +90,7 @@ impl PureNewton {
                 (false, true) => (b, a, true),
                 _ => continue,
             };
-            if !matches!(roles[driven.body], Role::Unknown(_)) {
+            if !matches!(roles[driven.body], Role::Unknown) {
                 continue;
             }
             let dir = match joint.kind {
@@ -101,26 +106,20 @@ impl PureNewton {
                 inverse,
             });
         }
-        let mut unknowns = 0;
-        for role in &mut roles {
-            if let Role::Unknown(offset) = role {
-                *offset = unknowns;
-                unknowns += 3;
-            }
-        }
-        let (rows, origins): (Vec<Equation>, Vec<String>) = equations(m)
+        let params: Vec<Param> = (0..roles.len())
+            .filter(|&b| matches!(roles[b], Role::Unknown))
+            .map(|body| Param::Free { body })
+            .collect();
+        let (rows, origins): (Vec<ClusterRow>, Vec<String>) = equations(m)
             .into_iter()
-            .filter(|s| {
-                s.eq.bodies()
-                    .iter()
-                    .any(|&b| matches!(roles[b], Role::Unknown(_)))
-            })
-            .map(|s| (s.eq, s.origin))
+            .filter(|s| s.eq.bodies().iter().any(|&b| matches!(roles[b], Role::Unknown)))
+            .map(|s| (s.eq.row(), s.origin))
             .unzip();
-        let equations = rows.iter().map(Equation::count).sum();
+        let (unknowns, equations) = cluster::size_of(&params, &rows);
         let size = m.size();
         PureNewton {
             roles,
+            params,
             rows,
             origins,
             unknowns,
@@ -146,18 +145,33 @@ impl PureNewton {
         self.equations
     }
 
+    /// Number of bodies.
+    pub fn bodies(&self) -> usize {
+        self.roles.len()
+    }
+
+    /// The cluster's bodies and unknowns (every one free).
+    pub fn params(&self) -> &[Param] {
+        &self.params
+    }
+
+    /// The cluster's equations.
+    pub fn rows(&self) -> &[ClusterRow] {
+        &self.rows
+    }
+
+    /// The mechanism's size (angles are unknown as arc lengths at it).
+    pub fn size(&self) -> f64 {
+        self.size
+    }
+
     /// The Jacobian of every equation at the drawn pose (all inputs at 0),
     /// with each equation's origin and number of rows, in row order.
     pub fn drawn_jacobian(&self) -> (DMatrix<f64>, Vec<(String, usize)>) {
         let mut poses = vec![Pose::IDENTITY; self.roles.len()];
         let inputs = vec![0.0; self.input_kinds.len()];
         self.place_driven(&mut poses, &inputs);
-        let mut system = System {
-            solver: self,
-            poses: &mut poses,
-            inputs: &inputs,
-        };
-        let x = DVector::zeros(self.unknowns);
+        let (mut system, x) = cluster::System::new(&mut poses, &self.params, &self.rows, &inputs, self.size);
         let mut r = DVector::zeros(self.equations);
         let mut j = DMatrix::zeros(self.equations, self.unknowns);
         system.eval(&x, &mut r, Some(&mut j));
@@ -165,25 +179,17 @@ impl PureNewton {
             .rows
             .iter()
             .zip(&self.origins)
-            .map(|(eq, o)| (o.clone(), eq.count()))
+            .map(|(row, o)| (o.clone(), row.count()))
             .collect();
         (j, groups)
     }
 
-    /// Number of bodies.
-    pub fn bodies(&self) -> usize {
-        self.roles.len()
-    }
-
     /// The unknown columns of each body that has them: (body, first column).
     pub fn unknown_bodies(&self) -> Vec<(usize, usize)> {
-        self.roles
+        self.params
             .iter()
             .enumerate()
-            .filter_map(|(b, r)| match r {
-                Role::Unknown(o) => Some((b, *o)),
-                _ => None,
-            })
+            .map(|(k, p)| (p.body(), 3 * k))
             .collect()
     }
 
@@ -209,125 +215,6 @@ impl PureNewton {
     }
 }
 
-/// The residuals of pure Newton at one frame.
-pub(crate) struct System<'a> {
-    pub(crate) solver: &'a PureNewton,
-    pub(crate) poses: &'a mut [Pose],
-    pub(crate) inputs: &'a [f64],
-}
-
-impl System<'_> {
-    /// Writes the unknowns `x` into the poses of the unknown bodies.
-    pub(crate) fn apply(&mut self, x: &DVector<f64>) {
-        let size = self.solver.size;
-        for (b, role) in self.solver.roles.iter().enumerate() {
-            if let Role::Unknown(o) = role {
-                let (s, c) = (x[o + 2] / size).sin_cos();
-                self.poses[b] = Pose {
-                    at: [x[*o], x[o + 1]],
-                    rot: Rot { c, s },
-                };
-            }
-        }
-    }
-}
-
-fn cross(a: Point, b: Point) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
-}
-
-impl Equations for System<'_> {
-    fn unknowns(&self) -> usize {
-        self.solver.unknowns
-    }
-
-    fn equations(&self) -> usize {
-        self.solver.equations
-    }
-
-    fn eval(&mut self, x: &DVector<f64>, r: &mut DVector<f64>, mut jacobian: Option<&mut DMatrix<f64>>) {
-        self.apply(x);
-        let size = self.solver.size;
-        if let Some(j) = jacobian.as_deref_mut() {
-            j.fill(0.0);
-        }
-        let offset = |b: usize| match self.solver.roles[b] {
-            Role::Unknown(o) => Some(o),
-            _ => None,
-        };
-        let mut row = 0;
-        for eq in &self.solver.rows {
-            match eq {
-                Equation::Coincident { a, b, slide } => {
-                    let la = match slide {
-                        Some((input, d)) => {
-                            let u = self.inputs[*input];
-                            [a.local[0] + u * d[0], a.local[1] + u * d[1]]
-                        }
-                        None => a.local,
-                    };
-                    let (pa, ta) = self.poses[a.body].world_and_turn(la);
-                    let (pb, tb) = self.poses[b.body].world_and_turn(b.local);
-                    r[row] = pa[0] - pb[0];
-                    r[row + 1] = pa[1] - pb[1];
-                    if let Some(j) = jacobian.as_deref_mut() {
-                        for (body, sign, t) in [(a.body, 1.0, ta), (b.body, -1.0, tb)] {
-                            if let Some(o) = offset(body) {
-                                j[(row, o)] += sign;
-                                j[(row + 1, o + 1)] += sign;
-                                j[(row, o + 2)] += sign * t[0] / size;
-                                j[(row + 1, o + 2)] += sign * t[1] / size;
-                            }
-                        }
-                    }
-                    row += 2;
-                }
-                Equation::InLine { line, dir, point } => {
-                    let pose_a = self.poses[line.body];
-                    let d = pose_a.world_dir(*dir);
-                    let (pa, ta) = pose_a.world_and_turn(line.local);
-                    let (pb, tb) = self.poses[point.body].world_and_turn(point.local);
-                    let v = [pb[0] - pa[0], pb[1] - pa[1]];
-                    r[row] = cross(d, v);
-                    if let Some(j) = jacobian.as_deref_mut() {
-                        if let Some(o) = offset(line.body) {
-                            j[(row, o)] += d[1];
-                            j[(row, o + 1)] -= d[0];
-                            // The line turns (d → perp d) and its point moves.
-                            let turn = cross([-d[1], d[0]], v) - cross(d, ta);
-                            j[(row, o + 2)] += turn / size;
-                        }
-                        if let Some(o) = offset(point.body) {
-                            j[(row, o)] -= d[1];
-                            j[(row, o + 1)] += d[0];
-                            j[(row, o + 2)] += cross(d, tb) / size;
-                        }
-                    }
-                    row += 1;
-                }
-                Equation::Parallel { a, b, input } => {
-                    let rel = match input {
-                        Some(i) => Rot::from_degrees(self.inputs[*i]),
-                        None => Rot::IDENTITY,
-                    };
-                    // (R_a · rel)⁻¹ · R_b: the angle error, as a rotation.
-                    let delta = self.poses[*a].rot.then(rel).inverse().then(self.poses[*b].rot);
-                    r[row] = size * delta.s;
-                    if let Some(j) = jacobian.as_deref_mut() {
-                        if let Some(o) = offset(*b) {
-                            j[(row, o + 2)] += delta.c;
-                        }
-                        if let Some(o) = offset(*a) {
-                            j[(row, o + 2)] -= delta.c;
-                        }
-                    }
-                    row += 1;
-                }
-            }
-        }
-    }
-}
-
 impl Solver for PureNewton {
     type State = NewtonState;
     type Inputs = Vec<f64>;
@@ -337,7 +224,6 @@ impl Solver for PureNewton {
         NewtonState {
             work: poses.clone(),
             poses,
-            x: DVector::zeros(self.unknowns),
             newton: Newton::new(self.unknowns, self.equations),
         }
     }
@@ -351,30 +237,13 @@ impl Solver for PureNewton {
     }
 
     fn solve(&self, state: &mut NewtonState, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
-        let NewtonState {
-            poses,
-            work,
-            x,
-            newton,
-        } = state;
+        let NewtonState { poses, work, newton } = state;
         work.copy_from_slice(poses);
         self.place_driven(work, inputs);
         // Warm start: the unknowns of the last valid frame.
-        for (b, role) in self.roles.iter().enumerate() {
-            if let Role::Unknown(o) = role {
-                let p = work[b];
-                x[*o] = p.at[0];
-                x[o + 1] = p.at[1];
-                x[o + 2] = p.rot.s.atan2(p.rot.c) * self.size;
-            }
-        }
-        let mut system = System {
-            solver: self,
-            poses: work,
-            inputs,
-        };
-        let report: NewtonReport = newton.solve(&mut system, x, &self.options);
-        system.apply(x);
+        let (mut system, mut x) = cluster::System::new(work, &self.params, &self.rows, inputs, self.size);
+        let report: NewtonReport = newton.solve(&mut system, &mut x, &self.options);
+        system.apply(&x);
         ctx.numeric = Some(report);
         match report.outcome {
             NewtonOutcome::Converged => {}

@@ -125,17 +125,19 @@ pub fn size_of(params: &[Param], rows: &[Row]) -> (usize, usize) {
     )
 }
 
-/// The cluster as a system of equations over its unknowns.
-struct System<'a> {
+/// A cluster as a system of equations over its unknowns: the one
+/// implementation of the residuals and analytic Jacobian of primitive
+/// equations, used by mixed plans, pure Newton and dragging alike.
+pub struct System<'a> {
     poses: &'a mut [Pose],
     /// Pose of every cluster body when the cluster starts (rotation of
     /// oriented and sliding bodies, base of a slide).
-    base: &'a [Pose],
+    base: Vec<Pose>,
     params: &'a [Param],
     /// Per body: index into `params`, if the body is a cluster body.
-    which: &'a [Option<usize>],
+    which: Vec<Option<usize>>,
     /// Per param: its first unknown.
-    offsets: &'a [usize],
+    offsets: Vec<usize>,
     rows: &'a [Row],
     inputs: &'a [f64],
     size: f64,
@@ -149,8 +151,69 @@ struct Partials {
     point: [Point; 3],
 }
 
-impl System<'_> {
-    fn apply(&mut self, x: &DVector<f64>) {
+impl<'a> System<'a> {
+    /// The cluster over `poses` (whose cluster bodies hold where they stand
+    /// now), and the unknowns of that standing pose: the warm start. `size`
+    /// scales angles to lengths (every unknown is then a length).
+    pub fn new(
+        poses: &'a mut [Pose],
+        params: &'a [Param],
+        rows: &'a [Row],
+        inputs: &'a [f64],
+        size: f64,
+    ) -> (System<'a>, DVector<f64>) {
+        let (n, _) = size_of(params, rows);
+        let mut which = vec![None; poses.len()];
+        let mut offsets = Vec::with_capacity(params.len());
+        let mut base = Vec::with_capacity(params.len());
+        let mut x = DVector::zeros(n);
+        let mut o = 0;
+        for (k, p) in params.iter().enumerate() {
+            let b = p.body();
+            which[b] = Some(k);
+            offsets.push(o);
+            let pose = poses[b];
+            base.push(pose);
+            match *p {
+                Param::Free { .. } => {
+                    x[o] = pose.at[0];
+                    x[o + 1] = pose.at[1];
+                    x[o + 2] = pose.rot.s.atan2(pose.rot.c) * size;
+                }
+                Param::Angle { .. } => x[o] = pose.rot.s.atan2(pose.rot.c) * size,
+                Param::Slide { .. } => x[o] = 0.0,
+                Param::Translate { .. } => {
+                    x[o] = pose.at[0];
+                    x[o + 1] = pose.at[1];
+                }
+            }
+            o += p.count();
+        }
+        let system = System {
+            poses,
+            base,
+            params,
+            which,
+            offsets,
+            rows,
+            inputs,
+            size,
+        };
+        (system, x)
+    }
+
+    /// The poses (cluster bodies at the last unknowns applied or evaluated).
+    pub fn poses(&self) -> &[Pose] {
+        self.poses
+    }
+
+    /// The first unknown of each cluster body, by body.
+    pub fn offset_of(&self, body: usize) -> Option<usize> {
+        self.which[body].map(|k| self.offsets[k])
+    }
+
+    /// Places the cluster bodies at the unknowns `x`.
+    pub fn apply(&mut self, x: &DVector<f64>) {
         for (k, p) in self.params.iter().enumerate() {
             let o = self.offsets[k];
             let b = p.body();
@@ -339,49 +402,12 @@ pub fn solve(
     size: f64,
     newton: &mut Newton,
 ) -> Result<(), Break> {
-    let (n, _) = size_of(params, rows);
-    let mut which = vec![None; poses.len()];
-    let mut offsets = Vec::with_capacity(params.len());
-    let mut base = Vec::with_capacity(params.len());
-    let mut x = DVector::zeros(n);
-    let mut o = 0;
-    for (k, p) in params.iter().enumerate() {
-        let b = p.body();
-        which[b] = Some(k);
-        offsets.push(o);
-        let pose = poses[b];
-        base.push(pose);
-        // Warm start from where the body is.
-        match *p {
-            Param::Free { .. } => {
-                x[o] = pose.at[0];
-                x[o + 1] = pose.at[1];
-                x[o + 2] = pose.rot.s.atan2(pose.rot.c) * size;
-            }
-            Param::Angle { .. } => x[o] = pose.rot.s.atan2(pose.rot.c) * size,
-            Param::Slide { .. } => x[o] = 0.0,
-            Param::Translate { .. } => {
-                x[o] = pose.at[0];
-                x[o + 1] = pose.at[1];
-            }
-        }
-        o += p.count();
-    }
+    let (mut system, mut x) = System::new(poses, params, rows, inputs, size);
     let options = NewtonOptions {
         max_iterations: 50,
         tolerance: 1e-12 * size,
         rank_cutoff: 1e-10,
         max_step: 0.25 * size,
-    };
-    let mut system = System {
-        poses,
-        base: &base,
-        params,
-        which: &which,
-        offsets: &offsets,
-        rows,
-        inputs,
-        size,
     };
     let report = newton.solve(&mut system, &mut x, &options);
     system.apply(&x);
