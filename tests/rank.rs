@@ -93,3 +93,25 @@ fn a_link_on_a_single_pin_is_an_idle_freedom() {
     assert_eq!(by_rank.idle, vec![("flag".to_string(), 1)]);
     assert!(by_rank.redundant.is_empty());
 }
+
+/// The same, with the extra link not parallel: Grübler and the Jacobian
+/// both see a structure, and driving it is an inconsistency the plan's
+/// redundant step reports as a break naming its step — never a silently
+/// open joint.
+#[test]
+fn an_inconsistent_redundant_link_breaks_when_driven() {
+    let text = PARALLELOGRAM_EXTRA.replace("F = [3, 1.5]", "F = [3.5, 1.5]");
+    let m = mechanism(&text);
+    let by_rank = rank_mobility(&m);
+    assert_eq!(by_rank.dof, 0, "locked: {by_rank:?}");
+    let plan = analyse(&m).plan.expect("a plan");
+    assert!(plan.explain_all().contains("(redundant: the distance is checked)"));
+    let frames = run(Interpreter::new(plan.clone()), Options::default(), &[vec![0.0], vec![5.0]]);
+    assert!(frames[0].status.is_solved());
+    let dofplan_runtime::FrameStatus::Limited { brk } = frames[1].status else {
+        panic!("{:?}", frames[1].status)
+    };
+    assert_eq!(brk.kind, dofplan_runtime::BreakKind::Inconsistent);
+    assert!(plan.explain(brk.step as usize).starts_with("extra:"));
+    assert_eq!(frames[1].poses, frames[0].poses);
+}

@@ -105,6 +105,9 @@ pub enum BreakKind {
     NoSolution,
     /// Newton–Raphson ran out of iterations while still improving.
     NotConverged,
+    /// A redundant equation does not hold: the mechanism is over-constrained
+    /// and inconsistent at this input.
+    Inconsistent,
 }
 
 impl BreakKind {
@@ -117,6 +120,7 @@ impl BreakKind {
             BreakKind::LineCannotReach => "the line cannot reach the point",
             BreakKind::NoSolution => "no solution within reach (least-squares minimum)",
             BreakKind::NotConverged => "Newton-Raphson did not converge within its iterations",
+            BreakKind::Inconsistent => "a redundant joint does not hold (over-constrained and inconsistent)",
         }
     }
 }

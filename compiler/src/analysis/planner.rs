@@ -312,6 +312,7 @@ impl Planner<'_> {
                             p_at: at0.clone(),
                             q: local,
                             q_at: at.clone(),
+                            redundant: true,
                         }))
                     }
                     _ => None,
@@ -411,6 +412,7 @@ impl Planner<'_> {
                                 p_at: at0,
                                 q: point.local,
                                 q_at: PointRef::Temp { id: out },
+                                redundant: false,
                             },
                             vec![],
                         );
@@ -548,6 +550,7 @@ impl Planner<'_> {
                                     p_at: p1,
                                     q: la,
                                     q_at: x.clone(),
+                                    redundant: false,
                                 },
                                 vec![],
                             );
@@ -558,6 +561,7 @@ impl Planner<'_> {
                                     p_at: p2,
                                     q: lb,
                                     q_at: x,
+                                    redundant: false,
                                 },
                                 vec![],
                             );
@@ -837,6 +841,7 @@ impl Planner<'_> {
                 p_at: p1,
                 q: local1,
                 q_at: x.clone(),
+                redundant: false,
             },
             vec![],
         );

@@ -180,15 +180,21 @@ impl Emitter<'_> {
                 p_at,
                 q,
                 q_at,
+                redundant,
             } => {
                 let p_at = self.point(p_at, &mut pre);
                 let q_at = self.point(q_at, &mut pre);
                 let (b, p, q) = (self.pose(*body), point_lit(*p), point_lit(*q));
+                let call = if *redundant {
+                    quote!(planar::align_consistent(ctx, #id, &mut #b, #p, #p_at, #q, #q_at)?;)
+                } else {
+                    quote!(planar::align(&mut #b, #p, #p_at, #q, #q_at);)
+                };
                 quote! {
                     #marker
                     {
                         #(#pre)*
-                        planar::align(&mut #b, #p, #p_at, #q, #q_at);
+                        #call
                     }
                 }
             }
@@ -379,6 +385,7 @@ impl Emitter<'_> {
                     | StepKind::LineLine { .. }
                     | StepKind::TurnLine { .. }
                     | StepKind::Cluster { .. }
+                    | StepKind::Align { redundant: true, .. }
             )
         });
         // Each mobile body's pose is a named local for the frame, written

@@ -210,10 +210,15 @@ impl Interpreter {
                     p_at,
                     q,
                     q_at,
+                    redundant,
                 } => {
                     let p_at = self.point(s, inputs, p_at);
                     let q_at = self.point(s, inputs, q_at);
-                    planar::align(&mut s.poses[*body], *p, p_at, *q, q_at);
+                    if *redundant {
+                        planar::align_consistent(ctx, id, &mut s.poses[*body], *p, p_at, *q, q_at)?;
+                    } else {
+                        planar::align(&mut s.poses[*body], *p, p_at, *q, q_at);
+                    }
                 }
                 StepKind::CircleCircle {
                     out,

@@ -118,13 +118,19 @@ impl Plan {
                 p_at,
                 q,
                 q_at,
+                redundant,
             } => format!(
-                "{}: {} onto {}, {} toward {}",
+                "{}: {} onto {}, {} toward {}{}",
                 body(b),
                 self.local_name(*b, *p),
                 self.point_name(p_at),
                 self.local_name(*b, *q),
-                self.point_name(q_at)
+                self.point_name(q_at),
+                if *redundant {
+                    " (redundant: the distance is checked)"
+                } else {
+                    ""
+                }
             ),
             StepKind::CircleCircle {
                 out,

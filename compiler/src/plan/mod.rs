@@ -187,6 +187,11 @@ pub enum StepKind {
         q: Point,
         /// Where it goes.
         q_at: PointRef,
+        /// The distance between the two targets is not guaranteed by an
+        /// earlier step (a body pinned twice: a redundant equation), so it
+        /// is checked — the consistency check after contraction
+        /// (Brunkhart §3.3.6) — and a mismatch is a break.
+        redundant: bool,
     },
     /// Intersects two circles into temp `out`.
     CircleCircle {

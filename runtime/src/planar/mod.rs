@@ -12,7 +12,7 @@ mod place;
 mod turn_table;
 
 pub use locus::{circle_circle, circle_line, line_line, turn_line_through};
-pub use place::{align, anchor, orient, set_rotation};
+pub use place::{align, align_consistent, anchor, orient, set_rotation};
 
 /// A point or a vector in the plane.
 pub type Point = [f64; 2];

@@ -1,6 +1,7 @@
 //! Placing a body once its loci are met.
 
 use super::{cross, dot, sub, Point, Pose, Rot};
+use crate::frame::{Break, BreakKind, Ctx, StepId};
 
 /// Sets a body's rotation to `from` followed by `rel` (a relative rotation
 /// carried by a joint: the identity for a prismatic joint or an offset
@@ -51,6 +52,31 @@ pub fn align(pose: &mut Pose, p: Point, p_at: Point, q: Point, q_at: Point) {
         align_rotation_slow(pose, l2, w2, dot(dl, dw), cross(dl, dw));
     }
     anchor(pose, p, p_at);
+}
+
+/// [`align`] for a body whose two targets come from different placed
+/// bodies (it was pinned twice: one equation is redundant). The targets'
+/// distance must equal the markers' — the consistency check after
+/// contraction — or the step breaks (or, stretching, places the body
+/// anyway and reports the gap).
+#[inline(always)]
+pub fn align_consistent(
+    ctx: &mut Ctx,
+    step: StepId,
+    pose: &mut Pose,
+    p: Point,
+    p_at: Point,
+    q: Point,
+    q_at: Point,
+) -> Result<(), Break> {
+    let dl = sub(q, p);
+    let dw = sub(q_at, p_at);
+    let (l, w) = (dot(dl, dl).sqrt(), dot(dw, dw).sqrt());
+    if (w - l).abs() > 1e-9 * l.max(1.0) {
+        ctx.fail(step, BreakKind::Inconsistent, (w - l).abs())?;
+    }
+    align(pose, p, p_at, q, q_at);
+    Ok(())
 }
 
 /// The rotation of [`align`] when the world span's length differs from the
