@@ -340,6 +340,14 @@ fn check(file: &Path) -> ExitCode {
             list.join(", ")
         );
     }
+    if by_rank.dof < m.inputs.len() as i64 {
+        println!(
+            "  locked: the joints leave {} DOF for {} input(s), so the mechanism cannot move and driving it breaks \
+             at once (inconsistent); remove a joint, or make a redundant link consistent (e.g. parallel)",
+            by_rank.dof,
+            m.inputs.len()
+        );
+    }
     for (body, n) in &by_rank.idle {
         println!("  idle: body {body} can move on its own ({n} DOF) while every other body stays put");
     }
