@@ -105,8 +105,14 @@ fn an_inconsistent_redundant_link_breaks_when_driven() {
     let by_rank = rank_mobility(&m);
     assert_eq!(by_rank.dof, 0, "locked: {by_rank:?}");
     let plan = analyse(&m).plan.expect("a plan");
-    assert!(plan.explain_all().contains("(redundant: the distance is checked)"));
-    let frames = run(Interpreter::new(plan.clone()), Options::default(), &[vec![0.0], vec![5.0]]);
+    assert!(plan
+        .explain_all()
+        .contains("(redundant: the distance is checked)"));
+    let frames = run(
+        Interpreter::new(plan.clone()),
+        Options::default(),
+        &[vec![0.0], vec![5.0]],
+    );
     assert!(frames[0].status.is_solved());
     let dofplan_runtime::FrameStatus::Limited { brk } = frames[1].status else {
         panic!("{:?}", frames[1].status)
