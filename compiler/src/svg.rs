@@ -881,46 +881,8 @@ mod tests {
     use dofplan_runtime::planar::Rot;
     use dofplan_runtime::{Break, BreakKind, FrameStatus};
 
-    const FOURBAR: &str = r#"
-name = "fourbar"
-
-[bodies.ground]
-fixed = true
-markers = { A = [0, 0], D = [4, 0] }
-
-[bodies.crank]
-markers = { A = [0, 0], B = [1, 1] }
-
-[bodies.coupler]
-markers = { B = [1, 1], C = [4.5, 2.5], P = [3, 3.5] }
-
-[bodies.rocker]
-markers = { C = [4.5, 2.5], D = [4, 0] }
-
-[joints.A]
-kind = "revolute"
-markers = ["ground.A", "crank.A"]
-[joints.B]
-kind = "revolute"
-markers = ["crank.B", "coupler.B"]
-[joints.C]
-kind = "revolute"
-markers = ["coupler.C", "rocker.C"]
-[joints.D]
-kind = "revolute"
-markers = ["rocker.D", "ground.D"]
-
-[inputs.theta]
-kind = "angle"
-joint = "A"
-
-[sweep]
-input = "theta"
-from = 0.0
-to = 360.0
-steps = 361
-trace = ["coupler.P"]
-"#;
+    // The bundled four-bar, not a copy of it.
+    const FOURBAR: &str = include_str!("../../mechanisms/fourbar.toml");
 
     fn load(text: &str) -> Mechanism {
         load_str("t.toml", text, Format::Toml).expect("the test mechanism loads")
