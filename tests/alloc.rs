@@ -104,6 +104,41 @@ fn compiled_frames_allocate_nothing() {
     }
 }
 
+/// Numeric clusters are emitted as straight-line code over fixed-size
+/// matrices: their Newton solves (Cholesky or SVD steps, line search) run
+/// on the stack.
+#[test]
+fn compiled_cluster_frames_allocate_nothing() {
+    macro_rules! check {
+        ($($name:ident),*) => {$(
+            let inputs = sweep_inputs(&load(stringify!($name)), None);
+            for options in all_options() {
+                let n = frame_allocations(dofplan_generated::$name::Plan, options, &inputs);
+                assert_eq!(n, 0, "{} {options:?}", stringify!($name));
+            }
+        )*};
+    }
+    check!(sixbar_b, eightbar, tenbar, duplex, chain_4, chain_15);
+
+    // A full turn takes sixbar_b past its dead points: the frames there end
+    // at a least-squares point (SVD steps, damped line search) and break or
+    // stretch, and still allocate nothing.
+    let turn: Vec<Vec<f64>> = (0..=36).map(|i| vec![f64::from(i) * 10.0]).collect();
+    for options in all_options() {
+        let mut driver = Driver::new(dofplan_generated::sixbar_b::Plan, options);
+        let statuses: Vec<_> = turn.iter().map(|i| driver.frame(i)).collect();
+        assert!(
+            statuses.iter().any(|s| !s.is_solved()),
+            "{options:?}: no frame broke"
+        );
+        assert_eq!(
+            frame_allocations(dofplan_generated::sixbar_b::Plan, options, &turn),
+            0,
+            "{options:?}"
+        );
+    }
+}
+
 #[test]
 fn interpreted_frames_allocate_nothing_once_built() {
     for name in ["fourbar", "rocker_rocker", "inverted_slider_crank", "stress_10"] {

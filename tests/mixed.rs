@@ -22,6 +22,29 @@ const ROWS: [(&str, usize, usize); 9] = [
     ("chain_15", 38, 26),
 ];
 
+/// Our mixed plans' (unknowns, equations), in `ROWS` order: pinned bodies
+/// keep their angle, and free links hinged on a cluster body (joint
+/// coordinates) their angle too, so a chain of n links between two ground
+/// pivots leaves n − 1 angles and the one coincident row that closes it.
+const OURS: [(usize, usize); 9] = [
+    (4, 4),
+    (6, 6),
+    (6, 6),
+    (8, 8),
+    (3, 2),
+    (5, 2),
+    (7, 2),
+    (9, 2),
+    (14, 2),
+];
+
+#[test]
+fn mixed_unknown_and_equation_counts() {
+    for ((name, _, _), ours) in ROWS.iter().zip(OURS) {
+        assert_eq!(plan(&load(name)).numeric_size(), ours, "{name}");
+    }
+}
+
 #[test]
 fn mixed_unknowns_are_at_most_figure_30s() {
     for (name, unknowns, _) in ROWS {
@@ -85,6 +108,11 @@ fn compiled_and_interpreted_clusters_agree() {
         let b = run_animate(driver.as_mut(), &requested);
         for (i, (fa, fb)) in a.iter().zip(&b).enumerate() {
             assert_eq!(fa.status, fb.status, "{name} frame {i}");
+            // The generated residuals and Jacobian are the runtime's,
+            // written out: the same Newton path, iteration for iteration.
+            let its = |f: &dofplan::simulate::Frame| f.numeric.map(|r| r.iterations);
+            assert_eq!(its(fa), its(fb), "{name} frame {i}: Newton iterations");
+            assert!(its(fa).is_some(), "{name} frame {i}: no Newton report");
             for (pa, pb) in fa.poses.iter().zip(&fb.poses) {
                 let d = (pa.at[0] - pb.at[0]).abs().max((pa.at[1] - pb.at[1]).abs());
                 assert!(

@@ -725,6 +725,76 @@ impl Planner<'_> {
         unknowns as i64 - equations as i64
     }
 
+    /// The unknowns of cluster `s` over its equations `eqs`, parents before
+    /// children, and which of `eqs` (by position) the params satisfy by
+    /// construction.
+    ///
+    /// Each body keeps the fewest unknowns its locus allows (pinned: its
+    /// angle; sliding: its displacement; oriented: its translation). A free
+    /// body joined by a plain revolute to a body already parametrised is
+    /// then hinged on it — joint coordinates: its angle alone, the joint
+    /// holding by construction — so a chain of free links costs one unknown
+    /// per link and no equation per joint instead of three and two. A free
+    /// body no hinge reaches is a free root (3 unknowns) and may carry
+    /// hinges itself.
+    fn cluster_params(&self, s: &[BodyId], eqs: &[usize]) -> (Vec<ClusterParam>, Vec<usize>) {
+        let mut params = Vec::new();
+        let mut done: Vec<BodyId> = Vec::new();
+        for &b in s {
+            let p = match &self.know[b] {
+                Know::Free | Know::Placed => continue,
+                Know::Pinned { local, at } => ClusterParam::Angle {
+                    body: b,
+                    pin: *local,
+                    at: at.clone(),
+                },
+                Know::Sliding { dir } => ClusterParam::Slide {
+                    body: b,
+                    dir: dir.clone(),
+                },
+                Know::Oriented => ClusterParam::Translate { body: b },
+            };
+            params.push(p);
+            done.push(b);
+        }
+        let mut free: Vec<BodyId> = s.iter().copied().filter(|b| !done.contains(b)).collect();
+        let mut hinges = Vec::new();
+        while !free.is_empty() {
+            let hinge = eqs.iter().enumerate().find_map(|(k, &i)| match &self.eqs[i].eq {
+                Equation::Coincident { a, b, slide: None } if !hinges.contains(&k) => {
+                    if done.contains(&a.body) && free.contains(&b.body) {
+                        Some((k, b, a))
+                    } else if done.contains(&b.body) && free.contains(&a.body) {
+                        Some((k, a, b))
+                    } else {
+                        None
+                    }
+                }
+                _ => None,
+            });
+            let body = match hinge {
+                Some((k, child, parent)) => {
+                    hinges.push(k);
+                    params.push(ClusterParam::Hinge {
+                        body: child.body,
+                        pin: child.local,
+                        parent: parent.body,
+                        at: parent.local,
+                        name: parent.name.clone(),
+                    });
+                    child.body
+                }
+                None => {
+                    params.push(ClusterParam::Free { body: free[0] });
+                    free[0]
+                }
+            };
+            free.retain(|&b| b != body);
+            done.push(body);
+        }
+        (params, hinges)
+    }
+
     /// When no closed-form fragment applies: the smallest set of unplaced
     /// bodies that is rigid against the placed ones (grown from each seed,
     /// adding the neighbour that removes the most freedom), or all of them
@@ -767,26 +837,16 @@ impl Planner<'_> {
         for b in &s {
             serves.append(&mut self.pending[*b]);
         }
-        let rows = eqs.iter().map(|&i| self.eqs[i].eq.row()).collect();
+        let (params, hinges) = self.cluster_params(&s, &eqs);
+        let rows = eqs
+            .iter()
+            .enumerate()
+            .filter(|(k, _)| !hinges.contains(k))
+            .map(|(_, &i)| self.eqs[i].eq.row())
+            .collect();
         for &i in &eqs {
             serves.push(self.consume(i));
         }
-        let params = s
-            .iter()
-            .map(|&b| match &self.know[b] {
-                Know::Free | Know::Placed => ClusterParam::Free { body: b },
-                Know::Pinned { local, at } => ClusterParam::Angle {
-                    body: b,
-                    pin: *local,
-                    at: at.clone(),
-                },
-                Know::Sliding { dir } => ClusterParam::Slide {
-                    body: b,
-                    dir: dir.clone(),
-                },
-                Know::Oriented => ClusterParam::Translate { body: b },
-            })
-            .collect();
         let index = self.clusters;
         self.clusters += 1;
         serves.dedup();

@@ -10,6 +10,8 @@
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 
+mod cluster;
+
 use crate::model::InputKind;
 use crate::plan::{ClusterParam, ClusterRow, DirRef, Plan, PointRef, Rel, StepKind};
 
@@ -252,6 +254,18 @@ impl Emitter<'_> {
                     };
                 }
             }
+            StepKind::Cluster { params, rows, .. }
+                if Self::fixed_cluster(step.kind.cluster_size().0, step.kind.cluster_size().1) =>
+            {
+                let code =
+                    self.fixed_cluster_step(&quote!(#id), params, rows, step.kind.cluster_size(), &mut pre);
+                quote! {
+                    #marker
+                    {
+                        #code
+                    }
+                }
+            }
             StepKind::Cluster { params, rows, .. } => {
                 let (n, m) = step.kind.cluster_size();
                 let param_tokens: Vec<TokenStream> = params
@@ -265,6 +279,10 @@ impl Emitter<'_> {
                                 let at = self.point(at, &mut pre);
                                 let pin = point_lit(*pin);
                                 quote!(cluster::Param::Angle { body: #b, pin: #pin, at: #at })
+                            }
+                            ClusterParam::Hinge { pin, parent, at, .. } => {
+                                let (pin, parent, at) = (point_lit(*pin), index(*parent), point_lit(*at));
+                                quote!(cluster::Param::Hinge { body: #b, pin: #pin, parent: #parent, at: #at })
                             }
                             ClusterParam::Slide { dir, .. } => {
                                 let d = self.dir(dir, &format!("slide_dir_{k}"), &mut pre);
@@ -319,8 +337,8 @@ impl Emitter<'_> {
                         let params = [#(#param_tokens),*];
                         const ROWS: [cluster::Row; #nrows] = [#(#row_tokens),*];
                         let mut all = [#(#all),*];
-                        // The Newton work buffers (and nalgebra's SVD) allocate: a
-                        // frame with a cluster is not allocation-free yet.
+                        // Too large for fixed-size matrices: the runtime's
+                        // dynamically sized solver (which allocates).
                         let mut newton = numeric::Newton::new(#n, #m);
                         cluster::solve(ctx, #id, &mut all, &params, &ROWS, inputs, #size, &mut newton)?;
                         #(#writes)*

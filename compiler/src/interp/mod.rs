@@ -279,6 +279,18 @@ impl Interpreter {
                                 pin: *pin,
                                 at: self.point(s, inputs, at),
                             },
+                            ClusterParam::Hinge {
+                                body,
+                                pin,
+                                parent,
+                                at,
+                                ..
+                            } => cluster::Param::Hinge {
+                                body: *body,
+                                pin: *pin,
+                                parent: *parent,
+                                at: *at,
+                            },
                             ClusterParam::Slide { body, dir } => cluster::Param::Slide {
                                 body: *body,
                                 dir: self.dir(s, dir),

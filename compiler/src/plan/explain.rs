@@ -177,6 +177,9 @@ impl Plan {
                         ClusterParam::Angle { body: b, at, .. } => {
                             format!("{} (angle about {})", body(b), self.point_name(at))
                         }
+                        ClusterParam::Hinge { body: b, name, .. } => {
+                            format!("{} (angle about {name})", body(b))
+                        }
                         ClusterParam::Slide { body: b, dir } => {
                             format!("{} (slide along {})", body(b), self.dir_name(dir))
                         }

@@ -118,6 +118,21 @@ pub enum ClusterParam {
         /// Where it is pinned.
         at: PointRef,
     },
+    /// Pinned by a revolute joint to a marker of an earlier cluster body
+    /// (joint coordinates): its angle (1 unknown); the joint holds by
+    /// construction and is no equation of the cluster.
+    Hinge {
+        /// The body.
+        body: BodyId,
+        /// The pinned marker, local.
+        pin: Point,
+        /// The parent: an earlier param's body.
+        parent: BodyId,
+        /// The parent's marker, local to the parent.
+        at: Point,
+        /// "parent.marker".
+        name: String,
+    },
     /// Rotation known, on a line: the displacement along it (1 unknown).
     Slide {
         /// The body.
@@ -138,6 +153,7 @@ impl ClusterParam {
         match self {
             ClusterParam::Free { body }
             | ClusterParam::Angle { body, .. }
+            | ClusterParam::Hinge { body, .. }
             | ClusterParam::Slide { body, .. }
             | ClusterParam::Translate { body } => *body,
         }
@@ -148,7 +164,7 @@ impl ClusterParam {
         match self {
             ClusterParam::Free { .. } => 3,
             ClusterParam::Translate { .. } => 2,
-            ClusterParam::Angle { .. } | ClusterParam::Slide { .. } => 1,
+            ClusterParam::Angle { .. } | ClusterParam::Hinge { .. } | ClusterParam::Slide { .. } => 1,
         }
     }
 }

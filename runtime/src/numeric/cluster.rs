@@ -7,11 +7,15 @@
 
 use nalgebra::{DMatrix, DVector};
 
-use super::{Equations, Newton, NewtonOptions, NewtonOutcome};
+use super::{Equations, Newton, NewtonOptions, NewtonOutcome, NewtonReport};
 use crate::frame::{Break, BreakKind, Ctx, StepId};
 use crate::planar::{Point, Pose, Rot};
 
-/// How a cluster body is parametrised (Kramer's DOF states).
+/// How a cluster body is parametrised (Kramer's DOF states, and the joint
+/// coordinates of a body hinged on another cluster body).
+///
+/// Angles are absolute (the body's rotation from the ground), scaled by the
+/// mechanism's size so every unknown is a length.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Param {
     /// Nothing known: translation and angle (3 unknowns).
@@ -26,6 +30,18 @@ pub enum Param {
         /// The pinned marker, local.
         pin: Point,
         /// Where it is pinned, world.
+        at: Point,
+    },
+    /// Pinned by a revolute joint to a marker of an earlier cluster body:
+    /// its angle only (1 unknown), the joint holding by construction.
+    Hinge {
+        /// The body.
+        body: usize,
+        /// The pinned marker, local.
+        pin: Point,
+        /// The parent body (an earlier param's body).
+        parent: usize,
+        /// The parent's marker it is pinned to, local to the parent.
         at: Point,
     },
     /// Rotation known and one marker on a known line: the displacement
@@ -50,7 +66,7 @@ impl Param {
         match self {
             Param::Free { .. } => 3,
             Param::Translate { .. } => 2,
-            Param::Angle { .. } | Param::Slide { .. } => 1,
+            Param::Angle { .. } | Param::Hinge { .. } | Param::Slide { .. } => 1,
         }
     }
 
@@ -59,10 +75,102 @@ impl Param {
         match self {
             Param::Free { body }
             | Param::Angle { body, .. }
+            | Param::Hinge { body, .. }
             | Param::Slide { body, .. }
             | Param::Translate { body } => *body,
         }
     }
+}
+
+// The geometric primitives of a cluster, shared by the runtime `System`
+// below and the straight-line code the compiler writes for each cluster:
+// one implementation of each residual, placement and partial derivative.
+
+/// The pose of a free body at unknowns `(x, y, size·angle)`.
+#[inline]
+pub fn free_pose(x: f64, y: f64, scaled_angle: f64, size: f64) -> Pose {
+    let (s, c) = (scaled_angle / size).sin_cos();
+    Pose {
+        at: [x, y],
+        rot: Rot { c, s },
+    }
+}
+
+/// The pose of a body turned to `size·angle` with its local `pin` at the
+/// world point `at` (a pinned or hinged body).
+#[inline]
+pub fn pinned_pose(scaled_angle: f64, size: f64, pin: Point, at: Point) -> Pose {
+    let (s, c) = (scaled_angle / size).sin_cos();
+    let rot = Rot { c, s };
+    let w = rot.apply(pin);
+    Pose {
+        at: [at[0] - w[0], at[1] - w[1]],
+        rot,
+    }
+}
+
+/// The pose of a body displaced by `u` along the unit world `dir` from
+/// `base`.
+#[inline]
+pub fn slide_pose(base: Pose, dir: Point, u: f64) -> Pose {
+    Pose {
+        at: [base.at[0] + u * dir[0], base.at[1] + u * dir[1]],
+        rot: base.rot,
+    }
+}
+
+/// The pose of a body at translation `(x, y)` with `base`'s rotation.
+#[inline]
+pub fn translate_pose(base: Pose, x: f64, y: f64) -> Pose {
+    Pose {
+        at: [x, y],
+        rot: base.rot,
+    }
+}
+
+/// A body's angle unknown (`size·angle`) read from its pose: the warm
+/// start.
+#[inline]
+pub fn scaled_angle(pose: Pose, size: f64) -> f64 {
+    pose.rot.s.atan2(pose.rot.c) * size
+}
+
+/// ∂/∂(angle unknown) of the world point `pivot + v` of a body (`v` local,
+/// from the point the body turns about): `v` turned a quarter, over `size`.
+#[inline]
+pub fn turn(pose: Pose, v: Point, size: f64) -> Point {
+    let r = pose.rot.apply(v);
+    [-r[1] / size, r[0] / size]
+}
+
+/// The z component of `a × b`.
+#[inline]
+pub fn cross(a: Point, b: Point) -> f64 {
+    a[0] * b[1] - a[1] * b[0]
+}
+
+/// The in-line residual of world point `pb` on the line through `pa` along
+/// the unit world `d`: `d × (pb − pa)`; also `pb − pa`, for the derivative
+/// of the line's turn ([`line_turn`]).
+#[inline]
+pub fn in_line(d: Point, pa: Point, pb: Point) -> (f64, Point) {
+    let v = [pb[0] - pa[0], pb[1] - pa[1]];
+    (cross(d, v), v)
+}
+
+/// ∂(in-line residual)/∂(angle unknown of the line's body) from the line
+/// turning (its point moving is in the point partials).
+#[inline]
+pub fn line_turn(d: Point, v: Point, size: f64) -> f64 {
+    cross([-d[1], d[0]], v) / size
+}
+
+/// The parallel residual `size·sin(rot_b − rot_a − rel)` and its
+/// derivative with respect to `b`'s angle unknown (minus that for `a`'s).
+#[inline]
+pub fn parallel(a: Rot, rel: Rot, b: Rot, size: f64) -> (f64, f64) {
+    let delta = a.then(rel).inverse().then(b);
+    (size * delta.s, delta.c)
 }
 
 /// One primitive equation of a cluster (the residual forms of pure Newton).
@@ -125,9 +233,11 @@ pub fn size_of(params: &[Param], rows: &[Row]) -> (usize, usize) {
     )
 }
 
-/// A cluster as a system of equations over its unknowns: the one
-/// implementation of the residuals and analytic Jacobian of primitive
-/// equations, used by mixed plans, pure Newton and dragging alike.
+/// A cluster as a system of equations over its unknowns: the residuals and
+/// analytic Jacobian of primitive equations evaluated from the plan's data
+/// at run time (the interpreter, pure Newton and dragging). Generated code
+/// writes the same computation out as straight-line code over the same
+/// primitives.
 pub struct System<'a> {
     poses: &'a mut [Pose],
     /// Pose of every cluster body when the cluster starts (rotation of
@@ -143,18 +253,12 @@ pub struct System<'a> {
     size: f64,
 }
 
-/// Partial derivatives of a world point, a direction and an angle of one
-/// body with respect to its unknowns (at most three).
-struct Partials {
-    first: usize,
-    count: usize,
-    point: [Point; 3],
-}
-
 impl<'a> System<'a> {
     /// The cluster over `poses` (whose cluster bodies hold where they stand
     /// now), and the unknowns of that standing pose: the warm start. `size`
     /// scales angles to lengths (every unknown is then a length).
+    ///
+    /// A hinged body's parent must come before it in `params`.
     pub fn new(
         poses: &'a mut [Pose],
         params: &'a [Param],
@@ -178,9 +282,9 @@ impl<'a> System<'a> {
                 Param::Free { .. } => {
                     x[o] = pose.at[0];
                     x[o + 1] = pose.at[1];
-                    x[o + 2] = pose.rot.s.atan2(pose.rot.c) * size;
+                    x[o + 2] = scaled_angle(pose, size);
                 }
-                Param::Angle { .. } => x[o] = pose.rot.s.atan2(pose.rot.c) * size,
+                Param::Angle { .. } | Param::Hinge { .. } => x[o] = scaled_angle(pose, size),
                 Param::Slide { .. } => x[o] = 0.0,
                 Param::Translate { .. } => {
                     x[o] = pose.at[0];
@@ -212,90 +316,61 @@ impl<'a> System<'a> {
         self.which[body].map(|k| self.offsets[k])
     }
 
-    /// Places the cluster bodies at the unknowns `x`.
+    /// Places the cluster bodies at the unknowns `x` (in param order, so a
+    /// hinge's parent is placed first).
     pub fn apply(&mut self, x: &DVector<f64>) {
         for (k, p) in self.params.iter().enumerate() {
             let o = self.offsets[k];
-            let b = p.body();
             let base = self.base[k];
-            self.poses[b] = match *p {
-                Param::Free { .. } => {
-                    let (s, c) = (x[o + 2] / self.size).sin_cos();
-                    Pose {
-                        at: [x[o], x[o + 1]],
-                        rot: Rot { c, s },
-                    }
+            self.poses[p.body()] = match *p {
+                Param::Free { .. } => free_pose(x[o], x[o + 1], x[o + 2], self.size),
+                Param::Angle { pin, at, .. } => pinned_pose(x[o], self.size, pin, at),
+                Param::Hinge { pin, parent, at, .. } => {
+                    pinned_pose(x[o], self.size, pin, self.poses[parent].world(at))
                 }
-                Param::Angle { pin, at, .. } => {
-                    let (s, c) = (x[o] / self.size).sin_cos();
-                    let rot = Rot { c, s };
-                    let w = rot.apply(pin);
-                    Pose {
-                        at: [at[0] - w[0], at[1] - w[1]],
-                        rot,
-                    }
-                }
-                Param::Slide { dir, .. } => Pose {
-                    at: [base.at[0] + x[o] * dir[0], base.at[1] + x[o] * dir[1]],
-                    rot: base.rot,
-                },
-                Param::Translate { .. } => Pose {
-                    at: [x[o], x[o + 1]],
-                    rot: base.rot,
-                },
+                Param::Slide { dir, .. } => slide_pose(base, dir, x[o]),
+                Param::Translate { .. } => translate_pose(base, x[o], x[o + 1]),
             };
         }
     }
 
-    /// Partials of the world point of local `q` on body `b` (None when the
-    /// body is not in the cluster).
-    fn partials(&self, b: usize, q: Point) -> Option<Partials> {
-        let k = self.which[b]?;
+    /// Calls `f(unknown, ∂p/∂unknown)` for every unknown the world point of
+    /// local `q` on body `b` depends on (none when the body is not in the
+    /// cluster). A hinged body's point also moves with its parent's
+    /// unknowns, recursively.
+    fn partials(&self, b: usize, q: Point, f: &mut impl FnMut(usize, Point)) {
+        let Some(k) = self.which[b] else { return };
         let pose = self.poses[b];
         let o = self.offsets[k];
-        let turn = |v: Point| {
-            let r = pose.rot.apply(v);
-            [-r[1] / self.size, r[0] / self.size]
-        };
-        Some(match self.params[k] {
-            Param::Free { .. } => Partials {
-                first: o,
-                count: 3,
-                point: [[1.0, 0.0], [0.0, 1.0], turn(q)],
-            },
-            Param::Angle { pin, .. } => Partials {
-                first: o,
-                count: 1,
-                point: [turn([q[0] - pin[0], q[1] - pin[1]]), [0.0; 2], [0.0; 2]],
-            },
-            Param::Slide { dir, .. } => Partials {
-                first: o,
-                count: 1,
-                point: [dir, [0.0; 2], [0.0; 2]],
-            },
-            Param::Translate { .. } => Partials {
-                first: o,
-                count: 2,
-                point: [[1.0, 0.0], [0.0, 1.0], [0.0; 2]],
-            },
-        })
+        match self.params[k] {
+            Param::Free { .. } => {
+                f(o, [1.0, 0.0]);
+                f(o + 1, [0.0, 1.0]);
+                f(o + 2, turn(pose, q, self.size));
+            }
+            Param::Angle { pin, .. } => f(o, turn(pose, [q[0] - pin[0], q[1] - pin[1]], self.size)),
+            Param::Hinge { pin, parent, at, .. } => {
+                f(o, turn(pose, [q[0] - pin[0], q[1] - pin[1]], self.size));
+                self.partials(parent, at, f);
+            }
+            Param::Slide { dir, .. } => f(o, dir),
+            Param::Translate { .. } => {
+                f(o, [1.0, 0.0]);
+                f(o + 1, [0.0, 1.0]);
+            }
+        }
     }
 
-    /// The unknown whose derivative turns body `b` (its angle), with d angle
-    /// / d unknown.
-    fn angle_unknown(&self, b: usize) -> Option<(usize, f64)> {
+    /// The unknown that turns body `b` (its angle), if any.
+    fn angle_unknown(&self, b: usize) -> Option<usize> {
         let k = self.which[b]?;
         let o = self.offsets[k];
         match self.params[k] {
-            Param::Free { .. } => Some((o + 2, 1.0 / self.size)),
-            Param::Angle { .. } => Some((o, 1.0 / self.size)),
-            _ => None,
+            Param::Free { .. } => Some(o + 2),
+            Param::Angle { .. } | Param::Hinge { .. } => Some(o),
+            Param::Slide { .. } | Param::Translate { .. } => None,
         }
     }
-}
-
-fn cross(a: Point, b: Point) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
 }
 
 impl Equations for System<'_> {
@@ -329,36 +404,23 @@ impl Equations for System<'_> {
                     r[row + 1] = pa[1] - pb[1];
                     if let Some(j) = jacobian.as_deref_mut() {
                         for (body, q, sign) in [(a, la, 1.0), (b, lb, -1.0)] {
-                            if let Some(p) = self.partials(body, q) {
-                                for c in 0..p.count {
-                                    j[(row, p.first + c)] += sign * p.point[c][0];
-                                    j[(row + 1, p.first + c)] += sign * p.point[c][1];
-                                }
-                            }
+                            self.partials(body, q, &mut |col, d| {
+                                j[(row, col)] += sign * d[0];
+                                j[(row + 1, col)] += sign * d[1];
+                            });
                         }
                     }
                     row += 2;
                 }
                 Row::InLine { a, la, dir, b, lb } => {
                     let d = self.poses[a].world_dir(dir);
-                    let pa = self.poses[a].world(la);
-                    let pb = self.poses[b].world(lb);
-                    let v = [pb[0] - pa[0], pb[1] - pa[1]];
-                    r[row] = cross(d, v);
+                    let (residual, v) = in_line(d, self.poses[a].world(la), self.poses[b].world(lb));
+                    r[row] = residual;
                     if let Some(j) = jacobian.as_deref_mut() {
-                        if let Some(p) = self.partials(b, lb) {
-                            for c in 0..p.count {
-                                j[(row, p.first + c)] += cross(d, p.point[c]);
-                            }
-                        }
-                        if let Some(p) = self.partials(a, la) {
-                            for c in 0..p.count {
-                                j[(row, p.first + c)] -= cross(d, p.point[c]);
-                            }
-                        }
-                        // The line itself turns with `a`.
-                        if let Some((col, k)) = self.angle_unknown(a) {
-                            j[(row, col)] += k * cross([-d[1], d[0]], v);
+                        self.partials(b, lb, &mut |col, p| j[(row, col)] += cross(d, p));
+                        self.partials(a, la, &mut |col, p| j[(row, col)] -= cross(d, p));
+                        if let Some(col) = self.angle_unknown(a) {
+                            j[(row, col)] += line_turn(d, v, self.size);
                         }
                     }
                     row += 1;
@@ -368,14 +430,14 @@ impl Equations for System<'_> {
                         Some(i) => Rot::from_degrees(self.inputs[i]),
                         None => Rot::IDENTITY,
                     };
-                    let delta = self.poses[a].rot.then(rel).inverse().then(self.poses[b].rot);
-                    r[row] = self.size * delta.s;
+                    let (residual, slope) = parallel(self.poses[a].rot, rel, self.poses[b].rot, self.size);
+                    r[row] = residual;
                     if let Some(j) = jacobian.as_deref_mut() {
-                        if let Some((col, k)) = self.angle_unknown(b) {
-                            j[(row, col)] += self.size * delta.c * k;
+                        if let Some(col) = self.angle_unknown(b) {
+                            j[(row, col)] += slope;
                         }
-                        if let Some((col, k)) = self.angle_unknown(a) {
-                            j[(row, col)] -= self.size * delta.c * k;
+                        if let Some(col) = self.angle_unknown(a) {
+                            j[(row, col)] -= slope;
                         }
                     }
                     row += 1;
@@ -403,14 +465,26 @@ pub fn solve(
     newton: &mut Newton,
 ) -> Result<(), Break> {
     let (mut system, mut x) = System::new(poses, params, rows, inputs, size);
-    let options = NewtonOptions {
+    let report = newton.solve(&mut system, &mut x, &options(size));
+    system.apply(&x);
+    finish(ctx, step, report)
+}
+
+/// The Newton options of a cluster of a mechanism of this size: a tolerance
+/// relative to the size, and steps of at most a quarter of it (so a frame
+/// does not jump to another assembly branch).
+pub const fn options(size: f64) -> NewtonOptions {
+    NewtonOptions {
         max_iterations: 50,
         tolerance: 1e-12 * size,
         rank_cutoff: 1e-10,
         max_step: 0.25 * size,
-    };
-    let report = newton.solve(&mut system, &mut x, &options);
-    system.apply(&x);
+    }
+}
+
+/// Reports a cluster's solve through `ctx`: its Newton report, and a break
+/// (or, under the stretch policy, a relaxation) when it did not converge.
+pub fn finish(ctx: &mut Ctx, step: StepId, report: NewtonReport) -> Result<(), Break> {
     ctx.numeric = Some(report);
     match report.outcome {
         NewtonOutcome::Converged => Ok(()),
@@ -510,5 +584,105 @@ mod tests {
         let mut ctx = Ctx::new(BranchPolicy::Keep, true);
         solve(&mut ctx, 4, &mut poses, &params, &rows, &[], 10.0, &mut newton).unwrap();
         assert_eq!(ctx.stretched.map(|s| s.0), Some(4));
+    }
+
+    /// The analytic Jacobian against central differences, for every kind
+    /// of param (a hinge on a hinge included) and every kind of row.
+    #[test]
+    fn the_jacobian_is_the_derivative_of_the_residuals() {
+        let params = [
+            Param::Angle {
+                body: 1,
+                pin: [0.3, -0.2],
+                at: [1.0, 2.0],
+            },
+            Param::Hinge {
+                body: 2,
+                pin: [0.5, 0.1],
+                parent: 1,
+                at: [2.0, 0.7],
+            },
+            Param::Hinge {
+                body: 3,
+                pin: [-0.4, 0.9],
+                parent: 2,
+                at: [1.1, -0.6],
+            },
+            Param::Free { body: 4 },
+            Param::Slide {
+                body: 5,
+                dir: [0.6, 0.8],
+            },
+            Param::Translate { body: 6 },
+        ];
+        let rows = [
+            Row::Coincident {
+                a: 3,
+                la: [0.2, 0.3],
+                slide: Some((0, [0.0, 1.0])),
+                b: 4,
+                lb: [-1.0, 0.5],
+            },
+            Row::Coincident {
+                a: 0,
+                la: [3.0, 1.0],
+                slide: None,
+                b: 5,
+                lb: [0.7, 0.2],
+            },
+            Row::InLine {
+                a: 2,
+                la: [0.1, 0.2],
+                dir: [0.8, -0.6],
+                b: 6,
+                lb: [0.4, 0.4],
+            },
+            Row::InLine {
+                a: 4,
+                la: [0.0, 1.0],
+                dir: [1.0, 0.0],
+                b: 3,
+                lb: [1.0, 1.0],
+            },
+            Row::Parallel {
+                a: 3,
+                b: 4,
+                input: Some(1),
+            },
+            Row::Parallel {
+                a: 6,
+                b: 2,
+                input: None,
+            },
+        ];
+        let inputs = [0.7, 25.0];
+        let mut poses = [Pose::IDENTITY; 7];
+        poses[5].rot = Rot { c: 0.8, s: 0.6 };
+        poses[6].rot = Rot { c: 0.6, s: -0.8 };
+        let size = 3.0;
+        let (mut system, _) = System::new(&mut poses, &params, &rows, &inputs, size);
+        let (n, m) = (system.unknowns(), system.equations());
+        assert_eq!((n, m), (9, 8));
+        let x = DVector::from_fn(n, |i, _| 0.3 + 0.17 * i as f64 - 0.05 * (i * i) as f64);
+        let mut r = DVector::zeros(m);
+        let mut j = DMatrix::zeros(m, n);
+        system.eval(&x, &mut r, Some(&mut j));
+        let h = 1e-6;
+        for col in 0..n {
+            let (mut plus, mut minus) = (x.clone(), x.clone());
+            plus[col] += h;
+            minus[col] -= h;
+            let (mut rp, mut rm) = (DVector::zeros(m), DVector::zeros(m));
+            system.eval(&plus, &mut rp, None);
+            system.eval(&minus, &mut rm, None);
+            for row in 0..m {
+                let numeric = (rp[row] - rm[row]) / (2.0 * h);
+                assert!(
+                    (numeric - j[(row, col)]).abs() < 1e-7,
+                    "∂r{row}/∂x{col}: analytic {} numeric {numeric}",
+                    j[(row, col)]
+                );
+            }
+        }
     }
 }

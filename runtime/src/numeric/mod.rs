@@ -33,7 +33,52 @@
 
 pub mod cluster;
 
-use nalgebra::{DMatrix, DVector, Dyn, SVD};
+/// The fixed-size `nalgebra` types generated code names.
+pub use nalgebra::{Const, SMatrix, SVector};
+
+use nalgebra::allocator::Allocator;
+use nalgebra::{
+    DMatrix, DVector, DefaultAllocator, Dim, DimDiff, DimMin, DimMinimum, DimSub, Dyn, OMatrix, OVector, SVD,
+    U1,
+};
+
+/// Every matrix shape Newton's linear algebra uses on an `R × C` Jacobian
+/// (`R` equations, `C` unknowns), as one bound: the residual and step
+/// vectors, `J` and `Jᵀ`, both Gram matrices of the normal equations and
+/// the SVD's factors. Implemented for `nalgebra`'s allocator whenever all
+/// of them exist — for `Dyn` (heap) and for fixed sizes up to 127 (stack,
+/// where a solve allocates nothing).
+pub trait NewtonAllocator<R: DimMin<C>, C: Dim>:
+    Allocator<R, C>
+    + Allocator<C, R>
+    + Allocator<R, R>
+    + Allocator<C, C>
+    + Allocator<R>
+    + Allocator<C>
+    + Allocator<DimDiff<DimMinimum<R, C>, U1>>
+    + Allocator<DimMinimum<R, C>, C>
+    + Allocator<R, DimMinimum<R, C>>
+    + Allocator<DimMinimum<R, C>>
+where
+    DimMinimum<R, C>: DimSub<U1>,
+{
+}
+
+impl<R: DimMin<C>, C: Dim, A> NewtonAllocator<R, C> for A
+where
+    DimMinimum<R, C>: DimSub<U1>,
+    A: Allocator<R, C>
+        + Allocator<C, R>
+        + Allocator<R, R>
+        + Allocator<C, C>
+        + Allocator<R>
+        + Allocator<C>
+        + Allocator<DimDiff<DimMinimum<R, C>, U1>>
+        + Allocator<DimMinimum<R, C>, C>
+        + Allocator<R, DimMinimum<R, C>>
+        + Allocator<DimMinimum<R, C>>,
+{
+}
 
 /// Options of a Newton solve.
 ///
@@ -125,7 +170,10 @@ pub struct NewtonReport {
 ///
 /// Implemented by whatever the plan leaves to be solved numerically. The
 /// system is `&mut` so it can keep its own scratch space.
-pub trait Equations {
+pub trait Equations<R: Dim = Dyn, C: Dim = Dyn>
+where
+    DefaultAllocator: Allocator<R> + Allocator<C> + Allocator<R, C>,
+{
     /// Number of unknowns (length of `x`).
     fn unknowns(&self) -> usize;
     /// Number of equations (length of `r`).
@@ -135,7 +183,47 @@ pub trait Equations {
     ///
     /// The residual is asked for alone (without the Jacobian) during the line
     /// search, so a system may skip the derivative work then.
-    fn eval(&mut self, x: &DVector<f64>, r: &mut DVector<f64>, jacobian: Option<&mut DMatrix<f64>>);
+    fn eval(
+        &mut self,
+        x: &OVector<f64, C>,
+        r: &mut OVector<f64, R>,
+        jacobian: Option<&mut OMatrix<f64, R, C>>,
+    );
+}
+
+/// A fixed-size system given by a closure `(x, r, J)` — what generated code
+/// writes for a numeric cluster: its residuals and analytic Jacobian as
+/// straight-line code over `M` equations and `N` unknowns.
+pub struct FixedSystem<const M: usize, const N: usize, F> {
+    f: F,
+}
+
+/// A fixed-size system from its evaluation closure (see [`FixedSystem`]).
+pub fn fixed_system<const M: usize, const N: usize, F>(f: F) -> FixedSystem<M, N, F>
+where
+    F: FnMut(&SVector<f64, N>, &mut SVector<f64, M>, Option<&mut SMatrix<f64, M, N>>),
+{
+    FixedSystem { f }
+}
+
+impl<const M: usize, const N: usize, F> Equations<Const<M>, Const<N>> for FixedSystem<M, N, F>
+where
+    F: FnMut(&SVector<f64, N>, &mut SVector<f64, M>, Option<&mut SMatrix<f64, M, N>>),
+{
+    fn unknowns(&self) -> usize {
+        N
+    }
+    fn equations(&self) -> usize {
+        M
+    }
+    fn eval(
+        &mut self,
+        x: &SVector<f64, N>,
+        r: &mut SVector<f64, M>,
+        jacobian: Option<&mut SMatrix<f64, M, N>>,
+    ) {
+        (self.f)(x, r, jacobian)
+    }
 }
 
 /// Newton–Raphson with an SVD pseudo-inverse step; owns its work buffers so
@@ -165,18 +253,26 @@ pub trait Equations {
 ///
 /// Only decreasing steps are accepted, so the current point is always the
 /// best one seen.
+///
+/// The sizes are `nalgebra` dimensions: `Newton` (= `Newton<Dyn, Dyn>`)
+/// for systems sized at run time, `Newton<Const<M>, Const<N>>` (see
+/// [`Newton::fixed`]) for the clusters generated code knows at build time,
+/// whose buffers and factorisations then all live on the stack.
 #[derive(Clone, Debug)]
-pub struct Newton {
+pub struct Newton<R: Dim = Dyn, C: Dim = Dyn>
+where
+    DefaultAllocator: Allocator<R> + Allocator<C> + Allocator<R, C>,
+{
     /// Residual at the current point.
-    r: DVector<f64>,
+    r: OVector<f64, R>,
     /// Jacobian at the current point.
-    jacobian: DMatrix<f64>,
+    jacobian: OMatrix<f64, R, C>,
     /// Newton step.
-    step: DVector<f64>,
+    step: OVector<f64, C>,
     /// Trial point of the line search.
-    trial: DVector<f64>,
+    trial: OVector<f64, C>,
     /// Residual at the trial point.
-    r_trial: DVector<f64>,
+    r_trial: OVector<f64, R>,
 }
 
 /// The line search stops once the damping has shrunk even the strongest
@@ -212,27 +308,44 @@ impl Newton {
     /// equations. Solving a system of another size still works; the buffers
     /// are then resized.
     pub fn new(unknowns: usize, equations: usize) -> Newton {
+        Newton::with_shape(Dyn(equations), Dyn(unknowns))
+    }
+}
+
+impl<const M: usize, const N: usize> Newton<Const<M>, Const<N>>
+where
+    Const<M>: DimMin<Const<N>>,
+    DimMinimum<Const<M>, Const<N>>: DimSub<U1>,
+    DefaultAllocator: NewtonAllocator<Const<M>, Const<N>>,
+{
+    /// A solver for `M` equations in `N` unknowns whose buffers live on the
+    /// stack: a solve allocates nothing.
+    pub fn fixed() -> Self {
+        Self::with_shape(Const, Const)
+    }
+}
+
+impl<R: DimMin<C>, C: Dim> Newton<R, C>
+where
+    DimMinimum<R, C>: DimSub<U1>,
+    DefaultAllocator: NewtonAllocator<R, C>,
+{
+    /// A solver with work buffers of this shape.
+    pub fn with_shape(equations: R, unknowns: C) -> Self {
         Newton {
-            r: DVector::zeros(equations),
-            jacobian: DMatrix::zeros(equations, unknowns),
-            step: DVector::zeros(unknowns),
-            trial: DVector::zeros(unknowns),
-            r_trial: DVector::zeros(equations),
+            r: OVector::zeros_generic(equations, U1),
+            jacobian: OMatrix::zeros_generic(equations, unknowns),
+            step: OVector::zeros_generic(unknowns, U1),
+            trial: OVector::zeros_generic(unknowns, U1),
+            r_trial: OVector::zeros_generic(equations, U1),
         }
     }
 
-    /// Makes the buffers fit a system of this size.
+    /// Makes the buffers fit a system of this size (only ever resizes
+    /// dynamic buffers: a fixed-size system has the size of its type).
     fn fit(&mut self, unknowns: usize, equations: usize) {
-        if self.r.len() != equations {
-            self.r = DVector::zeros(equations);
-            self.r_trial = DVector::zeros(equations);
-        }
-        if self.step.len() != unknowns {
-            self.step = DVector::zeros(unknowns);
-            self.trial = DVector::zeros(unknowns);
-        }
-        if self.jacobian.shape() != (equations, unknowns) {
-            self.jacobian = DMatrix::zeros(equations, unknowns);
+        if self.r.len() != equations || self.step.len() != unknowns {
+            *self = Self::with_shape(R::from_usize(equations), C::from_usize(unknowns));
         }
     }
 
@@ -253,10 +366,10 @@ impl Newton {
     ///
     /// If `x.len() != system.unknowns()` (a caller bug, not a numerical
     /// condition).
-    pub fn solve<E: Equations>(
+    pub fn solve<E: Equations<R, C>>(
         &mut self,
         system: &mut E,
-        x: &mut DVector<f64>,
+        x: &mut OVector<f64, C>,
         options: &NewtonOptions,
     ) -> NewtonReport {
         let unknowns = system.unknowns();
@@ -320,7 +433,7 @@ impl Newton {
             // and well conditioned (or to damp a rejected step): otherwise
             // the minimum-norm step is the same through a Cholesky solve of
             // the (much cheaper) normal equations.
-            let mut spectrum: Option<Spectrum> = None;
+            let mut spectrum: Option<Spectrum<R, C>> = None;
             match full_rank_step(&self.jacobian, &self.r, &mut self.step) {
                 Some(full) => rank = full,
                 None => {
@@ -444,34 +557,51 @@ pub fn rank(matrix: &DMatrix<f64>, rank_cutoff: f64) -> usize {
 /// Cholesky factor is missing or its diagonal spans more than 1e5 (a
 /// condition number of `J` beyond about 1e5, where squaring it in the normal
 /// equations would cost accuracy the SVD keeps).
-fn full_rank_step(j: &DMatrix<f64>, r: &DVector<f64>, step: &mut DVector<f64>) -> Option<usize> {
+fn full_rank_step<R: DimMin<C>, C: Dim>(
+    j: &OMatrix<f64, R, C>,
+    r: &OVector<f64, R>,
+    step: &mut OVector<f64, C>,
+) -> Option<usize>
+where
+    DimMinimum<R, C>: DimSub<U1>,
+    DefaultAllocator: NewtonAllocator<R, C>,
+{
     let (m, n) = j.shape();
     if m == 0 || n == 0 {
         return None;
     }
-    let wide = m <= n;
-    let gram = if wide {
-        j * j.transpose()
+    // Both Gram matrices are written out (only one is factorised) because
+    // their types differ: R × R for a wide J, C × C for a tall one.
+    if m <= n {
+        let chol = nalgebra::Cholesky::new(j * j.transpose())?;
+        if !well_conditioned(chol.l_dirty()) {
+            return None;
+        }
+        j.tr_mul_to(&chol.solve(r), step);
     } else {
-        j.transpose() * j
-    };
-    let chol = nalgebra::Cholesky::new(gram)?;
-    let l = chol.l_dirty();
+        let chol = nalgebra::Cholesky::new(j.transpose() * j)?;
+        if !well_conditioned(chol.l_dirty()) {
+            return None;
+        }
+        j.tr_mul_to(r, step);
+        chol.solve_mut(step);
+    }
+    if step.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    step.neg_mut();
+    Some(m.min(n))
+}
+
+/// Whether a Cholesky factor's diagonal spans at most 1e5 (see
+/// [`full_rank_step`]).
+fn well_conditioned<D: Dim>(l: &OMatrix<f64, D, D>) -> bool
+where
+    DefaultAllocator: Allocator<D, D>,
+{
     let diag = (0..l.nrows()).map(|i| l[(i, i)].abs());
     let (lo, hi) = diag.fold((f64::INFINITY, 0.0_f64), |(lo, hi), d| (lo.min(d), hi.max(d)));
-    if lo.is_nan() || lo <= 1e-5 * hi {
-        return None;
-    }
-    let solved = if wide {
-        j.transpose() * chol.solve(r)
-    } else {
-        chol.solve(&(j.transpose() * r))
-    };
-    if solved.iter().any(|v| !v.is_finite()) {
-        return None;
-    }
-    step.copy_from(&(-solved));
-    Some(m.min(n))
+    !(lo.is_nan() || lo <= 1e-5 * hi)
 }
 
 /// The Moore–Penrose pseudo-inverse `J⁺` with the same relative cut-off as
@@ -547,20 +677,28 @@ fn min_norm_step_into(
 
 /// The SVD of a Jacobian with the residual expressed in its left singular
 /// vectors: everything needed for the min-norm step and its damped variants.
-struct Spectrum {
-    svd: SVD<f64, Dyn, Dyn>,
+struct Spectrum<R: DimMin<C>, C: Dim>
+where
+    DimMinimum<R, C>: DimSub<U1>,
+    DefaultAllocator: NewtonAllocator<R, C>,
+{
+    svd: SVD<f64, R, C>,
     /// Absolute singular-value threshold, `rank_cutoff × σ_max`.
     eps: f64,
     /// Number of singular values above `eps`.
     rank: usize,
     /// `uᵢ·r` for every singular triple.
-    coefficients: DVector<f64>,
+    coefficients: OVector<f64, DimMinimum<R, C>>,
 }
 
-impl Spectrum {
+impl<R: DimMin<C>, C: Dim> Spectrum<R, C>
+where
+    DimMinimum<R, C>: DimSub<U1>,
+    DefaultAllocator: NewtonAllocator<R, C>,
+{
     /// `None` when `jacobian` is empty or has a non-finite entry, `residual`
     /// has a non-finite entry, or the SVD does not converge.
-    fn new(jacobian: &DMatrix<f64>, residual: &DVector<f64>, rank_cutoff: f64) -> Option<Spectrum> {
+    fn new(jacobian: &OMatrix<f64, R, C>, residual: &OVector<f64, R>, rank_cutoff: f64) -> Option<Self> {
         if !residual.iter().all(|v| v.is_finite()) {
             return None;
         }
@@ -577,7 +715,7 @@ impl Spectrum {
     }
 
     /// The min-norm step `−J⁺·r` into `step`.
-    fn min_norm(&self, residual: &DVector<f64>, step: &mut DVector<f64>) {
+    fn min_norm(&self, residual: &OVector<f64, R>, step: &mut OVector<f64, C>) {
         // `solve` zeroes the components whose singular value is `<= eps`:
         // its eps is an absolute threshold, hence cut-off × σ_max.
         match self.svd.solve(residual, self.eps) {
@@ -597,7 +735,7 @@ impl Spectrum {
     /// wildly) are cut back long before strong ones. This is
     /// Levenberg–Marquardt damping; the step stays in the row space of `J`,
     /// so it still does not move what the equations leave free.
-    fn damped(&self, lambda: f64, step: &mut DVector<f64>) {
+    fn damped(&self, lambda: f64, step: &mut OVector<f64, C>) {
         step.fill(0.0);
         let v_t = self.svd.v_t.as_ref().expect("computed with vectors");
         for (i, &sigma) in self.svd.singular_values.iter().enumerate() {
@@ -624,7 +762,10 @@ impl Spectrum {
 /// halves `limit` for the next trial, so a clamped step that fails is
 /// followed by a shorter one (plain halving). A non-positive or NaN `limit`
 /// means no limit. Returns false if the step is not finite.
-fn clamp(step: &mut DVector<f64>, limit: &mut f64) -> bool {
+fn clamp<C: Dim>(step: &mut OVector<f64, C>, limit: &mut f64) -> bool
+where
+    DefaultAllocator: Allocator<C>,
+{
     if !step.iter().all(|v| v.is_finite()) {
         return false;
     }
@@ -642,7 +783,11 @@ fn clamp(step: &mut DVector<f64>, limit: &mut f64) -> bool {
 /// nalgebra's SVD panics on an empty matrix, and its default constructor
 /// iterates without bound, which a NaN would turn into a hang; hence the
 /// checks and the bounded [`SVD::try_new`].
-fn decompose(matrix: &DMatrix<f64>, vectors: bool) -> Option<SVD<f64, Dyn, Dyn>> {
+fn decompose<R: DimMin<C>, C: Dim>(matrix: &OMatrix<f64, R, C>, vectors: bool) -> Option<SVD<f64, R, C>>
+where
+    DimMinimum<R, C>: DimSub<U1>,
+    DefaultAllocator: NewtonAllocator<R, C>,
+{
     if matrix.is_empty() || !matrix.iter().all(|v| v.is_finite()) {
         return None;
     }
@@ -653,7 +798,10 @@ fn decompose(matrix: &DMatrix<f64>, vectors: bool) -> Option<SVD<f64, Dyn, Dyn>>
 }
 
 /// The absolute singular-value threshold `rank_cutoff × σ_max`.
-fn threshold(singular_values: &DVector<f64>, rank_cutoff: f64) -> f64 {
+fn threshold<D: Dim>(singular_values: &OVector<f64, D>, rank_cutoff: f64) -> f64
+where
+    DefaultAllocator: Allocator<D>,
+{
     let sigma_max = singular_values.iter().copied().fold(0.0, f64::max);
     let cutoff = if rank_cutoff > 0.0 { rank_cutoff } else { 0.0 };
     let eps = cutoff * sigma_max;

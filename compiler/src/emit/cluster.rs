@@ -1,0 +1,387 @@
+//! A numeric cluster step as straight-line code: the compiler
+//! differentiates the cluster's primitive equations symbolically — it knows
+//! at build time which unknown every world point, direction and angle
+//! depends on — and writes the residuals and the non-zero Jacobian entries
+//! out one by one, over fixed-size `nalgebra` matrices, so a frame's Newton
+//! solve allocates nothing.
+//!
+//! The arithmetic of each entry is a call of the same runtime primitive
+//! (`cluster::pinned_pose`, `cluster::turn`, `cluster::in_line`, …) that the
+//! interpreter's `cluster::System` calls in a loop over the plan's data.
+
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote};
+
+use super::{index, lit, point_lit, Emitter};
+use crate::plan::{ClusterParam, ClusterRow, DirRef};
+
+/// Clusters larger than this (unknowns or equations) are solved by the
+/// runtime's dynamically sized `cluster::solve` instead: fixed-size
+/// matrices live on the stack, and `nalgebra`'s fixed sizes end at 127.
+pub const FIXED_LIMIT: usize = 64;
+
+/// One term of a world point's derivative with respect to one unknown.
+enum Term {
+    /// `[1, 0]` (a translation unknown's x).
+    UnitX,
+    /// `[0, 1]` (a translation unknown's y).
+    UnitY,
+    /// A slide's world direction (a local of the step).
+    Dir(TokenStream),
+    /// `cluster::turn(pose, v, SIZE)`: an angle unknown turning the point
+    /// `v` (local, from the pivot) of the body whose pose this is.
+    Turn(TokenStream, [f64; 2]),
+}
+
+impl Term {
+    fn tokens(&self) -> TokenStream {
+        match self {
+            Term::UnitX => quote!([1.0, 0.0]),
+            Term::UnitY => quote!([0.0, 1.0]),
+            Term::Dir(d) => d.clone(),
+            Term::Turn(pose, v) => {
+                let v = point_lit(*v);
+                quote!(cluster::turn(#pose, #v, SIZE))
+            }
+        }
+    }
+}
+
+/// The cluster's params with their first unknowns.
+struct Layout<'a> {
+    params: &'a [ClusterParam],
+    offsets: Vec<usize>,
+}
+
+impl Layout<'_> {
+    fn of(&self, body: usize) -> Option<(usize, &ClusterParam)> {
+        let k = self.params.iter().position(|p| p.body() == body)?;
+        Some((self.offsets[k], &self.params[k]))
+    }
+
+    /// The unknown turning `body`, if any.
+    fn angle(&self, body: usize) -> Option<usize> {
+        match self.of(body)? {
+            (o, ClusterParam::Free { .. }) => Some(o + 2),
+            (o, ClusterParam::Angle { .. } | ClusterParam::Hinge { .. }) => Some(o),
+            _ => None,
+        }
+    }
+}
+
+fn diff(a: [f64; 2], b: [f64; 2]) -> [f64; 2] {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+impl Emitter<'_> {
+    /// Whether the cluster is written as fixed-size straight-line code.
+    pub(super) fn fixed_cluster(n: usize, m: usize) -> bool {
+        n.max(m) <= FIXED_LIMIT
+    }
+
+    /// The unknowns the world point of local `q` on `body` depends on, with
+    /// the derivative's term (a hinge's point also moves with its parent's
+    /// unknowns, recursively).
+    fn terms(&self, layout: &Layout, body: usize, q: [f64; 2], out: &mut Vec<(usize, Term)>) {
+        let Some((o, p)) = layout.of(body) else { return };
+        let pose = self.cluster_pose(body);
+        match p {
+            ClusterParam::Free { .. } => {
+                out.push((o, Term::UnitX));
+                out.push((o + 1, Term::UnitY));
+                out.push((o + 2, Term::Turn(pose, q)));
+            }
+            ClusterParam::Angle { pin, .. } => out.push((o, Term::Turn(pose, diff(q, *pin)))),
+            ClusterParam::Hinge { pin, parent, at, .. } => {
+                out.push((o, Term::Turn(pose, diff(q, *pin))));
+                self.terms(layout, *parent, *at, out);
+            }
+            ClusterParam::Slide { .. } => {
+                let d = format_ident!("slide_dir_{}", body);
+                out.push((o, Term::Dir(quote!(#d))));
+            }
+            ClusterParam::Translate { .. } => {
+                out.push((o, Term::UnitX));
+                out.push((o + 1, Term::UnitY));
+            }
+        }
+    }
+
+    /// A cluster body's pose inside the residual closure (the frame's local
+    /// of the same name, shadowed there by the pose at the trial unknowns).
+    fn cluster_pose(&self, body: usize) -> TokenStream {
+        self.pose(body)
+    }
+
+    /// The straight-line code of cluster step `id`.
+    pub(super) fn fixed_cluster_step(
+        &self,
+        id: &TokenStream,
+        params: &[ClusterParam],
+        rows: &[ClusterRow],
+        (n, m): (usize, usize),
+        pre: &mut Vec<TokenStream>,
+    ) -> TokenStream {
+        let mut offsets = Vec::with_capacity(params.len());
+        let mut o = 0;
+        for p in params {
+            offsets.push(o);
+            o += p.count();
+        }
+        let layout = Layout { params, offsets };
+
+        // Before the solve: where each pinned body is pinned, each slide's
+        // direction and base, and the warm start read from the standing pose.
+        let mut warm = Vec::new();
+        // (pose, expression) in param order: a hinge's parent comes first.
+        let mut place: Vec<(TokenStream, TokenStream)> = Vec::new();
+        for (k, p) in params.iter().enumerate() {
+            let b = p.body();
+            let pose = self.pose(b);
+            let o = layout.offsets[k];
+            let x = |i: usize| {
+                let i = index(o + i);
+                quote!(x[#i])
+            };
+            let (x0, x1, x2) = (x(0), x(1), x(2));
+            let base = format_ident!("base_{}", b);
+            match p {
+                ClusterParam::Free { .. } => {
+                    warm.push(quote!(#pose.at[0], #pose.at[1], cluster::scaled_angle(#pose, SIZE)));
+                    place.push((pose, quote!(cluster::free_pose(#x0, #x1, #x2, SIZE))));
+                }
+                ClusterParam::Angle { pin, at, .. } => {
+                    let at = self.point(at, pre);
+                    let pin = point_lit(*pin);
+                    warm.push(quote!(cluster::scaled_angle(#pose, SIZE)));
+                    place.push((pose, quote!(cluster::pinned_pose(#x0, SIZE, #pin, #at))));
+                }
+                ClusterParam::Hinge { pin, parent, at, .. } => {
+                    let parent = self.pose(*parent);
+                    let (pin, at) = (point_lit(*pin), point_lit(*at));
+                    warm.push(quote!(cluster::scaled_angle(#pose, SIZE)));
+                    place.push((
+                        pose,
+                        quote!(cluster::pinned_pose(#x0, SIZE, #pin, #parent.world(#at))),
+                    ));
+                }
+                ClusterParam::Slide { dir, .. } => {
+                    // Bound to `slide_dir_<body>` whatever its source: the
+                    // Jacobian's terms name it.
+                    let name = format!("slide_dir_{b}");
+                    let id = format_ident!("{}", name);
+                    match dir {
+                        DirRef::Fixed(v) => {
+                            let v = point_lit(*v);
+                            pre.push(quote!(let #id = #v;));
+                        }
+                        DirRef::Body { .. } => {
+                            self.dir(dir, &name, pre);
+                        }
+                    }
+                    pre.push(quote!(let #base = #pose;));
+                    warm.push(quote!(0.0));
+                    place.push((pose, quote!(cluster::slide_pose(#base, #id, #x0))));
+                }
+                ClusterParam::Translate { .. } => {
+                    pre.push(quote!(let #base = #pose;));
+                    warm.push(quote!(#pose.at[0], #pose.at[1]));
+                    place.push((pose, quote!(cluster::translate_pose(#base, #x0, #x1))));
+                }
+            }
+        }
+
+        // Residuals, then the Jacobian's non-zero entries.
+        let mut residuals = Vec::new();
+        let mut jacobian = Vec::new();
+        let mut row = 0;
+        for (k, r) in rows.iter().enumerate() {
+            let (i, i1) = (index(row), index(row + 1));
+            match *r {
+                ClusterRow::Coincident { a, la, slide, b, lb } => {
+                    let (pa, pb) = (self.pose(a), self.pose(b));
+                    let la_tokens = match slide {
+                        Some((input, d)) => {
+                            let name = format_ident!("slid_{}", k);
+                            let u = &self.input_idents[input];
+                            let (lx, ly, dx, dy) = (lit(la[0]), lit(la[1]), lit(d[0]), lit(d[1]));
+                            pre.push(quote!(let #name = [#lx + #u * #dx, #ly + #u * #dy];));
+                            quote!(#name)
+                        }
+                        None => point_lit(la),
+                    };
+                    let lb_tokens = point_lit(lb);
+                    residuals.push(quote! {
+                        let p = #pa.world(#la_tokens);
+                        let q = #pb.world(#lb_tokens);
+                        r[#i] = p[0] - q[0];
+                        r[#i1] = p[1] - q[1];
+                    });
+                    // A slid marker's derivative is taken at its slid
+                    // position: the slide is an input, not an unknown.
+                    let mut terms = Vec::new();
+                    if slide.is_none() {
+                        self.terms(&layout, a, la, &mut terms);
+                        jacobian.extend(
+                            terms
+                                .drain(..)
+                                .map(|(col, t)| coincident_entry(row, col, &t, true)),
+                        );
+                    } else if let Some(entries) = self.slid_terms(&layout, a, la_tokens.clone(), row) {
+                        jacobian.push(entries);
+                    }
+                    self.terms(&layout, b, lb, &mut terms);
+                    jacobian.extend(
+                        terms
+                            .drain(..)
+                            .map(|(col, t)| coincident_entry(row, col, &t, false)),
+                    );
+                    row += 2;
+                }
+                ClusterRow::InLine { a, la, dir, b, lb } => {
+                    let (pa, pb) = (self.pose(a), self.pose(b));
+                    let (la_t, lb_t, dir_t) = (point_lit(la), point_lit(lb), point_lit(dir));
+                    let (d, v) = (format_ident!("d_{}", row), format_ident!("v_{}", row));
+                    let turns = layout.angle(a);
+                    let v_bind = if turns.is_some() { quote!(#v) } else { quote!(_) };
+                    residuals.push(quote! {
+                        let #d = #pa.world_dir(#dir_t);
+                        let (residual, #v_bind) = cluster::in_line(#d, #pa.world(#la_t), #pb.world(#lb_t));
+                        r[#i] = residual;
+                    });
+                    let mut terms = Vec::new();
+                    self.terms(&layout, b, lb, &mut terms);
+                    for (col, t) in terms.drain(..) {
+                        let (c, t) = (index(col), t.tokens());
+                        jacobian.push(quote!(j[(#i, #c)] += cluster::cross(#d, #t);));
+                    }
+                    self.terms(&layout, a, la, &mut terms);
+                    for (col, t) in terms.drain(..) {
+                        let (c, t) = (index(col), t.tokens());
+                        jacobian.push(quote!(j[(#i, #c)] -= cluster::cross(#d, #t);));
+                    }
+                    if let Some(col) = turns {
+                        let c = index(col);
+                        jacobian.push(quote!(j[(#i, #c)] += cluster::line_turn(#d, #v, SIZE);));
+                    }
+                    row += 1;
+                }
+                ClusterRow::Parallel { a, b, input } => {
+                    let (pa, pb) = (self.pose(a), self.pose(b));
+                    let rel = match input {
+                        Some(u) => {
+                            let u = &self.input_idents[u];
+                            quote!(#u)
+                        }
+                        None => quote!(Rot::IDENTITY),
+                    };
+                    let slope = format_ident!("slope_{}", row);
+                    let (ta, tb) = (layout.angle(a), layout.angle(b));
+                    let bind = if ta.is_some() || tb.is_some() {
+                        quote!(#slope)
+                    } else {
+                        quote!(_)
+                    };
+                    residuals.push(quote! {
+                        let (residual, #bind) = cluster::parallel(#pa.rot, #rel, #pb.rot, SIZE);
+                        r[#i] = residual;
+                    });
+                    if let Some(col) = tb {
+                        let c = index(col);
+                        jacobian.push(quote!(j[(#i, #c)] += #slope;));
+                    }
+                    if let Some(col) = ta {
+                        let c = index(col);
+                        jacobian.push(quote!(j[(#i, #c)] -= #slope;));
+                    }
+                    row += 1;
+                }
+            }
+        }
+        debug_assert_eq!(row, m);
+
+        let trial = place.iter().map(|(pose, e)| quote!(let #pose = #e;));
+        let writes = place.iter().map(|(pose, e)| quote!(#pose = #e;));
+        let size = lit(self.plan.size);
+        let (n_lit, m_lit) = (index(n), index(m));
+        quote! {
+            #(#pre)*
+            const SIZE: f64 = #size;
+            let mut x = numeric::SVector::<f64, #n_lit>::from([#(#warm),*]);
+            let mut system = numeric::fixed_system::<#m_lit, #n_lit, _>(|x, r, j| {
+                #(#trial)*
+                #(#residuals)*
+                let Some(j) = j else { return };
+                j.fill(0.0);
+                #(#jacobian)*
+            });
+            let report = numeric::Newton::<numeric::Const<#m_lit>, numeric::Const<#n_lit>>::fixed()
+                .solve(&mut system, &mut x, &cluster::options(SIZE));
+            // The poses at the solution (or, on a break, the least-squares
+            // point the stretch policy shows), by the same placements.
+            #(#writes)*
+            cluster::finish(ctx, #id, report)?;
+        }
+    }
+
+    /// A slid marker on body `a` moves with `a`'s unknowns like any point
+    /// of `a` at its slid local position (a local of the step).
+    fn slid_terms(&self, layout: &Layout, a: usize, slid: TokenStream, row: usize) -> Option<TokenStream> {
+        let (o, p) = layout.of(a)?;
+        let pose = self.pose(a);
+        let (i, i1) = (index(row), index(row + 1));
+        let entry = |col: usize, t: TokenStream| {
+            let c = index(col);
+            quote!(let t = #t; j[(#i, #c)] += t[0]; j[(#i1, #c)] += t[1];)
+        };
+        let turn_from = |pin: [f64; 2]| {
+            let pin = point_lit(pin);
+            quote!(cluster::turn(#pose, [#slid[0] - #pin[0], #slid[1] - #pin[1]], SIZE))
+        };
+        Some(match p {
+            ClusterParam::Free { .. } => {
+                let mut e = vec![entry(o, quote!([1.0, 0.0])), entry(o + 1, quote!([0.0, 1.0]))];
+                e.push(entry(o + 2, turn_from([0.0, 0.0])));
+                quote!(#(#e)*)
+            }
+            ClusterParam::Angle { pin, .. } => entry(o, turn_from(*pin)),
+            ClusterParam::Hinge { pin, parent, at, .. } => {
+                let mut terms = Vec::new();
+                self.terms(layout, *parent, *at, &mut terms);
+                let mut e = vec![entry(o, turn_from(*pin))];
+                e.extend(terms.iter().map(|(col, t)| entry(*col, t.tokens())));
+                quote!(#(#e)*)
+            }
+            ClusterParam::Slide { .. } => {
+                let d = format_ident!("slide_dir_{}", a);
+                entry(o, quote!(#d))
+            }
+            ClusterParam::Translate { .. } => {
+                let e = [entry(o, quote!([1.0, 0.0])), entry(o + 1, quote!([0.0, 1.0]))];
+                quote!(#(#e)*)
+            }
+        })
+    }
+}
+
+/// The entries of a coincident row pair for one term, `+` for the first
+/// marker and `−` for the second.
+fn coincident_entry(row: usize, col: usize, term: &Term, plus: bool) -> TokenStream {
+    let (i, i1, c) = (index(row), index(row + 1), index(col));
+    let add = |k: &proc_macro2::Literal, v: TokenStream| {
+        if plus {
+            quote!(j[(#k, #c)] += #v;)
+        } else {
+            quote!(j[(#k, #c)] -= #v;)
+        }
+    };
+    match term {
+        Term::UnitX => add(&i, quote!(1.0)),
+        Term::UnitY => add(&i1, quote!(1.0)),
+        _ => {
+            let t = term.tokens();
+            let (e0, e1) = (add(&i, quote!(t[0])), add(&i1, quote!(t[1])));
+            quote!({ let t = #t; #e0 #e1 })
+        }
+    }
+}
