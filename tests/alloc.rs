@@ -120,6 +120,15 @@ fn compiled_cluster_frames_allocate_nothing() {
     }
     check!(sixbar_b, eightbar, tenbar, duplex, chain_4, chain_15);
 
+    // The compiled drag of the open chain, along a straight pull.
+    let pull: Vec<Vec<f64>> = (0..=100)
+        .map(|i| vec![-0.05 * f64::from(i), 0.06 * f64::from(i)])
+        .collect();
+    for options in all_options() {
+        let drag = dofplan_generated::open_chain_15_drag_link_15_e::Plan;
+        assert_eq!(frame_allocations(drag, options, &pull), 0, "drag {options:?}");
+    }
+
     // A full turn takes sixbar_b past its dead points: the frames there end
     // at a least-squares point (SVD steps, damped line search) and break or
     // stretch, and still allocate nothing.

@@ -173,3 +173,51 @@ fn a_marker_of_the_ground_cannot_be_dragged() {
     let err = Drag::new(&m, m.find_marker("ground.A").unwrap()).unwrap_err();
     assert_eq!(err, DragError::FixedBody("ground.A".into()));
 }
+
+/// The open chain's drag is planned like an input: link_1 pinned at the
+/// ground and link_15 at the target each keep their angle, links 2–14 are
+/// hinged end to end, and the one coincident row left closes the chain.
+#[test]
+fn an_open_chain_drag_is_planned_as_one_small_cluster() {
+    let m = open_chain();
+    let end = m.find_marker("link_15.E").unwrap();
+    assert_eq!(Drag::new(&m, end).unwrap().planned(), Some((15, 2)));
+    // A four-bar has one DOF: a drag over-determines it, so it is never
+    // planned (task priority follows the coupler curve instead).
+    let four = load("fourbar");
+    let p = four.find_marker("coupler.P").unwrap();
+    assert_eq!(Drag::new(&four, p).unwrap().planned(), None);
+}
+
+/// The compiled drag (`Config::drag` in dofplan-generated's build.rs) and
+/// the library's planned drag agree frame by frame, and every frame meets
+/// its target with the joints exact.
+#[test]
+fn the_compiled_drag_agrees_with_the_library() {
+    use dofplan_generated::open_chain_15_drag_link_15_e as compiled;
+    let m = open_chain();
+    let end = m.find_marker("link_15.E").unwrap();
+    let start = m.marker(end).at;
+    let path = targets(start, [6.0, 8.0], 200);
+    let library = run(Drag::new(&m, end).unwrap(), options(BreakPolicy::Limit), &path);
+    let slides: Vec<Vec<f64>> = path
+        .iter()
+        .map(|t| vec![t[0] - start[0], t[1] - start[1]])
+        .collect();
+    let mut driver = dofplan_runtime::Driver::new(compiled::Plan, options(BreakPolicy::Limit));
+    let n = m.bodies.len();
+    assert_eq!(
+        &compiled::BODIES[..n],
+        m.bodies.iter().map(|b| b.name.as_str()).collect::<Vec<_>>()
+    );
+    for (i, (f, s)) in library.iter().zip(&slides).enumerate() {
+        assert!(driver.frame(s).is_solved(), "frame {i}");
+        let poses = &driver.poses()[..n];
+        assert!(max_relative_residual(&m, poses, &[]) <= 1e-9, "frame {i}");
+        assert!(dist(marker_at(&m, poses, end), [f.requested[0], f.requested[1]]) <= 1e-9);
+        for (a, b) in poses.iter().zip(&f.poses) {
+            let d = (a.at[0] - b.at[0]).abs().max((a.at[1] - b.at[1]).abs());
+            assert!(d <= 1e-9, "frame {i}: compiled and library differ by {d:e}");
+        }
+    }
+}

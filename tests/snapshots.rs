@@ -41,3 +41,20 @@ fn compiled_crate_holds_exactly_the_snapshotted_source() {
         assert_eq!(compiled, emit(&p), "{name}: dofplan-generated is stale");
     }
 }
+
+/// The drag demo compiled by `Config::drag`: the open chain with its end
+/// pinned to the XY carriage.
+#[test]
+fn the_compiled_drag_is_snapshotted_too() {
+    let m = dofplan::model::load_file(&dofplan_tests::mechanisms_dir().join("drag/open_chain_15.toml"))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let end = m.find_marker("link_15.E").expect("bundled");
+    let c = dofplan::numeric::drag::carriage(&m, end).expect("has a ground");
+    let p = plan(&c);
+    settings().bind(|| {
+        insta::assert_snapshot!("plan_open_chain_15_drag", p.explain_all());
+        insta::assert_snapshot!("emit_open_chain_15_drag", emit(&p));
+    });
+    let compiled = dofplan_generated::source("open_chain_15_drag_link_15_e").expect("compiled");
+    assert_eq!(compiled, emit(&p), "dofplan-generated is stale");
+}

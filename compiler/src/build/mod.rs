@@ -16,6 +16,7 @@ use std::path::{Path, PathBuf};
 use crate::analysis::{analyse, PlanError};
 use crate::emit::{emit, ident_for};
 use crate::model::{load_file, ModelError};
+use crate::numeric::drag::carriage;
 
 /// Why a build failed.
 #[derive(Debug)]
@@ -45,6 +46,16 @@ pub enum BuildError {
     },
     /// `OUT_DIR` is not set and no output directory was given.
     NoOutDir,
+    /// A drag names a marker the file does not have, or one on a fixed
+    /// body.
+    Drag {
+        /// The file.
+        file: PathBuf,
+        /// The marker as given.
+        marker: String,
+        /// Why.
+        why: String,
+    },
 }
 
 impl fmt::Display for BuildError {
@@ -59,6 +70,13 @@ impl fmt::Display for BuildError {
                 files[0].display(),
                 files[1].display()
             ),
+            BuildError::Drag { file, marker, why } => {
+                write!(
+                    f,
+                    "{}: cannot compile a drag of `{marker}`: {why}",
+                    file.display()
+                )
+            }
             BuildError::NoOutDir => {
                 write!(f, "OUT_DIR is not set: call Config::out_dir or run from build.rs")
             }
@@ -72,6 +90,7 @@ impl std::error::Error for BuildError {}
 #[derive(Clone, Debug, Default)]
 pub struct Config {
     out_dir: Option<PathBuf>,
+    drags: Vec<(PathBuf, String)>,
 }
 
 impl Config {
@@ -86,7 +105,21 @@ impl Config {
         self
     }
 
-    /// Compiles every `.toml` and `.json` file of `dir` (sorted by name).
+    /// Also compiles a drag of `marker` ("body.marker") of the mechanism in
+    /// `file`, planned like an input (see
+    /// [`carriage`](crate::numeric::drag::carriage)): a module
+    /// `<name>_drag_<body>_<marker>` whose two slide inputs are the
+    /// target's offsets from the marker's drawn position. Meant for
+    /// mechanisms with DOF to spare (an open chain); a target the plan
+    /// cannot reach exactly breaks (use the limit or search policy; the
+    /// library's `Drag` falls back to the closest approach instead).
+    pub fn drag(&mut self, file: impl Into<PathBuf>, marker: impl Into<String>) -> &mut Config {
+        self.drags.push((file.into(), marker.into()));
+        self
+    }
+
+    /// Compiles every `.toml` and `.json` file of `dir` (sorted by name),
+    /// and the drags asked for.
     pub fn compile_dir(&self, dir: impl AsRef<Path>) -> Result<Vec<String>, BuildError> {
         let dir = dir.as_ref();
         let io = |error| BuildError::Io {
@@ -115,11 +148,32 @@ impl Config {
                 .ok_or(BuildError::NoOutDir)?,
         };
         let mut modules: Vec<(String, PathBuf, PathBuf)> = Vec::new();
+        let mut mechanisms = Vec::new();
         for file in files {
             let file = file.as_ref();
             println!("cargo:rerun-if-changed={}", file.display());
+            mechanisms.push((file.to_path_buf(), load_file(file).map_err(BuildError::Model)?));
+        }
+        for (file, marker) in &self.drags {
+            println!("cargo:rerun-if-changed={}", file.display());
             let m = load_file(file).map_err(BuildError::Model)?;
-            let plan = analyse(&m).plan.map_err(|error| BuildError::Plan {
+            let why = |why: &str| BuildError::Drag {
+                file: file.clone(),
+                marker: marker.clone(),
+                why: why.to_string(),
+            };
+            let id = m
+                .find_marker(marker)
+                .ok_or_else(|| why("no such marker (write body.marker)"))?;
+            if m.bodies[id.body].fixed {
+                return Err(why("the marker is on a fixed body"));
+            }
+            let c = carriage(&m, id).ok_or_else(|| why("the mechanism has no fixed body"))?;
+            mechanisms.push((file.clone(), c));
+        }
+        for (file, m) in &mechanisms {
+            let file = file.as_path();
+            let plan = analyse(m).plan.map_err(|error| BuildError::Plan {
                 file: file.to_path_buf(),
                 error,
             })?;

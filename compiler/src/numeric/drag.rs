@@ -18,6 +18,17 @@
 //! close as the mechanism allows — reported as a break ("no solution within
 //! reach") for the breaking policy to handle: limit keeps the last pose,
 //! search finds the boundary, stretch accepts the closest approach.
+//!
+//! When the mechanism has freedom to spare for the drag (two or more DOF
+//! once its inputs are released), the drag is first **planned like an
+//! input**: the target is a ground point carried by an XY carriage (two
+//! slide inputs) and the dragged marker is pinned to it by a revolute. The
+//! planner contracts that mechanism like any other — an open chain becomes
+//! one cluster of link angles hinged end to end, closed by a single
+//! coincident row — and each frame runs the plan. Only a frame the plan
+//! cannot solve exactly (the target out of reach) falls back to the task
+//! priority above, which finds the closest approach with every joint
+//! exact.
 
 use dofplan_runtime::numeric::{pseudo_inverse, rank, Equations, NewtonOutcome, NewtonReport};
 use dofplan_runtime::planar::{Point, Pose};
@@ -27,7 +38,9 @@ use nalgebra::{DMatrix, DVector};
 use dofplan_runtime::numeric::cluster;
 
 use super::PureNewton;
-use crate::model::{MarkerId, Mechanism};
+use crate::analysis::analyse;
+use crate::interp::{InterpState, Interpreter};
+use crate::model::{Body, InputKind, Joint, JointKind, Marker, MarkerId, Mechanism};
 
 const RANK_CUTOFF: f64 = 1e-10;
 const MAX_ITERATIONS: u32 = 50;
@@ -35,6 +48,8 @@ const MAX_ITERATIONS: u32 = 50;
 /// A marker of a mechanism dragged to targets.
 #[derive(Clone, Debug)]
 pub struct Drag {
+    /// The drag planned like an input, when the mechanism has the freedom.
+    planned: Option<Planned>,
     newton: PureNewton,
     body: usize,
     local: Point,
@@ -64,12 +79,113 @@ impl std::fmt::Display for DragError {
 
 impl std::error::Error for DragError {}
 
+/// A drag planned like an input: the plan of the mechanism with its
+/// inputs released and the dragged marker pinned to an XY carriage.
+#[derive(Clone, Debug)]
+struct Planned {
+    interpreter: Interpreter,
+    /// The dragged marker as drawn: the carriage's slides are measured
+    /// from there.
+    origin: Point,
+}
+
+/// Names of the carriage's bodies, joints and inputs: never a user's (a
+/// user's name is an identifier, these are not).
+const CARRIAGE_X: &str = "drag carriage x";
+const CARRIAGE_Y: &str = "drag carriage y";
+const DRAG_PIN: &str = "drag pin";
+
+impl Planned {
+    /// `None` when the mechanism cannot spare two DOF for the drag (a
+    /// well-constrained linkage follows only the component of the drag its
+    /// freedom allows: task priority does that), has no ground, or the
+    /// carriage mechanism has no plan.
+    fn new(m: &Mechanism, marker: MarkerId) -> Option<Planned> {
+        let c = carriage(m, marker)?;
+        let origin = m.marker(marker).at;
+        let analysis = analyse(&c);
+        if analysis.mobility.free() < 0 {
+            return None;
+        }
+        let plan = analysis.plan.ok()?;
+        Some(Planned {
+            interpreter: Interpreter::new(plan),
+            origin,
+        })
+    }
+}
+
+/// The mechanism of a drag planned like an input: `m` with its inputs
+/// released, the dragged marker pinned by a revolute ("drag pin") to an XY
+/// carriage on the ground whose two slide inputs ("drag x", "drag y") are
+/// the target's offsets from the marker's drawn position. Named `<name>_drag_<body>.<marker>`; `None` without a ground.
+///
+/// `dofplan::build::Config::drag` compiles it like any mechanism.
+pub fn carriage(m: &Mechanism, marker: MarkerId) -> Option<Mechanism> {
+    let ground = m.bodies.iter().position(|b| b.fixed)?;
+    let origin = m.marker(marker).at;
+    let mut c = m.clone();
+    c.name = format!("{}_drag_{}", m.name, m.marker_name(marker));
+    c.inputs.clear();
+    c.sweep = None;
+    let slide_marker = |name: &str, dir: Point| Marker {
+        name: name.to_string(),
+        at: origin,
+        dir: Some(dir),
+    };
+    c.bodies[ground]
+        .markers
+        .push(slide_marker("drag rail", [1.0, 0.0]));
+    let ground_marker = MarkerId {
+        body: ground,
+        marker: c.bodies[ground].markers.len() - 1,
+    };
+    let (x, y) = (c.bodies.len(), c.bodies.len() + 1);
+    c.bodies.push(Body {
+        name: CARRIAGE_X.to_string(),
+        fixed: false,
+        markers: vec![slide_marker("x", [1.0, 0.0]), slide_marker("y", [0.0, 1.0])],
+    });
+    c.bodies.push(Body {
+        name: CARRIAGE_Y.to_string(),
+        fixed: false,
+        markers: vec![slide_marker("y", [0.0, 1.0])],
+    });
+    let id = |body, marker| MarkerId { body, marker };
+    c.joints.push(Joint {
+        name: CARRIAGE_X.to_string(),
+        kind: JointKind::Prismatic,
+        markers: [ground_marker, id(x, 0)],
+    });
+    c.joints.push(Joint {
+        name: CARRIAGE_Y.to_string(),
+        kind: JointKind::Prismatic,
+        markers: [id(x, 1), id(y, 0)],
+    });
+    c.joints.push(Joint {
+        name: DRAG_PIN.to_string(),
+        kind: JointKind::Revolute,
+        markers: [id(y, 0), marker],
+    });
+    for (k, name) in ["drag x", "drag y"].into_iter().enumerate() {
+        c.inputs.push(crate::model::Input {
+            name: name.to_string(),
+            kind: InputKind::Slide,
+            joint: m.joints.len() + k,
+        });
+    }
+    Some(c)
+}
+
 /// What a drag carries from frame to frame.
 #[derive(Clone, Debug)]
 pub struct DragState {
     /// Body poses, in mechanism order.
     pub poses: Vec<Pose>,
     work: Vec<Pose>,
+    /// The planned drag's state (the mechanism's bodies first, then the
+    /// carriage).
+    planned: Option<InterpState>,
 }
 
 impl Drag {
@@ -88,6 +204,7 @@ impl Drag {
             .map(|(_, c)| c)
             .expect("every mobile body is an unknown once inputs are released");
         Ok(Drag {
+            planned: Planned::new(m, marker),
             size: m.size(),
             newton,
             body: marker.body,
@@ -96,7 +213,21 @@ impl Drag {
         })
     }
 
-    /// Unknowns (three per mobile body).
+    /// Drags `marker` by task priority alone, never planned (the pure
+    /// Newton baseline of the drag's timing).
+    pub fn unplanned(m: &Mechanism, marker: MarkerId) -> Result<Drag, DragError> {
+        let mut drag = Drag::new(m, marker)?;
+        drag.planned = None;
+        Ok(drag)
+    }
+
+    /// Whether the drag is planned like an input (see the module's doc):
+    /// the unknowns and equations of its numeric clusters, if so.
+    pub fn planned(&self) -> Option<(usize, usize)> {
+        self.planned.as_ref().map(|p| p.interpreter.plan().numeric_size())
+    }
+
+    /// Unknowns of the task-priority solve (three per mobile body).
     pub fn unknowns(&self) -> usize {
         self.newton.unknowns()
     }
@@ -116,6 +247,7 @@ impl Solver for Drag {
         DragState {
             work: poses.clone(),
             poses,
+            planned: self.planned.as_ref().map(|p| p.interpreter.initial_state()),
         }
     }
 
@@ -130,7 +262,32 @@ impl Solver for Drag {
     }
 
     fn solve(&self, state: &mut DragState, target: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
-        let DragState { poses, work } = state;
+        if let (Some(p), Some(st)) = (&self.planned, state.planned.as_mut()) {
+            // Exactly or not at all: a frame the plan cannot solve goes to
+            // the task priority below, whatever the policy.
+            let mut exact = Ctx::new(ctx.branch, false);
+            let slides = [target[0] - p.origin[0], target[1] - p.origin[1]];
+            if p.interpreter.solve(st, &slides, &mut exact).is_ok() {
+                let n = state.poses.len();
+                state.poses.copy_from_slice(&st.poses[..n]);
+                ctx.numeric = exact.numeric;
+                return Ok(());
+            }
+        }
+        self.task_priority(state, target, ctx)?;
+        if let Some(st) = state.planned.as_mut() {
+            // The next planned frame starts from the pose shown.
+            let n = state.poses.len();
+            st.poses[..n].copy_from_slice(&state.poses);
+        }
+        Ok(())
+    }
+}
+
+impl Drag {
+    /// One frame by task priority (see the module's doc).
+    fn task_priority(&self, state: &mut DragState, target: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+        let DragState { poses, work, .. } = state;
         work.copy_from_slice(poses);
         let (n, m) = (self.newton.unknowns(), self.newton.equations());
         // The joints: the runtime's cluster system over every mobile body
