@@ -26,6 +26,8 @@ fn every_bundled_mechanism_is_compiled() {
     // ... and the drag demo, compiled by `Config::drag`.
     let mut expected = bundled();
     expected.push("open_chain_15_drag_link_15_e".to_string());
+    // ... and the test fixtures.
+    expected.push("sixbar_slotted".to_string());
     expected.sort();
     let mut compiled: Vec<String> = dofplan_generated::MECHANISMS
         .iter()
