@@ -234,3 +234,23 @@ fn a_file_with_no_inputs_checks_and_drags() {
     assert!(o.status.success(), "{}", stdout(&o));
     assert!(stdout(&o).contains("no inputs, so nothing to plan"));
 }
+
+#[test]
+fn check_names_the_redundant_joint_of_a_consistent_over_constrained_mechanism() {
+    for (name, joint) in [("table", "joint F"), ("vlink", "joint W")] {
+        let o = dofplan(&["check", mechanism(name).to_str().unwrap()]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let out = stdout(&o);
+        for needle in [
+            "D = 3(L−1) − 2J = 3·4 − 2·6 = 0".to_string(),
+            "12 unknowns − rank 11 = 1".to_string(),
+            format!("redundant (dependent on the joints before them in the file): {joint}\n"),
+            "over-constrained by Grübler's count (-1 free DOF), well-constrained by the Jacobian's rank (0 free DOF)"
+                .to_string(),
+            "closed form, 6 steps".to_string(),
+        ] {
+            assert!(out.contains(&needle), "{name}: `{needle}` not in\n{out}");
+        }
+        assert!(!out.contains("locked"), "{out}");
+    }
+}
