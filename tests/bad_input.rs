@@ -465,6 +465,42 @@ fn revolute_joint_that_does_not_hold_in_the_drawn_pose() {
 }
 
 #[test]
+fn a_joint_open_in_the_drawing_of_a_mechanism_that_assembles_says_so() {
+    // coupler.C drawn 0.01 above rocker.C: the four-bar still assembles, so
+    // the error is the drawing's, and the help says where C closes.
+    let e = toml_err(&fourbar(&[(
+        8,
+        "markers = { B = [1, 1], C = [4.5, 2.51], P = [3, 3.5] }",
+    )]));
+    assert_one(
+        &e,
+        "t.toml:17:1",
+        &[
+            "joint `C` does not hold in the drawn pose",
+            "1.000e-2 apart",
+            "help: markers are world coordinates",
+            "the mechanism does assemble with joint C closed (at [",
+            "only the drawing is off",
+        ],
+    );
+    // That point is a real assembly: as far from ground.D as the rocker's
+    // C is from its D (six decimals shown).
+    let shown = e.to_string();
+    let at = shown
+        .split("closed (at [")
+        .nth(1)
+        .and_then(|s| s.split(']').next())
+        .unwrap();
+    let c: Vec<f64> = at.split(", ").map(|v| v.parse().unwrap()).collect();
+    let rocker = (0.5f64.powi(2) + 2.5f64.powi(2)).sqrt();
+    let from_d = ((c[0] - 4.0).powi(2) + c[1].powi(2)).sqrt();
+    assert!(
+        (from_d - rocker).abs() < 2e-6,
+        "C at {c:?}: {from_d} from D, rocker {rocker}"
+    );
+}
+
+#[test]
 fn the_drawn_pose_tolerance_is_1e_9_relative() {
     // The four-bar's size (diagonal of its markers' box) is sqrt(32.5) =
     // 5.70: a gap of 1e-9 holds, one of 1e-8 does not.

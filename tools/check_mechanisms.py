@@ -9,7 +9,8 @@ Stdlib only (Python >= 3.11 for tomllib).  Usage:
 
 For each file it checks the structure (name = file stem, markers, joint kinds,
 revolute markers coinciding to 1e-12 relative, prismatic second marker on the
-first marker's line, inputs, sweep, connectivity, Grubler D = 3(L-1) - 2J = 1),
+first marker's line, inputs, sweep, connectivity, Grubler D = 3(L-1) - 2J = 1,
+or 0 for the over-constrained files listed in GRUBLER),
 then solves the sweep with its own closed-form code.  The solution order is
 written out per mechanism family below (it is NOT discovered automatically, so
 the check stays independent of the Rust planner):
@@ -21,6 +22,8 @@ the check stays independent of the Rust planner):
              (sign of cross(c2 - c1, X - c1))
     rrp    : circle-line intersection, keeping the drawn side
     rpr    : a pinned block sliding in a slotted link pivoted on a placed body
+    pin2   : a body pinned at two points of placed bodies (over-constrained:
+             the distance between the two points must already match)
 
 Every frame is then verified against ALL joint constraints of the file, and
 the family-specific closed-form property is checked to 1e-9 (straight line,
@@ -41,6 +44,11 @@ REFINE = 10
 
 class Fail(Exception):
     pass
+
+
+# Grubler mobility of the files whose count is not 1: the over-constrained ones
+# (Brunkhart 1994, figs. 13 and 14b), which still move with mobility 1.
+GRUBLER = {"table": 0, "vlink": 0}
 
 
 # ----------------------------------------------------------------------------
@@ -198,8 +206,9 @@ class Model:
         return (d[0] / n, d[1] / n)
 
     def static_checks(self):
-        if self.D != 1:
-            self.err("Grubler D = 3(%d-1) - 2*%d = %d != 1" % (self.L, self.J, self.D))
+        expected = GRUBLER.get(self.name, 1)
+        if self.D != expected:
+            self.err("Grubler D = 3(%d-1) - 2*%d = %d != %d" % (self.L, self.J, self.D, expected))
         tol = TOL_REL * self.scale
         for jn, (kind, r1, r2) in self.joints.items():
             if r1[0] not in self.bodies or r2[0] not in self.bodies:
@@ -427,6 +436,20 @@ class Frame:
         h = math.sqrt(max(rho * rho - e * e, 0.0))
         self.stats.append(("rpr", h, h / max(rho, 1e-300), math.sqrt(max(0.0, 1 - (e / rho) ** 2))))
 
+    def pin2(self, ja, jb):
+        """ja, jb: revolutes from placed bodies to one unplaced body U.  U is
+        placed by the two points; the distance between them must already be
+        U's own (the joints are redundant, not in conflict)."""
+        pa, ua = self.split(ja)
+        pb, ub = self.split(jb)
+        if ua[0] != ub[0]:
+            raise Fail("pin2: joints %s and %s do not pin one body" % (ja, jb))
+        Xa, Xb = self.w(pa), self.w(pb)
+        gap = abs(norm(sub(Xb, Xa)) - norm(sub(self.M.m(ub), self.M.m(ua))))
+        if gap > TOL_PROP * self.M.scale:
+            raise Broken("pin2 %s, %s: the two pins are %.3g too far apart" % (ja, jb, gap))
+        self.place2(ua[0], ua, Xa, ub, Xb)
+
     # --- verification -------------------------------------------------------
     def residual(self):
         M = self.M
@@ -468,6 +491,8 @@ RECIPES = {
                               ("rrr", "A2", "B2", "P")],
     "trammel": lambda M: [("slide", "TX"), ("rrp", "X", "TY", "Y")],
     "pantograph": lambda M: [("crank", "C0"), ("rrr", "O", "T1", "A"), ("rrr", "E", "T2", "D")],
+    "table": lambda M: [("crank", "A"), ("rrr", "B", "D", "C"), ("pin2", "E", "F")],
+    "vlink": lambda M: [("crank", "A"), ("rrr", "B", "D", "C"), ("pin2", "U", "W")],
 }
 
 
@@ -716,6 +741,26 @@ def prop_sixbar(M, frames, res):
     return len(tern) == 2, "%s six-bar (ternary: %s)" % (kind, ", ".join(tern))
 
 
+def prop_table(M, frames, res):
+    # Fig. 14b: the extra link stays parallel and equal to the crank (ABFE is a
+    # parallelogram) and the top translates.
+    worst = 0.0
+    for v, F, _ in frames:
+        crank = sub(F.w(("crank", "B")), F.w(("crank", "A")))
+        extra = sub(F.w(("extra", "F")), F.w(("extra", "E")))
+        worst = max(worst, norm(sub(crank, extra)), abs(wrap(F.pose["coupler"][0])) * M.scale)
+    return worst < TOL_PROP, "extra link = crank, top translates, max err %.2g" % worst
+
+
+def prop_vlink(M, frames, res):
+    # Fig. 13: the V moves with the coupler as one rigid body.
+    worst = 0.0
+    for v, F, _ in frames:
+        (pv, tv), (pc, tc) = F.pose["vee"], F.pose["coupler"]
+        worst = max(worst, abs(wrap(pv - pc)) * M.scale, norm(sub(tv, tc)))
+    return worst < TOL_PROP, "V rigid with the coupler, max err %.2g" % worst
+
+
 def prop_none(M, frames, res):
     return True, "-"
 
@@ -730,6 +775,8 @@ PROPS = {
     "trammel": prop_trammel,
     "pantograph": prop_pantograph,
     "sixbar_a": prop_sixbar,
+    "table": prop_table,
+    "vlink": prop_vlink,
 }
 
 # expected headline constants (the values stated in the file headers)

@@ -234,3 +234,72 @@ fn a_file_with_no_inputs_checks_and_drags() {
     assert!(o.status.success(), "{}", stdout(&o));
     assert!(stdout(&o).contains("no inputs, so nothing to plan"));
 }
+
+#[test]
+fn check_names_the_redundant_joint_of_a_consistent_over_constrained_mechanism() {
+    for (name, joint) in [("table", "joint F"), ("vlink", "joint W")] {
+        let o = dofplan(&["check", mechanism(name).to_str().unwrap()]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let out = stdout(&o);
+        for needle in [
+            "D = 3(L−1) − 2J = 3·4 − 2·6 = 0".to_string(),
+            "12 unknowns − rank 11 = 1".to_string(),
+            format!("redundant (dependent on the joints before them in the file): {joint}\n"),
+            "over-constrained by Grübler's count (-1 free DOF), well-constrained by the Jacobian's rank (0 free DOF)"
+                .to_string(),
+            "closed form, 6 steps".to_string(),
+        ] {
+            assert!(out.contains(&needle), "{name}: `{needle}` not in\n{out}");
+        }
+        assert!(!out.contains("locked"), "{out}");
+    }
+}
+
+#[test]
+fn check_shows_joints_in_conflict_with_the_source() {
+    // The table of fig. 14b with its extra link 0.3 too long at E.
+    let text = std::fs::read_to_string(mechanism("table")).unwrap().replace(
+        "markers = { E = [2, 0], F = [3, 1.5] }",
+        "markers = { E = [1.7, 0], F = [3, 1.5] }",
+    );
+    let line = text.lines().position(|l| l == "[joints.E]").unwrap() + 1;
+    let dir = std::env::temp_dir().join(format!("dofplan-cli-conflict-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let file = dir.join("long.toml");
+    std::fs::write(&file, &text).unwrap();
+    let o = dofplan(&["check", file.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    let err = plain(&stderr(&o));
+    let head = format!("long.toml:{line}:1: error: joints ");
+    for needle in [
+        head.as_str(),
+        "are in conflict: no pose near the drawn one closes them all (least-squares gap",
+        &format!("{line} │ [joints.E]"),
+        "^^^^^^^^^^",
+        "joint `E` does not hold in the drawn pose",
+        "joint F is in the conflict: open by",
+        "help: a redundant link must be exactly consistent",
+    ] {
+        assert!(err.contains(needle), "`{needle}` not in:\n{err}");
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Text without ANSI colour codes (the snippets are coloured even when
+/// piped, depending on TERM).
+fn plain(text: &str) -> String {
+    let mut out = String::new();
+    let mut chars = text.chars();
+    while let Some(c) = chars.next() {
+        if c == '\u{1b}' {
+            for c in chars.by_ref() {
+                if c.is_ascii_alphabetic() {
+                    break;
+                }
+            }
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}

@@ -2,6 +2,7 @@
 //! planner, and the branch choice that makes a plan reproduce the drawn
 //! pose.
 
+pub mod conflict;
 pub mod equations;
 pub mod mobility;
 mod planner;

@@ -11,7 +11,7 @@ use codespan_reporting::term::{self, termcolor};
 use serde_json::{json, Map, Value};
 
 use dofplan::analysis::rank::rank_mobility;
-use dofplan::analysis::{analyse, Analysis};
+use dofplan::analysis::{analyse, Analysis, Class};
 use dofplan::emit::emit;
 use dofplan::interp::Interpreter;
 use dofplan::model::{load_file, Location, MarkerId, Mechanism, ModelError};
@@ -351,12 +351,29 @@ fn check(file: &Path) -> ExitCode {
     for (body, n) in &by_rank.idle {
         println!("  idle: body {body} can move on its own ({n} DOF) while every other body stays put");
     }
-    println!(
-        "  with {} input(s): {} ({} free DOF)",
-        mob.inputs,
-        mob.class().name(),
-        mob.free()
-    );
+    if by_rank.dof == mob.dof {
+        println!(
+            "  with {} input(s): {} ({} free DOF)",
+            mob.inputs,
+            mob.class().name(),
+            mob.free()
+        );
+    } else {
+        // A non-generic mechanism: the rank says how it really moves.
+        let free = by_rank.dof - mob.inputs as i64;
+        let class = match free {
+            0 => Class::Well,
+            f if f > 0 => Class::Under,
+            _ => Class::Over,
+        };
+        println!(
+            "  with {} input(s): {} by Grübler's count ({} free DOF), {} by the Jacobian's rank ({free} free DOF)",
+            mob.inputs,
+            mob.class().name(),
+            mob.free(),
+            class.name(),
+        );
+    }
     if m.inputs.is_empty() {
         // Valid: a file meant for dragging only.
         println!(

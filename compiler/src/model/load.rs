@@ -15,6 +15,7 @@ use super::source::{parse_json, parse_toml, Key, Node, NodeKind};
 use super::{
     Body, Constraint, ConstraintKind, Input, InputKind, Joint, JointKind, Marker, MarkerId, Mechanism, Sweep,
 };
+use crate::analysis::conflict::{self, Open};
 
 /// Joints must hold in the drawn pose to this, relative to the mechanism's
 /// size.
@@ -109,10 +110,18 @@ pub fn load_str(file_name: &str, text: &str, format: Format) -> Result<Mechanism
         file,
         diags: Vec::new(),
         broken: HashSet::new(),
+        open: Vec::new(),
+        places: Vec::new(),
     };
     let mechanism = v.mechanism(&root);
     match mechanism {
         Some(m) if v.diags.is_empty() => Ok(m),
+        Some(m) if v.diags.len() == v.open.len() => {
+            // Only joints open in the drawn pose: say whether the mechanism
+            // assembles at all, or which joints are in conflict.
+            conflict::review(&m, &v.open, &v.places, &mut v.diags);
+            Err(ModelError { diagnostics: v.diags })
+        }
         _ => Err(ModelError { diagnostics: v.diags }),
     }
 }
@@ -137,6 +146,12 @@ struct Validator {
     /// validation (with an error already): references to them get no second
     /// error.
     broken: HashSet<String>,
+    /// Joints and constraints that do not hold in the drawn pose (each with
+    /// an error already). They are kept in the mechanism, so the assembly
+    /// check sees them; the file is rejected anyway.
+    open: Vec<Open>,
+    /// Where each joint and constraint is written, by origin ("joint B").
+    places: Vec<(String, Location)>,
 }
 
 impl Validator {
@@ -362,6 +377,14 @@ impl Validator {
         let constraints_node = Self::get(top, "constraints").unwrap_or(&empty);
         let joints = self.joints(joints_node, &bodies);
         let constraints = self.constraints(constraints_node, &bodies);
+        for (what, name, node) in joints
+            .iter()
+            .map(|(j, n)| ("joint", &j.name, n))
+            .chain(constraints.iter().map(|(c, n)| ("constraint", &c.name, n)))
+        {
+            let place = self.loc(node, &join(&format!("{what}s"), name));
+            self.places.push((format!("{what} {name}"), place));
+        }
         self.cross_duplicates(joints_node, constraints_node);
         let inputs = match Self::get(top, "inputs") {
             Some(n) => self.inputs(n, joints_node, &joints, &bodies),
@@ -826,7 +849,7 @@ impl Validator {
                 ),
                 Some("markers are world coordinates of the pose as drawn: give the joined markers the same coordinates".into()),
             );
-            return false;
+            self.opened(owner);
         }
         true
     }
@@ -873,9 +896,18 @@ impl Validator {
                 ),
                 Some("the second marker must lie on the line through the first along its dir".into()),
             );
-            return false;
+            self.opened(owner);
         }
         true
+    }
+
+    /// Records that the joint or constraint `owner` ("joint `B`") does not
+    /// hold in the drawn pose; its error is the last one.
+    fn opened(&mut self, owner: &str) {
+        self.open.push(Open {
+            origin: owner.replace('`', ""),
+            diagnostic: self.diags.len() - 1,
+        });
     }
 
     fn inputs(

@@ -1,0 +1,360 @@
+//! Can a mechanism whose joints do not all hold in the drawn pose be
+//! assembled at all? (Brunkhart §2.1.3–2.1.4: an over-constrained linkage
+//! assembles only if its redundant parts are exactly consistent.)
+//!
+//! A least-squares assembly from the drawn pose answers it: every mobile
+//! body free (three unknowns), every joint and constraint an equation
+//! (inputs are not: they only choose a pose among those that close), solved
+//! by the runtime's Newton–Raphson with SVD steps — the same residuals as
+//! pure Newton and the numeric clusters.
+//!
+//! - It converges: the mechanism assembles with every joint closed, so only
+//!   the drawing is off.
+//! - It stops at a least-squares point with a gap: no pose near the drawn
+//!   one closes every joint. (Newton calls the residual stagnant a little
+//!   short of that point; steps that leave out the conflict's own
+//!   directions then finish the way, see [`split`].) The joints and constraints whose equations stay
+//!   open there are the ones in conflict; a joint that can close on its own
+//!   (a link on a single pin, a dyad that still reaches) is closed at a
+//!   least-squares point, so it is not named.
+//!
+//! The loader asks this about a file whose only errors are joints that do
+//! not hold in the drawn pose ([`review`]), and turns the answer into its
+//! diagnostics.
+
+use dofplan_runtime::numeric::cluster::{Param, System};
+use dofplan_runtime::numeric::{Equations, Newton, NewtonOptions, NewtonOutcome};
+use dofplan_runtime::planar::Pose;
+use nalgebra::{DMatrix, DVector, SVD};
+
+use super::equations::equations;
+use crate::model::{ConstraintKind, Diagnostic, JointKind, Location, Mechanism, Note, DRAWN_TOLERANCE};
+
+/// Newton iterations the assembly may take: far more than a frame's 50, as
+/// the drawn pose can be a poor start and this runs once per file.
+const MAX_ITERATIONS: u32 = 200;
+
+/// Singular values at or below this share of the largest count as zero
+/// (the runtime's numeric clusters use the same).
+const RANK_CUTOFF: f64 = 1e-10;
+
+/// A joint or constraint is in the conflict when its gap at the
+/// least-squares point is above both
+///
+/// - `DRAWN_TOLERANCE × size`, the loader's own tolerance for a joint that
+///   holds (a joint closed to it is closed), and
+/// - `CONFLICT_SHARE ×` the largest gap of any joint. At the least-squares
+///   point a joint that can close is closed to rounding (1e-11 of the gap
+///   on the V-link of fig. 13); if Newton stops short of that point, such a
+///   joint keeps a remainder that shrinks with the distance to it (about
+///   4e-4 of the gap where the plain Newton solve stops on the V-link).
+///   Joints over which the conflict is spread take shares of order one
+///   (1/2 to 1 on the table of fig. 14b), so 1e-3 separates the two.
+const CONFLICT_SHARE: f64 = 1e-3;
+
+/// What the least-squares assembly from the drawn pose found.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Assembly {
+    /// Every joint and constraint closes (to the drawn-pose tolerance).
+    Closes {
+        /// Body poses of the assembled mechanism, in mechanism order.
+        poses: Vec<Pose>,
+        /// How far the marker that moves most is from where it is drawn.
+        moved: f64,
+    },
+    /// A least-squares point with a gap: no pose near the drawn one closes
+    /// every joint.
+    Conflict {
+        /// The residual's Euclidean norm there (length units).
+        gap: f64,
+        /// The joints and constraints left open there, with their own gap,
+        /// in file order ("joint E", "constraint c1").
+        open: Vec<(String, f64)>,
+    },
+    /// Newton could not tell (iteration budget spent while still making
+    /// progress, or a non-finite value): nothing is claimed.
+    Undecided,
+}
+
+/// Assembles the mechanism by least squares from the drawn pose.
+pub fn assemble(m: &Mechanism) -> Assembly {
+    let mut free = m.clone();
+    free.inputs.clear();
+    let sourced = equations(&free);
+    let rows: Vec<_> = sourced.iter().map(|s| s.eq.row()).collect();
+    let params: Vec<Param> = (0..m.bodies.len())
+        .filter(|&b| !m.bodies[b].fixed)
+        .map(|body| Param::Free { body })
+        .collect();
+    let size = m.size();
+    let tolerance = DRAWN_TOLERANCE * size;
+    let mut poses = vec![Pose::IDENTITY; m.bodies.len()];
+    let (mut system, mut x) = System::new(&mut poses, &params, &rows, &[], size);
+    let (unknowns, count) = (system.unknowns(), system.equations());
+    let options = NewtonOptions {
+        max_iterations: MAX_ITERATIONS,
+        tolerance: 1e-12 * size,
+        rank_cutoff: RANK_CUTOFF,
+        max_step: 0.25 * size,
+    };
+    let mut newton = Newton::new(unknowns, count);
+    let report = newton.solve(&mut system, &mut x, &options);
+    let mut r = DVector::zeros(count);
+    let mut j = DMatrix::zeros(count, unknowns);
+    system.eval(&x, &mut r, Some(&mut j));
+    let finite = |r: &DVector<f64>, j: &DMatrix<f64>| r.iter().chain(j.iter()).all(|v| v.is_finite());
+    if !finite(&r, &j) {
+        return Assembly::Undecided;
+    }
+    let mut unsettled = report.outcome == NewtonOutcome::NotConverged;
+    if report.outcome == NewtonOutcome::NoSolution && r.norm() > tolerance {
+        // Newton stops once the residual stops halving, which near an
+        // inconsistent redundancy is before the least-squares point: the
+        // Jacobian there is nearly singular in the direction the conflict
+        // pulls, and full steps along it are rejected. Steps that leave the
+        // conflict's directions out (a rank cut-off between the two groups
+        // of singular values) then reach the least-squares point quickly.
+        if let Some((_, Some(cutoff))) = split(&j, &r, size) {
+            let polish = NewtonOptions {
+                rank_cutoff: cutoff,
+                ..options
+            };
+            unsettled = newton.solve(&mut system, &mut x, &polish).outcome == NewtonOutcome::NotConverged;
+            system.eval(&x, &mut r, Some(&mut j));
+            if !finite(&r, &j) {
+                return Assembly::Undecided;
+            }
+        }
+    }
+    drop(system);
+    if r.norm() <= tolerance {
+        let moved = m
+            .all_markers()
+            .map(|id| {
+                let (at, w) = (m.marker(id).at, poses[id.body].world(m.marker(id).at));
+                (w[0] - at[0]).hypot(w[1] - at[1])
+            })
+            .fold(0.0, f64::max);
+        return Assembly::Closes { poses, moved };
+    }
+    if unsettled {
+        return Assembly::Undecided;
+    }
+    let Some((settled, _)) = split(&j, &r, size) else {
+        return Assembly::Undecided;
+    };
+    let mut gaps: Vec<(String, f64)> = Vec::new();
+    let mut row = 0;
+    for (s, eq) in sourced.iter().zip(&rows) {
+        let n = eq.count();
+        let g = settled.rows(row, n).norm();
+        row += n;
+        match gaps.iter_mut().find(|(o, _)| *o == s.origin) {
+            Some((_, sum)) => *sum = sum.hypot(g),
+            None => gaps.push((s.origin.clone(), g)),
+        }
+    }
+    let largest = gaps.iter().map(|(_, g)| *g).fold(0.0, f64::max);
+    let floor = tolerance.max(CONFLICT_SHARE * largest);
+    let open: Vec<(String, f64)> = gaps.into_iter().filter(|(_, g)| *g > floor).collect();
+    if open.is_empty() {
+        return Assembly::Undecided;
+    }
+    Assembly::Conflict { gap: r.norm(), open }
+}
+
+/// Splits the residual `r` at a pose with Jacobian `j` into what motion
+/// can remove and what it cannot: returns the part no motion of the
+/// mechanism's own size removes (to first order), and a relative rank
+/// cut-off between the singular values of the two parts, if they are apart.
+///
+/// In the singular basis `r = Σ (uᵢ·r) uᵢ + (the part outside the range of
+/// J)`, the first-order motion removing the i-th part has length
+/// `|uᵢ·r| / σᵢ` (every unknown is a length: angles count as arcs at the
+/// mechanism's size). A part whose motion is within the mechanism's size is
+/// what Newton still closes; one that would take a larger motion is the
+/// conflict (at the least-squares point itself its σᵢ is 0), and so is the
+/// part outside the range. At a least-squares point the returned part is
+/// the residual itself.
+fn split(j: &DMatrix<f64>, r: &DVector<f64>, size: f64) -> Option<(DVector<f64>, Option<f64>)> {
+    let mut settled = r.clone();
+    if j.ncols() == 0 || j.nrows() == 0 {
+        return Some((settled, None));
+    }
+    let svd = SVD::try_new(j.clone(), true, false, f64::EPSILON, 10_000)?;
+    let u = svd.u.as_ref()?;
+    let top = svd.singular_values.max();
+    let (mut removable, mut conflict) = (f64::INFINITY, 0.0_f64);
+    for (i, &sigma) in svd.singular_values.iter().enumerate() {
+        let c = u.column(i).dot(r);
+        if c.abs() <= sigma * size {
+            settled -= u.column(i) * c;
+            removable = removable.min(sigma / top);
+        } else {
+            conflict = conflict.max(sigma / top);
+        }
+    }
+    // The geometric mean: as far (in ratio) from either group. None when a
+    // group is empty or the conflict's singular values are exactly zero
+    // (Newton's own cut-off already leaves them out).
+    let apart = conflict > 0.0 && conflict < removable && removable.is_finite();
+    let cutoff = apart.then(|| (conflict * removable).sqrt());
+    Some((settled, cutoff))
+}
+
+/// A joint or constraint the loader found open in the drawn pose.
+#[derive(Clone, Debug)]
+pub(crate) struct Open {
+    /// "joint B", "constraint c1".
+    pub origin: String,
+    /// Its "does not hold in the drawn pose" error, an index into the
+    /// loader's diagnostics.
+    pub diagnostic: usize,
+}
+
+/// Revises the loader's "does not hold in the drawn pose" errors of
+/// `open` (the file's only errors) by assembling the mechanism:
+///
+/// - if it assembles, each keeps its message, and its help says so (with
+///   where the joint closes): the drawing is just off;
+/// - if joints are in conflict, the errors of the open joints among them
+///   become one error at the first one's position, naming every joint in
+///   the conflict, with the original messages and the other joints'
+///   positions as notes (`places`: every joint's and constraint's
+///   position, by origin).
+pub(crate) fn review(
+    m: &Mechanism,
+    open: &[Open],
+    places: &[(String, Location)],
+    diags: &mut Vec<Diagnostic>,
+) {
+    match assemble(m) {
+        Assembly::Closes { poses, moved } => {
+            for o in open {
+                let at = closing_point(m, &o.origin, &poses)
+                    .map(|p| format!(" (at [{}, {}])", short(p[0]), short(p[1])))
+                    .unwrap_or_default();
+                let hint = format!(
+                    "the mechanism does assemble with {} closed{at}, no marker moving more than {moved:.2e} \
+                     from the drawing: only the drawing is off",
+                    o.origin
+                );
+                let d = &mut diags[o.diagnostic];
+                d.help = Some(match d.help.take() {
+                    Some(h) => format!("{h}; {hint}"),
+                    None => hint,
+                });
+            }
+        }
+        Assembly::Conflict { gap, open: conflict } => {
+            let names: Vec<String> = conflict.iter().map(|(o, _)| o.clone()).collect();
+            let folded: Vec<&Open> = open.iter().filter(|o| names.contains(&o.origin)).collect();
+            // At the first open joint in the conflict (else the first open
+            // one, whose own error then stays too).
+            let Some(at) = folded.first().copied().or(open.first()).map(|o| o.diagnostic) else {
+                return;
+            };
+            let mut notes: Vec<Note> = folded
+                .iter()
+                .map(|o| Note {
+                    location: diags[o.diagnostic].location.clone(),
+                    message: diags[o.diagnostic].message.clone(),
+                })
+                .collect();
+            for (origin, g) in &conflict {
+                if folded.iter().any(|o| o.origin == *origin) {
+                    continue;
+                }
+                if let Some((_, location)) = places.iter().find(|(o, _)| o == origin) {
+                    notes.push(Note {
+                        location: location.clone(),
+                        message: format!(
+                            "{origin} is in the conflict: open by {g:.1e} at the least-squares pose"
+                        ),
+                    });
+                }
+            }
+            // In file order, like the joints themselves.
+            notes.sort_by_key(|n| match &n.location {
+                Location::Span(span) => span.start,
+                _ => usize::MAX,
+            });
+            let message = if names.len() == 1 {
+                format!(
+                    "{} is in conflict with the rest of the mechanism: no pose near the drawn one closes it \
+                     (least-squares gap {gap:.1e})",
+                    names[0]
+                )
+            } else {
+                format!(
+                    "{} are in conflict: no pose near the drawn one closes them all (least-squares gap {gap:.1e})",
+                    list(&names)
+                )
+            };
+            let conflict_error = Diagnostic {
+                file: diags[at].file.clone(),
+                location: diags[at].location.clone(),
+                message,
+                notes,
+                help: Some(
+                    "a redundant link must be exactly consistent (e.g. parallel and equal to the link it \
+                     duplicates): redraw it so every joint holds, or remove one of these joints"
+                        .into(),
+                ),
+            };
+            if folded.is_empty() {
+                diags.insert(at, conflict_error);
+            } else {
+                // The open joints' errors are now notes of this one.
+                // `at` is the first of them: the others all come after it.
+                let folded: Vec<usize> = folded.iter().map(|o| o.diagnostic).collect();
+                diags[at] = conflict_error;
+                let mut k = 0;
+                diags.retain(|_| {
+                    let keep = k == at || !folded.contains(&k);
+                    k += 1;
+                    keep
+                });
+            }
+        }
+        Assembly::Undecided => {}
+    }
+}
+
+/// "joints E, F, B" when all are joints (or all constraints), else the
+/// origins as they are.
+fn list(origins: &[String]) -> String {
+    for (kind, plural) in [("joint ", "joints "), ("constraint ", "constraints ")] {
+        if origins.iter().all(|o| o.starts_with(kind)) {
+            let names: Vec<&str> = origins.iter().map(|o| &o[kind.len()..]).collect();
+            return format!("{plural}{}", names.join(", "));
+        }
+    }
+    origins.join(", ")
+}
+
+/// Where a revolute joint or coincident constraint closes in an assembled
+/// pose (its first marker there); none for the others.
+fn closing_point(m: &Mechanism, origin: &str, poses: &[Pose]) -> Option<[f64; 2]> {
+    let markers = if let Some(name) = origin.strip_prefix("joint ") {
+        let j = m.joints.iter().find(|j| j.name == name)?;
+        (j.kind == JointKind::Revolute).then_some(j.markers)?
+    } else {
+        let name = origin.strip_prefix("constraint ")?;
+        let c = m.constraints.iter().find(|c| c.name == name)?;
+        (c.kind == ConstraintKind::Coincident).then_some(c.markers)?
+    };
+    let id = markers[0];
+    Some(poses[id.body].world(m.marker(id).at))
+}
+
+/// A coordinate to six decimals, without trailing zeros.
+fn short(v: f64) -> String {
+    let s = format!("{v:.6}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.into()
+    }
+}
