@@ -9,9 +9,11 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use dofplan::interp::Interpreter;
+use dofplan::model::load_file;
+use dofplan::numeric::drag::Drag;
 use dofplan::simulate::sweep_inputs;
 use dofplan_runtime::{Driver, Options, Solver};
-use dofplan_tests::{bundled, load, plan};
+use dofplan_tests::{bundled, load, mechanisms_dir, plan};
 
 fn sweep<S: Solver>(driver: &mut Driver<S>, inputs: &[Vec<f64>]) {
     for i in inputs {
@@ -36,5 +38,40 @@ fn move_time(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, move_time);
+/// The open chain of 15 links dragged by its end along a straight pull:
+/// the compiled drag (`Config::drag`) and the library's planned `Drag`.
+fn drag(c: &mut Criterion) {
+    let m = load_file(&mechanisms_dir().join("drag/open_chain_15.toml")).expect("bundled");
+    let end = m.find_marker("link_15.E").expect("bundled");
+    let from = m.marker(end).at;
+    let slides: Vec<Vec<f64>> = (0..400)
+        .map(|i| vec![-0.01 * f64::from(i), 0.0125 * f64::from(i)])
+        .collect();
+    let targets: Vec<Vec<f64>> = slides
+        .iter()
+        .map(|s| vec![from[0] + s[0], from[1] + s[1]])
+        .collect();
+    let mut group = c.benchmark_group("drag_open_chain_15");
+    group.throughput(Throughput::Elements(slides.len() as u64));
+    let mut compiled = Driver::new(
+        dofplan_generated::open_chain_15_drag_link_15_e::Plan,
+        Options::default(),
+    );
+    group.bench_function("compiled", |b| {
+        b.iter(|| {
+            compiled.reset();
+            sweep(&mut compiled, &slides)
+        })
+    });
+    let mut library = Driver::new(Drag::new(&m, end).expect("mobile"), Options::default());
+    group.bench_function("library", |b| {
+        b.iter(|| {
+            library.reset();
+            sweep(&mut library, &targets)
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, move_time, drag);
 criterion_main!(benches);

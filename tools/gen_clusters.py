@@ -377,7 +377,8 @@ and no two of them share a joint, so no RRR dyad exists; the ternary coupler (B,
 all three together: crank, coupler, rocker and link4 form one numeric cluster (an Assur
 triad; the loop ground-crank-coupler-link4-link5 has more than 3 nodes).  Mixed count:
 crank, rocker, link4 pinned (1 unknown each) + coupler free (3) = 6 unknowns; joints B, C, E
-= 6 equations (Figure 30: 12/12 Newton, 6/6 mixed; 4 mobile links, 6 active joints).
+= 6 equations (Figure 30: 12/12 Newton, 6/6 mixed; 4 mobile links, 6 active joints);
+hinging the coupler on the crank (joint coordinates) leaves 4 unknowns, 4 equations.
 Range: over a full crank turn of sixbar_a, link5 rocks between theta = %(pmin).4f deg
 (crank at %(cmin).2f deg from sixbar_a's drawn pose) and theta = %(pmax).4f deg (crank at
 %(cmax).2f deg).  Those are the dead points of the F-driven linkage (the triad is singular);
