@@ -22,7 +22,7 @@
 //! not hold in the drawn pose ([`review`]), and turns the answer into its
 //! diagnostics.
 
-use dofplan_runtime::numeric::cluster::{Param, System};
+use dofplan_runtime::numeric::cluster::{self, Param, System};
 use dofplan_runtime::numeric::{Equations, Newton, NewtonOptions, NewtonOutcome};
 use dofplan_runtime::planar::Pose;
 use nalgebra::{DMatrix, DVector, SVD};
@@ -33,10 +33,6 @@ use crate::model::{ConstraintKind, Diagnostic, JointKind, Location, Mechanism, N
 /// Newton iterations the assembly may take: far more than a frame's 50, as
 /// the drawn pose can be a poor start and this runs once per file.
 const MAX_ITERATIONS: u32 = 200;
-
-/// Singular values at or below this share of the largest count as zero
-/// (the runtime's numeric clusters use the same).
-const RANK_CUTOFF: f64 = 1e-10;
 
 /// A joint or constraint is in the conflict when its gap at the
 /// least-squares point is above both
@@ -93,9 +89,7 @@ pub fn assemble(m: &Mechanism) -> Assembly {
     let (unknowns, count) = (system.unknowns(), system.equations());
     let options = NewtonOptions {
         max_iterations: MAX_ITERATIONS,
-        tolerance: 1e-12 * size,
-        rank_cutoff: RANK_CUTOFF,
-        max_step: 0.25 * size,
+        ..cluster::options(size)
     };
     let mut newton = Newton::new(unknowns, count);
     let report = newton.solve(&mut system, &mut x, &options);

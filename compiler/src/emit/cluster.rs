@@ -29,8 +29,30 @@ enum Term {
     /// A slide's world direction (a local of the step).
     Dir(TokenStream),
     /// `cluster::turn(pose, v, SIZE)`: an angle unknown turning the point
-    /// `v` (local, from the pivot) of the body whose pose this is.
-    Turn(TokenStream, [f64; 2]),
+    /// `v` (local, from the pivot; an expression) of the body whose pose
+    /// this is.
+    Turn(TokenStream, TokenStream),
+}
+
+/// A marker's local position: drawn, or carried along a slide input (a
+/// local of the step, known only at run time).
+enum Local {
+    Drawn([f64; 2]),
+    Slid(TokenStream),
+}
+
+impl Local {
+    /// `self − pin` as an expression (folded for a drawn marker).
+    fn from(&self, pin: [f64; 2]) -> TokenStream {
+        match self {
+            Local::Drawn(q) => point_lit(diff(*q, pin)),
+            Local::Slid(q) if pin == [0.0, 0.0] => q.clone(),
+            Local::Slid(q) => {
+                let (px, py) = (lit(pin[0]), lit(pin[1]));
+                quote!([#q[0] - #px, #q[1] - #py])
+            }
+        }
+    }
 }
 
 impl Term {
@@ -39,10 +61,7 @@ impl Term {
             Term::UnitX => quote!([1.0, 0.0]),
             Term::UnitY => quote!([0.0, 1.0]),
             Term::Dir(d) => d.clone(),
-            Term::Turn(pose, v) => {
-                let v = point_lit(*v);
-                quote!(cluster::turn(#pose, #v, SIZE))
-            }
+            Term::Turn(pose, v) => quote!(cluster::turn(#pose, #v, SIZE)),
         }
     }
 }
@@ -82,19 +101,19 @@ impl Emitter<'_> {
     /// The unknowns the world point of local `q` on `body` depends on, with
     /// the derivative's term (a hinge's point also moves with its parent's
     /// unknowns, recursively).
-    fn terms(&self, layout: &Layout, body: usize, q: [f64; 2], out: &mut Vec<(usize, Term)>) {
+    fn terms(&self, layout: &Layout, body: usize, q: &Local, out: &mut Vec<(usize, Term)>) {
         let Some((o, p)) = layout.of(body) else { return };
-        let pose = self.cluster_pose(body);
+        let pose = self.pose(body);
         match p {
             ClusterParam::Free { .. } => {
                 out.push((o, Term::UnitX));
                 out.push((o + 1, Term::UnitY));
-                out.push((o + 2, Term::Turn(pose, q)));
+                out.push((o + 2, Term::Turn(pose, q.from([0.0, 0.0]))));
             }
-            ClusterParam::Angle { pin, .. } => out.push((o, Term::Turn(pose, diff(q, *pin)))),
+            ClusterParam::Angle { pin, .. } => out.push((o, Term::Turn(pose, q.from(*pin)))),
             ClusterParam::Hinge { pin, parent, at, .. } => {
-                out.push((o, Term::Turn(pose, diff(q, *pin))));
-                self.terms(layout, *parent, *at, out);
+                out.push((o, Term::Turn(pose, q.from(*pin))));
+                self.terms(layout, *parent, &Local::Drawn(*at), out);
             }
             ClusterParam::Slide { .. } => {
                 let d = format_ident!("slide_dir_{}", body);
@@ -105,12 +124,6 @@ impl Emitter<'_> {
                 out.push((o + 1, Term::UnitY));
             }
         }
-    }
-
-    /// A cluster body's pose inside the residual closure (the frame's local
-    /// of the same name, shadowed there by the pose at the trial unknowns).
-    fn cluster_pose(&self, body: usize) -> TokenStream {
-        self.pose(body)
     }
 
     /// The straight-line code of cluster step `id`.
@@ -200,15 +213,18 @@ impl Emitter<'_> {
             match *r {
                 ClusterRow::Coincident { a, la, slide, b, lb } => {
                     let (pa, pb) = (self.pose(a), self.pose(b));
-                    let la_tokens = match slide {
+                    // A slid marker moves with `a` like any of its points,
+                    // at its slid position: the slide is an input, not an
+                    // unknown.
+                    let (la_tokens, la_local) = match slide {
                         Some((input, d)) => {
                             let name = format_ident!("slid_{}", k);
                             let u = &self.input_idents[input];
                             let (lx, ly, dx, dy) = (lit(la[0]), lit(la[1]), lit(d[0]), lit(d[1]));
                             pre.push(quote!(let #name = [#lx + #u * #dx, #ly + #u * #dy];));
-                            quote!(#name)
+                            (quote!(#name), Local::Slid(quote!(#name)))
                         }
-                        None => point_lit(la),
+                        None => (point_lit(la), Local::Drawn(la)),
                     };
                     let lb_tokens = point_lit(lb);
                     residuals.push(quote! {
@@ -217,20 +233,14 @@ impl Emitter<'_> {
                         r[#i] = p[0] - q[0];
                         r[#i1] = p[1] - q[1];
                     });
-                    // A slid marker's derivative is taken at its slid
-                    // position: the slide is an input, not an unknown.
                     let mut terms = Vec::new();
-                    if slide.is_none() {
-                        self.terms(&layout, a, la, &mut terms);
-                        jacobian.extend(
-                            terms
-                                .drain(..)
-                                .map(|(col, t)| coincident_entry(row, col, &t, true)),
-                        );
-                    } else if let Some(entries) = self.slid_terms(&layout, a, la_tokens.clone(), row) {
-                        jacobian.push(entries);
-                    }
-                    self.terms(&layout, b, lb, &mut terms);
+                    self.terms(&layout, a, &la_local, &mut terms);
+                    jacobian.extend(
+                        terms
+                            .drain(..)
+                            .map(|(col, t)| coincident_entry(row, col, &t, true)),
+                    );
+                    self.terms(&layout, b, &Local::Drawn(lb), &mut terms);
                     jacobian.extend(
                         terms
                             .drain(..)
@@ -250,12 +260,12 @@ impl Emitter<'_> {
                         r[#i] = residual;
                     });
                     let mut terms = Vec::new();
-                    self.terms(&layout, b, lb, &mut terms);
+                    self.terms(&layout, b, &Local::Drawn(lb), &mut terms);
                     for (col, t) in terms.drain(..) {
                         let (c, t) = (index(col), t.tokens());
                         jacobian.push(quote!(j[(#i, #c)] += cluster::cross(#d, #t);));
                     }
-                    self.terms(&layout, a, la, &mut terms);
+                    self.terms(&layout, a, &Local::Drawn(la), &mut terms);
                     for (col, t) in terms.drain(..) {
                         let (c, t) = (index(col), t.tokens());
                         jacobian.push(quote!(j[(#i, #c)] -= cluster::cross(#d, #t);));
@@ -322,45 +332,6 @@ impl Emitter<'_> {
             #(#writes)*
             cluster::finish(ctx, #id, report)?;
         }
-    }
-
-    /// A slid marker on body `a` moves with `a`'s unknowns like any point
-    /// of `a` at its slid local position (a local of the step).
-    fn slid_terms(&self, layout: &Layout, a: usize, slid: TokenStream, row: usize) -> Option<TokenStream> {
-        let (o, p) = layout.of(a)?;
-        let pose = self.pose(a);
-        let (i, i1) = (index(row), index(row + 1));
-        let entry = |col: usize, t: TokenStream| {
-            let c = index(col);
-            quote!(let t = #t; j[(#i, #c)] += t[0]; j[(#i1, #c)] += t[1];)
-        };
-        let turn_from = |pin: [f64; 2]| {
-            let pin = point_lit(pin);
-            quote!(cluster::turn(#pose, [#slid[0] - #pin[0], #slid[1] - #pin[1]], SIZE))
-        };
-        Some(match p {
-            ClusterParam::Free { .. } => {
-                let mut e = vec![entry(o, quote!([1.0, 0.0])), entry(o + 1, quote!([0.0, 1.0]))];
-                e.push(entry(o + 2, turn_from([0.0, 0.0])));
-                quote!(#(#e)*)
-            }
-            ClusterParam::Angle { pin, .. } => entry(o, turn_from(*pin)),
-            ClusterParam::Hinge { pin, parent, at, .. } => {
-                let mut terms = Vec::new();
-                self.terms(layout, *parent, *at, &mut terms);
-                let mut e = vec![entry(o, turn_from(*pin))];
-                e.extend(terms.iter().map(|(col, t)| entry(*col, t.tokens())));
-                quote!(#(#e)*)
-            }
-            ClusterParam::Slide { .. } => {
-                let d = format_ident!("slide_dir_{}", a);
-                entry(o, quote!(#d))
-            }
-            ClusterParam::Translate { .. } => {
-                let e = [entry(o, quote!([1.0, 0.0])), entry(o + 1, quote!([0.0, 1.0]))];
-                quote!(#(#e)*)
-            }
-        })
     }
 }
 

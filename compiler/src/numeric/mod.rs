@@ -125,12 +125,7 @@ impl PureNewton {
             unknowns,
             equations,
             size,
-            options: NewtonOptions {
-                max_iterations: 50,
-                tolerance: 1e-12 * size,
-                rank_cutoff: 1e-10,
-                max_step: 0.25 * size,
-            },
+            options: cluster::options(size),
             input_kinds: m.inputs.iter().map(|i| i.kind).collect(),
         }
     }
