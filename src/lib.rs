@@ -7,6 +7,8 @@ use dofplan::analysis::analyse;
 use dofplan::model::{load_file, Mechanism};
 use dofplan::plan::Plan;
 
+pub mod stress;
+
 /// The bundled mechanisms folder.
 pub fn mechanisms_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("mechanisms")
