@@ -8,6 +8,7 @@ use dofplan::model::{load_file, Mechanism};
 use dofplan::plan::Plan;
 
 pub mod stress;
+pub mod user_crate;
 
 /// The bundled mechanisms folder.
 pub fn mechanisms_dir() -> PathBuf {

@@ -19,7 +19,11 @@ use crate::model::{load_file, ModelError};
 use crate::numeric::drag::carriage;
 
 /// Why a build failed.
-#[derive(Debug)]
+///
+/// Its `Debug` form is its `Display` form: a `build.rs` written as
+/// `fn main() -> Result<(), Box<dyn Error>>` prints the error with `{:?}`,
+/// and must show the same `file:line:col` diagnostic as the CLI, not the
+/// error's fields (which hold the whole file's text).
 pub enum BuildError {
     /// A file is invalid.
     Model(ModelError),
@@ -61,7 +65,7 @@ pub enum BuildError {
 impl fmt::Display for BuildError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            BuildError::Model(e) => write!(f, "{e}"),
+            BuildError::Model(e) => write!(f, "{}", e.render(false)),
             BuildError::Plan { file, error } => write!(f, "{}: {error}", file.display()),
             BuildError::Io { path, error } => write!(f, "{}: {error}", path.display()),
             BuildError::DuplicateModule { module, files } => write!(
@@ -81,6 +85,12 @@ impl fmt::Display for BuildError {
                 write!(f, "OUT_DIR is not set: call Config::out_dir or run from build.rs")
             }
         }
+    }
+}
+
+impl fmt::Debug for BuildError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Display::fmt(self, f)
     }
 }
 
@@ -149,13 +159,21 @@ impl Config {
         };
         let mut modules: Vec<(String, PathBuf, PathBuf)> = Vec::new();
         let mut mechanisms = Vec::new();
+        // Every file read is named to cargo before any is read, so that
+        // fixing any of them (not only the first broken one) reruns the
+        // build script.
+        let read = files
+            .iter()
+            .map(|f| f.as_ref())
+            .chain(self.drags.iter().map(|(f, _)| f.as_path()));
+        for file in read {
+            println!("cargo:rerun-if-changed={}", file.display());
+        }
         for file in files {
             let file = file.as_ref();
-            println!("cargo:rerun-if-changed={}", file.display());
             mechanisms.push((file.to_path_buf(), load_file(file).map_err(BuildError::Model)?));
         }
         for (file, marker) in &self.drags {
-            println!("cargo:rerun-if-changed={}", file.display());
             let m = load_file(file).map_err(BuildError::Model)?;
             let why = |why: &str| BuildError::Drag {
                 file: file.clone(),

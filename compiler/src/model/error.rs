@@ -80,6 +80,59 @@ impl Diagnostic {
     }
 }
 
+impl Diagnostic {
+    /// The diagnostic as a person reads it: `error: message`, its
+    /// `file:line:col`, the lines of the file it points at with every place
+    /// involved labelled, then the notes and the help. The CLI prints this
+    /// and so does a failing `build.rs` (`dofplan::build`), so a user sees
+    /// one form of every error. `colour` adds ANSI colour codes: for a
+    /// terminal only.
+    ///
+    /// A diagnostic with no span in the file (JSON paths, a JSON syntax
+    /// error's line and column, the file as a whole) has no lines to show
+    /// and renders as its one-line [`Display`](fmt::Display) form.
+    pub fn render(&self, colour: bool) -> String {
+        use codespan_reporting::diagnostic::{Diagnostic as Snippet, Label};
+        use codespan_reporting::files::SimpleFile;
+        use codespan_reporting::term::{self, termcolor};
+
+        let Location::Span(span) = &self.location else {
+            return self.to_string();
+        };
+        let file = SimpleFile::new(self.file.name.as_str(), &*self.file.text);
+        let mut labels = vec![Label::primary((), span.clone())];
+        let mut notes = Vec::new();
+        for n in &self.notes {
+            match &n.location {
+                Location::Span(s) => {
+                    labels.push(Label::secondary((), s.clone()).with_message(n.message.clone()))
+                }
+                // A note elsewhere still reaches the user, as text.
+                other => notes.push(format!("note: {}: {}", self.position(other), n.message)),
+            }
+        }
+        if let Some(help) = &self.help {
+            notes.push(format!("help: {help}"));
+        }
+        let snippet = Snippet::error()
+            .with_message(self.message.clone())
+            .with_labels(labels)
+            .with_notes(notes);
+        let config = term::Config::default();
+        let rendered = if colour {
+            let mut buffer = termcolor::Buffer::ansi();
+            term::emit_to_write_style(&mut buffer, &config, &file, &snippet)
+                .ok()
+                .and_then(|()| String::from_utf8(buffer.into_inner()).ok())
+        } else {
+            term::emit_into_string(&config, &file, &snippet).ok()
+        };
+        // The span comes from this file's own parser, so rendering cannot
+        // fail; if it ever did, the plain form still says everything.
+        rendered.unwrap_or_else(|| self.to_string())
+    }
+}
+
 impl fmt::Display for Diagnostic {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}: error: {}", self.position(&self.location), self.message)?;
@@ -100,6 +153,18 @@ impl std::error::Error for Diagnostic {}
 pub struct ModelError {
     /// The errors, in file order of discovery.
     pub diagnostics: Vec<Diagnostic>,
+}
+
+impl ModelError {
+    /// Every diagnostic rendered as [`Diagnostic::render`] does, one after
+    /// the other.
+    pub fn render(&self, colour: bool) -> String {
+        self.diagnostics
+            .iter()
+            .map(|d| d.render(colour))
+            .collect::<Vec<_>>()
+            .join("\n")
+    }
 }
 
 impl fmt::Display for ModelError {
