@@ -22,8 +22,8 @@ use dofplan_runtime::Point;
 
 use crate::analysis::conflict::{self, Assembly};
 use crate::model::{
-    load_file, load_str, load_str_drawn, Diagnostic, Format, Location, MarkerId, Mechanism, ModelError, Note,
-    SourceFile, DRAWN_TOLERANCE,
+    load_file, load_str, load_str_drawn, ConstraintKind, Diagnostic, Format, JointKind, Location, MarkerId,
+    Mechanism, ModelError, Note, SourceFile, DRAWN_TOLERANCE,
 };
 
 /// Numbers are written with the fewest decimals that keep them within this
@@ -203,44 +203,60 @@ pub fn assemble_str(file_name: &str, text: &str, format: Format) -> Result<Assem
     };
     let size = m.size();
     let kept = UNCHANGED_SHARE * DRAWN_TOLERANCE * size;
+    let ids: Vec<MarkerId> = m.all_markers().collect();
+    let moved = |id: MarkerId| {
+        let (from, to) = (m.marker(id).at, poses[id.body].world(m.marker(id).at));
+        (from[0] - to[0]).hypot(from[1] - to[1])
+    };
+    // A body is left as written when the assembly moves it less than
+    // `kept` (fixed bodies always are); the others move rigidly.
+    let stays: Vec<bool> = m
+        .bodies
+        .iter()
+        .enumerate()
+        .map(|(b, body)| {
+            body.fixed
+                || (ids.iter().filter(|id| id.body == b).all(|&id| moved(id) <= kept)
+                    && poses[b].rot.degrees().to_radians().abs() * size <= kept)
+        })
+        .collect();
+    let mut to: Vec<Point> = ids
+        .iter()
+        .map(|&id| {
+            let at = m.marker(id).at;
+            if stays[id.body] {
+                at
+            } else {
+                poses[id.body].world(at)
+            }
+        })
+        .collect();
+    same_where_joined(m, &ids, &stays, &mut to);
     let mut moves = Vec::new();
     let mut edits = Vec::new();
-    for (b, body) in m.bodies.iter().enumerate() {
-        let pose = poses[b];
-        let turn = pose.rot.degrees();
-        let ids: Vec<MarkerId> = (0..body.markers.len())
-            .map(|k| MarkerId { body: b, marker: k })
-            .collect();
-        let distance = |id: MarkerId| {
-            let (from, to) = (m.marker(id).at, pose.world(m.marker(id).at));
-            (from[0] - to[0]).hypot(from[1] - to[1])
-        };
-        let stays = body.fixed
-            || (ids.iter().all(|&id| distance(id) <= kept) && turn.to_radians().abs() * size <= kept);
-        for id in ids {
-            let marker = m.marker(id);
-            let to = if stays { marker.at } else { pose.world(marker.at) };
-            let edit = Edit {
-                body: body.name.clone(),
-                marker: marker.name.clone(),
-                at: (!stays).then_some(to),
-                dir: marker.dir.filter(|_| !stays).map(|d| pose.world_dir(d)),
-                size,
-            };
-            moves.push(Move {
-                marker: id,
-                from: marker.at,
-                to,
-                distance: if stays {
-                    distance(id)
-                } else {
-                    (to[0] - marker.at[0]).hypot(to[1] - marker.at[1])
-                },
-                turn: if stays { 0.0 } else { turn },
-                changed: false,
-            });
-            edits.push(edit);
-        }
+    for (&id, &to) in ids.iter().zip(&to) {
+        let (body, marker) = (&m.bodies[id.body], m.marker(id));
+        let pose = poses[id.body];
+        let stays = stays[id.body];
+        edits.push(Edit {
+            body: body.name.clone(),
+            marker: marker.name.clone(),
+            at: (!stays).then_some(to),
+            dir: marker.dir.filter(|_| !stays).map(|d| pose.world_dir(d)),
+            size,
+        });
+        moves.push(Move {
+            marker: id,
+            from: marker.at,
+            to,
+            distance: if stays {
+                moved(id)
+            } else {
+                (to[0] - marker.at[0]).hypot(to[1] - marker.at[1])
+            },
+            turn: if stays { 0.0 } else { pose.rot.degrees() },
+            changed: false,
+        });
     }
     let (rewritten, changed) = match format {
         Format::Toml => rewrite_toml(text, &edits),
@@ -276,6 +292,54 @@ pub fn assemble_str(file_name: &str, text: &str, format: Format) -> Result<Assem
         text: rewritten,
         opened,
     })
+}
+
+/// Markers that a revolute joint or a coincident constraint joins are
+/// written with the very same numbers (each moved one takes the position
+/// of one marker of its group: a marker left as written if there is one),
+/// so the written file holds them exactly rather than to the assembly's
+/// last digits. The move is within the assembly's residual.
+fn same_where_joined(m: &Mechanism, ids: &[MarkerId], stays: &[bool], to: &mut [Point]) {
+    let index = |id: MarkerId| ids.iter().position(|&x| x == id);
+    let mut group: Vec<usize> = (0..ids.len()).collect();
+    fn root(group: &mut [usize], mut i: usize) -> usize {
+        while group[i] != i {
+            group[i] = group[group[i]];
+            i = group[i];
+        }
+        i
+    }
+    let joined = m
+        .joints
+        .iter()
+        .filter(|j| j.kind == JointKind::Revolute)
+        .map(|j| j.markers)
+        .chain(
+            m.constraints
+                .iter()
+                .filter(|c| c.kind == ConstraintKind::Coincident)
+                .map(|c| c.markers),
+        );
+    for [a, b] in joined {
+        let (Some(a), Some(b)) = (index(a), index(b)) else {
+            continue;
+        };
+        let (ra, rb) = (root(&mut group, a), root(&mut group, b));
+        // The root is a member left as written, if any, else the first.
+        let (sa, sb) = (stays[ids[ra].body], stays[ids[rb].body]);
+        let (keep, join) = if (sb && !sa) || (sa == sb && rb < ra) {
+            (rb, ra)
+        } else {
+            (ra, rb)
+        };
+        group[join] = keep;
+    }
+    for i in 0..ids.len() {
+        let r = root(&mut group, i);
+        if !stays[ids[i].body] {
+            to[i] = to[r];
+        }
+    }
 }
 
 /// The error when the assembly cannot tell whether the joints close.

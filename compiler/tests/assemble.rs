@@ -179,6 +179,11 @@ fn perturb_and_assemble(name: &str) {
             "{name}: joint {joint} open by {gap:e}"
         );
     }
+    // Markers a revolute joint joins are written with the same numbers.
+    for j in after.joints.iter().filter(|j| j.kind == JointKind::Revolute) {
+        let [a, b] = j.markers.map(|id| after.marker(id).at);
+        assert_eq!(a, b, "{name}: joint {}", j.name);
+    }
     // Comments, key order, layout: all but the numbers is the same text.
     let written = std::fs::read_to_string(&path).unwrap();
     assert_eq!(
@@ -418,9 +423,10 @@ fn the_bundled_jansen_leg_is_its_rough_drawing_assembled() {
         let b = m.marker(m.find_marker("ground.B").unwrap()).at;
         assert_eq!(b, [-38.0, -7.8], "a = 38, l = 7.8");
     }
-    // Every joint of the bundled file holds (the loader's check, and ours).
+    // Every joint of the bundled file holds exactly: joined markers are
+    // written with the same numbers.
     for (joint, gap) in joint_gaps(&bundled) {
-        assert!(gap <= DRAWN_TOLERANCE * size, "joint {joint} open by {gap:e}");
+        assert_eq!(gap, 0.0, "joint {joint} open by {gap:e}");
     }
 }
 
