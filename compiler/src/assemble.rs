@@ -25,6 +25,7 @@ use crate::model::{
     load_file, load_str, load_str_drawn, ConstraintKind, Diagnostic, Format, JointKind, Location, MarkerId,
     Mechanism, ModelError, Note, SourceFile, DRAWN_TOLERANCE,
 };
+use crate::plan::num;
 
 /// Numbers are written with the fewest decimals that keep them within this
 /// (relative to the mechanism's size, or to a direction's length) of the
@@ -87,12 +88,13 @@ impl Assembled {
         let moved: Vec<&Move> = self.moves.iter().filter(|mv| mv.changed).collect();
         let most = moved.iter().map(|mv| mv.distance).fold(0.0, f64::max);
         let mut out = format!(
-            "{}: {} open joint(s) closed; {} of {} markers moved (most {most:.3e}), each body rigidly, fixed \
-             bodies staying put\n",
+            "{}: {} open joint(s) closed; {} of {} markers moved (most {}), each body rigidly, fixed bodies \
+             staying put\n",
             m.name,
             self.opened,
             moved.len(),
-            self.moves.len()
+            self.moves.len(),
+            length(most)
         );
         let point = |p: Point| format!("[{}, {}]", short(p[0], size), short(p[1], size));
         let rows: Vec<[String; 4]> = self
@@ -103,7 +105,7 @@ impl Assembled {
                 if !mv.changed {
                     return [name, point(mv.from), "unchanged".into(), String::new()];
                 }
-                let mut distance = format!("{:.3e}", mv.distance);
+                let mut distance = length(mv.distance);
                 if m.marker(mv.marker).dir.is_some() && mv.turn.abs() > 0.0 {
                     distance.push_str(&format!(", dir turned {:.3}°", mv.turn));
                 }
@@ -400,6 +402,16 @@ impl Edit {
         } else {
             Some((self.at?[k], WRITTEN_PRECISION * self.size))
         }
+    }
+}
+
+/// A distance for the report: 4 decimals, or two significant digits below
+/// 1e-3.
+pub fn length(x: f64) -> String {
+    if x >= 1e-3 {
+        num(x)
+    } else {
+        format!("{x:.1e}")
     }
 }
 

@@ -6,7 +6,7 @@
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
-use dofplan::assemble::assemble_str;
+use dofplan::assemble::{assemble_str, length};
 use dofplan::model::{load_file, load_str, load_str_drawn, Format, JointKind, Mechanism, DRAWN_TOLERANCE};
 
 fn mechanisms() -> PathBuf {
@@ -449,7 +449,7 @@ fn the_report_names_every_marker_and_how_far_it_moved() {
             .lines()
             .find(|l| l.trim_start().starts_with(&format!("{name} ")))
             .unwrap_or_else(|| panic!("{name} in {report}"));
-        assert!(line.ends_with(&format!("{:.3e}", mv.distance)), "{line}");
+        assert!(line.ends_with(&length(mv.distance)), "{line}");
         let (p, q) = (mv.from, mv.to);
         assert!(((p[0] - q[0]).hypot(p[1] - q[1]) - mv.distance).abs() < 1e-12);
     }
