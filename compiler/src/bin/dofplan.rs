@@ -116,10 +116,10 @@ enum Command {
     /// file with the assembled coordinates (standard output), and how far
     /// each marker moved (standard error). Each mobile body moves rigidly:
     /// its markers keep their distances and angles, so draw every body with
-    /// its true shape, roughly in place. Fixed bodies never move. The
-    /// assembly starts from the drawn pose, so it is the nearest one, in the
-    /// assembly mode drawn. Joints that cannot all close are an error naming
-    /// them.
+    /// its true shape, roughly in place. Fixed bodies never move; inputs are
+    /// free while assembling, so a crank may turn a little. The assembly
+    /// starts from the drawn pose, so it is the nearest one, in the assembly
+    /// mode drawn. Joints that cannot all close are an error naming them.
     Assemble {
         /// Mechanism file (TOML, or JSON with a .json extension).
         file: PathBuf,
