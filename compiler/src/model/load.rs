@@ -67,7 +67,10 @@ pub fn load_str(file_name: &str, text: &str, format: Format) -> Result<Mechanism
 }
 
 /// A mechanism whose only errors, if any, are joints and constraints that do
-/// not hold in the drawn pose: what `dofplan assemble` starts from.
+/// not hold in the drawn pose: what `dofplan assemble` starts from. With
+/// open joints it is not a valid model: only the assembly
+/// (`analysis::conflict::assemble`) may use it; everything else takes
+/// [`Drawn::assembled`].
 #[derive(Clone, Debug)]
 pub struct Drawn {
     /// The mechanism, every joint and constraint included, open ones too.
