@@ -493,6 +493,8 @@ RECIPES = {
     "pantograph": lambda M: [("crank", "C0"), ("rrr", "O", "T1", "A"), ("rrr", "E", "T2", "D")],
     "table": lambda M: [("crank", "A"), ("rrr", "B", "D", "C"), ("pin2", "E", "F")],
     "vlink": lambda M: [("crank", "A"), ("rrr", "B", "D", "C"), ("pin2", "U", "W")],
+    "jansen": lambda M: [("crank", "O"), ("rrr", "A_j", "B", "C"), ("rrr", "A_k", "B_c", "E"),
+                         ("rrr", "D", "E_foot", "F")],
 }
 
 

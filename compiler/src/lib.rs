@@ -13,8 +13,11 @@
 //! - [`emit`]: writes a plan as straight-line Rust.
 //! - [`numeric`]: pure Newton–Raphson (the baseline without analysis).
 //! - [`build`]: the `build.rs` API.
+//! - [`assemble`]: moves the markers of a roughly drawn file to where its
+//!   joints close (`dofplan assemble`).
 
 pub mod analysis;
+pub mod assemble;
 pub mod build;
 pub mod emit;
 pub mod interp;

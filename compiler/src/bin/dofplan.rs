@@ -1,5 +1,5 @@
-//! The dofplan command line: check, explain, emit and simulate mechanism
-//! files.
+//! The dofplan command line: check, explain, emit, simulate and assemble
+//! mechanism files.
 
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -12,6 +12,7 @@ use serde_json::{json, Map, Value};
 
 use dofplan::analysis::rank::rank_mobility;
 use dofplan::analysis::{analyse, Analysis, Class};
+use dofplan::assemble::assemble_file;
 use dofplan::emit::emit;
 use dofplan::interp::Interpreter;
 use dofplan::model::{load_file, Location, MarkerId, Mechanism, ModelError};
@@ -107,6 +108,26 @@ enum Command {
         /// Draw the mechanism at several poses and the traces into this SVG file.
         #[arg(long, value_name = "OUT")]
         svg: Option<PathBuf>,
+    },
+    /// Move every marker to where the joints close: author a file from
+    /// approximate coordinates.
+    ///
+    /// Runs the least-squares assembly from the drawn pose and prints the
+    /// file with the assembled coordinates (standard output), and how far
+    /// each marker moved (standard error). Each mobile body moves rigidly:
+    /// its markers keep their distances and angles, so draw every body with
+    /// its true shape, roughly in place. Fixed bodies never move; inputs are
+    /// free while assembling, so a crank may turn a little. The assembly
+    /// starts from the drawn pose, so it is the nearest one, in the assembly
+    /// mode drawn. Joints that cannot all close are an error naming them.
+    Assemble {
+        /// Mechanism file (TOML, or JSON with a .json extension).
+        file: PathBuf,
+        /// Write the result back into FILE instead of printing it. Only the
+        /// numbers of a TOML file change (comments, order and layout are
+        /// kept); a JSON file keeps its key order but is re-indented.
+        #[arg(long)]
+        write: bool,
     },
 }
 
@@ -205,7 +226,35 @@ fn main() -> ExitCode {
             };
             simulate(m, plan, steps, options, solver, json, csv, svg.as_deref())
         }),
+        Command::Assemble { file, write } => assemble(&file, write),
     }
+}
+
+/// `dofplan assemble`: the table of moves goes to standard error when the
+/// file goes to standard output, so the output can be redirected to a file.
+fn assemble(file: &Path, write: bool) -> ExitCode {
+    let done = match assemble_file(file) {
+        Ok(done) => done,
+        Err(e) => {
+            report_model_error(&e);
+            return ExitCode::FAILURE;
+        }
+    };
+    if !write {
+        eprint!("{}", done.report());
+        print!("{}", done.text);
+        return ExitCode::SUCCESS;
+    }
+    print!("{}", done.report());
+    if done.unchanged() {
+        return ExitCode::SUCCESS;
+    }
+    if let Err(e) = std::fs::write(file, &done.text) {
+        eprintln!("{}: error: cannot write the file: {e}", file.display());
+        return ExitCode::FAILURE;
+    }
+    println!("wrote {}", file.display());
+    ExitCode::SUCCESS
 }
 
 /// Prints model errors, with source snippets where there are spans.

@@ -63,6 +63,52 @@ pub fn load_file(path: &Path) -> Result<Mechanism, ModelError> {
 
 /// Validates a mechanism given as text; `file_name` is used in errors.
 pub fn load_str(file_name: &str, text: &str, format: Format) -> Result<Mechanism, ModelError> {
+    load_str_drawn(file_name, text, format)?.assembled()
+}
+
+/// A mechanism whose only errors, if any, are joints and constraints that do
+/// not hold in the drawn pose: what `dofplan assemble` starts from. With
+/// open joints it is not a valid model: only the assembly
+/// (`analysis::conflict::assemble`) may use it; everything else takes
+/// [`Drawn::assembled`].
+#[derive(Clone, Debug)]
+pub struct Drawn {
+    /// The mechanism, every joint and constraint included, open ones too.
+    pub mechanism: Mechanism,
+    /// The "does not hold in the drawn pose" errors, in file order; empty
+    /// when every joint holds.
+    pub open: Vec<Diagnostic>,
+    /// Which joint or constraint each error is about.
+    opened: Vec<Open>,
+    /// Where each joint and constraint is written, by origin ("joint B").
+    places: Vec<(String, Location)>,
+}
+
+impl Drawn {
+    /// The mechanism if every joint holds in the drawn pose; otherwise the
+    /// errors [`load_str`] gives: the open joints, revised by the
+    /// least-squares assembly (the drawing is only off, or the joints named
+    /// in conflict).
+    pub fn assembled(self) -> Result<Mechanism, ModelError> {
+        let Drawn {
+            mechanism,
+            mut open,
+            opened,
+            places,
+        } = self;
+        if open.is_empty() {
+            return Ok(mechanism);
+        }
+        conflict::review(&mechanism, &opened, &places, &mut open);
+        Err(ModelError { diagnostics: open })
+    }
+}
+
+/// Validates a mechanism given as text like [`load_str`], but returns it
+/// even when joints or constraints do not hold in the drawn pose (with
+/// those errors). Every other error (syntax, unknown names, kinds...) is
+/// still an error.
+pub fn load_str_drawn(file_name: &str, text: &str, format: Format) -> Result<Drawn, ModelError> {
     let file = SourceFile {
         name: file_name.to_string(),
         text: Arc::from(text),
@@ -115,13 +161,15 @@ pub fn load_str(file_name: &str, text: &str, format: Format) -> Result<Mechanism
     };
     let mechanism = v.mechanism(&root);
     match mechanism {
-        Some(m) if v.diags.is_empty() => Ok(m),
-        Some(m) if v.diags.len() == v.open.len() => {
-            // Only joints open in the drawn pose: say whether the mechanism
-            // assembles at all, or which joints are in conflict.
-            conflict::review(&m, &v.open, &v.places, &mut v.diags);
-            Err(ModelError { diagnostics: v.diags })
-        }
+        // Only joints open in the drawn pose (or none): the assembly check
+        // says whether the mechanism assembles at all, or which joints are
+        // in conflict (`Drawn::assembled`).
+        Some(m) if v.diags.len() == v.open.len() => Ok(Drawn {
+            mechanism: m,
+            open: v.diags,
+            opened: v.open,
+            places: v.places,
+        }),
         _ => Err(ModelError { diagnostics: v.diags }),
     }
 }
