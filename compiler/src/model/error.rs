@@ -33,7 +33,8 @@ impl SourceFile {
 pub enum Location {
     /// A byte range in the file.
     Span(Span),
-    /// A line and column (JSON syntax errors).
+    /// A line and column, where there is no text to span (a byte that is
+    /// not UTF-8).
     LineCol(usize, usize),
     /// A path in the document (JSON, whose parser keeps no positions).
     Path(String),
