@@ -702,7 +702,7 @@ fn unknown_top_level_key() {
     let e = toml_err(&fourbar(&[(1, "nme = \"fourbar\"")]));
     let shown = e.to_string();
     assert!(
-        shown.starts_with("t.toml:1:1: error: unknown key `nme` in `the file`"),
+        shown.starts_with("t.toml:1:1: error: unknown key `nme` in the file"),
         "{shown}"
     );
     assert!(

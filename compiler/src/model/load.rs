@@ -273,7 +273,7 @@ impl Validator {
                 let loc = self.key_loc(key, &kpath);
                 self.error_notes(
                     loc,
-                    format!("duplicate name `{}` in `{}`", key.name, display_path(path)),
+                    format!("duplicate name `{}` in {}", key.name, display_path(path)),
                     vec![Note {
                         location: first_loc,
                         message: "first defined here".into(),
@@ -287,7 +287,7 @@ impl Validator {
                 let loc = self.key_loc(key, &kpath);
                 self.error(
                     loc,
-                    format!("unknown key `{}` in `{}`", key.name, display_path(path)),
+                    format!("unknown key `{}` in {}", key.name, display_path(path)),
                     Some(format!("expected one of: {}", allowed.join(", "))),
                 );
             }
@@ -308,7 +308,7 @@ impl Validator {
         let found = Self::get(entries, name);
         if found.is_none() {
             let loc = self.loc(parent, path);
-            self.error(loc, format!("`{}` is missing `{name}`", display_path(path)), None);
+            self.error(loc, format!("{} is missing `{name}`", display_path(path)), None);
         }
         found
     }
@@ -1174,10 +1174,12 @@ fn join(path: &str, key: &str) -> String {
     }
 }
 
-fn display_path(path: &str) -> &str {
+/// A table's path as errors name it: `` `joints.A` ``, or "the file" for
+/// the top level.
+fn display_path(path: &str) -> String {
     if path.is_empty() {
-        "the file"
+        "the file".into()
     } else {
-        path
+        format!("`{path}`")
     }
 }
