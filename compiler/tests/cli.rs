@@ -757,3 +757,40 @@ fn simulate_json_help_lists_every_field() {
         assert!(help.contains(field), "{field} not in:\n{help}");
     }
 }
+
+#[test]
+fn errors_are_coloured_on_a_terminal_unless_no_color_is_set() {
+    // util-linux `script` runs a command on a pseudo-terminal.
+    let script = Command::new("script").arg("--version").output();
+    if !script.is_ok_and(|o| String::from_utf8_lossy(&o.stdout).contains("util-linux")) {
+        eprintln!("skipped: no util-linux `script` to give the binary a terminal");
+        return;
+    }
+    let dir = scratch("terminal");
+    let file = dir.join("bad.toml");
+    std::fs::write(&file, "name = \"bad\"\n").unwrap();
+    let on_a_terminal = |no_color: Option<&str>| -> String {
+        let line = format!("'{}' check '{}'", env!("CARGO_BIN_EXE_dofplan"), file.display());
+        let mut command = Command::new("script");
+        command.args(["-qec", &line, "/dev/null"]);
+        match no_color {
+            Some(v) => command.env("NO_COLOR", v),
+            None => command.env_remove("NO_COLOR"),
+        };
+        let o = command.output().unwrap();
+        assert_eq!(o.status.code(), Some(1), "{}", stdout(&o));
+        // The terminal carries both streams.
+        stdout(&o)
+    };
+    let coloured = on_a_terminal(None);
+    let empty = on_a_terminal(Some(""));
+    let plain = on_a_terminal(Some("1"));
+    let _ = std::fs::remove_dir_all(dir);
+    assert!(coloured.contains("\u{1b}["), "{coloured:?}");
+    assert!(
+        empty.contains("\u{1b}["),
+        "an empty NO_COLOR counts as unset: {empty:?}"
+    );
+    assert!(!plain.contains('\u{1b}'), "{plain:?}");
+    assert!(plain.contains("error: the file is missing `bodies`"), "{plain:?}");
+}
