@@ -922,6 +922,19 @@ fn a_binary_file_is_not_utf8_text() {
         ],
     );
     assert!(!e.to_string().contains("check the path"), "{e}");
+    // A NUL is valid UTF-8 but no text file has one; here at the start of
+    // line 2.
+    let dir = std::env::temp_dir().join(format!("dofplan-bad-input-nul-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("program.toml");
+    std::fs::write(&path, b"\x7fELF\n\x00\x00\x01").unwrap();
+    let e = load_file(&path).expect_err("not text");
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_one(
+        &e,
+        &format!("{}:2:1", path.display()),
+        &["the file is not UTF-8 text: byte 0x00 at offset 5 is not valid UTF-8 text"],
+    );
 }
 
 // -------------------------------------------------------------- valid forms

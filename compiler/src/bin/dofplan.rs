@@ -618,7 +618,7 @@ fn simulate(
         ),
         input_names: m.inputs.iter().map(|i| i.name.clone()).collect(),
         value_name: name,
-        value: Box::new(move |inputs| precise(inputs[input])),
+        value: Box::new(move |inputs, f| f(inputs[input])),
         explain: Box::new(move |step| match solver {
             SolverArg::Plan => plan.explain(step as usize),
             SolverArg::Newton => "Newton-Raphson on every mobile link".to_string(),
@@ -697,14 +697,14 @@ fn drag(
         };
         [from[0] + t * (to[0] - from[0]), from[1] + t * (to[1] - from[1])]
     });
-    let point = |p: &[f64]| format!("({}, {})", precise(p[0]), precise(p[1]));
+    let point = |p: &[f64], f: fn(f64) -> String| format!("({}, {})", f(p[0]), f(p[1]));
     let report = Report {
         m: &m,
         title: format!(
             "{}: {steps} frames, drag of {marker} from {} to {}",
             m.name,
-            point(&from),
-            point(&to)
+            point(&from, precise),
+            point(&to, precise)
         ),
         input_names: vec![format!("{marker}.x"), format!("{marker}.y")],
         value_name: "target".into(),
@@ -716,8 +716,9 @@ fn drag(
     output(&report, frames(&mut driver, targets), form, svg, out)
 }
 
-/// Writes a frame's driven value from its inputs.
-type Describe<'a> = dyn Fn(&[f64]) -> String + 'a;
+/// Writes a frame's driven value from its inputs, each number with the
+/// given format.
+type Describe<'a> = dyn Fn(&[f64], fn(f64) -> String) -> String + 'a;
 
 /// What the output of a run of frames needs besides the frames: how to
 /// name the inputs, how to explain a step, which markers to trace.
@@ -756,8 +757,9 @@ impl Form {
     }
 }
 
-/// An input value as written in summaries: up to 9 decimals, the precision
-/// a break point is searched to.
+/// An input value where the pose is (held, or a break point): up to 9
+/// decimals, the precision a break point is searched to. Requested values
+/// are written with [`num`]'s 4.
 fn precise(x: f64) -> String {
     let s = format!("{x:.9}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
@@ -1036,18 +1038,22 @@ impl<'r, 'a> Summary<'r, 'a> {
         let r = self.r;
         let (first, last) = (&run.requested.0, &run.requested.1);
         let frames = if run.first == run.last {
-            format!("frame {} ({} {})", run.first, r.value_name, (r.value)(first))
+            format!("frame {} ({} {})", run.first, r.value_name, (r.value)(first, num))
         } else {
             format!(
                 "frames {}–{} ({} {} … {})",
                 run.first,
                 run.last,
                 r.value_name,
-                (r.value)(first),
-                (r.value)(last)
+                (r.value)(first, num),
+                (r.value)(last, num)
             )
         };
-        let (a, b) = ((r.value)(&run.reached.0), (r.value)(&run.reached.1));
+        // Where the pose is: to the precision a break point is found to.
+        let (a, b) = (
+            (r.value)(&run.reached.0, precise),
+            (r.value)(&run.reached.1, precise),
+        );
         let at = if a == b { a } else { format!("{a} … {b}") };
         let (name, detail) = match &run.status {
             FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. } => (

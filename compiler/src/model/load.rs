@@ -66,23 +66,29 @@ pub fn load_file(path: &Path) -> Result<Mechanism, ModelError> {
         )
     })?;
     // Read as bytes first: a file that is there but is not text (a binary,
-    // an image, UTF-16) is told apart from a wrong path.
-    let text = String::from_utf8(bytes).map_err(|e| {
-        let offset = e.utf8_error().valid_up_to();
-        let valid = &e.as_bytes()[..offset];
-        // Where the bad byte is, counted in the text before it.
-        let before = std::str::from_utf8(valid).unwrap_or_default();
+    // an image, UTF-16) is told apart from a wrong path. A NUL byte is
+    // valid UTF-8 but text in neither TOML nor JSON: binaries are full of
+    // them.
+    let bad = match std::str::from_utf8(&bytes) {
+        Ok(text) => text.find('\0'),
+        Err(e) => Some(e.valid_up_to()),
+    };
+    if let Some(offset) = bad {
+        // Where the bad byte is, counted in the text before it (valid).
+        let before = std::str::from_utf8(&bytes[..offset]).unwrap_or_default();
         let line = before.matches('\n').count() + 1;
         let col = before[before.rfind('\n').map_or(0, |i| i + 1)..].chars().count() + 1;
-        unread(
+        return Err(unread(
             Location::LineCol(line, col),
             format!(
-                "the file is not UTF-8 text: byte 0x{:02x} at offset {offset} is not valid UTF-8",
-                e.as_bytes()[offset]
+                "the file is not UTF-8 text: byte 0x{:02x} at offset {offset} is not valid UTF-8{}",
+                bytes[offset],
+                if bytes[offset] == 0 { " text" } else { "" },
             ),
             "mechanism files are TOML or JSON text in UTF-8: is this the right file? (re-save it as UTF-8 if it is)",
-        )
-    })?;
+        ));
+    }
+    let text = String::from_utf8(bytes).expect("checked above");
     load_str(&name, &text, Format::of_path(path))
 }
 
