@@ -183,6 +183,31 @@ fn json_syntax_error_has_line_and_column() {
     assert!(!e.to_string().contains("at line"), "{e}");
 }
 
+#[test]
+fn json_syntax_error_at_the_end_has_a_1_based_column() {
+    // The closing `}` left out: the object is still open at the end, the
+    // start of line 17 (serde_json says column 0 there).
+    let text = fourbar_json(&[]).replace("\n}\n", "\n");
+    let e = json_err(&text);
+    assert_one(
+        &e,
+        "t.json:17:1",
+        &["JSON syntax error", "EOF while parsing an object"],
+    );
+    // Cut inside line 2, after `  "name": "four` (15 characters): the string
+    // is unterminated, the end is column 16.
+    let e = json_err("{\n  \"name\": \"four");
+    assert_one(&e, "t.json:2:16", &["EOF while parsing a string"]);
+}
+
+#[test]
+fn json_syntax_error_column_counts_characters() {
+    // Line 2 with a two-byte `é` in the name and a stray `x` after it: the
+    // `x` is character 20 of the line (byte 21, which serde_json reports).
+    let e = json_err(&fourbar_json(&[(2, r#"  "name": "fourbé" x,"#)]));
+    assert_one(&e, "t.json:2:20", &["expected `,` or `}`"]);
+}
+
 // ------------------------------------------------------ names and references
 
 #[test]
@@ -677,7 +702,7 @@ fn unknown_top_level_key() {
     let e = toml_err(&fourbar(&[(1, "nme = \"fourbar\"")]));
     let shown = e.to_string();
     assert!(
-        shown.starts_with("t.toml:1:1: error: unknown key `nme` in `the file`"),
+        shown.starts_with("t.toml:1:1: error: unknown key `nme` in the file"),
         "{shown}"
     );
     assert!(
@@ -843,6 +868,73 @@ fn a_file_with_a_syntax_error_names_the_file() {
     let _ = std::fs::remove_dir_all(&dir);
     let head = format!("{}:3:9: error: TOML syntax error", path.display());
     assert!(e.to_string().starts_with(&head), "{e}");
+}
+
+#[test]
+fn an_empty_file_says_so() {
+    for (text, message) in [
+        ("", "the file is empty"),
+        ("\n  \n", "the file is empty (only white space)"),
+    ] {
+        for (e, head) in [(toml_err(text), "t.toml"), (json_err(text), "t.json")] {
+            assert_one(&e, head, &[message, "needs a `name`, `bodies`", "`joints`"]);
+        }
+    }
+    let e = toml_err("# a comment\n\n# and another\n");
+    assert_one(
+        &e,
+        "t.toml",
+        &[
+            "the file defines nothing (it has only comments)",
+            "needs a `name`",
+        ],
+    );
+    let e = json_err("{ }");
+    assert_one(&e, "t.json", &["the file defines nothing (an empty object)"]);
+    // From disk, the error names the file.
+    let dir = std::env::temp_dir().join(format!("dofplan-bad-input-empty-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("empty.toml");
+    std::fs::write(&path, "").unwrap();
+    let e = load_file(&path).expect_err("an empty file");
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_one(&e, &path.display().to_string(), &["the file is empty"]);
+}
+
+#[test]
+fn a_binary_file_is_not_utf8_text() {
+    // Two good lines, then a byte that starts no UTF-8 character: line 3,
+    // after `ab` (column 3), byte offset 24.
+    let dir = std::env::temp_dir().join(format!("dofplan-bad-input-binary-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("image.toml");
+    let mut bytes = b"name = \"x\"\n[bodies.g]\nab".to_vec();
+    bytes.extend([0xff, 0xd8, 0x00, 0x10]);
+    std::fs::write(&path, &bytes).unwrap();
+    let e = load_file(&path).expect_err("not text");
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_one(
+        &e,
+        &format!("{}:3:3", path.display()),
+        &[
+            "the file is not UTF-8 text: byte 0xff at offset 24",
+            "help: mechanism files are TOML or JSON text in UTF-8",
+        ],
+    );
+    assert!(!e.to_string().contains("check the path"), "{e}");
+    // A NUL is valid UTF-8 but no text file has one; here at the start of
+    // line 2.
+    let dir = std::env::temp_dir().join(format!("dofplan-bad-input-nul-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("program.toml");
+    std::fs::write(&path, b"\x7fELF\n\x00\x00\x01").unwrap();
+    let e = load_file(&path).expect_err("not text");
+    let _ = std::fs::remove_dir_all(&dir);
+    assert_one(
+        &e,
+        &format!("{}:2:1", path.display()),
+        &["the file is not UTF-8 text: byte 0x00 at offset 5 is not valid UTF-8 text"],
+    );
 }
 
 // -------------------------------------------------------------- valid forms

@@ -5,7 +5,7 @@ use dofplan_runtime::numeric::NewtonReport;
 use dofplan_runtime::planar::{Point, Pose};
 use dofplan_runtime::{Animate, Driver, FrameStatus, Options, Solver};
 
-use crate::model::{ConstraintKind, InputKind, JointKind, MarkerId, Mechanism};
+use crate::model::{ConstraintKind, InputKind, JointKind, MarkerId, Mechanism, Sweep};
 
 /// One solved (or broken) frame.
 #[derive(Clone, Debug)]
@@ -33,38 +33,78 @@ pub fn sweep_inputs(m: &Mechanism, steps: Option<usize>) -> Vec<Vec<f64>> {
     if let Some(n) = steps {
         sweep.steps = n.max(1);
     }
-    sweep
-        .values()
-        .into_iter()
-        .map(|v| {
-            let mut inputs = vec![0.0; m.inputs.len()];
-            inputs[sweep.input] = v;
-            inputs
-        })
-        .collect()
+    sweep_requests(&sweep, m.inputs.len()).collect()
+}
+
+/// The requested inputs of every frame of `sweep` for a mechanism with
+/// `inputs` inputs (the swept one takes the sweep's values, the others stay
+/// at 0), made one at a time: a long sweep streams without holding them all.
+pub fn sweep_requests(sweep: &Sweep, inputs: usize) -> impl ExactSizeIterator<Item = Vec<f64>> {
+    let sweep = sweep.clone();
+    (0..sweep.steps).map(move |i| {
+        let mut requested = vec![0.0; inputs];
+        requested[sweep.input] = sweep.value(i);
+        requested
+    })
 }
 
 /// Drives any solver through `requested` frames.
 pub fn run<S: Solver>(solver: S, options: Options, requested: &[Vec<f64>]) -> Vec<Frame> {
     let mut driver = Driver::new(solver, options);
-    run_animate(&mut driver, requested)
+    frames(&mut driver, requested).collect()
 }
 
 /// Drives a trait-object driver (e.g. a compiled plan picked by name).
 pub fn run_animate(driver: &mut dyn Animate, requested: &[Vec<f64>]) -> Vec<Frame> {
-    requested
-        .iter()
-        .map(|inputs| {
-            let status = driver.frame(inputs);
-            Frame {
-                requested: inputs.clone(),
-                inputs: driver.inputs().to_vec(),
-                status,
-                poses: driver.poses().to_vec(),
-                numeric: driver.numeric(),
-            }
+    frames(driver, requested).collect()
+}
+
+/// The frames of `driver` driven through `requested`, solved one at a time
+/// as the iterator is advanced: a caller that writes each frame out and
+/// drops it runs a sweep of any length in constant memory, and stops the
+/// solving by stopping the iteration.
+pub fn frames<D, I>(driver: &mut D, requested: I) -> Frames<'_, D, I::IntoIter>
+where
+    D: Animate + ?Sized,
+    I: IntoIterator,
+    I::Item: AsRef<[f64]>,
+{
+    Frames {
+        driver,
+        requested: requested.into_iter(),
+    }
+}
+
+/// The iterator of [`frames`].
+pub struct Frames<'d, D: ?Sized, I> {
+    driver: &'d mut D,
+    requested: I,
+}
+
+impl<D, I> Iterator for Frames<'_, D, I>
+where
+    D: Animate + ?Sized,
+    I: Iterator,
+    I::Item: AsRef<[f64]>,
+{
+    type Item = Frame;
+
+    fn next(&mut self) -> Option<Frame> {
+        let requested = self.requested.next()?;
+        let requested = requested.as_ref();
+        let status = self.driver.frame(requested);
+        Some(Frame {
+            requested: requested.to_vec(),
+            inputs: self.driver.inputs().to_vec(),
+            status,
+            poses: self.driver.poses().to_vec(),
+            numeric: self.driver.numeric(),
         })
-        .collect()
+    }
+
+    fn size_hint(&self) -> (usize, Option<usize>) {
+        self.requested.size_hint()
+    }
 }
 
 /// World position of a marker.
@@ -182,4 +222,79 @@ pub fn max_relative_residual(m: &Mechanism, poses: &[Pose], inputs: &[f64]) -> f
         .iter()
         .map(|r| r.value / size)
         .fold(0.0, f64::max)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dofplan_runtime::numeric::NewtonReport;
+
+    /// A one-body "mechanism" whose pose is its input, counting its frames.
+    struct Counting {
+        solved: usize,
+        inputs: Vec<f64>,
+        poses: Vec<Pose>,
+    }
+
+    impl Animate for Counting {
+        fn frame(&mut self, inputs: &[f64]) -> FrameStatus {
+            self.solved += 1;
+            self.inputs = inputs.to_vec();
+            self.poses[0].at = [inputs[0], 0.0];
+            FrameStatus::Solved
+        }
+        fn poses(&self) -> &[Pose] {
+            &self.poses
+        }
+        fn inputs(&self) -> &[f64] {
+            &self.inputs
+        }
+        fn numeric(&self) -> Option<NewtonReport> {
+            None
+        }
+        fn reset(&mut self) {}
+    }
+
+    fn counting() -> Counting {
+        Counting {
+            solved: 0,
+            inputs: vec![0.0],
+            poses: vec![Pose::IDENTITY],
+        }
+    }
+
+    #[test]
+    fn frames_are_solved_only_as_they_are_taken() {
+        let sweep = Sweep {
+            input: 0,
+            from: 0.0,
+            to: 1.0,
+            steps: 1_000_000,
+            trace: vec![],
+        };
+        let mut driver = counting();
+        let taken: Vec<Frame> = frames(&mut driver, sweep_requests(&sweep, 1)).take(3).collect();
+        assert_eq!(driver.solved, 3);
+        let third = 2.0 / 999_999.0;
+        assert_eq!(taken[2].requested, [third]);
+        assert_eq!(taken[2].poses[0].at, [third, 0.0]);
+    }
+
+    #[test]
+    fn sweep_requests_are_the_sweeps_values() {
+        let sweep = Sweep {
+            input: 1,
+            from: -1.0,
+            to: 0.3,
+            steps: 14,
+            trace: vec![],
+        };
+        let requested: Vec<Vec<f64>> = sweep_requests(&sweep, 3).collect();
+        let values = sweep.values();
+        assert_eq!(requested.len(), 14);
+        assert_eq!(values[13], 0.3, "the last value is exactly `to`");
+        for (r, v) in requested.iter().zip(&values) {
+            assert_eq!(r, &[0.0, *v, 0.0]);
+        }
+    }
 }

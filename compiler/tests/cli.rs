@@ -151,10 +151,15 @@ fn bad_files_get_a_position_and_a_failing_status() {
     let o = dofplan(&["check", file.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1));
     let err = stderr(&o);
-    assert!(
-        err.contains("bad.toml:9:24: error: joint `A`: unknown body `crnk`"),
-        "{err}"
-    );
+    // Once: the message, then the file:line:col and the line it is on.
+    assert_eq!(err.matches("unknown body `crnk`").count(), 1, "{err}");
+    for needle in [
+        "error: joint `A`: unknown body `crnk`",
+        "bad.toml:9:24\n",
+        "9 │ markers = [\"ground.A\", \"crnk.A\"]",
+    ] {
+        assert!(err.contains(needle), "`{needle}` not in:\n{err}");
+    }
     let o = dofplan(&["simulate", dir.join("missing.toml").to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1));
     assert!(stderr(&o).contains("cannot read the file"));
@@ -269,10 +274,11 @@ fn check_shows_joints_in_conflict_with_the_source() {
     std::fs::write(&file, &text).unwrap();
     let o = dofplan(&["check", file.to_str().unwrap()]);
     assert_eq!(o.status.code(), Some(1));
-    let err = plain(&stderr(&o));
-    let head = format!("long.toml:{line}:1: error: joints ");
+    let err = stderr(&o);
+    let position = format!("long.toml:{line}:1\n");
     for needle in [
-        head.as_str(),
+        "error: joints ",
+        position.as_str(),
         "are in conflict: no pose near the drawn one closes them all (least-squares gap",
         &format!("{line} │ [joints.E]"),
         "^^^^^^^^^^",
@@ -285,21 +291,506 @@ fn check_shows_joints_in_conflict_with_the_source() {
     let _ = std::fs::remove_dir_all(dir);
 }
 
-/// Text without ANSI colour codes (the snippets are coloured even when
-/// piped, depending on TERM).
-fn plain(text: &str) -> String {
-    let mut out = String::new();
-    let mut chars = text.chars();
-    while let Some(c) = chars.next() {
-        if c == '\u{1b}' {
-            for c in chars.by_ref() {
-                if c.is_ascii_alphabetic() {
-                    break;
-                }
-            }
-        } else {
-            out.push(c);
+/// A fresh directory for one test's files.
+fn scratch(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("dofplan-cli-{test}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+// ------------------------------------------------------------- hygiene
+
+/// Runs the binary with standard output into a pipe that the reader closes
+/// after `keep` lines (0: before reading anything), as `| head` does.
+fn closed_early(args: &[&str], keep: usize) -> Output {
+    use std::io::{BufRead, BufReader};
+    use std::process::Stdio;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_dofplan"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("the dofplan binary runs");
+    let stdout = child.stdout.take().unwrap();
+    let mut lines = BufReader::new(stdout).lines();
+    for _ in 0..keep {
+        lines.next().expect("a line").expect("text");
+    }
+    drop(lines);
+    child.wait_with_output().unwrap()
+}
+
+#[test]
+fn a_reader_that_goes_away_ends_every_command_quietly() {
+    use std::os::unix::process::ExitStatusExt;
+    let fourbar = mechanism("fourbar");
+    let fourbar = fourbar.to_str().unwrap();
+    // A million frames: only a run that streams and stops at the closed
+    // pipe ends before solving them all.
+    let long = ["simulate", fourbar, "--steps", "1000000"];
+    let drag = ["drag", fourbar, "--marker", "coupler.P", "--to", "2,4"];
+    let cases: Vec<(Vec<&str>, usize)> = vec![
+        ([&long[..], &["--csv"]].concat(), 3),
+        ([&long[..], &["--json"]].concat(), 3),
+        (long.to_vec(), 0),
+        (["simulate", fourbar, "--json"].to_vec(), 0),
+        ([&drag[..], &["--csv"]].concat(), 1),
+        (drag.to_vec(), 0),
+        (["plan", fourbar].to_vec(), 0),
+        (["emit", fourbar].to_vec(), 1),
+        (["check", fourbar].to_vec(), 0),
+    ];
+    for (args, keep) in cases {
+        let o = closed_early(&args, keep);
+        let err = stderr(&o);
+        assert!(
+            o.status.success() || o.status.signal() == Some(13),
+            "{args:?}: {:?}\n{err}",
+            o.status
+        );
+        assert!(err.is_empty(), "{args:?}: nothing on standard error, got:\n{err}");
+    }
+}
+
+#[test]
+fn errors_are_printed_once_without_colour_off_a_terminal() {
+    let dir = scratch("colour");
+    let file = dir.join("bad.toml");
+    std::fs::write(
+        &file,
+        "name = \"bad\"\n[bodies.ground]\nfixd = true\nmarkers = { A = [0, 0] }\n",
+    )
+    .unwrap();
+    // The colour-capable TERM a user's shell has: standard error is still
+    // a pipe here, so no colour.
+    let o = Command::new(env!("CARGO_BIN_EXE_dofplan"))
+        .args(["check", file.to_str().unwrap()])
+        .env("TERM", "xterm-256color")
+        .env_remove("NO_COLOR")
+        .output()
+        .unwrap();
+    let _ = std::fs::remove_dir_all(dir);
+    assert_eq!(o.status.code(), Some(1));
+    let err = stderr(&o);
+    assert!(!err.contains('\u{1b}'), "an escape code in:\n{err}");
+    assert_eq!(err.matches("unknown key `fixd`").count(), 1, "{err}");
+    assert!(err.contains("bad.toml:3:1\n"), "{err}");
+    // Every file has one fixed body: the second error is there too, once.
+    assert_eq!(err.matches("error: ").count(), 2, "{err}");
+}
+
+#[test]
+fn zero_steps_are_rejected() {
+    let fourbar = mechanism("fourbar");
+    let fourbar = fourbar.to_str().unwrap();
+    for args in [
+        vec!["simulate", fourbar, "--steps", "0"],
+        vec![
+            "drag",
+            fourbar,
+            "--marker",
+            "coupler.P",
+            "--to",
+            "1,2",
+            "--steps",
+            "0",
+        ],
+    ] {
+        let o = dofplan(&args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        assert!(o.stdout.is_empty());
+        assert!(
+            stderr(&o).contains("invalid value '0' for '--steps <STEPS>': 0 is not in 1..=1000000"),
+            "{}",
+            stderr(&o)
+        );
+    }
+}
+
+#[test]
+fn empty_and_binary_files_say_what_they_are() {
+    let dir = scratch("files");
+    let empty = dir.join("empty.toml");
+    std::fs::write(&empty, "").unwrap();
+    let binary = dir.join("picture.toml");
+    std::fs::write(&binary, [0x89, b'P', b'N', b'G', 0x0d, 0x0a]).unwrap();
+    let o = dofplan(&["check", empty.to_str().unwrap()]);
+    let e = dofplan(&["simulate", binary.to_str().unwrap()]);
+    let _ = std::fs::remove_dir_all(dir);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stderr(&o).starts_with(&format!(
+            "{}: error: the file is empty\n  help: a mechanism file needs",
+            empty.display()
+        )),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(e.status.code(), Some(1));
+    assert!(
+        stderr(&e).starts_with(&format!(
+            "{}:1:1: error: the file is not UTF-8 text: byte 0x89 at offset 0",
+            binary.display()
+        )),
+        "{}",
+        stderr(&e)
+    );
+    assert!(!stderr(&e).contains("check the path"), "{}", stderr(&e));
+}
+
+// ------------------------------------------------------------ the sweep
+
+/// The four-bar without its `[sweep]`.
+fn fourbar_without_sweep(dir: &std::path::Path) -> PathBuf {
+    let text = std::fs::read_to_string(mechanism("fourbar")).unwrap();
+    let cut = text.find("[sweep]").expect("the four-bar has a sweep");
+    let file = dir.join("no_sweep.toml");
+    std::fs::write(&file, &text[..cut]).unwrap();
+    file
+}
+
+#[test]
+fn the_command_line_gives_or_overrides_the_sweep() {
+    let dir = scratch("sweep");
+    let file = fourbar_without_sweep(&dir);
+    let file = file.to_str().unwrap();
+    let theta = |o: &Output| -> Vec<f64> {
+        assert!(o.status.success(), "{}", stderr(o));
+        let doc: serde_json::Value = serde_json::from_str(&stdout(o)).expect("one JSON document");
+        doc["frames"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| {
+                assert_eq!(f["status"], "solved");
+                // The crank turns by the input: its pose says so.
+                let angle = f["bodies"]["crank"]["angle"].as_f64().unwrap();
+                let theta = f["inputs"]["theta"].as_f64().unwrap();
+                let turn = (angle - theta).rem_euclid(360.0);
+                assert!(
+                    turn.min(360.0 - turn) < 1e-9,
+                    "crank at {angle} for theta {theta}"
+                );
+                theta
+            })
+            .collect()
+    };
+    // A file without [sweep]: its only input, over the range given.
+    let o = dofplan(&[
+        "simulate", file, "--from", "0", "--to", "90", "--steps", "4", "--json",
+    ]);
+    assert_eq!(theta(&o), [0.0, 30.0, 60.0, 90.0]);
+    let o = dofplan(&[
+        "simulate", file, "--input", "theta", "--from", "-30", "--to", "30", "--json",
+    ]);
+    assert_eq!(theta(&o).len(), 101, "the default number of frames");
+    // The bundled file's sweep with its range replaced, steps kept (361).
+    let bundled = mechanism("fourbar");
+    let o = dofplan(&["simulate", bundled.to_str().unwrap(), "--to", "-360", "--json"]);
+    let t = theta(&o);
+    assert_eq!((t.len(), t[0], t[1], t[360]), (361, 0.0, -1.0, -360.0));
+
+    // Neither: the error names what to add.
+    let o = dofplan(&["simulate", file]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        stderr(&o),
+        format!(
+            "{file}: error: the file has no [sweep] to simulate\n  help: add a [sweep] (input, from, to, steps), \
+             or give the range here: --input theta --from A --to B [--steps N]\n"
+        )
+    );
+    // An input the file does not have: the error lists those it has.
+    let o = dofplan(&["simulate", file, "--input", "phi", "--from", "0", "--to", "1"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(
+        stderr(&o),
+        format!("{file}: error: no input `phi` to sweep\n  help: inputs are: theta\n")
+    );
+    // Not a number, and not finite.
+    for bad in ["ten", "inf"] {
+        let o = dofplan(&["simulate", file, "--from", "0", "--to", bad]);
+        assert_eq!(o.status.code(), Some(2));
+        assert!(
+            stderr(&o).contains(&format!("`{bad}` is not a")),
+            "{}",
+            stderr(&o)
+        );
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+#[test]
+fn a_file_without_inputs_is_dragged_not_simulated() {
+    let chain = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../mechanisms/drag/open_chain_15.toml");
+    let o = dofplan(&["simulate", chain.to_str().unwrap(), "--from", "0", "--to", "1"]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        stderr(&o).contains("error: the file has no inputs to simulate"),
+        "{}",
+        stderr(&o)
+    );
+    assert!(stderr(&o).contains("dofplan drag"), "{}", stderr(&o));
+}
+
+/// The rocker-rocker's input range, from its link lengths (its file's
+/// header): a = 2.5, b = 2, c = 3, d = 5, drawn at 30°; the coupler and
+/// output stretch straight at cos φ = (a² + d² − (b + c)²) / (2ad).
+fn rocker_rocker_range() -> (f64, f64) {
+    let (a, b, c, d): (f64, f64, f64, f64) = (2.5, 2.0, 3.0, 5.0);
+    let phi = ((a * a + d * d - (b + c) * (b + c)) / (2.0 * a * d))
+        .acos()
+        .to_degrees();
+    (-phi - 30.0, phi - 30.0)
+}
+
+#[test]
+fn the_summary_gives_each_break_as_a_frame_range() {
+    // The sweep is theta = -180 + frame, 361 frames; the mechanism
+    // assembles from lo to hi.
+    let (lo, hi) = rocker_rocker_range();
+    let (first_solved, last_solved) = ((lo.ceil() + 180.0) as usize, (hi.floor() + 180.0) as usize);
+    let file = mechanism("rocker_rocker");
+    let o = dofplan(&["simulate", file.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    let lines: Vec<&str> = out.lines().collect();
+    let broke = "    step 2 broke (the circles do not meet, gap up to ";
+    assert_eq!(lines.len(), 6, "{out}");
+    assert_eq!(lines[0], "rocker_rocker: 361 frames, theta from -180 to 180");
+    assert_eq!(
+        lines[1],
+        format!(
+            "  frames 0–{} (theta -180 … {}): limited, held at theta 0",
+            first_solved - 1,
+            first_solved as f64 - 181.0
+        )
+    );
+    assert!(lines[2].starts_with(broke), "{out}");
+    assert!(
+        lines[2].ends_with("): coupler.C: circle about input.B r=2 ∩ circle about ground.D r=3, branch +")
+    );
+    assert_eq!(
+        lines[3],
+        format!(
+            "  frames {}–360 (theta {} … 180): limited, held at theta {}",
+            last_solved + 1,
+            last_solved as f64 - 179.0,
+            last_solved as f64 - 180.0
+        )
+    );
+    assert!(lines[4].starts_with(broke), "{out}");
+    let solved = last_solved - first_solved + 1;
+    assert_eq!(
+        lines[5],
+        format!(
+            "361 frames: {solved} solved, {} limited, 0 searched, 0 stretched",
+            361 - solved
+        )
+    );
+
+    // Under search, each range says the break point it found.
+    let o = dofplan(&["simulate", file.to_str().unwrap(), "--policy", "search"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    let found: Vec<f64> = out
+        .lines()
+        .filter_map(|l| l.split_once(": searched, break point theta "))
+        .map(|(_, v)| v.parse().unwrap())
+        .collect();
+    assert_eq!(found.len(), 2, "{out}");
+    assert!(
+        (found[0] - lo).abs() < 1e-8,
+        "{} found, {lo} closed form",
+        found[0]
+    );
+    assert!(
+        (found[1] - hi).abs() < 1e-8,
+        "{} found, {hi} closed form",
+        found[1]
+    );
+}
+
+// ------------------------------------------------------------- the poses
+
+/// Every marker's drawn coordinates, "body.marker" → [x, y], read from the
+/// TOML directly (not through dofplan's loader).
+fn drawn_markers(file: &std::path::Path) -> Vec<(String, [f64; 2])> {
+    let doc: toml::Table = std::fs::read_to_string(file).unwrap().parse().unwrap();
+    let xy = |v: &toml::Value| -> [f64; 2] {
+        let a = v.as_array().unwrap();
+        let n = |v: &toml::Value| v.as_float().or(v.as_integer().map(|i| i as f64)).unwrap();
+        [n(&a[0]), n(&a[1])]
+    };
+    let mut out = Vec::new();
+    for (body, b) in doc["bodies"].as_table().unwrap() {
+        for (marker, m) in b["markers"].as_table().unwrap() {
+            let at = match m.as_table() {
+                Some(t) => xy(&t["at"]),
+                None => xy(m),
+            };
+            out.push((format!("{body}.{marker}"), at));
         }
     }
     out
+}
+
+/// Where a point drawn at `p` is when its body has turned by `angle`
+/// degrees and its drawing's origin moved to `origin`.
+fn placed(angle: f64, origin: [f64; 2], p: [f64; 2]) -> [f64; 2] {
+    let (s, c) = angle.to_radians().sin_cos();
+    [origin[0] + c * p[0] - s * p[1], origin[1] + s * p[0] + c * p[1]]
+}
+
+#[test]
+fn json_body_poses_reproduce_the_markers() {
+    for name in ["fourbar", "slider_crank", "sixbar_a"] {
+        let file = mechanism(name);
+        let drawn = drawn_markers(&file);
+        let o = dofplan(&["simulate", file.to_str().unwrap(), "--steps", "24", "--json"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let doc: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+        for f in doc["frames"].as_array().unwrap() {
+            let bodies = f["bodies"].as_object().unwrap();
+            for (marker, p) in &drawn {
+                let body = &bodies[marker.split('.').next().unwrap()];
+                let angle = body["angle"].as_f64().unwrap();
+                assert!(angle > -180.0 && angle <= 180.0, "{angle}");
+                let at = placed(
+                    angle,
+                    [body["x"].as_f64().unwrap(), body["y"].as_f64().unwrap()],
+                    *p,
+                );
+                let shown = &f["markers"][marker];
+                let shown = [shown[0].as_f64().unwrap(), shown[1].as_f64().unwrap()];
+                let gap = (at[0] - shown[0]).hypot(at[1] - shown[1]);
+                assert!(
+                    gap < 1e-12,
+                    "{name} {marker}: pose gives {at:?}, markers {shown:?}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn csv_body_poses_follow_the_markers_and_reproduce_them() {
+    let file = mechanism("slider_crank");
+    let drawn = drawn_markers(&file);
+    let o = dofplan(&["simulate", file.to_str().unwrap(), "--steps", "24", "--csv"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = stdout(&o);
+    let mut lines = out.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let column = |name: &str| {
+        header
+            .iter()
+            .position(|h| *h == name)
+            .unwrap_or_else(|| panic!("no column {name}"))
+    };
+    // The markers' columns, then the bodies' (in file order).
+    let last_marker = column("slider.S.y");
+    assert_eq!(
+        header[last_marker + 1..],
+        [
+            "ground.angle",
+            "ground.x",
+            "ground.y",
+            "crank.angle",
+            "crank.x",
+            "crank.y",
+            "rod.angle",
+            "rod.x",
+            "rod.y",
+            "slider.angle",
+            "slider.x",
+            "slider.y"
+        ]
+    );
+    let mut rows = 0;
+    for line in lines {
+        rows += 1;
+        let row: Vec<f64> = line
+            .split(',')
+            .enumerate()
+            .map(|(i, v)| {
+                if header[i] == "status" {
+                    0.0
+                } else {
+                    v.parse().unwrap()
+                }
+            })
+            .collect();
+        for (marker, p) in &drawn {
+            let body = marker.split('.').next().unwrap();
+            let pose = |f: &str| row[column(&format!("{body}.{f}"))];
+            let at = placed(pose("angle"), [pose("x"), pose("y")], *p);
+            let shown = [
+                row[column(&format!("{marker}.x"))],
+                row[column(&format!("{marker}.y"))],
+            ];
+            let gap = (at[0] - shown[0]).hypot(at[1] - shown[1]);
+            assert!(gap < 1e-12, "{marker}: pose gives {at:?}, markers {shown:?}");
+        }
+    }
+    assert_eq!(rows, 24);
+}
+
+#[test]
+fn simulate_json_help_lists_every_field() {
+    let o = dofplan(&["simulate", "--help"]);
+    assert!(o.status.success());
+    let help = stdout(&o);
+    for field in [
+        "\"mechanism\"",
+        "\"frames\"",
+        "\"inputs\"",
+        "\"reached\"",
+        "\"status\"",
+        "\"break\"",
+        "\"stretch\"",
+        "\"newton\"",
+        "\"markers\"",
+        "\"bodies\"",
+        "\"angle\"",
+    ] {
+        assert!(help.contains(field), "{field} not in:\n{help}");
+    }
+}
+
+#[test]
+fn errors_are_coloured_on_a_terminal_unless_no_color_is_set() {
+    // util-linux `script` runs a command on a pseudo-terminal.
+    let script = Command::new("script").arg("--version").output();
+    if !script.is_ok_and(|o| String::from_utf8_lossy(&o.stdout).contains("util-linux")) {
+        eprintln!("skipped: no util-linux `script` to give the binary a terminal");
+        return;
+    }
+    let dir = scratch("terminal");
+    let file = dir.join("bad.toml");
+    std::fs::write(&file, "name = \"bad\"\n").unwrap();
+    let on_a_terminal = |no_color: Option<&str>| -> String {
+        let line = format!("'{}' check '{}'", env!("CARGO_BIN_EXE_dofplan"), file.display());
+        let mut command = Command::new("script");
+        command.args(["-qec", &line, "/dev/null"]);
+        match no_color {
+            Some(v) => command.env("NO_COLOR", v),
+            None => command.env_remove("NO_COLOR"),
+        };
+        let o = command.output().unwrap();
+        assert_eq!(o.status.code(), Some(1), "{}", stdout(&o));
+        // The terminal carries both streams.
+        stdout(&o)
+    };
+    let coloured = on_a_terminal(None);
+    let empty = on_a_terminal(Some(""));
+    let plain = on_a_terminal(Some("1"));
+    let _ = std::fs::remove_dir_all(dir);
+    assert!(coloured.contains("\u{1b}["), "{coloured:?}");
+    assert!(
+        empty.contains("\u{1b}["),
+        "an empty NO_COLOR counts as unset: {empty:?}"
+    );
+    assert!(!plain.contains('\u{1b}'), "{plain:?}");
+    assert!(plain.contains("error: the file is missing `bodies`"), "{plain:?}");
 }

@@ -1,13 +1,16 @@
 //! The dofplan command line: check, explain, emit, simulate and assemble
 //! mechanism files.
+//!
+//! Output goes to standard output through one writer; a reader that goes
+//! away (`dofplan simulate … | head`) ends the command quietly. Errors go to
+//! standard error once each, coloured only on a terminal without
+//! `NO_COLOR`.
 
+use std::io::{self, BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand, ValueEnum};
-use codespan_reporting::diagnostic::{Diagnostic as Snippet, Label};
-use codespan_reporting::files::SimpleFile;
-use codespan_reporting::term::{self, termcolor};
 use serde_json::{json, Map, Value};
 
 use dofplan::analysis::rank::rank_mobility;
@@ -15,13 +18,14 @@ use dofplan::analysis::{analyse, Analysis, Class};
 use dofplan::assemble::assemble_file;
 use dofplan::emit::emit;
 use dofplan::interp::Interpreter;
-use dofplan::model::{load_file, Location, MarkerId, Mechanism, ModelError};
+use dofplan::model::{load_file, MarkerId, Mechanism, Sweep, MAX_STEPS};
 use dofplan::numeric::drag::Drag;
 use dofplan::numeric::PureNewton;
 use dofplan::plan::{num, Plan};
-use dofplan::simulate::{marker_positions, run, sweep_inputs, Frame};
+use dofplan::simulate::{frames, marker_positions, sweep_requests, Frame};
 use dofplan::svg::{render, SvgOptions};
-use dofplan_runtime::{BranchPolicy, BreakPolicy, FrameStatus, Options};
+use dofplan_runtime::planar::Pose;
+use dofplan_runtime::{Animate, BranchPolicy, BreakPolicy, Driver, FrameStatus, Options};
 
 /// Plan, explain and simulate mechanisms.
 #[derive(Parser)]
@@ -30,6 +34,10 @@ struct Cli {
     #[command(subcommand)]
     command: Command,
 }
+
+/// The frames of a sweep or drag when the file and the command line say
+/// nothing.
+const DEFAULT_STEPS: usize = 101;
 
 #[derive(Subcommand)]
 enum Command {
@@ -63,8 +71,8 @@ enum Command {
         #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
         from: Option<[f64; 2]>,
         /// Number of targets, evenly spaced from --from to --to, both included.
-        #[arg(long, default_value_t = 50)]
-        steps: usize,
+        #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u32).range(1..=MAX_STEPS))]
+        steps: u32,
         /// What to do when a target is out of reach: stretch (the default)
         /// relaxes the drag, so the marker comes as close as the joints allow
         /// — a one-DOF linkage then follows its own curve; limit stays at
@@ -72,23 +80,42 @@ enum Command {
         /// the target leaves the reachable set.
         #[arg(long, value_enum, default_value_t = PolicyArg::Stretch)]
         policy: PolicyArg,
-        /// Print one JSON document {"frames": [...]} (as simulate's).
+        /// Print one JSON document with simulate's fields (`dofplan simulate
+        /// --help` lists them); the inputs are the target, "BODY.M.x" and
+        /// "BODY.M.y".
         #[arg(long, conflicts_with = "csv")]
         json: bool,
-        /// Print CSV, one row per frame.
+        /// Print CSV, one row per frame (as simulate's).
         #[arg(long)]
         csv: bool,
         /// Draw the poses and the dragged marker's path into this SVG file.
         #[arg(long, value_name = "OUT")]
         svg: Option<PathBuf>,
     },
-    /// Run the file's sweep and print or draw every frame.
+    /// Run the file's sweep, or one given here, and print or draw every
+    /// frame.
+    ///
+    /// The sweep is the file's [sweep] with --input, --from, --to and
+    /// --steps replacing its fields; a file without [sweep] is simulated
+    /// with --from and --to (and --input when it has several inputs).
+    /// Frames are written as they are solved.
     Simulate {
         /// Mechanism file.
         file: PathBuf,
-        /// Override the sweep's number of steps.
-        #[arg(long)]
-        steps: Option<usize>,
+        /// The input to sweep (default: the sweep's, or the file's only
+        /// input).
+        #[arg(long, value_name = "NAME")]
+        input: Option<String>,
+        /// The swept input's first value (degrees for an angle input).
+        #[arg(long, value_name = "A", value_parser = parse_finite, allow_hyphen_values = true)]
+        from: Option<f64>,
+        /// The swept input's last value.
+        #[arg(long, value_name = "B", value_parser = parse_finite, allow_hyphen_values = true)]
+        to: Option<f64>,
+        /// Number of frames, evenly spaced from --from to --to, both
+        /// included (default: the sweep's, or 101).
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_STEPS))]
+        steps: Option<u32>,
         /// What to do when an input cannot be met.
         #[arg(long, value_enum, default_value_t = PolicyArg::Limit)]
         policy: PolicyArg,
@@ -99,10 +126,33 @@ enum Command {
         /// Newton–Raphson (3 unknowns per mobile link, no analysis).
         #[arg(long, value_enum, default_value_t = SolverArg::Plan)]
         solver: SolverArg,
-        /// Print one JSON document {"frames": [...]}.
-        #[arg(long, conflicts_with = "csv")]
+        /// Print one JSON document, one frame a line (--help lists the fields).
+        ///
+        /// Top level: "mechanism" (its name) and "frames", one object per
+        /// frame with:
+        ///   "inputs"   the requested value of each input, by name;
+        ///   "reached"  the input values of the pose shown (after a break:
+        ///              the last valid values, or the break point under
+        ///              search);
+        ///   "status"   "solved", "limited", "searched" or "stretched";
+        ///   "break"    when limited or searched: step, explanation,
+        ///              reason, gap (and "reached", the fraction of the way
+        ///              to the request, under search);
+        ///   "stretch"  when stretched: step, explanation, residual;
+        ///   "newton"   when Newton–Raphson placed the frame: outcome,
+        ///              iterations, residual, rank;
+        ///   "markers"  every marker's world position [x, y], by
+        ///              "body.marker";
+        ///   "bodies"   every body's pose by name: "angle" (degrees from
+        ///              the drawn pose, in (−180, 180]) and "x", "y" (where
+        ///              the drawing's origin moved with the body), so a
+        ///              point drawn at (px, py) is at (x + px·cos(angle) −
+        ///              py·sin(angle), y + px·sin(angle) + py·cos(angle)).
+        #[arg(long, conflicts_with = "csv", verbatim_doc_comment)]
         json: bool,
-        /// Print CSV, one row per frame.
+        /// Print CSV, one row per frame: frame, the requested inputs,
+        /// status, every marker's x and y, then every body's angle, x and y
+        /// (as in --json's "bodies").
         #[arg(long)]
         csv: bool,
         /// Draw the mechanism at several poses and the traces into this SVG file.
@@ -169,15 +219,38 @@ enum BranchArg {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match cli.command {
-        Command::Check { file } => check(&file),
+    let stdout = io::stdout();
+    // Line by line on a terminal, in blocks into a pipe or file.
+    let mut out: Box<dyn Write> = if stdout.is_terminal() {
+        Box::new(stdout.lock())
+    } else {
+        Box::new(BufWriter::new(stdout.lock()))
+    };
+    match run(cli.command, &mut out).and_then(|code| out.flush().map(|()| code)) {
+        Ok(code) => code,
+        // The reader has gone (`| head`): it wants nothing more, which is
+        // not an error.
+        Err(e) if e.kind() == io::ErrorKind::BrokenPipe => ExitCode::SUCCESS,
+        Err(e) => {
+            report(&format!("error: cannot write the output: {e}"));
+            ExitCode::FAILURE
+        }
+    }
+}
+
+/// Runs one command, writing its output to `out`. An error about the input
+/// is reported on standard error and gives a failing code; an `Err` is a
+/// failure to write the output.
+fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
+    match command {
+        Command::Check { file } => check(&file, out),
         Command::Plan { file } => with_plan(&file, |_, plan| {
-            print!("{}", plan.explain_all());
-            ExitCode::SUCCESS
+            write!(out, "{}", plan.explain_all())?;
+            Ok(ExitCode::SUCCESS)
         }),
         Command::Emit { file } => with_plan(&file, |_, plan| {
-            print!("{}", emit(plan));
-            ExitCode::SUCCESS
+            write!(out, "{}", emit(plan))?;
+            Ok(ExitCode::SUCCESS)
         }),
         Command::Drag {
             file,
@@ -194,20 +267,24 @@ fn main() -> ExitCode {
                 breaking: policy.into(),
                 ..Options::default()
             };
+            let form = Form::of(json, csv);
             drag(
                 &file,
                 &marker,
                 from,
                 to,
-                steps,
+                steps as usize,
                 options,
-                json,
-                csv,
+                form,
                 svg.as_deref(),
+                out,
             )
         }
         Command::Simulate {
             file,
+            input,
+            from,
+            to,
             steps,
             policy,
             branch,
@@ -216,6 +293,13 @@ fn main() -> ExitCode {
             csv,
             svg,
         } => with_plan(&file, |m, plan| {
+            let sweep = match sweep_to_run(m, input.as_deref(), from, to, steps.map(|n| n as usize)) {
+                Ok(sweep) => sweep,
+                Err((message, help)) => {
+                    error(&m.source.name, &message, &help);
+                    return Ok(ExitCode::FAILURE);
+                }
+            };
             let options = Options {
                 breaking: policy.into(),
                 branch: match branch {
@@ -224,95 +308,89 @@ fn main() -> ExitCode {
                 },
                 ..Options::default()
             };
-            simulate(m, plan, steps, options, solver, json, csv, svg.as_deref())
+            let form = Form::of(json, csv);
+            simulate(m, plan, &sweep, options, solver, form, svg.as_deref(), out)
         }),
-        Command::Assemble { file, write } => assemble(&file, write),
+        Command::Assemble { file, write } => assemble(&file, write, out),
     }
 }
 
 /// `dofplan assemble`: the table of moves goes to standard error when the
 /// file goes to standard output, so the output can be redirected to a file.
-fn assemble(file: &Path, write: bool) -> ExitCode {
+fn assemble(file: &Path, write: bool, out: &mut dyn Write) -> io::Result<ExitCode> {
     let done = match assemble_file(file) {
         Ok(done) => done,
         Err(e) => {
-            report_model_error(&e);
-            return ExitCode::FAILURE;
+            report(&e.render(colour()));
+            return Ok(ExitCode::FAILURE);
         }
     };
     if !write {
-        eprint!("{}", done.report());
-        print!("{}", done.text);
-        return ExitCode::SUCCESS;
+        report(&done.report());
+        write!(out, "{}", done.text)?;
+        return Ok(ExitCode::SUCCESS);
     }
-    print!("{}", done.report());
+    write!(out, "{}", done.report())?;
     if done.unchanged() {
-        return ExitCode::SUCCESS;
+        return Ok(ExitCode::SUCCESS);
     }
     if let Err(e) = std::fs::write(file, &done.text) {
-        eprintln!("{}: error: cannot write the file: {e}", file.display());
-        return ExitCode::FAILURE;
+        report(&format!("{}: error: cannot write the file: {e}", file.display()));
+        return Ok(ExitCode::FAILURE);
     }
-    println!("wrote {}", file.display());
-    ExitCode::SUCCESS
+    writeln!(out, "wrote {}", file.display())?;
+    Ok(ExitCode::SUCCESS)
 }
 
-/// Prints model errors, with source snippets where there are spans.
-fn report_model_error(err: &ModelError) {
-    let writer = termcolor::StandardStream::stderr(termcolor::ColorChoice::Auto);
-    let config = term::Config::default();
-    for d in &err.diagnostics {
-        match &d.location {
-            Location::Span(span) => {
-                let file = SimpleFile::new(d.file.name.clone(), d.file.text.to_string());
-                let mut labels = vec![Label::primary((), span.clone())];
-                for n in &d.notes {
-                    if let Location::Span(s) = &n.location {
-                        labels.push(Label::secondary((), s.clone()).with_message(n.message.clone()));
-                    }
-                }
-                // The plain "file:line:col" line first, so editors and
-                // scripts can jump to it; the snippet follows.
-                eprintln!("{}: error: {}", d.position(&d.location), d.message);
-                let mut report = Snippet::error()
-                    .with_message(d.message.clone())
-                    .with_labels(labels);
-                if let Some(help) = &d.help {
-                    report = report.with_notes(vec![format!("help: {help}")]);
-                }
-                let _ = term::emit_to_write_style(&mut writer.lock(), &config, &file, &report);
-            }
-            _ => eprintln!("{d}"),
-        }
+/// Writes to standard error. A closed standard error is no reason to panic:
+/// there is nobody left to tell.
+fn report(text: &str) {
+    let mut err = io::stderr().lock();
+    let _ = err.write_all(text.as_bytes());
+    if !text.ends_with('\n') {
+        let _ = err.write_all(b"\n");
     }
 }
 
-fn load(file: &Path) -> Result<Mechanism, ExitCode> {
-    load_file(file).map_err(|e| {
-        report_model_error(&e);
-        ExitCode::FAILURE
-    })
+/// Whether errors are coloured: only on a terminal, and not when NO_COLOR
+/// is set to anything (<https://no-color.org>).
+fn colour() -> bool {
+    wants_colour(io::stderr().is_terminal(), std::env::var_os("NO_COLOR"))
 }
 
-fn with_plan(file: &Path, f: impl FnOnce(&Mechanism, &Plan) -> ExitCode) -> ExitCode {
-    let m = match load(file) {
-        Ok(m) => m,
-        Err(code) => return code,
+/// The rule of [`colour`], given what it looks at.
+fn wants_colour(terminal: bool, no_color: Option<std::ffi::OsString>) -> bool {
+    terminal && no_color.is_none_or(|v| v.is_empty())
+}
+
+/// Reports an error about `place` (a file) that has no position in it, and
+/// what to do.
+fn error(place: &str, message: &str, help: &str) {
+    report(&format!("{place}: error: {message}\n  help: {help}"));
+}
+
+/// Loads a file, or reports why not (once, with the source snippet).
+fn load(file: &Path) -> Option<Mechanism> {
+    load_file(file).map_err(|e| report(&e.render(colour()))).ok()
+}
+
+fn with_plan(file: &Path, f: impl FnOnce(&Mechanism, &Plan) -> io::Result<ExitCode>) -> io::Result<ExitCode> {
+    let Some(m) = load(file) else {
+        return Ok(ExitCode::FAILURE);
     };
     let analysis = analyse(&m);
     match &analysis.plan {
         Ok(plan) => f(&m, plan),
         Err(e) => {
-            eprintln!("{}: error: {e}", file.display());
-            ExitCode::FAILURE
+            report(&format!("{}: error: {e}", file.display()));
+            Ok(ExitCode::FAILURE)
         }
     }
 }
 
-fn check(file: &Path) -> ExitCode {
-    let m = match load(file) {
-        Ok(m) => m,
-        Err(code) => return code,
+fn check(file: &Path, out: &mut dyn Write) -> io::Result<ExitCode> {
+    let Some(m) = load(file) else {
+        return Ok(ExitCode::FAILURE);
     };
     let Analysis {
         mobility: mob,
@@ -321,8 +399,9 @@ fn check(file: &Path) -> ExitCode {
         ..
     } = analyse(&m);
     let fixed = m.bodies.iter().filter(|b| b.fixed).count();
-    println!("{} ({})", m.name, file.display());
-    println!(
+    writeln!(out, "{} ({})", m.name, file.display())?;
+    writeln!(
+        out,
         "  bodies: {} ({} fixed, {} mobile), joints: {}, constraints: {}, inputs: {}",
         m.bodies.len(),
         fixed,
@@ -330,21 +409,23 @@ fn check(file: &Path) -> ExitCode {
         m.joints.len(),
         m.constraints.len(),
         m.inputs.len()
-    );
+    )?;
     for input in &m.inputs {
-        println!(
+        writeln!(
+            out,
             "    input {}: {} at joint {}",
             input.name,
             input.kind.name(),
             m.joints[input.joint].name
-        );
+        )?;
     }
     let extra = if mob.constraint_equations > 0 {
         format!(" − {}", mob.constraint_equations)
     } else {
         String::new()
     };
-    println!(
+    writeln!(
+        out,
         "  mobility (Grübler): D = 3(L−1) − 2J{} = 3·{} − 2·{}{} = {}",
         if mob.constraint_equations > 0 {
             " − (constraint equations)"
@@ -355,22 +436,24 @@ fn check(file: &Path) -> ExitCode {
         mob.joints,
         extra,
         mob.dof
-    );
+    )?;
     let by_rank = rank_mobility(&m);
-    println!(
+    writeln!(
+        out,
         "  mobility (Jacobian rank at the drawn pose): {} unknowns − rank {} = {}",
         by_rank.unknowns, by_rank.rank, by_rank.dof
-    );
+    )?;
     if by_rank.dof == mob.dof {
-        println!("  Grübler's count and the Jacobian agree");
+        writeln!(out, "  Grübler's count and the Jacobian agree")?;
     } else {
         let dependent: usize = by_rank.redundant.iter().map(|(_, n)| n).sum();
-        println!(
+        writeln!(
+            out,
             "  they differ by {}: the mechanism is non-generic — {} equation(s) depend on the others, \
              which Grübler's count takes as independent",
             by_rank.dof - mob.dof,
             dependent
-        );
+        )?;
     }
     if !by_rank.redundant.is_empty() {
         let list: Vec<String> = by_rank
@@ -384,29 +467,35 @@ fn check(file: &Path) -> ExitCode {
                 }
             })
             .collect();
-        println!(
+        writeln!(
+            out,
             "  redundant (dependent on the joints before them in the file): {}",
             list.join(", ")
-        );
+        )?;
     }
     if by_rank.dof < m.inputs.len() as i64 {
-        println!(
+        writeln!(
+            out,
             "  locked: the joints leave {} DOF for {} input(s), so the mechanism cannot move and driving it breaks \
              at once (inconsistent); remove a joint, or make a redundant link consistent (e.g. parallel)",
             by_rank.dof,
             m.inputs.len()
-        );
+        )?;
     }
     for (body, n) in &by_rank.idle {
-        println!("  idle: body {body} can move on its own ({n} DOF) while every other body stays put");
+        writeln!(
+            out,
+            "  idle: body {body} can move on its own ({n} DOF) while every other body stays put"
+        )?;
     }
     if by_rank.dof == mob.dof {
-        println!(
+        writeln!(
+            out,
             "  with {} input(s): {} ({} free DOF)",
             mob.inputs,
             mob.class().name(),
             mob.free()
-        );
+        )?;
     } else {
         // A non-generic mechanism: the rank says how it really moves.
         let free = by_rank.dof - mob.inputs as i64;
@@ -415,21 +504,23 @@ fn check(file: &Path) -> ExitCode {
             f if f > 0 => Class::Under,
             _ => Class::Over,
         };
-        println!(
+        writeln!(
+            out,
             "  with {} input(s): {} by Grübler's count ({} free DOF), {} by the Jacobian's rank ({free} free DOF)",
             mob.inputs,
             mob.class().name(),
             mob.free(),
             class.name(),
-        );
+        )?;
     }
     if m.inputs.is_empty() {
         // Valid: a file meant for dragging only.
-        println!(
+        writeln!(
+            out,
             "  plan: no inputs, so nothing to plan — drag a marker with `dofplan drag {} --marker BODY.MARKER --to X,Y`",
             file.display()
-        );
-        return ExitCode::SUCCESS;
+        )?;
+        return Ok(ExitCode::SUCCESS);
     }
     let code = match &plan {
         Ok(p) => {
@@ -442,93 +533,149 @@ fn check(file: &Path) -> ExitCode {
                     p.clusters()
                 )
             };
-            println!(
+            writeln!(
+                out,
                 "  plan: {kind}, {} steps, {} branch slot(s) — `dofplan plan {}` explains it",
                 p.steps.len(),
                 p.branches.len(),
                 file.display()
-            );
+            )?;
             ExitCode::SUCCESS
         }
         Err(e) => {
-            println!("  plan: {e}");
+            writeln!(out, "  plan: {e}")?;
             ExitCode::FAILURE
         }
     };
     if !unused.is_empty() {
-        println!(
+        writeln!(
+            out,
             "  equations no step uses (redundant or on unplaced bodies): {}",
             unused.join(", ")
-        );
+        )?;
     }
-    code
+    Ok(code)
 }
 
-/// What the output of a run of frames needs besides the frames: how to
-/// name the inputs, how to explain a step, which markers to trace.
-struct Report<'a> {
-    m: &'a Mechanism,
-    input_names: Vec<String>,
-    explain: Box<dyn Fn(u32) -> String + 'a>,
-    trace: Vec<MarkerId>,
-}
-
-fn status_json(r: &Report, status: &FrameStatus) -> (Value, Option<(&'static str, Value)>) {
-    let brk = |b: &dofplan_runtime::Break| {
-        json!({
-            "step": b.step,
-            "explanation": (r.explain)(b.step),
-            "reason": b.kind.describe(),
-            "gap": b.gap,
-        })
+/// The sweep to simulate: the file's `[sweep]` with the command line's
+/// overrides, or one made of them alone. An error is a message and what to
+/// do.
+fn sweep_to_run(
+    m: &Mechanism,
+    input: Option<&str>,
+    from: Option<f64>,
+    to: Option<f64>,
+    steps: Option<usize>,
+) -> Result<Sweep, (String, String)> {
+    let names = || {
+        m.inputs
+            .iter()
+            .map(|i| i.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
     };
-    let detail = match status {
-        FrameStatus::Solved => None,
-        FrameStatus::Limited { brk: b } => Some(("break", brk(b))),
-        FrameStatus::Searched { brk: b, reached } => Some(("break", {
-            let mut v = brk(b);
-            v["reached"] = json!(reached);
-            v
-        })),
-        FrameStatus::Stretched { step, residual } => Some((
-            "stretch",
-            json!({"step": step, "explanation": (r.explain)(*step), "residual": residual}),
-        )),
+    if m.inputs.is_empty() {
+        return Err((
+            "the file has no inputs to simulate".into(),
+            format!(
+                "drag a marker instead (`dofplan drag {} --marker BODY.MARKER --to X,Y`), or declare [inputs]",
+                m.source.name
+            ),
+        ));
+    }
+    let index = match (input, &m.sweep) {
+        (Some(name), _) => m.inputs.iter().position(|i| i.name == name).ok_or_else(|| {
+            (
+                format!("no input `{name}` to sweep"),
+                format!("inputs are: {}", names()),
+            )
+        })?,
+        (None, Some(sweep)) => sweep.input,
+        (None, None) if m.inputs.len() == 1 => 0,
+        (None, None) => {
+            return Err((
+                format!("the file has no [sweep], and {} inputs", m.inputs.len()),
+                format!(
+                    "add a [sweep] (input, from, to, steps), or say which input to sweep: \
+                     --input NAME --from A --to B [--steps N] (inputs are: {})",
+                    names()
+                ),
+            ))
+        }
     };
-    (json!(status.name()), detail)
+    // The file's range belongs to the file's swept input only.
+    let file_range = m
+        .sweep
+        .as_ref()
+        .filter(|s| s.input == index)
+        .map(|s| (s.from, s.to));
+    let (Some(from), Some(to)) = (from.or(file_range.map(|r| r.0)), to.or(file_range.map(|r| r.1))) else {
+        let name = &m.inputs[index].name;
+        return Err(match &m.sweep {
+            None => (
+                "the file has no [sweep] to simulate".into(),
+                format!(
+                    "add a [sweep] (input, from, to, steps), or give the range here: \
+                     --input {name} --from A --to B [--steps N]"
+                ),
+            ),
+            Some(s) => (
+                format!(
+                    "input `{name}` is not the one the file's [sweep] drives (`{}`), so it has no range",
+                    m.inputs[s.input].name
+                ),
+                format!("give its range: --input {name} --from A --to B"),
+            ),
+        });
+    };
+    Ok(Sweep {
+        input: index,
+        from,
+        to,
+        steps: steps
+            .or(m.sweep.as_ref().map(|s| s.steps))
+            .unwrap_or(DEFAULT_STEPS),
+        trace: m.sweep.as_ref().map(|s| s.trace.clone()).unwrap_or_default(),
+    })
 }
 
 #[allow(clippy::too_many_arguments)]
 fn simulate(
     m: &Mechanism,
     plan: &Plan,
-    steps: Option<usize>,
+    sweep: &Sweep,
     options: Options,
     solver: SolverArg,
-    json: bool,
-    csv: bool,
+    form: Form,
     svg: Option<&Path>,
-) -> ExitCode {
-    if m.sweep.is_none() {
-        eprintln!("{}: error: the file has no [sweep] to simulate", m.source.name);
-        eprintln!("  help: add [sweep] with input, from, to, steps (and optionally trace)");
-        return ExitCode::FAILURE;
-    }
-    let requested = sweep_inputs(m, steps);
-    let frames = match solver {
-        SolverArg::Plan => run(Interpreter::new(plan.clone()), options, &requested),
-        SolverArg::Newton => run(PureNewton::new(m), options, &requested),
+    out: &mut dyn Write,
+) -> io::Result<ExitCode> {
+    let mut driver: Box<dyn Animate> = match solver {
+        SolverArg::Plan => Box::new(Driver::new(Interpreter::new(plan.clone()), options)),
+        SolverArg::Newton => Box::new(Driver::new(PureNewton::new(m), options)),
     };
+    let input = sweep.input;
+    let name = m.inputs[input].name.clone();
     let report = Report {
         m,
+        title: format!(
+            "{}: {} frames, {name} from {} to {}",
+            m.name,
+            sweep.steps,
+            precise(sweep.from),
+            precise(sweep.to)
+        ),
         input_names: m.inputs.iter().map(|i| i.name.clone()).collect(),
+        value_name: name,
+        value: Box::new(move |inputs, f| f(inputs[input])),
         explain: Box::new(move |step| match solver {
             SolverArg::Plan => plan.explain(step as usize),
             SolverArg::Newton => "Newton-Raphson on every mobile link".to_string(),
         }),
-        trace: m.sweep.as_ref().map(|s| s.trace.clone()).unwrap_or_default(),
+        trace: sweep.trace.clone(),
     };
-    output(&report, &frames, json, csv, svg)
+    let requested = sweep_requests(sweep, m.inputs.len());
+    output(&report, frames(driver.as_mut(), requested), form, svg, out)
 }
 
 /// Parses "X,Y" into a finite point.
@@ -545,6 +692,19 @@ fn parse_point(text: &str) -> Result<[f64; 2], String> {
     Ok([x, y])
 }
 
+/// Parses a finite number.
+fn parse_finite(text: &str) -> Result<f64, String> {
+    let x: f64 = text
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}` is not a number"))?;
+    if x.is_finite() {
+        Ok(x)
+    } else {
+        Err(format!("`{text}` is not a finite number"))
+    }
+}
+
 #[allow(clippy::too_many_arguments)]
 fn drag(
     file: &Path,
@@ -553,175 +713,489 @@ fn drag(
     to: [f64; 2],
     steps: usize,
     options: Options,
-    json: bool,
-    csv: bool,
+    form: Form,
     svg: Option<&Path>,
-) -> ExitCode {
-    let m = match load(file) {
-        Ok(m) => m,
-        Err(code) => return code,
+    out: &mut dyn Write,
+) -> io::Result<ExitCode> {
+    let Some(m) = load(file) else {
+        return Ok(ExitCode::FAILURE);
     };
+    let place = file.display().to_string();
     let Some(id) = m.find_marker(marker) else {
         let names: Vec<String> = m.all_markers().map(|id| m.marker_name(id)).collect();
-        eprintln!("{}: error: no marker `{marker}` to drag", file.display());
-        eprintln!("  help: markers are: {}", names.join(", "));
-        return ExitCode::FAILURE;
+        error(
+            &place,
+            &format!("no marker `{marker}` to drag"),
+            &format!("markers are: {}", names.join(", ")),
+        );
+        return Ok(ExitCode::FAILURE);
     };
     let solver = match Drag::new(&m, id) {
         Ok(d) => d,
         Err(e) => {
-            eprintln!("{}: error: {e}", file.display());
-            return ExitCode::FAILURE;
+            report(&format!("{place}: error: {e}"));
+            return Ok(ExitCode::FAILURE);
         }
     };
     let from = from.unwrap_or(m.marker(id).at);
-    let steps = steps.max(1);
-    let targets: Vec<Vec<f64>> = (0..steps)
-        .map(|i| {
-            let t = if steps == 1 {
-                1.0
-            } else {
-                i as f64 / (steps - 1) as f64
-            };
-            vec![from[0] + t * (to[0] - from[0]), from[1] + t * (to[1] - from[1])]
-        })
-        .collect();
-    let frames = run(solver, options, &targets);
+    let targets = (0..steps).map(move |i| {
+        let t = if steps == 1 {
+            1.0
+        } else {
+            i as f64 / (steps - 1) as f64
+        };
+        [from[0] + t * (to[0] - from[0]), from[1] + t * (to[1] - from[1])]
+    });
+    let point = |p: &[f64], f: fn(f64) -> String| format!("({}, {})", f(p[0]), f(p[1]));
     let report = Report {
         m: &m,
+        title: format!(
+            "{}: {steps} frames, drag of {marker} from {} to {}",
+            m.name,
+            point(&from, precise),
+            point(&to, precise)
+        ),
         input_names: vec![format!("{marker}.x"), format!("{marker}.y")],
+        value_name: "target".into(),
+        value: Box::new(point),
         explain: Box::new(|_| format!("drag of {marker}")),
         trace: vec![id],
     };
-    output(&report, &frames, json, csv, svg)
+    let mut driver = Driver::new(solver, options);
+    output(&report, frames(&mut driver, targets), form, svg, out)
 }
 
-fn output(r: &Report, frames: &[Frame], json: bool, csv: bool, svg: Option<&Path>) -> ExitCode {
+/// Writes a frame's driven value from its inputs, each number with the
+/// given format.
+type Describe<'a> = dyn Fn(&[f64], fn(f64) -> String) -> String + 'a;
+
+/// What the output of a run of frames needs besides the frames: how to
+/// name the inputs, how to explain a step, which markers to trace.
+struct Report<'a> {
+    m: &'a Mechanism,
+    /// The summary's first line: what is run.
+    title: String,
+    /// The names of the inputs, keys of JSON's "inputs" and CSV columns.
+    input_names: Vec<String>,
+    /// What the summary calls the driven value ("theta", "target")…
+    value_name: String,
+    /// …and how it writes that value from a frame's inputs.
+    value: Box<Describe<'a>>,
+    explain: Box<dyn Fn(u32) -> String + 'a>,
+    trace: Vec<MarkerId>,
+}
+
+/// The form of the printed frames.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Form {
+    /// A summary naming every break.
+    Text,
+    /// One JSON document.
+    Json,
+    /// One CSV row per frame.
+    Csv,
+}
+
+impl Form {
+    fn of(json: bool, csv: bool) -> Form {
+        match (json, csv) {
+            (true, _) => Form::Json,
+            (_, true) => Form::Csv,
+            _ => Form::Text,
+        }
+    }
+}
+
+/// An input value where the pose is (held, or a break point): up to 9
+/// decimals, the precision a break point is searched to. Requested values
+/// are written with [`num`]'s 4.
+fn precise(x: f64) -> String {
+    let s = format!("{x:.9}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".to_string()
+    } else {
+        s.to_string()
+    }
+}
+
+/// Writes the frames as they come, in `form`, keeping them only when an SVG
+/// is to be drawn from them.
+fn output(
+    r: &Report,
+    frames: impl Iterator<Item = Frame>,
+    form: Form,
+    svg: Option<&Path>,
+    out: &mut dyn Write,
+) -> io::Result<ExitCode> {
+    let mut writer: Box<dyn FrameWriter + '_> = match form {
+        Form::Json => Box::new(JsonFrames { r, count: 0 }),
+        Form::Csv => Box::new(CsvFrames { r }),
+        Form::Text => Box::new(Summary::new(r)),
+    };
+    writer.begin(out)?;
+    let mut kept = Vec::new();
+    for (i, f) in frames.enumerate() {
+        writer.frame(out, i, &f)?;
+        if svg.is_some() {
+            kept.push(f);
+        }
+    }
+    writer.end(out)?;
+    if let Some(path) = svg {
+        let text = render(r.m, &kept, &r.trace, &SvgOptions::default());
+        if let Err(e) = std::fs::write(path, text) {
+            report(&format!("{}: error: cannot write the SVG: {e}", path.display()));
+            return Ok(ExitCode::FAILURE);
+        }
+        if form == Form::Text {
+            writeln!(out, "wrote {}", path.display())?;
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Writes frames one at a time.
+trait FrameWriter {
+    /// Before the first frame.
+    fn begin(&mut self, out: &mut dyn Write) -> io::Result<()>;
+    /// Frame number `index`.
+    fn frame(&mut self, out: &mut dyn Write, index: usize, f: &Frame) -> io::Result<()>;
+    /// After the last frame.
+    fn end(&mut self, out: &mut dyn Write) -> io::Result<()>;
+}
+
+/// `{"mechanism": …, "frames": [ … ]}`, written a frame at a time (one a
+/// line) so no frame is kept.
+struct JsonFrames<'r, 'a> {
+    r: &'r Report<'a>,
+    count: usize,
+}
+
+impl FrameWriter for JsonFrames<'_, '_> {
+    fn begin(&mut self, out: &mut dyn Write) -> io::Result<()> {
+        writeln!(
+            out,
+            "{{\n  \"mechanism\": {},\n  \"frames\": [",
+            json!(self.r.m.name)
+        )
+    }
+
+    fn frame(&mut self, out: &mut dyn Write, _: usize, f: &Frame) -> io::Result<()> {
+        if self.count > 0 {
+            writeln!(out, ",")?;
+        }
+        self.count += 1;
+        write!(out, "    ")?;
+        serde_json::to_writer(&mut *out, &frame_json(self.r, f))?;
+        Ok(())
+    }
+
+    fn end(&mut self, out: &mut dyn Write) -> io::Result<()> {
+        if self.count > 0 {
+            writeln!(out)?;
+        }
+        writeln!(out, "  ]\n}}")
+    }
+}
+
+fn frame_json(r: &Report, f: &Frame) -> Value {
     let m = r.m;
-    if json {
-        let frames_json: Vec<Value> = frames
-            .iter()
-            .map(|f| {
-                let mut o = Map::new();
-                let named = |vals: &[f64]| -> Value {
-                    Value::Object(
-                        r.input_names
-                            .iter()
-                            .zip(vals)
-                            .map(|(n, v)| (n.clone(), json!(v)))
-                            .collect(),
-                    )
-                };
-                o.insert("inputs".into(), named(&f.requested));
-                o.insert("reached".into(), named(&f.inputs));
-                let (status, detail) = status_json(r, &f.status);
-                o.insert("status".into(), status);
-                if let Some((k, v)) = detail {
-                    o.insert(k.into(), v);
-                }
-                if let Some(n) = &f.numeric {
-                    o.insert(
-                        "newton".into(),
-                        json!({
-                            "outcome": format!("{:?}", n.outcome).to_lowercase(),
-                            "iterations": n.iterations,
-                            "residual": n.residual,
-                            "rank": n.rank,
-                        }),
-                    );
-                }
-                o.insert(
-                    "markers".into(),
-                    Value::Object(
-                        marker_positions(m, &f.poses)
-                            .into_iter()
-                            .map(|(k, p)| (k, json!(p)))
-                            .collect(),
-                    ),
-                );
-                Value::Object(o)
-            })
-            .collect();
-        let doc = json!({ "mechanism": m.name, "frames": frames_json });
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&doc).expect("JSON of plain values")
+    let named = |vals: &[f64]| -> Value {
+        Value::Object(
+            r.input_names
+                .iter()
+                .zip(vals)
+                .map(|(n, v)| (n.clone(), json!(v)))
+                .collect(),
+        )
+    };
+    let mut o = Map::new();
+    o.insert("inputs".into(), named(&f.requested));
+    o.insert("reached".into(), named(&f.inputs));
+    o.insert("status".into(), json!(f.status.name()));
+    if let Some((k, v)) = status_json(r, &f.status) {
+        o.insert(k.into(), v);
+    }
+    if let Some(n) = &f.numeric {
+        o.insert(
+            "newton".into(),
+            json!({
+                "outcome": format!("{:?}", n.outcome).to_lowercase(),
+                "iterations": n.iterations,
+                "residual": n.residual,
+                "rank": n.rank,
+            }),
         );
-    } else if csv {
-        print_csv(r, frames);
-    } else if svg.is_none() {
-        print_summary(r, frames);
     }
-    if let Some(out) = svg {
-        let text = render(m, frames, &r.trace, &SvgOptions::default());
-        if let Err(e) = std::fs::write(out, text) {
-            eprintln!("{}: error: cannot write the SVG: {e}", out.display());
-            return ExitCode::FAILURE;
-        }
-        if !json && !csv {
-            print_summary(r, frames);
-            println!("wrote {}", out.display());
-        }
-    }
-    ExitCode::SUCCESS
+    o.insert(
+        "markers".into(),
+        Value::Object(
+            marker_positions(m, &f.poses)
+                .into_iter()
+                .map(|(k, p)| (k, json!(p)))
+                .collect(),
+        ),
+    );
+    o.insert(
+        "bodies".into(),
+        Value::Object(
+            m.bodies
+                .iter()
+                .zip(&f.poses)
+                .map(|(b, p)| {
+                    let pose = json!({"angle": angle(p), "x": p.at[0], "y": p.at[1]});
+                    (b.name.clone(), pose)
+                })
+                .collect(),
+        ),
+    );
+    Value::Object(o)
 }
 
-fn print_csv(r: &Report, frames: &[Frame]) {
-    let m = r.m;
-    let mut header = vec!["frame".to_string()];
-    header.extend(r.input_names.iter().cloned());
-    header.push("status".into());
-    for id in m.all_markers() {
-        let n = m.marker_name(id);
-        header.push(format!("{n}.x"));
-        header.push(format!("{n}.y"));
+/// A body's rotation from its drawn pose in degrees, in (−180, 180].
+fn angle(p: &Pose) -> f64 {
+    let a = p.rot.degrees();
+    // atan2 gives −180 for a half turn whose sine rounded to −0.
+    if a <= -180.0 {
+        a + 360.0
+    } else {
+        a
     }
-    println!("{}", header.join(","));
-    for (i, f) in frames.iter().enumerate() {
-        let mut row = vec![i.to_string()];
+}
+
+/// The "break" or "stretch" detail of a frame that was not solved.
+fn status_json(r: &Report, status: &FrameStatus) -> Option<(&'static str, Value)> {
+    let brk = |b: &dofplan_runtime::Break| {
+        json!({
+            "step": b.step,
+            "explanation": (r.explain)(b.step),
+            "reason": b.kind.describe(),
+            "gap": b.gap,
+        })
+    };
+    match status {
+        FrameStatus::Solved => None,
+        FrameStatus::Limited { brk: b } => Some(("break", brk(b))),
+        FrameStatus::Searched { brk: b, reached } => Some(("break", {
+            let mut v = brk(b);
+            v["reached"] = json!(reached);
+            v
+        })),
+        FrameStatus::Stretched { step, residual } => Some((
+            "stretch",
+            json!({"step": step, "explanation": (r.explain)(*step), "residual": residual}),
+        )),
+    }
+}
+
+/// One CSV row per frame.
+struct CsvFrames<'r, 'a> {
+    r: &'r Report<'a>,
+}
+
+impl FrameWriter for CsvFrames<'_, '_> {
+    fn begin(&mut self, out: &mut dyn Write) -> io::Result<()> {
+        let m = self.r.m;
+        let mut header = vec!["frame".to_string()];
+        header.extend(self.r.input_names.iter().cloned());
+        header.push("status".into());
+        for id in m.all_markers() {
+            let n = m.marker_name(id);
+            header.push(format!("{n}.x"));
+            header.push(format!("{n}.y"));
+        }
+        for b in &m.bodies {
+            for field in ["angle", "x", "y"] {
+                header.push(format!("{}.{field}", b.name));
+            }
+        }
+        writeln!(out, "{}", header.join(","))
+    }
+
+    fn frame(&mut self, out: &mut dyn Write, index: usize, f: &Frame) -> io::Result<()> {
+        let mut row = vec![index.to_string()];
         row.extend(f.requested.iter().map(|v| v.to_string()));
         row.push(f.status.name().to_string());
-        for (_, p) in marker_positions(m, &f.poses) {
+        for (_, p) in marker_positions(self.r.m, &f.poses) {
             row.push(p[0].to_string());
             row.push(p[1].to_string());
         }
-        println!("{}", row.join(","));
+        for p in &f.poses {
+            row.push(angle(p).to_string());
+            row.push(p.at[0].to_string());
+            row.push(p.at[1].to_string());
+        }
+        writeln!(out, "{}", row.join(","))
+    }
+
+    fn end(&mut self, _: &mut dyn Write) -> io::Result<()> {
+        Ok(())
     }
 }
 
-fn print_summary(r: &Report, frames: &[Frame]) {
-    let count = |name: &str| frames.iter().filter(|f| f.status.name() == name).count();
-    println!(
-        "{}: {} frames — {} solved, {} limited, {} searched, {} stretched",
-        r.m.name,
-        frames.len(),
-        count("solved"),
-        count("limited"),
-        count("searched"),
-        count("stretched")
-    );
-    let mut last: Option<&str> = None;
-    for (i, f) in frames.iter().enumerate() {
-        let name = f.status.name();
-        if name != "solved" && last != Some(name) {
-            let detail = match &f.status {
-                FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. } => format!(
-                    "step {} broke ({}, gap {}): {}",
+/// The text summary: the title, then every run of frames that broke alike
+/// (same status, same step) as a frame range as soon as it ends, then the
+/// counts. Holds one run, never the frames.
+struct Summary<'r, 'a> {
+    r: &'r Report<'a>,
+    /// Frames by status: solved, limited, searched, stretched.
+    counts: [usize; 4],
+    run: Option<Run>,
+}
+
+/// Consecutive frames that broke alike.
+struct Run {
+    first: usize,
+    last: usize,
+    /// The first frame's status.
+    status: FrameStatus,
+    /// The requested inputs of the first and last frames.
+    requested: (Vec<f64>, Vec<f64>),
+    /// The reached inputs of the first and last frames.
+    reached: (Vec<f64>, Vec<f64>),
+    /// The largest gap (a break) or residual (a stretch).
+    worst: f64,
+}
+
+/// What makes frames break alike, and how much: the status, the step, and
+/// the gap or residual.
+fn break_of(status: &FrameStatus) -> Option<(&'static str, u32, f64)> {
+    match status {
+        FrameStatus::Solved => None,
+        FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. } => {
+            Some((status.name(), brk.step, brk.gap))
+        }
+        FrameStatus::Stretched { step, residual } => Some((status.name(), *step, *residual)),
+    }
+}
+
+impl<'r, 'a> Summary<'r, 'a> {
+    fn new(r: &'r Report<'a>) -> Self {
+        Summary {
+            r,
+            counts: [0; 4],
+            run: None,
+        }
+    }
+
+    /// Writes the run that has just ended.
+    fn close(&mut self, out: &mut dyn Write) -> io::Result<()> {
+        let Some(run) = self.run.take() else {
+            return Ok(());
+        };
+        let r = self.r;
+        let (first, last) = (&run.requested.0, &run.requested.1);
+        let frames = if run.first == run.last {
+            format!("frame {} ({} {})", run.first, r.value_name, (r.value)(first, num))
+        } else {
+            format!(
+                "frames {}–{} ({} {} … {})",
+                run.first,
+                run.last,
+                r.value_name,
+                (r.value)(first, num),
+                (r.value)(last, num)
+            )
+        };
+        // Where the pose is: to the precision a break point is found to.
+        let (a, b) = (
+            (r.value)(&run.reached.0, precise),
+            (r.value)(&run.reached.1, precise),
+        );
+        let at = if a == b { a } else { format!("{a} … {b}") };
+        let (name, detail) = match &run.status {
+            FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. } => (
+                match run.status {
+                    FrameStatus::Limited { .. } => format!("limited, held at {} {at}", r.value_name),
+                    _ => format!("searched, break point {} {at}", r.value_name),
+                },
+                format!(
+                    "step {} broke ({}, gap {}{}): {}",
                     brk.step,
                     brk.kind.describe(),
-                    num(brk.gap),
+                    if run.first == run.last { "" } else { "up to " },
+                    num(run.worst),
                     (r.explain)(brk.step)
                 ),
-                FrameStatus::Stretched { step, residual } => format!(
-                    "step {step} stretched, residual {}: {}",
-                    num(*residual),
+            ),
+            FrameStatus::Stretched { step, .. } => (
+                "stretched".to_string(),
+                format!(
+                    "step {step} stretched, residual {}{}: {}",
+                    if run.first == run.last { "" } else { "up to " },
+                    num(run.worst),
                     (r.explain)(*step)
                 ),
-                FrameStatus::Solved => String::new(),
-            };
-            let inputs: Vec<String> = f.requested.iter().map(|v| num(*v)).collect();
-            println!("  frame {i} (inputs {}): {name} — {detail}", inputs.join(", "));
+            ),
+            FrameStatus::Solved => unreachable!("a run holds broken frames only"),
+        };
+        writeln!(out, "  {frames}: {name}\n    {detail}")
+    }
+}
+
+impl FrameWriter for Summary<'_, '_> {
+    fn begin(&mut self, out: &mut dyn Write) -> io::Result<()> {
+        writeln!(out, "{}", self.r.title)
+    }
+
+    fn frame(&mut self, out: &mut dyn Write, index: usize, f: &Frame) -> io::Result<()> {
+        self.counts[match f.status {
+            FrameStatus::Solved => 0,
+            FrameStatus::Limited { .. } => 1,
+            FrameStatus::Searched { .. } => 2,
+            FrameStatus::Stretched { .. } => 3,
+        }] += 1;
+        let this = break_of(&f.status);
+        let alike = match (&self.run, this) {
+            (Some(run), Some((name, step, _))) => {
+                break_of(&run.status).is_some_and(|(n, s, _)| (n, s) == (name, step))
+            }
+            _ => false,
+        };
+        if alike {
+            let run = self.run.as_mut().expect("alike implies a run");
+            run.last = index;
+            run.requested.1.clone_from(&f.requested);
+            run.reached.1.clone_from(&f.inputs);
+            run.worst = run.worst.max(this.map_or(0.0, |t| t.2));
+            return Ok(());
         }
-        last = Some(name);
+        self.close(out)?;
+        if let Some((_, _, worst)) = this {
+            self.run = Some(Run {
+                first: index,
+                last: index,
+                status: f.status,
+                requested: (f.requested.clone(), f.requested.clone()),
+                reached: (f.inputs.clone(), f.inputs.clone()),
+                worst,
+            });
+        }
+        Ok(())
+    }
+
+    fn end(&mut self, out: &mut dyn Write) -> io::Result<()> {
+        self.close(out)?;
+        let [solved, limited, searched, stretched] = self.counts;
+        writeln!(
+            out,
+            "{} frames: {solved} solved, {limited} limited, {searched} searched, {stretched} stretched",
+            self.counts.iter().sum::<usize>()
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn colour_only_on_a_terminal_without_no_color() {
+        assert!(wants_colour(true, None));
+        assert!(wants_colour(true, Some("".into())), "an empty NO_COLOR is unset");
+        assert!(!wants_colour(true, Some("1".into())));
+        assert!(!wants_colour(true, Some("false".into())), "any value disables");
+        assert!(!wants_colour(false, None));
     }
 }

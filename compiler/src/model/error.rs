@@ -33,7 +33,8 @@ impl SourceFile {
 pub enum Location {
     /// A byte range in the file.
     Span(Span),
-    /// A line and column (JSON syntax errors).
+    /// A line and column, where there is no text to span (a byte that is
+    /// not UTF-8).
     LineCol(usize, usize),
     /// A path in the document (JSON, whose parser keeps no positions).
     Path(String),
@@ -157,13 +158,14 @@ pub struct ModelError {
 
 impl ModelError {
     /// Every diagnostic rendered as [`Diagnostic::render`] does, one after
-    /// the other.
+    /// the other with a blank line between, and no newline at the end.
     pub fn render(&self, colour: bool) -> String {
         self.diagnostics
             .iter()
-            .map(|d| d.render(colour))
+            // A snippet ends in a blank line, a one-line form in nothing.
+            .map(|d| d.render(colour).trim_end().to_string())
             .collect::<Vec<_>>()
-            .join("\n")
+            .join("\n\n")
     }
 }
 

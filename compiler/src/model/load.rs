@@ -46,20 +46,57 @@ impl Format {
 /// Reads and validates a mechanism file.
 pub fn load_file(path: &Path) -> Result<Mechanism, ModelError> {
     let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| ModelError {
+    let unread = |location: Location, message: String, help: &str| ModelError {
         diagnostics: vec![Diagnostic {
             file: SourceFile {
                 name: name.clone(),
                 text: Arc::from(""),
             },
-            location: Location::File,
-            message: format!("cannot read the file: {e}"),
+            location,
+            message,
             notes: vec![],
-            help: Some("check the path; mechanism files are TOML (or JSON with a .json extension)".into()),
+            help: Some(help.into()),
         }],
+    };
+    let bytes = std::fs::read(path).map_err(|e| {
+        unread(
+            Location::File,
+            format!("cannot read the file: {e}"),
+            "check the path; mechanism files are TOML (or JSON with a .json extension)",
+        )
     })?;
+    // Read as bytes first: a file that is there but is not text (a binary,
+    // an image, UTF-16) is told apart from a wrong path. A NUL byte is
+    // valid UTF-8 but text in neither TOML nor JSON: binaries are full of
+    // them.
+    let bad = match std::str::from_utf8(&bytes) {
+        Ok(text) => text.find('\0'),
+        Err(e) => Some(e.valid_up_to()),
+    };
+    if let Some(offset) = bad {
+        // Where the bad byte is, counted in the text before it (valid).
+        let before = std::str::from_utf8(&bytes[..offset]).unwrap_or_default();
+        let line = before.matches('\n').count() + 1;
+        let col = before[before.rfind('\n').map_or(0, |i| i + 1)..].chars().count() + 1;
+        return Err(unread(
+            Location::LineCol(line, col),
+            format!(
+                "the file is not UTF-8 text: byte 0x{:02x} at offset {offset} is not valid UTF-8{}",
+                bytes[offset],
+                if bytes[offset] == 0 { " text" } else { "" },
+            ),
+            "mechanism files are TOML or JSON text in UTF-8: is this the right file? (re-save it as UTF-8 if it is)",
+        ));
+    }
+    let text = String::from_utf8(bytes).expect("checked above");
     load_str(&name, &text, Format::of_path(path))
 }
+
+/// What every mechanism file needs, for errors about files with nothing in
+/// them.
+const WHAT_A_FILE_NEEDS: &str =
+    "a mechanism file needs a `name`, `bodies` (one of them `fixed = true`) with \
+     their `markers`, and `joints`; `inputs` and a `sweep` drive it (see mechanisms/fourbar.toml)";
 
 /// Validates a mechanism given as text; `file_name` is used in errors.
 pub fn load_str(file_name: &str, text: &str, format: Format) -> Result<Mechanism, ModelError> {
@@ -113,6 +150,23 @@ pub fn load_str_drawn(file_name: &str, text: &str, format: Format) -> Result<Dra
         name: file_name.to_string(),
         text: Arc::from(text),
     };
+    // Said plainly: the parsers' own words for nothing at all ("missing
+    // `name`", "EOF while parsing a value") do not say the file is empty.
+    if text.trim().is_empty() {
+        return Err(ModelError {
+            diagnostics: vec![Diagnostic {
+                file,
+                location: Location::File,
+                message: if text.is_empty() {
+                    "the file is empty".into()
+                } else {
+                    "the file is empty (only white space)".into()
+                },
+                notes: vec![],
+                help: Some(WHAT_A_FILE_NEEDS.into()),
+            }],
+        });
+    }
     let parsed = match format {
         Format::Toml => parse_toml(text),
         Format::Json => parse_json(text),
@@ -141,17 +195,27 @@ pub fn load_str_drawn(file_name: &str, text: &str, format: Format) -> Result<Dra
         ModelError {
             diagnostics: vec![Diagnostic {
                 file: file.clone(),
-                location: match (e.span, e.line_col) {
-                    (Some(span), _) => Location::Span(span),
-                    (None, Some((l, c))) => Location::LineCol(l, c),
-                    (None, None) => Location::File,
-                },
+                location: e.span.map_or(Location::File, Location::Span),
                 message,
                 notes: vec![],
                 help,
             }],
         }
     })?;
+    if matches!(&root.kind, NodeKind::Table(t) if t.is_empty()) {
+        return Err(ModelError {
+            diagnostics: vec![Diagnostic {
+                file,
+                location: Location::File,
+                message: match format {
+                    Format::Toml => "the file defines nothing (it has only comments)".into(),
+                    Format::Json => "the file defines nothing (an empty object)".into(),
+                },
+                notes: vec![],
+                help: Some(WHAT_A_FILE_NEEDS.into()),
+            }],
+        });
+    }
     let mut v = Validator {
         file,
         diags: Vec::new(),
@@ -263,7 +327,7 @@ impl Validator {
                 let loc = self.key_loc(key, &kpath);
                 self.error_notes(
                     loc,
-                    format!("duplicate name `{}` in `{}`", key.name, display_path(path)),
+                    format!("duplicate name `{}` in {}", key.name, display_path(path)),
                     vec![Note {
                         location: first_loc,
                         message: "first defined here".into(),
@@ -277,7 +341,7 @@ impl Validator {
                 let loc = self.key_loc(key, &kpath);
                 self.error(
                     loc,
-                    format!("unknown key `{}` in `{}`", key.name, display_path(path)),
+                    format!("unknown key `{}` in {}", key.name, display_path(path)),
                     Some(format!("expected one of: {}", allowed.join(", "))),
                 );
             }
@@ -298,7 +362,7 @@ impl Validator {
         let found = Self::get(entries, name);
         if found.is_none() {
             let loc = self.loc(parent, path);
-            self.error(loc, format!("`{}` is missing `{name}`", display_path(path)), None);
+            self.error(loc, format!("{} is missing `{name}`", display_path(path)), None);
         }
         found
     }
@@ -1164,10 +1228,12 @@ fn join(path: &str, key: &str) -> String {
     }
 }
 
-fn display_path(path: &str) -> &str {
+/// A table's path as errors name it: `` `joints.A` ``, or "the file" for
+/// the top level.
+fn display_path(path: &str) -> String {
     if path.is_empty() {
-        "the file"
+        "the file".into()
     } else {
-        path
+        format!("`{path}`")
     }
 }

@@ -9,7 +9,7 @@ pub mod source;
 use dofplan_runtime::Point;
 
 pub use error::{Diagnostic, Location, ModelError, Note, SourceFile};
-pub use load::{load_file, load_str, load_str_drawn, Drawn, Format, DRAWN_TOLERANCE};
+pub use load::{load_file, load_str, load_str_drawn, Drawn, Format, DRAWN_TOLERANCE, MAX_STEPS};
 
 /// A validated mechanism.
 #[derive(Clone, Debug)]
@@ -171,19 +171,20 @@ impl Sweep {
     /// The input values: `steps` evenly spaced values from `from` to `to`,
     /// both included.
     pub fn values(&self) -> Vec<f64> {
-        if self.steps == 1 {
-            return vec![self.from];
+        (0..self.steps).map(|i| self.value(i)).collect()
+    }
+
+    /// The `i`-th of [`values`](Sweep::values), computed alone so a long
+    /// sweep can be run without holding all of them.
+    pub fn value(&self, i: usize) -> f64 {
+        if self.steps <= 1 || i == 0 {
+            self.from
+        } else if i + 1 >= self.steps {
+            // Exactly `to`, not `from` plus a rounded difference.
+            self.to
+        } else {
+            self.from + (self.to - self.from) * (i as f64) / (self.steps - 1) as f64
         }
-        let n = (self.steps - 1) as f64;
-        (0..self.steps)
-            .map(|i| {
-                if i + 1 == self.steps {
-                    self.to
-                } else {
-                    self.from + (self.to - self.from) * (i as f64) / n
-                }
-            })
-            .collect()
     }
 }
 

@@ -75,8 +75,6 @@ pub struct SyntaxError {
     pub message: String,
     /// Where (byte range), when known.
     pub span: Option<Span>,
-    /// Line and column (1-based), when the parser gives those instead.
-    pub line_col: Option<(usize, usize)>,
 }
 
 /// Reads TOML text into a [`Node`] tree with spans.
@@ -84,14 +82,12 @@ pub fn parse_toml(text: &str) -> Result<Node, SyntaxError> {
     let de = toml::de::Deserializer::parse(text).map_err(|e| SyntaxError {
         message: e.message().to_string(),
         span: e.span(),
-        line_col: None,
     })?;
     let kind = de
         .deserialize_any(KindVisitor::<true>(PhantomData))
         .map_err(|e| SyntaxError {
             message: e.message().to_string(),
             span: e.span(),
-            line_col: None,
         })?;
     Ok(Node {
         span: Some(0..text.len()),
@@ -99,7 +95,8 @@ pub fn parse_toml(text: &str) -> Result<Node, SyntaxError> {
     })
 }
 
-/// Reads JSON text into a [`Node`] tree (no spans).
+/// Reads JSON text into a [`Node`] tree (no spans; a syntax error gets
+/// one, from serde_json's line and column).
 pub fn parse_json(text: &str) -> Result<Node, SyntaxError> {
     let mut de = serde_json::Deserializer::from_str(text);
     let kind = (&mut de)
@@ -107,10 +104,36 @@ pub fn parse_json(text: &str) -> Result<Node, SyntaxError> {
         .and_then(|k| de.end().map(|_| k))
         .map_err(|e| SyntaxError {
             message: strip_position(&e.to_string()),
-            span: None,
-            line_col: Some((e.line(), e.column())),
+            span: Some(json_error_span(text, &e)),
         })?;
     Ok(Node { span: None, kind })
+}
+
+/// The byte range a serde_json error points at.
+///
+/// serde_json's column is the number of bytes read on the error's line, so
+/// it is the 1-based byte column of the last byte read: the offending
+/// character for a syntax error (`[1 2]` → column 4, the `2`), but for an
+/// unexpected end of input the last character *before* the end (`[1, 2` →
+/// column 5; an empty last line → column 0). The position of the error is
+/// where the missing text belongs, one past it. Converting to a byte offset
+/// here also turns bytes into characters when the line is not ASCII.
+fn json_error_span(text: &str, e: &serde_json::Error) -> Span {
+    let line_start = text
+        .split_inclusive('\n')
+        .take(e.line().saturating_sub(1))
+        .map(str::len)
+        .sum::<usize>();
+    let mut at = match e.classify() {
+        serde_json::error::Category::Eof => line_start + e.column(),
+        _ => line_start + e.column().saturating_sub(1),
+    }
+    .min(text.len());
+    while !text.is_char_boundary(at) {
+        at -= 1;
+    }
+    let len = text[at..].chars().next().map_or(0, char::len_utf8);
+    at..at + len
 }
 
 /// serde_json appends " at line L column C" to its messages; the position is
@@ -252,9 +275,28 @@ mod tests {
         assert_eq!(&text[span], "[1.5, 2]");
     }
 
+    /// The character a JSON syntax error points at, and where it is.
+    fn json_error_at(text: &str) -> (String, usize) {
+        let span = parse_json(text).unwrap_err().span.expect("a span");
+        (text[span.clone()].to_string(), span.start)
+    }
+
     #[test]
-    fn json_errors_have_line_and_column() {
-        let err = parse_json("{\n \"a\": [1, }").unwrap_err();
-        assert_eq!(err.line_col.map(|l| l.0), Some(2));
+    fn json_errors_point_at_the_offending_character() {
+        // serde_json reports these at its columns 4, 9 (the `}` after a
+        // trailing comma), 1 of line 3, and 11 — bytes, the `é` is two.
+        assert_eq!(json_error_at("[1 2]"), ("2".into(), 3));
+        assert_eq!(json_error_at("{\"a\": 1,}"), ("}".into(), 8));
+        assert_eq!(json_error_at("[1,\n2,\n]"), ("]".into(), 7));
+        assert_eq!(json_error_at("{\"\u{e9}\": tru}"), ("}".into(), 10));
+    }
+
+    #[test]
+    fn json_errors_at_the_end_point_past_the_last_character() {
+        // serde_json's columns 5, 0 (of line 2) and 1: the last character
+        // read, or none at all.
+        assert_eq!(json_error_at("[1, 2"), (String::new(), 5));
+        assert_eq!(json_error_at("{\"a\":\n"), (String::new(), 6));
+        assert_eq!(json_error_at("{"), (String::new(), 1));
     }
 }
