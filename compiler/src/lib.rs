@@ -21,5 +21,5 @@ pub mod interp;
 pub mod model;
 pub mod numeric;
 pub mod plan;
+pub mod render;
 pub mod simulate;
-pub mod svg;

@@ -18,8 +18,8 @@ use dofplan::model::{load_file, Location, MarkerId, Mechanism, ModelError};
 use dofplan::numeric::drag::Drag;
 use dofplan::numeric::PureNewton;
 use dofplan::plan::{num, Plan};
+use dofplan::render::{render, SvgOptions};
 use dofplan::simulate::{marker_positions, run, sweep_inputs, Frame};
-use dofplan::svg::{render, SvgOptions};
 use dofplan_runtime::{BranchPolicy, BreakPolicy, FrameStatus, Options};
 
 /// Plan, explain and simulate mechanisms.
@@ -422,6 +422,8 @@ struct Report<'a> {
     input_names: Vec<String>,
     explain: Box<dyn Fn(u32) -> String + 'a>,
     trace: Vec<MarkerId>,
+    /// A drag's targets, drawn in the SVG (empty for a sweep).
+    targets: Vec<[f64; 2]>,
 }
 
 fn status_json(r: &Report, status: &FrameStatus) -> (Value, Option<(&'static str, Value)>) {
@@ -478,6 +480,7 @@ fn simulate(
             SolverArg::Newton => "Newton-Raphson on every mobile link".to_string(),
         }),
         trace: m.sweep.as_ref().map(|s| s.trace.clone()).unwrap_or_default(),
+        targets: Vec::new(),
     };
     output(&report, &frames, json, csv, svg)
 }
@@ -543,6 +546,7 @@ fn drag(
         input_names: vec![format!("{marker}.x"), format!("{marker}.y")],
         explain: Box::new(|_| format!("drag of {marker}")),
         trace: vec![id],
+        targets: targets.iter().map(|t| [t[0], t[1]]).collect(),
     };
     output(&report, &frames, json, csv, svg)
 }
@@ -604,7 +608,11 @@ fn output(r: &Report, frames: &[Frame], json: bool, csv: bool, svg: Option<&Path
         print_summary(r, frames);
     }
     if let Some(out) = svg {
-        let text = render(m, frames, &r.trace, &SvgOptions::default());
+        let options = SvgOptions {
+            targets: r.targets.clone(),
+            ..SvgOptions::default()
+        };
+        let text = render(m, frames, &r.trace, &options);
         if let Err(e) = std::fs::write(out, text) {
             eprintln!("{}: error: cannot write the SVG: {e}", out.display());
             return ExitCode::FAILURE;
