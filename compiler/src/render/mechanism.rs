@@ -39,6 +39,9 @@ pub(super) struct Detail {
     pub k: f64,
     /// Whether joint names fit.
     pub names: bool,
+    /// Whether pins and the ground's hatching fit: links only a few pixels
+    /// long would be hidden under them.
+    pub pins: bool,
 }
 
 impl Detail {
@@ -69,6 +72,8 @@ impl Detail {
         Detail {
             k,
             names: m.joints.len() <= 24 && k >= 0.5,
+            // A link of unknown length (NaN) still gets its pins.
+            pins: link_px.is_nan() || link_px >= 10.0,
         }
     }
 
@@ -212,6 +217,9 @@ pub(super) fn draw_ground(
                 "points",
                 points(&[[x, y], [x - 8.0 * k, y + 13.0 * k], [x + 8.0 * k, y + 13.0 * k]]),
             ));
+            if !detail.pins {
+                continue;
+            }
             hatch.push_str(&format!(
                 "M{} {}H{}",
                 num(x - 13.0 * k),
@@ -397,7 +405,7 @@ pub(super) fn draw_pose(
         .set("stroke", INK)
         .set("stroke-width", num(detail.px(1.5, 0.5)));
     for j in &m.joints {
-        if j.kind != JointKind::Revolute {
+        if j.kind != JointKind::Revolute || !detail.pins {
             continue;
         }
         if let Some(p) = world(m, poses, j.markers[0]) {

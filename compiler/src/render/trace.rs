@@ -355,11 +355,10 @@ pub(super) fn labels(traces: &[Trace], view: &View, centre: Point, obstacles: &[
         let mut candidates: Vec<Point> = all.iter().copied().step_by(stride).collect();
         candidates.sort_by(|a, b| dist(*b, centre).total_cmp(&dist(*a, centre)));
         let w = text_width(&t.name, LABEL_FONT);
-        // The label of point `p` set off along unit `u`: whether it is
-        // anchored at its start, the anchor, the baseline and its box.
-        let place = |p: Point, u: Point| {
+        // The label of point `p` set off along unit `u`, anchored at its
+        // start or its end: the anchor, the baseline and its box.
+        let place = |p: Point, u: Point, start: bool| {
             let o = [p[0] + 9.0 * u[0], p[1] + 9.0 * u[1]];
-            let start = u[0] >= -0.2;
             // Below the point when set off downwards, above when upwards.
             let baseline = o[1] + 4.0 + 6.0 * u[1];
             let left = if start { o[0] } else { o[0] - w };
@@ -368,23 +367,38 @@ pub(super) fn labels(traces: &[Trace], view: &View, centre: Point, obstacles: &[
         };
         let outward = |p: Point| {
             let d = dist(p, centre);
-            if d > 1e-9 {
+            let u = if d > 1e-9 {
                 [(p[0] - centre[0]) / d, (p[1] - centre[1]) / d]
             } else {
                 [1.0, 0.0]
-            }
+            };
+            (u, u[0] >= -0.2)
         };
         let fits = |r: &Rect| view.contains([r[0], r[1]]) && view.contains([r[2], r[3]]);
-        // Outwards first; then above, below, left or right of the point.
-        let chosen = candidates
+        // Outwards from the farthest point that has room; else above or
+        // below one (reading rightwards or ending at it), left or right.
+        let sides: [Option<(Point, bool)>; 7] = [
+            None,
+            Some(([0.0, -1.0], true)),
+            Some(([0.0, -1.0], false)),
+            Some(([0.0, 1.0], true)),
+            Some(([0.0, 1.0], false)),
+            Some(([-1.0, 0.0], false)),
+            Some(([1.0, 0.0], true)),
+        ];
+        let chosen = sides
             .iter()
-            .flat_map(|&p| {
-                [outward(p), [0.0, -1.0], [0.0, 1.0], [-1.0, 0.0], [1.0, 0.0]].map(|u| place(p, u))
+            .flat_map(|side| {
+                candidates.iter().map(move |&p| {
+                    let (u, start) = side.unwrap_or_else(|| outward(p));
+                    place(p, u, start)
+                })
             })
             .find(|(_, _, _, r)| fits(r) && !taken.iter().any(|o| overlaps(o, r)))
             .unwrap_or_else(|| {
                 // Nowhere free: the outermost point, pulled into the plot.
-                let (start, x, y, r) = place(candidates[0], outward(candidates[0]));
+                let (u, start) = outward(candidates[0]);
+                let (start, x, y, r) = place(candidates[0], u, start);
                 let dx = (view.left - r[0]).max(0.0) - (r[2] - view.left - view.plot_w).max(0.0);
                 let dy = (view.top - r[1]).max(0.0) - (r[3] - view.top - view.plot_h).max(0.0);
                 (
