@@ -13,6 +13,7 @@
 //! - [`emit`]: writes a plan as straight-line Rust.
 //! - [`numeric`]: pure Newton–Raphson (the baseline without analysis).
 //! - [`build`]: the `build.rs` API.
+//! - [`render`]: the SVG picture of a sweep or a drag.
 
 pub mod analysis;
 pub mod build;
