@@ -99,7 +99,7 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
         800.0
     };
     let drag = !options.targets.is_empty();
-    let targets: Vec<Point> = options.targets.clone();
+    let targets: &[Point] = &options.targets;
 
     // Every frame's poses and how it met its input (the drawn pose alone
     // when there are no frames).
@@ -156,7 +156,7 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
             }
         }
     }
-    for &t in &targets {
+    for &t in targets {
         bbox.add(t);
     }
 
@@ -296,7 +296,7 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
             (Some(f), Some(&id)) => world(m, &f.poses, id),
             _ => None,
         };
-        doc = doc.add(target::draw(&targets, reached, &view));
+        doc = doc.add(target::draw(targets, reached, &view));
     }
     let centre = if bbox.lo[0] <= bbox.hi[0] {
         view.px([0.5 * (bbox.lo[0] + bbox.hi[0]), 0.5 * (bbox.lo[1] + bbox.hi[1])])
