@@ -282,6 +282,29 @@ fn hull(mut ps: Vec<Point>) -> Vec<Point> {
 /// The dash pattern of the stitch on stretched poses.
 pub(super) const STITCH_DASH: &str = "4 3";
 
+/// The outlines of the mobile bodies at `poses` as page segments (the
+/// edges of the shapes `draw_pose` fills, or its bars), for labels to keep
+/// off.
+pub(super) fn outlines(m: &Mechanism, poses: &[Pose], view: &View) -> Vec<[Point; 2]> {
+    let mut out = Vec::new();
+    for (b, body) in m.bodies.iter().enumerate() {
+        if body.fixed {
+            continue;
+        }
+        let ps: Vec<Point> = (0..body.markers.len())
+            .filter_map(|i| world(m, poses, MarkerId { body: b, marker: i }))
+            .map(|p| view.px(p))
+            .collect();
+        let h = hull(ps);
+        match h.len() {
+            0 | 1 => {}
+            2 => out.push([h[0], h[1]]),
+            n => out.extend((0..n).map(|i| [h[i], h[(i + 1) % n]])),
+        }
+    }
+    out
+}
+
 /// How one pose is drawn.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct PoseStyle {

@@ -44,7 +44,9 @@ use crate::model::{MarkerId, Mechanism};
 use crate::simulate::Frame;
 use caption::{dedupe_identical, pick_poses, titles};
 use legend::{Entry, Key, Layout};
-use mechanism::{body_colour, draw_ground, draw_pose, slide_ranges, valid, world, Detail, PoseStyle};
+use mechanism::{
+    body_colour, draw_ground, draw_pose, outlines, slide_ranges, valid, world, Detail, PoseStyle,
+};
 use style::{num, trace_colour, INK};
 use trace::Reach;
 use view::{BBox, View};
@@ -77,6 +79,9 @@ impl Default for SvgOptions {
 
 /// Mobile bodies times poses drawn, at most: beyond it, fewer poses.
 const POSE_BUDGET: usize = 600;
+/// Beyond this many drawn bodies, labels do not look for a place off them
+/// (they could not find one, and the search would be slow).
+const LABEL_INK_BODIES: usize = 200;
 const PAD: f64 = 16.0;
 const HEADER: f64 = 56.0;
 
@@ -304,7 +309,20 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
         [view.left + 0.5 * view.plot_w, view.top + 0.5 * view.plot_h]
     };
     let arrow_boxes: Vec<trace::Rect> = arrows.iter().flatten().map(trace::arrow_box).collect();
-    doc = doc.add(trace::labels(&traces, &view, centre, &arrow_boxes));
+    // Labels keep off the drawn bodies (unless there are very many) and
+    // the traces.
+    let mut ink: Vec<[Point; 2]> = if mobile * pose_sets.len() <= LABEL_INK_BODIES {
+        pose_sets
+            .iter()
+            .flat_map(|poses| outlines(m, poses, &view))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    for t in &traces {
+        ink.extend(trace::segments(t, 1000));
+    }
+    doc = doc.add(trace::labels(&traces, &view, centre, &arrow_boxes, &ink));
 
     // Title, scale bar and legend.
     doc = doc.add(

@@ -330,7 +330,16 @@ const LABEL_FONT: f64 = 12.0;
 /// Names each trace beside it: at the point of the trace farthest from the
 /// mechanism's centre `centre` that leaves its label inside the plot and
 /// off the other labels and `obstacles` (the arrows), text set outwards.
-pub(super) fn labels(traces: &[Trace], view: &View, centre: Point, obstacles: &[Rect]) -> Group {
+///
+/// `ink` are the drawn bodies' outlines (page segments): a place off them is
+/// preferred, but a label still goes on the bodies rather than nowhere.
+pub(super) fn labels(
+    traces: &[Trace],
+    view: &View,
+    centre: Point,
+    obstacles: &[Rect],
+    ink: &[[Point; 2]],
+) -> Group {
     let mut taken: Vec<Rect> = obstacles.to_vec();
     let mut g = Group::new()
         .set("class", "trace-labels")
@@ -386,15 +395,18 @@ pub(super) fn labels(traces: &[Trace], view: &View, centre: Point, obstacles: &[
             Some(([-1.0, 0.0], false)),
             Some(([1.0, 0.0], true)),
         ];
-        let chosen = sides
-            .iter()
-            .flat_map(|side| {
+        let placements = || {
+            sides.iter().flat_map(|side| {
                 candidates.iter().map(move |&p| {
                     let (u, start) = side.unwrap_or_else(|| outward(p));
                     place(p, u, start)
                 })
             })
-            .find(|(_, _, _, r)| fits(r) && !taken.iter().any(|o| overlaps(o, r)))
+        };
+        let free = |r: &Rect| fits(r) && !taken.iter().any(|o| overlaps(o, r));
+        let chosen = placements()
+            .find(|(_, _, _, r)| free(r) && !ink.iter().any(|s| crosses(r, s[0], s[1])))
+            .or_else(|| placements().find(|(_, _, _, r)| free(r)))
             .unwrap_or_else(|| {
                 // Nowhere free: the outermost point, pulled into the plot.
                 let (u, start) = outward(candidates[0]);
@@ -423,6 +435,52 @@ pub(super) fn labels(traces: &[Trace], view: &View, centre: Point, obstacles: &[
     g
 }
 
+/// The trace as at most about `most` page segments (every k-th point of
+/// each run, its last one kept), for labels to keep off.
+pub(super) fn segments(t: &Trace, most: usize) -> Vec<[Point; 2]> {
+    let total: usize = t.runs.iter().map(|r| r.points.len()).sum();
+    let stride = total.div_ceil(most.max(1)).max(1);
+    let mut out = Vec::new();
+    for run in &t.runs {
+        let mut kept: Vec<Point> = run.points.iter().copied().step_by(stride).collect();
+        let last = *run.points.last().expect("a run has a point");
+        if kept.last() != Some(&last) {
+            kept.push(last);
+        }
+        out.extend(kept.windows(2).map(|w| [w[0], w[1]]));
+    }
+    out
+}
+
+/// Whether the segment `a`–`b` meets the box `r` (Liang–Barsky clipping).
+fn crosses(r: &Rect, a: Point, b: Point) -> bool {
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [
+        (-d[0], a[0] - r[0]),
+        (d[0], r[2] - a[0]),
+        (-d[1], a[1] - r[1]),
+        (d[1], r[3] - a[1]),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return false;
+            }
+        } else {
+            let t = q / p;
+            if p < 0.0 {
+                t0 = t0.max(t);
+            } else {
+                t1 = t1.min(t);
+            }
+            if t0 > t1 {
+                return false;
+            }
+        }
+    }
+    true
+}
+
 /// The box an arrow covers, for label placement.
 pub(super) fn arrow_box(a: &Arrow) -> Rect {
     [a.at[0] - 8.0, a.at[1] - 8.0, a.at[0] + 8.0, a.at[1] + 8.0]
@@ -434,6 +492,17 @@ mod tests {
 
     fn trace(points: &[(Option<Point>, Reach)]) -> Trace {
         build("b.m".into(), "#000", points.iter().copied())
+    }
+
+    #[test]
+    fn segments_meet_boxes() {
+        let r: Rect = [0.0, 0.0, 10.0, 5.0];
+        assert!(crosses(&r, [-5.0, 2.0], [15.0, 2.0]));
+        assert!(crosses(&r, [2.0, 2.0], [3.0, 3.0]));
+        assert!(crosses(&r, [-1.0, -1.0], [11.0, 6.0]));
+        assert!(!crosses(&r, [-5.0, 6.0], [15.0, 6.0]));
+        assert!(!crosses(&r, [11.0, -10.0], [11.0, 10.0]));
+        assert!(!crosses(&r, [-3.0, 4.0], [1.0, 9.0]));
     }
 
     #[test]
