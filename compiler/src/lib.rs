@@ -15,6 +15,7 @@
 //! - [`build`]: the `build.rs` API.
 //! - [`assemble`]: moves the markers of a roughly drawn file to where its
 //!   joints close (`dofplan assemble`).
+//! - [`render`]: the SVG picture of a sweep or a drag.
 
 pub mod analysis;
 pub mod assemble;
@@ -24,5 +25,5 @@ pub mod interp;
 pub mod model;
 pub mod numeric;
 pub mod plan;
+pub mod render;
 pub mod simulate;
-pub mod svg;

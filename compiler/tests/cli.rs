@@ -139,6 +139,29 @@ fn simulate_svg_writes_a_drawing() {
 }
 
 #[test]
+fn drag_svg_shows_the_target() {
+    let out = std::env::temp_dir().join(format!("dofplan-cli-drag-{}.svg", std::process::id()));
+    let o = dofplan(&[
+        "drag",
+        mechanism("fourbar").to_str().unwrap(),
+        "--marker",
+        "coupler.P",
+        "--to",
+        "-3,5",
+        "--svg",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let svg = std::fs::read_to_string(&out).unwrap();
+    let _ = std::fs::remove_file(out);
+    // The final target where it was asked for, and the path of the 50
+    // targets to it.
+    assert_eq!(svg.matches(r#"class="target" data-x="-3" data-y="5""#).count(), 1);
+    assert_eq!(svg.matches(r#"class="target-path""#).count(), 1);
+    assert!(svg.contains("drag target (-3, 5) and its path"));
+}
+
+#[test]
 fn bad_files_get_a_position_and_a_failing_status() {
     let dir = std::env::temp_dir().join(format!("dofplan-cli-bad-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();

@@ -22,8 +22,8 @@ use dofplan::model::{load_file, MarkerId, Mechanism, Sweep, MAX_STEPS};
 use dofplan::numeric::drag::Drag;
 use dofplan::numeric::PureNewton;
 use dofplan::plan::{num, Plan};
+use dofplan::render::{render, SvgOptions};
 use dofplan::simulate::{frames, marker_positions, sweep_requests, Frame};
-use dofplan::svg::{render, SvgOptions};
 use dofplan_runtime::planar::Pose;
 use dofplan_runtime::{Animate, BranchPolicy, BreakPolicy, Driver, FrameStatus, Options};
 
@@ -673,6 +673,7 @@ fn simulate(
             SolverArg::Newton => "Newton-Raphson on every mobile link".to_string(),
         }),
         trace: sweep.trace.clone(),
+        targets: false,
     };
     let requested = sweep_requests(sweep, m.inputs.len());
     output(&report, frames(driver.as_mut(), requested), form, svg, out)
@@ -760,6 +761,7 @@ fn drag(
         value: Box::new(point),
         explain: Box::new(|_| format!("drag of {marker}")),
         trace: vec![id],
+        targets: true,
     };
     let mut driver = Driver::new(solver, options);
     output(&report, frames(&mut driver, targets), form, svg, out)
@@ -783,6 +785,8 @@ struct Report<'a> {
     value: Box<Describe<'a>>,
     explain: Box<dyn Fn(u32) -> String + 'a>,
     trace: Vec<MarkerId>,
+    /// The frames' requested values are a drag's targets, drawn in the SVG.
+    targets: bool,
 }
 
 /// The form of the printed frames.
@@ -843,7 +847,15 @@ fn output(
     }
     writer.end(out)?;
     if let Some(path) = svg {
-        let text = render(r.m, &kept, &r.trace, &SvgOptions::default());
+        let options = SvgOptions {
+            targets: if r.targets {
+                kept.iter().map(|f| [f.requested[0], f.requested[1]]).collect()
+            } else {
+                Vec::new()
+            },
+            ..SvgOptions::default()
+        };
+        let text = render(r.m, &kept, &r.trace, &options);
         if let Err(e) = std::fs::write(path, text) {
             report(&format!("{}: error: cannot write the SVG: {e}", path.display()));
             return Ok(ExitCode::FAILURE);

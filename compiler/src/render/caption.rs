@@ -1,0 +1,165 @@
+//! Which poses to draw, and the title and subtitle that say what the
+//! picture shows.
+
+use dofplan_runtime::planar::Pose;
+
+use super::mechanism::world;
+use super::style::num;
+use crate::model::{InputKind, Mechanism};
+use crate::simulate::Frame;
+
+/// Indices of up to `n` frames evenly spaced among those whose pose belongs
+/// to their own input (solved or stretched; among all when there are none),
+/// the first and the last included, ascending.
+pub(super) fn pick_poses(frames: &[Frame], n: usize) -> Vec<usize> {
+    // Stretched frames count: the input was applied with a step relaxed
+    // (a drag's closest approach), and they are drawn marked as such.
+    let solved: Vec<usize> = (0..frames.len())
+        .filter(|&i| frames[i].status.is_solved() || frames[i].status.name() == "stretched")
+        .collect();
+    let candidates: Vec<usize> = if solved.is_empty() {
+        (0..frames.len()).collect()
+    } else {
+        solved
+    };
+    let n = n.min(candidates.len());
+    if n == 0 {
+        return Vec::new();
+    }
+    if n == 1 {
+        return vec![candidates[0]];
+    }
+    let last = candidates.len() - 1;
+    let mut out: Vec<usize> = Vec::with_capacity(n);
+    for k in 0..n {
+        let i = candidates[(k * last + (n - 1) / 2) / (n - 1)];
+        if out.last() != Some(&i) {
+            out.push(i);
+        }
+    }
+    out
+}
+
+/// Drops poses identical to an earlier one (a full turn ends where it
+/// started), keeping the first.
+pub(super) fn dedupe_identical(m: &Mechanism, sets: &mut Vec<&[Pose]>, frames: &mut Vec<usize>, size: f64) {
+    let tol = 1e-6 * size;
+    let mut keep: Vec<bool> = Vec::with_capacity(sets.len());
+    for k in 0..sets.len() {
+        let same = (0..k).any(|j| {
+            keep[j]
+                && m.all_markers()
+                    .all(|id| match (world(m, sets[j], id), world(m, sets[k], id)) {
+                        (Some(a), Some(b)) => (a[0] - b[0]).abs() <= tol && (a[1] - b[1]).abs() <= tol,
+                        (None, None) => true,
+                        _ => false,
+                    })
+        });
+        keep.push(!same);
+    }
+    let mut it = keep.iter();
+    sets.retain(|_| *it.next().unwrap_or(&true));
+    if frames.len() == keep.len() {
+        let mut it = keep.iter();
+        frames.retain(|_| *it.next().unwrap_or(&true));
+    }
+}
+
+/// The title ("name — 361 frames, all solved") and the subtitle (where the
+/// poses were drawn, and which one is opaque).
+pub(super) fn titles(
+    m: &Mechanism,
+    frames: &[Frame],
+    picked: &[usize],
+    last_opaque: bool,
+) -> (String, String) {
+    if frames.is_empty() {
+        return (
+            format!("{} \u{2014} no frames", m.name),
+            "no frames: the mechanism is shown as drawn".to_string(),
+        );
+    }
+    let n = frames.len();
+    let mut not_solved: Vec<String> = Vec::new();
+    for name in ["limited", "searched", "stretched"] {
+        let c = frames.iter().filter(|f| f.status.name() == name).count();
+        if c > 0 {
+            not_solved.push(format!("{c} {name}"));
+        }
+    }
+    let status = if not_solved.is_empty() {
+        "all solved".to_string()
+    } else {
+        not_solved.join(", ")
+    };
+    let plural = if n == 1 { "frame" } else { "frames" };
+    let title = format!("{} \u{2014} {n} {plural}, {status}", m.name);
+
+    let input = m.sweep.as_ref().map(|s| s.input).unwrap_or(0);
+    // Frames of a drag carry targets, not the mechanism's inputs.
+    let of_inputs = frames[0].requested.len() == m.inputs.len();
+    let at = match m.inputs.get(input).filter(|_| of_inputs) {
+        Some(inp) => {
+            let unit = match inp.kind {
+                InputKind::Angle => "\u{b0}",
+                InputKind::Slide => "",
+            };
+            let values: Vec<String> = picked
+                .iter()
+                .map(|&i| match frames[i].requested.get(input) {
+                    Some(v) => format!("{}{unit}", num(*v)),
+                    None => "?".to_string(),
+                })
+                .collect();
+            format!("{} = {}", inp.name, values.join(", "))
+        }
+        None => {
+            let values: Vec<String> = picked.iter().map(|i| i.to_string()).collect();
+            let frames = if picked.len() == 1 { "frame" } else { "frames" };
+            format!("{frames} {}", values.join(", "))
+        }
+    };
+    let poses = if picked.len() == 1 { "pose" } else { "poses" };
+    let order = match (picked.len(), last_opaque) {
+        (0 | 1, _) => "",
+        (_, false) => " (first opaque, later ones fainter)",
+        (_, true) => " (last opaque, earlier ones fainter)",
+    };
+    let subtitle = format!("{} {poses} at {at}{order}", picked.len());
+    (title, subtitle)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dofplan_runtime::FrameStatus;
+
+    #[test]
+    fn picks_first_and_last() {
+        let frame = |solved: bool| Frame {
+            requested: vec![],
+            inputs: vec![],
+            status: if solved {
+                FrameStatus::Solved
+            } else {
+                FrameStatus::Limited {
+                    brk: dofplan_runtime::Break {
+                        step: 0,
+                        kind: dofplan_runtime::BreakKind::CirclesApart,
+                        gap: 1.0,
+                    },
+                }
+            },
+            poses: vec![],
+            numeric: None,
+        };
+        let frames: Vec<Frame> = (0..361).map(|_| frame(true)).collect();
+        assert_eq!(pick_poses(&frames, 6), vec![0, 72, 144, 216, 288, 360]);
+        assert_eq!(pick_poses(&frames, 1), vec![0]);
+        assert_eq!(pick_poses(&frames, 0), Vec::<usize>::new());
+        assert_eq!(pick_poses(&frames[..3], 6), vec![0, 1, 2]);
+        assert_eq!(pick_poses(&[], 6), Vec::<usize>::new());
+        let mixed: Vec<Frame> = (0..10).map(|i| frame((2..8).contains(&i))).collect();
+        assert_eq!(pick_poses(&mixed, 3), vec![2, 5, 7]);
+    }
+}

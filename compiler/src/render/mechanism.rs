@@ -1,0 +1,534 @@
+//! The mechanism itself: ground pivots and slide lines, and the bodies and
+//! revolute pins of one pose.
+
+use dofplan_runtime::planar::{Point, Pose};
+use svg::node::element::{Circle, Group, Path, Polygon, Polyline, Text};
+
+use super::style::{line, num, points, BODY_COLOURS, GREY, GROUND_COLOUR, INK};
+use super::view::{finite, BBox, View};
+use crate::model::{JointKind, MarkerId, Mechanism};
+
+/// The world position of a marker, if the ids are valid and it is finite.
+pub(super) fn world(m: &Mechanism, poses: &[Pose], id: MarkerId) -> Option<Point> {
+    let marker = m.bodies.get(id.body)?.markers.get(id.marker)?;
+    let p = poses.get(id.body)?.world(marker.at);
+    finite(p).then_some(p)
+}
+
+/// True when `id` names a marker of `m`.
+pub(super) fn valid(m: &Mechanism, id: MarkerId) -> bool {
+    m.bodies.get(id.body).is_some_and(|b| id.marker < b.markers.len())
+}
+
+/// The colour of body `b`: grey when fixed, else the palette in order of
+/// the mobile bodies.
+pub(super) fn body_colour(m: &Mechanism, b: usize) -> &'static str {
+    if m.bodies.get(b).is_none_or(|body| body.fixed) {
+        return GROUND_COLOUR;
+    }
+    let rank = m.bodies[..b].iter().filter(|body| !body.fixed).count();
+    BODY_COLOURS[rank % BODY_COLOURS.len()]
+}
+
+/// How much detail the page has room for: symbol sizes and line widths
+/// shrink with the links' length on the page, so that a chain of hundreds of
+/// links is a readable strip rather than overlapping pivots.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Detail {
+    /// Factor on every symbol size and line width, 0.3 to 1.
+    pub k: f64,
+    /// Whether joint names fit.
+    pub names: bool,
+    /// Whether pins and the ground's hatching fit: links only a few pixels
+    /// long would be hidden under them.
+    pub pins: bool,
+}
+
+impl Detail {
+    /// From the median length of the mobile bodies (the diagonal of their
+    /// markers' box) on the page.
+    pub fn new(m: &Mechanism, view: &View) -> Detail {
+        let mut spans: Vec<f64> = m
+            .bodies
+            .iter()
+            .filter(|b| !b.fixed)
+            .map(|b| {
+                let mut bb = BBox::new();
+                for mk in &b.markers {
+                    bb.add(mk.at);
+                }
+                (bb.hi[0] - bb.lo[0]).hypot(bb.hi[1] - bb.lo[1])
+            })
+            .filter(|s| s.is_finite() && *s > 0.0)
+            .collect();
+        spans.sort_by(f64::total_cmp);
+        let span = spans.get(spans.len() / 2).copied().unwrap_or_else(|| m.size());
+        let link_px = span * view.scale;
+        let k = if link_px.is_finite() {
+            (link_px / 60.0).clamp(0.3, 1.0)
+        } else {
+            1.0
+        };
+        Detail {
+            k,
+            names: m.joints.len() <= 24 && k >= 0.5,
+            // A link of unknown length (NaN) still gets its pins.
+            pins: link_px.is_nan() || link_px >= 10.0,
+        }
+    }
+
+    /// A size in pixels at this detail, never below `min`.
+    fn px(&self, full: f64, min: f64) -> f64 {
+        (full * self.k).max(min)
+    }
+}
+
+/// A prismatic joint's slide line: through its first marker along that
+/// marker's direction, from `lo` to `hi` (world lengths along the line).
+pub(super) struct Slide {
+    joint: usize,
+    lo: f64,
+    hi: f64,
+}
+
+impl Slide {
+    /// The two ends of the line at `poses`.
+    pub fn ends(&self, m: &Mechanism, poses: &[Pose]) -> Option<(Point, Point)> {
+        let (a, d) = line_of(m, poses, self.joint)?;
+        let e0 = [a[0] + d[0] * self.lo, a[1] + d[1] * self.lo];
+        let e1 = [a[0] + d[0] * self.hi, a[1] + d[1] * self.hi];
+        (finite(e0) && finite(e1)).then_some((e0, e1))
+    }
+}
+
+/// The world point and unit direction of a prismatic joint's first marker.
+fn line_of(m: &Mechanism, poses: &[Pose], joint: usize) -> Option<(Point, Point)> {
+    let j = m.joints.get(joint)?;
+    let a = j.markers[0];
+    let dir = m.bodies.get(a.body)?.markers.get(a.marker)?.unit_dir()?;
+    let d = poses.get(a.body)?.world_dir(dir);
+    let p = world(m, poses, a)?;
+    finite(d).then_some((p, d))
+}
+
+/// The slide line of every prismatic joint, long enough to cover where its
+/// second marker goes in every frame and at least ±size/3.
+pub(super) fn slide_ranges<'a>(
+    m: &Mechanism,
+    all_poses: impl Iterator<Item = &'a [Pose]>,
+    size: f64,
+) -> Vec<Slide> {
+    let prismatic: Vec<usize> = (0..m.joints.len())
+        .filter(|&ji| m.joints[ji].kind == JointKind::Prismatic)
+        .collect();
+    let mut range = vec![(0.0f64, 0.0f64); prismatic.len()];
+    if !prismatic.is_empty() {
+        for poses in all_poses {
+            for (k, &ji) in prismatic.iter().enumerate() {
+                let j = &m.joints[ji];
+                let (Some((a, d)), Some(b)) = (line_of(m, poses, ji), world(m, poses, j.markers[1])) else {
+                    continue;
+                };
+                let t = (b[0] - a[0]) * d[0] + (b[1] - a[1]) * d[1];
+                if t.is_finite() {
+                    range[k].0 = range[k].0.min(t);
+                    range[k].1 = range[k].1.max(t);
+                }
+            }
+        }
+    }
+    prismatic
+        .into_iter()
+        .zip(range)
+        .map(|(joint, (mut lo, mut hi))| {
+            lo -= size / 12.0;
+            hi += size / 12.0;
+            if hi - lo < 2.0 * size / 3.0 {
+                let c = 0.5 * (hi + lo);
+                lo = c - size / 3.0;
+                hi = c + size / 3.0;
+            }
+            Slide { joint, lo, hi }
+        })
+        .collect()
+}
+
+/// The ground: a pivot symbol at every fixed marker (except those that only
+/// carry a slide line) and the slide lines fixed to the ground.
+pub(super) fn draw_ground(
+    m: &Mechanism,
+    poses: &[Pose],
+    slides: &[Slide],
+    view: &View,
+    detail: Detail,
+) -> Group {
+    let mut g = Group::new().set("class", "ground");
+    for s in slides {
+        let a = m.joints[s.joint].markers[0];
+        if !m.bodies[a.body].fixed {
+            continue;
+        }
+        if let Some((e0, e1)) = s.ends(m, poses) {
+            g = g.add(
+                line(view.px(e0), view.px(e1))
+                    .set("stroke", GREY)
+                    .set("stroke-width", 1.5)
+                    .set("stroke-dasharray", "8 5"),
+            );
+        }
+    }
+    let k = detail.k;
+    let mut done: Vec<Point> = Vec::new();
+    let mut hatch = String::new();
+    let mut symbols = Group::new()
+        .set("fill", "#d9d9d9")
+        .set("stroke", GREY)
+        .set("stroke-width", num(detail.px(1.2, 0.6)));
+    for (b, body) in m.bodies.iter().enumerate() {
+        if !body.fixed {
+            continue;
+        }
+        for i in 0..body.markers.len() {
+            let id = MarkerId { body: b, marker: i };
+            let slide_only = m
+                .joints
+                .iter()
+                .any(|j| j.kind == JointKind::Prismatic && j.markers[0] == id)
+                && !m
+                    .joints
+                    .iter()
+                    .any(|j| j.kind == JointKind::Revolute && j.markers.contains(&id));
+            if slide_only {
+                continue;
+            }
+            let Some(p) = world(m, poses, id) else {
+                continue;
+            };
+            let q = view.px(p);
+            if done
+                .iter()
+                .any(|d| (d[0] - q[0]).abs() < 1.0 && (d[1] - q[1]).abs() < 1.0)
+            {
+                continue;
+            }
+            done.push(q);
+            let (x, y) = (q[0], q[1]);
+            symbols = symbols.add(Polygon::new().set(
+                "points",
+                points(&[[x, y], [x - 8.0 * k, y + 13.0 * k], [x + 8.0 * k, y + 13.0 * k]]),
+            ));
+            if !detail.pins {
+                continue;
+            }
+            hatch.push_str(&format!(
+                "M{} {}H{}",
+                num(x - 13.0 * k),
+                num(y + 13.0 * k),
+                num(x + 13.0 * k)
+            ));
+            for h in 0..5 {
+                let hx = x + (-9.0 + 5.5 * h as f64) * k;
+                hatch.push_str(&format!(
+                    "M{} {}L{} {}",
+                    num(hx + 4.0 * k),
+                    num(y + 13.0 * k),
+                    num(hx - 1.0 * k),
+                    num(y + 19.0 * k)
+                ));
+            }
+        }
+    }
+    g = g.add(symbols);
+    if !hatch.is_empty() {
+        g = g.add(
+            Path::new()
+                .set("d", hatch)
+                .set("fill", "none")
+                .set("stroke", GREY)
+                .set("stroke-width", num(detail.px(1.2, 0.6))),
+        );
+    }
+    g
+}
+
+/// Convex hull (monotone chain) of page points, counter-clockwise on the
+/// page, collinear points dropped.
+fn hull(mut ps: Vec<Point>) -> Vec<Point> {
+    ps.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    ps.dedup_by(|a, b| (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9);
+    if ps.len() < 3 {
+        return ps;
+    }
+    let cross = |o: Point, a: Point, b: Point| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    let mut out: Vec<Point> = Vec::with_capacity(2 * ps.len());
+    for pass in 0..2 {
+        let start = out.len();
+        let iter: Box<dyn Iterator<Item = &Point>> = if pass == 0 {
+            Box::new(ps.iter())
+        } else {
+            Box::new(ps.iter().rev())
+        };
+        for &p in iter {
+            while out.len() >= start + 2 && cross(out[out.len() - 2], out[out.len() - 1], p) <= 0.0 {
+                out.pop();
+            }
+            out.push(p);
+        }
+        out.pop();
+    }
+    out
+}
+
+/// The dash pattern of the stitch on stretched poses.
+pub(super) const STITCH_DASH: &str = "4 3";
+
+/// The outlines of the mobile bodies at `poses` as page segments (the
+/// edges of the shapes `draw_pose` fills, or its bars), for labels to keep
+/// off.
+pub(super) fn outlines(m: &Mechanism, poses: &[Pose], view: &View) -> Vec<[Point; 2]> {
+    let mut out = Vec::new();
+    for (b, body) in m.bodies.iter().enumerate() {
+        if body.fixed {
+            continue;
+        }
+        let ps: Vec<Point> = (0..body.markers.len())
+            .filter_map(|i| world(m, poses, MarkerId { body: b, marker: i }))
+            .map(|p| view.px(p))
+            .collect();
+        let h = hull(ps);
+        match h.len() {
+            0 | 1 => {}
+            2 => out.push([h[0], h[1]]),
+            n => out.extend((0..n).map(|i| [h[i], h[(i + 1) % n]])),
+        }
+    }
+    out
+}
+
+/// How one pose is drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct PoseStyle {
+    /// The opaque pose, with the traced markers and the joint names.
+    pub highlighted: bool,
+    /// The frame did not meet its input exactly: every body stitched with
+    /// a white dashed line along its outline (or its bar).
+    pub stretched: bool,
+}
+
+/// One pose of the mobile bodies: their shapes, slide lines on mobile
+/// bodies and revolute joints; for the highlighted pose also the traced
+/// markers (in their trace colours) and the joint names.
+pub(super) fn draw_pose(
+    m: &Mechanism,
+    poses: &[Pose],
+    slides: &[Slide],
+    view: &View,
+    detail: Detail,
+    traced: &[(MarkerId, &str)],
+    style: PoseStyle,
+) -> Group {
+    let k = detail.k;
+    let class = if style.stretched { "pose stretched" } else { "pose" };
+    let mut g = Group::new().set("class", class);
+    for s in slides {
+        let a = m.joints[s.joint].markers[0];
+        if m.bodies[a.body].fixed {
+            continue;
+        }
+        if let Some((e0, e1)) = s.ends(m, poses) {
+            g = g.add(
+                line(view.px(e0), view.px(e1))
+                    .set("stroke", body_colour(m, a.body))
+                    .set("stroke-width", 1.5)
+                    .set("stroke-dasharray", "8 5"),
+            );
+        }
+    }
+    for (b, body) in m.bodies.iter().enumerate() {
+        if body.fixed {
+            continue;
+        }
+        let colour = body_colour(m, b);
+        let ps: Vec<Point> = (0..body.markers.len())
+            .filter_map(|i| world(m, poses, MarkerId { body: b, marker: i }))
+            .map(|p| view.px(p))
+            .collect();
+        if ps.is_empty() {
+            continue;
+        }
+        let h = hull(ps.clone());
+        let spread = h
+            .iter()
+            .flat_map(|a| h.iter().map(move |c| (a[0] - c[0]).hypot(a[1] - c[1])))
+            .fold(0.0, f64::max);
+        if spread < 4.0 {
+            // Markers (nearly) on one spot: a slider block.
+            let c = [
+                ps.iter().map(|p| p[0]).sum::<f64>() / ps.len() as f64,
+                ps.iter().map(|p| p[1]).sum::<f64>() / ps.len() as f64,
+            ];
+            let u = block_axis(m, poses, b);
+            let v = [-u[1], u[0]];
+            let corner = |su: f64, sv: f64| {
+                [
+                    c[0] + (u[0] * 12.0 * su + v[0] * 7.0 * sv) * k,
+                    c[1] + (u[1] * 12.0 * su + v[1] * 7.0 * sv) * k,
+                ]
+            };
+            let quad = [
+                corner(1.0, 1.0),
+                corner(-1.0, 1.0),
+                corner(-1.0, -1.0),
+                corner(1.0, -1.0),
+            ];
+            let w = detail.px(2.0, 1.0);
+            g = g.add(
+                Polygon::new()
+                    .set("points", points(&quad))
+                    .set("fill", colour)
+                    .set("fill-opacity", 0.6)
+                    .set("stroke", colour)
+                    .set("stroke-width", num(w)),
+            );
+            if style.stretched {
+                g = g.add(stitch(Polygon::new().set("points", points(&quad)), detail));
+            }
+        } else if h.len() >= 3 {
+            let w = detail.px(3.0, 1.0);
+            g = g.add(
+                Polygon::new()
+                    .set("points", points(&h))
+                    .set("fill", colour)
+                    .set("fill-opacity", 0.25)
+                    .set("stroke", colour)
+                    .set("stroke-width", num(w))
+                    .set("stroke-linejoin", "round"),
+            );
+            if style.stretched {
+                g = g.add(stitch(Polygon::new().set("points", points(&h)), detail));
+            }
+        } else {
+            // Two markers, or several on one line: a bar.
+            let w = detail.px(6.0, 1.5);
+            g = g.add(
+                Polyline::new()
+                    .set("points", points(&h))
+                    .set("fill", "none")
+                    .set("stroke", colour)
+                    .set("stroke-width", num(w))
+                    .set("stroke-linecap", "round"),
+            );
+            if style.stretched {
+                g = g.add(stitch(Polyline::new().set("points", points(&h)), detail));
+            }
+        }
+    }
+    let mut pins = Group::new()
+        .set("fill", "#ffffff")
+        .set("stroke", INK)
+        .set("stroke-width", num(detail.px(1.5, 0.5)));
+    for j in &m.joints {
+        if j.kind != JointKind::Revolute || !detail.pins {
+            continue;
+        }
+        if let Some(p) = world(m, poses, j.markers[0]) {
+            let q = view.px(p);
+            pins = pins.add(
+                Circle::new()
+                    .set("cx", num(q[0]))
+                    .set("cy", num(q[1]))
+                    .set("r", num(detail.px(4.0, 1.0))),
+            );
+        }
+    }
+    g = g.add(pins);
+    if style.highlighted {
+        for &(id, colour) in traced {
+            if let Some(p) = world(m, poses, id) {
+                let q = view.px(p);
+                g = g.add(
+                    Circle::new()
+                        .set("class", "traced")
+                        .set("cx", num(q[0]))
+                        .set("cy", num(q[1]))
+                        .set("r", num(detail.px(3.5, 1.5)))
+                        .set("fill", colour)
+                        .set("stroke", "#ffffff")
+                        .set("stroke-width", 1),
+                );
+            }
+        }
+        if detail.names {
+            g = g.add(joint_names(m, poses, view));
+        }
+    }
+    g
+}
+
+/// A white dashed line over a body's outline (or bar): the mark of a
+/// stretched pose, visible on every body colour without hiding which body
+/// it is.
+fn stitch<N: svg::Node>(mut node: N, detail: Detail) -> N {
+    for (k, v) in [
+        ("class", "stitch".to_string()),
+        ("fill", "none".to_string()),
+        ("stroke", "#ffffff".to_string()),
+        ("stroke-width", num(detail.px(1.5, 0.75))),
+        ("stroke-dasharray", STITCH_DASH.to_string()),
+    ] {
+        node.assign(k, v);
+    }
+    node
+}
+
+/// The joint names beside their pins; joints on one spot share a label
+/// ("O1, A1").
+fn joint_names(m: &Mechanism, poses: &[Pose], view: &View) -> Group {
+    let mut spots: Vec<(Point, String)> = Vec::new();
+    for j in &m.joints {
+        let Some(p) = world(m, poses, j.markers[0]) else {
+            continue;
+        };
+        let q = view.px(p);
+        match spots
+            .iter_mut()
+            .find(|(s, _)| (s[0] - q[0]).abs() < 3.0 && (s[1] - q[1]).abs() < 3.0)
+        {
+            Some((_, names)) => {
+                names.push_str(", ");
+                names.push_str(&j.name);
+            }
+            None => spots.push((q, j.name.clone())),
+        }
+    }
+    let mut labels = Group::new().set("font-size", 11).set("fill", "#333333");
+    for (q, names) in spots {
+        labels = labels.add(
+            Text::new(names)
+                .set("x", num(q[0] + 6.0))
+                .set("y", num(q[1] - 6.0)),
+        );
+    }
+    labels
+}
+
+/// The long axis of a slider block on the page: along the line of a
+/// prismatic joint the body takes part in, else along the body's x axis.
+fn block_axis(m: &Mechanism, poses: &[Pose], b: usize) -> Point {
+    let dir = m
+        .joints
+        .iter()
+        .enumerate()
+        .filter(|(_, j)| j.kind == JointKind::Prismatic && j.markers.iter().any(|id| id.body == b))
+        .find_map(|(ji, _)| line_of(m, poses, ji).map(|(_, d)| d))
+        .or_else(|| poses.get(b).map(|p| p.world_dir([1.0, 0.0])))
+        .unwrap_or([1.0, 0.0]);
+    // Page y points down.
+    let (x, y) = (dir[0], -dir[1]);
+    let n = x.hypot(y);
+    if n.is_finite() && n > 0.0 {
+        [x / n, y / n]
+    } else {
+        [1.0, 0.0]
+    }
+}

@@ -1,0 +1,366 @@
+//! Pictures of a mechanism's motion, as standalone SVG.
+//!
+//! [`render`] draws a simulated sweep or a drag: the mechanism at a few
+//! poses, the path of every traced marker through every frame (split at
+//! breaks, thinned to what the page shows, with an arrow of motion and the
+//! marker's name), stretched poses dashed, the drag target, a scale bar, a
+//! title and a legend.
+//!
+//! The parts, by concern:
+//! - `view`: the world box, the world-to-page transform, the scale bar;
+//! - `mechanism`: the ground, and the bodies and pins of one pose;
+//! - `trace`: runs between breaks, thinning, arrows, labels;
+//! - `target`: the drag target and its path;
+//! - `legend`: the capped legend;
+//! - `caption`: which poses to draw, the title and subtitle;
+//! - `style`: colours and number formatting.
+//!
+//! The drawing stands on its own (no scripts, no external styles). World
+//! coordinates have y up; points are transformed here (y flipped) so that
+//! text stays upright and every length given in pixels (line widths, pivot
+//! symbols) is independent of the mechanism's scale. The output is
+//! deterministic and numbers carry at most two decimals. Elements carry a
+//! `class` (`trace`, `arrow`, `trace-label`, `scale-bar`, `target`,
+//! `pose stretched`, `legend`, ...) so that tests and style sheets can find
+//! them.
+
+mod caption;
+mod legend;
+mod mechanism;
+mod style;
+mod target;
+mod trace;
+mod view;
+
+#[cfg(test)]
+mod tests;
+
+use dofplan_runtime::planar::{Point, Pose};
+use dofplan_runtime::FrameStatus;
+use svg::node::element::{Rectangle, Text, Title};
+use svg::Document;
+
+use crate::model::{MarkerId, Mechanism};
+use crate::simulate::Frame;
+use caption::{dedupe_identical, pick_poses, titles};
+use legend::{Entry, Key, Layout};
+use mechanism::{
+    body_colour, draw_ground, draw_pose, outlines, slide_ranges, valid, world, Detail, PoseStyle,
+};
+use style::{num, trace_colour, INK};
+use trace::Reach;
+use view::{BBox, View};
+
+/// Options of the drawing.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SvgOptions {
+    /// How many poses to draw at most (the first and the last frame
+    /// included). Mechanisms of many bodies get fewer, so that the poses do
+    /// not cover each other into a blur.
+    pub poses: usize,
+    /// Width of the picture in pixels (the height follows the mechanism).
+    pub width: f64,
+    /// The targets of a drag, one per frame, in world coordinates: drawn as
+    /// the target's path and its final point, and the last pose (the one
+    /// that reached for the final target) is drawn opaque. Empty for a
+    /// sweep.
+    pub targets: Vec<[f64; 2]>,
+}
+
+impl Default for SvgOptions {
+    fn default() -> Self {
+        SvgOptions {
+            poses: 6,
+            width: 800.0,
+            targets: Vec::new(),
+        }
+    }
+}
+
+/// Mobile bodies times poses drawn, at most: beyond it, fewer poses.
+const POSE_BUDGET: usize = 600;
+/// Beyond this many drawn bodies, labels do not look for a place off them
+/// (they could not find one, and the search would be slow).
+const LABEL_INK_BODIES: usize = 200;
+const PAD: f64 = 16.0;
+const HEADER: f64 = 56.0;
+
+/// Draws the mechanism at several poses plus the trace of every marker in
+/// `trace`, and returns the SVG text.
+///
+/// Picks `options.poses` frames evenly spaced through `frames` (the first
+/// and the last included; frames that did not meet their input are skipped
+/// when there are others), draws one opaque (the first, or for a drag the
+/// last) and the others fainter, and draws each traced marker's path
+/// through every frame: joined only between consecutive solved (or
+/// stretched, dashed) frames, never across a limited or searched frame.
+/// Never panics: with no frames the drawn pose is shown under a "no frames"
+/// title, and non-finite positions are left out.
+pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &SvgOptions) -> String {
+    let size = m.size();
+    let width = if options.width.is_finite() {
+        options.width.clamp(200.0, 20_000.0)
+    } else {
+        800.0
+    };
+    let drag = !options.targets.is_empty();
+    let targets: &[Point] = &options.targets;
+
+    // Every frame's poses and how it met its input (the drawn pose alone
+    // when there are no frames).
+    let drawn = vec![Pose::IDENTITY; m.bodies.len()];
+    let all: Vec<(&[Pose], Reach)> = if frames.is_empty() {
+        vec![(&drawn[..], Reach::Solved)]
+    } else {
+        frames
+            .iter()
+            .map(|f| (&f.poses[..], Reach::of(&f.status)))
+            .collect()
+    };
+
+    // The pose sets to draw.
+    let mobile = m.bodies.iter().filter(|b| !b.fixed).count().max(1);
+    let wanted = options.poses.min((POSE_BUDGET / mobile).max(1));
+    let picked = pick_poses(frames, wanted);
+    let mut pose_sets: Vec<&[Pose]> = if frames.is_empty() {
+        vec![&drawn[..]]
+    } else {
+        picked.iter().map(|&i| &frames[i].poses[..]).collect()
+    };
+    let mut picked_frames: Vec<usize> = picked.clone();
+    dedupe_identical(m, &mut pose_sets, &mut picked_frames, size);
+    let stretched_set = |k: usize| {
+        picked_frames
+            .get(k)
+            .is_some_and(|&i| matches!(frames[i].status, FrameStatus::Stretched { .. }))
+    };
+    // Opaque first, then fainter and fainter: along the sweep, or back from
+    // the end of a drag.
+    let order: Vec<usize> = if drag {
+        (0..pose_sets.len()).rev().collect()
+    } else {
+        (0..pose_sets.len()).collect()
+    };
+
+    let slides = slide_ranges(m, all.iter().map(|(p, _)| *p), size);
+
+    // Bounding box of everything drawn, in world units.
+    let mut bbox = BBox::new();
+    for (poses, _) in &all {
+        for id in m.all_markers() {
+            if let Some(p) = world(m, poses, id) {
+                bbox.add(p);
+            }
+        }
+    }
+    for poses in &pose_sets {
+        for s in &slides {
+            if let Some((a, b)) = s.ends(m, poses) {
+                bbox.add(a);
+                bbox.add(b);
+            }
+        }
+    }
+    for &t in targets {
+        bbox.add(t);
+    }
+
+    let plot_w = width - 2.0 * PAD;
+    let view = View::fit(&bbox, size, plot_w, PAD, HEADER);
+    let detail = Detail::new(m, &view);
+
+    // Traces, through every frame.
+    let trace: Vec<MarkerId> = trace.iter().copied().filter(|&id| valid(m, id)).collect();
+    let traces: Vec<trace::Trace> = trace
+        .iter()
+        .enumerate()
+        .map(|(k, &id)| {
+            trace::build(
+                m.marker_name(id),
+                trace_colour(k),
+                all.iter()
+                    .map(|(poses, reach)| (world(m, poses, id).map(|p| view.px(p)), *reach)),
+            )
+        })
+        .collect();
+    let arrows: Vec<Vec<trace::Arrow>> = traces.iter().map(trace::arrows).collect();
+
+    // Legend: traces and the picture's marks first, then bodies.
+    let mut entries: Vec<Entry> = traces
+        .iter()
+        .map(|t| Entry {
+            key: Key::Trace(t.colour),
+            label: format!("trace {}", t.name),
+        })
+        .collect();
+    let worst_stretch = frames
+        .iter()
+        .filter_map(|f| match f.status {
+            FrameStatus::Stretched { residual, .. } => Some(residual),
+            _ => None,
+        })
+        .fold(None, |acc: Option<f64>, r| Some(acc.map_or(r, |a| a.max(r))));
+    if let Some(r) = worst_stretch {
+        entries.push(Entry {
+            key: Key::Stretched,
+            label: format!("stretched (residual up to {})", short(r)),
+        });
+    }
+    if traces.iter().any(|t| !t.searched.is_empty()) {
+        entries.push(Entry {
+            key: Key::Searched,
+            label: "break point found by search".to_string(),
+        });
+    }
+    if let Some(t) = targets.last() {
+        entries.push(Entry {
+            key: Key::Target,
+            label: format!("drag target ({}, {}) and its path", num(t[0]), num(t[1])),
+        });
+    }
+    for (b, body) in m.bodies.iter().enumerate() {
+        let label = if body.fixed {
+            format!("{} (fixed)", body.name)
+        } else {
+            body.name.clone()
+        };
+        entries.push(Entry {
+            key: Key::Body(body_colour(m, b)),
+            label,
+        });
+    }
+    let entries = legend::cap(entries);
+
+    // Layout: header, plot, the scale bar's strip, legend.
+    let layout = Layout::new(&entries, plot_w);
+    let strip_top = HEADER + view.plot_h + 4.0;
+    let legend_top = strip_top + view::SCALE_STRIP + 6.0;
+    let height = legend_top + layout.height() + PAD;
+
+    let mut doc = Document::new()
+        .set("width", num(width))
+        .set("height", num(height))
+        .set("viewBox", format!("0 0 {} {}", num(width), num(height)))
+        .set("font-family", "Helvetica, Arial, sans-serif");
+    let (title, subtitle) = titles(m, frames, &picked_frames, drag && picked_frames.len() > 1);
+    doc = doc.add(Title::new(title.clone()));
+    doc = doc.add(
+        Rectangle::new()
+            .set("x", 0)
+            .set("y", 0)
+            .set("width", num(width))
+            .set("height", num(height))
+            .set("fill", "#ffffff"),
+    );
+
+    let traced: Vec<(MarkerId, &str)> = trace
+        .iter()
+        .copied()
+        .zip(traces.iter().map(|t| t.colour))
+        .collect();
+    if let Some(&first) = order.first() {
+        // Ground: pivots and fixed slide lines, once.
+        doc = doc.add(draw_ground(m, pose_sets[first], &slides, &view, detail));
+        // Faint poses, faintest first so that nearer ones lie on top.
+        let n = order.len();
+        for (rank, &k) in order.iter().enumerate().skip(1).rev() {
+            let opacity = if n > 2 {
+                0.55 - 0.35 * (rank - 1) as f64 / (n - 2) as f64
+            } else {
+                0.45
+            };
+            let style = PoseStyle {
+                highlighted: false,
+                stretched: stretched_set(k),
+            };
+            let g =
+                draw_pose(m, pose_sets[k], &slides, &view, detail, &[], style).set("opacity", num(opacity));
+            doc = doc.add(g);
+        }
+    }
+    for (t, a) in traces.iter().zip(&arrows) {
+        doc = doc.add(trace::draw(t, a));
+    }
+    if let Some(&first) = order.first() {
+        let style = PoseStyle {
+            highlighted: true,
+            stretched: stretched_set(first),
+        };
+        doc = doc.add(draw_pose(
+            m,
+            pose_sets[first],
+            &slides,
+            &view,
+            detail,
+            &traced,
+            style,
+        ));
+    }
+    if drag {
+        let reached = match (frames.last(), trace.first()) {
+            (Some(f), Some(&id)) => world(m, &f.poses, id),
+            _ => None,
+        };
+        doc = doc.add(target::draw(targets, reached, &view));
+    }
+    let centre = if bbox.lo[0] <= bbox.hi[0] {
+        view.px([0.5 * (bbox.lo[0] + bbox.hi[0]), 0.5 * (bbox.lo[1] + bbox.hi[1])])
+    } else {
+        [view.left + 0.5 * view.plot_w, view.top + 0.5 * view.plot_h]
+    };
+    let arrow_boxes: Vec<trace::Rect> = arrows.iter().flatten().map(trace::arrow_box).collect();
+    // Labels keep off the drawn bodies (unless there are very many) and
+    // the traces.
+    let mut ink: Vec<[Point; 2]> = if mobile * pose_sets.len() <= LABEL_INK_BODIES {
+        pose_sets
+            .iter()
+            .flat_map(|poses| outlines(m, poses, &view))
+            .collect()
+    } else {
+        Vec::new()
+    };
+    for t in &traces {
+        ink.extend(trace::segments(t, 1000));
+    }
+    doc = doc.add(trace::labels(&traces, &view, centre, &arrow_boxes, &ink));
+
+    // Title, scale bar and legend.
+    doc = doc.add(
+        Text::new(title)
+            .set("x", num(PAD))
+            .set("y", 26)
+            .set("font-size", 18)
+            .set("font-weight", "bold")
+            .set("fill", INK),
+    );
+    doc = doc.add(
+        Text::new(subtitle)
+            .set("x", num(PAD))
+            .set("y", 45)
+            .set("font-size", 12)
+            .set("fill", "#555555"),
+    );
+    if let Some(bar) = view::scale_bar(&view, width - PAD, strip_top) {
+        doc = doc.add(bar);
+    }
+    doc = doc.add(legend::draw(&entries, &layout, PAD, legend_top));
+    doc.to_string()
+}
+
+/// A residual in three significant figures at most ("0.0567", "2.1e-7").
+fn short(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return num(x);
+    }
+    if x.abs() >= 1e-3 {
+        let decimals = (2 - x.abs().log10().floor() as i32).max(0) as usize;
+        let s = format!("{x:.decimals$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    } else {
+        format!("{x:.1e}")
+    }
+}
