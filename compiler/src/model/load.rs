@@ -112,6 +112,7 @@ pub fn load_str(file_name: &str, text: &str, format: Format) -> Result<Mechanism
         broken: HashSet::new(),
         open: Vec::new(),
         places: Vec::new(),
+        size: None,
     };
     let mechanism = v.mechanism(&root);
     match mechanism {
@@ -152,6 +153,9 @@ struct Validator {
     open: Vec<Open>,
     /// Where each joint and constraint is written, by origin ("joint B").
     places: Vec<(String, Location)>,
+    /// The mechanism's size, computed once from the bodies (every joint's
+    /// drawn-pose tolerance is relative to it).
+    size: Option<f64>,
 }
 
 impl Validator {
@@ -810,7 +814,10 @@ impl Validator {
         }
     }
 
-    fn size(bodies: &[Body]) -> f64 {
+    fn size(&mut self, bodies: &[Body]) -> f64 {
+        if let Some(size) = self.size {
+            return size;
+        }
         let m = Mechanism {
             name: String::new(),
             dimension: 2,
@@ -824,7 +831,9 @@ impl Validator {
                 text: Arc::from(""),
             },
         };
-        m.size()
+        let size = m.size();
+        self.size = Some(size);
+        size
     }
 
     fn check_coincident(
@@ -838,7 +847,7 @@ impl Validator {
         let a = &bodies[ids[0].body].markers[ids[0].marker];
         let b = &bodies[ids[1].body].markers[ids[1].marker];
         let gap = ((a.at[0] - b.at[0]).powi(2) + (a.at[1] - b.at[1]).powi(2)).sqrt();
-        let size = Self::size(bodies);
+        let size = self.size(bodies);
         if gap > DRAWN_TOLERANCE * size {
             let loc = self.loc(node, path);
             self.error(
@@ -881,7 +890,7 @@ impl Validator {
             return false;
         };
         let off = (b.at[0] - a.at[0]) * d[1] - (b.at[1] - a.at[1]) * d[0];
-        let size = Self::size(bodies);
+        let size = self.size(bodies);
         if off.abs() > DRAWN_TOLERANCE * size {
             let loc = self.loc(node, path);
             self.error(
