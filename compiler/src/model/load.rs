@@ -113,6 +113,7 @@ pub fn load_str(file_name: &str, text: &str, format: Format) -> Result<Mechanism
         open: Vec::new(),
         places: Vec::new(),
         size: None,
+        names: None,
     };
     let mechanism = v.mechanism(&root);
     match mechanism {
@@ -156,6 +157,9 @@ struct Validator {
     /// The mechanism's size, computed once from the bodies (every joint's
     /// drawn-pose tolerance is relative to it).
     size: Option<f64>,
+    /// Bodies by name, and markers by body and name (first of a name),
+    /// indexed once the bodies are read: references look them up.
+    names: Option<(HashMap<String, usize>, HashMap<(usize, String), usize>)>,
 }
 
 impl Validator {
@@ -574,7 +578,20 @@ impl Validator {
             );
             return None;
         };
-        let Some(bi) = bodies.iter().position(|x| x.name == b) else {
+        let (body_index, marker_index) = self.names.get_or_insert_with(|| {
+            let mut by_name = HashMap::new();
+            let mut markers = HashMap::new();
+            for (bi, body) in bodies.iter().enumerate() {
+                by_name.entry(body.name.clone()).or_insert(bi);
+                for (mi, marker) in body.markers.iter().enumerate() {
+                    markers.entry((bi, marker.name.clone())).or_insert(mi);
+                }
+            }
+            (by_name, markers)
+        });
+        let bi = body_index.get(b).copied();
+        let mi = bi.and_then(|bi| marker_index.get(&(bi, m.to_string())).copied());
+        let Some(bi) = bi else {
             if self.broken.contains(b) {
                 return None;
             }
@@ -586,7 +603,7 @@ impl Validator {
             );
             return None;
         };
-        let Some(mi) = bodies[bi].markers.iter().position(|x| x.name == m) else {
+        let Some(mi) = mi else {
             if self.broken.contains(b) || self.broken.contains(text) {
                 return None;
             }

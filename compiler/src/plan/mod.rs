@@ -390,6 +390,16 @@ impl StepKind {
         }
     }
 
+    /// The temp this step computes, if it is an intersection.
+    pub fn computes(&self) -> Option<usize> {
+        match self {
+            StepKind::CircleCircle { out, .. }
+            | StepKind::CircleLine { out, .. }
+            | StepKind::LineLine { out, .. } => Some(*out),
+            _ => None,
+        }
+    }
+
     /// The branch slot this step owns, if it has two roots.
     pub fn branch(&self) -> Option<usize> {
         match self {
