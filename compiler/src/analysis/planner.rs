@@ -105,6 +105,8 @@ struct Planner<'m> {
     unplaced: usize,
     /// Candidate equations examined by the rules (the planner's work).
     checks: usize,
+    /// Equations used so far.
+    consumed: usize,
 }
 
 /// The closed-form rules, in the order they are tried.
@@ -131,7 +133,7 @@ fn rules_for(eq: &Equation) -> &'static [Rule] {
 /// a numeric cluster for what is left, then closed form again for what the
 /// cluster determines, and so on.
 ///
-/// `progress` hears how many bodies are placed, out of all mobile ones.
+/// `progress` hears how many equations the steps use so far, out of all.
 pub fn plan(m: &Mechanism, eqs: &[Sourced], progress: &mut dyn FnMut(Progress)) -> Planned {
     let mut p = Planner {
         m,
@@ -152,6 +154,7 @@ pub fn plan(m: &Mechanism, eqs: &[Sourced], progress: &mut dyn FnMut(Progress)) 
         queues: Default::default(),
         unplaced: m.bodies.iter().filter(|b| !b.fixed).count(),
         checks: 0,
+        consumed: 0,
     };
     for (i, e) in eqs.iter().enumerate() {
         let [a, b] = e.eq.bodies();
@@ -163,7 +166,6 @@ pub fn plan(m: &Mechanism, eqs: &[Sourced], progress: &mut dyn FnMut(Progress)) 
             p.queues[rule as usize].insert(i);
         }
     }
-    let mobile = p.unplaced;
     while p.unplaced > 0 {
         let progressed =
             p.rotation_rule() || p.coincident_rule() || p.in_line_rule() || p.dyad_rule() || p.cluster_rule();
@@ -172,8 +174,8 @@ pub fn plan(m: &Mechanism, eqs: &[Sourced], progress: &mut dyn FnMut(Progress)) 
         }
         progress(Progress {
             stage: "plan",
-            done: mobile - p.unplaced,
-            total: mobile,
+            done: p.consumed,
+            total: eqs.len(),
         });
     }
     Planned {
@@ -258,6 +260,7 @@ impl Planner<'_> {
 
     fn consume(&mut self, i: usize) -> String {
         self.used[i] = true;
+        self.consumed += 1;
         self.eqs[i].origin.clone()
     }
 
@@ -819,33 +822,40 @@ impl Planner<'_> {
     }
 
     /// Unused equations that a cluster `s` would take: every body of the
-    /// equation placed or in `s`, at least one in `s`.
+    /// equation placed or in `s`, at least one in `s`; in file order.
     fn cluster_equations(&self, s: &[BodyId]) -> Vec<usize> {
+        let mut in_s = vec![false; self.know.len()];
+        for &b in s {
+            in_s[b] = true;
+        }
         let mut eqs: Vec<usize> = s
             .iter()
             .flat_map(|&b| self.on[b].iter().copied())
-            .filter(|&i| {
-                !self.used[i]
-                    && self.eqs[i]
-                        .eq
-                        .bodies()
-                        .iter()
-                        .all(|&b| s.contains(&b) || self.placed(b))
-            })
+            .filter(|&i| !self.used[i] && self.eqs[i].eq.bodies().iter().all(|&b| in_s[b] || self.placed(b)))
             .collect();
         eqs.sort_unstable();
         eqs.dedup();
         eqs
     }
 
-    fn cluster_freedom(&self, s: &[BodyId]) -> i64 {
-        let unknowns: usize = s.iter().map(|&b| self.unknowns_of(b)).sum();
-        let equations: usize = self
-            .cluster_equations(s)
+    /// How adding `b` to a cluster (`in_s`: its bodies) changes the
+    /// cluster's freedom: `b`'s unknowns less its unused equations to the
+    /// cluster, to placed bodies or to itself (the ones the cluster takes
+    /// with it).
+    fn freedom_added(&self, b: BodyId, in_s: &[bool]) -> i64 {
+        let taken: usize = self.on[b]
             .iter()
+            .filter(|&&i| !self.used[i])
+            .filter(|&&i| {
+                self.eqs[i]
+                    .eq
+                    .bodies()
+                    .iter()
+                    .all(|&x| x == b || in_s[x] || self.placed(x))
+            })
             .map(|&i| self.eqs[i].eq.count())
             .sum();
-        unknowns as i64 - equations as i64
+        self.unknowns_of(b) as i64 - taken as i64
     }
 
     /// The unknowns of cluster `s` over its equations `eqs`, parents before
@@ -859,13 +869,31 @@ impl Planner<'_> {
     /// holding by construction — so a chain of free links costs one unknown
     /// per link and no equation per joint instead of three and two. A free
     /// body no hinge reaches is a free root (3 unknowns) and may carry
-    /// hinges itself.
-    fn cluster_params(&self, s: &[BodyId], eqs: &[usize]) -> (Vec<ClusterParam>, Vec<usize>) {
+    /// hinges itself. Among the hinges possible, the first of `eqs` is
+    /// taken; among free roots, the first body of `s`.
+    fn cluster_params(&self, s: &[BodyId], eqs: &[usize]) -> (Vec<ClusterParam>, Vec<bool>) {
+        let n = self.know.len();
+        let (mut done, mut free) = (vec![false; n], vec![false; n]);
+        // Per body: the positions in `eqs` of the plain revolutes on it.
+        let mut hinges_on: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for (k, &i) in eqs.iter().enumerate() {
+            if let Equation::Coincident { a, b, slide: None } = &self.eqs[i].eq {
+                hinges_on[a.body].push(k);
+                if b.body != a.body {
+                    hinges_on[b.body].push(k);
+                }
+            }
+        }
+        // Positions in `eqs` that may hinge a free body on a done one
+        // (checked again when taken: their free end may be done by then).
+        let mut candidates = BTreeSet::new();
         let mut params = Vec::new();
-        let mut done: Vec<BodyId> = Vec::new();
         for &b in s {
             let p = match &self.know[b] {
-                Know::Free | Know::Placed => continue,
+                Know::Free | Know::Placed => {
+                    free[b] = true;
+                    continue;
+                }
                 Know::Pinned { local, at } => ClusterParam::Angle {
                     body: b,
                     pin: *local,
@@ -878,26 +906,30 @@ impl Planner<'_> {
                 Know::Oriented => ClusterParam::Translate { body: b },
             };
             params.push(p);
-            done.push(b);
+            done[b] = true;
+            candidates.extend(hinges_on[b].iter().copied());
         }
-        let mut free: Vec<BodyId> = s.iter().copied().filter(|b| !done.contains(b)).collect();
-        let mut hinges = Vec::new();
-        while !free.is_empty() {
-            let hinge = eqs.iter().enumerate().find_map(|(k, &i)| match &self.eqs[i].eq {
-                Equation::Coincident { a, b, slide: None } if !hinges.contains(&k) => {
-                    if done.contains(&a.body) && free.contains(&b.body) {
-                        Some((k, b, a))
-                    } else if done.contains(&b.body) && free.contains(&a.body) {
-                        Some((k, a, b))
-                    } else {
-                        None
-                    }
+        let mut hinged = vec![false; eqs.len()];
+        let mut left = s.iter().filter(|&&b| free[b]).count();
+        let mut first_free = 0;
+        while left > 0 {
+            let mut hinge = None;
+            while let Some(k) = candidates.pop_first() {
+                let Equation::Coincident { a, b, .. } = &self.eqs[eqs[k]].eq else {
+                    continue;
+                };
+                if done[a.body] && free[b.body] {
+                    hinge = Some((k, b, a));
+                } else if done[b.body] && free[a.body] {
+                    hinge = Some((k, a, b));
                 }
-                _ => None,
-            });
+                if hinge.is_some() {
+                    break;
+                }
+            }
             let body = match hinge {
                 Some((k, child, parent)) => {
-                    hinges.push(k);
+                    hinged[k] = true;
                     params.push(ClusterParam::Hinge {
                         body: child.body,
                         pin: child.local,
@@ -908,14 +940,19 @@ impl Planner<'_> {
                     child.body
                 }
                 None => {
-                    params.push(ClusterParam::Free { body: free[0] });
-                    free[0]
+                    while !free[s[first_free]] {
+                        first_free += 1;
+                    }
+                    params.push(ClusterParam::Free { body: s[first_free] });
+                    s[first_free]
                 }
             };
-            free.retain(|&b| b != body);
-            done.push(body);
+            free[body] = false;
+            done[body] = true;
+            left -= 1;
+            candidates.extend(hinges_on[body].iter().copied().filter(|&k| !hinged[k]));
         }
-        (params, hinges)
+        (params, hinged)
     }
 
     /// When no closed-form fragment applies: the smallest set of unplaced
@@ -929,31 +966,38 @@ impl Planner<'_> {
             return false;
         }
         let mut best: Option<Vec<BodyId>> = None;
+        let mut in_s = vec![false; self.know.len()];
         for &seed in &unplaced {
             let mut s = vec![seed];
-            while self.cluster_freedom(&s) > 0 {
-                // Unplaced bodies sharing an unused equation with `s`, in
-                // body order (the first of equally good ones is taken).
-                let mut neighbours: Vec<BodyId> = s
-                    .iter()
-                    .flat_map(|&x| self.on[x].iter().copied())
-                    .filter(|&i| !self.used[i])
-                    .flat_map(|i| self.eqs[i].eq.bodies())
-                    .filter(|b| !s.contains(b) && !self.placed(*b))
-                    .collect();
-                neighbours.sort_unstable();
-                neighbours.dedup();
-                let next = neighbours.into_iter().min_by_key(|&b| {
-                    let mut grown = s.clone();
-                    grown.push(b);
-                    self.cluster_freedom(&grown)
-                });
-                match next {
-                    Some(b) => s.push(b),
-                    None => break,
+            in_s[seed] = true;
+            let mut freedom = self.freedom_added(seed, &in_s);
+            // Unplaced bodies sharing an unused equation with `s`, in body
+            // order (the first of equally good ones is taken).
+            let mut neighbours = BTreeSet::new();
+            self.add_neighbours(seed, &in_s, &mut neighbours);
+            while freedom > 0 {
+                // Growing on cannot give a smaller rigid set than the best.
+                if best.as_ref().is_some_and(|b| s.len() >= b.len()) {
+                    break;
                 }
+                let mut next: Option<(BodyId, i64)> = None;
+                for &b in &neighbours {
+                    let f = self.freedom_added(b, &in_s);
+                    if next.is_none_or(|(_, g)| f < g) {
+                        next = Some((b, f));
+                    }
+                }
+                let Some((b, f)) = next else { break };
+                neighbours.remove(&b);
+                s.push(b);
+                in_s[b] = true;
+                freedom += f;
+                self.add_neighbours(b, &in_s, &mut neighbours);
             }
-            if self.cluster_freedom(&s) <= 0 && best.as_ref().is_none_or(|b| s.len() < b.len()) {
+            for &b in &s {
+                in_s[b] = false;
+            }
+            if freedom <= 0 && best.as_ref().is_none_or(|b| s.len() < b.len()) {
                 best = Some(s);
             }
         }
@@ -964,12 +1008,12 @@ impl Planner<'_> {
         for b in &s {
             serves.append(&mut self.pending[*b]);
         }
-        let (params, hinges) = self.cluster_params(&s, &eqs);
+        let (params, hinged) = self.cluster_params(&s, &eqs);
         let rows = eqs
             .iter()
-            .enumerate()
-            .filter(|(k, _)| !hinges.contains(k))
-            .map(|(_, &i)| self.eqs[i].eq.row())
+            .zip(&hinged)
+            .filter(|(_, &h)| !h)
+            .map(|(&i, _)| self.eqs[i].eq.row())
             .collect();
         for &i in &eqs {
             serves.push(self.consume(i));
@@ -985,6 +1029,20 @@ impl Planner<'_> {
             self.set(b, Know::Placed);
         }
         true
+    }
+
+    /// Adds to `neighbours` the unplaced bodies outside the cluster (`in_s`)
+    /// that share an unused equation with its body `b`.
+    fn add_neighbours(&self, b: BodyId, in_s: &[bool], neighbours: &mut BTreeSet<BodyId>) {
+        for &i in &self.on[b] {
+            if !self.used[i] {
+                for x in self.eqs[i].eq.bodies() {
+                    if !in_s[x] && !self.placed(x) {
+                        neighbours.insert(x);
+                    }
+                }
+            }
+        }
     }
 
     /// RRP: a pinned body's marker meets a sliding body's marker.
