@@ -10,8 +10,8 @@ use codespan_reporting::files::SimpleFile;
 use codespan_reporting::term::{self, termcolor};
 use serde_json::{json, Map, Value};
 
-use dofplan::analysis::rank::rank_mobility;
-use dofplan::analysis::{analyse, Analysis, Class};
+use dofplan::analysis::rank::rank_mobility_with;
+use dofplan::analysis::{analyse_with, Analysis, Class, Mobility};
 use dofplan::emit::emit;
 use dofplan::interp::Interpreter;
 use dofplan::model::{load_file, Location, MarkerId, Mechanism, ModelError};
@@ -21,6 +21,9 @@ use dofplan::plan::{num, Plan};
 use dofplan::simulate::{marker_positions, run, sweep_inputs, Frame};
 use dofplan::svg::{render, SvgOptions};
 use dofplan_runtime::{BranchPolicy, BreakPolicy, FrameStatus, Options};
+
+#[path = "dofplan/progress.rs"]
+mod progress;
 
 /// Plan, explain and simulate mechanisms.
 #[derive(Parser)]
@@ -246,14 +249,19 @@ fn load(file: &Path) -> Result<Mechanism, ExitCode> {
 }
 
 fn with_plan(file: &Path, f: impl FnOnce(&Mechanism, &Plan) -> ExitCode) -> ExitCode {
-    let m = match load(file) {
+    let bar = progress::Bar::for_file(file);
+    let m = match bar.load(file) {
         Ok(m) => m,
-        Err(code) => return code,
-    };
-    let analysis = analyse(&m);
-    match &analysis.plan {
-        Ok(plan) => f(&m, plan),
         Err(e) => {
+            report_model_error(&e);
+            return ExitCode::FAILURE;
+        }
+    };
+    let analysis = analyse_with(&m, &mut |p| bar.report(p));
+    match &analysis.plan {
+        Ok(plan) => bar.around_output("output", || f(&m, plan)),
+        Err(e) => {
+            bar.finish();
             eprintln!("{}: error: {e}", file.display());
             ExitCode::FAILURE
         }
@@ -261,16 +269,22 @@ fn with_plan(file: &Path, f: impl FnOnce(&Mechanism, &Plan) -> ExitCode) -> Exit
 }
 
 fn check(file: &Path) -> ExitCode {
-    let m = match load(file) {
+    let bar = progress::Bar::for_file(file);
+    let m = match bar.load(file) {
         Ok(m) => m,
-        Err(code) => return code,
+        Err(e) => {
+            report_model_error(&e);
+            return ExitCode::FAILURE;
+        }
     };
-    let Analysis {
-        mobility: mob,
-        plan,
-        unused,
-        ..
-    } = analyse(&m);
+    // A file without inputs is for dragging: it has no plan to report, so
+    // none is made (its search for numeric clusters is the costly part).
+    let analysis = (!m.inputs.is_empty()).then(|| analyse_with(&m, &mut |p| bar.report(p)));
+    let mob = analysis
+        .as_ref()
+        .map_or_else(|| Mobility::of(&m), |a| a.mobility.clone());
+    let by_rank = rank_mobility_with(&m, &mut |p| bar.report(p));
+    bar.finish();
     let fixed = m.bodies.iter().filter(|b| b.fixed).count();
     println!("{} ({})", m.name, file.display());
     println!(
@@ -307,7 +321,6 @@ fn check(file: &Path) -> ExitCode {
         extra,
         mob.dof
     );
-    let by_rank = rank_mobility(&m);
     println!(
         "  mobility (Jacobian rank at the drawn pose): {} unknowns − rank {} = {}",
         by_rank.unknowns, by_rank.rank, by_rank.dof
@@ -374,14 +387,14 @@ fn check(file: &Path) -> ExitCode {
             class.name(),
         );
     }
-    if m.inputs.is_empty() {
+    let Some(Analysis { plan, unused, .. }) = analysis else {
         // Valid: a file meant for dragging only.
         println!(
             "  plan: no inputs, so nothing to plan — drag a marker with `dofplan drag {} --marker BODY.MARKER --to X,Y`",
             file.display()
         );
         return ExitCode::SUCCESS;
-    }
+    };
     let code = match &plan {
         Ok(p) => {
             let (u, e) = p.numeric_size();
