@@ -101,3 +101,16 @@ fn a_redundant_link_mid_chain_is_named() {
     assert_eq!(by_rank.redundant, vec![("joint F".to_string(), 1)]);
     assert!(by_rank.idle.is_empty(), "{:?}", by_rank.idle);
 }
+
+/// The CLI's test of `check` on a long chain reads this generator's file.
+#[test]
+fn the_cli_tests_chain_is_the_generators() {
+    let kept = std::fs::read_to_string(
+        dofplan_tests::mechanisms_dir().join("../compiler/tests/data/stress_loops_200.toml"),
+    )
+    .expect("kept in compiler/tests/data");
+    assert!(
+        kept == stress_chain(200),
+        "regenerate it: cargo run --example stress_chain -- 200"
+    );
+}
