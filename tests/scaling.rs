@@ -114,3 +114,34 @@ fn the_cli_tests_chain_is_the_generators() {
         "regenerate it: cargo run --example stress_chain -- 200"
     );
 }
+
+/// A misdrawn joint in a long chain: the loader's error names it at once;
+/// the dense assembly that would tell a misdrawn joint from a conflict is
+/// not run on a mechanism this large, and the help says so.
+#[test]
+fn a_misdrawn_joint_in_a_long_chain_is_reported_without_the_assembly() {
+    let text = stress_chain(100);
+    let m = chain(100);
+    let r5 = m.marker(m.find_marker("coupler_5.R5").unwrap()).at;
+    let drawn = format!("R5 = [{:?}, {:?}]", r5[0], r5[1]);
+    let moved = format!("R5 = [{:?}, {:?}]", r5[0] + 0.3, r5[1]);
+    let at = text.find("[bodies.coupler_5]").unwrap();
+    let text = format!("{}{}", &text[..at], text[at..].replacen(&drawn, &moved, 1));
+    let e = load_str("chain.toml", &text, Format::Toml).expect_err("joint R5 is open");
+    assert_eq!(e.diagnostics.len(), 1, "{e}");
+    let d = &e.diagnostics[0];
+    assert!(
+        d.message
+            .starts_with("joint `R5` does not hold in the drawn pose"),
+        "{e}"
+    );
+    let help = d.help.as_deref().unwrap_or_default();
+    assert!(
+        help.contains("was not checked")
+            && help.contains(&format!(
+                "at most {}",
+                dofplan::analysis::conflict::MAX_REVIEWED_BODIES
+            )),
+        "{help}"
+    );
+}
