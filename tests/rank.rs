@@ -144,12 +144,15 @@ fn an_inconsistent_redundant_link_breaks_when_driven() {
     assert_eq!(frames[1].poses, frames[0].poses);
 }
 
+/// Rank, redundant equations and idle bodies, as `RankMobility` gives them.
+type RankFacts = (usize, Vec<(String, usize)>, Vec<(String, usize)>);
+
 /// The rank cross-check by its definition, independently of the sparse
 /// elimination `rank_mobility` runs: the dense Jacobian of pure Newton at
 /// the drawn pose, the SVD rank of every prefix of its rows (an equation
 /// is redundant by as many rows as it adds no rank to the rows before it),
 /// and the SVD rank of each body's three columns.
-fn by_dense_svds(m: &Mechanism) -> (usize, Vec<(String, usize)>, Vec<(String, usize)>) {
+fn by_dense_svds(m: &Mechanism) -> RankFacts {
     use dofplan::numeric::PureNewton;
     use dofplan_runtime::numeric::rank;
     const CUTOFF: f64 = 1e-9;

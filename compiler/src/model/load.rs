@@ -141,6 +141,9 @@ struct Written<'a> {
     path: String,
 }
 
+/// Bodies by name, and markers by body and name.
+type Names = (HashMap<String, usize>, HashMap<(usize, String), usize>);
+
 struct Validator {
     file: SourceFile,
     diags: Vec<Diagnostic>,
@@ -159,7 +162,7 @@ struct Validator {
     size: Option<f64>,
     /// Bodies by name, and markers by body and name (first of a name),
     /// indexed once the bodies are read: references look them up.
-    names: Option<(HashMap<String, usize>, HashMap<(usize, String), usize>)>,
+    names: Option<Names>,
 }
 
 impl Validator {
