@@ -35,7 +35,7 @@ pub struct Analysis {
 }
 
 /// How far a long analysis is, for a progress display: `done` of `total`
-/// units of the named stage ("plan": bodies placed; "branches": the drawn
+/// units of the named stage ("plan": equations used; "branches": the drawn
 /// pose's run; "rank": Jacobian rows eliminated). Reported often and
 /// cheaply; a display throttles itself.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
