@@ -60,7 +60,7 @@ impl Lookup {
     /// Whether a step after step `i` writes body `b`.
     fn written_after(&self, plan: &Plan, i: usize, b: usize) -> bool {
         match self {
-            Lookup::Scan => plan.steps[i + 1..].iter().any(|s| s.kind.writes().contains(&b)),
+            Lookup::Scan => plan.steps[i + 1..].iter().any(|s| s.kind.writes_body(b)),
             Lookup::Index { last_write, .. } => last_write[b].is_some_and(|k| k > i),
         }
     }

@@ -390,6 +390,19 @@ impl StepKind {
         }
     }
 
+    /// Whether this step writes body `b`'s pose (one of [`StepKind::writes`],
+    /// without collecting them).
+    pub fn writes_body(&self, b: BodyId) -> bool {
+        match self {
+            StepKind::Orient { body, .. }
+            | StepKind::Anchor { body, .. }
+            | StepKind::Align { body, .. }
+            | StepKind::TurnLine { body, .. } => *body == b,
+            StepKind::Cluster { params, .. } => params.iter().any(|p| p.body() == b),
+            StepKind::CircleCircle { .. } | StepKind::CircleLine { .. } | StepKind::LineLine { .. } => false,
+        }
+    }
+
     /// The temp this step computes, if it is an intersection.
     pub fn computes(&self) -> Option<usize> {
         match self {
