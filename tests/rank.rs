@@ -143,3 +143,82 @@ fn an_inconsistent_redundant_link_breaks_when_driven() {
     assert!(plan.explain(brk.step as usize).starts_with("extra:"));
     assert_eq!(frames[1].poses, frames[0].poses);
 }
+
+/// Rank, redundant equations and idle bodies, as `RankMobility` gives them.
+type RankFacts = (usize, Vec<(String, usize)>, Vec<(String, usize)>);
+
+/// The rank cross-check by its definition, independently of the sparse
+/// elimination `rank_mobility` runs: the dense Jacobian of pure Newton at
+/// the drawn pose, the SVD rank of every prefix of its rows (an equation
+/// is redundant by as many rows as it adds no rank to the rows before it),
+/// and the SVD rank of each body's three columns.
+fn by_dense_svds(m: &Mechanism) -> RankFacts {
+    use dofplan::numeric::PureNewton;
+    use dofplan_runtime::numeric::rank;
+    const CUTOFF: f64 = 1e-9;
+    let mut free = m.clone();
+    free.inputs.clear();
+    let newton = PureNewton::new(&free);
+    let (j, groups) = newton.drawn_jacobian();
+    let mut redundant = Vec::new();
+    let (mut taken, mut before) = (0, 0);
+    for (origin, count) in groups {
+        let r = rank(&j.rows(0, taken + count).into_owned(), CUTOFF);
+        if r - before < count {
+            redundant.push((origin, count - (r - before)));
+        }
+        (taken, before) = (taken + count, r);
+    }
+    let idle = newton
+        .unknown_bodies()
+        .into_iter()
+        .filter_map(|(b, col)| {
+            let alone = 3 - rank(&j.columns(col, 3).into_owned(), CUTOFF);
+            (alone > 0).then(|| (m.bodies[b].name.clone(), alone))
+        })
+        .collect();
+    (rank(&j, CUTOFF), redundant, idle)
+}
+
+#[test]
+fn the_sparse_rank_equals_the_dense_svds() {
+    let mut cases: Vec<(String, Mechanism)> = bundled().into_iter().map(|n| (n.clone(), load(&n))).collect();
+    for file in ["drag/open_chain_15.toml", "../tests/fixtures/sixbar_slotted.toml"] {
+        let path = dofplan_tests::mechanisms_dir().join(file);
+        let m = dofplan::model::load_file(&path).unwrap_or_else(|e| panic!("{e}"));
+        cases.push((file.to_string(), m));
+    }
+    let fourbar = std::fs::read_to_string(dofplan_tests::mechanisms_dir().join("fourbar.toml")).unwrap();
+    let flagged = fourbar.replace(
+        "[bodies.rocker]",
+        "[bodies.flag]\nmarkers = { P = [3, 3.5], Q = [3, 4.5] }\n\n[joints.flag]\nkind = \"revolute\"\nmarkers = [\"coupler.P\", \"flag.P\"]\n\n[bodies.loose]\nmarkers = { L = [9, 9] }\n\n[bodies.rocker]",
+    );
+    for (name, text) in [
+        ("parallelogram_extra", PARALLELOGRAM_EXTRA.to_string()),
+        (
+            "parallelogram_extra_off",
+            PARALLELOGRAM_EXTRA.replace("F = [3, 1.5]", "F = [3.5, 1.5]"),
+        ),
+        ("flagged_fourbar", flagged),
+        ("stress_chain_3", dofplan_tests::stress::stress_chain(3)),
+        ("stress_chain_30", dofplan_tests::stress::stress_chain(30)),
+    ] {
+        cases.push((name.to_string(), mechanism(&text)));
+    }
+    for (name, m) in &cases {
+        let sparse = rank_mobility(m);
+        let (rank, redundant, idle) = by_dense_svds(m);
+        assert_eq!(sparse.rank, rank, "{name}");
+        assert_eq!(sparse.dof, sparse.unknowns as i64 - rank as i64, "{name}");
+        assert_eq!(sparse.redundant, redundant, "{name}");
+        assert_eq!(sparse.idle, idle, "{name}");
+    }
+    // The cases do exercise what is compared.
+    assert!(cases.len() > 25);
+    let found = |f: fn(&dofplan::analysis::rank::RankMobility) -> bool| {
+        cases.iter().any(|(_, m)| f(&rank_mobility(m)))
+    };
+    assert!(found(|r| !r.redundant.is_empty()));
+    assert!(found(|r| r.idle.iter().any(|(_, n)| *n == 3)));
+    assert!(found(|r| r.idle.iter().any(|(_, n)| *n == 1)));
+}

@@ -48,6 +48,11 @@ const MAX_ITERATIONS: u32 = 200;
 ///   (1/2 to 1 on the table of fig. 14b), so 1e-3 separates the two.
 const CONFLICT_SHARE: f64 = 1e-3;
 
+/// Mobile bodies up to which the loader assembles a file whose joints do
+/// not all hold ([`review`]): the dense assembly takes about 0.5 s of CPU
+/// at this size on the development machine, and grows with its cube.
+pub const MAX_REVIEWED_BODIES: usize = 80;
+
 /// What the least-squares assembly from the drawn pose found.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Assembly {
@@ -216,12 +221,32 @@ pub(crate) struct Open {
 ///   the conflict, with the original messages and the other joints'
 ///   positions as notes (`places`: every joint's and constraint's
 ///   position, by origin).
+///
+/// The assembly is a dense least-squares solve, cubic in the number of
+/// bodies: above [`MAX_REVIEWED_BODIES`] mobile bodies it is not run, and
+/// each error's help says so.
 pub(crate) fn review(
     m: &Mechanism,
     open: &[Open],
     places: &[(String, Location)],
     diags: &mut Vec<Diagnostic>,
 ) {
+    let mobile = m.bodies.iter().filter(|b| !b.fixed).count();
+    if mobile > MAX_REVIEWED_BODIES {
+        let hint = format!(
+            "whether the rest of the mechanism lets it close was not checked: the least-squares assembly \
+             that tells a misdrawn joint from joints in conflict runs on at most {MAX_REVIEWED_BODIES} mobile \
+             bodies, and this mechanism has {mobile}"
+        );
+        for o in open {
+            let d = &mut diags[o.diagnostic];
+            d.help = Some(match d.help.take() {
+                Some(h) => format!("{h}; {hint}"),
+                None => hint.clone(),
+            });
+        }
+        return;
+    }
     match assemble(m) {
         Assembly::Closes { poses, moved } => {
             for o in open {

@@ -29,6 +29,23 @@ pub struct Analysis {
     pub plan: Result<Plan, PlanError>,
     /// Equations no step used (redundant, or on bodies left over), by origin.
     pub unused: Vec<String>,
+    /// Candidate equations the planner's rules examined: its work, linear
+    /// in the mechanism's size.
+    pub planner_checks: usize,
+}
+
+/// How far a long analysis is, for a progress display: `done` of `total`
+/// units of the named stage ("plan": equations used; "branches": the drawn
+/// pose's run; "rank": Jacobian rows eliminated). Reported often and
+/// cheaply; a display throttles itself.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Progress {
+    /// "plan", "branches" or "rank".
+    pub stage: &'static str,
+    /// Units done.
+    pub done: usize,
+    /// Units in all.
+    pub total: usize,
 }
 
 /// Why a mechanism has no plan.
@@ -69,9 +86,14 @@ impl std::error::Error for PlanError {}
 
 /// Analyses a mechanism and plans it.
 pub fn analyse(m: &Mechanism) -> Analysis {
+    analyse_with(m, &mut |_| {})
+}
+
+/// [`analyse`], reporting how far it is to `progress`.
+pub fn analyse_with(m: &Mechanism, progress: &mut dyn FnMut(Progress)) -> Analysis {
     let mobility = Mobility::of(m);
     let eqs = equations::equations(m);
-    let planned = planner::plan(m, &eqs);
+    let planned = planner::plan(m, &eqs, progress);
     let unused = planned.unused.iter().map(|&i| eqs[i].origin.clone()).collect();
     let plan = {
         let plan = Plan {
@@ -99,13 +121,22 @@ pub fn analyse(m: &Mechanism) -> Analysis {
             steps: planned.steps,
             size: m.size(),
         };
-        choose_branches(m, plan)
+        let branches = |done| Progress {
+            stage: "branches",
+            done,
+            total: 1,
+        };
+        progress(branches(0));
+        let chosen = choose_branches(m, plan);
+        progress(branches(1));
+        chosen
     };
     Analysis {
         mobility,
         equations: eqs,
         plan,
         unused,
+        planner_checks: planned.checks,
     }
 }
 

@@ -29,9 +29,12 @@
 //! Sliding bodies are translated provisionally onto their line so that any
 //! of their markers, read at that pose, is a point of its own line locus.
 
+use std::collections::BTreeSet;
+
 use dofplan_runtime::{Branch, Point};
 
 use super::equations::{Equation, Sourced};
+use super::Progress;
 use crate::model::Mechanism;
 use crate::plan::{BodyId, BranchSlot, ClusterParam, DirRef, Line, PointRef, Rel, Step, StepKind, Temp};
 
@@ -71,6 +74,9 @@ pub struct Planned {
     pub branches: Vec<BranchSlot>,
     /// Equations no rule used (redundant ones, or ones on unplaced bodies).
     pub unused: Vec<usize>,
+    /// Candidate equations the rules examined: the planner's work, linear
+    /// in the mechanism's size.
+    pub checks: usize,
 }
 
 struct Planner<'m> {
@@ -86,12 +92,49 @@ struct Planner<'m> {
     branches: Vec<BranchSlot>,
     tol: f64,
     clusters: usize,
+    /// Per body: the equations on it, in file order.
+    on: Vec<Vec<usize>>,
+    /// Per closed-form rule: the equations it may apply to — every one at
+    /// first, then each whose bodies' states changed since the rule last
+    /// found it inapplicable (nothing else changes whether a rule applies).
+    /// Each rule takes the lowest-numbered equation it applies to, exactly
+    /// as a scan of all equations in file order would, at a cost linear in
+    /// the mechanism's size.
+    queues: [BTreeSet<usize>; RULES],
+    /// Bodies not placed yet.
+    unplaced: usize,
+    /// Candidate equations examined by the rules (the planner's work).
+    checks: usize,
+    /// Equations used so far.
+    consumed: usize,
+}
+
+/// The closed-form rules, in the order they are tried.
+#[derive(Clone, Copy)]
+enum Rule {
+    Rotation,
+    Coincident,
+    InLine,
+    Dyad,
+}
+
+const RULES: usize = 4;
+
+/// The closed-form rules that can apply to an equation.
+fn rules_for(eq: &Equation) -> &'static [Rule] {
+    match eq {
+        Equation::Parallel { .. } => &[Rule::Rotation],
+        Equation::Coincident { .. } => &[Rule::Coincident, Rule::Dyad],
+        Equation::InLine { .. } => &[Rule::InLine, Rule::Dyad],
+    }
 }
 
 /// Plans a mechanism from its equations: closed form as far as it goes, then
 /// a numeric cluster for what is left, then closed form again for what the
 /// cluster determines, and so on.
-pub fn plan(m: &Mechanism, eqs: &[Sourced]) -> Planned {
+///
+/// `progress` hears how many equations the steps use so far, out of all.
+pub fn plan(m: &Mechanism, eqs: &[Sourced], progress: &mut dyn FnMut(Progress)) -> Planned {
     let mut p = Planner {
         m,
         eqs,
@@ -107,19 +150,40 @@ pub fn plan(m: &Mechanism, eqs: &[Sourced]) -> Planned {
         branches: Vec::new(),
         tol: SAME_POINT * m.size(),
         clusters: 0,
+        on: vec![Vec::new(); m.bodies.len()],
+        queues: Default::default(),
+        unplaced: m.bodies.iter().filter(|b| !b.fixed).count(),
+        checks: 0,
+        consumed: 0,
     };
-    while p.know.iter().any(|k| !matches!(k, Know::Placed)) {
+    for (i, e) in eqs.iter().enumerate() {
+        let [a, b] = e.eq.bodies();
+        p.on[a].push(i);
+        if b != a {
+            p.on[b].push(i);
+        }
+        for &rule in rules_for(&e.eq) {
+            p.queues[rule as usize].insert(i);
+        }
+    }
+    while p.unplaced > 0 {
         let progressed =
             p.rotation_rule() || p.coincident_rule() || p.in_line_rule() || p.dyad_rule() || p.cluster_rule();
         if !progressed {
             break;
         }
+        progress(Progress {
+            stage: "plan",
+            done: p.consumed,
+            total: eqs.len(),
+        });
     }
     Planned {
         unused: (0..eqs.len()).filter(|&i| !p.used[i]).collect(),
         steps: p.steps,
         temps: p.temps,
         branches: p.branches,
+        checks: p.checks,
     }
 }
 
@@ -174,8 +238,29 @@ impl Planner<'_> {
         }
     }
 
+    /// Changes what is known about a body, and hands the equations on it
+    /// back to every rule (they may apply now).
+    fn set(&mut self, body: BodyId, know: Know) {
+        let was_placed = self.placed(body);
+        self.know[body] = know;
+        match (was_placed, self.placed(body)) {
+            (false, true) => self.unplaced -= 1,
+            (true, false) => self.unplaced += 1,
+            _ => {}
+        }
+        for k in 0..self.on[body].len() {
+            let i = self.on[body][k];
+            if !self.used[i] {
+                for &rule in rules_for(&self.eqs[i].eq) {
+                    self.queues[rule as usize].insert(i);
+                }
+            }
+        }
+    }
+
     fn consume(&mut self, i: usize) -> String {
         self.used[i] = true;
+        self.consumed += 1;
         self.eqs[i].origin.clone()
     }
 
@@ -205,307 +290,335 @@ impl Planner<'_> {
 
     /// Propagation of rotation through parallel equations.
     fn rotation_rule(&mut self) -> bool {
-        for i in 0..self.eqs.len() {
-            if self.used[i] {
-                continue;
+        while let Some(i) = self.queues[Rule::Rotation as usize].pop_first() {
+            self.checks += 1;
+            if self.try_rotation(i) {
+                return true;
             }
-            let Equation::Parallel { a, b, input } = self.eqs[i].eq else {
-                continue;
-            };
-            let (target, from, rel) = match (self.know[a].rot_known(), self.know[b].rot_known()) {
-                (true, false) => (
-                    b,
-                    a,
-                    input.map_or(Rel::Identity, |i| Rel::Input {
-                        input: i,
-                        inverse: false,
-                    }),
-                ),
-                (false, true) => (
-                    a,
-                    b,
-                    input.map_or(Rel::Identity, |i| Rel::Input {
-                        input: i,
-                        inverse: true,
-                    }),
-                ),
-                _ => continue,
-            };
-            let origin = self.consume(i);
-            let from = (!self.m.bodies[from].fixed).then_some(from);
-            self.push(
-                StepKind::Orient {
-                    body: target,
-                    from,
-                    rel,
-                },
-                vec![origin],
-            );
-            self.know[target] = match std::mem::replace(&mut self.know[target], Know::Placed) {
-                Know::Pinned { local, at } => {
-                    self.push(
-                        StepKind::Anchor {
-                            body: target,
-                            local,
-                            at,
-                        },
-                        vec![],
-                    );
-                    Know::Placed
-                }
-                _ => Know::Oriented,
-            };
-            return true;
         }
         false
     }
 
+    fn try_rotation(&mut self, i: usize) -> bool {
+        if self.used[i] {
+            return false;
+        }
+        let Equation::Parallel { a, b, input } = self.eqs[i].eq else {
+            return false;
+        };
+        let (target, from, rel) = match (self.know[a].rot_known(), self.know[b].rot_known()) {
+            (true, false) => (
+                b,
+                a,
+                input.map_or(Rel::Identity, |i| Rel::Input {
+                    input: i,
+                    inverse: false,
+                }),
+            ),
+            (false, true) => (
+                a,
+                b,
+                input.map_or(Rel::Identity, |i| Rel::Input {
+                    input: i,
+                    inverse: true,
+                }),
+            ),
+            _ => return false,
+        };
+        let origin = self.consume(i);
+        let from = (!self.m.bodies[from].fixed).then_some(from);
+        self.push(
+            StepKind::Orient {
+                body: target,
+                from,
+                rel,
+            },
+            vec![origin],
+        );
+        let next = match &self.know[target] {
+            Know::Pinned { local, at } => {
+                let (local, at) = (*local, at.clone());
+                self.push(
+                    StepKind::Anchor {
+                        body: target,
+                        local,
+                        at,
+                    },
+                    vec![],
+                );
+                Know::Placed
+            }
+            _ => Know::Oriented,
+        };
+        self.set(target, next);
+        true
+    }
+
     /// A marker meets a known point.
     fn coincident_rule(&mut self) -> bool {
-        for i in 0..self.eqs.len() {
-            if self.used[i] {
-                continue;
-            }
-            let Equation::Coincident { a, b, slide } = &self.eqs[i].eq else {
-                continue;
-            };
-            // The point each side's marker must reach, when the other side
-            // knows it.
-            let for_b = match slide {
-                Some((input, dir)) if self.placed(a.body) => Some(PointRef::Slid {
-                    body: a.body,
-                    local: a.local,
-                    dir: *dir,
-                    input: *input,
-                    sign: 1.0,
-                    name: a.name.clone(),
-                }),
-                Some(_) => None,
-                None => self.known_point(a.body, a.local, &a.name),
-            };
-            let for_a = match slide {
-                Some((input, dir)) if self.placed(b.body) => Some(PointRef::Slid {
-                    body: b.body,
-                    local: b.local,
-                    dir: *dir,
-                    input: *input,
-                    sign: -1.0,
-                    name: b.name.clone(),
-                }),
-                Some(_) => None,
-                None => self.known_point(b.body, b.local, &b.name),
-            };
-            let candidates = [(b.body, b.local, for_b), (a.body, a.local, for_a)];
-            for (body, local, at) in candidates {
-                let Some(at) = at else { continue };
-                let next = match &self.know[body] {
-                    Know::Free => Some(None),
-                    Know::Oriented => Some(Some(StepKind::Anchor {
-                        body,
-                        local,
-                        at: at.clone(),
-                    })),
-                    Know::Pinned { local: l0, at: at0 } if dist(*l0, local) > self.tol => {
-                        Some(Some(StepKind::Align {
-                            body,
-                            p: *l0,
-                            p_at: at0.clone(),
-                            q: local,
-                            q_at: at.clone(),
-                            redundant: true,
-                        }))
-                    }
-                    _ => None,
-                };
-                let Some(step) = next else { continue };
-                let origin = self.consume(i);
-                match step {
-                    None => {
-                        self.pending[body].push(origin);
-                        self.know[body] = Know::Pinned { local, at };
-                    }
-                    Some(kind) => {
-                        self.push(kind, vec![origin]);
-                        self.know[body] = Know::Placed;
-                    }
-                }
+        while let Some(i) = self.queues[Rule::Coincident as usize].pop_first() {
+            self.checks += 1;
+            if self.try_coincident(i) {
                 return true;
             }
+        }
+        false
+    }
+
+    fn try_coincident(&mut self, i: usize) -> bool {
+        if self.used[i] {
+            return false;
+        }
+        let Equation::Coincident { a, b, slide } = &self.eqs[i].eq else {
+            return false;
+        };
+        // The point each side's marker must reach, when the other side
+        // knows it.
+        let for_b = match slide {
+            Some((input, dir)) if self.placed(a.body) => Some(PointRef::Slid {
+                body: a.body,
+                local: a.local,
+                dir: *dir,
+                input: *input,
+                sign: 1.0,
+                name: a.name.clone(),
+            }),
+            Some(_) => None,
+            None => self.known_point(a.body, a.local, &a.name),
+        };
+        let for_a = match slide {
+            Some((input, dir)) if self.placed(b.body) => Some(PointRef::Slid {
+                body: b.body,
+                local: b.local,
+                dir: *dir,
+                input: *input,
+                sign: -1.0,
+                name: b.name.clone(),
+            }),
+            Some(_) => None,
+            None => self.known_point(b.body, b.local, &b.name),
+        };
+        let candidates = [(b.body, b.local, for_b), (a.body, a.local, for_a)];
+        for (body, local, at) in candidates {
+            let Some(at) = at else { continue };
+            let next = match &self.know[body] {
+                Know::Free => Some(None),
+                Know::Oriented => Some(Some(StepKind::Anchor {
+                    body,
+                    local,
+                    at: at.clone(),
+                })),
+                Know::Pinned { local: l0, at: at0 } if dist(*l0, local) > self.tol => {
+                    Some(Some(StepKind::Align {
+                        body,
+                        p: *l0,
+                        p_at: at0.clone(),
+                        q: local,
+                        q_at: at.clone(),
+                        redundant: true,
+                    }))
+                }
+                _ => None,
+            };
+            let Some(step) = next else { continue };
+            let origin = self.consume(i);
+            match step {
+                None => {
+                    self.pending[body].push(origin);
+                    self.set(body, Know::Pinned { local, at });
+                }
+                Some(kind) => {
+                    self.push(kind, vec![origin]);
+                    self.set(body, Know::Placed);
+                }
+            }
+            return true;
         }
         false
     }
 
     /// A marker on a known line, or a body's line through a known point.
     fn in_line_rule(&mut self) -> bool {
-        for i in 0..self.eqs.len() {
-            if self.used[i] {
-                continue;
+        while let Some(i) = self.queues[Rule::InLine as usize].pop_first() {
+            self.checks += 1;
+            if self.try_in_line(i) {
+                return true;
             }
-            let Equation::InLine { line, dir, point } = &self.eqs[i].eq else {
-                continue;
+        }
+        false
+    }
+
+    fn try_in_line(&mut self, i: usize) -> bool {
+        if self.used[i] {
+            return false;
+        }
+        let Equation::InLine { line, dir, point } = &self.eqs[i].eq else {
+            return false;
+        };
+        let (line, dir, point) = (line.clone(), *dir, point.clone());
+        if self.placed(line.body) && !self.placed(point.body) {
+            let through = self.marker_point(line.body, line.local, &line.name);
+            let ldir = self.dir_ref(line.body, dir);
+            let body = point.body;
+            match self.know[body].clone() {
+                Know::Oriented => {
+                    let origin = self.consume(i);
+                    self.push(
+                        StepKind::Anchor {
+                            body,
+                            local: point.local,
+                            at: through,
+                        },
+                        vec![origin],
+                    );
+                    self.set(body, Know::Sliding { dir: ldir });
+                }
+                Know::Sliding { dir: d1 } => {
+                    let origin = self.consume(i);
+                    let out = self.temp(&point.name);
+                    let own = Line {
+                        through: PointRef::Marker {
+                            body,
+                            local: point.local,
+                            name: point.name.clone(),
+                        },
+                        dir: d1,
+                    };
+                    self.push(
+                        StepKind::LineLine {
+                            out,
+                            a: own,
+                            b: Line { through, dir: ldir },
+                        },
+                        vec![origin],
+                    );
+                    self.push(
+                        StepKind::Anchor {
+                            body,
+                            local: point.local,
+                            at: PointRef::Temp { id: out },
+                        },
+                        vec![],
+                    );
+                    self.set(body, Know::Placed);
+                }
+                Know::Pinned { local: l0, at: at0 } if dist(l0, point.local) > self.tol => {
+                    let origin = self.consume(i);
+                    let out = self.temp(&point.name);
+                    let branch = self.branch_slot(point.local);
+                    self.push(
+                        StepKind::CircleLine {
+                            out,
+                            c: at0.clone(),
+                            r: dist(l0, point.local),
+                            line: Line { through, dir: ldir },
+                            branch,
+                        },
+                        vec![origin],
+                    );
+                    self.push(
+                        StepKind::Align {
+                            body,
+                            p: l0,
+                            p_at: at0,
+                            q: point.local,
+                            q_at: PointRef::Temp { id: out },
+                            redundant: false,
+                        },
+                        vec![],
+                    );
+                    self.set(body, Know::Placed);
+                }
+                _ => return false,
+            }
+            return true;
+        }
+        if !self.placed(line.body) {
+            let Some(q) = self.known_point(point.body, point.local, &point.name) else {
+                return false;
             };
-            let (line, dir, point) = (line.clone(), *dir, point.clone());
-            if self.placed(line.body) && !self.placed(point.body) {
-                let through = self.marker_point(line.body, line.local, &line.name);
-                let ldir = self.dir_ref(line.body, dir);
-                let body = point.body;
-                match self.know[body].clone() {
-                    Know::Oriented => {
-                        let origin = self.consume(i);
-                        self.push(
-                            StepKind::Anchor {
-                                body,
-                                local: point.local,
-                                at: through,
-                            },
-                            vec![origin],
-                        );
-                        self.know[body] = Know::Sliding { dir: ldir };
-                    }
-                    Know::Sliding { dir: d1 } => {
-                        let origin = self.consume(i);
-                        let out = self.temp(&point.name);
-                        let own = Line {
-                            through: PointRef::Marker {
-                                body,
-                                local: point.local,
-                                name: point.name.clone(),
-                            },
-                            dir: d1,
-                        };
-                        self.push(
-                            StepKind::LineLine {
-                                out,
-                                a: own,
-                                b: Line { through, dir: ldir },
-                            },
-                            vec![origin],
-                        );
-                        self.push(
-                            StepKind::Anchor {
-                                body,
-                                local: point.local,
-                                at: PointRef::Temp { id: out },
-                            },
-                            vec![],
-                        );
-                        self.know[body] = Know::Placed;
-                    }
-                    Know::Pinned { local: l0, at: at0 } if dist(l0, point.local) > self.tol => {
-                        let origin = self.consume(i);
-                        let out = self.temp(&point.name);
-                        let branch = self.branch_slot(point.local);
-                        self.push(
-                            StepKind::CircleLine {
-                                out,
-                                c: at0.clone(),
-                                r: dist(l0, point.local),
-                                line: Line { through, dir: ldir },
-                                branch,
-                            },
-                            vec![origin],
-                        );
-                        self.push(
-                            StepKind::Align {
-                                body,
-                                p: l0,
-                                p_at: at0,
-                                q: point.local,
-                                q_at: PointRef::Temp { id: out },
-                                redundant: false,
-                            },
-                            vec![],
-                        );
-                        self.know[body] = Know::Placed;
-                    }
-                    _ => continue,
-                }
-                return true;
+            if !self.placed(point.body) {
+                return false; // the point is known but its body still turns
             }
-            if !self.placed(line.body) {
-                let Some(q) = self.known_point(point.body, point.local, &point.name) else {
-                    continue;
-                };
-                if !self.placed(point.body) {
-                    continue; // the point is known but its body still turns
-                }
-                let body = line.body;
-                match self.know[body].clone() {
-                    Know::Oriented => {
-                        let origin = self.consume(i);
-                        self.push(
-                            StepKind::Anchor {
-                                body,
-                                local: line.local,
-                                at: q,
-                            },
-                            vec![origin],
-                        );
-                        self.know[body] = Know::Sliding {
+            let body = line.body;
+            match self.know[body].clone() {
+                Know::Oriented => {
+                    let origin = self.consume(i);
+                    self.push(
+                        StepKind::Anchor {
+                            body,
+                            local: line.local,
+                            at: q,
+                        },
+                        vec![origin],
+                    );
+                    self.set(
+                        body,
+                        Know::Sliding {
                             dir: DirRef::Body { body, local: dir },
-                        };
-                    }
-                    Know::Sliding { dir: d1 } => {
-                        let origin = self.consume(i);
-                        let out = self.temp(&line.name);
-                        let own = Line {
-                            through: PointRef::Marker {
-                                body,
-                                local: line.local,
-                                name: line.name.clone(),
-                            },
-                            dir: d1,
-                        };
-                        let through_q = Line {
-                            through: q,
-                            dir: DirRef::Body { body, local: dir },
-                        };
-                        self.push(
-                            StepKind::LineLine {
-                                out,
-                                a: own,
-                                b: through_q,
-                            },
-                            vec![origin],
-                        );
-                        self.push(
-                            StepKind::Anchor {
-                                body,
-                                local: line.local,
-                                at: PointRef::Temp { id: out },
-                            },
-                            vec![],
-                        );
-                        self.know[body] = Know::Placed;
-                    }
-                    Know::Pinned { local: l0, at: at0 } => {
-                        let origin = self.consume(i);
-                        let branch = self.branch_slot([1.0, 0.0]);
-                        self.push(
-                            StepKind::TurnLine {
-                                body,
-                                pivot: at0.clone(),
-                                target: q,
-                                dir,
-                                kappa: cross(sub(line.local, l0), dir),
-                                branch,
-                            },
-                            vec![origin],
-                        );
-                        self.push(
-                            StepKind::Anchor {
-                                body,
-                                local: l0,
-                                at: at0,
-                            },
-                            vec![],
-                        );
-                        self.know[body] = Know::Placed;
-                    }
-                    _ => continue,
+                        },
+                    );
                 }
-                return true;
+                Know::Sliding { dir: d1 } => {
+                    let origin = self.consume(i);
+                    let out = self.temp(&line.name);
+                    let own = Line {
+                        through: PointRef::Marker {
+                            body,
+                            local: line.local,
+                            name: line.name.clone(),
+                        },
+                        dir: d1,
+                    };
+                    let through_q = Line {
+                        through: q,
+                        dir: DirRef::Body { body, local: dir },
+                    };
+                    self.push(
+                        StepKind::LineLine {
+                            out,
+                            a: own,
+                            b: through_q,
+                        },
+                        vec![origin],
+                    );
+                    self.push(
+                        StepKind::Anchor {
+                            body,
+                            local: line.local,
+                            at: PointRef::Temp { id: out },
+                        },
+                        vec![],
+                    );
+                    self.set(body, Know::Placed);
+                }
+                Know::Pinned { local: l0, at: at0 } => {
+                    let origin = self.consume(i);
+                    let branch = self.branch_slot([1.0, 0.0]);
+                    self.push(
+                        StepKind::TurnLine {
+                            body,
+                            pivot: at0.clone(),
+                            target: q,
+                            dir,
+                            kappa: cross(sub(line.local, l0), dir),
+                            branch,
+                        },
+                        vec![origin],
+                    );
+                    self.push(
+                        StepKind::Anchor {
+                            body,
+                            local: l0,
+                            at: at0,
+                        },
+                        vec![],
+                    );
+                    self.set(body, Know::Placed);
+                }
+                _ => return false,
             }
+            return true;
         }
         false
     }
@@ -513,181 +626,187 @@ impl Planner<'_> {
     /// Contraction of a three-node loop: two bodies with one freedom each,
     /// joined to each other.
     fn dyad_rule(&mut self) -> bool {
-        for i in 0..self.eqs.len() {
-            if self.used[i] {
-                continue;
+        while let Some(i) = self.queues[Rule::Dyad as usize].pop_first() {
+            self.checks += 1;
+            if self.try_dyad(i) {
+                return true;
             }
-            match &self.eqs[i].eq {
-                Equation::Coincident { a, b, slide: None }
-                    if !self.placed(a.body) && !self.placed(b.body) =>
-                {
-                    let (a, b) = (a.clone(), b.clone());
-                    let (ka, kb) = (self.know[a.body].clone(), self.know[b.body].clone());
-                    let (la, lb) = (a.local, b.local);
-                    match (ka, kb) {
-                        (Know::Pinned { local: l1, at: p1 }, Know::Pinned { local: l2, at: p2 })
-                            if dist(l1, la) > self.tol && dist(l2, lb) > self.tol =>
-                        {
-                            let origin = self.consume(i);
-                            let out = self.temp(&a.name);
-                            let branch = self.branch_slot(la);
-                            self.push(
-                                StepKind::CircleCircle {
-                                    out,
-                                    c1: p1.clone(),
-                                    r1: dist(l1, la),
-                                    c2: p2.clone(),
-                                    r2: dist(l2, lb),
-                                    branch,
+        }
+        false
+    }
+
+    fn try_dyad(&mut self, i: usize) -> bool {
+        if self.used[i] {
+            return false;
+        }
+        match &self.eqs[i].eq {
+            Equation::Coincident { a, b, slide: None } if !self.placed(a.body) && !self.placed(b.body) => {
+                let (a, b) = (a.clone(), b.clone());
+                let (ka, kb) = (self.know[a.body].clone(), self.know[b.body].clone());
+                let (la, lb) = (a.local, b.local);
+                match (ka, kb) {
+                    (Know::Pinned { local: l1, at: p1 }, Know::Pinned { local: l2, at: p2 })
+                        if dist(l1, la) > self.tol && dist(l2, lb) > self.tol =>
+                    {
+                        let origin = self.consume(i);
+                        let out = self.temp(&a.name);
+                        let branch = self.branch_slot(la);
+                        self.push(
+                            StepKind::CircleCircle {
+                                out,
+                                c1: p1.clone(),
+                                r1: dist(l1, la),
+                                c2: p2.clone(),
+                                r2: dist(l2, lb),
+                                branch,
+                            },
+                            vec![origin],
+                        );
+                        let x = PointRef::Temp { id: out };
+                        self.push(
+                            StepKind::Align {
+                                body: a.body,
+                                p: l1,
+                                p_at: p1,
+                                q: la,
+                                q_at: x.clone(),
+                                redundant: false,
+                            },
+                            vec![],
+                        );
+                        self.push(
+                            StepKind::Align {
+                                body: b.body,
+                                p: l2,
+                                p_at: p2,
+                                q: lb,
+                                q_at: x,
+                                redundant: false,
+                            },
+                            vec![],
+                        );
+                    }
+                    (Know::Pinned { local: l1, at: p1 }, Know::Sliding { dir })
+                        if dist(l1, la) > self.tol =>
+                    {
+                        self.pinned_sliding(i, a.body, l1, p1, la, &a.name, b.body, lb, &b.name, dir);
+                    }
+                    (Know::Sliding { dir }, Know::Pinned { local: l2, at: p2 })
+                        if dist(l2, lb) > self.tol =>
+                    {
+                        self.pinned_sliding(i, b.body, l2, p2, lb, &b.name, a.body, la, &a.name, dir);
+                    }
+                    (Know::Sliding { dir: d1 }, Know::Sliding { dir: d2 }) => {
+                        let origin = self.consume(i);
+                        let out = self.temp(&a.name);
+                        let la_ref = PointRef::Marker {
+                            body: a.body,
+                            local: la,
+                            name: a.name.clone(),
+                        };
+                        let lb_ref = PointRef::Marker {
+                            body: b.body,
+                            local: lb,
+                            name: b.name.clone(),
+                        };
+                        self.push(
+                            StepKind::LineLine {
+                                out,
+                                a: Line {
+                                    through: la_ref,
+                                    dir: d1,
                                 },
-                                vec![origin],
-                            );
-                            let x = PointRef::Temp { id: out };
-                            self.push(
-                                StepKind::Align {
-                                    body: a.body,
-                                    p: l1,
-                                    p_at: p1,
-                                    q: la,
-                                    q_at: x.clone(),
-                                    redundant: false,
+                                b: Line {
+                                    through: lb_ref,
+                                    dir: d2,
                                 },
-                                vec![],
-                            );
-                            self.push(
-                                StepKind::Align {
-                                    body: b.body,
-                                    p: l2,
-                                    p_at: p2,
-                                    q: lb,
-                                    q_at: x,
-                                    redundant: false,
-                                },
-                                vec![],
-                            );
-                        }
-                        (Know::Pinned { local: l1, at: p1 }, Know::Sliding { dir })
-                            if dist(l1, la) > self.tol =>
-                        {
-                            self.pinned_sliding(i, a.body, l1, p1, la, &a.name, b.body, lb, &b.name, dir);
-                        }
-                        (Know::Sliding { dir }, Know::Pinned { local: l2, at: p2 })
-                            if dist(l2, lb) > self.tol =>
-                        {
-                            self.pinned_sliding(i, b.body, l2, p2, lb, &b.name, a.body, la, &a.name, dir);
-                        }
-                        (Know::Sliding { dir: d1 }, Know::Sliding { dir: d2 }) => {
-                            let origin = self.consume(i);
-                            let out = self.temp(&a.name);
-                            let la_ref = PointRef::Marker {
+                            },
+                            vec![origin],
+                        );
+                        let x = PointRef::Temp { id: out };
+                        self.push(
+                            StepKind::Anchor {
                                 body: a.body,
                                 local: la,
-                                name: a.name.clone(),
-                            };
-                            let lb_ref = PointRef::Marker {
+                                at: x.clone(),
+                            },
+                            vec![],
+                        );
+                        self.push(
+                            StepKind::Anchor {
                                 body: b.body,
                                 local: lb,
-                                name: b.name.clone(),
-                            };
-                            self.push(
-                                StepKind::LineLine {
-                                    out,
-                                    a: Line {
-                                        through: la_ref,
-                                        dir: d1,
-                                    },
-                                    b: Line {
-                                        through: lb_ref,
-                                        dir: d2,
-                                    },
-                                },
-                                vec![origin],
-                            );
-                            let x = PointRef::Temp { id: out };
-                            self.push(
-                                StepKind::Anchor {
-                                    body: a.body,
-                                    local: la,
-                                    at: x.clone(),
-                                },
-                                vec![],
-                            );
-                            self.push(
-                                StepKind::Anchor {
-                                    body: b.body,
-                                    local: lb,
-                                    at: x,
-                                },
-                                vec![],
-                            );
-                        }
-                        _ => continue,
+                                at: x,
+                            },
+                            vec![],
+                        );
                     }
-                    self.know[a.body] = Know::Placed;
-                    self.know[b.body] = Know::Placed;
-                    return true;
+                    _ => return false,
                 }
-                Equation::InLine { line, dir, point } => {
-                    let (line, dir, point) = (line.clone(), *dir, point.clone());
-                    let (Know::Pinned { local: l1, at: p1 }, Know::Pinned { local: l2, at: p2 }) =
-                        (self.know[line.body].clone(), self.know[point.body].clone())
-                    else {
-                        continue;
-                    };
-                    // An RPR dyad also needs the prismatic's parallel
-                    // equation between the same two bodies.
-                    let Some(par) = (0..self.eqs.len()).find(|&j| {
-                        !self.used[j]
-                            && matches!(self.eqs[j].eq, Equation::Parallel { a, b, input: None }
-                                if (a == line.body && b == point.body) || (a == point.body && b == line.body))
-                    }) else {
-                        continue;
-                    };
-                    let o1 = self.consume(i);
-                    let o2 = self.consume(par);
-                    let branch = self.branch_slot([1.0, 0.0]);
-                    let kappa = cross(sub(sub(line.local, l1), sub(point.local, l2)), dir);
-                    self.push(
-                        StepKind::TurnLine {
-                            body: line.body,
-                            pivot: p1.clone(),
-                            target: p2.clone(),
-                            dir,
-                            kappa,
-                            branch,
-                        },
-                        vec![o1, o2],
-                    );
-                    self.push(
-                        StepKind::Orient {
-                            body: point.body,
-                            from: Some(line.body),
-                            rel: Rel::Identity,
-                        },
-                        vec![],
-                    );
-                    self.push(
-                        StepKind::Anchor {
-                            body: line.body,
-                            local: l1,
-                            at: p1,
-                        },
-                        vec![],
-                    );
-                    self.push(
-                        StepKind::Anchor {
-                            body: point.body,
-                            local: l2,
-                            at: p2,
-                        },
-                        vec![],
-                    );
-                    self.know[line.body] = Know::Placed;
-                    self.know[point.body] = Know::Placed;
-                    return true;
-                }
-                _ => {}
+                self.set(a.body, Know::Placed);
+                self.set(b.body, Know::Placed);
+                return true;
             }
+            Equation::InLine { line, dir, point } => {
+                let (line, dir, point) = (line.clone(), *dir, point.clone());
+                let (Know::Pinned { local: l1, at: p1 }, Know::Pinned { local: l2, at: p2 }) =
+                    (self.know[line.body].clone(), self.know[point.body].clone())
+                else {
+                    return false;
+                };
+                // An RPR dyad also needs the prismatic's parallel
+                // equation between the same two bodies.
+                let Some(par) = self.on[line.body].iter().copied().find(|&j| {
+                    !self.used[j]
+                        && matches!(self.eqs[j].eq, Equation::Parallel { a, b, input: None }
+                            if (a == line.body && b == point.body) || (a == point.body && b == line.body))
+                }) else {
+                    return false;
+                };
+                let o1 = self.consume(i);
+                let o2 = self.consume(par);
+                let branch = self.branch_slot([1.0, 0.0]);
+                let kappa = cross(sub(sub(line.local, l1), sub(point.local, l2)), dir);
+                self.push(
+                    StepKind::TurnLine {
+                        body: line.body,
+                        pivot: p1.clone(),
+                        target: p2.clone(),
+                        dir,
+                        kappa,
+                        branch,
+                    },
+                    vec![o1, o2],
+                );
+                self.push(
+                    StepKind::Orient {
+                        body: point.body,
+                        from: Some(line.body),
+                        rel: Rel::Identity,
+                    },
+                    vec![],
+                );
+                self.push(
+                    StepKind::Anchor {
+                        body: line.body,
+                        local: l1,
+                        at: p1,
+                    },
+                    vec![],
+                );
+                self.push(
+                    StepKind::Anchor {
+                        body: point.body,
+                        local: l2,
+                        at: p2,
+                    },
+                    vec![],
+                );
+                self.set(line.body, Know::Placed);
+                self.set(point.body, Know::Placed);
+                return true;
+            }
+            _ => {}
         }
         false
     }
@@ -703,26 +822,40 @@ impl Planner<'_> {
     }
 
     /// Unused equations that a cluster `s` would take: every body of the
-    /// equation placed or in `s`, at least one in `s`.
+    /// equation placed or in `s`, at least one in `s`; in file order.
     fn cluster_equations(&self, s: &[BodyId]) -> Vec<usize> {
-        (0..self.eqs.len())
-            .filter(|&i| {
-                let bodies = self.eqs[i].eq.bodies();
-                !self.used[i]
-                    && bodies.iter().any(|b| s.contains(b))
-                    && bodies.iter().all(|&b| s.contains(&b) || self.placed(b))
-            })
-            .collect()
+        let mut in_s = vec![false; self.know.len()];
+        for &b in s {
+            in_s[b] = true;
+        }
+        let mut eqs: Vec<usize> = s
+            .iter()
+            .flat_map(|&b| self.on[b].iter().copied())
+            .filter(|&i| !self.used[i] && self.eqs[i].eq.bodies().iter().all(|&b| in_s[b] || self.placed(b)))
+            .collect();
+        eqs.sort_unstable();
+        eqs.dedup();
+        eqs
     }
 
-    fn cluster_freedom(&self, s: &[BodyId]) -> i64 {
-        let unknowns: usize = s.iter().map(|&b| self.unknowns_of(b)).sum();
-        let equations: usize = self
-            .cluster_equations(s)
+    /// How adding `b` to a cluster (`in_s`: its bodies) changes the
+    /// cluster's freedom: `b`'s unknowns less its unused equations to the
+    /// cluster, to placed bodies or to itself (the ones the cluster takes
+    /// with it).
+    fn freedom_added(&self, b: BodyId, in_s: &[bool]) -> i64 {
+        let taken: usize = self.on[b]
             .iter()
+            .filter(|&&i| !self.used[i])
+            .filter(|&&i| {
+                self.eqs[i]
+                    .eq
+                    .bodies()
+                    .iter()
+                    .all(|&x| x == b || in_s[x] || self.placed(x))
+            })
             .map(|&i| self.eqs[i].eq.count())
             .sum();
-        unknowns as i64 - equations as i64
+        self.unknowns_of(b) as i64 - taken as i64
     }
 
     /// The unknowns of cluster `s` over its equations `eqs`, parents before
@@ -736,13 +869,31 @@ impl Planner<'_> {
     /// holding by construction — so a chain of free links costs one unknown
     /// per link and no equation per joint instead of three and two. A free
     /// body no hinge reaches is a free root (3 unknowns) and may carry
-    /// hinges itself.
-    fn cluster_params(&self, s: &[BodyId], eqs: &[usize]) -> (Vec<ClusterParam>, Vec<usize>) {
+    /// hinges itself. Among the hinges possible, the first of `eqs` is
+    /// taken; among free roots, the first body of `s`.
+    fn cluster_params(&self, s: &[BodyId], eqs: &[usize]) -> (Vec<ClusterParam>, Vec<bool>) {
+        let n = self.know.len();
+        let (mut done, mut free) = (vec![false; n], vec![false; n]);
+        // Per body: the positions in `eqs` of the plain revolutes on it.
+        let mut hinges_on: Vec<Vec<usize>> = vec![Vec::new(); n];
+        for (k, &i) in eqs.iter().enumerate() {
+            if let Equation::Coincident { a, b, slide: None } = &self.eqs[i].eq {
+                hinges_on[a.body].push(k);
+                if b.body != a.body {
+                    hinges_on[b.body].push(k);
+                }
+            }
+        }
+        // Positions in `eqs` that may hinge a free body on a done one
+        // (checked again when taken: their free end may be done by then).
+        let mut candidates = BTreeSet::new();
         let mut params = Vec::new();
-        let mut done: Vec<BodyId> = Vec::new();
         for &b in s {
             let p = match &self.know[b] {
-                Know::Free | Know::Placed => continue,
+                Know::Free | Know::Placed => {
+                    free[b] = true;
+                    continue;
+                }
                 Know::Pinned { local, at } => ClusterParam::Angle {
                     body: b,
                     pin: *local,
@@ -755,26 +906,30 @@ impl Planner<'_> {
                 Know::Oriented => ClusterParam::Translate { body: b },
             };
             params.push(p);
-            done.push(b);
+            done[b] = true;
+            candidates.extend(hinges_on[b].iter().copied());
         }
-        let mut free: Vec<BodyId> = s.iter().copied().filter(|b| !done.contains(b)).collect();
-        let mut hinges = Vec::new();
-        while !free.is_empty() {
-            let hinge = eqs.iter().enumerate().find_map(|(k, &i)| match &self.eqs[i].eq {
-                Equation::Coincident { a, b, slide: None } if !hinges.contains(&k) => {
-                    if done.contains(&a.body) && free.contains(&b.body) {
-                        Some((k, b, a))
-                    } else if done.contains(&b.body) && free.contains(&a.body) {
-                        Some((k, a, b))
-                    } else {
-                        None
-                    }
+        let mut hinged = vec![false; eqs.len()];
+        let mut left = s.iter().filter(|&&b| free[b]).count();
+        let mut first_free = 0;
+        while left > 0 {
+            let mut hinge = None;
+            while let Some(k) = candidates.pop_first() {
+                let Equation::Coincident { a, b, .. } = &self.eqs[eqs[k]].eq else {
+                    continue;
+                };
+                if done[a.body] && free[b.body] {
+                    hinge = Some((k, b, a));
+                } else if done[b.body] && free[a.body] {
+                    hinge = Some((k, a, b));
                 }
-                _ => None,
-            });
+                if hinge.is_some() {
+                    break;
+                }
+            }
             let body = match hinge {
                 Some((k, child, parent)) => {
-                    hinges.push(k);
+                    hinged[k] = true;
                     params.push(ClusterParam::Hinge {
                         body: child.body,
                         pin: child.local,
@@ -785,14 +940,19 @@ impl Planner<'_> {
                     child.body
                 }
                 None => {
-                    params.push(ClusterParam::Free { body: free[0] });
-                    free[0]
+                    while !free[s[first_free]] {
+                        first_free += 1;
+                    }
+                    params.push(ClusterParam::Free { body: s[first_free] });
+                    s[first_free]
                 }
             };
-            free.retain(|&b| b != body);
-            done.push(body);
+            free[body] = false;
+            done[body] = true;
+            left -= 1;
+            candidates.extend(hinges_on[body].iter().copied().filter(|&k| !hinged[k]));
         }
-        (params, hinges)
+        (params, hinged)
     }
 
     /// When no closed-form fragment applies: the smallest set of unplaced
@@ -806,27 +966,38 @@ impl Planner<'_> {
             return false;
         }
         let mut best: Option<Vec<BodyId>> = None;
+        let mut in_s = vec![false; self.know.len()];
         for &seed in &unplaced {
             let mut s = vec![seed];
-            while self.cluster_freedom(&s) > 0 {
-                let neighbours = unplaced.iter().copied().filter(|b| {
-                    !s.contains(b)
-                        && (0..self.eqs.len()).any(|i| {
-                            let bodies = self.eqs[i].eq.bodies();
-                            !self.used[i] && bodies.contains(b) && bodies.iter().any(|x| s.contains(x))
-                        })
-                });
-                let next = neighbours.min_by_key(|&b| {
-                    let mut grown = s.clone();
-                    grown.push(b);
-                    self.cluster_freedom(&grown)
-                });
-                match next {
-                    Some(b) => s.push(b),
-                    None => break,
+            in_s[seed] = true;
+            let mut freedom = self.freedom_added(seed, &in_s);
+            // Unplaced bodies sharing an unused equation with `s`, in body
+            // order (the first of equally good ones is taken).
+            let mut neighbours = BTreeSet::new();
+            self.add_neighbours(seed, &in_s, &mut neighbours);
+            while freedom > 0 {
+                // Growing on cannot give a smaller rigid set than the best.
+                if best.as_ref().is_some_and(|b| s.len() >= b.len()) {
+                    break;
                 }
+                let mut next: Option<(BodyId, i64)> = None;
+                for &b in &neighbours {
+                    let f = self.freedom_added(b, &in_s);
+                    if next.is_none_or(|(_, g)| f < g) {
+                        next = Some((b, f));
+                    }
+                }
+                let Some((b, f)) = next else { break };
+                neighbours.remove(&b);
+                s.push(b);
+                in_s[b] = true;
+                freedom += f;
+                self.add_neighbours(b, &in_s, &mut neighbours);
             }
-            if self.cluster_freedom(&s) <= 0 && best.as_ref().is_none_or(|b| s.len() < b.len()) {
+            for &b in &s {
+                in_s[b] = false;
+            }
+            if freedom <= 0 && best.as_ref().is_none_or(|b| s.len() < b.len()) {
                 best = Some(s);
             }
         }
@@ -837,12 +1008,12 @@ impl Planner<'_> {
         for b in &s {
             serves.append(&mut self.pending[*b]);
         }
-        let (params, hinges) = self.cluster_params(&s, &eqs);
+        let (params, hinged) = self.cluster_params(&s, &eqs);
         let rows = eqs
             .iter()
-            .enumerate()
-            .filter(|(k, _)| !hinges.contains(k))
-            .map(|(_, &i)| self.eqs[i].eq.row())
+            .zip(&hinged)
+            .filter(|(_, &h)| !h)
+            .map(|(&i, _)| self.eqs[i].eq.row())
             .collect();
         for &i in &eqs {
             serves.push(self.consume(i));
@@ -855,9 +1026,23 @@ impl Planner<'_> {
             serves,
         });
         for b in s {
-            self.know[b] = Know::Placed;
+            self.set(b, Know::Placed);
         }
         true
+    }
+
+    /// Adds to `neighbours` the unplaced bodies outside the cluster (`in_s`)
+    /// that share an unused equation with its body `b`.
+    fn add_neighbours(&self, b: BodyId, in_s: &[bool], neighbours: &mut BTreeSet<BodyId>) {
+        for &i in &self.on[b] {
+            if !self.used[i] {
+                for x in self.eqs[i].eq.bodies() {
+                    if !in_s[x] && !self.placed(x) {
+                        neighbours.insert(x);
+                    }
+                }
+            }
+        }
     }
 
     /// RRP: a pinned body's marker meets a sliding body's marker.

@@ -13,12 +13,12 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 use serde_json::{json, Map, Value};
 
-use dofplan::analysis::rank::rank_mobility;
-use dofplan::analysis::{analyse, Analysis, Class};
+use dofplan::analysis::rank::rank_mobility_with;
+use dofplan::analysis::{analyse_with, Analysis, Class, Mobility};
 use dofplan::assemble::assemble_file;
 use dofplan::emit::emit;
 use dofplan::interp::Interpreter;
-use dofplan::model::{load_file, MarkerId, Mechanism, Sweep, MAX_STEPS};
+use dofplan::model::{MarkerId, Mechanism, Sweep, MAX_STEPS};
 use dofplan::numeric::drag::Drag;
 use dofplan::numeric::PureNewton;
 use dofplan::plan::{num, Plan};
@@ -26,6 +26,9 @@ use dofplan::render::{render, SvgOptions};
 use dofplan::simulate::{frames, marker_positions, sweep_requests, Frame};
 use dofplan_runtime::planar::Pose;
 use dofplan_runtime::{Animate, BranchPolicy, BreakPolicy, Driver, FrameStatus, Options};
+
+#[path = "dofplan/progress.rs"]
+mod progress;
 
 /// Plan, explain and simulate mechanisms.
 #[derive(Parser)]
@@ -369,19 +372,22 @@ fn error(place: &str, message: &str, help: &str) {
     report(&format!("{place}: error: {message}\n  help: {help}"));
 }
 
-/// Loads a file, or reports why not (once, with the source snippet).
-fn load(file: &Path) -> Option<Mechanism> {
-    load_file(file).map_err(|e| report(&e.render(colour()))).ok()
+/// Loads a file, showing progress on a terminal for a large one, or
+/// reports why not (once, with the source snippet).
+fn load(bar: &progress::Bar, file: &Path) -> Option<Mechanism> {
+    bar.load(file).map_err(|e| report(&e.render(colour()))).ok()
 }
 
 fn with_plan(file: &Path, f: impl FnOnce(&Mechanism, &Plan) -> io::Result<ExitCode>) -> io::Result<ExitCode> {
-    let Some(m) = load(file) else {
+    let bar = progress::Bar::for_file(file);
+    let Some(m) = load(&bar, file) else {
         return Ok(ExitCode::FAILURE);
     };
-    let analysis = analyse(&m);
+    let analysis = analyse_with(&m, &mut |p| bar.report(p));
     match &analysis.plan {
-        Ok(plan) => f(&m, plan),
+        Ok(plan) => bar.around_output("output", || f(&m, plan)),
         Err(e) => {
+            bar.finish();
             report(&format!("{}: error: {e}", file.display()));
             Ok(ExitCode::FAILURE)
         }
@@ -389,15 +395,18 @@ fn with_plan(file: &Path, f: impl FnOnce(&Mechanism, &Plan) -> io::Result<ExitCo
 }
 
 fn check(file: &Path, out: &mut dyn Write) -> io::Result<ExitCode> {
-    let Some(m) = load(file) else {
+    let bar = progress::Bar::for_file(file);
+    let Some(m) = load(&bar, file) else {
         return Ok(ExitCode::FAILURE);
     };
-    let Analysis {
-        mobility: mob,
-        plan,
-        unused,
-        ..
-    } = analyse(&m);
+    // A file without inputs is for dragging: it has no plan to report, so
+    // none is made (its search for numeric clusters is the costly part).
+    let analysis = (!m.inputs.is_empty()).then(|| analyse_with(&m, &mut |p| bar.report(p)));
+    let mob = analysis
+        .as_ref()
+        .map_or_else(|| Mobility::of(&m), |a| a.mobility.clone());
+    let by_rank = rank_mobility_with(&m, &mut |p| bar.report(p));
+    bar.finish();
     let fixed = m.bodies.iter().filter(|b| b.fixed).count();
     writeln!(out, "{} ({})", m.name, file.display())?;
     writeln!(
@@ -437,7 +446,6 @@ fn check(file: &Path, out: &mut dyn Write) -> io::Result<ExitCode> {
         extra,
         mob.dof
     )?;
-    let by_rank = rank_mobility(&m);
     writeln!(
         out,
         "  mobility (Jacobian rank at the drawn pose): {} unknowns − rank {} = {}",
@@ -513,7 +521,7 @@ fn check(file: &Path, out: &mut dyn Write) -> io::Result<ExitCode> {
             class.name(),
         )?;
     }
-    if m.inputs.is_empty() {
+    let Some(Analysis { plan, unused, .. }) = analysis else {
         // Valid: a file meant for dragging only.
         writeln!(
             out,
@@ -521,7 +529,7 @@ fn check(file: &Path, out: &mut dyn Write) -> io::Result<ExitCode> {
             file.display()
         )?;
         return Ok(ExitCode::SUCCESS);
-    }
+    };
     let code = match &plan {
         Ok(p) => {
             let (u, e) = p.numeric_size();
@@ -718,7 +726,7 @@ fn drag(
     svg: Option<&Path>,
     out: &mut dyn Write,
 ) -> io::Result<ExitCode> {
-    let Some(m) = load(file) else {
+    let Some(m) = load(&progress::Bar::for_file(file), file) else {
         return Ok(ExitCode::FAILURE);
     };
     let place = file.display().to_string();

@@ -222,6 +222,8 @@ pub fn load_str_drawn(file_name: &str, text: &str, format: Format) -> Result<Dra
         broken: HashSet::new(),
         open: Vec::new(),
         places: Vec::new(),
+        size: None,
+        names: None,
     };
     let mechanism = v.mechanism(&root);
     match mechanism {
@@ -251,6 +253,9 @@ struct Written<'a> {
     path: String,
 }
 
+/// Bodies by name, and markers by body and name.
+type Names = (HashMap<String, usize>, HashMap<(usize, String), usize>);
+
 struct Validator {
     file: SourceFile,
     diags: Vec<Diagnostic>,
@@ -264,6 +269,12 @@ struct Validator {
     open: Vec<Open>,
     /// Where each joint and constraint is written, by origin ("joint B").
     places: Vec<(String, Location)>,
+    /// The mechanism's size, computed once from the bodies (every joint's
+    /// drawn-pose tolerance is relative to it).
+    size: Option<f64>,
+    /// Bodies by name, and markers by body and name (first of a name),
+    /// indexed once the bodies are read: references look them up.
+    names: Option<Names>,
 }
 
 impl Validator {
@@ -682,7 +693,20 @@ impl Validator {
             );
             return None;
         };
-        let Some(bi) = bodies.iter().position(|x| x.name == b) else {
+        let (body_index, marker_index) = self.names.get_or_insert_with(|| {
+            let mut by_name = HashMap::new();
+            let mut markers = HashMap::new();
+            for (bi, body) in bodies.iter().enumerate() {
+                by_name.entry(body.name.clone()).or_insert(bi);
+                for (mi, marker) in body.markers.iter().enumerate() {
+                    markers.entry((bi, marker.name.clone())).or_insert(mi);
+                }
+            }
+            (by_name, markers)
+        });
+        let bi = body_index.get(b).copied();
+        let mi = bi.and_then(|bi| marker_index.get(&(bi, m.to_string())).copied());
+        let Some(bi) = bi else {
             if self.broken.contains(b) {
                 return None;
             }
@@ -694,7 +718,7 @@ impl Validator {
             );
             return None;
         };
-        let Some(mi) = bodies[bi].markers.iter().position(|x| x.name == m) else {
+        let Some(mi) = mi else {
             if self.broken.contains(b) || self.broken.contains(text) {
                 return None;
             }
@@ -922,7 +946,10 @@ impl Validator {
         }
     }
 
-    fn size(bodies: &[Body]) -> f64 {
+    fn size(&mut self, bodies: &[Body]) -> f64 {
+        if let Some(size) = self.size {
+            return size;
+        }
         let m = Mechanism {
             name: String::new(),
             dimension: 2,
@@ -936,7 +963,9 @@ impl Validator {
                 text: Arc::from(""),
             },
         };
-        m.size()
+        let size = m.size();
+        self.size = Some(size);
+        size
     }
 
     fn check_coincident(
@@ -950,7 +979,7 @@ impl Validator {
         let a = &bodies[ids[0].body].markers[ids[0].marker];
         let b = &bodies[ids[1].body].markers[ids[1].marker];
         let gap = ((a.at[0] - b.at[0]).powi(2) + (a.at[1] - b.at[1]).powi(2)).sqrt();
-        let size = Self::size(bodies);
+        let size = self.size(bodies);
         if gap > DRAWN_TOLERANCE * size {
             let loc = self.loc(node, path);
             self.error(
@@ -993,7 +1022,7 @@ impl Validator {
             return false;
         };
         let off = (b.at[0] - a.at[0]) * d[1] - (b.at[1] - a.at[1]) * d[0];
-        let size = Self::size(bodies);
+        let size = self.size(bodies);
         if off.abs() > DRAWN_TOLERANCE * size {
             let loc = self.loc(node, path);
             self.error(

@@ -20,9 +20,59 @@ fn pair(p: [f64; 2]) -> String {
     format!("({}, {})", num(p[0]), num(p[1]))
 }
 
+/// What explaining a step needs from the rest of the plan: which step
+/// computes each temp, and whether a body is written again after a step.
+/// Either looked up by scanning the steps (one explanation), or indexed
+/// once (every explanation: linear in the plan's length).
+enum Lookup {
+    Scan,
+    Index {
+        /// Per temp: the step computing it.
+        producer: Vec<Option<usize>>,
+        /// Per body: the last step writing it.
+        last_write: Vec<Option<usize>>,
+    },
+}
+
+impl Lookup {
+    fn index(plan: &Plan) -> Lookup {
+        let mut producer = vec![None; plan.temps.len()];
+        let mut last_write = vec![None; plan.bodies.len()];
+        for (k, step) in plan.steps.iter().enumerate() {
+            if let Some(out) = step.kind.computes() {
+                producer[out].get_or_insert(k);
+            }
+            for b in step.kind.writes() {
+                last_write[b] = Some(k);
+            }
+        }
+        Lookup::Index { producer, last_write }
+    }
+
+    /// The (first) step computing temp `id`.
+    fn producer(&self, plan: &Plan, id: usize) -> Option<usize> {
+        match self {
+            Lookup::Scan => plan.steps.iter().position(|s| s.kind.computes() == Some(id)),
+            Lookup::Index { producer, .. } => producer.get(id).copied().flatten(),
+        }
+    }
+
+    /// Whether a step after step `i` writes body `b`.
+    fn written_after(&self, plan: &Plan, i: usize, b: usize) -> bool {
+        match self {
+            Lookup::Scan => plan.steps[i + 1..].iter().any(|s| s.kind.writes_body(b)),
+            Lookup::Index { last_write, .. } => last_write[b].is_some_and(|k| k > i),
+        }
+    }
+}
+
 impl Plan {
     /// The name of a point as a person would say it.
     pub fn point_name(&self, p: &PointRef) -> String {
+        self.point_name_in(p, &Lookup::Scan)
+    }
+
+    fn point_name_in(&self, p: &PointRef, lookup: &Lookup) -> String {
         match p {
             PointRef::Fixed { name, .. } | PointRef::Marker { name, .. } => name.clone(),
             PointRef::Slid {
@@ -31,15 +81,10 @@ impl Plan {
                 let op = if *sign > 0.0 { "+" } else { "-" };
                 format!("{name} {op} {}", self.inputs[*input].name)
             }
-            PointRef::Temp { id } => {
-                let step = self.steps.iter().position(|s| {
-                    matches!(s.kind, StepKind::CircleCircle { out, .. } | StepKind::CircleLine { out, .. } | StepKind::LineLine { out, .. } if out == *id)
-                });
-                match step {
-                    Some(k) => format!("{} (step {k})", self.temps[*id].name),
-                    None => self.temps[*id].name.clone(),
-                }
-            }
+            PointRef::Temp { id } => match lookup.producer(self, *id) {
+                Some(k) => format!("{} (step {k})", self.temps[*id].name),
+                None => self.temps[*id].name.clone(),
+            },
         }
     }
 
@@ -66,10 +111,10 @@ impl Plan {
         }
     }
 
-    fn line_name(&self, l: &Line) -> String {
+    fn line_name(&self, l: &Line, lookup: &Lookup) -> String {
         format!(
             "line through {} along {}",
-            self.point_name(&l.through),
+            self.point_name_in(&l.through, lookup),
             self.dir_name(&l.dir)
         )
     }
@@ -80,6 +125,19 @@ impl Plan {
 
     /// The one-line explanation of step `i`.
     pub fn explain(&self, i: usize) -> String {
+        self.explain_in(i, &Lookup::Scan)
+    }
+
+    /// The one-line explanations of every step, in order (linear in the
+    /// plan's length, where calling [`Plan::explain`] for each step is not).
+    pub fn explanations(&self) -> Vec<String> {
+        let lookup = Lookup::index(self);
+        (0..self.steps.len())
+            .map(|i| self.explain_in(i, &lookup))
+            .collect()
+    }
+
+    fn explain_in(&self, i: usize, lookup: &Lookup) -> String {
         let body = |b: &usize| self.bodies[*b].name.as_str();
         match &self.steps[i].kind {
             StepKind::Orient { body: b, from, rel } => match rel {
@@ -99,12 +157,12 @@ impl Plan {
             StepKind::Anchor { body: b, local, at } => {
                 // An anchor followed by another write of the same body puts
                 // it on its line locus for now (Kramer's 1-TDOF state).
-                let provisional = self.steps[i + 1..].iter().any(|s| s.kind.writes().contains(b));
+                let provisional = lookup.written_after(self, i, *b);
                 format!(
                     "{}: translate {} onto {}{}",
                     body(b),
                     self.local_name(*b, *local),
-                    self.point_name(at),
+                    self.point_name_in(at, lookup),
                     if provisional {
                         " (for now: it slides along its line from there)"
                     } else {
@@ -123,9 +181,9 @@ impl Plan {
                 "{}: {} onto {}, {} toward {}{}",
                 body(b),
                 self.local_name(*b, *p),
-                self.point_name(p_at),
+                self.point_name_in(p_at, lookup),
                 self.local_name(*b, *q),
-                self.point_name(q_at),
+                self.point_name_in(q_at, lookup),
                 if *redundant {
                     " (redundant: the distance is checked)"
                 } else {
@@ -142,9 +200,9 @@ impl Plan {
             } => format!(
                 "{}: circle about {} r={} ∩ circle about {} r={}, branch {}",
                 self.temps[*out].name,
-                self.point_name(c1),
+                self.point_name_in(c1, lookup),
                 num(*r1),
-                self.point_name(c2),
+                self.point_name_in(c2, lookup),
                 num(*r2),
                 self.branch_symbol(*branch)
             ),
@@ -157,16 +215,16 @@ impl Plan {
             } => format!(
                 "{}: circle about {} r={} ∩ {}, branch {}",
                 self.temps[*out].name,
-                self.point_name(c),
+                self.point_name_in(c, lookup),
                 num(*r),
-                self.line_name(line),
+                self.line_name(line, lookup),
                 self.branch_symbol(*branch)
             ),
             StepKind::LineLine { out, a, b } => format!(
                 "{}: {} ∩ {}",
                 self.temps[*out].name,
-                self.line_name(a),
-                self.line_name(b)
+                self.line_name(a, lookup),
+                self.line_name(b, lookup)
             ),
             StepKind::Cluster { params, .. } => {
                 let (u, e) = self.steps[i].kind.cluster_size();
@@ -175,7 +233,7 @@ impl Plan {
                     .map(|p| match p {
                         ClusterParam::Free { body: b } => format!("{} (free)", body(b)),
                         ClusterParam::Angle { body: b, at, .. } => {
-                            format!("{} (angle about {})", body(b), self.point_name(at))
+                            format!("{} (angle about {})", body(b), self.point_name_in(at, lookup))
                         }
                         ClusterParam::Hinge { body: b, name, .. } => {
                             format!("{} (angle about {name})", body(b))
@@ -205,9 +263,9 @@ impl Plan {
             } => format!(
                 "{}: turn about {} until its line along {} passes {} at offset {}, branch {}",
                 body(b),
-                self.point_name(pivot),
+                self.point_name_in(pivot, lookup),
                 pair(*dir),
-                self.point_name(target),
+                self.point_name_in(target, lookup),
                 num(*kappa),
                 self.branch_symbol(*branch)
             ),
@@ -237,13 +295,13 @@ impl Plan {
                 inputs.join(", ")
             }
         );
-        for (i, step) in self.steps.iter().enumerate() {
+        for (i, (step, line)) in self.steps.iter().zip(self.explanations()).enumerate() {
             let serves = if step.serves.is_empty() {
                 String::new()
             } else {
                 format!("  [{}]", step.serves.join(", "))
             };
-            let _ = writeln!(out, "{i:>4}  {}{serves}", self.explain(i));
+            let _ = writeln!(out, "{i:>4}  {line}{serves}");
         }
         out
     }

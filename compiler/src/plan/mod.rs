@@ -390,6 +390,29 @@ impl StepKind {
         }
     }
 
+    /// Whether this step writes body `b`'s pose (one of [`StepKind::writes`],
+    /// without collecting them).
+    pub fn writes_body(&self, b: BodyId) -> bool {
+        match self {
+            StepKind::Orient { body, .. }
+            | StepKind::Anchor { body, .. }
+            | StepKind::Align { body, .. }
+            | StepKind::TurnLine { body, .. } => *body == b,
+            StepKind::Cluster { params, .. } => params.iter().any(|p| p.body() == b),
+            StepKind::CircleCircle { .. } | StepKind::CircleLine { .. } | StepKind::LineLine { .. } => false,
+        }
+    }
+
+    /// The temp this step computes, if it is an intersection.
+    pub fn computes(&self) -> Option<usize> {
+        match self {
+            StepKind::CircleCircle { out, .. }
+            | StepKind::CircleLine { out, .. }
+            | StepKind::LineLine { out, .. } => Some(*out),
+            _ => None,
+        }
+    }
+
     /// The branch slot this step owns, if it has two roots.
     pub fn branch(&self) -> Option<usize> {
         match self {
