@@ -32,6 +32,7 @@
 //! of freedom: plan time and move time then agree on what "dependent" means.
 
 pub mod cluster;
+pub mod priority;
 
 /// The fixed-size `nalgebra` types generated code names.
 pub use nalgebra::{Const, SMatrix, SVector};
@@ -617,6 +618,35 @@ pub fn pseudo_inverse(matrix: &DMatrix<f64>, rank_cutoff: f64) -> DMatrix<f64> {
     let eps = threshold(&svd.singular_values, rank_cutoff);
     svd.pseudo_inverse(eps)
         .unwrap_or_else(|_| DMatrix::zeros(cols, rows))
+}
+
+/// An orthonormal basis of the null space of `matrix` (one column per
+/// direction), by the same relative cut-off as [`rank`]: the motions a set
+/// of equations allows to first order. A matrix with a non-finite entry
+/// allows none (zero columns); an empty one (no rows) allows every motion.
+pub fn null_space(matrix: &DMatrix<f64>, rank_cutoff: f64) -> DMatrix<f64> {
+    let (rows, cols) = matrix.shape();
+    if cols == 0 {
+        return DMatrix::zeros(0, 0);
+    }
+    // nalgebra's SVD is thin (min(rows, cols) right singular vectors): pad
+    // with zero rows to at least square, so every direction is a vector.
+    let mut square = DMatrix::zeros(rows.max(cols), cols);
+    square.rows_mut(0, rows).copy_from(matrix);
+    let Some(svd) = decompose(&square, true) else {
+        return DMatrix::zeros(cols, 0);
+    };
+    let eps = threshold(&svd.singular_values, rank_cutoff);
+    let v_t = svd.v_t.as_ref().expect("computed with vectors");
+    let free: Vec<_> = (0..svd.singular_values.len())
+        .filter(|&i| svd.singular_values[i] <= eps)
+        .map(|i| v_t.row(i).transpose())
+        .collect();
+    if free.is_empty() {
+        DMatrix::zeros(cols, 0)
+    } else {
+        DMatrix::from_columns(&free)
+    }
 }
 
 /// Null-space-free min-norm least-squares solve of `J·δ = −r` via SVD with
