@@ -63,9 +63,7 @@
 
 use nalgebra::{DMatrix, DVector, SymmetricEigen};
 
-use super::{
-    null_space, pseudo_inverse, rank, Equations, Newton, NewtonOptions, NewtonOutcome, NewtonReport,
-};
+use super::{null_space, pseudo_inverse, Equations, Newton, NewtonOptions, NewtonOutcome, NewtonReport};
 
 /// What a prioritised solve reports.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -111,6 +109,11 @@ const EIGEN_CUTOFF: f64 = 1e-12;
 /// The Levenberg–Marquardt shift (relative to `‖B‖`) above which no step
 /// is tried any more: the point is a minimum to rounding.
 const MAX_DAMPING: f64 = 1e12;
+
+/// Iterations of phase 2 that improve the residual by less than the
+/// tolerance and the reduced gradient by less than half before the point
+/// counts as the least-squares minimum (to the tolerance).
+const STALL_ITERATIONS: u32 = 3;
 
 /// A change of ½‖r₂‖² within this share of it is rounding.
 const ROUNDING: f64 = 1e-10;
@@ -181,12 +184,13 @@ pub fn solve<E: Equations>(
     };
     let (first_residual, second) = w.eval(system, x, true);
     let jc = w.j.rows(0, first).into_owned();
+    let (null, _) = Basis::of(&jc, options.rank_cutoff);
     PriorityReport {
         newton: NewtonReport {
             outcome,
             iterations,
             residual: second,
-            rank: rank(&jc, options.rank_cutoff),
+            rank: n - null.ncols(),
         },
         first: first_residual,
     }
@@ -351,13 +355,15 @@ fn closest<E: Equations>(
 ) -> NewtonOutcome {
     let mut damping = 0.0_f64;
     let mut trial = x.clone();
+    let mut previous = (f64::INFINITY, f64::INFINITY);
+    let mut stalled = 0;
     for _ in 0..options.max_iterations {
         let Local {
             drag,
-            jc,
             jd,
             rd,
             z,
+            multipliers,
             a,
             g,
             cosine,
@@ -370,8 +376,23 @@ fn closest<E: Equations>(
             // Nothing the first task lets move: the pose is the answer.
             return NewtonOutcome::NoSolution;
         }
+        // A target out of reach by less than about the step the curvature
+        // can be resolved at (a chain all but straight at the edge of its
+        // reach) leaves a minimum so flat that the differenced curvature is
+        // noise: the residual then improves by less than the tolerance
+        // while the reduced gradient wanders. Within the tolerance that is
+        // the least-squares minimum.
+        if previous.0 - drag <= options.tolerance && cosine > 0.5 * previous.1 {
+            stalled += 1;
+            if stalled >= STALL_ITERATIONS {
+                return NewtonOutcome::NoSolution;
+            }
+        } else {
+            stalled = 0;
+        }
+        previous = (drag, cosine);
         let grad = jd.tr_mul(&rd);
-        let mu = -(pseudo_inverse(&jc, options.rank_cutoff).tr_mul(&grad));
+        let mu = -multipliers.solve(&grad);
         let b = reduced_hessian(system, w, x, &z, &mu);
         let eigen = SymmetricEigen::new(b.clone());
         let (lowest, low_at) =
@@ -387,7 +408,10 @@ fn closest<E: Equations>(
         let scale = largest.max(a.norm_squared()).max(f64::MIN_POSITIVE);
         let f0 = 0.5 * drag * drag;
 
-        if cosine <= STATIONARY {
+        // The residual is known to about the tolerance, so its direction
+        // (hence the cosine) only to tolerance/‖r₂‖: the floor of both tests.
+        let floor = options.tolerance / drag;
+        if cosine <= STATIONARY + floor {
             if lowest >= -CURVATURE * scale {
                 return NewtonOutcome::NoSolution;
             }
@@ -470,7 +494,7 @@ fn closest<E: Equations>(
             damping = (4.0 * damping).max(1e-8);
         }
         if !accepted {
-            return if cosine <= STALLED {
+            return if cosine <= STALLED + floor {
                 NewtonOutcome::NoSolution
             } else {
                 NewtonOutcome::NotConverged
@@ -484,12 +508,13 @@ fn closest<E: Equations>(
 struct Local {
     /// ‖r₂‖.
     drag: f64,
-    /// J₁, J₂, r₂.
-    jc: DMatrix<f64>,
+    /// J₂, r₂.
     jd: DMatrix<f64>,
     rd: DVector<f64>,
     /// The null space of J₁ (orthonormal columns).
     z: DMatrix<f64>,
+    /// Solves `J₁ᵀ μ = v` in the least-squares sense.
+    multipliers: Basis,
     /// J₂ Z.
     a: DMatrix<f64>,
     /// The reduced gradient Zᵀ J₂ᵀ r₂.
@@ -505,19 +530,73 @@ impl Local {
         let jc = w.j.rows(0, k).into_owned();
         let jd = w.j.rows(k, s).into_owned();
         let rd = w.r.rows(k, s).into_owned();
-        let z = null_space(&jc, options.rank_cutoff);
+        let (z, multipliers) = Basis::of(&jc, options.rank_cutoff);
         let a = &jd * &z;
         let g = a.tr_mul(&rd);
         let cosine = g.norm() / (a.norm() * drag).max(f64::MIN_POSITIVE);
         Local {
             drag,
-            jc,
             jd,
             rd,
             z,
+            multipliers,
             a,
             g,
             cosine,
+        }
+    }
+}
+
+/// What the null space of the first task's Jacobian was found from, kept
+/// to solve for its multipliers.
+enum Basis {
+    /// A Householder QR of `J₁ᵀ` whose diagonal spans at most 1e5: `J₁` has
+    /// full row rank, and the columns of the full `Q` beyond its rank span
+    /// the null space. Several times cheaper than an SVD, which is what
+    /// phase 2 would otherwise spend most of its time in.
+    Qr(nalgebra::linalg::QR<f64, nalgebra::Dyn, nalgebra::Dyn>),
+    /// Otherwise (redundant joints, a near-singular first task): the SVD's
+    /// pseudo-inverse with the rank cut-off.
+    Pseudo(DMatrix<f64>),
+}
+
+impl Basis {
+    /// An orthonormal basis of the null space of `jc`, and how to solve for
+    /// multipliers.
+    fn of(jc: &DMatrix<f64>, rank_cutoff: f64) -> (DMatrix<f64>, Basis) {
+        let (m, n) = jc.shape();
+        if m > 0 && m < n && jc.iter().all(|v| v.is_finite()) {
+            let qr = jc.transpose().qr();
+            let r = qr.r();
+            let diag = (0..m).map(|i| r[(i, i)].abs());
+            let (lo, hi) = diag.fold((f64::INFINITY, 0.0_f64), |(lo, hi), d| (lo.min(d), hi.max(d)));
+            if lo > 1e-5 * hi {
+                let mut q_t = DMatrix::identity(n, n);
+                qr.q_tr_mul(&mut q_t);
+                let z = q_t.rows(m, n - m).transpose();
+                return (z, Basis::Qr(qr));
+            }
+        }
+        (
+            null_space(jc, rank_cutoff),
+            Basis::Pseudo(pseudo_inverse(jc, rank_cutoff)),
+        )
+    }
+
+    /// The least-squares `μ` of `J₁ᵀ μ = v`.
+    fn solve(&self, v: &DVector<f64>) -> DVector<f64> {
+        match self {
+            Basis::Qr(qr) => {
+                let m = qr.r().nrows().min(qr.r().ncols());
+                let mut qtv = v.clone();
+                qr.q_tr_mul(&mut qtv);
+                let r = qr.r();
+                let upper = r.view((0, 0), (m, m));
+                upper
+                    .solve_upper_triangular(&qtv.rows(0, m))
+                    .unwrap_or_else(|| DVector::zeros(m))
+            }
+            Basis::Pseudo(pinv) => pinv.tr_mul(v),
         }
     }
 }
