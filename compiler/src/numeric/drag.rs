@@ -3,21 +3,15 @@
 //!
 //! The mechanism's inputs are released and every mobile body is three
 //! unknowns. The joints and constraints are the first task, held exactly;
-//! the drag is the second, solved in the null space of the first (task
-//! priority): each Newton step is
-//!
-//! ```text
-//! δ₁ = −J_c⁺ r_c          meet the joints (minimum-norm)
-//! N  = I − J_c⁺ J_c       the motions the joints allow
-//! δ  = δ₁ + N (J_d N)⁺ (−r_d − J_d δ₁)
-//! ```
-//!
-//! so an under-constrained chain follows with minimum-norm motion, a
-//! well-constrained linkage moves along its own freedom toward the target,
-//! and a target out of reach leaves the joints exact and the marker as
-//! close as the mechanism allows — reported as a break ("no solution within
-//! reach") for the breaking policy to handle: limit keeps the last pose,
-//! search finds the boundary, stretch accepts the closest approach.
+//! the drag is the second, solved as well as the first allows (task
+//! priority, [`dofplan_runtime::numeric::priority`]): an under-constrained
+//! chain follows with minimum-norm motion, a well-constrained linkage moves
+//! along its own freedom toward the target, and a target out of reach
+//! leaves the joints exact and the marker at its **closest approach** — a
+//! converged least-squares minimum, singular poses included (a chain pulled
+//! straight), reported as a break ("no solution within reach", with the
+//! distance left) for the breaking policy to handle: limit keeps the last
+//! pose, search finds the boundary, stretch shows the closest approach.
 //!
 //! When the mechanism has freedom to spare for the drag (two or more DOF
 //! once its inputs are released), the drag is first **planned like an
@@ -27,8 +21,7 @@
 //! one cluster of link angles hinged end to end, closed by a single
 //! coincident row — and each frame runs the plan. Only a frame the plan
 //! cannot solve exactly (the target out of reach) falls back to the task
-//! priority above, which finds the closest approach with every joint
-//! exact.
+//! priority above.
 
 use dofplan_runtime::numeric::{priority, Equations, NewtonOptions, NewtonOutcome};
 use dofplan_runtime::planar::{Point, Pose};

@@ -898,6 +898,27 @@ mod tests {
         report
     }
 
+    #[test]
+    fn the_null_space_is_complete_and_orthonormal() {
+        // Two independent rows in four unknowns, and a third their sum: a
+        // two-dimensional null space, which nalgebra's thin SVD of the 3×4
+        // matrix alone would not give in full.
+        let j = DMatrix::from_row_slice(
+            3,
+            4,
+            &[1.0, 2.0, 0.0, 1.0, 0.0, 1.0, 1.0, 0.0, 1.0, 3.0, 1.0, 1.0],
+        );
+        let z = null_space(&j, 1e-10);
+        assert_eq!(z.ncols(), 2);
+        assert!((&j * &z).amax() < 1e-12);
+        assert!((z.transpose() * &z - DMatrix::identity(2, 2)).amax() < 1e-12);
+        // No rows: every direction; a non-finite entry: none.
+        assert_eq!(null_space(&DMatrix::zeros(0, 3), 1e-10).ncols(), 3);
+        let mut bad = DMatrix::identity(2, 3);
+        bad[(0, 2)] = f64::NAN;
+        assert_eq!(null_space(&bad, 1e-10).ncols(), 0);
+    }
+
     /// Squared-distance circle equations `|p − c_i|² − r_i² = 0`.
     fn circles(
         circles: Vec<([f64; 2], f64)>,
