@@ -495,3 +495,33 @@ fn the_compiled_drag_agrees_with_the_library() {
         }
     }
 }
+
+/// A marker the joints hold still (the crank's pivot) cannot approach its
+/// target at all: every frame is a closest approach where it stands — the
+/// marker's motion is zero, which is stationary, not undecided.
+#[test]
+fn a_marker_the_joints_hold_still_stays_where_it_is() {
+    let m = load("fourbar");
+    let pivot = m.find_marker("crank.A").unwrap();
+    let path = targets([0.0, 0.0], [3.0, 3.0], 5);
+    let frames = run(
+        Drag::new(&m, pivot).unwrap(),
+        options(BreakPolicy::Stretch),
+        &path,
+    );
+    let mut released = m.clone();
+    released.inputs.clear();
+    for (i, f) in frames.iter().enumerate().skip(1) {
+        assert!(
+            max_relative_residual(&released, &f.poses, &[]) <= 1e-9,
+            "frame {i}"
+        );
+        let at = marker_at(&m, &f.poses, pivot);
+        assert!(dist(at, [0.0, 0.0]) <= 1e-12, "frame {i}: {at:?}");
+        let FrameStatus::Stretched { residual, .. } = f.status else {
+            panic!("frame {i}: {:?}", f.status)
+        };
+        assert!((residual - dist([0.0, 0.0], [f.requested[0], f.requested[1]])).abs() <= 1e-12);
+        assert_eq!(f.numeric.unwrap().outcome, NewtonOutcome::NoSolution, "frame {i}");
+    }
+}

@@ -86,8 +86,8 @@ pub struct PriorityReport {
 }
 
 /// The reduced gradient counts as zero (a stationary point) below this
-/// share of `‖J₂ Z‖·‖r₂‖`: the cosine of the angle between the residual and
-/// the motions allowed. Phase 2 converges quadratically, so this is met to
+/// share of `‖J₂‖·‖r₂‖`: at most the cosine of the angle between the
+/// residual and the motions allowed. Phase 2 converges quadratically, so this is met to
 /// spare well before rounding.
 const STATIONARY: f64 = 1e-11;
 
@@ -519,7 +519,7 @@ struct Local {
     a: DMatrix<f64>,
     /// The reduced gradient Zᵀ J₂ᵀ r₂.
     g: DVector<f64>,
-    /// ‖g‖ / (‖J₂ Z‖ ‖r₂‖): how far from stationary, scale-free.
+    /// ‖g‖ / (‖J₂‖ ‖r₂‖): how far from stationary, scale-free.
     cosine: f64,
 }
 
@@ -533,7 +533,10 @@ impl Local {
         let (z, multipliers) = Basis::of(&jc, options.rank_cutoff);
         let a = &jd * &z;
         let g = a.tr_mul(&rd);
-        let cosine = g.norm() / (a.norm() * drag).max(f64::MIN_POSITIVE);
+        // Measured against the marker's own Jacobian, not `J₂ Z`: a marker
+        // the first task holds still (a pivot) has `J₂ Z ≈ 0`, and is
+        // stationary, not undecided.
+        let cosine = g.norm() / (jd.norm() * drag).max(f64::MIN_POSITIVE);
         Local {
             drag,
             jd,
