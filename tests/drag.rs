@@ -9,7 +9,7 @@ use dofplan::numeric::drag::{Drag, DragError};
 use dofplan::simulate::{marker_at, max_relative_residual, run, Frame};
 use dofplan_runtime::numeric::NewtonOutcome;
 use dofplan_runtime::{BreakKind, BreakPolicy, FrameStatus, Options};
-use dofplan_tests::vec2::dist;
+use dofplan_tests::vec2::{self, dist};
 use dofplan_tests::{load, mechanisms_dir, plan};
 
 fn open_chain() -> dofplan::model::Mechanism {
@@ -118,30 +118,304 @@ fn a_target_out_of_reach_is_a_limit_or_a_stretch_never_a_hang() {
     let FrameStatus::Limited { brk } = limited[1].status else {
         panic!("{:?}", limited[1].status)
     };
-    // Pulled straight (a singular pose) Newton cannot tell "no solution"
-    // from "not converged" within its budget; either is a break.
-    assert!(
-        matches!(brk.kind, BreakKind::NoSolution | BreakKind::NotConverged),
-        "{brk:?}"
-    );
+    // Pulled straight is a singular pose, and still a converged closest
+    // approach: no solution within reach, never "not converged".
+    assert_eq!(brk.kind, BreakKind::NoSolution, "{brk:?}");
+    assert!((brk.gap - 5.0).abs() <= 1e-9, "{brk:?}");
     assert_eq!(limited[1].poses, limited[0].poses, "limit keeps the last pose");
-    // Stretch relaxes the drag, never the joints: the chain pulled toward
-    // 20 either shows a pose with every joint exact and the end short of the
-    // target, or (pulled straight, a singular pose) keeps the last one.
-    for policy in [BreakPolicy::Stretch, BreakPolicy::Search] {
-        let frames = run(Drag::new(&m, end).unwrap(), options(policy), &far);
-        for f in &frames {
-            assert!(
-                dofplan::simulate::residuals(&m, &f.poses, &[])
-                    .iter()
-                    .all(|r| r.value <= 1e-9),
-                "{policy:?}: {:?}",
-                f.status
+    // Stretch relaxes the drag, never the joints: the chain is pulled
+    // straight along the x axis, its end at 15.
+    let frames = run(Drag::new(&m, end).unwrap(), options(BreakPolicy::Stretch), &far);
+    for f in &frames {
+        assert!(max_relative_residual(&m, &f.poses, &[]) <= 1e-9, "{:?}", f.status);
+    }
+    let FrameStatus::Stretched { residual, .. } = frames[1].status else {
+        panic!("{:?}", frames[1].status)
+    };
+    assert!(dist(marker_at(&m, &frames[1].poses, end), [15.0, 0.0]) <= 1e-9);
+    assert!((residual - 5.0).abs() <= 1e-9);
+    assert_eq!(frames[1].numeric.unwrap().outcome, NewtonOutcome::NoSolution);
+}
+
+/// The open chain as the file draws it, read independently of the solver:
+/// the pivot (the ground marker) and the length of each link (its two
+/// markers' distance).
+fn chain_geometry(m: &dofplan::model::Mechanism) -> ([f64; 2], f64) {
+    let pivot = m.marker(m.find_marker("ground.O").unwrap()).at;
+    let reach: f64 = (1..=15)
+        .map(|i| {
+            let s = m.marker(m.find_marker(&format!("link_{i}.S")).unwrap()).at;
+            let e = m.marker(m.find_marker(&format!("link_{i}.E")).unwrap()).at;
+            dist(s, e)
+        })
+        .sum();
+    (pivot, reach)
+}
+
+/// Issue 7's drag: the chain's end pulled from where it is drawn to
+/// (60, 80), far out of reach. Under stretch every frame beyond reach shows
+/// the chain pulled straight toward its target — its end `reach` from the
+/// pivot on the line to the target — with every joint closed, and reports
+/// the true distance left as its residual.
+#[test]
+fn stretch_pulls_the_open_chain_straight_toward_a_target_out_of_reach() {
+    let m = open_chain();
+    let end = m.find_marker("link_15.E").unwrap();
+    let (pivot, reach) = chain_geometry(&m);
+    assert!((reach - 15.0).abs() < 1e-9, "the file's links are unit links");
+    let path = targets(m.marker(end).at, [60.0, 80.0], 50);
+    let frames = run(Drag::new(&m, end).unwrap(), options(BreakPolicy::Stretch), &path);
+    assert!(frames[0].status.is_solved());
+    for (i, f) in frames.iter().enumerate().skip(1) {
+        assert!(max_relative_residual(&m, &f.poses, &[]) <= 1e-9, "frame {i}");
+        let target = [f.requested[0], f.requested[1]];
+        assert!(
+            dist(target, pivot) > reach,
+            "frame {i}: the path leaves reach at once"
+        );
+        let at = marker_at(&m, &f.poses, end);
+        let straight = vec2::add(pivot, vec2::scale(vec2::unit(vec2::sub(target, pivot)), reach));
+        assert!(
+            dist(at, straight) <= 1e-8,
+            "frame {i}: the end is {} from the straight pose",
+            dist(at, straight)
+        );
+        let FrameStatus::Stretched { residual, .. } = f.status else {
+            panic!("frame {i}: {:?}", f.status)
+        };
+        assert!((residual - dist(at, target)).abs() <= 1e-9, "frame {i}");
+        assert_eq!(f.numeric.unwrap().outcome, NewtonOutcome::NoSolution, "frame {i}");
+    }
+}
+
+/// A path that starts in reach and leaves it: the frames in reach are met
+/// exactly; limit then keeps the last of them, search moves to the
+/// boundary on the path (the end `reach` from the pivot, the chain
+/// straight) and stays there.
+#[test]
+fn limit_and_search_stop_the_open_chain_where_the_path_leaves_its_reach() {
+    let m = open_chain();
+    let end = m.find_marker("link_15.E").unwrap();
+    let (pivot, reach) = chain_geometry(&m);
+    let path = targets([5.0, 5.0], [12.0, 12.0], 30);
+    let inside: Vec<bool> = path.iter().map(|t| dist([t[0], t[1]], pivot) < reach).collect();
+    for t in &path {
+        assert!(
+            (dist([t[0], t[1]], pivot) - reach).abs() > 1e-3,
+            "no target on the boundary"
+        );
+    }
+    let first_out = inside.iter().position(|&i| !i).unwrap();
+    assert!(first_out > 1 && inside[first_out..].iter().all(|&i| !i));
+
+    let limited = run(Drag::new(&m, end).unwrap(), options(BreakPolicy::Limit), &path);
+    for (i, f) in limited.iter().enumerate() {
+        assert!(max_relative_residual(&m, &f.poses, &[]) <= 1e-9, "frame {i}");
+        if inside[i] {
+            assert!(f.status.is_solved(), "frame {i}: {:?}", f.status);
+            assert!(dist(marker_at(&m, &f.poses, end), [f.requested[0], f.requested[1]]) <= 1e-9);
+        } else {
+            let FrameStatus::Limited { brk } = f.status else {
+                panic!("frame {i}: {:?}", f.status)
+            };
+            assert_eq!(brk.kind, BreakKind::NoSolution, "frame {i}");
+            assert_eq!(
+                f.poses,
+                limited[first_out - 1].poses,
+                "frame {i} keeps the last reachable pose"
             );
-            let at = marker_at(&m, &f.poses, end);
-            assert!(dist(at, [0.0, 0.0]) <= 15.0 + 1e-9);
+            assert_eq!(f.inputs, limited[first_out - 1].requested);
         }
-        assert!(!frames[1].status.is_solved());
+    }
+
+    let searched = run(Drag::new(&m, end).unwrap(), options(BreakPolicy::Search), &path);
+    for (i, f) in searched.iter().enumerate() {
+        assert!(max_relative_residual(&m, &f.poses, &[]) <= 1e-9, "frame {i}");
+        if inside[i] {
+            assert!(f.status.is_solved(), "frame {i}: {:?}", f.status);
+            continue;
+        }
+        assert!(
+            matches!(f.status, FrameStatus::Searched { .. }),
+            "frame {i}: {:?}",
+            f.status
+        );
+        // The boundary: on the path's segment into the unreachable, the
+        // end `reach` from the pivot (the bisection stops within 1e-9 of
+        // the break point in target units).
+        let at = marker_at(&m, &f.poses, end);
+        let from = [path[first_out - 1][0], path[first_out - 1][1]];
+        let to = [path[first_out][0], path[first_out][1]];
+        let along = vec2::dot(vec2::sub(at, from), vec2::unit(vec2::sub(to, from)));
+        let on_segment = vec2::add(from, vec2::scale(vec2::unit(vec2::sub(to, from)), along));
+        assert!(dist(at, on_segment) <= 1e-9, "frame {i}: off the path");
+        let from_pivot = dist(at, pivot);
+        assert!(
+            from_pivot <= reach + 1e-12 && from_pivot >= reach - 1e-8,
+            "frame {i}: the end is {from_pivot} from the pivot"
+        );
+        let boundary = marker_at(&m, &searched[first_out].poses, end);
+        assert!(dist(at, boundary) <= 1e-8, "frame {i} stays on the boundary");
+    }
+}
+
+/// The fourbar of `mechanisms/fourbar.toml` by its own circle
+/// intersections (not the solver's): coupler.P for crank angle `theta`
+/// (radians, from the ground) on the assembly branch of the drawn pose.
+struct FourBar {
+    a: [f64; 2],
+    d: [f64; 2],
+    crank: f64,
+    coupler: f64,
+    rocker: f64,
+    /// P in the coupler's frame: along B→C and across it.
+    p: [f64; 2],
+    /// The side of the line B→D that C is drawn on.
+    side: f64,
+}
+
+impl FourBar {
+    fn of(m: &dofplan::model::Mechanism) -> FourBar {
+        let at = |name: &str| m.marker(m.find_marker(name).unwrap()).at;
+        let (a, d, b, c, p) = (
+            at("ground.A"),
+            at("ground.D"),
+            at("crank.B"),
+            at("coupler.C"),
+            at("coupler.P"),
+        );
+        let u = vec2::unit(vec2::sub(c, b));
+        let bp = vec2::sub(p, b);
+        FourBar {
+            a,
+            d,
+            crank: dist(a, b),
+            coupler: dist(b, c),
+            rocker: dist(c, d),
+            p: [vec2::dot(bp, u), vec2::cross(u, bp)],
+            side: vec2::cross(vec2::sub(d, b), vec2::sub(c, b)).signum(),
+        }
+    }
+
+    fn point(&self, theta: f64) -> [f64; 2] {
+        let b = vec2::add(self.a, [self.crank * theta.cos(), self.crank * theta.sin()]);
+        let bd = vec2::sub(self.d, b);
+        let l = vec2::norm(bd);
+        let along = (self.coupler.powi(2) - self.rocker.powi(2) + l * l) / (2.0 * l);
+        let across = (self.coupler.powi(2) - along * along).sqrt();
+        let e = vec2::unit(bd);
+        // C on the drawn side of B→D: cross(bd, c − b) has the drawn sign.
+        let c = vec2::add(
+            vec2::add(b, vec2::scale(e, along)),
+            vec2::scale(vec2::perp(e), self.side * across),
+        );
+        let u = vec2::unit(vec2::sub(c, b));
+        vec2::add(
+            vec2::add(b, vec2::scale(u, self.p[0])),
+            vec2::scale(vec2::perp(u), self.p[1]),
+        )
+    }
+}
+
+/// Issue 7's second drag: the fourbar's coupler point pulled from where it
+/// is drawn to (−3, 5), off its coupler curve. Under stretch it follows the
+/// curve and ends at the curve's point nearest the target — checked
+/// against the closed-form curve of the drawn branch sampled every 0.001°
+/// of the crank — with every joint closed and the true distance reported.
+#[test]
+fn stretch_takes_a_coupler_point_to_the_nearest_point_of_its_curve() {
+    let m = load("fourbar");
+    let p_id = m.find_marker("coupler.P").unwrap();
+    let mut released = m.clone();
+    released.inputs.clear();
+    let four = FourBar::of(&m);
+    let samples = 360_000;
+    let curve: Vec<[f64; 2]> = (0..samples)
+        .map(|i| four.point(std::f64::consts::TAU * f64::from(i) / f64::from(samples)))
+        .collect();
+    // The sampling's resolution: the largest gap between neighbours.
+    let spacing = curve
+        .iter()
+        .zip(curve.iter().cycle().skip(1))
+        .map(|(a, b)| dist(*a, *b))
+        .fold(0.0, f64::max);
+    assert!(spacing < 1e-4, "{spacing}");
+    assert!(
+        curve.iter().any(|c| dist(*c, m.marker(p_id).at) <= spacing),
+        "the curve passes through the drawn P"
+    );
+    // Distance to the sampled curve: the nearest of every 100th sample, then
+    // every sample around it (a full scan per frame is slow in a debug build).
+    let off_curve = |at: [f64; 2]| {
+        let coarse = (0..samples as usize / 100)
+            .min_by(|&i, &j| dist(curve[100 * i], at).total_cmp(&dist(curve[100 * j], at)))
+            .unwrap();
+        (0..601)
+            .map(|k| curve[(100 * coarse + curve.len() + k - 300) % curve.len()])
+            .map(|c| dist(c, at))
+            .fold(f64::INFINITY, f64::min)
+    };
+
+    let target = [-3.0, 5.0];
+    let path = targets(m.marker(p_id).at, target, 50);
+    let frames = run(Drag::new(&m, p_id).unwrap(), options(BreakPolicy::Stretch), &path);
+    let mut previous = m.marker(p_id).at;
+    for (i, f) in frames.iter().enumerate() {
+        assert!(
+            max_relative_residual(&released, &f.poses, &[]) <= 1e-9,
+            "frame {i}"
+        );
+        let at = marker_at(&m, &f.poses, p_id);
+        // On the drawn branch's curve, moving along it (continuation: no
+        // jump to the other branch).
+        assert!(
+            off_curve(at) <= spacing,
+            "frame {i}: {} off the curve",
+            off_curve(at)
+        );
+        assert!(
+            dist(at, previous) <= 0.5,
+            "frame {i}: P jumps {}",
+            dist(at, previous)
+        );
+        previous = at;
+        if i > 0 {
+            let FrameStatus::Stretched { residual, .. } = f.status else {
+                panic!("frame {i}: {:?}", f.status)
+            };
+            assert!((residual - dist(at, [f.requested[0], f.requested[1]])).abs() <= 1e-9);
+        }
+    }
+    let last = frames.last().unwrap();
+    let at = marker_at(&m, &last.poses, p_id);
+    let nearest = *curve
+        .iter()
+        .min_by(|a, b| dist(**a, target).total_cmp(&dist(**b, target)))
+        .unwrap();
+    assert!(
+        dist(at, nearest) <= spacing,
+        "P ends {} from the curve's nearest point {nearest:?}",
+        dist(at, nearest)
+    );
+    assert!((dist(at, target) - dist(nearest, target)).abs() <= spacing);
+    assert_eq!(last.numeric.unwrap().outcome, NewtonOutcome::NoSolution);
+
+    // Search and limit keep P on the curve too: its path leaves the curve
+    // at once, so both hold the drawn pose (the boundary is the start).
+    for policy in [BreakPolicy::Limit, BreakPolicy::Search] {
+        let frames = run(Drag::new(&m, p_id).unwrap(), options(policy), &path);
+        for (i, f) in frames.iter().enumerate() {
+            assert!(
+                max_relative_residual(&released, &f.poses, &[]) <= 1e-9,
+                "{policy:?} frame {i}"
+            );
+            let at = marker_at(&m, &f.poses, p_id);
+            assert!(off_curve(at) <= spacing, "{policy:?} frame {i}");
+            assert!(
+                dist(at, m.marker(p_id).at) <= 1e-6,
+                "{policy:?} frame {i}: {at:?}"
+            );
+        }
     }
 }
 
@@ -219,5 +493,35 @@ fn the_compiled_drag_agrees_with_the_library() {
             let d = (a.at[0] - b.at[0]).abs().max((a.at[1] - b.at[1]).abs());
             assert!(d <= 1e-9, "frame {i}: compiled and library differ by {d:e}");
         }
+    }
+}
+
+/// A marker the joints hold still (the crank's pivot) cannot approach its
+/// target at all: every frame is a closest approach where it stands — the
+/// marker's motion is zero, which is stationary, not undecided.
+#[test]
+fn a_marker_the_joints_hold_still_stays_where_it_is() {
+    let m = load("fourbar");
+    let pivot = m.find_marker("crank.A").unwrap();
+    let path = targets([0.0, 0.0], [3.0, 3.0], 5);
+    let frames = run(
+        Drag::new(&m, pivot).unwrap(),
+        options(BreakPolicy::Stretch),
+        &path,
+    );
+    let mut released = m.clone();
+    released.inputs.clear();
+    for (i, f) in frames.iter().enumerate().skip(1) {
+        assert!(
+            max_relative_residual(&released, &f.poses, &[]) <= 1e-9,
+            "frame {i}"
+        );
+        let at = marker_at(&m, &f.poses, pivot);
+        assert!(dist(at, [0.0, 0.0]) <= 1e-12, "frame {i}: {at:?}");
+        let FrameStatus::Stretched { residual, .. } = f.status else {
+            panic!("frame {i}: {:?}", f.status)
+        };
+        assert!((residual - dist([0.0, 0.0], [f.requested[0], f.requested[1]])).abs() <= 1e-12);
+        assert_eq!(f.numeric.unwrap().outcome, NewtonOutcome::NoSolution, "frame {i}");
     }
 }

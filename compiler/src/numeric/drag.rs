@@ -3,21 +3,15 @@
 //!
 //! The mechanism's inputs are released and every mobile body is three
 //! unknowns. The joints and constraints are the first task, held exactly;
-//! the drag is the second, solved in the null space of the first (task
-//! priority): each Newton step is
-//!
-//! ```text
-//! δ₁ = −J_c⁺ r_c          meet the joints (minimum-norm)
-//! N  = I − J_c⁺ J_c       the motions the joints allow
-//! δ  = δ₁ + N (J_d N)⁺ (−r_d − J_d δ₁)
-//! ```
-//!
-//! so an under-constrained chain follows with minimum-norm motion, a
-//! well-constrained linkage moves along its own freedom toward the target,
-//! and a target out of reach leaves the joints exact and the marker as
-//! close as the mechanism allows — reported as a break ("no solution within
-//! reach") for the breaking policy to handle: limit keeps the last pose,
-//! search finds the boundary, stretch accepts the closest approach.
+//! the drag is the second, solved as well as the first allows (task
+//! priority, [`dofplan_runtime::numeric::priority`]): an under-constrained
+//! chain follows with minimum-norm motion, a well-constrained linkage moves
+//! along its own freedom toward the target, and a target out of reach
+//! leaves the joints exact and the marker at its **closest approach** — a
+//! converged least-squares minimum, singular poses included (a chain pulled
+//! straight), reported as a break ("no solution within reach", with the
+//! distance left) for the breaking policy to handle: limit keeps the last
+//! pose, search finds the boundary, stretch shows the closest approach.
 //!
 //! When the mechanism has freedom to spare for the drag (two or more DOF
 //! once its inputs are released), the drag is first **planned like an
@@ -27,10 +21,9 @@
 //! one cluster of link angles hinged end to end, closed by a single
 //! coincident row — and each frame runs the plan. Only a frame the plan
 //! cannot solve exactly (the target out of reach) falls back to the task
-//! priority above, which finds the closest approach with every joint
-//! exact.
+//! priority above.
 
-use dofplan_runtime::numeric::{pseudo_inverse, rank, Equations, NewtonOutcome, NewtonReport};
+use dofplan_runtime::numeric::{priority, Equations, NewtonOptions, NewtonOutcome};
 use dofplan_runtime::planar::{Point, Pose};
 use dofplan_runtime::{Break, BreakKind, Ctx, Solver};
 use nalgebra::{DMatrix, DVector};
@@ -285,112 +278,91 @@ impl Solver for Drag {
 }
 
 impl Drag {
-    /// One frame by task priority (see the module's doc).
+    /// One frame by task priority (see the module's doc): the runtime's
+    /// [`priority::solve`] over the joints (first task) and the drag
+    /// (second), warm-started from the last frame.
     fn task_priority(&self, state: &mut DragState, target: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
         let DragState { poses, work, .. } = state;
         work.copy_from_slice(poses);
-        let (n, m) = (self.newton.unknowns(), self.newton.equations());
-        // The joints: the runtime's cluster system over every mobile body
-        // (free), warm-started from the last frame.
-        let (mut joints_system, mut x) =
+        let joints = self.newton.equations();
+        let (system, mut x) =
             cluster::System::new(work, self.newton.params(), self.newton.rows(), &[], self.size);
-        let mut rc = DVector::zeros(m);
-        let mut jc = DMatrix::zeros(m, n);
-        let mut jd = DMatrix::zeros(2, n);
-        let tolerance = 1e-12 * self.size;
-        let max_step = 0.1 * self.size;
-        let mut report = NewtonReport {
-            outcome: NewtonOutcome::NotConverged,
-            iterations: 0,
-            residual: f64::INFINITY,
-            rank: 0,
+        let mut dragged = Dragged {
+            joints: system,
+            rows: joints,
+            body: self.body,
+            local: self.local,
+            column: self.column,
+            target: [target[0], target[1]],
+            size: self.size,
         };
-        let mut previous_drag = f64::INFINITY;
-        for iteration in 0..=MAX_ITERATIONS {
-            joints_system.eval(&x, &mut rc, Some(&mut jc));
-            let (at, turn) = joints_system.poses()[self.body].world_and_turn(self.local);
-            let rd = DVector::from_row_slice(&[at[0] - target[0], at[1] - target[1]]);
-            let (joints, drag) = (rc.norm(), rd.norm());
-            report.iterations = iteration;
-            report.residual = drag.max(joints);
-            if joints <= tolerance && drag <= tolerance {
-                report.outcome = NewtonOutcome::Converged;
-                break;
-            }
-            // The drag has (all but) stopped improving with the joints met:
-            // the closest reachable point — no solution within reach of
-            // this pose. Near a singular pose (a chain pulled straight) the
-            // approach is slow, hence a relative threshold rather than
-            // waiting for a zero step.
-            if joints <= tolerance && drag > (1.0 - 1e-6) * previous_drag {
-                report.outcome = NewtonOutcome::NoSolution;
-                report.residual = drag;
-                break;
-            }
-            if iteration == MAX_ITERATIONS || !joints.is_finite() || !drag.is_finite() {
-                break;
-            }
-            previous_drag = if joints <= tolerance { drag } else { f64::INFINITY };
-            jd.fill(0.0);
-            jd[(0, self.column)] = 1.0;
-            jd[(1, self.column + 1)] = 1.0;
-            jd[(0, self.column + 2)] = turn[0] / self.size;
-            jd[(1, self.column + 2)] = turn[1] / self.size;
-            let jc_pinv = pseudo_inverse(&jc, RANK_CUTOFF);
-            report.rank = rank(&jc, RANK_CUTOFF);
-            let step_joints = -(&jc_pinv * &rc);
-            let null = DMatrix::identity(n, n) - &jc_pinv * &jc;
-            let along = &jd * &null;
-            let wanted = -(&rd) - &jd * &step_joints;
-            let mut step = step_joints + &null * (pseudo_inverse(&along, RANK_CUTOFF) * wanted);
-            let largest = step.amax();
-            if largest > max_step {
-                step *= max_step / largest;
-            }
-            // Keep the joints: near a singular pose (a chain pulled
-            // straight) the linearised null space lets a full step open
-            // them. Halve the step until the joints stay within what they
-            // were (or a share of the step); failing that, only restore
-            // them.
-            let allowed = (2.0 * joints).max(0.05 * step.norm()).max(tolerance);
-            let mut accepted = false;
-            for _ in 0..30 {
-                let trial = &x + &step;
-                joints_system.eval(&trial, &mut rc, None);
-                if rc.norm() <= allowed {
-                    x = trial;
-                    accepted = true;
-                    break;
-                }
-                step *= 0.5;
-            }
-            if !accepted {
-                joints_system.eval(&x, &mut rc, None);
-                x -= &jc_pinv * &rc;
-            }
-        }
-        // The pose of the last iterate (the closest approach when out of
-        // reach), and its joints.
-        joints_system.eval(&x, &mut rc, None);
-        drop(joints_system);
-        ctx.numeric = Some(report);
+        let options = NewtonOptions {
+            max_iterations: MAX_ITERATIONS,
+            tolerance: 1e-12 * self.size,
+            rank_cutoff: RANK_CUTOFF,
+            max_step: 0.1 * self.size,
+        };
+        let report = priority::solve(&mut dragged, joints, &mut x, &options);
+        dragged.joints.apply(&x);
+        drop(dragged);
+        ctx.numeric = Some(report.newton);
         // A pose whose joints are open is never shown, whatever the policy:
-        // stretching relaxes the drag, not the mechanism. (Pulling a chain
-        // straight is singular; Newton may fail to hold the joints there.)
-        let joints = rc.norm();
-        if joints > 1e-9 * self.size {
+        // stretching relaxes the drag, not the mechanism.
+        if report.first > 1e-9 * self.size {
             return Err(Break {
                 step: 0,
                 kind: BreakKind::NotConverged,
-                gap: joints,
+                gap: report.first,
             });
         }
-        match report.outcome {
+        let residual = report.newton.residual;
+        match report.newton.outcome {
             NewtonOutcome::Converged => {}
-            NewtonOutcome::NoSolution => ctx.fail(0, BreakKind::NoSolution, report.residual)?,
-            NewtonOutcome::NotConverged => ctx.fail(0, BreakKind::NotConverged, report.residual)?,
+            // The closest approach, with the distance left to the target.
+            NewtonOutcome::NoSolution => ctx.fail(0, BreakKind::NoSolution, residual)?,
+            NewtonOutcome::NotConverged => ctx.fail(0, BreakKind::NotConverged, residual)?,
         }
         std::mem::swap(poses, work);
         Ok(())
+    }
+}
+
+/// The joints of the released mechanism (rows first) and the drag: the
+/// dragged marker minus the target (two rows), over the same unknowns.
+struct Dragged<'a> {
+    joints: cluster::System<'a>,
+    rows: usize,
+    body: usize,
+    local: Point,
+    /// The dragged body's first unknown (it is free: x, y, size·angle).
+    column: usize,
+    target: Point,
+    size: f64,
+}
+
+impl Equations for Dragged<'_> {
+    fn unknowns(&self) -> usize {
+        self.joints.unknowns()
+    }
+
+    fn equations(&self) -> usize {
+        self.rows + 2
+    }
+
+    fn eval(&mut self, x: &DVector<f64>, r: &mut DVector<f64>, mut jacobian: Option<&mut DMatrix<f64>>) {
+        // The cluster system writes its rows (and zeroes the whole
+        // Jacobian); the drag's two rows follow.
+        self.joints.eval(x, r, jacobian.as_deref_mut());
+        let (at, turn) = self.joints.poses()[self.body].world_and_turn(self.local);
+        let k = self.rows;
+        r[k] = at[0] - self.target[0];
+        r[k + 1] = at[1] - self.target[1];
+        if let Some(j) = jacobian {
+            let c = self.column;
+            j[(k, c)] = 1.0;
+            j[(k + 1, c + 1)] = 1.0;
+            j[(k, c + 2)] = turn[0] / self.size;
+            j[(k + 1, c + 2)] = turn[1] / self.size;
+        }
     }
 }
