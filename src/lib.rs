@@ -7,6 +7,7 @@ use dofplan::analysis::analyse;
 use dofplan::model::{load_file, Mechanism};
 use dofplan::plan::Plan;
 
+pub mod fuzzing;
 pub mod stress;
 
 /// The bundled mechanisms folder.
