@@ -141,8 +141,11 @@ pub fn residuals(m: &Mechanism, poses: &[Pose], inputs: &[f64]) -> Vec<Residual>
         });
         if let Some(k) = m.inputs.iter().position(|i| i.joint == ji) {
             let value = match m.inputs[k].kind {
+                // Reduced modulo 360 first (exact), as `Rot::from_degrees`
+                // does: a huge angle in radians has lost its turn.
                 InputKind::Angle => {
-                    wrap(relative_angle(poses, a.body, b.body) - inputs[k].to_radians()).abs() * size
+                    wrap(relative_angle(poses, a.body, b.body) - (inputs[k] % 360.0).to_radians()).abs()
+                        * size
                 }
                 InputKind::Slide => {
                     let (p, d) = line(a);
