@@ -49,10 +49,13 @@ pub fn rank_mobility(m: &Mechanism) -> RankMobility {
     let mut rank_so_far = 0;
     for (origin, count) in groups {
         let r = rank(&rows(&j, taken + count), RANK_CUTOFF);
-        if r - rank_so_far < count {
-            redundant.push((origin, count - (r - rank_so_far)));
+        // More rows can lower a rank taken relative to the largest singular
+        // value (a badly scaled row raises the cut-off): such rows add none.
+        let gained = r.saturating_sub(rank_so_far);
+        if gained < count {
+            redundant.push((origin, count - gained));
         }
-        rank_so_far = r;
+        rank_so_far = rank_so_far.max(r);
         taken += count;
     }
     let idle = newton
