@@ -8,6 +8,7 @@
 
 use std::path::PathBuf;
 
+use dofplan::analysis::PlanError;
 use dofplan::model::Format;
 use dofplan_tests::fuzzing::{guess_format, interpret, load, plan};
 
@@ -62,5 +63,18 @@ fn every_input_the_fuzzer_found_ends_in_an_error_or_valid_frames() {
             }
             other => panic!("tests/fuzz_regressions/{other}: not a fuzz target"),
         }
+    }
+}
+
+#[test]
+fn an_equation_no_step_checks_refuses_the_plan() {
+    // The trammel's bar drawn with zero length: the rules take joint Y for
+    // joint X and leave joint TY to nobody; the frames broke it unnoticed.
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/fuzz_regressions/interpret/joints_at_one_point.toml");
+    let m = dofplan::model::load_file(&path).expect("it loads: every joint holds as drawn");
+    match dofplan::analysis::analyse(&m).plan {
+        Err(PlanError::Unchecked { equations }) => assert_eq!(equations, ["joint TY"]),
+        other => panic!("expected the plan refused for joint TY, got {other:?}"),
     }
 }
