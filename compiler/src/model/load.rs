@@ -497,10 +497,16 @@ impl Validator {
                 markers,
             });
         }
-        // (The size is 1 when the markers all coincide: a degenerate
-        // drawing, not a scale.)
-        let extent = Self::size(&bodies);
-        if extent < MIN_EXTENT {
+        // The bounding box's diagonal by `hypot`, which cannot underflow
+        // (squares of 1e-300 are 0). Markers that all coincide (extent 0)
+        // are a degenerate drawing, not a scale.
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in bodies.iter().flat_map(|b| &b.markers).map(|m| m.at) {
+            lo = [lo[0].min(p[0]), lo[1].min(p[1])];
+            hi = [hi[0].max(p[0]), hi[1].max(p[1])];
+        }
+        let extent = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+        if extent > 0.0 && extent < MIN_EXTENT {
             let loc = self.loc(node, "bodies");
             self.error(
                 loc,
