@@ -6,8 +6,8 @@
 //! misbehaves: a panic inside dofplan, an error whose source span does not
 //! point into the file, or a frame reported as met whose joints do not hold.
 
-use dofplan::analysis::analyse;
 use dofplan::analysis::rank::rank_mobility;
+use dofplan::analysis::{analyse, PlanError};
 use dofplan::interp::Interpreter;
 use dofplan::model::{load_str, Format, Location, MarkerId, Mechanism, ModelError};
 use dofplan::numeric::drag::Drag;
@@ -92,7 +92,12 @@ pub fn plan(data: &[u8]) -> (Outcome, Option<(Mechanism, Plan)>) {
             (outcome, Some((m, plan)))
         }
         Err(e) => {
-            let _ = e.to_string();
+            // The analysis reports its own bugs as this error ("internal
+            // error ... please report it"): a file must never cause it.
+            assert!(
+                !matches!(e, PlanError::DrawnPoseMismatch { .. }),
+                "plan error on a valid file: {e}"
+            );
             (outcome, None)
         }
     }
