@@ -14,7 +14,7 @@ use dofplan::analysis::rank::rank_mobility;
 use dofplan::analysis::{analyse, Analysis, Class};
 use dofplan::emit::emit;
 use dofplan::interp::Interpreter;
-use dofplan::model::{load_file, Location, MarkerId, Mechanism, ModelError};
+use dofplan::model::{load_file, Location, MarkerId, Mechanism, ModelError, MAX_STEPS};
 use dofplan::numeric::drag::Drag;
 use dofplan::numeric::PureNewton;
 use dofplan::plan::{num, Plan};
@@ -62,7 +62,7 @@ enum Command {
         #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
         from: Option<[f64; 2]>,
         /// Number of targets, evenly spaced from --from to --to, both included.
-        #[arg(long, default_value_t = 50)]
+        #[arg(long, default_value_t = 50, value_parser = steps_parser())]
         steps: usize,
         /// What to do when a target is out of reach: stretch (the default)
         /// relaxes the drag, so the marker comes as close as the joints allow
@@ -86,7 +86,7 @@ enum Command {
         /// Mechanism file.
         file: PathBuf,
         /// Override the sweep's number of steps.
-        #[arg(long)]
+        #[arg(long, value_parser = steps_parser())]
         steps: Option<usize>,
         /// What to do when an input cannot be met.
         #[arg(long, value_enum, default_value_t = PolicyArg::Limit)]
@@ -480,6 +480,12 @@ fn simulate(
         trace: m.sweep.as_ref().map(|s| s.trace.clone()).unwrap_or_default(),
     };
     output(&report, &frames, json, csv, svg)
+}
+
+/// `--steps`: as many frames as a file's sweep may have (10^12 frames
+/// would exhaust memory before the first is drawn).
+fn steps_parser() -> clap::builder::RangedU64ValueParser<usize> {
+    clap::builder::RangedU64ValueParser::new().range(1..=MAX_STEPS as u64)
 }
 
 /// Parses "X,Y" into a finite point.

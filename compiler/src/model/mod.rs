@@ -9,7 +9,7 @@ pub mod source;
 use dofplan_runtime::Point;
 
 pub use error::{Diagnostic, Location, ModelError, Note, SourceFile};
-pub use load::{load_file, load_str, Format, DRAWN_TOLERANCE};
+pub use load::{load_file, load_str, Format, DRAWN_TOLERANCE, MAX_STEPS};
 
 /// A validated mechanism.
 #[derive(Clone, Debug)]
