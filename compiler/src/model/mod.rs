@@ -177,10 +177,16 @@ impl Sweep {
         let n = (self.steps - 1) as f64;
         (0..self.steps)
             .map(|i| {
+                // Ends far apart (0 to 1e308, or −1e308 to 1e308) overflow
+                // `(to − from)·i`: interpolate without it then.
+                let along = (self.to - self.from) * (i as f64);
                 if i + 1 == self.steps {
                     self.to
+                } else if along.is_finite() {
+                    self.from + along / n
                 } else {
-                    self.from + (self.to - self.from) * (i as f64) / n
+                    let t = i as f64 / n;
+                    self.from * (1.0 - t) + self.to * t
                 }
             })
             .collect()
