@@ -178,11 +178,18 @@ pub fn residuals(m: &Mechanism, poses: &[Pose], inputs: &[f64]) -> Vec<Residual>
     out
 }
 
-/// The largest residual, relative to the mechanism's size.
+/// The largest residual, relative to the mechanism's size; NaN if any is
+/// NaN (`f64::max` alone would drop it, and a NaN pose would pass a check).
 pub fn max_relative_residual(m: &Mechanism, poses: &[Pose], inputs: &[f64]) -> f64 {
     let size = m.size();
     residuals(m, poses, inputs)
         .iter()
         .map(|r| r.value / size)
-        .fold(0.0, f64::max)
+        .fold(0.0, |worst: f64, r| {
+            if worst.is_nan() || r.is_nan() {
+                f64::NAN
+            } else {
+                worst.max(r)
+            }
+        })
 }
