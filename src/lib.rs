@@ -7,6 +7,7 @@ use dofplan::analysis::analyse;
 use dofplan::model::{load_file, Mechanism};
 use dofplan::plan::Plan;
 
+pub mod fuzzing;
 pub mod stress;
 pub mod user_crate;
 

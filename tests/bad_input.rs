@@ -1169,8 +1169,11 @@ fn never_panics() {
         }
     }
     assert!(tried > 1000, "only {tried} mutations");
-    // The mutations reach every stage, not just the loader's errors.
-    for stage in [Reached::Rejected, Reached::Loaded, Reached::Simulated] {
+    // The mutations reach every stage, not just the loader's errors. (No
+    // single mutation of these files loads without a plan: the ones that did
+    // put a marker at ±1e300, where the plan failed with an internal error;
+    // the loader now rejects coordinates that far out.)
+    for stage in [Reached::Rejected, Reached::Simulated] {
         assert!(
             reached.get(&stage).copied().unwrap_or(0) > 10,
             "few mutations reach {stage:?}: {reached:?}"

@@ -181,8 +181,11 @@ pub fn residuals(m: &Mechanism, poses: &[Pose], inputs: &[f64]) -> Vec<Residual>
         });
         if let Some(k) = m.inputs.iter().position(|i| i.joint == ji) {
             let value = match m.inputs[k].kind {
+                // Reduced modulo 360 first (exact), as `Rot::from_degrees`
+                // does: a huge angle in radians has lost its turn.
                 InputKind::Angle => {
-                    wrap(relative_angle(poses, a.body, b.body) - inputs[k].to_radians()).abs() * size
+                    wrap(relative_angle(poses, a.body, b.body) - (inputs[k] % 360.0).to_radians()).abs()
+                        * size
                 }
                 InputKind::Slide => {
                     let (p, d) = line(a);
@@ -215,13 +218,20 @@ pub fn residuals(m: &Mechanism, poses: &[Pose], inputs: &[f64]) -> Vec<Residual>
     out
 }
 
-/// The largest residual, relative to the mechanism's size.
+/// The largest residual, relative to the mechanism's size; NaN if any is
+/// NaN (`f64::max` alone would drop it, and a NaN pose would pass a check).
 pub fn max_relative_residual(m: &Mechanism, poses: &[Pose], inputs: &[f64]) -> f64 {
     let size = m.size();
     residuals(m, poses, inputs)
         .iter()
         .map(|r| r.value / size)
-        .fold(0.0, f64::max)
+        .fold(0.0, |worst: f64, r| {
+            if worst.is_nan() || r.is_nan() {
+                f64::NAN
+            } else {
+                worst.max(r)
+            }
+        })
 }
 
 #[cfg(test)]

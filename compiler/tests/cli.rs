@@ -847,3 +847,31 @@ fn check_reports_a_chain_of_200_loops() {
     );
     assert_eq!(lines.len(), 8, "no redundant, idle or unused equations: {out}");
 }
+
+#[test]
+fn steps_beyond_a_sweeps_bound_are_refused_before_any_frame() {
+    // 10^12 frames aborted on a failed allocation before the first frame.
+    let fourbar = mechanism("fourbar");
+    let fourbar = fourbar.to_str().unwrap();
+    for args in [
+        vec!["simulate", fourbar, "--steps", "1000000000000"],
+        vec![
+            "drag",
+            fourbar,
+            "--marker",
+            "coupler.P",
+            "--to",
+            "1,1",
+            "--steps",
+            "1000000000000",
+        ],
+    ] {
+        let out = dofplan(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        assert!(
+            stderr(&out).contains("not in 1..=1000000"),
+            "{args:?}: {}",
+            stderr(&out)
+        );
+    }
+}

@@ -59,6 +59,13 @@ pub enum PlanError {
         /// How far off.
         gap: f64,
     },
+    /// Equations no step enforces nor checks: frames would break them
+    /// unnoticed (a degenerate drawing, e.g. two joints of a body at one
+    /// point, makes the rules take one joint for another).
+    Unchecked {
+        /// Their origins ("joint TY").
+        equations: Vec<String>,
+    },
     /// A step cannot be met even at the drawn pose.
     BrokenAtDrawnPose {
         /// The step.
@@ -74,6 +81,12 @@ impl fmt::Display for PlanError {
             PlanError::DrawnPoseMismatch { body, gap } => write!(
                 f,
                 "internal error: the plan does not reproduce the drawn pose (body {body} is {gap:.3e} off); please report it with the file"
+            ),
+            PlanError::Unchecked { equations } => write!(
+                f,
+                "no step enforces or checks {}, so a frame could break it unnoticed; the drawing is \
+                 degenerate there (e.g. two joints of a body at one point): draw those joints apart",
+                equations.join(", ")
             ),
             PlanError::BrokenAtDrawnPose { step, explanation } => {
                 write!(f, "step {step} cannot be met at the drawn pose: {explanation}")
@@ -94,8 +107,12 @@ pub fn analyse_with(m: &Mechanism, progress: &mut dyn FnMut(Progress)) -> Analys
     let mobility = Mobility::of(m);
     let eqs = equations::equations(m);
     let planned = planner::plan(m, &eqs, progress);
-    let unused = planned.unused.iter().map(|&i| eqs[i].origin.clone()).collect();
-    let plan = {
+    let unused: Vec<String> = planned.unused.iter().map(|&i| eqs[i].origin.clone()).collect();
+    let plan = if !unused.is_empty() {
+        let mut equations = unused.clone();
+        equations.dedup();
+        Err(PlanError::Unchecked { equations })
+    } else {
         let plan = Plan {
             mechanism: m.name.clone(),
             source: file_name(&m.source.name),

@@ -24,6 +24,14 @@ pub const DRAWN_TOLERANCE: f64 = 1e-9;
 /// The most values a sweep may have.
 pub const MAX_STEPS: i64 = 1_000_000;
 
+/// Marker coordinates and the mechanism's extent stay within these bounds:
+/// the steps square lengths and multiply squares (a circle intersection's
+/// half-chord is a fourth power), which overflow or underflow double
+/// precision far beyond them.
+pub const MAX_COORDINATE: f64 = 1e50;
+/// See [`MAX_COORDINATE`].
+pub const MIN_EXTENT: f64 = 1e-50;
+
 /// The syntax of a mechanism file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
@@ -447,6 +455,23 @@ impl Validator {
         }
     }
 
+    /// A marker's position: a point within [`MAX_COORDINATE`].
+    fn position(&mut self, marker: &str, node: &Node, path: &str) -> Option<Point> {
+        let p = self.point(node, path)?;
+        if let Some(c) = p.iter().find(|c| c.abs() > MAX_COORDINATE) {
+            let loc = self.loc(node, path);
+            self.error(
+                loc,
+                format!("marker `{marker}` has a coordinate {c:e}, too far from the origin to compute with"),
+                Some(format!(
+                    "rescale the drawing (units are free): coordinates up to {MAX_COORDINATE:e} work"
+                )),
+            );
+            return None;
+        }
+        Some(p)
+    }
+
     fn mechanism(&mut self, root: &Node) -> Option<Mechanism> {
         let top = self.table(root, "")?;
         self.check_keys(
@@ -595,6 +620,25 @@ impl Validator {
                 markers,
             });
         }
+        // The bounding box's diagonal by `hypot`, which cannot underflow
+        // (squares of 1e-300 are 0). Markers that all coincide (extent 0)
+        // are a degenerate drawing, not a scale.
+        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+        for p in bodies.iter().flat_map(|b| &b.markers).map(|m| m.at) {
+            lo = [lo[0].min(p[0]), lo[1].min(p[1])];
+            hi = [hi[0].max(p[0]), hi[1].max(p[1])];
+        }
+        let extent = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+        if extent > 0.0 && extent < MIN_EXTENT {
+            let loc = self.loc(node, "bodies");
+            self.error(
+                loc,
+                format!("the markers span only {extent:e}, too small to compute with"),
+                Some(format!(
+                    "rescale the drawing (units are free): spans from {MIN_EXTENT:e} to {MAX_COORDINATE:e} work"
+                )),
+            );
+        }
         if !bodies.is_empty() && !bodies.iter().any(|b| b.fixed) {
             let loc = self.loc(node, "bodies");
             self.error(
@@ -630,14 +674,14 @@ impl Validator {
         match &node.kind {
             NodeKind::Array(_) => Some(Marker {
                 name: short.to_string(),
-                at: self.point(node, path)?,
+                at: self.position(&name, node, path)?,
                 dir: None,
             }),
             NodeKind::Table(fields) => {
                 self.check_keys(fields, &["at", "dir"], path);
                 let at = self
                     .required(fields, "at", node, path)
-                    .and_then(|n| self.point(n, &join(path, "at")));
+                    .and_then(|n| self.position(&name, n, &join(path, "at")));
                 let dir = match Self::get(fields, "dir") {
                     None => None,
                     Some(d) => {

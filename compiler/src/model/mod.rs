@@ -183,7 +183,16 @@ impl Sweep {
             // Exactly `to`, not `from` plus a rounded difference.
             self.to
         } else {
-            self.from + (self.to - self.from) * (i as f64) / (self.steps - 1) as f64
+            let n = (self.steps - 1) as f64;
+            // Ends far apart (0 to 1e308, or −1e308 to 1e308) overflow
+            // `(to − from)·i`: interpolate without it then.
+            let along = (self.to - self.from) * (i as f64);
+            if along.is_finite() {
+                self.from + along / n
+            } else {
+                let t = i as f64 / n;
+                self.from * (1.0 - t) + self.to * t
+            }
         }
     }
 }

@@ -66,11 +66,13 @@ impl Rot {
         }
     }
 
-    /// Huge or non-finite angles: the C library's reduction.
+    /// Huge or non-finite angles: reduced modulo 360 first, which is exact
+    /// in floating point, since a huge angle in radians has lost the turn it
+    /// is at (1e20° is 1.7e18 rad, whose ulp is 256 rad).
     #[cold]
     #[inline(never)]
     fn from_degrees_slow(degrees: f64) -> Rot {
-        let (s, c) = degrees.to_radians().sin_cos();
+        let (s, c) = (degrees % 360.0).to_radians().sin_cos();
         Rot { c, s }
     }
 
@@ -227,6 +229,15 @@ mod tests {
         assert!(Rot::from_degrees(f64::NAN).c.is_nan());
         let big = Rot::from_degrees(1e13);
         assert!((big.c * big.c + big.s * big.s - 1.0).abs() < 1e-15);
+        // Huge angles keep their turn: 1e20° and 9e306° are whole turns
+        // plus 280° and 56° (fmod is exact; the remainders computed apart).
+        for (deg, rest) in [(1e20, 280.0), (9e306, 56.0), (-1e20, -280.0)] {
+            let (r, e) = (Rot::from_degrees(deg), Rot::from_degrees(rest));
+            assert!(
+                (r.c - e.c).abs() < 1e-15 && (r.s - e.s).abs() < 1e-15,
+                "{deg}: {r:?}"
+            );
+        }
     }
 
     #[test]
