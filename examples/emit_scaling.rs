@@ -14,15 +14,12 @@ use dofplan::model::load_file;
 /// CPU seconds this process has used (0 where /proc is missing).
 fn cpu() -> f64 {
     let stat = std::fs::read_to_string("/proc/self/stat").unwrap_or_default();
-    // Fields after the command's closing parenthesis: utime and stime are
-    // the 12th and 13th, in clock ticks (100 per second on Linux).
+    // Fields after the command's closing parenthesis, from the state: utime
+    // and stime are the 12th and 13th, in clock ticks (100 per second).
     let rest = stat.rsplit(')').next().unwrap_or("");
-    let f: Vec<f64> = rest.split_whitespace().filter_map(|s| s.parse().ok()).collect();
-    if f.len() > 12 {
-        (f[11] + f[12]) / 100.0
-    } else {
-        0.0
-    }
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let tick = |i: usize| f.get(i).and_then(|s| s.parse::<f64>().ok()).unwrap_or(0.0);
+    (tick(11) + tick(12)) / 100.0
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -39,7 +36,9 @@ fn main() {
             args
         }
     };
-    println!("| loops | steps | plan s (wall / cpu) | emit s (wall / cpu) | lines | largest function (lines) |");
+    println!(
+        "| loops | steps | plan s (wall / cpu) | emit s (wall / cpu) | lines | largest function (lines) |"
+    );
     println!("|---:|---:|---:|---:|---:|---:|");
     for loops in sizes {
         let path = std::env::temp_dir().join(format!("dofplan_emit_scaling_{loops}.toml"));

@@ -162,7 +162,15 @@ fn split_compiled_frames_allocate_nothing() {
             }
         )*};
     }
-    check!(fourbar, rocker_rocker, stress_50, trammel, sixbar_b, chain_15, duplex);
+    check!(
+        fourbar,
+        rocker_rocker,
+        stress_50,
+        trammel,
+        sixbar_b,
+        chain_15,
+        duplex
+    );
 }
 
 #[test]

@@ -24,8 +24,8 @@ use crate::plan::StepKind;
 
 /// The most tokens of step code one generated function holds (a single
 /// larger step, such as a big numeric cluster, gets a function of its
-/// own). About 200 closed-form steps; Stress-50 (152 steps) and every
-/// bundled mechanism stay one function.
+/// own). About 280 closed-form steps of a stress chain; Stress-50 (152
+/// steps) and every bundled mechanism stay one function.
 pub const CHUNK_WEIGHT: usize = 12_000;
 
 /// The identifiers of a step's code that matter to its chunk: the frame

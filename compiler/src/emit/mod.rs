@@ -454,7 +454,7 @@ impl Emitter<'_> {
         }
     }
 
-    /// Whether step `i` can break the frame (needs `ctx` and returns early).
+    /// Whether any step can break the frame (needs `ctx` and returns early).
     fn fallible(&self) -> bool {
         self.plan.steps.iter().any(|s| {
             matches!(
