@@ -1,5 +1,5 @@
 //! Emit time against size: stress chains of 10 to 2,000 four-bar loops,
-//! planned and emitted in process; prints a Markdown table of medians of
+//! loaded, planned and emitted in process; prints a Markdown table of medians of
 //! three runs — wall time, and the process's CPU time (user + system, from
 //! /proc on Linux), which a loaded machine inflates less — with the size of
 //! the generated source and its largest function.
@@ -37,13 +37,21 @@ fn main() {
         }
     };
     println!(
-        "| loops | steps | plan s (wall / cpu) | emit s (wall / cpu) | lines | largest function (lines) |"
+        "| loops | steps | load s (wall / cpu) | plan s (wall / cpu) | emit s (wall / cpu) | lines | largest function (lines) |"
     );
-    println!("|---:|---:|---:|---:|---:|---:|");
+    println!("|---:|---:|---:|---:|---:|---:|---:|");
     for loops in sizes {
         let path = std::env::temp_dir().join(format!("dofplan_emit_scaling_{loops}.toml"));
         std::fs::write(&path, dofplan_tests::stress::stress_chain(loops)).expect("write the chain");
-        let m = load_file(&path).unwrap_or_else(|e| panic!("{e}"));
+        let (mut load_wall, mut load_cpu) = (vec![], vec![]);
+        let mut m = None;
+        for _ in 0..3 {
+            let (t, c) = (Instant::now(), cpu());
+            m = Some(load_file(&path).unwrap_or_else(|e| panic!("{e}")));
+            load_wall.push(t.elapsed().as_secs_f64());
+            load_cpu.push(cpu() - c);
+        }
+        let m = m.expect("loaded");
         let (mut plan_wall, mut plan_cpu, mut emit_wall, mut emit_cpu) = (vec![], vec![], vec![], vec![]);
         let mut source = String::new();
         let mut steps = 0;
@@ -70,7 +78,9 @@ fn main() {
             }
         }
         println!(
-            "| {loops} | {steps} | {:.3} / {:.2} | {:.3} / {:.2} | {} | {largest} |",
+            "| {loops} | {steps} | {:.3} / {:.2} | {:.3} / {:.2} | {:.3} / {:.2} | {} | {largest} |",
+            median(load_wall),
+            median(load_cpu),
             median(plan_wall),
             median(plan_cpu),
             median(emit_wall),
