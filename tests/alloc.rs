@@ -148,6 +148,31 @@ fn compiled_cluster_frames_allocate_nothing() {
     }
 }
 
+/// The split form of large plans (a working copy of the state, one
+/// function per run of steps): every mechanism again, compiled with two or
+/// three steps per function.
+#[test]
+fn split_compiled_frames_allocate_nothing() {
+    macro_rules! check {
+        ($($name:ident),*) => {$(
+            let inputs = sweep_inputs(&load(stringify!($name)), None);
+            for options in all_options() {
+                let n = frame_allocations(dofplan_generated::chunked::$name::Plan, options, &inputs);
+                assert_eq!(n, 0, "{} {options:?}", stringify!($name));
+            }
+        )*};
+    }
+    check!(
+        fourbar,
+        rocker_rocker,
+        stress_50,
+        trammel,
+        sixbar_b,
+        chain_15,
+        duplex
+    );
+}
+
 #[test]
 fn interpreted_frames_allocate_nothing_once_built() {
     for name in ["fourbar", "rocker_rocker", "inverted_slider_crank", "stress_10"] {

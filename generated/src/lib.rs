@@ -6,3 +6,10 @@
 //! [`dofplan_runtime::Driver`].
 
 include!(concat!(env!("OUT_DIR"), "/mechanisms.rs"));
+
+/// Every mechanism above again, with its steps split into functions of two
+/// or three steps — the form `dofplan::emit` gives a plan too large for one
+/// function — so that the tests check that form on every mechanism.
+pub mod chunked {
+    include!(concat!(env!("OUT_DIR"), "/chunked.rs"));
+}

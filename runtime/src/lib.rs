@@ -14,13 +14,17 @@
 //!   share.
 //! - [`drive`]: the [`Solver`] trait both back ends implement and the
 //!   [`Driver`] that applies a breaking policy around one plan execution.
+//! - [`marker`]: a marker by name, for reading points of a compiled
+//!   mechanism's poses.
 
 pub mod drive;
 pub mod frame;
+pub mod marker;
 pub mod numeric;
 pub mod planar;
 
 pub use drive::{Animate, Driver, Solver};
 pub use frame::{Branch, BranchPolicy, Break, BreakKind, BreakPolicy, Ctx, FrameStatus, Options, StepId};
+pub use marker::Marker;
 pub use numeric::{Equations, Newton, NewtonOptions, NewtonOutcome, NewtonReport};
 pub use planar::{Point, Pose, Rot};

@@ -5,12 +5,19 @@
 //! Every step becomes one block calling the same runtime function the
 //! interpreter calls, under a comment holding the step's explanation and
 //! the joints it serves. Bodies live in a fixed-size array in the state
-//! struct, so a frame allocates nothing.
+//! struct, so a frame allocates nothing. A large plan's steps are split
+//! into functions of bounded size (see [`chunk`]), so that rustc compiles
+//! a mechanism of any size; every body and marker gets a named constant
+//! (see [`names`]).
 
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 
+mod chunk;
 mod cluster;
+mod names;
+
+pub use chunk::CHUNK_WEIGHT;
 
 use crate::model::InputKind;
 use crate::plan::{ClusterParam, ClusterRow, DirRef, Plan, PointRef, Rel, StepKind};
@@ -71,6 +78,9 @@ struct Emitter<'p> {
     temp_idents: Vec<Ident>,
     /// The local holding each mobile body's pose during a frame.
     pose_idents: Vec<Ident>,
+    /// Whether the steps are split into functions over a working copy of
+    /// the state (see [`chunk`]).
+    chunked: bool,
 }
 
 impl Emitter<'_> {
@@ -322,7 +332,14 @@ impl Emitter<'_> {
                     }
                 });
                 let nrows = index(rows.len());
-                let all: Vec<TokenStream> = (0..self.plan.bodies.len()).map(|b| self.pose(b)).collect();
+                // Every pose, current: a chunk starts at this step, so the
+                // working copy is up to date.
+                let all = if self.chunked {
+                    quote!(w.poses)
+                } else {
+                    let all = (0..self.plan.bodies.len()).map(|b| self.pose(b));
+                    quote!([#(#all),*])
+                };
                 let writes = params.iter().map(|p| {
                     let b = p.body();
                     let id = &self.pose_idents[b];
@@ -336,7 +353,7 @@ impl Emitter<'_> {
                         #(#pre)*
                         let params = [#(#param_tokens),*];
                         const ROWS: [cluster::Row; #nrows] = [#(#row_tokens),*];
-                        let mut all = [#(#all),*];
+                        let mut all = #all;
                         // Too large for fixed-size matrices: the runtime's
                         // dynamically sized solver (which allocates).
                         let mut newton = numeric::Newton::new(#n, #m);
@@ -367,7 +384,165 @@ impl Emitter<'_> {
         }
     }
 
-    fn module(&self) -> TokenStream {
+    /// The constants naming each body and marker, and the state's marker
+    /// reader.
+    fn names(&self) -> TokenStream {
+        let plan = self.plan;
+        let body_names = names::constants(plan.bodies.iter().map(|b| b.name.as_str()));
+        let bodies = plan
+            .bodies
+            .iter()
+            .zip(&body_names)
+            .enumerate()
+            .map(|(i, (b, c))| {
+                let (doc, c, i) = (format!(" `{}`", b.name), format_ident!("{}", c), index(i));
+                quote! {
+                    #[doc = #doc]
+                    pub const #c: usize = #i;
+                }
+            });
+        let all_markers: Vec<(usize, String, [f64; 2])> = plan
+            .bodies
+            .iter()
+            .enumerate()
+            .flat_map(|(i, b)| {
+                b.markers
+                    .iter()
+                    .map(move |(m, at)| (i, format!("{}.{m}", b.name), *at))
+            })
+            .collect();
+        let marker_names = names::constants(all_markers.iter().map(|(_, n, _)| n.as_str()));
+        let markers = all_markers.iter().zip(&marker_names).map(|((b, name, at), c)| {
+            let doc = format!(" `{name}`");
+            let (c, b, at) = (format_ident!("{}", c), index(*b), point_lit(*at));
+            quote! {
+                #[doc = #doc]
+                pub const #c: Marker = Marker::new(#name, #b, #at);
+            }
+        });
+        let use_marker = if all_markers.is_empty() {
+            quote!()
+        } else {
+            quote!(
+                use dofplan_runtime::Marker;
+            )
+        };
+        quote! {
+            /// Each body's index in [`BODIES`] and [`State::poses`], by name:
+            /// upper-cased, other characters than ASCII letters and digits
+            /// made `_`, and `_2`, `_3`, … after a name an earlier body took.
+            pub mod body {
+                #(#bodies)*
+            }
+
+            /// Each marker's body and local coordinates (its drawn position),
+            /// named `BODY_MARKER` by the rule of `body`; read one with
+            /// `State::marker` or `Marker::world`.
+            pub mod marker {
+                #use_marker
+                #(#markers)*
+            }
+
+            impl State {
+                /// The world position of marker `m` (a constant of
+                /// [`marker`]) in this state.
+                #[inline]
+                pub fn marker(&self, m: Marker) -> Point {
+                    m.world(&self.poses)
+                }
+            }
+        }
+    }
+
+    /// Whether any step can break the frame (needs `ctx` and returns early).
+    fn fallible(&self) -> bool {
+        self.plan.steps.iter().any(|s| {
+            matches!(
+                s.kind,
+                StepKind::CircleCircle { .. }
+                    | StepKind::CircleLine { .. }
+                    | StepKind::LineLine { .. }
+                    | StepKind::TurnLine { .. }
+                    | StepKind::Cluster { .. }
+                    | StepKind::Align { redundant: true, .. }
+            )
+        })
+    }
+
+    /// The binding of input `k` to its local.
+    fn bind_input(&self, k: usize) -> TokenStream {
+        let id = &self.input_idents[k];
+        let i = index(k);
+        match self.plan.inputs[k].kind {
+            InputKind::Angle => quote!(let #id = Rot::from_degrees(inputs[#i]);),
+            InputKind::Slide => quote!(let #id = inputs[#i];),
+        }
+    }
+
+    /// `solve` as one function: every mobile body's pose is a named local
+    /// for the frame, written back at the end; fixed bodies are never
+    /// copied.
+    fn single_solve(&self, steps: Vec<TokenStream>, doc_solve: &str) -> TokenStream {
+        let plan = self.plan;
+        let mut is_written = vec![false; plan.bodies.len()];
+        for step in &plan.steps {
+            for b in step.kind.writes() {
+                is_written[b] = true;
+            }
+        }
+        let written: Vec<usize> = (0..plan.bodies.len())
+            .filter(|&b| !plan.bodies[b].fixed && is_written[b])
+            .collect();
+        let take_poses = written.iter().map(|&b| {
+            let (id, i) = (&self.pose_idents[b], index(b));
+            quote!(let mut #id = s.poses[#i];)
+        });
+        let commit_poses = written.iter().map(|&b| {
+            let (id, i) = (&self.pose_idents[b], index(b));
+            quote!(s.poses[#i] = #id;)
+        });
+        let (take, commit) = if plan.branches.is_empty() {
+            (quote!(#(#take_poses)*), quote!(#(#commit_poses)*))
+        } else {
+            (
+                quote!(#(#take_poses)* let mut last = s.last; let mut branches = s.branches;),
+                quote!(#(#commit_poses)* s.last = last; s.branches = branches;),
+            )
+        };
+        let bind_inputs = (0..plan.inputs.len()).map(|k| self.bind_input(k));
+        let unused_ctx = if self.fallible() {
+            quote!()
+        } else {
+            quote!(let _ = ctx;)
+        };
+        let unused_inputs = if plan.inputs.is_empty() {
+            quote!(let _ = inputs;)
+        } else {
+            quote!()
+        };
+        quote! {
+            #[doc = #doc_solve]
+            #[inline]
+            pub fn solve(s: &mut State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+                #unused_ctx
+                #unused_inputs
+                // Work on copies and commit at the end: a break (an early
+                // return) leaves `s` as it was, so no caller has to copy the
+                // state per frame to roll back.
+                #take
+                #(#bind_inputs)*
+                #(#steps)*
+                #commit
+                Ok(())
+            }
+        }
+    }
+
+    fn module(
+        &self,
+        steps: Vec<TokenStream>,
+        chunks: Option<(Vec<chunk::Uses>, Vec<chunk::Chunk>)>,
+    ) -> TokenStream {
         let plan = self.plan;
         let name = &plan.mechanism;
         let nb = index(plan.bodies.len());
@@ -386,62 +561,10 @@ impl Emitter<'_> {
             dofplan_runtime::Branch::Plus => quote!(Branch::Plus),
             dofplan_runtime::Branch::Minus => quote!(Branch::Minus),
         });
-        let bind_inputs = plan.inputs.iter().enumerate().map(|(k, input)| {
-            let id = &self.input_idents[k];
-            let k = index(k);
-            match input.kind {
-                InputKind::Angle => quote!(let #id = Rot::from_degrees(inputs[#k]);),
-                InputKind::Slide => quote!(let #id = inputs[#k];),
-            }
-        });
-        let steps = (0..plan.steps.len()).map(|i| self.step(i));
-        let fallible = plan.steps.iter().any(|s| {
-            matches!(
-                s.kind,
-                StepKind::CircleCircle { .. }
-                    | StepKind::CircleLine { .. }
-                    | StepKind::LineLine { .. }
-                    | StepKind::TurnLine { .. }
-                    | StepKind::Cluster { .. }
-                    | StepKind::Align { redundant: true, .. }
-            )
-        });
-        // Each mobile body's pose is a named local for the frame, written
-        // back at the end; fixed bodies are never copied.
-        let mobile: Vec<usize> = (0..plan.bodies.len())
-            .filter(|&b| !plan.bodies[b].fixed)
-            .collect();
-        let written: Vec<usize> = mobile
-            .iter()
-            .copied()
-            .filter(|b| plan.steps.iter().any(|s| s.kind.writes().contains(b)))
-            .collect();
-        let take_poses = written.iter().map(|&b| {
-            let (id, i) = (&self.pose_idents[b], index(b));
-            quote!(let mut #id = s.poses[#i];)
-        });
-        let commit_poses = written.iter().map(|&b| {
-            let (id, i) = (&self.pose_idents[b], index(b));
-            quote!(s.poses[#i] = #id;)
-        });
-        let (take, commit) = if plan.branches.is_empty() {
-            (quote!(#(#take_poses)*), quote!(#(#commit_poses)*))
-        } else {
-            (
-                quote!(#(#take_poses)* let mut last = s.last; let mut branches = s.branches;),
-                quote!(#(#commit_poses)* s.last = last; s.branches = branches;),
-            )
-        };
         let numeric_use = if plan.clusters() > 0 {
             quote!(
                 use dofplan_runtime::numeric::{self, cluster};
             )
-        } else {
-            quote!()
-        };
-        let unused_ctx = if fallible { quote!() } else { quote!(let _ = ctx;) };
-        let unused_inputs = if plan.inputs.is_empty() {
-            quote!(let _ = inputs;)
         } else {
             quote!()
         };
@@ -457,9 +580,14 @@ impl Emitter<'_> {
                 })).collect::<Vec<_>>().join(", ")
             }
         );
+        let solve = match chunks {
+            None => self.single_solve(steps, &doc_solve),
+            Some((uses, chunks)) => self.chunked_solve(steps, uses, &chunks, &doc_solve),
+        };
+        let names = self.names();
         quote! {
             use dofplan_runtime::planar::{self, Point, Pose, Rot};
-            use dofplan_runtime::{Branch, Break, Ctx, Solver};
+            use dofplan_runtime::{Branch, Break, Ctx, Marker, Solver};
             #numeric_use
 
             /// Kind of an input.
@@ -498,6 +626,8 @@ impl Emitter<'_> {
                 };
             }
 
+            #names
+
             /// The compiled plan, for [`dofplan_runtime::Driver`].
             #[derive(Clone, Copy, Debug, Default)]
             pub struct Plan;
@@ -523,26 +653,20 @@ impl Emitter<'_> {
                 }
             }
 
-            #[doc = #doc_solve]
-            #[inline]
-            pub fn solve(s: &mut State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
-                #unused_ctx
-                #unused_inputs
-                // Work on copies and commit at the end: a break (an early
-                // return) leaves `s` as it was, so no caller has to copy the
-                // state per frame to roll back.
-                #take
-                #(#bind_inputs)*
-                #(#steps)*
-                #commit
-                Ok(())
-            }
+            #solve
         }
     }
 }
 
 /// Rust source of the compiled plan module of `plan`.
 pub fn emit(plan: &Plan) -> String {
+    emit_chunked(plan, CHUNK_WEIGHT)
+}
+
+/// [`emit`] with functions of at most `chunk_weight` tokens of steps
+/// instead of [`CHUNK_WEIGHT`] (1 puts every step in a function of its
+/// own: tests use it to check the split form on small mechanisms).
+pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
     let mut used = std::collections::HashSet::new();
     let mut unique = |base: String| {
         let mut name = base.clone();
@@ -568,13 +692,29 @@ pub fn emit(plan: &Plan) -> String {
         .iter()
         .map(|b| unique(format!("pose_{}", ident_for(&b.name))))
         .collect();
-    let e = Emitter {
+    let mut e = Emitter {
         plan,
         input_idents,
         temp_idents,
         pose_idents,
+        chunked: false,
     };
-    let tokens = e.module();
+    let mut steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
+    let kinds: Vec<&StepKind> = plan.steps.iter().map(|s| &s.kind).collect();
+    let mut uses: Vec<chunk::Uses> = steps.iter().map(chunk::Uses::of).collect();
+    let weights: Vec<usize> = uses.iter().map(|u| u.weight).collect();
+    let chunks = chunk::partition(&kinds, &weights, chunk_weight);
+    let chunks = chunks.map(|chunks| {
+        e.chunked = true;
+        for (i, kind) in kinds.iter().enumerate() {
+            if chunk::starts_chunk(kind) {
+                steps[i] = e.step(i);
+                uses[i] = chunk::Uses::of(&steps[i]);
+            }
+        }
+        (uses, chunks)
+    });
+    let tokens = e.module(steps, chunks);
     let file = syn::parse2::<syn::File>(tokens).expect("the emitter produces valid Rust");
     let pretty = prettyplease::unparse(&file);
     // Comments are not tokens: each step was marked by a macro call that is

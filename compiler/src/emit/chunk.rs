@@ -1,0 +1,292 @@
+//! Large plans as several functions: rustc overflows its stack on a
+//! function of a few thousand steps in a debug build, and optimising one
+//! takes time and memory superlinear in its size. So a plan whose steps
+//! weigh more than [`CHUNK_WEIGHT`] tokens is split into runs of steps of
+//! at most that weight (a larger step stays whole), each a function
+//! `steps_<first>_to_<last>` that `solve` calls in order.
+//!
+//! `solve` copies the state into a `Working` struct and commits it only
+//! when every chunk succeeded, so a break still leaves the state as it
+//! was. A chunk reads the poses it uses from the working copy into the
+//! same named locals as the one-function form (so each step's code is the
+//! same in both forms), and writes back the ones it wrote; a point a later
+//! chunk uses is handed on in `Working::temps`. A plan of at most
+//! [`CHUNK_WEIGHT`] keeps the one-function form.
+
+use std::collections::HashSet;
+use std::ops::Range;
+
+use proc_macro2::{TokenStream, TokenTree};
+use quote::{format_ident, quote};
+
+use super::{index, Emitter};
+use crate::plan::StepKind;
+
+/// The most tokens of step code one generated function holds (a single
+/// larger step, such as a big numeric cluster, gets a function of its
+/// own). About 280 closed-form steps of a stress chain; Stress-50 (152
+/// steps) and every bundled mechanism stay one function.
+pub const CHUNK_WEIGHT: usize = 12_000;
+
+/// The identifiers of a step's code that matter to its chunk: the frame
+/// locals (poses, points, inputs) and the parameters.
+#[derive(Default)]
+pub(super) struct Uses {
+    idents: HashSet<String>,
+    /// Number of tokens, groups counted once plus their contents.
+    pub weight: usize,
+}
+
+impl Uses {
+    pub fn of(tokens: &TokenStream) -> Uses {
+        let mut u = Uses::default();
+        u.add(tokens);
+        u
+    }
+
+    fn merge(&mut self, other: Uses) {
+        self.idents.extend(other.idents);
+        self.weight += other.weight;
+    }
+
+    fn add(&mut self, tokens: &TokenStream) {
+        for t in tokens.clone() {
+            self.weight += 1;
+            match t {
+                TokenTree::Group(g) => self.add(&g.stream()),
+                TokenTree::Ident(i) => {
+                    self.idents.insert(i.to_string());
+                }
+                _ => {}
+            }
+        }
+    }
+
+    fn has(&self, ident: &str) -> bool {
+        self.idents.contains(ident)
+    }
+}
+
+/// A run of steps that becomes one function.
+pub(super) struct Chunk {
+    steps: Range<usize>,
+}
+
+/// The point a step computes, if any.
+fn out(kind: &StepKind) -> Option<usize> {
+    match kind {
+        StepKind::CircleCircle { out, .. }
+        | StepKind::CircleLine { out, .. }
+        | StepKind::LineLine { out, .. } => Some(*out),
+        _ => None,
+    }
+}
+
+/// Whether step `i` must start a chunk: a large numeric cluster hands the
+/// runtime every pose at once, which it reads from the working copy, so
+/// no earlier step of its chunk may hold a pose in a local.
+pub(super) fn starts_chunk(kind: &StepKind) -> bool {
+    match kind {
+        StepKind::Cluster { .. } => {
+            let (n, m) = kind.cluster_size();
+            !Emitter::fixed_cluster(n, m)
+        }
+        _ => false,
+    }
+}
+
+/// The chunks of a plan whose steps weigh `weights`, or `None` when they
+/// fit in one function of `limit`.
+pub(super) fn partition(kinds: &[&StepKind], weights: &[usize], limit: usize) -> Option<Vec<Chunk>> {
+    if weights.iter().sum::<usize>() <= limit {
+        return None;
+    }
+    let mut chunks = Vec::new();
+    let (mut start, mut weight) = (0, 0);
+    for (i, (&w, kind)) in weights.iter().zip(kinds).enumerate() {
+        if i > start && (weight + w > limit || starts_chunk(kind)) {
+            chunks.push(Chunk { steps: start..i });
+            (start, weight) = (i, 0);
+        }
+        weight += w;
+    }
+    chunks.push(Chunk {
+        steps: start..weights.len(),
+    });
+    Some(chunks)
+}
+
+impl Emitter<'_> {
+    /// `solve` over a working copy of the state, calling one function per
+    /// chunk.
+    /// `step_uses` are the [`Uses`] of each step's code `steps`.
+    pub(super) fn chunked_solve(
+        &self,
+        steps: Vec<TokenStream>,
+        step_uses: Vec<Uses>,
+        chunks: &[Chunk],
+        doc_solve: &str,
+    ) -> TokenStream {
+        let plan = self.plan;
+        // What each chunk's steps use.
+        let mut step_uses = step_uses.into_iter();
+        let uses: Vec<Uses> = chunks
+            .iter()
+            .map(|chunk| {
+                let mut u = Uses::default();
+                for s in step_uses.by_ref().take(chunk.steps.len()) {
+                    u.merge(s);
+                }
+                u
+            })
+            .collect();
+        let chunk_of: Vec<usize> = chunks
+            .iter()
+            .enumerate()
+            .flat_map(|(c, chunk)| chunk.steps.clone().map(move |_| c))
+            .collect();
+        // Where each point is computed, and which chunks use it.
+        let mut defined_in = vec![usize::MAX; plan.temps.len()];
+        for (i, step) in plan.steps.iter().enumerate() {
+            if let Some(t) = out(&step.kind) {
+                defined_in[t] = chunk_of[i];
+            }
+        }
+        let used_in = |c: usize, ident: &str| uses[c].has(ident);
+        // The points a later chunk reads get a slot in `Working::temps`.
+        let mut slot = vec![None; plan.temps.len()];
+        let mut slots = 0;
+        for (t, &c) in defined_in.iter().enumerate() {
+            if c == usize::MAX {
+                continue;
+            }
+            let name = self.temp_idents[t].to_string();
+            if (c + 1..chunks.len()).any(|later| used_in(later, &name)) {
+                slot[t] = Some(index(slots));
+                slots += 1;
+            }
+        }
+
+        let mut functions = Vec::new();
+        let mut calls = Vec::new();
+        let mut steps = steps.into_iter();
+        for (c, chunk) in chunks.iter().enumerate() {
+            let code: Vec<TokenStream> = steps.by_ref().take(chunk.steps.len()).collect();
+            let uses = |ident: &str| used_in(c, ident);
+            let mut written = vec![false; plan.bodies.len()];
+            for i in chunk.steps.clone() {
+                for b in plan.steps[i].kind.writes() {
+                    written[b] = true;
+                }
+            }
+            let mut take = Vec::new();
+            let mut commit = Vec::new();
+            for (b, body) in plan.bodies.iter().enumerate() {
+                let id = &self.pose_idents[b];
+                if body.fixed || !uses(&id.to_string()) {
+                    continue;
+                }
+                let i = index(b);
+                if written[b] {
+                    take.push(quote!(let mut #id = w.poses[#i];));
+                    commit.push(quote!(w.poses[#i] = #id;));
+                } else {
+                    take.push(quote!(let #id = w.poses[#i];));
+                }
+            }
+            for (t, id) in self.temp_idents.iter().enumerate() {
+                let Some(k) = &slot[t] else { continue };
+                if defined_in[t] == c {
+                    commit.push(quote!(w.temps[#k] = #id;));
+                } else if defined_in[t] < c && uses(&id.to_string()) {
+                    take.push(quote!(let #id = w.temps[#k];));
+                }
+            }
+            let mut reads_inputs = uses("inputs");
+            for k in 0..plan.inputs.len() {
+                if uses(&self.input_idents[k].to_string()) {
+                    take.push(self.bind_input(k));
+                    reads_inputs = true;
+                }
+            }
+            for field in ["branches", "last"] {
+                if uses(field) {
+                    let f = format_ident!("{}", field);
+                    take.insert(0, quote!(let #f = &mut w.#f;));
+                }
+            }
+            let param = |name: &str, used: bool| {
+                if used {
+                    format_ident!("{}", name)
+                } else {
+                    format_ident!("_{}", name)
+                }
+            };
+            let s = param("s", uses("s"));
+            let inputs = param("inputs", reads_inputs);
+            let ctx = param("ctx", uses("ctx"));
+            let (first, last) = (chunk.steps.start, chunk.steps.end - 1);
+            let (f, doc) = if first == last {
+                (
+                    format_ident!("step_{}", first),
+                    format!(" Step {first} of [`solve`], on its working copy."),
+                )
+            } else {
+                (
+                    format_ident!("steps_{}_to_{}", first, last),
+                    format!(" Steps {first} to {last} of [`solve`], on its working copy."),
+                )
+            };
+            functions.push(quote! {
+                #[doc = #doc]
+                #[inline(never)]
+                fn #f(#s: &State, w: &mut Working, #inputs: &[f64], #ctx: &mut Ctx) -> Result<(), Break> {
+                    #(#take)*
+                    #(#code)*
+                    #(#commit)*
+                    Ok(())
+                }
+            });
+            calls.push(quote!(#f(s, &mut w, inputs, ctx)?;));
+        }
+
+        let (nb, nk, nt) = (index(plan.bodies.len()), index(plan.branches.len()), index(slots));
+        // Points handed on, if any chunk hands one on.
+        let (temps_init, temps_field) = if slots == 0 {
+            (quote!(), quote!())
+        } else {
+            (quote!(temps: [[0.0; 2]; #nt],), quote!(temps: [Point; #nt],))
+        };
+        quote! {
+            #[doc = #doc_solve]
+            #[inline]
+            pub fn solve(s: &mut State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+                // The steps run in order on a working copy, committed at the
+                // end: a break (an early return) leaves `s` as it was, so no
+                // caller has to copy the state per frame to roll back.
+                let mut w = Working {
+                    poses: s.poses,
+                    last: s.last,
+                    branches: s.branches,
+                    #temps_init
+                };
+                #(#calls)*
+                s.poses = w.poses;
+                s.last = w.last;
+                s.branches = w.branches;
+                Ok(())
+            }
+
+            /// A frame's working copy of the state, and the points a chunk
+            /// of steps hands to later ones.
+            struct Working {
+                poses: [Pose; #nb],
+                last: [Point; #nk],
+                branches: [Branch; #nk],
+                #temps_field
+            }
+
+            #(#functions)*
+        }
+    }
+}
