@@ -167,8 +167,11 @@ pub fn plan(m: &Mechanism, eqs: &[Sourced], progress: &mut dyn FnMut(Progress)) 
         }
     }
     while p.unplaced > 0 {
-        let progressed =
-            p.rotation_rule() || p.coincident_rule() || p.in_line_rule() || p.dyad_rule() || p.cluster_rule();
+        let progressed = p.drain(Rule::Rotation, Planner::try_rotation)
+            || p.drain(Rule::Coincident, Planner::try_coincident)
+            || p.drain(Rule::InLine, Planner::try_in_line)
+            || p.drain(Rule::Dyad, Planner::try_dyad)
+            || p.cluster_rule();
         if !progressed {
             break;
         }
@@ -288,17 +291,21 @@ impl Planner<'_> {
         self.branches.len() - 1
     }
 
-    /// Propagation of rotation through parallel equations.
-    fn rotation_rule(&mut self) -> bool {
-        while let Some(i) = self.queues[Rule::Rotation as usize].pop_first() {
+    /// Applies `rule` to the equations on its worklist, lowest-numbered
+    /// first, until one yields a step (true) or the list is empty (false).
+    /// An equation is back on the list only when one of its bodies changes
+    /// state, so the planner's work stays linear in the mechanism's size.
+    fn drain(&mut self, rule: Rule, apply: fn(&mut Self, usize) -> bool) -> bool {
+        while let Some(i) = self.queues[rule as usize].pop_first() {
             self.checks += 1;
-            if self.try_rotation(i) {
+            if apply(self, i) {
                 return true;
             }
         }
         false
     }
 
+    /// Propagation of rotation through parallel equations.
     fn try_rotation(&mut self, i: usize) -> bool {
         if self.used[i] {
             return false;
@@ -355,16 +362,6 @@ impl Planner<'_> {
     }
 
     /// A marker meets a known point.
-    fn coincident_rule(&mut self) -> bool {
-        while let Some(i) = self.queues[Rule::Coincident as usize].pop_first() {
-            self.checks += 1;
-            if self.try_coincident(i) {
-                return true;
-            }
-        }
-        false
-    }
-
     fn try_coincident(&mut self, i: usize) -> bool {
         if self.used[i] {
             return false;
@@ -438,16 +435,6 @@ impl Planner<'_> {
     }
 
     /// A marker on a known line, or a body's line through a known point.
-    fn in_line_rule(&mut self) -> bool {
-        while let Some(i) = self.queues[Rule::InLine as usize].pop_first() {
-            self.checks += 1;
-            if self.try_in_line(i) {
-                return true;
-            }
-        }
-        false
-    }
-
     fn try_in_line(&mut self, i: usize) -> bool {
         if self.used[i] {
             return false;
@@ -625,16 +612,6 @@ impl Planner<'_> {
 
     /// Contraction of a three-node loop: two bodies with one freedom each,
     /// joined to each other.
-    fn dyad_rule(&mut self) -> bool {
-        while let Some(i) = self.queues[Rule::Dyad as usize].pop_first() {
-            self.checks += 1;
-            if self.try_dyad(i) {
-                return true;
-            }
-        }
-        false
-    }
-
     fn try_dyad(&mut self, i: usize) -> bool {
         if self.used[i] {
             return false;
