@@ -265,7 +265,10 @@ fn a_file_with_no_inputs_checks_and_drags() {
 
 #[test]
 fn check_names_the_redundant_joint_of_a_consistent_over_constrained_mechanism() {
-    for (name, joint) in [("table", "joint F"), ("vlink", "joint W")] {
+    for (name, joint, step) in [
+        ("table", "joint F", "step 5 [joint F, joint E]"),
+        ("vlink", "joint W", "step 5 [joint W, joint U]"),
+    ] {
         let o = dofplan(&["check", mechanism(name).to_str().unwrap()]);
         assert!(o.status.success(), "{}", stderr(&o));
         let out = stdout(&o);
@@ -276,6 +279,9 @@ fn check_names_the_redundant_joint_of_a_consistent_over_constrained_mechanism() 
             "over-constrained by Grübler's count (-1 free DOF), well-constrained by the Jacobian's rank (0 free DOF)"
                 .to_string(),
             "closed form, 6 steps".to_string(),
+            // The DOF analysis finds the same redundancy: the step placing
+            // the extra link can only check its distance.
+            format!("redundant by the plan (steps that only check a distance earlier steps decided): {step}\n"),
         ] {
             assert!(out.contains(&needle), "{name}: `{needle}` not in\n{out}");
         }

@@ -548,6 +548,19 @@ fn check(file: &Path, out: &mut dyn Write) -> io::Result<ExitCode> {
                 p.branches.len(),
                 file.display()
             )?;
+            // The DOF analysis's own view of redundancy, beside the rank's:
+            // steps that can only check what earlier steps decided.
+            let checks: Vec<String> = (p.steps.iter().enumerate())
+                .filter(|(_, s)| s.kind.only_checks())
+                .map(|(i, s)| format!("step {i} [{}]", s.serves.join(", ")))
+                .collect();
+            if !checks.is_empty() {
+                writeln!(
+                    out,
+                    "  redundant by the plan (steps that only check a distance earlier steps decided): {}",
+                    checks.join("; ")
+                )?;
+            }
             ExitCode::SUCCESS
         }
         Err(e) => {

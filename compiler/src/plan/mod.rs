@@ -390,6 +390,13 @@ impl StepKind {
         }
     }
 
+    /// Whether the step can only check an equation an earlier step already
+    /// decided (a body pinned twice): the redundancy the DOF analysis
+    /// itself finds, which move time checks rather than solves.
+    pub fn only_checks(&self) -> bool {
+        matches!(self, StepKind::Align { redundant: true, .. })
+    }
+
     /// Whether this step writes body `b`'s pose (one of [`StepKind::writes`],
     /// without collecting them).
     pub fn writes_body(&self, b: BodyId) -> bool {
