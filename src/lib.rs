@@ -39,6 +39,23 @@ pub fn plan(m: &Mechanism) -> Plan {
     analyse(m).plan.unwrap_or_else(|e| panic!("{}: {e}", m.name))
 }
 
+/// Every combination of breaking and branch policy, for tests that must
+/// hold under each.
+pub fn all_options() -> Vec<dofplan_runtime::Options> {
+    use dofplan_runtime::{BranchPolicy, BreakPolicy, Options};
+    let mut out = Vec::new();
+    for breaking in [BreakPolicy::Limit, BreakPolicy::Search, BreakPolicy::Stretch] {
+        for branch in [BranchPolicy::Keep, BranchPolicy::Nearest] {
+            out.push(Options {
+                breaking,
+                branch,
+                ..Options::default()
+            });
+        }
+    }
+    out
+}
+
 /// Plane vector arithmetic for the tests' own closed forms: written here,
 /// independently of the runtime, so the tests do not check the runtime
 /// against itself.

@@ -7,8 +7,8 @@ use std::cell::Cell;
 
 use dofplan::interp::Interpreter;
 use dofplan::simulate::sweep_inputs;
-use dofplan_runtime::{BranchPolicy, BreakPolicy, Driver, Options, Solver};
-use dofplan_tests::{load, plan};
+use dofplan_runtime::{Driver, Options, Solver};
+use dofplan_tests::{all_options, load, plan};
 
 struct Counting;
 
@@ -45,20 +45,6 @@ fn allocations(f: impl FnOnce()) -> usize {
     f();
     ARMED.with(|a| a.set(false));
     COUNT.with(Cell::get)
-}
-
-fn all_options() -> Vec<Options> {
-    let mut out = Vec::new();
-    for breaking in [BreakPolicy::Limit, BreakPolicy::Search, BreakPolicy::Stretch] {
-        for branch in [BranchPolicy::Keep, BranchPolicy::Nearest] {
-            out.push(Options {
-                breaking,
-                branch,
-                ..Options::default()
-            });
-        }
-    }
-    out
 }
 
 /// Drives `solver` through `inputs` and counts allocations in the frames.

@@ -7,22 +7,8 @@
 
 use dofplan::interp::Interpreter;
 use dofplan::simulate::sweep_inputs;
-use dofplan_runtime::{BranchPolicy, BreakPolicy, Ctx, Driver, Options};
-use dofplan_tests::{bundled, load, plan};
-
-fn all_options() -> Vec<Options> {
-    let mut out = Vec::new();
-    for breaking in [BreakPolicy::Limit, BreakPolicy::Search, BreakPolicy::Stretch] {
-        for branch in [BranchPolicy::Keep, BranchPolicy::Nearest] {
-            out.push(Options {
-                breaking,
-                branch,
-                ..Options::default()
-            });
-        }
-    }
-    out
-}
+use dofplan_runtime::{BranchPolicy, Ctx, Driver};
+use dofplan_tests::{all_options, bundled, load, plan};
 
 /// The bundled mechanisms and the test fixtures, by module name and file.
 fn mechanisms() -> Vec<(String, dofplan::model::Mechanism)> {
