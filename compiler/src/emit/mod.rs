@@ -24,16 +24,7 @@ use crate::plan::{ClusterParam, ClusterRow, DirRef, Plan, PointRef, Rel, StepKin
 
 /// A Rust identifier made from a user's name ("coupler.C" → `coupler_c`).
 pub fn ident_for(name: &str) -> String {
-    let mut s: String = name
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() {
-                c.to_ascii_lowercase()
-            } else {
-                '_'
-            }
-        })
-        .collect();
+    let mut s = names::word(name, false);
     if s.is_empty() || s.starts_with(|c: char| c.is_ascii_digit()) {
         s.insert_str(0, "m_");
     }

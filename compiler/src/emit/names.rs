@@ -17,18 +17,22 @@
 
 use std::collections::HashSet;
 
+/// `name` with every character other than an ASCII letter or digit made
+/// `_`, letters in upper or lower case: the start of every identifier the
+/// emitter makes from a user's name.
+pub(super) fn word(name: &str, upper: bool) -> String {
+    name.chars()
+        .map(|c| match c {
+            c if !c.is_ascii_alphanumeric() => '_',
+            c if upper => c.to_ascii_uppercase(),
+            c => c.to_ascii_lowercase(),
+        })
+        .collect()
+}
+
 /// The upper-case constant name for `name` (rules 1 and 2).
 fn constant(name: &str) -> String {
-    let mut s: String = name
-        .chars()
-        .map(|c| {
-            if c.is_ascii_alphanumeric() {
-                c.to_ascii_uppercase()
-            } else {
-                '_'
-            }
-        })
-        .collect();
+    let mut s = word(name, true);
     if s.is_empty() || s == "_" || s.starts_with(|c: char| c.is_ascii_digit()) {
         s.insert(0, '_');
     }
