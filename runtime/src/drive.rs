@@ -12,6 +12,9 @@ use crate::planar::Pose;
 /// A plan that can be executed: one execution places every body for one set
 /// of input values.
 pub trait Solver {
+    /// A body's pose: [`Pose`] in the plane, [`crate::spatial::Pose3`] in
+    /// space.
+    type Pose: Copy;
     /// Everything a plan execution reads from the previous frame and writes:
     /// body poses, the last point of every branching step, branch signs.
     /// Generated plans use fixed-size arrays, so cloning never allocates.
@@ -24,7 +27,7 @@ pub trait Solver {
     /// All inputs at 0.
     fn initial_inputs(&self) -> Self::Inputs;
     /// The body poses held by a state, in the mechanism's body order.
-    fn poses(state: &Self::State) -> &[Pose];
+    fn poses(state: &Self::State) -> &[Self::Pose];
     /// Executes every step of the plan for `inputs`, warm-started from
     /// `state`. On error `state` must be left as it was (a break is a
     /// transaction that did not commit), so drivers need no copy per frame.
@@ -77,7 +80,7 @@ impl<S: Solver> Driver<S> {
     }
 
     /// The body poses of the current (last valid) frame.
-    pub fn poses(&self) -> &[Pose] {
+    pub fn poses(&self) -> &[S::Pose] {
         S::poses(&self.state)
     }
 
@@ -178,11 +181,11 @@ impl<S: Solver> Driver<S> {
 /// A driven plan behind a trait object, for callers that pick a compiled
 /// mechanism by name at run time (each generated plan has its own state
 /// type, so [`Driver`] itself cannot be named without it).
-pub trait Animate {
+pub trait Animate<P = Pose> {
     /// Moves to `inputs`; see [`Driver::frame`].
     fn frame(&mut self, inputs: &[f64]) -> FrameStatus;
     /// The body poses of the current frame.
-    fn poses(&self) -> &[Pose];
+    fn poses(&self) -> &[P];
     /// The input values of the current frame.
     fn inputs(&self) -> &[f64];
     /// The last frame's Newton–Raphson report, if any.
@@ -191,11 +194,11 @@ pub trait Animate {
     fn reset(&mut self);
 }
 
-impl<S: Solver> Animate for Driver<S> {
+impl<S: Solver> Animate<S::Pose> for Driver<S> {
     fn frame(&mut self, inputs: &[f64]) -> FrameStatus {
         Driver::frame(self, inputs)
     }
-    fn poses(&self) -> &[Pose] {
+    fn poses(&self) -> &[S::Pose] {
         Driver::poses(self)
     }
     fn inputs(&self) -> &[f64] {

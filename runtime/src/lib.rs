@@ -9,6 +9,10 @@
 //! - [`planar`]: poses of 2D bodies (rotations carried as cos/sin pairs, so a
 //!   frame needs no trigonometry per body) and the loci steps: placing a body,
 //!   intersecting circles and lines, turning a line through a point.
+//! - [`spatial`]: poses of 3D bodies (rotation matrices built without
+//!   trigonometry) and the spatial loci steps: rotating a body about a point
+//!   or an axis, intersecting circles, spheres, lines, planes and cones, and
+//!   turning a body about an axis until a condition holds.
 //! - [`frame`]: what a frame reports (solved, limited, searched, stretched),
 //!   the branch and breaking policies, and the per-frame context the steps
 //!   share.
@@ -22,6 +26,7 @@ pub mod frame;
 pub mod marker;
 pub mod numeric;
 pub mod planar;
+pub mod spatial;
 
 pub use drive::{Animate, Driver, Solver};
 pub use frame::{Branch, BranchPolicy, Break, BreakKind, BreakPolicy, Ctx, FrameStatus, Options, StepId};

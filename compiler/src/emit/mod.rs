@@ -624,6 +624,7 @@ impl Emitter<'_> {
             pub struct Plan;
 
             impl Solver for Plan {
+                type Pose = Pose;
                 type State = State;
                 type Inputs = [f64; #ni];
 

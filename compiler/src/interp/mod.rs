@@ -2,6 +2,9 @@
 //! a user's file, an editor) by calling, for each step, the same runtime
 //! function the generated code calls.
 
+pub mod spatial;
+pub mod spatial_cluster;
+
 use dofplan_runtime::numeric::{cluster, Newton};
 use dofplan_runtime::planar::{self, Point, Pose, Rot};
 use dofplan_runtime::{Branch, Break, Ctx, Solver};
@@ -122,6 +125,7 @@ impl Interpreter {
 }
 
 impl Solver for Interpreter {
+    type Pose = Pose;
     type State = InterpState;
     type Inputs = Vec<f64>;
 

@@ -232,6 +232,7 @@ impl Drag {
 }
 
 impl Solver for Drag {
+    type Pose = Pose;
     type State = DragState;
     type Inputs = [f64; 2];
 

@@ -211,6 +211,7 @@ impl PureNewton {
 }
 
 impl Solver for PureNewton {
+    type Pose = Pose;
     type State = NewtonState;
     type Inputs = Vec<f64>;
 

@@ -1,0 +1,903 @@
+//! Intersections of loci in space: the closed-form core of a spatial plan.
+//!
+//! Each function either returns the point (direction, rotation) that meets
+//! both loci, or — when none exists — reports a [`Break`] through the
+//! context, which under the stretch policy instead returns the point that
+//! comes closest (or the most reasonable one) and records the gap. Roots are
+//! chosen by a geometric [`Branch`] sign, documented per function, so that
+//! the branch of the drawn pose is kept along smooth motions. Every function
+//! writes the root it returns into `last`; under [`BranchPolicy::Nearest`]
+//! the root nearest `last` is taken and its sign written back to `branch`.
+//!
+//! Radii are non-negative; normals, axes and line directions are unit
+//! vectors (the compiler normalises them once, at plan time).
+
+use super::{add, cross, dot, norm, norm2, perpendicular, reject, scale, sub, unit, Vec3};
+use crate::frame::{Branch, BranchPolicy, Break, BreakKind, Ctx, StepId};
+
+/// Squared half-chords smaller than this (relative to the squared radii)
+/// count as tangency rather than a miss: round-off at a tangent pose must
+/// not break a mechanism that is exactly at its limit.
+const TANGENT_TOLERANCE: f64 = 1e-12;
+
+/// Two planes whose unit normals have a cross product at most this long
+/// are treated as parallel: their line of intersection is too poorly
+/// determined to use, and the problem is solved in one plane instead.
+const COPLANAR: f64 = 1e-9;
+
+/// A line whose unit direction makes a dot product at most this large with
+/// a plane's unit normal is parallel to the plane (as planar `line_line`).
+const PARALLEL: f64 = 1e-12;
+
+#[inline]
+fn dist2(a: Vec3, b: Vec3) -> f64 {
+    norm2(sub(a, b))
+}
+
+#[inline]
+fn midpoint(a: Vec3, b: Vec3) -> Vec3 {
+    scale(add(a, b), 0.5)
+}
+
+/// Chooses one of two roots by policy and records the choice. When the two
+/// roots coincide (tangency, or a stretched step that has one closest point)
+/// the branch is left alone: there is nothing to choose, and resetting it
+/// would flip a mechanism passing through a tangent pose.
+#[inline]
+fn choose(ctx: &Ctx, plus: Vec3, minus: Vec3, branch: &mut Branch, last: &mut Vec3) -> Vec3 {
+    if ctx.branch == BranchPolicy::Nearest && plus != minus {
+        *branch = if dist2(plus, *last) <= dist2(minus, *last) {
+            Branch::Plus
+        } else {
+            Branch::Minus
+        };
+    }
+    let x = match *branch {
+        Branch::Plus => plus,
+        Branch::Minus => minus,
+    };
+    *last = x;
+    x
+}
+
+/// [`choose`] between `base + off` (branch +) and `base − off`.
+#[inline]
+fn pick(ctx: &Ctx, base: Vec3, off: Vec3, branch: &mut Branch, last: &mut Vec3) -> Vec3 {
+    choose(ctx, add(base, off), sub(base, off), branch, last)
+}
+
+/// A unit vector in the plane of unit normal `n` pointing from `c` toward
+/// the projection of `toward`, or [`perpendicular`]`(n)` when `toward`
+/// projects onto `c`: the direction a degenerate step (concentric loci)
+/// falls back on, continuous with the last frame.
+#[inline]
+fn in_plane_toward(c: Vec3, n: Vec3, toward: Vec3) -> Vec3 {
+    let u = unit(reject(sub(toward, c), n));
+    if norm2(u) > 0.0 {
+        u
+    } else {
+        perpendicular(n)
+    }
+}
+
+/// The distance from the point `x` to the circle of centre `c`, unit normal
+/// `n` and radius `r` (the closest point of the circle is in the half-plane
+/// of `x`, so the distance is `√((ρ − r)² + z²)` with ρ and z the radial
+/// and normal coordinates of `x`).
+#[inline]
+pub fn circle_distance(x: Vec3, c: Vec3, n: Vec3, r: f64) -> f64 {
+    let v = sub(x, c);
+    let z = dot(v, n);
+    let rho = norm(sub(v, scale(n, z)));
+    let dr = rho - r;
+    (dr * dr + z * z).sqrt()
+}
+
+/// Two circles in one plane of unit normal `n`.
+enum Pair {
+    /// They meet at `base ± off`, `off` along `n × (c2 − c1)`.
+    Meet { base: Vec3, off: Vec3 },
+    /// They do not meet: `at` is the midpoint of their closest points.
+    Apart { at: Vec3 },
+    /// They have the same centre.
+    Concentric,
+}
+
+/// The points at distance `r1` from `c1` and `r2` from `c2` in the plane of
+/// unit normal `n` through both centres: the planar dyad.
+#[inline]
+fn coplanar_pair(c1: Vec3, r1: f64, c2: Vec3, r2: f64, n: Vec3) -> Pair {
+    let d_vec = sub(c2, c1);
+    let d2 = norm2(d_vec);
+    if d2 == 0.0 {
+        return Pair::Concentric;
+    }
+    // As planar `circle_circle`: with k = (r1² − r2² + d²)/2 the chord's foot
+    // is c1 + k/d²·(c2 − c1) and the half-chord (h·d)/d²·|c2 − c1|, where
+    // (h·d)² = ((r1 + r2)² − d²)(d² − (r1 − r2)²)/4 is factored so that it
+    // does not cancel near tangency.
+    let k = 0.5 * (r1 * r1 - r2 * r2 + d2);
+    let sum = r1 + r2;
+    let diff = r1 - r2;
+    let hd2 = 0.25 * ((sum * sum - d2) * (d2 - diff * diff));
+    let inv_d2 = 1.0 / d2;
+    let hd = if hd2 >= 0.0 {
+        hd2.sqrt()
+    } else if hd2 >= -TANGENT_TOLERANCE * (r1 * r1 + r2 * r2) * d2 {
+        0.0
+    } else {
+        return coplanar_apart(c1, r1, c2, r2, d_vec, d2);
+    };
+    Pair::Meet {
+        base: add(c1, scale(d_vec, k * inv_d2)),
+        off: scale(cross(n, d_vec), hd * inv_d2),
+    }
+}
+
+/// Apart (d > r1 + r2) or nested (d < |r1 − r2|): the closest pair of points
+/// lies on the centre line; the midpoint is what stretching places.
+#[cold]
+#[inline(never)]
+fn coplanar_apart(c1: Vec3, r1: f64, c2: Vec3, r2: f64, d_vec: Vec3, d2: f64) -> Pair {
+    let d = d2.sqrt();
+    let u = scale(d_vec, 1.0 / d);
+    let apart = d > r1 + r2;
+    let on1 = if apart || r1 >= r2 {
+        add(c1, scale(u, r1))
+    } else {
+        sub(c1, scale(u, r1))
+    };
+    let on2 = if apart || r2 >= r1 {
+        sub(c2, scale(u, r2))
+    } else {
+        add(c2, scale(u, r2))
+    };
+    Pair::Apart {
+        at: midpoint(on1, on2),
+    }
+}
+
+/// The half-chord that the line at distance `d` from a circle's centre, in
+/// its plane, cuts from the circle of radius `r`; `None` if the line misses
+/// it by more than `tol` (a line missing by at most `tol`, or by round-off,
+/// touches it: half-chord 0).
+#[inline]
+fn half_chord(r: f64, d: f64, tol: f64) -> Option<f64> {
+    let h2 = (r - d) * (r + d);
+    if h2 >= 0.0 {
+        Some(h2.sqrt())
+    } else if d - r <= tol || h2 >= -TANGENT_TOLERANCE * r * r {
+        Some(0.0)
+    } else {
+        None
+    }
+}
+
+/// The candidates for a point on two circles, as
+/// [`circle_circle_candidates`] computes them: what [`circle_circle`]
+/// chooses from at move time, and what the compiler inspects at plan time
+/// to learn how many candidates pass (two: a branch to choose; one: a
+/// unique point; none: the circles do not meet).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CircleCandidates {
+    /// The candidates: index 0 is branch +, index 1 branch −. When the
+    /// circles do not meet these are the closest points the rules below
+    /// find (possibly the same point twice).
+    pub points: [Vec3; 2],
+    /// Each candidate's miss: its distance from circle 1 plus its distance
+    /// from circle 2 (0 for a true intersection; for a point on one circle,
+    /// its distance from the other).
+    pub misses: [f64; 2],
+    /// Whether each candidate's miss is within the tolerance (never, for
+    /// concentric circles).
+    pub passes: [bool; 2],
+    /// The circles' planes are parallel (`|n1 × n2| ≤ 1e-9`): both
+    /// candidates are the two roots of the planar dyad, related by the
+    /// branch sign.
+    pub coplanar: bool,
+    /// The circles are coplanar and concentric: there is no isolated
+    /// intersection (the points are one fallback point).
+    pub concentric: bool,
+}
+
+impl CircleCandidates {
+    /// How many candidates pass (0, 1 or 2).
+    #[inline]
+    pub fn count(&self) -> usize {
+        self.passes[0] as usize + self.passes[1] as usize
+    }
+}
+
+/// The candidates for a point on the circle (centre `c1`, unit normal `n1`,
+/// radius `r1`) and the circle (`c2`, `n2`, `r2`), with their misses, for a
+/// step whose tolerance is `tol` (an absolute distance). See
+/// [`circle_circle`] for how they are found and signed.
+#[allow(clippy::too_many_arguments)]
+pub fn circle_circle_candidates(
+    c1: Vec3,
+    n1: Vec3,
+    r1: f64,
+    c2: Vec3,
+    n2: Vec3,
+    r2: f64,
+    tol: f64,
+) -> CircleCandidates {
+    candidates(c1, n1, r1, c2, n2, r2, tol, c1)
+}
+
+/// [`circle_circle_candidates`], with the point `toward` whose direction
+/// from `c1` the concentric fallback takes (the last frame's point).
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn candidates(
+    c1: Vec3,
+    n1: Vec3,
+    r1: f64,
+    c2: Vec3,
+    n2: Vec3,
+    r2: f64,
+    tol: f64,
+    toward: Vec3,
+) -> CircleCandidates {
+    let m = cross(n1, n2);
+    let m2 = norm2(m);
+    if m2 > COPLANAR * COPLANAR {
+        return skew_candidates(c1, n1, r1, c2, n2, r2, tol, m, m2);
+    }
+    // Parallel planes: solve in circle 1's plane, then lift the result
+    // halfway to circle 2's plane so that a small offset between the planes
+    // is shared by both circles.
+    let z = dot(sub(c2, c1), n1);
+    let lift = scale(n1, 0.5 * z);
+    let mut concentric = false;
+    let points = match coplanar_pair(c1, r1, sub(c2, scale(n1, z)), r2, n1) {
+        Pair::Meet { base, off } => [add(add(base, off), lift), add(sub(base, off), lift)],
+        Pair::Apart { at } => [add(at, lift); 2],
+        Pair::Concentric => {
+            concentric = true;
+            [add(add(c1, scale(in_plane_toward(c1, n1, toward), r1)), lift); 2]
+        }
+    };
+    let miss = |x: Vec3| circle_distance(x, c1, n1, r1) + circle_distance(x, c2, n2, r2);
+    let misses = [miss(points[0]), miss(points[1])];
+    let ok = !concentric;
+    CircleCandidates {
+        points,
+        misses,
+        passes: [ok && misses[0] <= tol, ok && misses[1] <= tol],
+        coplanar: true,
+        concentric,
+    }
+}
+
+/// The candidates of two circles in planes that are not parallel: the
+/// points of the planes' common line ℓ on circle 2, checked against circle
+/// 1. `m = n1 × n2`, `m2 = |m|²`.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn skew_candidates(
+    c1: Vec3,
+    n1: Vec3,
+    r1: f64,
+    c2: Vec3,
+    n2: Vec3,
+    r2: f64,
+    tol: f64,
+    m: Vec3,
+    m2: f64,
+) -> CircleCandidates {
+    let miss = |x: Vec3| circle_distance(x, c1, n1, r1) + circle_distance(x, c2, n2, r2);
+    let t = scale(m, 1.0 / m2.sqrt());
+    // p0, the point of ℓ nearest c1: c1 moved within plane 1 (along
+    // m × n1 = n2 − (n1·n2)·n1) until it reaches plane 2. |m|² stands for
+    // 1 − (n1·n2)², which would cancel for nearly parallel planes.
+    let off1 = scale(cross(m, n1), dot(n2, sub(c2, c1)) / m2);
+    let p0 = add(c1, off1);
+    // Both circles as chords of ℓ, in the parameter τ along t from p0:
+    // circle 1's is centred at 0, circle 2's at s2.
+    let s2 = dot(sub(c2, p0), t);
+    let d2 = norm(sub(c2, add(p0, scale(t, s2))));
+    let h1 = half_chord(r1, norm(off1), tol);
+    let h2 = half_chord(r2, d2, tol);
+    let at = |tau: f64| add(p0, scale(t, tau));
+    // Index 0 is the larger τ (branch + along t). When ℓ misses circle 2,
+    // circle 1's chord ends stand in; when it misses both, the two feet.
+    let taus = match (h2, h1) {
+        (Some(h2), _) => [s2 + h2, s2 - h2],
+        (None, Some(h1)) => [h1, -h1],
+        (None, None) => [s2.max(0.0), s2.min(0.0)],
+    };
+    let mut points = [at(taus[0]), at(taus[1])];
+    let mut misses = [miss(points[0]), miss(points[1])];
+    if let (Some(h2), Some(h1)) = (h2, h1) {
+        // A passing candidate is also an end of circle 1's chord, the one
+        // on its side of 0. Each chord end is computed with an error of
+        // about ε·r²/h (the square root of a difference of squares), so the
+        // two are averaged with weights (h/r²)²: the result is as close to
+        // both circles as the better conditioned chord allows, and moves
+        // continuously as the conditioning changes.
+        let weight = |h: f64, r: f64| if r > 0.0 { (h / (r * r)).powi(2) } else { 0.0 };
+        let (w1, w2) = (weight(h1, r1), weight(h2, r2));
+        for i in 0..2 {
+            if misses[i] > tol {
+                continue;
+            }
+            let tau1 = if taus[i] >= 0.0 { h1 } else { -h1 };
+            let tau = if w1 + w2 > 0.0 {
+                (w1 * tau1 + w2 * taus[i]) / (w1 + w2)
+            } else {
+                0.5 * (tau1 + taus[i])
+            };
+            let x = at(tau);
+            let e = miss(x);
+            // Never worse than circle 2's own chord end.
+            if e <= misses[i] {
+                points[i] = x;
+                misses[i] = e;
+            }
+        }
+    }
+    CircleCandidates {
+        points,
+        misses,
+        passes: [misses[0] <= tol, misses[1] <= tol],
+        coplanar: false,
+        concentric: false,
+    }
+}
+
+/// A point on both the circle (centre `c1`, unit normal `n1`, radius `r1`)
+/// and the circle (`c2`, `n2`, `r2`): the spatial dyad. `tol` is the
+/// distance within which a candidate counts as on both circles.
+///
+/// - **Coplanar** (`|n1 × n2| ≤ 1e-9`): the planar dyad in circle 1's plane
+///   (circle 2's centre projected into it; a small offset between the
+///   planes is split between them). Branch + lies along `n1 × e`, `e` the
+///   direction from `c1` to the projected `c2`. Circles that do not meet,
+///   planes further apart than `tol` or concentric circles break
+///   ([`BreakKind::CirclesApart`]); stretching takes the midpoint of the
+///   closest points (concentric: the point of circle 1 toward `last`).
+/// - **Not coplanar**: the point lies on the planes' common line ℓ (along
+///   `t = unit(n1 × n2)`). The candidates are where ℓ cuts circle 2; a
+///   candidate passes if it is also within `tol` of circle 1.
+///   - both pass (the circles lie on one sphere, as in spherical
+///     mechanisms): branch + is the candidate further along `t`;
+///   - one passes (two circles that touch at one point): it is taken and
+///     `branch` is left unchanged;
+///   - none: the step breaks ([`BreakKind::CirclesApart`], gap = the
+///     smaller miss); stretching returns the candidate that misses least
+///     (circle 1's chord ends stand in when ℓ misses circle 2, the feet of
+///     the centres on ℓ when it misses both).
+///
+/// A passing candidate is refined against circle 1's chord of ℓ so that it
+/// lies on both circles as accurately as their conditioning allows.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn circle_circle(
+    ctx: &mut Ctx,
+    step: StepId,
+    c1: Vec3,
+    n1: Vec3,
+    r1: f64,
+    c2: Vec3,
+    n2: Vec3,
+    r2: f64,
+    tol: f64,
+    branch: &mut Branch,
+    last: &mut Vec3,
+) -> Result<Vec3, Break> {
+    let cand = candidates(c1, n1, r1, c2, n2, r2, tol, *last);
+    let [p, m] = cand.passes;
+    let gap = cand.misses[0].min(cand.misses[1]);
+    if cand.concentric {
+        ctx.fail(step, BreakKind::CirclesApart, gap)?;
+        *last = cand.points[0];
+        return Ok(cand.points[0]);
+    }
+    if cand.coplanar || (p && m) {
+        if !(p || m) {
+            ctx.fail(step, BreakKind::CirclesApart, gap)?;
+        }
+        return Ok(choose(ctx, cand.points[0], cand.points[1], branch, last));
+    }
+    let x = if p {
+        cand.points[0]
+    } else if m {
+        cand.points[1]
+    } else {
+        ctx.fail(step, BreakKind::CirclesApart, gap)?;
+        if cand.misses[0] <= cand.misses[1] {
+            cand.points[0]
+        } else {
+            cand.points[1]
+        }
+    };
+    *last = x;
+    Ok(x)
+}
+
+/// A point on the sphere (centre `cs`, radius `rs`) and the circle (centre
+/// `c`, unit normal `n`, radius `r`).
+///
+/// The sphere cuts the circle's plane in the circle of centre `cs − s·n`
+/// (`s = (cs − c)·n`) and radius `√(rs² − s²)`; the two coplanar circles are
+/// then intersected. Branch + lies along `n × e`, `e` the direction from `c`
+/// toward the projected sphere centre.
+///
+/// If the sphere does not reach the circle (or the projected centre is `c`
+/// itself) the step breaks ([`BreakKind::CirclesApart`]) with the distance
+/// between the sphere and the circle as its gap; stretching returns the
+/// midpoint between the circle's point nearest the sphere and the sphere.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn sphere_circle(
+    ctx: &mut Ctx,
+    step: StepId,
+    cs: Vec3,
+    rs: f64,
+    c: Vec3,
+    n: Vec3,
+    r: f64,
+    branch: &mut Branch,
+    last: &mut Vec3,
+) -> Result<Vec3, Break> {
+    let s = dot(sub(cs, c), n);
+    let cp = sub(cs, scale(n, s));
+    let rho2 = (rs - s.abs()) * (rs + s.abs());
+    let rho = if rho2 >= 0.0 {
+        Some(rho2.sqrt())
+    } else if rho2 >= -TANGENT_TOLERANCE * rs * rs {
+        Some(0.0)
+    } else {
+        None
+    };
+    if let Some(rho) = rho {
+        if let Pair::Meet { base, off } = coplanar_pair(c, r, cp, rho, n) {
+            return Ok(pick(ctx, base, off, branch, last));
+        }
+    }
+    sphere_circle_miss(ctx, step, cs, rs, c, n, r, s, cp, last)
+}
+
+/// [`sphere_circle`] when the sphere misses the circle: the distances from
+/// `cs` to the circle's points range over `[√(s² + (e − r)²), √(s² + (e +
+/// r)²)]` (`e` the distance of the projected centre from `c`); the gap is
+/// how far `rs` is outside that range.
+#[allow(clippy::too_many_arguments)]
+#[cold]
+#[inline(never)]
+fn sphere_circle_miss(
+    ctx: &mut Ctx,
+    step: StepId,
+    cs: Vec3,
+    rs: f64,
+    c: Vec3,
+    n: Vec3,
+    r: f64,
+    s: f64,
+    cp: Vec3,
+    last: &mut Vec3,
+) -> Result<Vec3, Break> {
+    let e_vec = sub(cp, c);
+    let e = norm(e_vec);
+    let near = (s * s + (e - r) * (e - r)).sqrt();
+    let far = (s * s + (e + r) * (e + r)).sqrt();
+    let gap = if rs < near {
+        near - rs
+    } else if rs > far {
+        rs - far
+    } else {
+        // Concentric (every point of the circle is as far from cs), or
+        // round-off at tangency.
+        (rs - near).min(far - rs)
+    };
+    // Whether the sphere is nearer to reaching the circle's near side than
+    // its far side (too small rather than too large).
+    let near_side = rs - near <= far - rs;
+    ctx.fail(step, BreakKind::CirclesApart, gap)?;
+    let u = if e > 0.0 {
+        scale(e_vec, 1.0 / e)
+    } else {
+        in_plane_toward(c, n, *last)
+    };
+    // The circle's point nearest the sphere: toward cs when the sphere is
+    // too small to reach the circle, away from it when too large.
+    let on_circle = if near_side || e == 0.0 {
+        add(c, scale(u, r))
+    } else {
+        sub(c, scale(u, r))
+    };
+    let toward = sub(on_circle, cs);
+    let dn = norm(toward);
+    let on_sphere = if dn > 0.0 {
+        add(cs, scale(toward, rs / dn))
+    } else {
+        on_circle
+    };
+    let x = midpoint(on_circle, on_sphere);
+    *last = x;
+    Ok(x)
+}
+
+/// A point on the line through `p` along the unit vector `d` at distance `r`
+/// from `c` (the line and the sphere). Branch + is the root further along
+/// `d`. A line missing the sphere by round-off (1e-12 relative, on the
+/// squared half-chord) touches it; otherwise the step breaks
+/// ([`BreakKind::LineMissesCircle`], gap = how far the line passes outside
+/// the sphere) and stretching returns the midpoint between the line's point
+/// nearest `c` and the sphere.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn line_sphere(
+    ctx: &mut Ctx,
+    step: StepId,
+    p: Vec3,
+    d: Vec3,
+    c: Vec3,
+    r: f64,
+    branch: &mut Branch,
+    last: &mut Vec3,
+) -> Result<Vec3, Break> {
+    let foot = add(p, scale(d, dot(sub(c, p), d)));
+    let v = sub(foot, c);
+    let off = norm(v);
+    let h2 = (r - off) * (r + off);
+    let h = if h2 >= 0.0 {
+        h2.sqrt()
+    } else if h2 >= -TANGENT_TOLERANCE * r * r {
+        0.0
+    } else {
+        ctx.fail(step, BreakKind::LineMissesCircle, off - r)?;
+        // off > r ≥ 0 here, so the division is safe.
+        let x = midpoint(add(c, scale(v, r / off)), foot);
+        *last = x;
+        return Ok(x);
+    };
+    Ok(pick(ctx, foot, scale(d, h), branch, last))
+}
+
+/// A point on the line through `p` along the unit vector `d` and on the
+/// circle (centre `c`, unit normal `n`, radius `r`); `tol` is the distance
+/// within which a point counts as on the circle.
+///
+/// - The line parallel to the plane (`|d·n| ≤ 1e-9`): it must lie in the
+///   plane within `tol`; the roots are those of the line and the circle in
+///   the plane, branch + further along `d`. A line too far from the plane or
+///   missing the circle breaks ([`BreakKind::LineMissesCircle`], gap = the
+///   distance between the line and the circle); stretching moves the point
+///   halfway to the circle.
+/// - Otherwise the line crosses the plane at one point, which is taken if it
+///   is within `tol` of the circle (`branch` is left unchanged), and breaks
+///   otherwise; stretching returns the midpoint between it and the circle.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn line_circle(
+    ctx: &mut Ctx,
+    step: StepId,
+    p: Vec3,
+    d: Vec3,
+    c: Vec3,
+    n: Vec3,
+    r: f64,
+    tol: f64,
+    branch: &mut Branch,
+    last: &mut Vec3,
+) -> Result<Vec3, Break> {
+    let dn = dot(d, n);
+    if dn.abs() > COPLANAR {
+        let x = add(p, scale(d, dot(sub(c, p), n) / dn));
+        let miss = circle_distance(x, c, n, r);
+        if miss > tol {
+            ctx.fail(step, BreakKind::LineMissesCircle, miss)?;
+            let on_circle = add(c, scale(in_plane_toward(c, n, x), r));
+            let x = midpoint(x, on_circle);
+            *last = x;
+            return Ok(x);
+        }
+        *last = x;
+        return Ok(x);
+    }
+    // The line's point nearest c, its height z above the plane and its
+    // distance from c within the plane.
+    let foot = add(p, scale(d, dot(sub(c, p), d)));
+    let v = sub(foot, c);
+    let z = dot(v, n);
+    let v_in = sub(v, scale(n, z));
+    let off = norm(v_in);
+    let h2 = (r - off) * (r + off);
+    let h = if h2 >= 0.0 {
+        h2.sqrt()
+    } else if h2 >= -TANGENT_TOLERANCE * r * r {
+        0.0
+    } else {
+        let dr = off - r;
+        ctx.fail(step, BreakKind::LineMissesCircle, (dr * dr + z * z).sqrt())?;
+        let x = midpoint(add(c, scale(v_in, r / off)), foot);
+        *last = x;
+        return Ok(x);
+    };
+    let mut base = foot;
+    if z.abs() > tol {
+        ctx.fail(step, BreakKind::LineMissesCircle, z.abs())?;
+        // Halfway down to the circle's plane, above the in-plane roots.
+        base = sub(foot, scale(n, 0.5 * z));
+    }
+    Ok(pick(ctx, base, scale(d, h), branch, last))
+}
+
+/// The point where the line through `p` along the unit vector `d` crosses
+/// the plane through `q` of unit normal `n`. A line parallel to the plane
+/// (`|d·n| ≤ 1e-12`) breaks ([`BreakKind::ParallelLines`], gap = its
+/// distance from the plane); stretching returns the point halfway from `p`
+/// to the plane.
+#[inline]
+pub fn line_plane(ctx: &mut Ctx, step: StepId, p: Vec3, d: Vec3, q: Vec3, n: Vec3) -> Result<Vec3, Break> {
+    let dn = dot(d, n);
+    let z = dot(sub(q, p), n);
+    if dn.abs() <= PARALLEL {
+        ctx.fail(step, BreakKind::ParallelLines, z.abs())?;
+        return Ok(add(p, scale(n, 0.5 * z)));
+    }
+    Ok(add(p, scale(d, z / dn)))
+}
+
+/// A point on the plane through `q` of unit normal `nq` and on the circle
+/// (centre `c`, unit normal `n`, radius `r`): the circle's points on the
+/// line the two planes share. Branch + lies along `nq × n`.
+///
+/// A plane parallel to the circle's (`|nq × n| ≤ 1e-12`) breaks
+/// ([`BreakKind::ParallelLines`], gap = the planes' distance; stretching
+/// returns the circle's point toward `last`, halfway to the plane). A plane
+/// that misses the circle breaks ([`BreakKind::LineMissesCircle`], gap = the
+/// distance from the plane to the circle's nearest point; stretching returns
+/// that point moved halfway to the plane).
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn plane_circle(
+    ctx: &mut Ctx,
+    step: StepId,
+    q: Vec3,
+    nq: Vec3,
+    c: Vec3,
+    n: Vec3,
+    r: f64,
+    branch: &mut Branch,
+    last: &mut Vec3,
+) -> Result<Vec3, Break> {
+    let t = cross(nq, n);
+    let t2 = norm2(t);
+    // Height of the circle's centre above the plane.
+    let zc = dot(sub(c, q), nq);
+    if t2 <= PARALLEL * PARALLEL {
+        ctx.fail(step, BreakKind::ParallelLines, zc.abs())?;
+        let on_circle = add(c, scale(in_plane_toward(c, n, *last), r));
+        let x = sub(on_circle, scale(nq, 0.5 * dot(sub(on_circle, q), nq)));
+        *last = x;
+        return Ok(x);
+    }
+    // w = n × t is nq's component in the circle's plane, |w| = |t|. The
+    // circle's point at angle θ from w has height zc + r·|w|·cos θ, so the
+    // roots are c − zc/|w|²·w ± √(r²|w|² − zc²)/|w|²·t.
+    let w = cross(n, t);
+    let rw = r * t2.sqrt();
+    let h2 = (rw - zc.abs()) * (rw + zc.abs());
+    let h = if h2 >= 0.0 {
+        h2.sqrt()
+    } else if h2 >= -TANGENT_TOLERANCE * rw * rw {
+        0.0
+    } else {
+        ctx.fail(step, BreakKind::LineMissesCircle, zc.abs() - rw)?;
+        let toward = scale(w, -zc.signum() * r / t2.sqrt());
+        let on_circle = add(c, toward);
+        let x = sub(on_circle, scale(nq, 0.5 * dot(sub(on_circle, q), nq)));
+        *last = x;
+        return Ok(x);
+    };
+    let inv_t2 = 1.0 / t2;
+    let base = sub(c, scale(w, zc * inv_t2));
+    Ok(pick(ctx, base, scale(t, h * inv_t2), branch, last))
+}
+
+/// A unit vector `v` on two cones about the unit axes `w1` and `w2` through
+/// the origin: `v·w1 = cos1` and `v·w2 = cos2` (the direction of a link of
+/// a spherical mechanism, or the axis of a body held at two angles).
+///
+/// With `c = w1·w2` and `m = w1 × w2`,
+/// `v = ((cos1 − c·cos2)·w1 + (cos2 − c·cos1)·w2 ± √D·m)/|m|²`, where
+/// `D = (1 − cos1²)·|m|² − (cos2 − c·cos1)²` (the Gram determinant of `w1`,
+/// `w2` and `v`; `|m|²` stands for `1 − c²`, which would cancel for nearly
+/// parallel axes). Branch + lies along `w1 × w2`.
+///
+/// Cones that do not meet break ([`BreakKind::CirclesApart`], gap = the
+/// angle in radians between them, the arc length on the unit sphere);
+/// stretching returns the direction midway between their closest
+/// directions. Axes parallel or opposite (`|m| ≤ 1e-9`) give no isolated
+/// root and break too (stretching: midway toward `last`).
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn cone_cone(
+    ctx: &mut Ctx,
+    step: StepId,
+    w1: Vec3,
+    cos1: f64,
+    w2: Vec3,
+    cos2: f64,
+    branch: &mut Branch,
+    last: &mut Vec3,
+) -> Result<Vec3, Break> {
+    let c = dot(w1, w2);
+    let m = cross(w1, w2);
+    let m2 = norm2(m);
+    if m2 <= COPLANAR * COPLANAR {
+        return cone_cone_coaxial(ctx, step, w1, cos1, c, cos2, last);
+    }
+    let xp = cos1 - c * cos2;
+    let yp = cos2 - c * cos1;
+    let det = (1.0 - cos1) * (1.0 + cos1) * m2 - yp * yp;
+    let root = if det >= 0.0 {
+        det.sqrt()
+    } else if det >= -TANGENT_TOLERANCE * m2 {
+        0.0
+    } else {
+        return cone_cone_apart(ctx, step, w1, cos1, cos2, c, m, m2, last);
+    };
+    let inv_m2 = 1.0 / m2;
+    let base = scale(add(scale(w1, xp), scale(w2, yp)), inv_m2);
+    Ok(pick(ctx, base, scale(m, root * inv_m2), branch, last))
+}
+
+/// The signed angle `a − b` wrapped into (−π, π].
+fn wrap(a: f64, b: f64) -> f64 {
+    use std::f64::consts::{PI, TAU};
+    let d = (a - b).rem_euclid(TAU);
+    if d > PI {
+        d - TAU
+    } else {
+        d
+    }
+}
+
+/// [`cone_cone`] for cones that do not meet. Their closest directions lie
+/// in the plane of the axes (the configuration is symmetric about it): in
+/// that plane, at angles ±α from `w1` (cone 1) and γ ± β (cone 2), γ the
+/// angle from `w1` to `w2`.
+#[allow(clippy::too_many_arguments)]
+#[cold]
+#[inline(never)]
+fn cone_cone_apart(
+    ctx: &mut Ctx,
+    step: StepId,
+    w1: Vec3,
+    cos1: f64,
+    cos2: f64,
+    c: f64,
+    m: Vec3,
+    m2: f64,
+    last: &mut Vec3,
+) -> Result<Vec3, Break> {
+    let mn = m2.sqrt();
+    let alpha = cos1.clamp(-1.0, 1.0).acos();
+    let beta = cos2.clamp(-1.0, 1.0).acos();
+    let gamma = mn.atan2(c);
+    let mut best = (f64::INFINITY, 0.0);
+    for a in [alpha, -alpha] {
+        for b in [gamma + beta, gamma - beta] {
+            let d = wrap(a, b);
+            if d.abs() < best.0 {
+                best = (d.abs(), b + 0.5 * d);
+            }
+        }
+    }
+    ctx.fail(step, BreakKind::CirclesApart, best.0)?;
+    // The unit vector of the axes' plane perpendicular to w1, toward w2.
+    let u = scale(cross(m, w1), 1.0 / mn);
+    let (s, co) = best.1.sin_cos();
+    let x = add(scale(w1, co), scale(u, s));
+    *last = x;
+    Ok(x)
+}
+
+/// [`cone_cone`] for parallel or opposite axes: cone 2 is a cone about `w1`
+/// (of angle β or π − β), so the cones coincide or miss entirely.
+#[cold]
+#[inline(never)]
+fn cone_cone_coaxial(
+    ctx: &mut Ctx,
+    step: StepId,
+    w1: Vec3,
+    cos1: f64,
+    c: f64,
+    cos2: f64,
+    last: &mut Vec3,
+) -> Result<Vec3, Break> {
+    let alpha = cos1.clamp(-1.0, 1.0).acos();
+    let beta = (c.signum() * cos2).clamp(-1.0, 1.0).acos();
+    ctx.fail(step, BreakKind::CirclesApart, (alpha - beta).abs())?;
+    let u = in_plane_toward([0.0; 3], w1, *last);
+    let (s, co) = (0.5 * (alpha + beta)).sin_cos();
+    let x = add(scale(w1, co), scale(u, s));
+    *last = x;
+    Ok(x)
+}
+
+/// The rotation about the unit vector `axis` by the angle φ for which
+/// `(Rot(axis, φ)·v)·w = c`, returned as `(cos φ, sin φ)`: the turn of a
+/// body about a known axis that brings its direction `v` to the angle with
+/// the direction `w` given by `c` (or a point to a plane, with `w` the
+/// plane's normal and `c` its offset).
+///
+/// The condition is `A cos φ + B sin φ = C` with `A = v⊥·w`,
+/// `B = (axis × v)·w`, `C = c − (v·axis)(axis·w)` (`v⊥` the part of `v`
+/// perpendicular to the axis), so φ = atan2(B, A) ± acos(C/√(A² + B²)).
+/// The roots are computed from (cos, sin) pairs, without trigonometry:
+/// with `R² = A² + B²` and `S = √(R² − C²)`, branch + is
+/// `((A·C − B·S)/R², (B·C + A·S)/R²)` and branch − has `S` negated.
+///
+/// - [`BranchPolicy::Nearest`] takes the root nearest φ = 0 (the larger
+///   cosine): the step turns a body that is still in its previous frame's
+///   pose, so the nearest root is the smaller turn. `last` is only written:
+///   the chosen φ in radians, in (−π, π].
+/// - `√(A² + B²)` ≈ 0 (1e-12 of `|v||w|`): the condition does not depend
+///   on φ; it returns the identity (1, 0) if it holds, else breaks.
+/// - `|C| > √(A² + B²)` beyond round-off: [`BreakKind::LineCannotReach`],
+///   gap = `|C| − √(A² + B²)` (in the units of `c`); stretching returns the
+///   closest angle, atan2(B, A) (or that plus π when C < 0).
+#[allow(clippy::too_many_arguments)]
+#[inline]
+pub fn rotation_to_condition(
+    ctx: &mut Ctx,
+    step: StepId,
+    axis: Vec3,
+    v: Vec3,
+    w: Vec3,
+    c: f64,
+    branch: &mut Branch,
+    last: &mut f64,
+) -> Result<(f64, f64), Break> {
+    let va = dot(v, axis);
+    let a = dot(reject(v, axis), w);
+    let b = dot(cross(axis, v), w);
+    let cc = c - va * dot(axis, w);
+    let r2 = a * a + b * b;
+    let r = r2.sqrt();
+    let size = norm(v) * norm(w);
+    let s2 = (r - cc.abs()) * (r + cc.abs());
+    if s2 < 0.0 && cc.abs() - r > TANGENT_TOLERANCE * size {
+        ctx.fail(step, BreakKind::LineCannotReach, cc.abs() - r)?;
+        let (co, si) = if r > TANGENT_TOLERANCE * size {
+            let k = cc.signum() / r;
+            (a * k, b * k)
+        } else {
+            (1.0, 0.0)
+        };
+        *last = si.atan2(co);
+        return Ok((co, si));
+    }
+    if r <= TANGENT_TOLERANCE * size || r2 == 0.0 {
+        *last = 0.0;
+        return Ok((1.0, 0.0));
+    }
+    let s = s2.max(0.0).sqrt();
+    // Normalised by their own lengths so that both are unit pairs to
+    // rounding (C is clamped to ±R at tangency).
+    let cl = cc.clamp(-r, r);
+    let unit_pair = |co: f64, si: f64| {
+        let n = (co * co + si * si).sqrt();
+        (co / n, si / n)
+    };
+    let plus = unit_pair(a * cl - b * s, b * cl + a * s);
+    let minus = unit_pair(a * cl + b * s, b * cl - a * s);
+    if ctx.branch == BranchPolicy::Nearest && plus != minus {
+        *branch = if plus.0 >= minus.0 {
+            Branch::Plus
+        } else {
+            Branch::Minus
+        };
+    }
+    let x = match *branch {
+        Branch::Plus => plus,
+        Branch::Minus => minus,
+    };
+    *last = x.1.atan2(x.0);
+    Ok(x)
+}

@@ -1,0 +1,79 @@
+//! Placing a body once its loci are met: rotations about a point or an axis
+//! and translations, each applied to the body's current pose.
+
+use super::{cross, dot, norm2, reject, sub, Pose3, Rot3, Vec3};
+
+/// A perpendicular shorter than this fraction of its point's distance from
+/// the pivot is rounding, not a direction: the point counts as on the axis.
+const ON_AXIS: f64 = 1e-12;
+
+/// Rotates a body about the world point `pivot` by the minimal rotation
+/// taking the direction `from` to the direction `to` ([`Rot3::minimal`]).
+/// `from` and `to` are directions (of any non-zero length), typically a
+/// marker's world position minus the pivot and its target minus the pivot;
+/// [`rotate_about_point_onto`] takes the points themselves.
+#[inline]
+pub fn rotate_about_point(pose: &mut Pose3, pivot: Vec3, from: Vec3, to: Vec3) {
+    pose.rotate_about(pivot, &Rot3::minimal(from, to));
+}
+
+/// Rotates a body about the world point `pivot` by the minimal rotation that
+/// puts the world point `from` on the ray from `pivot` through the world
+/// point `to` (exactly on `to` when both are as far from the pivot).
+#[inline]
+pub fn rotate_about_point_onto(pose: &mut Pose3, pivot: Vec3, from: Vec3, to: Vec3) {
+    rotate_about_point(pose, pivot, sub(from, pivot), sub(to, pivot));
+}
+
+/// Rotates a body about the line through `pivot` along the unit vector
+/// `axis` by the signed angle (right-handed about `axis`) from the
+/// perpendicular dropped from the world point `from` onto the axis to the
+/// one dropped from the world point `to`. `from` then lies in the half-plane
+/// bounded by the axis that contains `to` (on `to` when both are as far
+/// from the axis and at the same height along it).
+///
+/// If either point is on the axis, the angle is undefined and the body does
+/// not move.
+#[inline]
+pub fn rotate_about_axis_onto(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from: Vec3, to: Vec3) {
+    rotate_about_axis_dir(pose, pivot, axis, sub(from, pivot), sub(to, pivot));
+}
+
+/// Rotates a body about the line through `pivot` along the unit vector
+/// `axis` by the signed angle from the component of the direction
+/// `from_dir` perpendicular to the axis to that of `to_dir`.
+///
+/// If either direction is (to rounding) along the axis, the angle is
+/// undefined and the body does not move.
+#[inline]
+pub fn rotate_about_axis_dir(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from_dir: Vec3, to_dir: Vec3) {
+    let u = reject(from_dir, axis);
+    let v = reject(to_dir, axis);
+    let (u2, v2) = (norm2(u), norm2(v));
+    if u2 <= ON_AXIS * ON_AXIS * norm2(from_dir) || v2 <= ON_AXIS * ON_AXIS * norm2(to_dir) {
+        return;
+    }
+    // cos and sin of the angle scaled by |u||v|: no trigonometry, one square
+    // root to normalise (the pair's own length, so it is a unit pair even if
+    // `axis` is a little off unit length).
+    let c = dot(u, v);
+    let s = dot(cross(u, v), axis);
+    let n = (c * c + s * s).sqrt();
+    if n > 0.0 {
+        rotate_about_axis_angle(pose, pivot, axis, c / n, s / n);
+    }
+}
+
+/// Rotates a body about the line through `pivot` along the unit vector
+/// `axis` by the angle whose cosine and sine are `cos` and `sin`.
+#[inline]
+pub fn rotate_about_axis_angle(pose: &mut Pose3, pivot: Vec3, axis: Vec3, cos: f64, sin: f64) {
+    pose.rotate_about(pivot, &Rot3::about_axis(axis, cos, sin));
+}
+
+/// Translates a body by `to − from`, so that the world point `from` (a
+/// marker's current world position) lands on `to`.
+#[inline]
+pub fn translate_onto(pose: &mut Pose3, from: Vec3, to: Vec3) {
+    pose.translate(sub(to, from));
+}

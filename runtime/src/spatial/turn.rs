@@ -1,0 +1,37 @@
+//! The two rotations of the spatial fragments that set an angle rather
+//! than take one direction onto another: the twist about a joint axis
+//! (angle inputs, offset-x) and the tilt onto a cone (offset-z on a free
+//! rotation).
+
+use super::{cross, dot, norm, perpendicular, scale, unit, Pose3, Rot3, Vec3};
+
+/// The (sin, cos) of the rotation about `axis` that brings the twist of
+/// `x2` about `axis` from `x1` to `target` (radians): the body carrying
+/// `x2` turns by `sign·(target − current)` (`sign` −1 when the body turned
+/// carries `x1` instead, which moves the twist the other way).
+#[inline]
+pub fn twist_correction(axis: Vec3, x1: Vec3, x2: Vec3, target: f64, sign: f64) -> (f64, f64) {
+    let y1 = cross(axis, x1);
+    let current = dot(x2, y1).atan2(dot(x2, x1));
+    (sign * (target - current)).sin_cos()
+}
+
+/// Rotates `pose` about `pivot`, about the axis `from × to`, until the
+/// angle between the body's direction `from` and `to` is acos(`cos`): the
+/// smallest rotation that puts `from` on the cone about `to`. Parallel
+/// directions tilt about a deterministic perpendicular.
+#[inline]
+pub fn tilt(pose: &mut Pose3, pivot: Vec3, from: Vec3, to: Vec3, cos: f64) {
+    let k = cross(from, to);
+    let s = norm(k);
+    let axis = if s > 1e-12 {
+        scale(k, 1.0 / s)
+    } else {
+        perpendicular(from)
+    };
+    let current = s.atan2(dot(from, to));
+    let wanted = cos.clamp(-1.0, 1.0).acos();
+    let turn = current - wanted;
+    let r = Rot3::about_axis(unit(axis), turn.cos(), turn.sin());
+    pose.rotate_about(pivot, &r);
+}
