@@ -753,13 +753,30 @@ fn missing_field() {
 }
 
 #[test]
-fn dimension_three_is_not_supported() {
-    let e = toml_err(&fourbar(&[(1, "name = \"fourbar\"\ndimension = 3")]));
+fn the_planar_loader_points_a_spatial_file_to_load_any() {
+    // `load_str` reads planar files; a 3D file is for `load_any` (the CLI
+    // and build.rs call it), which validates it in 3D: the planar fourbar's
+    // 2-coordinate markers are then the error.
+    let text = fourbar(&[(1, "name = \"fourbar\"\ndimension = 3")]);
+    let e = toml_err(&text);
     assert_one(
         &e,
         "t.toml:2:13",
-        &["dimension 3", "not supported", "help: only planar mechanisms"],
+        &[
+            "spatial mechanism (dimension = 3)",
+            "help: load it with `model::load_any`",
+        ],
     );
+    let e = dofplan::model::load_any_str("t.toml", &text, dofplan::model::Format::Toml)
+        .expect_err("2D markers in a 3D file")
+        .render(false);
+    assert!(e.contains("must have 3 coordinates [x, y, z]"), "{e}");
+}
+
+#[test]
+fn dimension_other_than_two_or_three_is_refused() {
+    let e = toml_err(&fourbar(&[(1, "name = \"fourbar\"\ndimension = 4")]));
+    assert_one(&e, "t.toml:2:13", &["`dimension` must be 2 or 3"]);
 }
 
 // -------------------------------------------------------------------- JSON
@@ -951,7 +968,7 @@ fn integers_and_floats_mix() {
     let ground = &m.bodies[0];
     assert_eq!(ground.markers[1].at, [4.0, 0.0]);
     let sweep = m.sweep.as_ref().unwrap();
-    assert_eq!((sweep.from, sweep.to), (0.0, 360.0));
+    assert_eq!((sweep.primary().from, sweep.primary().to), (0.0, 360.0));
 }
 
 #[test]

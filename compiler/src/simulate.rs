@@ -1,6 +1,8 @@
 //! Running a plan over a sweep and reading the result: marker positions and
 //! the residual of every joint, constraint and input.
 
+pub mod spatial;
+
 use dofplan_runtime::numeric::NewtonReport;
 use dofplan_runtime::planar::{Point, Pose};
 use dofplan_runtime::{Animate, Driver, FrameStatus, Options, Solver};
@@ -43,13 +45,13 @@ pub fn sweep_requests(sweep: &Sweep, inputs: usize) -> impl ExactSizeIterator<It
     let sweep = sweep.clone();
     (0..sweep.steps).map(move |i| {
         let mut requested = vec![0.0; inputs];
-        requested[sweep.input] = sweep.value(i);
+        sweep.set(i, &mut requested);
         requested
     })
 }
 
 /// Drives any solver through `requested` frames.
-pub fn run<S: Solver>(solver: S, options: Options, requested: &[Vec<f64>]) -> Vec<Frame> {
+pub fn run<S: Solver<Pose = Pose>>(solver: S, options: Options, requested: &[Vec<f64>]) -> Vec<Frame> {
     let mut driver = Driver::new(solver, options);
     frames(&mut driver, requested).collect()
 }
@@ -275,13 +277,7 @@ mod tests {
 
     #[test]
     fn frames_are_solved_only_as_they_are_taken() {
-        let sweep = Sweep {
-            input: 0,
-            from: 0.0,
-            to: 1.0,
-            steps: 1_000_000,
-            trace: vec![],
-        };
+        let sweep = Sweep::single(0, 0.0, 1.0, 1_000_000, vec![]);
         let mut driver = counting();
         let taken: Vec<Frame> = frames(&mut driver, sweep_requests(&sweep, 1)).take(3).collect();
         assert_eq!(driver.solved, 3);
@@ -292,13 +288,7 @@ mod tests {
 
     #[test]
     fn sweep_requests_are_the_sweeps_values() {
-        let sweep = Sweep {
-            input: 1,
-            from: -1.0,
-            to: 0.3,
-            steps: 14,
-            trace: vec![],
-        };
+        let sweep = Sweep::single(1, -1.0, 0.3, 14, vec![]);
         let requested: Vec<Vec<f64>> = sweep_requests(&sweep, 3).collect();
         let values = sweep.values();
         assert_eq!(requested.len(), 14);

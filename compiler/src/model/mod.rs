@@ -5,18 +5,22 @@
 mod error;
 mod load;
 pub mod source;
+pub mod spatial;
 
 use dofplan_runtime::Point;
 
 pub use error::{Diagnostic, Location, ModelError, Note, SourceFile};
-pub use load::{load_file, load_str, load_str_drawn, Drawn, Format, DRAWN_TOLERANCE, MAX_STEPS};
+pub use load::{
+    is_spatial_file, load_any, load_any_str, load_file, load_str, load_str_drawn, Drawn, Format, Model,
+    DRAWN_TOLERANCE, MAX_STEPS,
+};
 
 /// A validated mechanism.
 #[derive(Clone, Debug)]
 pub struct Mechanism {
     /// Its name (also the generated module's name).
     pub name: String,
-    /// 2 (planar); 3D mechanisms come with the spatial plan fragments.
+    /// 2: a planar mechanism ([`spatial::Mechanism3`] holds 3D ones).
     pub dimension: u8,
     /// Bodies in file order.
     pub bodies: Vec<Body>,
@@ -32,15 +36,33 @@ pub struct Mechanism {
     pub source: SourceFile,
 }
 
-/// A rigid body.
+/// A rigid body: planar ([`Marker`]s) by default, spatial with
+/// [`spatial::Marker3`]s.
 #[derive(Clone, Debug)]
-pub struct Body {
+pub struct Body<M = Marker> {
     /// Name, unique in the mechanism.
     pub name: String,
     /// Part of the ground.
     pub fixed: bool,
     /// Markers in file order.
-    pub markers: Vec<Marker>,
+    pub markers: Vec<M>,
+}
+
+/// What the loader and the reports need of a marker of either dimension.
+pub trait MarkerLike: Clone {
+    /// Its name, unique on its body.
+    fn name(&self) -> &str;
+    /// Its drawn world coordinates (2 or 3 of them).
+    fn coords(&self) -> &[f64];
+}
+
+impl MarkerLike for Marker {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn coords(&self) -> &[f64] {
+        &self.at
+    }
 }
 
 /// A named point on a body, optionally with a direction.
@@ -152,46 +174,84 @@ pub struct Input {
 
 pub use dofplan_runtime::planar::InputKind;
 
-/// A sweep of one input.
-#[derive(Clone, Debug)]
-pub struct Sweep {
-    /// Index into [`Mechanism::inputs`]; the other inputs stay at 0.
+/// One input of a sweep and the range it moves over.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Swept {
+    /// Index into the mechanism's inputs.
     pub input: usize,
     /// First value.
     pub from: f64,
     /// Last value.
     pub to: f64,
-    /// Number of values, both ends included.
+}
+
+/// A sweep: one input (`input`, `from`, `to` in the file) or several moved
+/// together linearly (`inputs = { name = [from, to], ... }`); the inputs it
+/// does not list stay at 0.
+#[derive(Clone, Debug)]
+pub struct Sweep {
+    /// The swept inputs, in file order (at least one).
+    pub inputs: Vec<Swept>,
+    /// Number of frames, both ends included.
     pub steps: usize,
     /// Markers whose paths are drawn.
     pub trace: Vec<MarkerId>,
 }
 
 impl Sweep {
-    /// The input values: `steps` evenly spaced values from `from` to `to`,
-    /// both included.
+    /// A sweep of one input.
+    pub fn single(input: usize, from: f64, to: f64, steps: usize, trace: Vec<MarkerId>) -> Sweep {
+        Sweep {
+            inputs: vec![Swept { input, from, to }],
+            steps,
+            trace,
+        }
+    }
+
+    /// The first swept input (the only one of a single-input sweep): what a
+    /// plot's horizontal axis shows.
+    pub fn primary(&self) -> &Swept {
+        &self.inputs[0]
+    }
+
+    /// The primary input's values: `steps` evenly spaced values from `from`
+    /// to `to`, both included.
     pub fn values(&self) -> Vec<f64> {
         (0..self.steps).map(|i| self.value(i)).collect()
     }
 
-    /// The `i`-th of [`values`](Sweep::values), computed alone so a long
-    /// sweep can be run without holding all of them.
+    /// The `i`-th of the primary input's [`values`](Sweep::values).
     pub fn value(&self, i: usize) -> f64 {
+        let s = self.primary();
+        self.value_of(s, i)
+    }
+
+    /// Writes frame `i`'s value of every swept input into `inputs` (one
+    /// slot per input of the mechanism; the others are left as they are).
+    pub fn set(&self, i: usize, inputs: &mut [f64]) {
+        for s in &self.inputs {
+            inputs[s.input] = self.value_of(s, i);
+        }
+    }
+
+    /// The `i`-th value of one swept input, computed alone so a long sweep
+    /// can be run without holding all of them.
+    pub fn value_of(&self, s: &Swept, i: usize) -> f64 {
         if self.steps <= 1 || i == 0 {
-            self.from
+            s.from
         } else if i + 1 >= self.steps {
             // Exactly `to`, not `from` plus a rounded difference.
-            self.to
+            s.to
         } else {
             let n = (self.steps - 1) as f64;
             // Ends far apart (0 to 1e308, or −1e308 to 1e308) overflow
             // `(to − from)·i`: interpolate without it then.
-            let along = (self.to - self.from) * (i as f64);
+            let along = (s.to - s.from) * (i as f64);
             if along.is_finite() {
-                self.from + along / n
+                s.from + along / n
             } else {
                 let t = i as f64 / n;
-                self.from * (1.0 - t) + self.to * t
+                s.from * (1.0 - t) + s.to * t
             }
         }
     }

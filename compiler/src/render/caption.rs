@@ -95,7 +95,7 @@ pub(super) fn titles(
     let plural = if n == 1 { "frame" } else { "frames" };
     let title = format!("{} \u{2014} {n} {plural}, {status}", m.name);
 
-    let input = m.sweep.as_ref().map(|s| s.input).unwrap_or(0);
+    let input = m.sweep.as_ref().map(|s| s.primary().input).unwrap_or(0);
     // Frames of a drag carry targets, not the mechanism's inputs.
     let of_inputs = frames[0].requested.len() == m.inputs.len();
     let at = match m.inputs.get(input).filter(|_| of_inputs) {

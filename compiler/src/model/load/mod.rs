@@ -12,8 +12,12 @@ use dofplan_runtime::Point;
 
 use super::error::{Diagnostic, Location, ModelError, Note, SourceFile};
 use super::source::{parse_json, parse_toml, Key, Node, NodeKind};
+mod spatial;
+
+use super::spatial::Mechanism3;
 use super::{
-    Body, Constraint, ConstraintKind, Input, InputKind, Joint, JointKind, Marker, MarkerId, Mechanism, Sweep,
+    Body, Constraint, ConstraintKind, Input, InputKind, Joint, JointKind, Marker, MarkerId, MarkerLike,
+    Mechanism, Sweep, Swept,
 };
 use crate::analysis::conflict::{self, Open};
 
@@ -51,13 +55,20 @@ impl Format {
     }
 }
 
-/// Reads and validates a mechanism file.
+/// Reads and validates a (planar) mechanism file.
 pub fn load_file(path: &Path) -> Result<Mechanism, ModelError> {
     let name = path.display().to_string();
+    let text = read_text(path, &name)?;
+    load_str(&name, &text, Format::of_path(path))
+}
+
+/// Reads a file as UTF-8 text, with an error that tells a wrong path from a
+/// file that is not text.
+fn read_text(path: &Path, name: &str) -> Result<String, ModelError> {
     let unread = |location: Location, message: String, help: &str| ModelError {
         diagnostics: vec![Diagnostic {
             file: SourceFile {
-                name: name.clone(),
+                name: name.to_string(),
                 text: Arc::from(""),
             },
             location,
@@ -96,8 +107,7 @@ pub fn load_file(path: &Path) -> Result<Mechanism, ModelError> {
             "mechanism files are TOML or JSON text in UTF-8: is this the right file? (re-save it as UTF-8 if it is)",
         ));
     }
-    let text = String::from_utf8(bytes).expect("checked above");
-    load_str(&name, &text, Format::of_path(path))
+    Ok(String::from_utf8(bytes).expect("checked above"))
 }
 
 /// What every mechanism file needs, for errors about files with nothing in
@@ -105,6 +115,74 @@ pub fn load_file(path: &Path) -> Result<Mechanism, ModelError> {
 const WHAT_A_FILE_NEEDS: &str =
     "a mechanism file needs a `name`, `bodies` (one of them `fixed = true`) with \
      their `markers`, and `joints`; `inputs` and a `sweep` drive it (see mechanisms/fourbar.toml)";
+
+/// A validated mechanism of either dimension.
+#[derive(Clone, Debug)]
+pub enum Model {
+    /// A planar mechanism (`dimension` absent or 2).
+    Planar(Mechanism),
+    /// A spatial mechanism (`dimension = 3`).
+    Spatial(Mechanism3),
+}
+
+impl Model {
+    /// The mechanism's name.
+    pub fn name(&self) -> &str {
+        match self {
+            Model::Planar(m) => &m.name,
+            Model::Spatial(m) => &m.name,
+        }
+    }
+
+    /// 2 or 3.
+    pub fn dimension(&self) -> u8 {
+        match self {
+            Model::Planar(_) => 2,
+            Model::Spatial(_) => 3,
+        }
+    }
+}
+
+/// Whether a file says `dimension = 3` at its top level (it is parsed, not
+/// validated; a file that cannot be read or parsed is not).
+pub fn is_spatial_file(path: &Path) -> bool {
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return false;
+    };
+    let Ok((_, root)) = parse("", &text, Format::of_path(path)) else {
+        return false;
+    };
+    matches!(&root.kind, NodeKind::Table(top)
+        if matches!(Validator::get(top, "dimension").map(|d| &d.kind), Some(NodeKind::Int(3))))
+}
+
+/// Reads and validates a mechanism file of either dimension.
+pub fn load_any(path: &Path) -> Result<Model, ModelError> {
+    let name = path.display().to_string();
+    let text = read_text(path, &name)?;
+    load_any_str(&name, &text, Format::of_path(path))
+}
+
+/// Validates a mechanism of either dimension given as text; `file_name` is
+/// used in errors.
+pub fn load_any_str(file_name: &str, text: &str, format: Format) -> Result<Model, ModelError> {
+    let (file, root) = parse(file_name, text, format)?;
+    let spatial = match &root.kind {
+        NodeKind::Table(top) => matches!(
+            Validator::get(top, "dimension").map(|d| &d.kind),
+            Some(NodeKind::Int(3))
+        ),
+        _ => false,
+    };
+    if !spatial {
+        return load_str(file_name, text, format).map(Model::Planar);
+    }
+    let mut v = Validator::new(file);
+    match v.mechanism3(&root) {
+        Some(m) if v.diags.is_empty() => Ok(Model::Spatial(m)),
+        _ => Err(ModelError { diagnostics: v.diags }),
+    }
+}
 
 /// Validates a mechanism given as text; `file_name` is used in errors.
 pub fn load_str(file_name: &str, text: &str, format: Format) -> Result<Mechanism, ModelError> {
@@ -149,11 +227,9 @@ impl Drawn {
     }
 }
 
-/// Validates a mechanism given as text like [`load_str`], but returns it
-/// even when joints or constraints do not hold in the drawn pose (with
-/// those errors). Every other error (syntax, unknown names, kinds...) is
-/// still an error.
-pub fn load_str_drawn(file_name: &str, text: &str, format: Format) -> Result<Drawn, ModelError> {
+/// Parses a file into its node tree, with the errors every file can have
+/// (empty, syntax, nothing defined).
+fn parse(file_name: &str, text: &str, format: Format) -> Result<(SourceFile, Node), ModelError> {
     let file = SourceFile {
         name: file_name.to_string(),
         text: Arc::from(text),
@@ -224,15 +300,16 @@ pub fn load_str_drawn(file_name: &str, text: &str, format: Format) -> Result<Dra
             }],
         });
     }
-    let mut v = Validator {
-        file,
-        diags: Vec::new(),
-        broken: HashSet::new(),
-        open: Vec::new(),
-        places: Vec::new(),
-        size: None,
-        names: None,
-    };
+    Ok((file, root))
+}
+
+/// Validates a mechanism given as text like [`load_str`], but returns it
+/// even when joints or constraints do not hold in the drawn pose (with
+/// those errors). Every other error (syntax, unknown names, kinds...) is
+/// still an error.
+pub fn load_str_drawn(file_name: &str, text: &str, format: Format) -> Result<Drawn, ModelError> {
+    let (file, root) = parse(file_name, text, format)?;
+    let mut v = Validator::new(file);
     let mechanism = v.mechanism(&root);
     match mechanism {
         // Only joints open in the drawn pose (or none): the assembly check
@@ -286,6 +363,18 @@ struct Validator {
 }
 
 impl Validator {
+    fn new(file: SourceFile) -> Validator {
+        Validator {
+            file,
+            diags: Vec::new(),
+            broken: HashSet::new(),
+            open: Vec::new(),
+            places: Vec::new(),
+            size: None,
+            names: None,
+        }
+    }
+
     fn loc(&self, node: &Node, path: &str) -> Location {
         match &node.span {
             Some(s) => Location::Span(s.clone()),
@@ -503,18 +592,18 @@ impl Validator {
                     let loc = self.loc(d, "dimension");
                     self.error(
                         loc,
-                        "dimension 3 (spatial mechanisms) is not supported yet".into(),
-                        Some("only planar mechanisms (dimension = 2) can be planned today".into()),
+                        "this is a spatial mechanism (dimension = 3), and this reads planar ones".into(),
+                        Some("load it with `model::load_any` (the CLI and build.rs do)".into()),
                     );
                 }
                 _ => {
                     let loc = self.loc(d, "dimension");
-                    self.error(loc, "`dimension` must be 2".into(), None);
+                    self.error(loc, "`dimension` must be 2 or 3".into(), None);
                 }
             }
         }
         let bodies = match self.required(top, "bodies", root, "") {
-            Some(n) => self.bodies(n),
+            Some(n) => self.bodies(n, Self::marker),
             None => Vec::new(),
         };
         let empty = Node {
@@ -559,7 +648,12 @@ impl Validator {
         Some(mechanism)
     }
 
-    fn bodies(&mut self, node: &Node) -> Vec<Body> {
+    /// Reads `[bodies]`, each marker by `read` (the dimension's form).
+    fn bodies<M: MarkerLike>(
+        &mut self,
+        node: &Node,
+        read: fn(&mut Self, &str, &str, &Node, &str) -> Option<M>,
+    ) -> Vec<Body<M>> {
         let Some(entries) = self.table(node, "bodies") else {
             return Vec::new();
         };
@@ -605,7 +699,7 @@ impl Validator {
                     for (mkey, m) in mentries {
                         let p = join(&mpath, &mkey.name);
                         self.check_name(mkey, &p, "marker");
-                        match self.marker(&key.name, &mkey.name, m, &p) {
+                        match read(self, &key.name, &mkey.name, m, &p) {
                             Some(marker) => markers.push(marker),
                             None => {
                                 self.broken.insert(format!("{}.{}", key.name, mkey.name));
@@ -623,12 +717,7 @@ impl Validator {
         // The bounding box's diagonal by `hypot`, which cannot underflow
         // (squares of 1e-300 are 0). Markers that all coincide (extent 0)
         // are a degenerate drawing, not a scale.
-        let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-        for p in bodies.iter().flat_map(|b| &b.markers).map(|m| m.at) {
-            lo = [lo[0].min(p[0]), lo[1].min(p[1])];
-            hi = [hi[0].max(p[0]), hi[1].max(p[1])];
-        }
-        let extent = (hi[0] - lo[0]).hypot(hi[1] - lo[1]);
+        let extent = extent(bodies.iter().flat_map(|b| &b.markers).map(|m| m.coords()));
         if extent > 0.0 && extent < MIN_EXTENT {
             let loc = self.loc(node, "bodies");
             self.error(
@@ -726,7 +815,12 @@ impl Validator {
     }
 
     /// Resolves "body.marker".
-    fn marker_ref(&mut self, w: &Written, bodies: &[Body], owner: &str) -> Option<MarkerId> {
+    fn marker_ref<M: MarkerLike>(
+        &mut self,
+        w: &Written,
+        bodies: &[Body<M>],
+        owner: &str,
+    ) -> Option<MarkerId> {
         let text = self.string(w.node, &w.path)?;
         let loc = self.loc(w.node, &w.path);
         let Some((b, m)) = text.split_once('.') else {
@@ -743,7 +837,7 @@ impl Validator {
             for (bi, body) in bodies.iter().enumerate() {
                 by_name.entry(body.name.clone()).or_insert(bi);
                 for (mi, marker) in body.markers.iter().enumerate() {
-                    markers.entry((bi, marker.name.clone())).or_insert(mi);
+                    markers.entry((bi, marker.name().to_string())).or_insert(mi);
                 }
             }
             (by_name, markers)
@@ -766,7 +860,7 @@ impl Validator {
             if self.broken.contains(b) || self.broken.contains(text) {
                 return None;
             }
-            let names: Vec<_> = bodies[bi].markers.iter().map(|m| m.name.as_str()).collect();
+            let names: Vec<_> = bodies[bi].markers.iter().map(|m| m.name()).collect();
             self.error(
                 loc,
                 format!("{owner}: body `{b}` has no marker `{m}`"),
@@ -778,12 +872,12 @@ impl Validator {
     }
 
     /// The two markers of a joint or constraint.
-    fn pair(
+    fn pair<M: MarkerLike>(
         &mut self,
         fields: &[(Key, Node)],
         node: &Node,
         path: &str,
-        bodies: &[Body],
+        bodies: &[Body<M>],
         owner: &str,
     ) -> Option<[MarkerId; 2]> {
         let mnode = self.required(fields, "markers", node, path)?;
@@ -857,13 +951,15 @@ impl Validator {
     /// Walks `[joints]` or `[constraints]`: every entry is a table with a
     /// `kind` among `kinds` and two `markers`. Calls `check` with the kind
     /// and the resolved markers; entries it accepts are returned.
-    fn connections<T>(
+    #[allow(clippy::too_many_arguments)]
+    fn connections<T, M: MarkerLike>(
         &mut self,
         node: &Node,
-        bodies: &[Body],
+        bodies: &[Body<M>],
         section: &str,
         what: &str,
         kinds: &[&str],
+        extra: &[&str],
         mut check: impl FnMut(&mut Self, &str, [MarkerId; 2], &Node, &str, &str) -> Option<T>,
     ) -> Vec<(String, T, [MarkerId; 2], Node)> {
         let Some(entries) = self.table(node, section) else {
@@ -878,7 +974,8 @@ impl Validator {
             let Some(fields) = self.table(entry, &path) else {
                 continue;
             };
-            self.check_keys(fields, &["kind", "markers"], &path);
+            let allowed: Vec<&str> = ["kind", "markers"].iter().chain(extra).copied().collect();
+            self.check_keys(fields, &allowed, &path);
             let kind = self.kind(fields, entry, &path, kinds, &owner);
             let pair = self.pair(fields, entry, &path, bodies, &owner);
             let (Some((kind, _)), Some(markers)) = (kind, pair) else {
@@ -898,6 +995,7 @@ impl Validator {
             "joints",
             "joint",
             &["revolute", "prismatic"],
+            &[],
             |v, kind, markers, entry, path, owner| match kind {
                 "revolute" => v
                     .check_coincident(markers, bodies, entry, path, owner)
@@ -920,6 +1018,7 @@ impl Validator {
             "constraints",
             "constraint",
             &["coincident", "in-line", "offset"],
+            &[],
             |v, kind, markers, entry, path, owner| match kind {
                 "coincident" => v
                     .check_coincident(markers, bodies, entry, path, owner)
@@ -1207,18 +1306,14 @@ impl Validator {
         node: &Node,
         inputs: &[Input],
         written_inputs: &[&str],
-        bodies: &[Body],
+        bodies: &[Body<impl MarkerLike>],
     ) -> Option<Sweep> {
         let fields = self.table(node, "sweep")?;
-        self.check_keys(fields, &["input", "from", "to", "steps", "trace"], "sweep");
-        let inode = self.required(fields, "input", node, "sweep");
-        let input = inode.and_then(|n| self.string(n, "sweep.input").map(|s| (s, n)));
-        let from = self
-            .required(fields, "from", node, "sweep")
-            .and_then(|n| self.number(n, "sweep.from"));
-        let to = self
-            .required(fields, "to", node, "sweep")
-            .and_then(|n| self.number(n, "sweep.to"));
+        self.check_keys(
+            fields,
+            &["input", "from", "to", "inputs", "steps", "trace"],
+            "sweep",
+        );
         let steps = match self.required(fields, "steps", node, "sweep") {
             Some(n) => match n.kind {
                 NodeKind::Int(i) if (1..=MAX_STEPS).contains(&i) => Some(i as usize),
@@ -1263,34 +1358,148 @@ impl Validator {
                 }
             }
         }
-        let (name, inode) = input?;
-        let Some(index) = inputs.iter().position(|i| i.name == name) else {
-            // An input that was written but failed validation has its own
-            // error already.
-            if written_inputs.contains(&name) {
-                return None;
+        let swept = match Self::get(fields, "inputs") {
+            Some(many) => {
+                // Both forms at once would leave it unclear which range wins.
+                if let Some((k, _)) = fields
+                    .iter()
+                    .find(|(k, _)| ["input", "from", "to"].contains(&k.name.as_str()))
+                {
+                    let loc = self.key_loc(k, &join("sweep", &k.name));
+                    self.error(
+                        loc,
+                        format!("`sweep.{}` cannot stand beside `sweep.inputs`", k.name),
+                        Some(
+                            "sweep one input with input/from/to, or several with inputs = { name = [from, to], ... }"
+                                .into(),
+                        ),
+                    );
+                    return None;
+                }
+                self.swept_many(many, inputs, written_inputs)?
             }
-            let loc = self.loc(inode, "sweep.input");
-            let names: Vec<_> = inputs.iter().map(|i| i.name.as_str()).collect();
-            self.error(
-                loc,
-                format!("the sweep drives input `{name}`, which does not exist"),
-                Some(if names.is_empty() {
-                    "declare it under [inputs]".into()
-                } else {
-                    format!("inputs are: {}", names.join(", "))
-                }),
-            );
-            return None;
+            None => {
+                let inode = self.required(fields, "input", node, "sweep");
+                let input = inode.and_then(|n| self.string(n, "sweep.input").map(|s| (s, n)));
+                let from = self
+                    .required(fields, "from", node, "sweep")
+                    .and_then(|n| self.number(n, "sweep.from"));
+                let to = self
+                    .required(fields, "to", node, "sweep")
+                    .and_then(|n| self.number(n, "sweep.to"));
+                let (name, inode) = input?;
+                let index = self.swept_input(name, inode, "sweep.input", inputs, written_inputs)?;
+                vec![Swept {
+                    input: index,
+                    from: from?,
+                    to: to?,
+                }]
+            }
         };
         Some(Sweep {
-            input: index,
-            from: from?,
-            to: to?,
+            inputs: swept,
             steps: steps?,
             trace,
         })
     }
+
+    /// `sweep.inputs = { name = [from, to], ... }`: several inputs moved
+    /// together.
+    fn swept_many(&mut self, node: &Node, inputs: &[Input], written_inputs: &[&str]) -> Option<Vec<Swept>> {
+        let entries = self.table(node, "sweep.inputs")?;
+        self.check_keys(entries, &[], "sweep.inputs");
+        if entries.is_empty() {
+            let loc = self.loc(node, "sweep.inputs");
+            self.error(
+                loc,
+                "`sweep.inputs` names no input".into(),
+                Some("write inputs = { name = [from, to], ... }".into()),
+            );
+            return None;
+        }
+        let mut out = Vec::new();
+        let mut ok = true;
+        for (key, range) in entries {
+            let path = join("sweep.inputs", &key.name);
+            let key_node = Node {
+                span: key.span.clone(),
+                kind: NodeKind::Str(key.name.clone()),
+            };
+            let index = self.swept_input(&key.name, &key_node, &path, inputs, written_inputs);
+            let ends = match &range.kind {
+                NodeKind::Array(items) if items.len() == 2 => {
+                    let from = self.number(&items[0], &format!("{path}[0]"));
+                    let to = self.number(&items[1], &format!("{path}[1]"));
+                    from.zip(to)
+                }
+                other => {
+                    let loc = self.loc(range, &path);
+                    self.error(
+                        loc,
+                        format!("`{path}` must be [from, to], found {}", other.type_name()),
+                        None,
+                    );
+                    None
+                }
+            };
+            match (index, ends) {
+                (Some(input), Some((from, to))) => out.push(Swept { input, from, to }),
+                _ => ok = false,
+            }
+        }
+        ok.then_some(out)
+    }
+
+    /// The index of the input a sweep names.
+    fn swept_input(
+        &mut self,
+        name: &str,
+        node: &Node,
+        path: &str,
+        inputs: &[Input],
+        written_inputs: &[&str],
+    ) -> Option<usize> {
+        if let Some(index) = inputs.iter().position(|i| i.name == name) {
+            return Some(index);
+        }
+        // An input that was written but failed validation has its own
+        // error already.
+        if written_inputs.contains(&name) {
+            return None;
+        }
+        let loc = self.loc(node, path);
+        let names: Vec<_> = inputs.iter().map(|i| i.name.as_str()).collect();
+        self.error(
+            loc,
+            format!("the sweep drives input `{name}`, which does not exist"),
+            Some(if names.is_empty() {
+                "declare it under [inputs]".into()
+            } else {
+                format!("inputs are: {}", names.join(", "))
+            }),
+        );
+        None
+    }
+}
+
+/// The diagonal of the bounding box of `points` (of any dimension), by
+/// `hypot`, which cannot underflow (squares of 1e-300 are 0); 0 for no
+/// points.
+pub(crate) fn extent<'p>(points: impl Iterator<Item = &'p [f64]>) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    let mut any = false;
+    for p in points {
+        any = true;
+        for (k, c) in p.iter().enumerate() {
+            lo[k] = lo[k].min(*c);
+            hi[k] = hi[k].max(*c);
+        }
+    }
+    if !any {
+        return 0.0;
+    }
+    let span = |k: usize| if hi[k] >= lo[k] { hi[k] - lo[k] } else { 0.0 };
+    span(0).hypot(span(1)).hypot(span(2))
 }
 
 fn join(path: &str, key: &str) -> String {
