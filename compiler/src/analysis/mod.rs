@@ -7,6 +7,7 @@ pub mod equations;
 pub mod mobility;
 mod planner;
 pub mod rank;
+pub mod spatial;
 
 use std::fmt;
 

@@ -53,7 +53,7 @@ pub struct RankMobility {
 }
 
 /// One row of the Jacobian: (column, value) of its nonzero entries.
-type SparseRow = Vec<(usize, f64)>;
+pub(crate) type SparseRow = Vec<(usize, f64)>;
 
 /// Mobility of the mechanism with its inputs released, by Jacobian rank.
 pub fn rank_mobility(m: &Mechanism) -> RankMobility {
@@ -215,7 +215,7 @@ fn jacobian_rows(row: &ClusterRow, column: &[Option<usize>], size: f64) -> Vec<S
 /// columns of younger rows, so a heap of row numbers orders the work); what
 /// is left is either a new kept row or, below the tolerance, a dependent
 /// row.
-struct Echelon {
+pub(crate) struct Echelon {
     /// Kept rows (pivot entry included).
     rows: Vec<SparseRow>,
     /// Each kept row's pivot column and value.
@@ -234,7 +234,7 @@ struct Echelon {
 }
 
 impl Echelon {
-    fn new(columns: usize, tolerance: f64) -> Echelon {
+    pub(crate) fn new(columns: usize, tolerance: f64) -> Echelon {
         Echelon {
             rows: Vec::new(),
             pivots: Vec::new(),
@@ -249,7 +249,7 @@ impl Echelon {
         }
     }
 
-    fn rank(&self) -> usize {
+    pub(crate) fn rank(&self) -> usize {
         self.rows.len()
     }
 
@@ -270,7 +270,7 @@ impl Echelon {
 
     /// Adds a row: true if it raises the rank, false if the rows before it
     /// span it (to the tolerance).
-    fn add(&mut self, row: &SparseRow) -> bool {
+    pub(crate) fn add(&mut self, row: &SparseRow) -> bool {
         for &(c, v) in row {
             self.touch(c);
             self.work[c] += v;

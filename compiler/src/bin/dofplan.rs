@@ -17,6 +17,11 @@ use dofplan::analysis::rank::rank_mobility_with;
 use dofplan::analysis::{analyse_with, Analysis, Class, Mobility};
 use dofplan::assemble::assemble_file;
 use dofplan::emit::emit;
+use dofplan::model::spatial::Mechanism3;
+use dofplan::model::Model;
+
+#[path = "cli/spatial.rs"]
+mod spatial;
 use dofplan::interp::Interpreter;
 use dofplan::model::{MarkerId, Mechanism, Sweep, MAX_STEPS};
 use dofplan::numeric::drag::Drag;
@@ -48,7 +53,12 @@ enum Command {
     Check {
         /// Mechanism file (TOML, or JSON with a .json extension).
         file: PathBuf,
+        /// Print one JSON object (spatial files) instead of text.
+        #[arg(long)]
+        json: bool,
     },
+    /// Print the spatial plan-fragment table the planner reads.
+    Fragments,
     /// Print the explained plan, one line per step.
     Plan {
         /// Mechanism file.
@@ -245,8 +255,22 @@ fn main() -> ExitCode {
 /// is reported on standard error and gives a failing code; an `Err` is a
 /// failure to write the output.
 fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
+    if let Some(m) = spatial_file(&command) {
+        return spatial_command(command, &m, out);
+    }
     match command {
-        Command::Check { file } => check(&file, out),
+        Command::Fragments => spatial::fragments(out),
+        Command::Check { file, json } => {
+            if json {
+                error(
+                    &file.display().to_string(),
+                    "`check --json` covers spatial files so far",
+                    "run `dofplan check FILE` for the text report of a planar file",
+                );
+                return Ok(ExitCode::FAILURE);
+            }
+            check(&file, out)
+        }
         Command::Plan { file } => with_plan(&file, |_, plan| {
             write!(out, "{}", plan.explain_all())?;
             Ok(ExitCode::SUCCESS)
@@ -315,6 +339,106 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
             simulate(m, plan, &sweep, options, solver, form, svg.as_deref(), out)
         }),
         Command::Assemble { file, write } => assemble(&file, write, out),
+    }
+}
+
+/// The spatial mechanism a command's file holds, if it is one (loaded and
+/// validated; a 3D file that fails validation is reported here).
+fn spatial_file(command: &Command) -> Option<Result<Mechanism3, ()>> {
+    let file = match command {
+        Command::Check { file, .. }
+        | Command::Plan { file }
+        | Command::Emit { file }
+        | Command::Simulate { file, .. }
+        | Command::Drag { file, .. }
+        | Command::Assemble { file, .. } => file,
+        Command::Fragments => return None,
+    };
+    if !dofplan::model::is_spatial_file(file) {
+        return None;
+    }
+    Some(match dofplan::model::load_any(file) {
+        Ok(Model::Spatial(m)) => Ok(m),
+        Ok(Model::Planar(_)) => return None,
+        Err(e) => {
+            report(&e.render(colour()));
+            Err(())
+        }
+    })
+}
+
+/// Runs a command on a spatial file.
+fn spatial_command(
+    command: Command,
+    m: &Result<Mechanism3, ()>,
+    out: &mut dyn Write,
+) -> io::Result<ExitCode> {
+    let Ok(m) = m else {
+        return Ok(ExitCode::FAILURE);
+    };
+    match command {
+        Command::Check { json, .. } => spatial::check(m, json, out),
+        Command::Plan { .. } => spatial::plan(m, out),
+        Command::Simulate {
+            input,
+            from,
+            to,
+            steps,
+            policy,
+            branch,
+            json,
+            csv,
+            svg,
+            ..
+        } => {
+            if svg.is_some() {
+                error(
+                    &m.source.name,
+                    "drawing spatial sweeps (--svg) is not supported yet",
+                    "write the frames with --json or --csv and plot them",
+                );
+                return Ok(ExitCode::FAILURE);
+            }
+            let sweep = match sweep_to_run(m, input.as_deref(), from, to, steps.map(|n| n as usize)) {
+                Ok(sweep) => sweep,
+                Err((message, help)) => {
+                    error(&m.source.name, &message, &help);
+                    return Ok(ExitCode::FAILURE);
+                }
+            };
+            let plan = match dofplan::analysis::spatial::analyse(m) {
+                Ok(p) => p,
+                Err(e) => {
+                    report(&format!("{}: error: {e}", m.source.name));
+                    return Ok(ExitCode::FAILURE);
+                }
+            };
+            let options = Options {
+                breaking: policy.into(),
+                branch: match branch {
+                    BranchArg::Keep => BranchPolicy::Keep,
+                    BranchArg::Nearest => BranchPolicy::Nearest,
+                },
+                ..Options::default()
+            };
+            let form = if json {
+                spatial::Form3::Json
+            } else if csv {
+                spatial::Form3::Csv
+            } else {
+                spatial::Form3::Text
+            };
+            spatial::simulate(m, &plan, &sweep, options, form, out)
+        }
+        Command::Emit { .. } | Command::Drag { .. } | Command::Assemble { .. } => {
+            error(
+                &m.source.name,
+                "this command does not take spatial (dimension = 3) files yet",
+                "check, plan and simulate do: `dofplan simulate FILE --json`",
+            );
+            Ok(ExitCode::FAILURE)
+        }
+        Command::Fragments => spatial::fragments(out),
     }
 }
 
@@ -582,40 +706,48 @@ fn check(file: &Path, out: &mut dyn Write) -> io::Result<ExitCode> {
 /// overrides, or one made of them alone. An error is a message and what to
 /// do.
 fn sweep_to_run(
-    m: &Mechanism,
+    m: &dyn SweepSource,
     input: Option<&str>,
     from: Option<f64>,
     to: Option<f64>,
     steps: Option<usize>,
 ) -> Result<Sweep, (String, String)> {
     let names = || {
-        m.inputs
+        m.inputs()
             .iter()
             .map(|i| i.name.as_str())
             .collect::<Vec<_>>()
             .join(", ")
     };
-    if m.inputs.is_empty() {
+    if m.inputs().is_empty() {
         return Err((
             "the file has no inputs to simulate".into(),
             format!(
                 "drag a marker instead (`dofplan drag {} --marker BODY.MARKER --to X,Y`), or declare [inputs]",
-                m.source.name
+                m.file_name()
             ),
         ));
     }
-    let index = match (input, &m.sweep) {
-        (Some(name), _) => m.inputs.iter().position(|i| i.name == name).ok_or_else(|| {
+    let index = match (input, m.sweep()) {
+        (Some(name), _) => m.inputs().iter().position(|i| i.name == name).ok_or_else(|| {
             (
                 format!("no input `{name}` to sweep"),
                 format!("inputs are: {}", names()),
             )
         })?,
-        (None, Some(sweep)) => sweep.input,
-        (None, None) if m.inputs.len() == 1 => 0,
+        (None, Some(sweep)) if from.is_none() && to.is_none() => {
+            // The file's sweep as it is (several inputs may move together).
+            let mut sweep = sweep.clone();
+            if let Some(n) = steps {
+                sweep.steps = n;
+            }
+            return Ok(sweep);
+        }
+        (None, Some(sweep)) => sweep.primary().input,
+        (None, None) if m.inputs().len() == 1 => 0,
         (None, None) => {
             return Err((
-                format!("the file has no [sweep], and {} inputs", m.inputs.len()),
+                format!("the file has no [sweep], and {} inputs", m.inputs().len()),
                 format!(
                     "add a [sweep] (input, from, to, steps), or say which input to sweep: \
                      --input NAME --from A --to B [--steps N] (inputs are: {})",
@@ -626,13 +758,12 @@ fn sweep_to_run(
     };
     // The file's range belongs to the file's swept input only.
     let file_range = m
-        .sweep
-        .as_ref()
-        .filter(|s| s.input == index)
+        .sweep()
+        .and_then(|s| s.inputs.iter().find(|w| w.input == index))
         .map(|s| (s.from, s.to));
     let (Some(from), Some(to)) = (from.or(file_range.map(|r| r.0)), to.or(file_range.map(|r| r.1))) else {
-        let name = &m.inputs[index].name;
-        return Err(match &m.sweep {
+        let name = &m.inputs()[index].name;
+        return Err(match m.sweep() {
             None => (
                 "the file has no [sweep] to simulate".into(),
                 format!(
@@ -643,21 +774,50 @@ fn sweep_to_run(
             Some(s) => (
                 format!(
                     "input `{name}` is not the one the file's [sweep] drives (`{}`), so it has no range",
-                    m.inputs[s.input].name
+                    m.inputs()[s.primary().input].name
                 ),
                 format!("give its range: --input {name} --from A --to B"),
             ),
         });
     };
-    Ok(Sweep {
-        input: index,
+    Ok(Sweep::single(
+        index,
         from,
         to,
-        steps: steps
-            .or(m.sweep.as_ref().map(|s| s.steps))
-            .unwrap_or(DEFAULT_STEPS),
-        trace: m.sweep.as_ref().map(|s| s.trace.clone()).unwrap_or_default(),
-    })
+        steps.or(m.sweep().map(|s| s.steps)).unwrap_or(DEFAULT_STEPS),
+        m.sweep().map(|s| s.trace.clone()).unwrap_or_default(),
+    ))
+}
+
+/// What [`sweep_to_run`] reads of a mechanism of either dimension.
+trait SweepSource {
+    fn inputs(&self) -> &[dofplan::model::Input];
+    fn sweep(&self) -> Option<&Sweep>;
+    fn file_name(&self) -> &str;
+}
+
+impl SweepSource for Mechanism {
+    fn inputs(&self) -> &[dofplan::model::Input] {
+        &self.inputs
+    }
+    fn sweep(&self) -> Option<&Sweep> {
+        self.sweep.as_ref()
+    }
+    fn file_name(&self) -> &str {
+        &self.source.name
+    }
+}
+
+impl SweepSource for Mechanism3 {
+    fn inputs(&self) -> &[dofplan::model::Input] {
+        &self.inputs
+    }
+    fn sweep(&self) -> Option<&Sweep> {
+        self.sweep.as_ref()
+    }
+    fn file_name(&self) -> &str {
+        &self.source.name
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -675,17 +835,23 @@ fn simulate(
         SolverArg::Plan => Box::new(Driver::new(Interpreter::new(plan.clone()), options)),
         SolverArg::Newton => Box::new(Driver::new(PureNewton::new(m), options)),
     };
-    let input = sweep.input;
+    let input = sweep.primary().input;
     let name = m.inputs[input].name.clone();
+    let ranges: Vec<String> = sweep
+        .inputs
+        .iter()
+        .map(|s| {
+            format!(
+                "{} from {} to {}",
+                m.inputs[s.input].name,
+                precise(s.from),
+                precise(s.to)
+            )
+        })
+        .collect();
     let report = Report {
         m,
-        title: format!(
-            "{}: {} frames, {name} from {} to {}",
-            m.name,
-            sweep.steps,
-            precise(sweep.from),
-            precise(sweep.to)
-        ),
+        title: format!("{}: {} frames, {}", m.name, sweep.steps, ranges.join(", ")),
         input_names: m.inputs.iter().map(|i| i.name.clone()).collect(),
         value_name: name,
         value: Box::new(move |inputs, f| f(inputs[input])),

@@ -7,6 +7,7 @@
 //! coordinates, radii, unit directions, branch slots) is in the IR.
 
 mod explain;
+pub mod spatial;
 
 pub use explain::num;
 

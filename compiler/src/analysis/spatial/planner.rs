@@ -1,0 +1,1467 @@
+//! Kramer's degrees-of-freedom analysis in space.
+//!
+//! Each moving body carries a state (its translational and rotational
+//! freedoms with their arguments, SPATIAL.md §2.1). The planner repeats
+//! Kramer's algorithm until nothing is left:
+//! 1. **propagation**: an equation whose other side is known is met by the
+//!    fragment the table ([`super::fragments`]) gives for the body's state;
+//!    an equation between two placed bodies becomes a check of its rows
+//!    (redundant);
+//! 2. **loop closure**: a coincident equation between two partly placed
+//!    bodies intersects their markers' loci into a pseudo-marker, which each
+//!    body then meets by propagation;
+//! 3. **numeric fallback**: what is still unplaced becomes a cluster, with
+//!    bodies hanging on a contracted chain (a leg of fixed length) replaced
+//!    by a distance row.
+//!
+//! Ties are broken by file order, so plans are deterministic.
+
+use dofplan_runtime::spatial::{cross, norm, sub, unit, Vec3};
+use dofplan_runtime::Branch;
+
+use super::equations::{Equation3, Kind3};
+use super::fragments::{lookup, Case, Do, Fragment, Prim, RDof, TDof};
+use crate::model::spatial::{JointKind3, Mechanism3, Primitive};
+use crate::plan::spatial::{
+    Action3, BranchSlot3, CheckRow, Cluster3, ClusterRow3, Locus3, Param3, Step3, StepKind3, Temp3, D3, P3,
+};
+
+/// Two local points closer than this (relative to the size) are one point;
+/// two unit directions whose cross product is smaller are parallel.
+const SAME: f64 = 1e-9;
+
+#[derive(Clone, Debug)]
+enum T {
+    Free,
+    Plane { q: Vec3 },
+    Line { q: Vec3, dir: D3 },
+    Point { q: Vec3 },
+}
+
+#[derive(Clone, Debug)]
+enum R {
+    Free,
+    Cone { u: Vec3, w: D3, cos: f64 },
+    Axis { al: Vec3 },
+    Fixed,
+}
+
+#[derive(Clone, Debug)]
+struct State {
+    t: T,
+    r: R,
+}
+
+impl State {
+    fn tdof(&self) -> TDof {
+        match self.t {
+            T::Free => TDof::Free,
+            T::Plane { .. } => TDof::Plane,
+            T::Line { .. } => TDof::Line,
+            T::Point { .. } => TDof::Point,
+        }
+    }
+    fn rdof(&self) -> RDof {
+        match self.r {
+            R::Free => RDof::Free,
+            R::Cone { .. } => RDof::Cone,
+            R::Axis { .. } => RDof::Axis,
+            R::Fixed => RDof::Fixed,
+        }
+    }
+    fn dof(&self) -> usize {
+        let t = match self.t {
+            T::Free => 3,
+            T::Plane { .. } => 2,
+            T::Line { .. } => 1,
+            T::Point { .. } => 0,
+        };
+        let r = match self.r {
+            R::Free => 3,
+            R::Cone { .. } => 2,
+            R::Axis { .. } => 1,
+            R::Fixed => 0,
+        };
+        t + r
+    }
+    /// The body point rotations keep fixed.
+    fn pivot(&self) -> Option<Vec3> {
+        match self.t {
+            T::Point { q } | T::Line { q, .. } | T::Plane { q } => Some(q),
+            T::Free => None,
+        }
+    }
+}
+
+/// The outcome of planning.
+pub struct Planned3 {
+    /// Steps in order.
+    pub steps: Vec<Step3>,
+    /// Pseudo-markers.
+    pub temps: Vec<Temp3>,
+    /// Branch slots (initial branch still to be chosen).
+    pub branches: Vec<BranchSlot3>,
+    /// Freedoms left at minimum motion.
+    pub idle: Vec<(usize, usize, String)>,
+    /// Equations no step used.
+    pub unused: Vec<usize>,
+}
+
+struct Planner<'m> {
+    m: &'m Mechanism3,
+    eqs: &'m [Equation3],
+    used: Vec<bool>,
+    state: Vec<State>,
+    steps: Vec<Step3>,
+    temps: Vec<Temp3>,
+    branches: Vec<BranchSlot3>,
+    size: f64,
+    /// Per body: slide-input joints (joint, input) whose axis points of the
+    /// body move rigidly with the joint's other body.
+    slides: Vec<Vec<(usize, usize)>>,
+}
+
+/// Plans a spatial mechanism from its equations.
+pub fn plan(m: &Mechanism3, eqs: &[Equation3]) -> Planned3 {
+    let mut slides = vec![Vec::new(); m.bodies.len()];
+    for (ii, input) in m.inputs.iter().enumerate() {
+        let j = &m.joints[input.joint];
+        if input.kind == crate::model::InputKind::Slide
+            && matches!(j.kind, JointKind3::Cylindrical | JointKind3::Prismatic)
+        {
+            for id in j.markers {
+                slides[id.body].push((input.joint, ii));
+            }
+        }
+    }
+    let mut p = Planner {
+        m,
+        eqs,
+        used: vec![false; eqs.len()],
+        state: m
+            .bodies
+            .iter()
+            .map(|b| {
+                if b.fixed {
+                    State {
+                        t: T::Point { q: [0.0; 3] },
+                        r: R::Fixed,
+                    }
+                } else {
+                    State {
+                        t: T::Free,
+                        r: R::Free,
+                    }
+                }
+            })
+            .collect(),
+        steps: Vec::new(),
+        temps: Vec::new(),
+        branches: Vec::new(),
+        size: m.size(),
+        slides,
+    };
+    loop {
+        if (0..eqs.len()).any(|i| !p.used[i] && p.propagate(i)) {
+            continue;
+        }
+        if (0..eqs.len()).any(|i| !p.used[i] && p.close_loop(i)) {
+            continue;
+        }
+        if p.cluster() {
+            continue;
+        }
+        break;
+    }
+    let mut idle = Vec::new();
+    for (b, s) in p.state.iter().enumerate() {
+        if !m.bodies[b].fixed && s.dof() > 0 {
+            let why = match (&s.t, &s.r) {
+                (T::Point { .. }, R::Axis { .. }) => "a spin about its axis no joint restrains".to_string(),
+                _ => format!("{} · {} left", s.tdof().name(), s.rdof().name()),
+            };
+            idle.push((b, s.dof(), why));
+        }
+    }
+    Planned3 {
+        steps: p.steps,
+        temps: p.temps,
+        branches: p.branches,
+        idle,
+        unused: (0..eqs.len()).filter(|&i| !p.used[i]).collect(),
+    }
+}
+
+fn parallel(a: Vec3, b: Vec3) -> bool {
+    norm(cross(a, b)) <= SAME * norm(a).max(1e-300) * norm(b).max(1e-300)
+}
+
+fn neg(v: Vec3) -> Vec3 {
+    [-v[0], -v[1], -v[2]]
+}
+
+impl Planner<'_> {
+    fn fixed(&self, b: usize) -> bool {
+        self.m.bodies[b].fixed
+    }
+
+    fn placed(&self, b: usize) -> bool {
+        matches!(
+            self.state[b],
+            State {
+                t: T::Point { .. },
+                r: R::Fixed
+            }
+        )
+    }
+
+    fn same_point(&self, a: Vec3, b: Vec3) -> bool {
+        norm(sub(a, b)) <= SAME * self.size
+    }
+
+    /// Whether `local` lies on the line (`q`, `al`) of the body.
+    fn on_line(&self, local: Vec3, q: Vec3, al: Vec3) -> bool {
+        norm(cross(sub(local, q), al)) <= SAME * self.size
+    }
+
+    /// A body point as the plan reads it.
+    fn body_point(&self, b: usize, local: Vec3) -> P3 {
+        if self.fixed(b) {
+            P3::Fixed(local)
+        } else {
+            P3::Body { body: b, local }
+        }
+    }
+
+    fn body_dir(&self, b: usize, local: Vec3) -> D3 {
+        if self.fixed(b) {
+            D3::Fixed(local)
+        } else {
+            D3::Body { body: b, local }
+        }
+    }
+
+    /// The body point `local`, if its world position is known already.
+    fn known_point(&self, b: usize, local: Vec3) -> Option<P3> {
+        if self.placed(b) {
+            return Some(self.body_point(b, local));
+        }
+        let s = &self.state[b];
+        if let T::Point { q } = s.t {
+            if self.same_point(local, q) {
+                return Some(self.body_point(b, local));
+            }
+            if let R::Axis { al } = s.r {
+                if self.on_line(local, q, al) {
+                    return Some(self.body_point(b, local));
+                }
+            }
+        }
+        // A point on a driven slide's axis moves with the slide's other body.
+        let (a, slid) = self.slid(b, local)?;
+        self.placed(a).then_some(slid)
+    }
+
+    /// The point `local` of `b` as a point of the other body of a slide
+    /// input's joint, when it lies on the joint's axis.
+    fn slid(&self, b: usize, local: Vec3) -> Option<(usize, P3)> {
+        for &(ji, input) in &self.slides[b] {
+            let j = &self.m.joints[ji];
+            let first = self.m.marker(j.markers[0]);
+            let z = first.axes?.z;
+            if !self.on_line(local, first.at, z) {
+                continue;
+            }
+            let (other, sign) = if j.markers[1].body == b {
+                (j.markers[0].body, 1.0)
+            } else {
+                (j.markers[1].body, -1.0)
+            };
+            let p = if self.fixed(other) {
+                continue;
+            } else {
+                P3::Slid {
+                    body: other,
+                    local,
+                    dir: z,
+                    input,
+                    sign,
+                }
+            };
+            return Some((other, p));
+        }
+        None
+    }
+
+    /// The body direction `local`, if its world value is known already.
+    fn known_dir(&self, b: usize, local: Vec3) -> Option<D3> {
+        match self.state[b].r {
+            R::Fixed => Some(self.body_dir(b, local)),
+            R::Axis { al } if parallel(local, al) => Some(self.body_dir(b, local)),
+            _ => None,
+        }
+    }
+
+    fn temp(&mut self, name: String, drawn: Vec3) -> usize {
+        self.temps.push(Temp3 { name, drawn });
+        self.temps.len() - 1
+    }
+
+    fn slot(&mut self) -> usize {
+        self.branches.push(BranchSlot3 {
+            initial: Branch::Plus,
+            angle: 0.0,
+        });
+        self.branches.len() - 1
+    }
+
+    fn push(&mut self, kind: StepKind3, text: String, serves: Vec<String>) {
+        self.steps.push(Step3 { kind, text, serves });
+    }
+
+    fn act(&mut self, body: usize, action: Action3, text: String, serves: &[String]) {
+        self.push(
+            StepKind3::Act {
+                body,
+                action: Box::new(action),
+            },
+            text,
+            serves.to_vec(),
+        );
+    }
+
+    fn serves(&self, i: usize) -> String {
+        format!("{} {}", self.eqs[i].origin, self.eqs[i].kind.name())
+    }
+
+    fn check_row(&self, i: usize, redundant: usize) -> CheckRow {
+        let e = &self.eqs[i];
+        CheckRow {
+            kind: e.row_kind(),
+            bodies: e.bodies,
+            at: [e.frames[0].at, e.frames[1].at],
+            z: [e.frames[0].axes.z, e.frames[1].axes.z],
+            x: [e.frames[0].axes.x, e.frames[1].axes.x],
+            redundant,
+            tol: if e.linear() { 1e-9 * self.size } else { 1e-9 },
+            name: self.serves(i),
+        }
+    }
+
+    /// A check step of `redundant` rows of equation `i`.
+    fn check(&mut self, i: usize, redundant: usize) {
+        let name = self.serves(i);
+        let text = if redundant > 0 {
+            format!(
+                "check {name} ({redundant} row{}) [redundant]",
+                if redundant == 1 { "" } else { "s" }
+            )
+        } else {
+            format!("check {name}")
+        };
+        let row = self.check_row(i, redundant);
+        self.push(StepKind3::Check { rows: vec![row] }, text, vec![]);
+    }
+
+    fn name(&self, b: usize) -> &str {
+        &self.m.bodies[b].name
+    }
+
+    /// Tries to meet equation `i` with one side known.
+    fn propagate(&mut self, i: usize) -> bool {
+        let e = &self.eqs[i];
+        let [b1, b2] = e.bodies;
+        if self.placed(b1) && self.placed(b2) {
+            self.used[i] = true;
+            let rows = e.kind.rows();
+            self.check(i, rows);
+            return true;
+        }
+        for mover in [1usize, 0] {
+            let (b, o) = (e.bodies[mover], e.bodies[1 - mover]);
+            if self.placed(b) || self.fixed(b) {
+                continue;
+            }
+            if let Some(done) = self.try_side(i, mover, b, o) {
+                if done {
+                    self.used[i] = true;
+                    return true;
+                }
+            }
+        }
+        false
+    }
+
+    /// The fragment for body `b` (marker `mover` of equation `i`) against
+    /// the other body `o`, applied if the other side is known. `None` when
+    /// not applicable.
+    fn try_side(&mut self, i: usize, mover: usize, b: usize, o: usize) -> Option<bool> {
+        let e = self.eqs[i].clone();
+        let fm = e.frames[mover];
+        let fo = e.frames[1 - mover];
+        let st = self.state[b].clone();
+        let serves = vec![self.serves(i)];
+        let (prim, target): (Prim, Target) = match e.kind {
+            Kind3::Prim(Primitive::Coincident) => {
+                (Prim::Coincident, Target::Point(self.known_point(o, fo.at)?))
+            }
+            Kind3::Prim(Primitive::InLine) if mover == 1 => {
+                let k = self.known_point(o, fo.at)?;
+                let d = self.known_dir(o, fo.axes.z)?;
+                (Prim::InLine, Target::Line(k, d))
+            }
+            Kind3::Prim(Primitive::InLine) => {
+                let k = self.known_point(o, fo.at)?;
+                (Prim::InLineOwner, Target::Point(k))
+            }
+            Kind3::Prim(Primitive::InPlane) if mover == 1 => {
+                let k = self.known_point(o, fo.at)?;
+                let d = self.known_dir(o, fo.axes.z)?;
+                (Prim::InPlane, Target::Line(k, d))
+            }
+            Kind3::Prim(Primitive::InPlane) => {
+                let k = self.known_point(o, fo.at)?;
+                (Prim::InPlaneOwner, Target::Point(k))
+            }
+            Kind3::Prim(Primitive::ParallelZ) => {
+                let z = if e.sign < 0.0 { neg(fo.axes.z) } else { fo.axes.z };
+                (Prim::ParallelZ, Target::Dir(self.known_dir(o, z)?))
+            }
+            Kind3::Prim(Primitive::OffsetZ | Primitive::PerpendicularZ) => {
+                (Prim::OffsetZ, Target::Dir(self.known_dir(o, fo.axes.z)?))
+            }
+            Kind3::Prim(Primitive::OffsetX) => {
+                let z = if e.sign < 0.0 { neg(fo.axes.z) } else { fo.axes.z };
+                let t = self.known_dir(o, z)?;
+                self.known_dir(o, fo.axes.x)?;
+                (Prim::OffsetX, Target::Dir(t))
+            }
+            Kind3::Angle { .. } => {
+                self.known_dir(o, fo.axes.z)?;
+                self.known_dir(o, fo.axes.x)?;
+                (Prim::Angle, Target::None)
+            }
+            Kind3::Slide { .. } => {
+                self.known_point(o, fo.at)?;
+                self.known_dir(o, fo.axes.z)?;
+                (Prim::Slide, Target::None)
+            }
+            Kind3::Prim(Primitive::Helical) => return None,
+        };
+        let case = self.case(&st, prim, &fm, &e, mover);
+        let frag = *lookup(st.tdof(), st.rdof(), prim, case)?;
+        self.apply(i, mover, b, &frag, target, &serves, false)
+    }
+
+    /// The geometric case of the marker `fm` of a body in state `st`.
+    fn case(
+        &self,
+        st: &State,
+        prim: Prim,
+        fm: &super::equations::Frame,
+        e: &Equation3,
+        mover: usize,
+    ) -> Case {
+        match prim {
+            Prim::Coincident | Prim::InLine | Prim::InPlane => {
+                if let Some(q) = st.pivot() {
+                    if matches!(st.t, T::Point { .. }) && self.same_point(fm.at, q) {
+                        return Case::AtPivot;
+                    }
+                    if let R::Axis { al } = st.r {
+                        return if self.on_line(fm.at, q, al) {
+                            Case::OnAxis
+                        } else {
+                            Case::OffAxis
+                        };
+                    }
+                    return Case::OffPivot;
+                }
+                Case::Any
+            }
+            _ => {
+                // The joint axis is the first marker's z; an angle input or
+                // a slide moves about or along it.
+                let z = match prim {
+                    Prim::Angle | Prim::Slide => e.frames[0].axes.z,
+                    _ => fm.axes.z,
+                };
+                let _ = mover;
+                match (&st.r, &st.t) {
+                    (_, T::Line { .. }) if prim == Prim::Slide => Case::Along,
+                    (R::Axis { al }, _) => {
+                        if parallel(z, *al) {
+                            Case::Along
+                        } else {
+                            Case::Across
+                        }
+                    }
+                    (R::Cone { u, .. }, _) => {
+                        if parallel(z, *u) {
+                            Case::Along
+                        } else {
+                            Case::Across
+                        }
+                    }
+                    _ => Case::Any,
+                }
+            }
+        }
+    }
+
+    /// The pivot of a body as a point (its T-part's point, or the marker
+    /// itself for a free body).
+    fn pivot_point(&self, b: usize, st: &State, fallback: Vec3) -> P3 {
+        self.body_point(b, st.pivot().unwrap_or(fallback))
+    }
+
+    /// Carries out a fragment. `by_construction`: the target is a
+    /// pseudo-marker that already meets the rows the fragment would check.
+    #[allow(clippy::too_many_arguments)]
+    fn apply(
+        &mut self,
+        i: usize,
+        mover: usize,
+        b: usize,
+        frag: &Fragment,
+        target: Target,
+        serves: &[String],
+        by_construction: bool,
+    ) -> Option<bool> {
+        let e = self.eqs[i].clone();
+        let fm = e.frames[mover];
+        let fo = e.frames[1 - mover];
+        let st = self.state[b].clone();
+        let name = self.name(b).to_string();
+        let mname = self.m.marker_name(e.markers[mover]);
+        let m_pt = self.body_point(b, fm.at);
+        let pivot = self.pivot_point(b, &st, fm.at);
+        let mut new = st.clone();
+        let sign = if mover == 1 { 1.0 } else { -1.0 };
+        match (frag.action, &target) {
+            (Do::Check, _) => {
+                self.check(i, e.kind.rows());
+                return Some(true);
+            }
+            (Do::TranslateOnto, Target::Point(k)) => {
+                self.act(
+                    b,
+                    Action3::TranslateOnto {
+                        from: m_pt,
+                        to: k.clone(),
+                    },
+                    format!("{name}: translate {mname} onto {}", self.describe(k)),
+                    serves,
+                );
+                new.t = T::Point { q: fm.at };
+            }
+            (Do::TranslateAlong, Target::Point(k)) => {
+                let T::Line { q, dir } = st.t.clone() else {
+                    return None;
+                };
+                self.act(
+                    b,
+                    Action3::TranslateAlong {
+                        from: m_pt,
+                        to: k.clone(),
+                        dir,
+                    },
+                    format!(
+                        "{name}: slide along its line until {mname} meets {}",
+                        self.describe(k)
+                    ),
+                    serves,
+                );
+                new.t = T::Point {
+                    q: if matches!(st.r, R::Fixed) { q } else { fm.at },
+                };
+            }
+            (Do::SlideTurn, Target::Point(k)) => {
+                let (T::Line { q, dir }, R::Axis { al }) = (st.t.clone(), st.r.clone()) else {
+                    return None;
+                };
+                self.act(
+                    b,
+                    Action3::TranslateAlong {
+                        from: m_pt.clone(),
+                        to: k.clone(),
+                        dir,
+                    },
+                    format!(
+                        "{name}: slide along its axis to the height of {}",
+                        self.describe(k)
+                    ),
+                    serves,
+                );
+                self.act(
+                    b,
+                    Action3::AxisOnto {
+                        pivot: self.body_point(b, q),
+                        axis: self.body_dir(b, al),
+                        from: m_pt,
+                        to: k.clone(),
+                    },
+                    format!(
+                        "{name}: turn about its axis taking {mname} onto {}",
+                        self.describe(k)
+                    ),
+                    serves,
+                );
+                new = State {
+                    t: T::Point { q },
+                    r: R::Fixed,
+                };
+            }
+            (Do::TranslateInPlane, Target::Point(k)) => {
+                let normal = match st.r {
+                    R::Axis { al } => self.body_dir(b, al),
+                    _ => return None,
+                };
+                self.act(
+                    b,
+                    Action3::TranslateInPlane {
+                        from: m_pt,
+                        to: k.clone(),
+                        normal,
+                    },
+                    format!(
+                        "{name}: translate in its plane, {mname} onto {}",
+                        self.describe(k)
+                    ),
+                    serves,
+                );
+                new.t = T::Point { q: fm.at };
+            }
+            (Do::TranslateToLine, Target::Line(k, d)) => {
+                self.act(
+                    b,
+                    Action3::TranslateToLine {
+                        from: m_pt,
+                        through: k.clone(),
+                        dir: d.clone(),
+                    },
+                    format!(
+                        "{name}: translate {mname} onto the line through {}",
+                        self.describe(k)
+                    ),
+                    serves,
+                );
+                new.t = T::Line {
+                    q: fm.at,
+                    dir: d.clone(),
+                };
+            }
+            (Do::TranslateToPlane, Target::Line(k, n)) => {
+                self.act(
+                    b,
+                    Action3::TranslateToPlane {
+                        from: m_pt,
+                        through: k.clone(),
+                        normal: n.clone(),
+                    },
+                    format!(
+                        "{name}: translate {mname} onto the plane through {}",
+                        self.describe(k)
+                    ),
+                    serves,
+                );
+                new.t = T::Plane { q: fm.at };
+            }
+            (Do::OwnerLineThrough, Target::Point(k)) => {
+                let d = self.body_dir(b, fm.axes.z);
+                self.act(
+                    b,
+                    Action3::TranslateToLine {
+                        from: m_pt,
+                        through: k.clone(),
+                        dir: d.clone(),
+                    },
+                    format!(
+                        "{name}: translate its line ({mname}) through {}",
+                        self.describe(k)
+                    ),
+                    serves,
+                );
+                new.t = T::Line { q: fm.at, dir: d };
+            }
+            (Do::OwnerPlaneThrough, Target::Point(k)) => {
+                let n = self.body_dir(b, fm.axes.z);
+                self.act(
+                    b,
+                    Action3::TranslateToPlane {
+                        from: m_pt,
+                        through: k.clone(),
+                        normal: n,
+                    },
+                    format!(
+                        "{name}: translate its plane ({mname}) through {}",
+                        self.describe(k)
+                    ),
+                    serves,
+                );
+                new.t = T::Plane { q: fm.at };
+            }
+            (Do::RotateOnto, Target::Point(k)) => {
+                let q = st.pivot()?;
+                self.act(
+                    b,
+                    Action3::RotateOnto {
+                        pivot: pivot.clone(),
+                        from: m_pt,
+                        to: k.clone(),
+                    },
+                    format!(
+                        "{name}: rotate about {} taking {mname} onto {}",
+                        self.describe(&pivot),
+                        self.describe(k)
+                    ),
+                    serves,
+                );
+                new.r = R::Axis {
+                    al: unit(sub(fm.at, q)),
+                };
+            }
+            (Do::AxisOnto, Target::Point(k)) => {
+                let R::Axis { al } = st.r else { return None };
+                self.act(
+                    b,
+                    Action3::AxisOnto {
+                        pivot: pivot.clone(),
+                        axis: self.body_dir(b, al),
+                        from: m_pt,
+                        to: k.clone(),
+                    },
+                    format!(
+                        "{name}: turn about its axis taking {mname} onto {}",
+                        self.describe(k)
+                    ),
+                    serves,
+                );
+                new.r = R::Fixed;
+            }
+            (Do::RotateOntoCone, Target::Point(k)) => {
+                let R::Cone { u, w, cos } = st.r.clone() else {
+                    return None;
+                };
+                let q = st.pivot()?;
+                if parallel(sub(fm.at, q), u) {
+                    return None;
+                }
+                self.act(
+                    b,
+                    Action3::RotateOnto {
+                        pivot: pivot.clone(),
+                        from: m_pt,
+                        to: k.clone(),
+                    },
+                    format!(
+                        "{name}: rotate about {} taking {mname} onto {}",
+                        self.describe(&pivot),
+                        self.describe(k)
+                    ),
+                    serves,
+                );
+                let slot = self.slot();
+                self.act(
+                    b,
+                    Action3::AxisCondition {
+                        pivot: pivot.clone(),
+                        axis: D3::Between(Box::new(pivot.clone()), Box::new(k.clone())),
+                        v: self.body_dir(b, u),
+                        w,
+                        cos,
+                        branch: slot,
+                    },
+                    format!(
+                        "{name}: spin about {}–{mname} until its cone holds, branch slot {slot}",
+                        self.describe(&pivot)
+                    ),
+                    serves,
+                );
+                new.r = R::Fixed;
+            }
+            (Do::LineSphere, Target::Point(k)) => {
+                let T::Line { q, dir } = st.t.clone() else {
+                    return None;
+                };
+                let qp = self.body_point(b, q);
+                let t = self.temp(format!("{name} pivot"), q);
+                let slot = self.slot();
+                self.push(
+                    StepKind3::Intersect {
+                        temp: t,
+                        loci: Box::new([
+                            Locus3::Line { at: qp.clone(), dir },
+                            Locus3::Sphere {
+                                centre: k.clone(),
+                                a: qp.clone(),
+                                b: m_pt.clone(),
+                            },
+                        ]),
+                        branch: Some(slot),
+                        tol: 1e-9 * self.size,
+                    },
+                    format!(
+                        "{name} pivot: its line ∩ sphere about {}, branch slot {slot}",
+                        self.describe(k)
+                    ),
+                    serves.to_vec(),
+                );
+                self.act(
+                    b,
+                    Action3::TranslateOnto {
+                        from: qp.clone(),
+                        to: P3::Temp(t),
+                    },
+                    format!("{name}: slide its pivot to step {}", self.steps.len()),
+                    serves,
+                );
+                self.act(
+                    b,
+                    Action3::RotateOnto {
+                        pivot: qp,
+                        from: m_pt,
+                        to: k.clone(),
+                    },
+                    format!(
+                        "{name}: rotate about its pivot taking {mname} onto {}",
+                        self.describe(k)
+                    ),
+                    serves,
+                );
+                new = State {
+                    t: T::Point { q },
+                    r: R::Axis {
+                        al: unit(sub(fm.at, q)),
+                    },
+                };
+            }
+            (Do::CircleLine | Do::SphereLine, Target::Line(k, d)) => {
+                let q = st.pivot()?;
+                let locus = match st.r {
+                    R::Axis { al } => Locus3::Circle {
+                        pivot: pivot.clone(),
+                        axis: self.body_dir(b, al),
+                        at: m_pt.clone(),
+                    },
+                    _ => Locus3::Sphere {
+                        centre: pivot.clone(),
+                        a: pivot.clone(),
+                        b: m_pt.clone(),
+                    },
+                };
+                let t = self.temp(mname.clone(), fm.at);
+                let slot = self.slot();
+                let lname = locus.name();
+                self.push(
+                    StepKind3::Intersect {
+                        temp: t,
+                        loci: Box::new([
+                            locus,
+                            Locus3::Line {
+                                at: k.clone(),
+                                dir: d.clone(),
+                            },
+                        ]),
+                        branch: Some(slot),
+                        tol: 1e-9 * self.size,
+                    },
+                    format!(
+                        "{mname}: {lname} about {} ∩ line through {}, branch slot {slot}",
+                        self.describe(&pivot),
+                        self.describe(k)
+                    ),
+                    serves.to_vec(),
+                );
+                let to = P3::Temp(t);
+                if let R::Axis { al } = st.r {
+                    self.act(
+                        b,
+                        Action3::AxisOnto {
+                            pivot: pivot.clone(),
+                            axis: self.body_dir(b, al),
+                            from: m_pt,
+                            to,
+                        },
+                        format!(
+                            "{name}: turn about its axis taking {mname} onto step {}",
+                            self.steps.len()
+                        ),
+                        serves,
+                    );
+                    new.r = R::Fixed;
+                } else {
+                    self.act(
+                        b,
+                        Action3::RotateOnto {
+                            pivot: pivot.clone(),
+                            from: m_pt,
+                            to,
+                        },
+                        format!(
+                            "{name}: rotate about its pivot taking {mname} onto step {}",
+                            self.steps.len()
+                        ),
+                        serves,
+                    );
+                    new.r = R::Axis {
+                        al: unit(sub(fm.at, q)),
+                    };
+                }
+            }
+            (Do::AlignDir, Target::Dir(t)) => {
+                self.act(
+                    b,
+                    Action3::AlignDir {
+                        pivot: pivot.clone(),
+                        from: self.body_dir(b, fm.axes.z),
+                        to: t.clone(),
+                    },
+                    format!(
+                        "{name}: rotate about {} aligning {mname}'s z",
+                        self.describe(&pivot)
+                    ),
+                    serves,
+                );
+                new.r = R::Axis { al: fm.axes.z };
+            }
+            (Do::AxisDir, Target::Dir(t)) => {
+                let R::Axis { al } = st.r else { return None };
+                self.act(
+                    b,
+                    Action3::AxisDir {
+                        pivot: pivot.clone(),
+                        axis: self.body_dir(b, al),
+                        from: self.body_dir(b, fm.axes.z),
+                        to: t.clone(),
+                    },
+                    format!("{name}: turn about its axis aligning {mname}'s z"),
+                    serves,
+                );
+                new.r = R::Fixed;
+            }
+            (Do::AlignOntoCone, Target::Dir(t)) => {
+                let R::Cone { u, w, cos } = st.r.clone() else {
+                    return None;
+                };
+                self.act(
+                    b,
+                    Action3::AlignDir {
+                        pivot: pivot.clone(),
+                        from: self.body_dir(b, fm.axes.z),
+                        to: t.clone(),
+                    },
+                    format!(
+                        "{name}: rotate about {} aligning {mname}'s z",
+                        self.describe(&pivot)
+                    ),
+                    serves,
+                );
+                let slot = self.slot();
+                self.act(
+                    b,
+                    Action3::AxisCondition {
+                        pivot: pivot.clone(),
+                        axis: self.body_dir(b, fm.axes.z),
+                        v: self.body_dir(b, u),
+                        w,
+                        cos,
+                        branch: slot,
+                    },
+                    format!("{name}: spin about {mname}'s z until its cone holds, branch slot {slot}"),
+                    serves,
+                );
+                new.r = R::Fixed;
+            }
+            (Do::AxisCondition, Target::Dir(t)) => {
+                let R::Axis { al } = st.r else { return None };
+                let cos = match e.kind {
+                    Kind3::Prim(Primitive::PerpendicularZ) => 0.0,
+                    _ => e.angle.cos(),
+                };
+                let slot = self.slot();
+                self.act(
+                    b,
+                    Action3::AxisCondition {
+                        pivot: pivot.clone(),
+                        axis: self.body_dir(b, al),
+                        v: self.body_dir(b, fm.axes.z),
+                        w: t.clone(),
+                        cos,
+                        branch: slot,
+                    },
+                    format!(
+                        "{name}: turn about its axis until {mname}'s z is at {}° to the other, branch slot {slot}",
+                        crate::plan::num(cos.clamp(-1.0, 1.0).acos().to_degrees())
+                    ),
+                    serves,
+                );
+                new.r = R::Fixed;
+            }
+            (Do::Tilt, Target::Dir(t)) => {
+                let cos = match e.kind {
+                    Kind3::Prim(Primitive::PerpendicularZ) => 0.0,
+                    _ => e.angle.cos(),
+                };
+                self.act(
+                    b,
+                    Action3::Tilt {
+                        pivot: pivot.clone(),
+                        from: self.body_dir(b, fm.axes.z),
+                        to: t.clone(),
+                        cos,
+                    },
+                    format!(
+                        "{name}: tilt {mname}'s z to {}° from the other (a cone)",
+                        crate::plan::num(cos.clamp(-1.0, 1.0).acos().to_degrees())
+                    ),
+                    serves,
+                );
+                new.r = R::Cone {
+                    u: fm.axes.z,
+                    w: t.clone(),
+                    cos,
+                };
+            }
+            (Do::AlignTwist | Do::Twist, Target::Dir(_) | Target::None) => {
+                // The twist is measured about the first marker's z from its x
+                // to the second's.
+                let (b1, b2) = (e.bodies[0], e.bodies[1]);
+                let [f1, f2] = e.frames;
+                if frag.action == Do::AlignTwist {
+                    let Target::Dir(t) = &target else { return None };
+                    self.act(
+                        b,
+                        Action3::AlignDir {
+                            pivot: pivot.clone(),
+                            from: self.body_dir(b, fm.axes.z),
+                            to: t.clone(),
+                        },
+                        format!(
+                            "{name}: rotate about {} aligning {mname}'s z",
+                            self.describe(&pivot)
+                        ),
+                        serves,
+                    );
+                }
+                let _ = fo;
+                let input = match e.kind {
+                    Kind3::Angle { input } => Some(input),
+                    _ => None,
+                };
+                let z1 = if mover == 0 {
+                    self.body_dir(b1, f1.axes.z)
+                } else {
+                    self.known_dir(b1, f1.axes.z)
+                        .unwrap_or(self.body_dir(b1, f1.axes.z))
+                };
+                self.act(
+                    b,
+                    Action3::Twist {
+                        pivot: pivot.clone(),
+                        axis: z1,
+                        x1: self.body_dir(b1, f1.axes.x),
+                        x2: self.body_dir(b2, f2.axes.x),
+                        angle: e.angle,
+                        input,
+                        sign,
+                    },
+                    match input {
+                        Some(k) => format!(
+                            "{name}: turn about the joint axis by input {}",
+                            self.m.inputs[k].name
+                        ),
+                        None => format!("{name}: turn about the joint axis to the offset-x angle"),
+                    },
+                    serves,
+                );
+                new.r = R::Fixed;
+            }
+            (Do::SlideTo, Target::None) => {
+                let Kind3::Slide { input } = e.kind else {
+                    return None;
+                };
+                let T::Line { q, dir } = st.t.clone() else {
+                    return None;
+                };
+                let (b1, b2) = (e.bodies[0], e.bodies[1]);
+                self.act(
+                    b,
+                    Action3::SlideTo {
+                        from: self.body_point(b2, e.frames[1].at),
+                        origin: self.body_point(b1, e.frames[0].at),
+                        dir,
+                        axial0: e.axial0,
+                        input,
+                        sign,
+                    },
+                    format!(
+                        "{name}: slide along the joint axis by input {}",
+                        self.m.inputs[input].name
+                    ),
+                    serves,
+                );
+                new.t = T::Point { q };
+            }
+            _ => return None,
+        }
+        self.state[b] = new;
+        if frag.checks > 0 && !by_construction {
+            self.check(i, frag.checks);
+        }
+        Some(true)
+    }
+
+    fn describe(&self, p: &P3) -> String {
+        match p {
+            P3::Fixed(v) => format!(
+                "[{}, {}, {}]",
+                crate::plan::num(v[0]),
+                crate::plan::num(v[1]),
+                crate::plan::num(v[2])
+            ),
+            P3::Body { body, local } | P3::Slid { body, local, .. } => {
+                let b = &self.m.bodies[*body];
+                match b.markers.iter().find(|m| self.same_point(m.at, *local)) {
+                    Some(m) => format!("{}.{}", b.name, m.name),
+                    None => format!("a point of {}", b.name),
+                }
+            }
+            P3::Temp(t) => format!("step {} ({})", self.temp_step(*t), self.temps[*t].name),
+        }
+    }
+
+    fn temp_step(&self, t: usize) -> usize {
+        self.steps
+            .iter()
+            .position(|s| matches!(s.kind, StepKind3::Intersect { temp, .. } if temp == t))
+            .map_or(0, |i| i + 1)
+    }
+
+    /// The locus of body point `local` of `b` (or of the point it is on a
+    /// driven slide's other body), with the body that moves on it.
+    fn locus(&self, b: usize, local: Vec3) -> Option<(usize, Locus3, P3)> {
+        self.locus_of(b, local, false)
+    }
+
+    /// [`Self::locus`]; `cone_ok`: a point of a body whose direction is on
+    /// a cone (a leg on a universal joint) counts as on a sphere, which
+    /// holds for distances (contraction) though not for placing it.
+    fn locus_of(&self, b: usize, local: Vec3, cone_ok: bool) -> Option<(usize, Locus3, P3)> {
+        let s = &self.state[b];
+        let here = |p: P3| -> Option<Locus3> {
+            match (&s.t, &s.r) {
+                (T::Point { q }, R::Axis { al }) if !self.on_line(local, *q, *al) => Some(Locus3::Circle {
+                    pivot: self.body_point(b, *q),
+                    axis: self.body_dir(b, *al),
+                    at: p,
+                }),
+                (T::Point { q }, R::Free) if !self.same_point(local, *q) => Some(Locus3::Sphere {
+                    centre: self.body_point(b, *q),
+                    a: self.body_point(b, *q),
+                    b: p,
+                }),
+                (T::Line { dir, .. }, R::Fixed) => Some(Locus3::Line {
+                    at: p,
+                    dir: dir.clone(),
+                }),
+                _ => None,
+            }
+        };
+        if let Some(l) = here(self.body_point(b, local)) {
+            return Some((b, l, self.body_point(b, local)));
+        }
+        let (a, slid) = self.slid(b, local)?;
+        let sa = &self.state[a];
+        let l = match (&sa.t, &sa.r) {
+            (T::Point { q }, R::Axis { al }) => Locus3::Circle {
+                pivot: self.body_point(a, *q),
+                axis: self.body_dir(a, *al),
+                at: slid.clone(),
+            },
+            (T::Point { q }, R::Free) => Locus3::Sphere {
+                centre: self.body_point(a, *q),
+                a: self.body_point(a, *q),
+                b: slid.clone(),
+            },
+            (T::Point { q }, R::Cone { .. }) if cone_ok => Locus3::Sphere {
+                centre: self.body_point(a, *q),
+                a: self.body_point(a, *q),
+                b: slid.clone(),
+            },
+            _ => return None,
+        };
+        Some((a, l, slid))
+    }
+
+    /// Loop closure: a coincident equation between two partly placed
+    /// bodies, by intersecting its markers' loci.
+    fn close_loop(&mut self, i: usize) -> bool {
+        let e = self.eqs[i].clone();
+        if e.kind != Kind3::Prim(Primitive::Coincident) {
+            return false;
+        }
+        let Some((ba, la, pa)) = self.locus(e.bodies[0], e.frames[0].at) else {
+            return false;
+        };
+        let Some((bb, lb, pb)) = self.locus(e.bodies[1], e.frames[1].at) else {
+            return false;
+        };
+        if ba == bb || la.dim() + lb.dim() > 3 {
+            return false;
+        }
+        let pair_ok = matches!(
+            (&la, &lb),
+            (Locus3::Circle { .. }, Locus3::Circle { .. })
+                | (Locus3::Sphere { .. }, Locus3::Circle { .. })
+                | (Locus3::Circle { .. }, Locus3::Sphere { .. })
+                | (Locus3::Line { .. }, Locus3::Sphere { .. })
+                | (Locus3::Sphere { .. }, Locus3::Line { .. })
+                | (Locus3::Line { .. }, Locus3::Circle { .. })
+                | (Locus3::Circle { .. }, Locus3::Line { .. })
+        );
+        if !pair_ok {
+            return false;
+        }
+        let redundant = 3 - (la.dim() + lb.dim()).min(3);
+        let mname = self.m.marker_name(e.markers[1]);
+        let t = self.temp(mname.clone(), e.frames[1].at);
+        let slot = self.slot();
+        let serves = vec![self.serves(i)];
+        let text = format!(
+            "{mname}: {} of {} ∩ {} of {}, branch slot {slot}",
+            la.name(),
+            self.name(ba),
+            lb.name(),
+            self.name(bb)
+        );
+        self.push(
+            StepKind3::Intersect {
+                temp: t,
+                loci: Box::new([la, lb]),
+                branch: Some(slot),
+                tol: 1e-7 * self.size,
+            },
+            text,
+            serves.clone(),
+        );
+        for (body, pt) in [(ba, pa), (bb, pb)] {
+            self.meet_temp(body, pt, t, &serves);
+        }
+        self.used[i] = true;
+        if redundant > 0 {
+            self.check(i, redundant);
+        }
+        true
+    }
+
+    /// Moves a partly placed body so its point `pt` meets a pseudo-marker.
+    fn meet_temp(&mut self, b: usize, pt: P3, t: usize, serves: &[String]) {
+        let st = self.state[b].clone();
+        let name = self.name(b).to_string();
+        let to = P3::Temp(t);
+        let step = self.temp_step(t);
+        match (&st.t, &st.r) {
+            (T::Point { q }, R::Axis { al }) => {
+                self.act(
+                    b,
+                    Action3::AxisOnto {
+                        pivot: self.body_point(b, *q),
+                        axis: self.body_dir(b, *al),
+                        from: pt,
+                        to,
+                    },
+                    format!("{name}: turn about its axis onto step {step}"),
+                    serves,
+                );
+                self.state[b].r = R::Fixed;
+            }
+            (T::Point { q }, R::Free) => {
+                let local = match &pt {
+                    P3::Body { local, .. } | P3::Slid { local, .. } => *local,
+                    _ => *q,
+                };
+                self.act(
+                    b,
+                    Action3::RotateOnto {
+                        pivot: self.body_point(b, *q),
+                        from: pt,
+                        to,
+                    },
+                    format!("{name}: rotate about its pivot onto step {step}"),
+                    serves,
+                );
+                self.state[b].r = R::Axis {
+                    al: unit(sub(local, *q)),
+                };
+            }
+            (T::Line { .. }, R::Fixed) => {
+                let T::Line { q, dir } = st.t.clone() else {
+                    unreachable!()
+                };
+                self.act(
+                    b,
+                    Action3::TranslateAlong { from: pt, to, dir },
+                    format!("{name}: slide along its line onto step {step}"),
+                    serves,
+                );
+                self.state[b].t = T::Point { q };
+            }
+            _ => {}
+        }
+    }
+
+    /// Numeric fallback: the unplaced bodies that still have equations,
+    /// with bodies hanging on a contracted leg replaced by distance rows.
+    fn cluster(&mut self) -> bool {
+        let unplaced: Vec<usize> = (0..self.m.bodies.len())
+            .filter(|&b| !self.fixed(b) && !self.placed(b))
+            .collect();
+        if unplaced.is_empty() {
+            return false;
+        }
+        let open: Vec<usize> = (0..self.eqs.len()).filter(|&i| !self.used[i]).collect();
+        if open.is_empty() {
+            return false;
+        }
+        // Contraction: a coincident equation between a point on a body
+        // turning about a pivot (directly, or through a driven slide) and a
+        // point of another body is the distance from the pivot.
+        let mut contracted = vec![false; self.m.bodies.len()];
+        let mut rows = Vec::new();
+        let mut used = Vec::new();
+        for &i in &open {
+            let e = &self.eqs[i];
+            if e.kind != Kind3::Prim(Primitive::Coincident) {
+                continue;
+            }
+            for side in [0usize, 1] {
+                let (b, o) = (e.bodies[side], e.bodies[1 - side]);
+                let Some((a, Locus3::Sphere { centre, a: pa, b: pb }, _)) =
+                    self.locus_of(b, e.frames[side].at, true)
+                else {
+                    continue;
+                };
+                if a == o || self.placed(o) {
+                    continue;
+                }
+                let _ = centre;
+                contracted[a] = true;
+                if a != b {
+                    contracted[b] = true;
+                }
+                rows.push(ClusterRow3::Distance {
+                    a: self.body_point(o, e.frames[1 - side].at),
+                    b: pa.clone(),
+                    c: pa,
+                    d: pb,
+                    name: self.serves(i),
+                });
+                used.push(i);
+                break;
+            }
+        }
+        // Bodies joined to a contracted one are placed after it, not solved.
+        let mut hanging = contracted.clone();
+        for &i in &open {
+            let [b1, b2] = self.eqs[i].bodies;
+            if used.contains(&i) {
+                continue;
+            }
+            if contracted[b1] && !self.fixed(b2) {
+                hanging[b2] = true;
+            }
+            if contracted[b2] && !self.fixed(b1) {
+                hanging[b1] = true;
+            }
+        }
+        let mut members: Vec<usize> = unplaced.iter().copied().filter(|&b| !hanging[b]).collect();
+        if members.is_empty() || rows.is_empty() {
+            // No contraction: every unplaced body with open equations.
+            members = unplaced
+                .iter()
+                .copied()
+                .filter(|&b| open.iter().any(|&i| self.eqs[i].bodies.contains(&b)))
+                .collect();
+            rows.clear();
+            used.clear();
+        }
+        if members.is_empty() {
+            return false;
+        }
+        let member = |b: usize| members.contains(&b);
+        for &i in &open {
+            if used.contains(&i) {
+                continue;
+            }
+            let [b1, b2] = self.eqs[i].bodies;
+            let inside = |b: usize| member(b) || self.placed(b) || self.fixed(b);
+            if (member(b1) || member(b2)) && inside(b1) && inside(b2) {
+                rows.push(ClusterRow3::Equation(self.check_row(i, 0)));
+                used.push(i);
+            }
+        }
+        // Unknowns from each body's state.
+        let mut params = Vec::new();
+        for &b in &members {
+            let st = &self.state[b];
+            params.push(match (&st.t, &st.r) {
+                (T::Point { q }, R::Axis { al }) => Param3::Axis {
+                    body: b,
+                    pivot: self.body_point(b, *q),
+                    axis: self.body_dir(b, *al),
+                },
+                (T::Point { q }, R::Free) => Param3::Pivot {
+                    body: b,
+                    pivot: self.body_point(b, *q),
+                },
+                _ => Param3::Free { body: b },
+            });
+            if !matches!(
+                (&st.t, &st.r),
+                (T::Point { .. }, R::Axis { .. } | R::Free) | (T::Free, R::Free)
+            ) {
+                // The state's own constraints become rows again.
+                for (i, e) in self.eqs.iter().enumerate() {
+                    if self.used[i] && e.bodies.contains(&b) && !used.contains(&i) {
+                        rows.push(ClusterRow3::Equation(self.check_row(i, 0)));
+                        used.push(i);
+                    }
+                }
+            }
+        }
+        let cluster = Cluster3 { params, rows };
+        let names: Vec<String> = members.iter().map(|&b| self.name(b).to_string()).collect();
+        let text = format!(
+            "numeric cluster: {} ({} unknowns, {} equations), Newton-Raphson",
+            names.join(", "),
+            cluster.unknowns(),
+            cluster.equations()
+        );
+        let serves: Vec<String> = used.iter().map(|&i| self.serves(i)).collect();
+        self.push(StepKind3::Cluster(Box::new(cluster)), text, serves);
+        for &i in &used {
+            self.used[i] = true;
+        }
+        for &b in &members {
+            self.state[b] = State {
+                t: T::Point { q: [0.0; 3] },
+                r: R::Fixed,
+            };
+        }
+        true
+    }
+}
+
+/// What the other side of an equation offers.
+#[derive(Clone, Debug)]
+enum Target {
+    /// A known point.
+    Point(P3),
+    /// A known line (or plane: point and normal).
+    Line(P3, D3),
+    /// A known direction.
+    Dir(D3),
+    /// Nothing beyond the known axes (inputs).
+    None,
+}

@@ -1,0 +1,271 @@
+//! The CLI's spatial commands: `check`, `plan`, `simulate` and `fragments`
+//! on `dimension = 3` files.
+
+use std::io::{self, Write};
+use std::process::ExitCode;
+
+use dofplan::analysis::spatial::{analyse, count::count, fragments};
+use dofplan::interp::spatial::Interpreter3;
+use dofplan::model::spatial::Mechanism3;
+use dofplan::model::Sweep;
+use dofplan::plan::spatial::Plan3;
+use dofplan::simulate::spatial::{marker_positions, residual};
+use dofplan::simulate::sweep_requests;
+use dofplan_runtime::{Driver, FrameStatus, Options};
+use serde_json::{json, Map, Value};
+
+/// `dofplan check` of a spatial file.
+pub fn check(m: &Mechanism3, json_out: bool, out: &mut dyn Write) -> io::Result<ExitCode> {
+    let c = count(m);
+    let plan = analyse(m);
+    if json_out {
+        let (steps, cu, ce) = match &plan {
+            Ok(p) => {
+                let (u, e) = p.cluster_size();
+                (p.steps.len(), u, e)
+            }
+            Err(_) => (0, 0, 0),
+        };
+        let value = json!({
+            "name": m.name,
+            "dimension": 3,
+            "bodies": m.bodies.len(),
+            "moving": c.moving,
+            "joints": m.joints.len(),
+            "equations": c.equations,
+            "mobility": {"grubler": c.grubler, "rank": c.mobility},
+            "redundant_equations": c.redundant_equations,
+            "redundant": c.redundant.iter().map(|(o, p, n)| json!({
+                "joint": o.split_once(' ').map_or(o.as_str(), |x| x.1),
+                "origin": o,
+                "primitive": p,
+                "rows": n,
+            })).collect::<Vec<_>>(),
+            "idle_freedoms": c.idle_freedoms,
+            "plan": match &plan {
+                Ok(p) => json!({
+                    "steps": steps,
+                    "cluster_unknowns": cu,
+                    "cluster_equations": ce,
+                    "checked_rows": p.redundant().iter().map(|(_, n)| n).sum::<usize>(),
+                    "idle": p.idle.iter().map(|(b, n, _)| json!({"body": p.bodies[*b], "freedoms": n})).collect::<Vec<_>>(),
+                }),
+                Err(e) => json!({"error": e.to_string()}),
+            },
+        });
+        writeln!(
+            out,
+            "{}",
+            serde_json::to_string_pretty(&value).unwrap_or_default()
+        )?;
+        return Ok(if plan.is_ok() {
+            ExitCode::SUCCESS
+        } else {
+            ExitCode::FAILURE
+        });
+    }
+    writeln!(out, "{} ({}) — spatial", m.name, m.source.name)?;
+    writeln!(
+        out,
+        "  bodies: {} ({} moving), joints: {}, constraints: {}, inputs: {}",
+        m.bodies.len(),
+        c.moving,
+        m.joints.len(),
+        m.constraints.len(),
+        m.inputs.len()
+    )?;
+    writeln!(
+        out,
+        "  mobility (Grübler–Kutzbach): 6·{} − {} = {}",
+        c.moving, c.equations, c.grubler
+    )?;
+    writeln!(
+        out,
+        "  mobility (Jacobian rank at the drawn pose): {} unknowns − rank {} = {}",
+        6 * c.moving,
+        c.rank,
+        c.mobility
+    )?;
+    writeln!(
+        out,
+        "  redundant equations: {} − {} = {}",
+        c.equations, c.rank, c.redundant_equations
+    )?;
+    for (o, p, n) in &c.redundant {
+        writeln!(out, "    {o} {p}: {n} row{}", if *n == 1 { "" } else { "s" })?;
+    }
+    writeln!(
+        out,
+        "  idle freedoms (with the {} input(s) added): {}",
+        c.inputs, c.idle_freedoms
+    )?;
+    match &plan {
+        Ok(p) => {
+            let (u, e) = p.cluster_size();
+            let kind = if u == 0 {
+                "closed form".to_string()
+            } else {
+                format!("mixed: numeric cluster(s) with {u} unknowns and {e} equations")
+            };
+            let checked: usize = p.redundant().iter().map(|(_, n)| n).sum();
+            writeln!(
+                out,
+                "  plan: {kind}, {} steps, {} branch slot(s), {checked} row(s) only checked — `dofplan plan {}` explains it",
+                p.steps.len(),
+                p.branches.len(),
+                m.source.name
+            )?;
+            for (b, n, why) in &p.idle {
+                writeln!(
+                    out,
+                    "  idle: {} keeps {n} freedom(s) at minimum motion ({why})",
+                    p.bodies[*b]
+                )?;
+            }
+            Ok(ExitCode::SUCCESS)
+        }
+        Err(e) => {
+            writeln!(out, "  plan: {e}")?;
+            Ok(ExitCode::FAILURE)
+        }
+    }
+}
+
+/// `dofplan plan` of a spatial file.
+pub fn plan(m: &Mechanism3, out: &mut dyn Write) -> io::Result<ExitCode> {
+    match analyse(m) {
+        Ok(p) => {
+            write!(out, "{}", p.explain_all())?;
+            Ok(ExitCode::SUCCESS)
+        }
+        Err(e) => {
+            super::report(&format!("{}: error: {e}", m.source.name));
+            Ok(ExitCode::FAILURE)
+        }
+    }
+}
+
+/// `dofplan fragments`: the spatial plan-fragment table.
+pub fn fragments(out: &mut dyn Write) -> io::Result<ExitCode> {
+    write!(out, "{}", fragments::table())?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// How `simulate` writes frames.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum Form3 {
+    Text,
+    Json,
+    Csv,
+}
+
+/// `dofplan simulate` of a spatial file: frames streamed one by one.
+pub fn simulate(
+    m: &Mechanism3,
+    plan: &Plan3,
+    sweep: &Sweep,
+    options: Options,
+    form: Form3,
+    out: &mut dyn Write,
+) -> io::Result<ExitCode> {
+    let mut driver = Driver::new(Interpreter3::new(plan.clone()), options);
+    let names: Vec<String> = m.all_markers().map(|id| m.marker_name(id)).collect();
+    if form == Form3::Csv {
+        let mut head: Vec<String> = vec!["frame".into(), "status".into()];
+        head.extend(m.inputs.iter().map(|i| i.name.clone()));
+        for n in &names {
+            for c in ["x", "y", "z"] {
+                head.push(format!("{n}.{c}"));
+            }
+        }
+        head.push("residual".into());
+        writeln!(out, "{}", head.join(","))?;
+    }
+    let mut solved = 0;
+    let mut worst: f64 = 0.0;
+    let mut broken = Vec::new();
+    let total = sweep.steps;
+    if form == Form3::Json {
+        writeln!(
+            out,
+            "{{\"name\": {}, \"dimension\": 3, \"frames\": [",
+            json!(m.name)
+        )?;
+    }
+    for (i, requested) in sweep_requests(sweep, m.inputs.len()).enumerate() {
+        let status = driver.frame(&requested);
+        let poses = driver.poses();
+        let res = residual(m, poses, driver.inputs());
+        worst = worst.max(res);
+        if status.is_solved() {
+            solved += 1;
+        } else {
+            broken.push(i);
+        }
+        let markers = marker_positions(m, poses);
+        match form {
+            Form3::Csv => {
+                let mut row = vec![i.to_string(), status.name().to_string()];
+                row.extend(driver.inputs().iter().map(|v| format!("{v}")));
+                for p in &markers {
+                    row.extend(p.iter().map(|v| format!("{v}")));
+                }
+                row.push(format!("{res:e}"));
+                writeln!(out, "{}", row.join(","))?;
+            }
+            Form3::Json => {
+                let mut mk = Map::new();
+                for (n, p) in names.iter().zip(&markers) {
+                    mk.insert(n.clone(), json!(p));
+                }
+                let mut bodies = Map::new();
+                for (b, pose) in m.bodies.iter().zip(poses) {
+                    bodies.insert(
+                        b.name.clone(),
+                        json!({"rotation": pose.rot.m, "position": pose.pos}),
+                    );
+                }
+                let frame = json!({
+                    "frame": i,
+                    "status": status.name(),
+                    "requested": requested,
+                    "inputs": driver.inputs(),
+                    "markers": Value::Object(mk),
+                    "bodies": Value::Object(bodies),
+                    "residual": res,
+                });
+                let sep = if i + 1 < total { "," } else { "" };
+                writeln!(out, "  {frame}{sep}")?;
+            }
+            Form3::Text => {}
+        }
+        if let (Form3::Text, FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. }) =
+            (form, status)
+        {
+            if broken.len() == 1 {
+                writeln!(
+                    out,
+                    "  frame {i}: broke at step {} ({}), {}",
+                    brk.step,
+                    brk.kind.describe(),
+                    plan.steps
+                        .get(brk.step as usize - 1)
+                        .map_or("", |s| s.text.as_str())
+                )?;
+            }
+        }
+    }
+    match form {
+        Form3::Json => writeln!(out, "]}}")?,
+        Form3::Csv => {}
+        Form3::Text => {
+            writeln!(
+                out,
+                "{}: {total} frames, {solved} solved, {} not; largest joint residual {worst:.2e}",
+                m.name,
+                total - solved
+            )?;
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}

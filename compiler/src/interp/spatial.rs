@@ -1,0 +1,310 @@
+//! The spatial plan interpreter: executes a [`Plan3`] step by step through
+//! the same `dofplan_runtime::spatial` functions generated code calls.
+
+use dofplan_runtime::spatial::rows::WorldFrame;
+use dofplan_runtime::spatial::{self, add, dot, norm, scale, sub, unit, Pose3, Vec3};
+use dofplan_runtime::{Branch, Break, BreakKind, Ctx, Solver};
+
+use crate::plan::spatial::{Action3, CheckRow, Locus3, Plan3, StepKind3, D3, P3};
+
+/// Executes a [`Plan3`].
+#[derive(Clone, Debug)]
+pub struct Interpreter3 {
+    plan: Plan3,
+}
+
+/// What the interpreter carries from frame to frame.
+#[derive(Clone, Debug)]
+pub struct State3 {
+    /// Body poses, in the mechanism's body order.
+    pub poses: Vec<Pose3>,
+    /// Each pseudo-marker's last position.
+    pub temps: Vec<Vec3>,
+    /// Each branch slot's current branch.
+    pub branches: Vec<Branch>,
+    /// Each branch slot's last root angle (rotations to a condition).
+    pub angles: Vec<f64>,
+}
+
+impl Interpreter3 {
+    /// An interpreter for `plan`.
+    pub fn new(plan: Plan3) -> Interpreter3 {
+        Interpreter3 { plan }
+    }
+
+    /// The plan.
+    pub fn plan(&self) -> &Plan3 {
+        &self.plan
+    }
+
+    /// Runs every step on `s` (left half-updated on a break: [`Solver::solve`]
+    /// works on a copy).
+    pub fn run(&self, s: &mut State3, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+        for (i, step) in self.plan.steps.iter().enumerate() {
+            let id = (i + 1) as u32;
+            match &step.kind {
+                StepKind3::Act { body, action } => act(s, *body, action, inputs, ctx, id)?,
+                StepKind3::Intersect {
+                    temp,
+                    loci,
+                    branch,
+                    tol,
+                } => {
+                    let mut br = branch.map_or(Branch::Plus, |k| s.branches[k]);
+                    let mut last = s.temps[*temp];
+                    let x = intersect(s, loci, *tol, inputs, ctx, id, &mut br, &mut last)?;
+                    if let Some(k) = branch {
+                        s.branches[*k] = br;
+                    }
+                    s.temps[*temp] = x;
+                }
+                StepKind3::Check { rows } => {
+                    for r in rows {
+                        let gap = check_gap(s, r, inputs);
+                        if gap > r.tol {
+                            ctx.fail(id, BreakKind::Inconsistent, gap)?;
+                        }
+                    }
+                }
+                StepKind3::Cluster(c) => {
+                    crate::interp::spatial_cluster::solve(s, c, inputs, ctx, id)?;
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A world point.
+pub(crate) fn point(s: &State3, p: &P3, inputs: &[f64]) -> Vec3 {
+    match p {
+        P3::Fixed(v) => *v,
+        P3::Body { body, local } => s.poses[*body].world(*local),
+        P3::Slid {
+            body,
+            local,
+            dir,
+            input,
+            sign,
+        } => s.poses[*body].world(add(*local, scale(*dir, sign * inputs[*input]))),
+        P3::Temp(t) => s.temps[*t],
+    }
+}
+
+/// A world direction (unit).
+pub(crate) fn dir(s: &State3, d: &D3, inputs: &[f64]) -> Vec3 {
+    match d {
+        D3::Fixed(v) => *v,
+        D3::Body { body, local } => s.poses[*body].dir(*local),
+        D3::Between(a, b) => unit(sub(point(s, b, inputs), point(s, a, inputs))),
+    }
+}
+
+/// A check row's largest residual at the current poses.
+pub(crate) fn check_gap(s: &State3, r: &CheckRow, inputs: &[f64]) -> f64 {
+    let f1 = WorldFrame::of(&s.poses[r.bodies[0]], r.at[0], r.z[0], r.x[0]);
+    let f2 = WorldFrame::of(&s.poses[r.bodies[1]], r.at[1], r.z[1], r.x[1]);
+    r.kind.gap(&f1, &f2, inputs)
+}
+
+fn act(
+    s: &mut State3,
+    body: usize,
+    a: &Action3,
+    inputs: &[f64],
+    ctx: &mut Ctx,
+    id: u32,
+) -> Result<(), Break> {
+    let p = |s: &State3, q: &P3| point(s, q, inputs);
+    let d = |s: &State3, v: &D3| dir(s, v, inputs);
+    match a {
+        Action3::TranslateOnto { from, to } => {
+            let (f, t) = (p(s, from), p(s, to));
+            spatial::translate_onto(&mut s.poses[body], f, t);
+        }
+        Action3::TranslateAlong { from, to, dir: l } => {
+            let (f, t, u) = (p(s, from), p(s, to), d(s, l));
+            s.poses[body].translate(scale(u, dot(sub(t, f), u)));
+        }
+        Action3::TranslateInPlane { from, to, normal } => {
+            let (f, t, n) = (p(s, from), p(s, to), d(s, normal));
+            let v = sub(t, f);
+            s.poses[body].translate(sub(v, scale(n, dot(v, n))));
+        }
+        Action3::TranslateToLine {
+            from,
+            through,
+            dir: l,
+        } => {
+            let (f, q, u) = (p(s, from), p(s, through), d(s, l));
+            let foot = add(q, scale(u, dot(sub(f, q), u)));
+            spatial::translate_onto(&mut s.poses[body], f, foot);
+        }
+        Action3::TranslateToPlane {
+            from,
+            through,
+            normal,
+        } => {
+            let (f, q, n) = (p(s, from), p(s, through), d(s, normal));
+            let h = dot(sub(f, q), n);
+            s.poses[body].translate(scale(n, -h));
+        }
+        Action3::SlideTo {
+            from,
+            origin,
+            dir: l,
+            axial0,
+            input,
+            sign,
+        } => {
+            let (f, o, u) = (p(s, from), p(s, origin), d(s, l));
+            let err = axial0 + inputs[*input] - dot(sub(f, o), u);
+            s.poses[body].translate(scale(u, sign * err));
+        }
+        Action3::RotateOnto { pivot, from, to } => {
+            let (c, f, t) = (p(s, pivot), p(s, from), p(s, to));
+            spatial::rotate_about_point(&mut s.poses[body], c, sub(f, c), sub(t, c));
+        }
+        Action3::AlignDir { pivot, from, to } => {
+            let (c, f, t) = (p(s, pivot), d(s, from), d(s, to));
+            spatial::rotate_about_point(&mut s.poses[body], c, f, t);
+        }
+        Action3::AxisOnto {
+            pivot,
+            axis,
+            from,
+            to,
+        } => {
+            let (c, a, f, t) = (p(s, pivot), d(s, axis), p(s, from), p(s, to));
+            spatial::rotate_about_axis_onto(&mut s.poses[body], c, a, f, t);
+        }
+        Action3::AxisDir {
+            pivot,
+            axis,
+            from,
+            to,
+        } => {
+            let (c, a, f, t) = (p(s, pivot), d(s, axis), d(s, from), d(s, to));
+            spatial::rotate_about_axis_dir(&mut s.poses[body], c, a, f, t);
+        }
+        Action3::Twist {
+            pivot,
+            axis,
+            x1,
+            x2,
+            angle,
+            input,
+            sign,
+        } => {
+            let (c, a, u1, u2) = (p(s, pivot), d(s, axis), d(s, x1), d(s, x2));
+            let target = angle + input.map_or(0.0, |i| inputs[i].to_radians());
+            let (sin, cos) = spatial::twist_correction(a, u1, u2, target, *sign);
+            spatial::rotate_about_axis_angle(&mut s.poses[body], c, a, cos, sin);
+        }
+        Action3::AxisCondition {
+            pivot,
+            axis,
+            v,
+            w,
+            cos,
+            branch,
+        } => {
+            let (c, a, vv, ww) = (p(s, pivot), d(s, axis), d(s, v), d(s, w));
+            let mut br = s.branches[*branch];
+            let mut last = s.angles[*branch];
+            let (co, si) = spatial::rotation_to_condition(ctx, id, a, vv, ww, *cos, &mut br, &mut last)?;
+            s.branches[*branch] = br;
+            s.angles[*branch] = last;
+            spatial::rotate_about_axis_angle(&mut s.poses[body], c, a, co, si);
+        }
+        Action3::Tilt { pivot, from, to, cos } => {
+            let (c, f, t) = (p(s, pivot), d(s, from), d(s, to));
+            spatial::tilt(&mut s.poses[body], c, f, t, *cos);
+        }
+    }
+    Ok(())
+}
+
+/// A circle's centre, unit normal and radius, from the point `x` turning
+/// about the line (`c`, `a`).
+fn circle(c: Vec3, a: Vec3, x: Vec3) -> (Vec3, Vec3, f64) {
+    let centre = add(c, scale(a, dot(sub(x, c), a)));
+    (centre, a, norm(sub(x, centre)))
+}
+
+#[allow(clippy::too_many_arguments)]
+fn intersect(
+    s: &State3,
+    loci: &[Locus3; 2],
+    tol: f64,
+    inputs: &[f64],
+    ctx: &mut Ctx,
+    id: u32,
+    branch: &mut Branch,
+    last: &mut Vec3,
+) -> Result<Vec3, Break> {
+    let p = |q: &P3| point(s, q, inputs);
+    let d = |v: &D3| dir(s, v, inputs);
+    let circ = |pivot: &P3, axis: &D3, at: &P3| circle(p(pivot), d(axis), p(at));
+    match loci {
+        [Locus3::Circle { pivot, axis, at }, Locus3::Circle {
+            pivot: p2,
+            axis: a2,
+            at: x2,
+        }] => {
+            let (c1, n1, r1) = circ(pivot, axis, at);
+            let (c2, n2, r2) = circ(p2, a2, x2);
+            spatial::circle_circle(ctx, id, c1, n1, r1, c2, n2, r2, tol, branch, last)
+        }
+        [Locus3::Sphere { centre, a, b }, Locus3::Circle { pivot, axis, at: x }]
+        | [Locus3::Circle { pivot, axis, at: x }, Locus3::Sphere { centre, a, b }] => {
+            let cs = p(centre);
+            let rs = norm(sub(p(b), p(a)));
+            let (c, n, r) = circ(pivot, axis, x);
+            spatial::sphere_circle(ctx, id, cs, rs, c, n, r, branch, last)
+        }
+        [Locus3::Line { at, dir: l }, Locus3::Sphere { centre, a, b }]
+        | [Locus3::Sphere { centre, a, b }, Locus3::Line { at, dir: l }] => {
+            let cs = p(centre);
+            let rs = norm(sub(p(b), p(a)));
+            spatial::line_sphere(ctx, id, p(at), d(l), cs, rs, branch, last)
+        }
+        [Locus3::Line { at, dir: l }, Locus3::Circle { pivot, axis, at: x }]
+        | [Locus3::Circle { pivot, axis, at: x }, Locus3::Line { at, dir: l }] => {
+            let (c, n, r) = circ(pivot, axis, x);
+            spatial::line_circle(ctx, id, p(at), d(l), c, n, r, tol, branch, last)
+        }
+        _ => unreachable!("the planner intersects only the pairs above"),
+    }
+}
+
+impl Solver for Interpreter3 {
+    type Pose = Pose3;
+    type State = State3;
+    type Inputs = Vec<f64>;
+
+    fn initial_state(&self) -> State3 {
+        State3 {
+            poses: vec![Pose3::IDENTITY; self.plan.bodies.len()],
+            temps: self.plan.temps.iter().map(|t| t.drawn).collect(),
+            branches: self.plan.branches.iter().map(|b| b.initial).collect(),
+            angles: self.plan.branches.iter().map(|b| b.angle).collect(),
+        }
+    }
+
+    fn initial_inputs(&self) -> Vec<f64> {
+        vec![0.0; self.plan.inputs.len()]
+    }
+
+    fn poses(state: &State3) -> &[Pose3] {
+        &state.poses
+    }
+
+    fn solve(&self, state: &mut State3, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+        // A break must leave the state as it was: work on a copy.
+        let mut work = state.clone();
+        self.run(&mut work, inputs, ctx)?;
+        *state = work;
+        Ok(())
+    }
+}

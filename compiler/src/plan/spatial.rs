@@ -1,0 +1,513 @@
+//! The spatial plan IR: the contract between the spatial planner and both
+//! back ends, as [`super::Plan`] is for planar plans.
+//!
+//! A spatial plan moves bodies by **actions** (Kramer's translate and
+//! rotate, SPATIAL.md §2.2), each taking a body from the pose it has —
+//! last frame's, at first — to one that meets one more constraint while
+//! keeping those met before. Freedoms no constraint removes are therefore
+//! kept at minimum motion (an RSSR coupler's spin stays where it was).
+//! Loops are closed by intersecting the loci of partly placed markers into
+//! **pseudo-markers** (temps). Every constant a step needs is here.
+
+use dofplan_runtime::spatial::rows::RowKind;
+use dofplan_runtime::spatial::Vec3;
+use dofplan_runtime::Branch;
+
+/// Index of a body in the mechanism's body order.
+pub type BodyId = usize;
+
+/// A world point a step reads, computed from poses already reached.
+#[derive(Clone, Debug, PartialEq)]
+pub enum P3 {
+    /// A constant (a marker of a fixed body).
+    Fixed(Vec3),
+    /// A point of a body, local (= drawn) coordinates.
+    Body {
+        /// The body.
+        body: BodyId,
+        /// Local coordinates.
+        local: Vec3,
+    },
+    /// A point carried along a slide: `body.world(local + sign·s·dir)` for
+    /// the slide input's value `s` (a rod's end seen from its barrel).
+    Slid {
+        /// The body whose frame it is fixed in, up to the slide.
+        body: BodyId,
+        /// Local coordinates at zero slide.
+        local: Vec3,
+        /// Unit slide direction, local.
+        dir: Vec3,
+        /// The slide input.
+        input: usize,
+        /// +1 or −1 (the slide seen from the other body).
+        sign: f64,
+    },
+    /// A pseudo-marker computed by an earlier intersection.
+    Temp(usize),
+}
+
+/// A world direction a step reads (unit length).
+#[derive(Clone, Debug, PartialEq)]
+pub enum D3 {
+    /// A constant.
+    Fixed(Vec3),
+    /// A direction of a body, local.
+    Body {
+        /// The body.
+        body: BodyId,
+        /// Unit direction, local.
+        local: Vec3,
+    },
+    /// The unit direction from one point to another.
+    Between(Box<P3>, Box<P3>),
+}
+
+/// What an action does to its body (SPATIAL.md §2.2). Every rotation is
+/// about the body's pivot, so it keeps the constraints met before.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Action3 {
+    /// Translate by `to − from` (`from` a point of the body).
+    TranslateOnto {
+        /// A point of the body.
+        from: P3,
+        /// Where it goes.
+        to: P3,
+    },
+    /// Translate along `dir` by the component of `to − from` along it.
+    TranslateAlong {
+        /// A point of the body.
+        from: P3,
+        /// Its target.
+        to: P3,
+        /// The direction of motion.
+        dir: D3,
+    },
+    /// Translate across `normal` by the component of `to − from` across it.
+    TranslateInPlane {
+        /// A point of the body.
+        from: P3,
+        /// Its target.
+        to: P3,
+        /// The plane's normal.
+        normal: D3,
+    },
+    /// Translate `from` to its foot on the line (`through`, `dir`).
+    TranslateToLine {
+        /// A point of the body.
+        from: P3,
+        /// A point of the line.
+        through: P3,
+        /// The line's direction.
+        dir: D3,
+    },
+    /// Translate `from` along `normal` onto the plane (`through`, `normal`).
+    TranslateToPlane {
+        /// A point of the body.
+        from: P3,
+        /// A point of the plane.
+        through: P3,
+        /// The plane's normal.
+        normal: D3,
+    },
+    /// Translate along `dir` so that `(from − origin)·dir = axial0 + s` for
+    /// the slide input's value `s`: by `sign·(axial0 + s − (from − origin)·dir)`
+    /// (a slide input; `from` is the joint's second marker, `origin` its
+    /// first).
+    SlideTo {
+        /// The slide's second marker, a point of the body.
+        from: P3,
+        /// The slide's first marker.
+        origin: P3,
+        /// The slide's direction.
+        dir: D3,
+        /// The axial distance as drawn.
+        axial0: f64,
+        /// The slide input.
+        input: usize,
+        /// +1 when the body carries the second marker, −1 the first.
+        sign: f64,
+    },
+    /// The minimal rotation about `pivot` taking `from` (a point of the
+    /// body) toward `to`.
+    RotateOnto {
+        /// The fixed point.
+        pivot: P3,
+        /// A point of the body.
+        from: P3,
+        /// Where it goes (up to its distance from the pivot).
+        to: P3,
+    },
+    /// The minimal rotation about `pivot` taking the body's direction `from`
+    /// to `to`.
+    AlignDir {
+        /// The fixed point.
+        pivot: P3,
+        /// A direction of the body.
+        from: D3,
+        /// Its target.
+        to: D3,
+    },
+    /// The rotation about the line (`pivot`, `axis`) taking the point `from`
+    /// of the body onto the half-plane of `to`.
+    AxisOnto {
+        /// A point of the axis.
+        pivot: P3,
+        /// The axis.
+        axis: D3,
+        /// A point of the body.
+        from: P3,
+        /// Its target.
+        to: P3,
+    },
+    /// The rotation about (`pivot`, `axis`) taking the body's direction
+    /// `from` to `to` (their components across the axis).
+    AxisDir {
+        /// A point of the axis.
+        pivot: P3,
+        /// The axis.
+        axis: D3,
+        /// A direction of the body.
+        from: D3,
+        /// Its target.
+        to: D3,
+    },
+    /// The rotation about (`pivot`, `axis`) that sets the twist of the
+    /// body's `x2` about `axis` from the other marker's `x1` to
+    /// `angle` + the input (degrees), or `angle` alone (an angle input, or
+    /// the x part of an offset-x).
+    Twist {
+        /// A point of the axis.
+        pivot: P3,
+        /// The axis (the first marker's z).
+        axis: D3,
+        /// The first marker's x.
+        x1: D3,
+        /// The body's marker's x.
+        x2: D3,
+        /// The twist as drawn or written (radians).
+        angle: f64,
+        /// The angle input added, if any.
+        input: Option<usize>,
+        /// +1 when the body carries the second marker, −1 the first.
+        sign: f64,
+    },
+    /// The rotation about (`pivot`, `axis`) by the angle φ that makes
+    /// `(Rot(axis, φ)·v)·w = cos` (≤ 2 roots: a branch).
+    AxisCondition {
+        /// A point of the axis.
+        pivot: P3,
+        /// The axis.
+        axis: D3,
+        /// A direction of the body.
+        v: D3,
+        /// The direction it keeps an angle to.
+        w: D3,
+        /// The cosine of that angle.
+        cos: f64,
+        /// The branch slot.
+        branch: usize,
+    },
+    /// The rotation about `pivot` and about `from × to` that sets the angle
+    /// between the body's `from` and `to` to acos(`cos`): the body's
+    /// direction then lies on a cone about `to`.
+    Tilt {
+        /// The fixed point.
+        pivot: P3,
+        /// A direction of the body.
+        from: D3,
+        /// The cone's axis.
+        to: D3,
+        /// cos of the cone's half-angle.
+        cos: f64,
+    },
+}
+
+/// A locus of a point: where a partly placed body's marker may go.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Locus3 {
+    /// A circle: the point `at` turning about the line (`pivot`, `axis`).
+    Circle {
+        /// A point of the axis.
+        pivot: P3,
+        /// The axis.
+        axis: D3,
+        /// The point, as its body now is.
+        at: P3,
+    },
+    /// A sphere about `centre` of radius |a − b| (two points of one body).
+    Sphere {
+        /// The centre.
+        centre: P3,
+        /// One end of the radius.
+        a: P3,
+        /// The other end.
+        b: P3,
+    },
+    /// A line through `at` along `dir`.
+    Line {
+        /// The point, as its body now is.
+        at: P3,
+        /// The line's direction.
+        dir: D3,
+    },
+}
+
+impl Locus3 {
+    /// "circle", "sphere" or "line".
+    pub fn name(&self) -> &'static str {
+        match self {
+            Locus3::Circle { .. } => "circle",
+            Locus3::Sphere { .. } => "sphere",
+            Locus3::Line { .. } => "line",
+        }
+    }
+
+    /// The locus's dimension (1 for curves, 2 for surfaces).
+    pub fn dim(&self) -> usize {
+        match self {
+            Locus3::Sphere { .. } => 2,
+            Locus3::Circle { .. } | Locus3::Line { .. } => 1,
+        }
+    }
+}
+
+/// A redundant or consistency check: an equation's rows evaluated on two
+/// frames of placed bodies.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CheckRow {
+    /// The rows.
+    pub kind: RowKind,
+    /// The two bodies.
+    pub bodies: [BodyId; 2],
+    /// The markers' local points.
+    pub at: [Vec3; 2],
+    /// The markers' local z axes.
+    pub z: [Vec3; 2],
+    /// The markers' local x axes.
+    pub x: [Vec3; 2],
+    /// How many of the rows are redundant (the others hold by construction).
+    pub redundant: usize,
+    /// The largest row that passes: a length tolerance or an angle's sine.
+    pub tol: f64,
+    /// "joint C parallel-z".
+    pub name: String,
+}
+
+/// What a step does.
+#[derive(Clone, Debug, PartialEq)]
+pub enum StepKind3 {
+    /// One action on one body.
+    Act {
+        /// The body moved.
+        body: BodyId,
+        /// The action.
+        action: Box<Action3>,
+    },
+    /// A pseudo-marker: a point on both loci.
+    Intersect {
+        /// Index into [`Plan3::temps`].
+        temp: usize,
+        /// The two loci.
+        loci: Box<[Locus3; 2]>,
+        /// The branch slot, when two roots are valid.
+        branch: Option<usize>,
+        /// Candidates off a locus by more than this are not roots (the
+        /// non-coplanar circles of a Bennett linkage).
+        tol: f64,
+    },
+    /// Redundant rows: they must hold, or the frame breaks "inconsistent".
+    Check {
+        /// The rows.
+        rows: Vec<CheckRow>,
+    },
+    /// Bodies no fragment places, solved together by Newton–Raphson.
+    Cluster(Box<Cluster3>),
+}
+
+/// A body of a numeric cluster and its unknowns.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Param3 {
+    /// Free: a rotation about its current origin and a translation (6).
+    Free {
+        /// The body.
+        body: BodyId,
+    },
+    /// Rotation about a fixed pivot (3).
+    Pivot {
+        /// The body.
+        body: BodyId,
+        /// The pivot.
+        pivot: P3,
+    },
+    /// Rotation about a fixed axis (1).
+    Axis {
+        /// The body.
+        body: BodyId,
+        /// A point of the axis.
+        pivot: P3,
+        /// The axis.
+        axis: D3,
+    },
+}
+
+impl Param3 {
+    /// The body.
+    pub fn body(&self) -> BodyId {
+        match self {
+            Param3::Free { body } | Param3::Pivot { body, .. } | Param3::Axis { body, .. } => *body,
+        }
+    }
+
+    /// Number of unknowns.
+    pub fn count(&self) -> usize {
+        match self {
+            Param3::Free { .. } => 6,
+            Param3::Pivot { .. } => 3,
+            Param3::Axis { .. } => 1,
+        }
+    }
+}
+
+/// A row of a cluster: an equation, or a distance kept by a contracted
+/// chain (a leg of fixed length between two points).
+#[derive(Clone, Debug, PartialEq)]
+pub enum ClusterRow3 {
+    /// An equation's rows.
+    Equation(CheckRow),
+    /// |a − b| = |c − d| (c, d points of a contracted chain: its length).
+    Distance {
+        /// One end.
+        a: P3,
+        /// The other end.
+        b: P3,
+        /// The chain's first point (its length's).
+        c: P3,
+        /// The chain's last point.
+        d: P3,
+        /// "leg1".
+        name: String,
+    },
+}
+
+/// A numeric cluster.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Cluster3 {
+    /// Unknown bodies and their parametrisation.
+    pub params: Vec<Param3>,
+    /// Residual rows.
+    pub rows: Vec<ClusterRow3>,
+}
+
+impl Cluster3 {
+    /// Number of unknowns.
+    pub fn unknowns(&self) -> usize {
+        self.params.iter().map(Param3::count).sum()
+    }
+
+    /// Number of scalar equations.
+    pub fn equations(&self) -> usize {
+        self.rows
+            .iter()
+            .map(|r| match r {
+                ClusterRow3::Equation(c) => c.kind.rows(),
+                ClusterRow3::Distance { .. } => 1,
+            })
+            .sum()
+    }
+}
+
+/// One step with its explanation's parts.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Step3 {
+    /// What it does.
+    pub kind: StepKind3,
+    /// The one-line explanation.
+    pub text: String,
+    /// The joints, constraints and inputs it serves ("joint B coincident").
+    pub serves: Vec<String>,
+}
+
+/// A pseudo-marker: its drawn position (where the first frame starts).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Temp3 {
+    /// "coupler.C".
+    pub name: String,
+    /// Drawn world position.
+    pub drawn: Vec3,
+}
+
+/// A branch slot's initial sign and what it is for.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BranchSlot3 {
+    /// The branch of the drawn pose.
+    pub initial: Branch,
+    /// The root's last value, as drawn: an angle (0) for a rotation to a
+    /// condition, or unused.
+    pub angle: f64,
+}
+
+/// A spatial plan.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan3 {
+    /// The mechanism's name.
+    pub name: String,
+    /// Body names in file order.
+    pub bodies: Vec<String>,
+    /// Which bodies are fixed.
+    pub fixed: Vec<bool>,
+    /// Input names.
+    pub inputs: Vec<String>,
+    /// Steps in order.
+    pub steps: Vec<Step3>,
+    /// Pseudo-markers.
+    pub temps: Vec<Temp3>,
+    /// Branch slots.
+    pub branches: Vec<BranchSlot3>,
+    /// Freedoms left at minimum motion, by body: (body, freedoms, why).
+    pub idle: Vec<(BodyId, usize, String)>,
+}
+
+impl Plan3 {
+    /// Rows the plan only checks (redundant), named.
+    pub fn redundant(&self) -> Vec<(&str, usize)> {
+        let mut out = Vec::new();
+        for s in &self.steps {
+            if let StepKind3::Check { rows } = &s.kind {
+                for r in rows {
+                    if r.redundant > 0 {
+                        out.push((r.name.as_str(), r.redundant));
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// Unknowns and equations handed to Newton–Raphson.
+    pub fn cluster_size(&self) -> (usize, usize) {
+        self.steps.iter().fold((0, 0), |(u, e), s| match &s.kind {
+            StepKind3::Cluster(c) => (u + c.unknowns(), e + c.equations()),
+            _ => (u, e),
+        })
+    }
+
+    /// The plan as `dofplan plan` prints it: one numbered line a step.
+    pub fn explain_all(&self) -> String {
+        let mut out = String::new();
+        for (i, s) in self.steps.iter().enumerate() {
+            out.push_str(&format!("{:>3}  {}", i + 1, s.text));
+            if !s.serves.is_empty() {
+                out.push_str(&format!("   [{}]", s.serves.join(", ")));
+            }
+            out.push('\n');
+        }
+        for (b, dof, why) in &self.idle {
+            out.push_str(&format!(
+                "     idle: {} keeps {dof} freedom{} at minimum motion ({why})\n",
+                self.bodies[*b],
+                if *dof == 1 { "" } else { "s" }
+            ));
+        }
+        out
+    }
+}

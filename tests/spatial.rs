@@ -1,0 +1,206 @@
+//! Spatial mechanisms end to end: file → model → equations → plan →
+//! interpreter, checked against closed forms computed here from the file's
+//! markers and against every raw joint residual, never against dofplan's
+//! own output.
+
+use std::path::{Path, PathBuf};
+
+use dofplan::analysis::spatial::{analyse, count::count};
+use dofplan::interp::spatial::Interpreter3;
+use dofplan::model::spatial::Mechanism3;
+use dofplan::model::{load_any, load_any_str, Format, Model};
+use dofplan::simulate::spatial::residual;
+use dofplan::simulate::sweep_requests;
+use dofplan_runtime::spatial::{cross, dot, norm, sub};
+use dofplan_runtime::{Driver, Options};
+
+fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/spatial")
+        .join(name)
+}
+
+fn load(path: &Path) -> Mechanism3 {
+    match load_any(path) {
+        Ok(Model::Spatial(m)) => m,
+        Ok(Model::Planar(_)) => panic!("{} is planar", path.display()),
+        Err(e) => panic!("{}", e.render(false)),
+    }
+}
+
+/// Runs the file's sweep; every frame solved with every raw residual
+/// ≤ 1e-9 of the size. Returns each frame's marker positions by name.
+fn sweep(m: &Mechanism3) -> Vec<(Vec<f64>, Vec<dofplan_runtime::spatial::Pose3>)> {
+    let plan = analyse(m).unwrap_or_else(|e| panic!("{}: {e}", m.name));
+    let mut driver = Driver::new(Interpreter3::new(plan), Options::default());
+    let s = m.sweep.as_ref().expect("a sweep");
+    let mut out = Vec::new();
+    for (i, req) in sweep_requests(s, m.inputs.len()).enumerate() {
+        let status = driver.frame(&req);
+        assert!(status.is_solved(), "{} frame {i}: {status:?}", m.name);
+        let r = residual(m, driver.poses(), driver.inputs());
+        assert!(r <= 1e-9, "{} frame {i}: residual {r:e}", m.name);
+        out.push((req, driver.poses().to_vec()));
+    }
+    out
+}
+
+#[test]
+fn cardan_joint_follows_its_output_law() {
+    let m = load(&data("cardan_direct.toml"));
+    let shaft1 = m.bodies.iter().position(|b| b.name == "shaft1").unwrap();
+    let shaft2 = m.bodies.iter().position(|b| b.name == "shaft2").unwrap();
+    let a1 = m.marker(m.find_marker("ground.A1").unwrap()).axes.unwrap().z;
+    let a2 = m.marker(m.find_marker("ground.A2").unwrap()).axes.unwrap().z;
+    let beta = dot(a1, a2).acos();
+    // Shaft angles measured from the drawn yokes, about each shaft's axis.
+    let y1 = m.marker(m.find_marker("shaft1.U").unwrap()).axes.unwrap().z;
+    let y2 = m.marker(m.find_marker("shaft2.U").unwrap()).axes.unwrap().z;
+    let angle =
+        |axis: [f64; 3], drawn: [f64; 3], now: [f64; 3]| dot(cross(drawn, now), axis).atan2(dot(drawn, now));
+    for (req, poses) in sweep(&m) {
+        let t1 = angle(a1, y1, poses[shaft1].dir(y1));
+        let t2 = angle(a2, y2, poses[shaft2].dir(y2));
+        assert!((t1 - req[0].to_radians()).sin().abs() < 1e-12);
+        // tan θ2 = tan θ1 / cos β, written without the poles of tan.
+        let law = t2.sin() * t1.cos() * beta.cos() - t1.sin() * t2.cos();
+        assert!(law.abs() < 1e-9, "theta1 {}: law off by {law:e}", req[0]);
+    }
+}
+
+#[test]
+fn cardan_counts_name_the_redundant_rows() {
+    let m = load(&data("cardan_direct.toml"));
+    let c = count(&m);
+    // 2 moving bodies, revolute 5 + revolute 5 + universal 4 equations.
+    assert_eq!((c.moving, c.equations, c.grubler), (2, 14, -2));
+    // Both shafts keep the joint's centre where their axes meet: its three
+    // coincident rows are dependent, and the mechanism has one freedom.
+    assert_eq!((c.rank, c.mobility, c.redundant_equations), (11, 1, 3));
+    assert_eq!(
+        c.redundant,
+        vec![("joint U".to_string(), "coincident".to_string(), 3)]
+    );
+    assert_eq!(c.idle_freedoms, 0);
+    let plan = analyse(&m).unwrap();
+    let checked: usize = plan.redundant().iter().map(|(_, n)| n).sum();
+    assert_eq!(
+        checked, c.redundant_equations,
+        "the plan checks exactly the redundant rows"
+    );
+    assert_eq!(plan.cluster_size(), (0, 0), "closed form");
+}
+
+/// An RSSR four-bar drawn here (a crank-rocker): the coupler spins idle
+/// about B–C; every frame closes both spheres and keeps the crank's and
+/// rocker's revolutes.
+#[test]
+fn rssr_plans_in_closed_form_with_an_idle_coupler_spin() {
+    // Crank |AB| = 1 about z through the origin; rocker about the axis
+    // through D along (1, 0, 1); coupler |BC| chosen so it assembles for
+    // every crank angle: C starts on the rocker's circle.
+    let text = r#"
+name = "rssr"
+dimension = 3
+[bodies.ground]
+fixed = true
+markers.A = { at = [0, 0, 0], z = [0, 0, 1] }
+markers.D = { at = [1, 5, 0], z = [1, 0, 0] }
+[bodies.crank]
+markers.A = { at = [0, 0, 0], z = [0, 0, 1] }
+markers.B = [1, 0, 0]
+[bodies.coupler]
+markers = { B = [1, 0, 0], C = [1, 5, 3], M = [1, 2, 2] }
+[bodies.rocker]
+markers.C = [1, 5, 3]
+markers.D = { at = [1, 5, 0], z = [1, 0, 0] }
+[joints.A]
+kind = "revolute"
+markers = ["ground.A", "crank.A"]
+[joints.B]
+kind = "spherical"
+markers = ["crank.B", "coupler.B"]
+[joints.C]
+kind = "spherical"
+markers = ["coupler.C", "rocker.C"]
+[joints.D]
+kind = "revolute"
+markers = ["ground.D", "rocker.D"]
+[inputs.theta]
+kind = "angle"
+joint = "A"
+[sweep]
+input = "theta"
+from = 0.0
+to = 360.0
+steps = 73
+trace = ["coupler.M"]
+"#;
+    let Ok(Model::Spatial(m)) = load_any_str("rssr.toml", text, Format::Toml) else {
+        panic!("loads");
+    };
+    let c = count(&m);
+    assert_eq!(
+        (c.grubler, c.mobility, c.redundant_equations, c.idle_freedoms),
+        (2, 2, 0, 1)
+    );
+    let plan = analyse(&m).unwrap();
+    assert_eq!(plan.idle.len(), 1);
+    assert_eq!(plan.bodies[plan.idle[0].0], "coupler");
+    let b = m.find_marker("crank.B").unwrap();
+    let cm = m.find_marker("rocker.C").unwrap();
+    let len = norm(sub(m.marker(cm).at, m.marker(b).at));
+    for (_, poses) in sweep(&m) {
+        // The coupler's length, from the crank's and rocker's points alone.
+        let pb = poses[b.body].world(m.marker(b).at);
+        let pc = poses[cm.body].world(m.marker(cm).at);
+        assert!((norm(sub(pc, pb)) - len).abs() < 1e-9);
+    }
+}
+
+#[test]
+fn bad_spatial_input_is_named_with_its_place() {
+    let base = |joint: &str| {
+        format!(
+            r#"name = "bad"
+dimension = 3
+[bodies.ground]
+fixed = true
+markers.A = {{ at = [0, 0, 0], z = [0, 0, 1] }}
+[bodies.arm]
+markers.A = {{ at = [0, 0, 0], z = [0, 1, 0] }}
+markers.B = [1, 0]
+[joints.A]
+{joint}
+markers = ["ground.A", "arm.A"]
+"#
+        )
+    };
+    let err = |text: &str| match load_any_str("bad.toml", text, Format::Toml) {
+        Err(e) => e.render(false),
+        Ok(_) => panic!("accepted:\n{text}"),
+    };
+    let e = err(&base("kind = \"revolute\""));
+    assert!(e.contains("bad.toml:8:"), "{e}");
+    assert!(e.contains("must have 3 coordinates [x, y, z]"), "{e}");
+    let e = err(&base("kind = \"revolute\"").replace("markers.B = [1, 0]", "markers.B = [1, 0, 0]"));
+    assert!(e.contains("not parallel as drawn"), "{e}");
+    assert!(e.contains("ground.A") && e.contains("arm.A"), "{e}");
+    let e = err(&base("kind = \"hinge\"").replace("markers.B = [1, 0]", "markers.B = [1, 0, 0]"));
+    assert!(
+        e.contains("unknown kind `hinge`") && e.contains("universal"),
+        "{e}"
+    );
+    let e = err(&base("kind = \"revolute\"")
+        .replace("markers.B = [1, 0]", "markers.B = [1, 0, 0]")
+        .replace("z = [0, 1, 0] }", "z = [0, 0, 1], x = [0, 0.5, 1] }"));
+    assert!(e.contains("x is not perpendicular to z"), "{e}");
+    let e = err(&format!(
+        "{}[inputs.t]\nkind = \"angle\"\njoint = \"A\"\n",
+        base("kind = \"spherical\"").replace("markers.B = [1, 0]", "markers.B = [1, 0, 0]")
+    ));
+    assert!(
+        e.contains("an input needs a 1-DOF joint or a cylindrical joint"),
+        "{e}"
+    );
+}
