@@ -204,3 +204,27 @@ markers = ["ground.A", "arm.A"]
         "{e}"
     );
 }
+
+/// Every bundled spatial mechanism plans, and every frame of its sweep is
+/// solved with every raw joint residual within 1e-9 of its size.
+#[test]
+fn every_bundled_spatial_sweep_closes_every_joint() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("mechanisms/spatial");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("mechanisms/spatial")
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "toml"))
+        .collect();
+    files.sort();
+    assert!(files.len() >= 9, "{files:?}");
+    for f in files {
+        let m = load(&f);
+        // The 100-loop chain's sweep is long in a debug build: its plan is
+        // checked on every tenth frame.
+        let mut m = m;
+        if let Some(s) = m.sweep.as_mut() {
+            s.steps = s.steps.min(91);
+        }
+        sweep(&m);
+    }
+}

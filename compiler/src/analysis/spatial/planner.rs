@@ -119,6 +119,9 @@ struct Planner<'m> {
     /// Per body: slide-input joints (joint, input) whose axis points of the
     /// body move rigidly with the joint's other body.
     slides: Vec<Vec<(usize, usize)>>,
+    /// Redundant rows of loops closed through a driven slide: checked at the
+    /// end, once the body carrying the point has followed.
+    pending: Vec<(usize, usize)>,
 }
 
 /// Plans a spatial mechanism from its equations.
@@ -160,6 +163,7 @@ pub fn plan(m: &Mechanism3, eqs: &[Equation3]) -> Planned3 {
         branches: Vec::new(),
         size: m.size(),
         slides,
+        pending: Vec::new(),
     };
     loop {
         if (0..eqs.len()).any(|i| !p.used[i] && p.propagate(i)) {
@@ -172,6 +176,9 @@ pub fn plan(m: &Mechanism3, eqs: &[Equation3]) -> Planned3 {
             continue;
         }
         break;
+    }
+    for (i, redundant) in std::mem::take(&mut p.pending) {
+        p.check(i, redundant);
     }
     let mut idle = Vec::new();
     for (b, s) in p.state.iter().enumerate() {
@@ -1246,21 +1253,24 @@ impl Planner<'_> {
             serves.clone(),
         );
         for (body, pt) in [(ba, pa), (bb, pb)] {
-            self.meet_temp(body, pt, t, &serves);
+            self.meet(body, pt, P3::Temp(t), &serves);
         }
         self.used[i] = true;
         if redundant > 0 {
-            self.check(i, redundant);
+            if ba == e.bodies[0] && bb == e.bodies[1] {
+                self.check(i, redundant);
+            } else {
+                self.pending.push((i, redundant));
+            }
         }
         true
     }
 
-    /// Moves a partly placed body so its point `pt` meets a pseudo-marker.
-    fn meet_temp(&mut self, b: usize, pt: P3, t: usize, serves: &[String]) {
+    /// Moves a partly placed body so its point `pt` meets a known point.
+    fn meet(&mut self, b: usize, pt: P3, to: P3, serves: &[String]) {
         let st = self.state[b].clone();
         let name = self.name(b).to_string();
-        let to = P3::Temp(t);
-        let step = self.temp_step(t);
+        let step = self.describe(&to);
         match (&st.t, &st.r) {
             (T::Point { q }, R::Axis { al }) => {
                 self.act(
@@ -1271,7 +1281,7 @@ impl Planner<'_> {
                         from: pt,
                         to,
                     },
-                    format!("{name}: turn about its axis onto step {step}"),
+                    format!("{name}: turn about its axis onto {step}"),
                     serves,
                 );
                 self.state[b].r = R::Fixed;
@@ -1288,7 +1298,7 @@ impl Planner<'_> {
                         from: pt,
                         to,
                     },
-                    format!("{name}: rotate about its pivot onto step {step}"),
+                    format!("{name}: rotate about its pivot onto {step}"),
                     serves,
                 );
                 self.state[b].r = R::Axis {
@@ -1302,10 +1312,39 @@ impl Planner<'_> {
                 self.act(
                     b,
                     Action3::TranslateAlong { from: pt, to, dir },
-                    format!("{name}: slide along its line onto step {step}"),
+                    format!("{name}: slide along its line onto {step}"),
                     serves,
                 );
                 self.state[b].t = T::Point { q };
+            }
+            (T::Point { q }, R::Cone { u, w, cos }) => {
+                let (u, w, cos) = (*u, w.clone(), *cos);
+                let pivot = self.body_point(b, *q);
+                self.act(
+                    b,
+                    Action3::RotateOnto {
+                        pivot: pivot.clone(),
+                        from: pt,
+                        to: to.clone(),
+                    },
+                    format!("{name}: rotate about its pivot onto {step}"),
+                    serves,
+                );
+                let slot = self.slot();
+                self.act(
+                    b,
+                    Action3::AxisCondition {
+                        pivot: pivot.clone(),
+                        axis: D3::Between(Box::new(pivot), Box::new(to)),
+                        v: self.body_dir(b, u),
+                        w,
+                        cos,
+                        branch: slot,
+                    },
+                    format!("{name}: spin about the line to {step} until its cone holds, branch slot {slot}"),
+                    serves,
+                );
+                self.state[b].r = R::Fixed;
             }
             _ => {}
         }
@@ -1328,6 +1367,7 @@ impl Planner<'_> {
         // turning about a pivot (directly, or through a driven slide) and a
         // point of another body is the distance from the pivot.
         let mut contracted = vec![false; self.m.bodies.len()];
+        let mut meets = Vec::new();
         let mut rows = Vec::new();
         let mut used = Vec::new();
         for &i in &open {
@@ -1350,6 +1390,13 @@ impl Planner<'_> {
                 if a != b {
                     contracted[b] = true;
                 }
+                let (_, _, carried) = self.locus_of(b, e.frames[side].at, true).expect("found above");
+                meets.push((
+                    a,
+                    carried,
+                    self.body_point(o, e.frames[1 - side].at),
+                    self.serves(i),
+                ));
                 rows.push(ClusterRow3::Distance {
                     a: self.body_point(o, e.frames[1 - side].at),
                     b: pa.clone(),
@@ -1385,6 +1432,7 @@ impl Planner<'_> {
                 .collect();
             rows.clear();
             used.clear();
+            meets.clear();
         }
         if members.is_empty() {
             return false;
@@ -1448,6 +1496,10 @@ impl Planner<'_> {
                 t: T::Point { q: [0.0; 3] },
                 r: R::Fixed,
             };
+        }
+        // Each contracted leg now swings onto the point it holds.
+        for (a, carried, target, serves) in meets {
+            self.meet(a, carried, target, &[serves]);
         }
         true
     }
