@@ -4,7 +4,7 @@
 Stdlib only (Python >= 3.11 for tomllib); it shares no code with the Rust
 crates nor with tools/gen_spatial.py.  Usage:
 
-    python3 tools/check_spatial.py [-v] [--stride K] [files or directories ...]
+    python3 tools/check_spatial.py [-v] [--quick | --stride K] [files or directories ...]
 
 (default: every *.toml in <repo>/mechanisms/spatial).  Exit status 0 iff every
 file passes.
@@ -31,10 +31,17 @@ the axis / line / plane, m2 is constrained):
 
 Inputs add one row each: angle = x2.(cos th y1 - sin th x1) = 0 (body 2 turned
 by th relative to body 1, right-handed about z1; x1 any vector normal to z1
-carried by both bodies), slide = (p2 - p1).z1 - drawn - s = 0.  Direction rows
-are multiplied by the mechanism size L (so every row is a length) and the
-rotation unknowns are scaled by L (u = omega L), which makes the Jacobian
-dimensionally uniform.  L = diagonal of the bounding box of all markers.
+carried by both bodies), slide = (p2 - p1).z1 - drawn - s = 0.
+
+Unknowns: a body's pose is (R, c), c the world position of the centroid of its
+markers, so a marker is at R (p - centroid) + c; a step rotates each body about
+its own centroid (q -> exp(omega) (q - c) + c + dc), which keeps the columns of
+far-away bodies well conditioned.  Direction rows are multiplied by a
+characteristic length l (the mean distance of the markers from their body's
+centroid, over the moving bodies) and the rotation unknowns are scaled by l
+(u = omega l), so every row is a length and the Jacobian is dimensionally
+uniform.  L = diagonal of the bounding box of all markers (the mechanism size);
+residuals are reported as position rows / L and direction rows in radians.
 
 Per file:
  (a) every marker is well formed (z, x non-zero, x normal to z), the axes each
@@ -51,18 +58,22 @@ Per file:
  (c) every sweep frame is solved by damped Gauss-Newton (Levenberg-Marquardt
      on the normal equations, sparse Gaussian elimination with partial
      pivoting, bodies ordered by reverse Cuthill-McKee), warm-started from the
-     previous frame with a linear predictor; a frame is ok when every row is
-     below 1e-10 L.  The max residual of the joint rows is reported relative
-     to L.  For spatial_stress_N with N >= 50 only every 10th frame (and the
-     last) is solved (--stride overrides, for every file);
+     previous frame with a linear predictor, iterated to 1e-14; a frame is ok
+     when every row is below 1e-10 (positions / L, directions in radians).
+     The max residual of the joint rows is reported the same way.  Every frame
+     is solved by default (about a minute for all files); --quick solves only
+     every 10th frame (and the last) of spatial_stress_N for N >= 50, --stride K
+     every Kth frame of every file (the table marks subsampled files with *);
  (d) closed forms, computed here from the file's own markers: Cardan
      tan th2 = tan th1 / cos beta; double Cardan output = input; tilted four-bar
      = planar four-bar of mechanisms/fourbar.toml (circle intersection) mapped
-     through the header's o, e1, e2; RSSR / spherical four-bar / Bennett /
-     stress chains: each loop's rocker angle from the one-angle equation
+     through the header's o, e1, e2; RSSR / spherical four-bar / stress
+     chains: each loop's rocker angle from the one-angle equation
      |C(phi) - B| = |BC| (a cos phi + b sin phi = c), branch by continuity from
-     the drawn pose, plus Bennett's tan(th1/2) tan(th2/2) = sin((b+a)/2) /
-     sin((b-a)/2) on the solved DH angles; excavator: boom and stick angles from
+     the drawn pose; Bennett: the DH chain (link lengths and twists read from
+     the markers) with th2 from tan(th1/2) tan(th2/2) = sin((b+a)/2) /
+     sin((b-a)/2), th3 = -th1, th4 = -th2, and that relation on the DH angles
+     measured from the solved poses; excavator: boom and stick angles from
      the cylinder triangles (law of cosines), tip by composing rotations; sofa
      bed: planar four-bar + RRR dyad of the left side by circle intersection,
      right side = left side shifted by W; Stewart: last frame = the header's
@@ -254,6 +265,16 @@ class Mech:
         lo = [min(p[k] for p in pts) for k in range(3)]
         hi = [max(p[k] for p in pts) for k in range(3)]
         self.size = math.sqrt(sum((hi[k] - lo[k]) ** 2 for k in range(3)))
+        self.centroid = {}
+        spread = []
+        for b in self.moving:
+            ps = [m.p for m in self.markers.values() if m.body == b]
+            if not ps:
+                raise Fail("body %s has no markers" % b)
+            cb = mul(tuple(sum(p[k] for p in ps) for k in range(3)), 1.0 / len(ps))
+            self.centroid[b] = cb
+            spread += [norm(sub(p, cb)) for p in ps]
+        self.ell = max(sum(spread) / len(spread), 1e-3 * self.size)
         self.joints = []
         for jname, j in d["joints"].items():
             kind = j["kind"]
@@ -277,6 +298,13 @@ class Mech:
                 raise Fail("joint %s: helical needs pitch" % jname)
             self.joints.append(Joint(jname, kind, m1, m2, pitch))
         self.jmap = {j.name: j for j in self.joints}
+        # modelling rule of the bundled files: different joints sit at distinct points
+        seen = {}
+        for j in self.joints:
+            key = tuple(round(c / self.size, 9) for c in j.m1.p)
+            if key in seen:
+                raise Fail("joints %s and %s are at the same point" % (seen[key], j.name))
+            seen[key] = j.name
         self.inputs = {}
         for iname, inp in d.get("inputs", {}).items():
             j = self.jmap.get(inp["joint"])
@@ -309,13 +337,23 @@ class Mech:
     def bidx(self, body):
         return self.index.get(body, -1)
 
+    def loc(self, m):
+        """A marker's point relative to its body's centroid (world point for fixed bodies)."""
+        return sub(m.p, self.centroid[m.body]) if m.body in self.index else m.p
+
+    def drawn(self):
+        return [(IDENT, self.centroid[b]) for b in self.moving]
+
+    def relres(self, rows, vals):
+        """Residual, dimensionless: position rows / L, direction rows (scaled by l) / l."""
+        return max((abs(v) / (self.size if r[0] == "P" else self.ell) for r, v in zip(rows, vals)), default=0.0)
+
     def frame_of(self, m):
         z = unit(m.z)
         x = unit(m.x) if m.x is not None else perp(z)
         return z, x, cross(z, x)
 
     def build_rows(self):
-        L = self.size
         rows = []
         for j in self.joints:
             m1, m2 = j.m1, j.m2
@@ -323,7 +361,7 @@ class Mech:
             tag = j.name
 
             def P(v, bv, const=0.0, t=tag):
-                rows.append(("P", b2, m2.p, b1, m1.p, bv, v, const, t))
+                rows.append(("P", b2, self.loc(m2), b1, self.loc(m1), bv, v, const, t))
 
             def D(a, ba, b, bb, t=tag):
                 rows.append(("D", ba, a, bb, b, t))
@@ -352,7 +390,7 @@ class Mech:
             if k == "helical":
                 z1, x1, y1 = self.frame_of(m1)
                 d0 = dot(sub(m2.p, m1.p), z1)
-                rows.append(("H", b2, m2.p, b1, m1.p, z1, x1, y1, d0, j.pitch, tag))
+                rows.append(("H", b2, self.loc(m2), b1, self.loc(m1), z1, x1, y1, d0, j.pitch, tag))
             if sum(1 for r in rows if r[-1] == tag) != JOINT_EQS[k]:
                 raise Fail("internal: row count of %s" % tag)
         self.rows = rows
@@ -370,7 +408,7 @@ class Mech:
                 rows.append(("D", b2, x1, b1, b, "input " + iname))
             else:
                 d0 = dot(sub(m2.p, m1.p), z1)
-                rows.append(("P", b2, m2.p, b1, m1.p, b1, z1, d0 + v, "input " + iname))
+                rows.append(("P", b2, self.loc(m2), b1, self.loc(m1), b1, z1, d0 + v, "input " + iname))
         return rows
 
 
@@ -378,7 +416,8 @@ class Mech:
 # evaluation: values and sparse gradients of the rows
 
 def evaluate(rows, poses, L, grad):
-    """rows -> values (lengths) and, if grad, one dict {column: d/d(t, omega L)} per row."""
+    """rows -> values (lengths; direction rows times L) and, if grad, one dict
+    {column: d/d(c, omega L)} per row (L: the characteristic length l)."""
     vals = []
     jac = [] if grad else None
     invL = 1.0 / L
@@ -431,7 +470,7 @@ def evaluate(rows, poses, L, grad):
         else:  # helical
             _, b2, p2, b1, p1, z1, x1, y1, d0, pitch, _t = r
             R1, t1 = poses[b1] if b1 >= 0 else (IDENT, (0.0, 0.0, 0.0))
-            R2, t2 = poses[b2] if b2 >= 0 else (IDENT, (0.0, 0.0, 0.0))
+            R2, t2 = poses[b2] if b2 >= 0 else (IDENT, (0.0, 0.0, 0.0))     # ground: world points
             r2, r1 = mv(R2, p2), mv(R1, p1)
             dq = sub(add(r2, t2), add(r1, t1))
             zw, xw, yw = mv(R1, z1), mv(R1, x1), mv(R1, y1)
@@ -611,7 +650,7 @@ class Solver:
         self.iters = 0
 
     def apply(self, poses, delta):
-        L = self.mech.size
+        L = self.mech.ell
         out = []
         for b, (R, t) in enumerate(poses):
             c = [self.perm[6 * b + i] for i in range(6)]
@@ -621,14 +660,14 @@ class Solver:
         return out
 
     def solve(self, poses, values, maxit=60):
-        mech, L, n = self.mech, self.mech.size, 6 * self.n
+        mech, L, n = self.mech, self.mech.ell, 6 * self.n
         rows = mech.rows + mech.input_rows(values)
         perm = self.perm
         f, J = evaluate(rows, poses, L, True)
         cost = sum(v * v for v in f)
         lam = 1e-9
         for it in range(maxit):
-            if max(abs(v) for v in f) <= FINE_TOL * L:
+            if mech.relres(rows, f) <= FINE_TOL:
                 return poses, True, it
             N = [dict() for _ in range(n)]
             g = [0.0] * n
@@ -656,9 +695,9 @@ class Solver:
                     lam = max(lam * 0.1, 1e-12)
                     break
                 lam *= 10.0
-                if lam > 1e6 or (lam > 1e-3 and max(abs(v) for v in f) <= SOLVE_TOL * L):
-                    return poses, max(abs(v) for v in f) <= SOLVE_TOL * L, it
-        return poses, max(abs(v) for v in f) <= SOLVE_TOL * L, maxit
+                if lam > 1e6 or (lam > 1e-3 and mech.relres(rows, f) <= SOLVE_TOL):
+                    return poses, mech.relres(rows, f) <= SOLVE_TOL, it
+        return poses, mech.relres(rows, f) <= SOLVE_TOL, maxit
 
 
 def orthonormal(R):
@@ -684,8 +723,8 @@ def world(mech, poses, key):
     b = mech.bidx(m.body)
     if b < 0:
         return m.p
-    R, t = poses[b]
-    return add(mv(R, m.p), t)
+    R, c = poses[b]
+    return add(mv(R, sub(m.p, mech.centroid[m.body])), c)
 
 
 def world_dir(mech, poses, key):
@@ -987,7 +1026,6 @@ def cf_bennett(mech, sol):
 
 def cf_excavator(mech, sol):
     """Boom and stick angles from the cylinder triangles; tip by composing rotations."""
-    g = mech.fixed[0]
     js = mech.jmap
 
     def pin(jname, body):
@@ -1019,9 +1057,9 @@ def cf_excavator(mech, sol):
 
         def pred(body, p):
             q = p
-            if body in ("stick", "bucket", "stick_rod"):
+            if body in ("stick", "bucket"):
                 q = add(P2, mv(Rst, sub(q, P2)))        # stick turns about P2 (boom frame)
-            if body in ("boom", "stick", "bucket", "stick_rod", "boom_rod", "stick_barrel"):
+            if body in ("boom", "stick", "bucket"):
                 q = add(P1, mv(Rb, sub(q, P1)))         # boom turns about P1 (turret frame)
             return add(Ob, mv(Rs, sub(q, Ob)))          # turret slews
         # points whose position the closed form gives: every marker of turret, boom, stick,
@@ -1051,14 +1089,12 @@ def cf_stewart(mech, sol):
         if m.body == "platform":
             pred = add(add(c0, mv(R, sub(m.p, c0))), sh)
             err = max(err, norm(sub(world(mech, poses, key), pred)) / mech.size)
-    # every leg length at the end = the prescribed pose's
     return err, "end pose error %.2e L" % err
 
 
 def cf_sofa(mech, sol):
     W = header_num(mech, "W")
     side = ["crank", "coupler", "rocker", "lever", "link", "arm"]
-    g = mech.fixed[0]
 
     def P(key):
         return mech.markers[key].p
@@ -1141,23 +1177,23 @@ EXPECT_RE = re.compile(
     r"Grubler (-?\d+), mobility (\d+), redundant (\d+), idle (\d+)")
 
 
-def check_file(path, verbose=False, stride=None):
+def check_file(path, verbose=False, stride=None, quick=False):
     t0 = time.time()
     mech = Mech(path)
-    L = mech.size
+    L, ell = mech.size, mech.ell
     n = len(mech.moving)
-    ident = [(IDENT, (0.0, 0.0, 0.0)) for _ in range(n)]
+    ident = mech.drawn()
     # (a) drawn pose
-    vals, J = evaluate(mech.rows, ident, L, True)
-    worst = max(abs(v) for v in vals) / L
+    vals, J = evaluate(mech.rows, ident, ell, True)
+    worst = mech.relres(mech.rows, vals)
     if worst > DRAWN_TOL:
-        bad = [r[-1] for r, v in zip(mech.rows, vals) if abs(v) > DRAWN_TOL * L]
-        raise Fail("joints open in the drawn pose: %s (%.2e L)" % (sorted(set(bad)), worst))
+        bad = [r[-1] for r, v in zip(mech.rows, vals) if mech.relres([r], [v]) > DRAWN_TOL]
+        raise Fail("joints open in the drawn pose: %s (%.2e)" % (sorted(set(bad)), worst))
     # (b) counts
     eqs = len(mech.rows)
     grub = 6 * n - eqs
     r, kept, rej = sparse_rank(J)
-    _, Ji = evaluate(mech.rows + mech.input_rows({k: 0.0 for k in mech.inputs}), ident, L, True)
+    _, Ji = evaluate(mech.rows + mech.input_rows({k: 0.0 for k in mech.inputs}), ident, ell, True)
     ri, kepti, reji = sparse_rank(Ji)
     mob, red, idle = 6 * n - r, eqs - r, 6 * n - ri
     counts = (n, len(mech.joints), eqs, grub, mob, red, idle)
@@ -1171,11 +1207,11 @@ def check_file(path, verbose=False, stride=None):
     if exp != counts:
         raise Fail("counts %s differ from the header's %s" % (counts, exp))
     if verbose:
-        print("  %s: L = %.4f, drawn residual %.1e L; rank %d (smallest pivot %.2e, largest rejected %.2e), "
-              "with inputs %d (%.2e, %.2e)" % (mech.name, L, worst, r, kept, rej, ri, kepti, reji))
+        print("  %s: L = %.4f, l = %.4f, drawn residual %.1e; rank %d (smallest pivot %.2e, largest rejected %.2e), "
+              "with inputs %d (%.2e, %.2e)" % (mech.name, L, ell, worst, r, kept, rej, ri, kepti, reji))
     # (c) sweep
     if stride is None:
-        stride = 10 if mech.name.startswith("spatial_stress_") and n >= 101 else 1
+        stride = 10 if quick and mech.name.startswith("spatial_stress_") and n >= 101 else 1
     idxs = list(range(0, len(mech.frames), stride))
     if idxs[-1] != len(mech.frames) - 1:
         idxs.append(len(mech.frames) - 1)
@@ -1189,13 +1225,13 @@ def check_file(path, verbose=False, stride=None):
         if not conv:
             # retry from the previous solution without prediction
             new, conv, _ = solver.solve(poses, values)
-        f, _ = evaluate(mech.rows, new, L, False)
-        res = max(abs(v) for v in f) / L
+        f, _ = evaluate(mech.rows, new, ell, False)
+        res = mech.relres(mech.rows, f)
         maxres = max(maxres, res)
         if conv:
             ok += 1
         elif verbose:
-            print("  frame %d did not converge (residual %.2e L)" % (k, res))
+            print("  frame %d did not converge (residual %.2e)" % (k, res))
         prev, poses = poses, new
         sol.append((values, new))
     # (d) closed forms
@@ -1211,7 +1247,8 @@ def check_file(path, verbose=False, stride=None):
 
 def main(argv):
     verbose = "-v" in argv
-    argv = [a for a in argv if a != "-v"]
+    quick = "--quick" in argv
+    argv = [a for a in argv if a not in ("-v", "--quick")]
     stride = None
     if "--stride" in argv:
         i = argv.index("--stride")
@@ -1238,7 +1275,7 @@ def main(argv):
     for p in paths:
         name = os.path.splitext(os.path.basename(p))[0]
         try:
-            mech, c, fr, res, cf, iters, dt = check_file(p, verbose, stride)
+            mech, c, fr, res, cf, iters, dt = check_file(p, verbose, stride, quick)
             ok, solved, total, st = fr
             frames = "%d/%d" % (ok, solved) + ("" if st == 1 else "*")
             cerr = "%.1e" % cf[0] if cf else "-"

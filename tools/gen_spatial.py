@@ -289,7 +289,7 @@ def double_cardan():
                "trace": ["output.tip", "intermediate.mid"]}
     d.h("double_cardan: two Cardan joints in the Z arrangement, output angle = input angle exactly.",
         "input shaft: ground revolute A at (-2, 0, 0), axis +x through the origin (angle input theta).",
-        "intermediate shaft: from U1 = (0, 0, 0) to U2 = 3 (cos 30, sin 30, 0) = %s," % vec(U2),
+        "intermediate shaft: from U1 = (0, 0, 0) to U2 = 3 (cos 30, sin 30, 0) = (%.6f, %.6f, 0)," % U2[:2],
         "held ONLY by the two universal joints, at beta = 30 deg to both other shafts.",
         "output shaft: ground revolute B at U2 + (2, 0, 0), axis +x (parallel to the input).",
         "Yokes: U1 = [input z = y (in the plane of the shafts), intermediate z = +z]; U2 =",
