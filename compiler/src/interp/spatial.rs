@@ -2,7 +2,7 @@
 //! the same `dofplan_runtime::spatial` functions generated code calls.
 
 use dofplan_runtime::spatial::rows::WorldFrame;
-use dofplan_runtime::spatial::{self, add, dot, norm, scale, sub, unit, Pose3, Vec3};
+use dofplan_runtime::spatial::{self, add, norm, scale, sub, unit, Pose3, Vec3};
 use dofplan_runtime::{Branch, Break, BreakKind, Ctx, Solver};
 
 use crate::plan::spatial::{Action3, CheckRow, Locus3, Plan3, StepKind3, D3, P3};
@@ -77,17 +77,22 @@ impl Interpreter3 {
 
 /// A world point.
 pub(crate) fn point(s: &State3, p: &P3, inputs: &[f64]) -> Vec3 {
+    point_at(&s.poses, &s.temps, p, inputs)
+}
+
+/// A world point at given poses and pseudo-markers.
+pub(crate) fn point_at(poses: &[Pose3], temps: &[Vec3], p: &P3, inputs: &[f64]) -> Vec3 {
     match p {
         P3::Fixed(v) => *v,
-        P3::Body { body, local } => s.poses[*body].world(*local),
+        P3::Body { body, local } => poses[*body].world(*local),
         P3::Slid {
             body,
             local,
             dir,
             input,
             sign,
-        } => s.poses[*body].world(add(*local, scale(*dir, sign * inputs[*input]))),
-        P3::Temp(t) => s.temps[*t],
+        } => poses[*body].world(add(*local, scale(*dir, sign * inputs[*input]))),
+        P3::Temp(t) => temps[*t],
     }
 }
 
@@ -124,12 +129,11 @@ fn act(
         }
         Action3::TranslateAlong { from, to, dir: l } => {
             let (f, t, u) = (p(s, from), p(s, to), d(s, l));
-            s.poses[body].translate(scale(u, dot(sub(t, f), u)));
+            spatial::translate_along(&mut s.poses[body], f, t, u);
         }
         Action3::TranslateInPlane { from, to, normal } => {
             let (f, t, n) = (p(s, from), p(s, to), d(s, normal));
-            let v = sub(t, f);
-            s.poses[body].translate(sub(v, scale(n, dot(v, n))));
+            spatial::translate_in_plane(&mut s.poses[body], f, t, n);
         }
         Action3::TranslateToLine {
             from,
@@ -137,8 +141,7 @@ fn act(
             dir: l,
         } => {
             let (f, q, u) = (p(s, from), p(s, through), d(s, l));
-            let foot = add(q, scale(u, dot(sub(f, q), u)));
-            spatial::translate_onto(&mut s.poses[body], f, foot);
+            spatial::translate_to_line(&mut s.poses[body], f, q, u);
         }
         Action3::TranslateToPlane {
             from,
@@ -146,8 +149,7 @@ fn act(
             normal,
         } => {
             let (f, q, n) = (p(s, from), p(s, through), d(s, normal));
-            let h = dot(sub(f, q), n);
-            s.poses[body].translate(scale(n, -h));
+            spatial::translate_to_plane(&mut s.poses[body], f, q, n);
         }
         Action3::SlideTo {
             from,
@@ -158,8 +160,7 @@ fn act(
             sign,
         } => {
             let (f, o, u) = (p(s, from), p(s, origin), d(s, l));
-            let err = axial0 + inputs[*input] - dot(sub(f, o), u);
-            s.poses[body].translate(scale(u, sign * err));
+            spatial::slide_to(&mut s.poses[body], o, f, u, axial0 + inputs[*input], *sign);
         }
         Action3::RotateOnto { pivot, from, to } => {
             let (c, f, t) = (p(s, pivot), p(s, from), p(s, to));
@@ -225,13 +226,6 @@ fn act(
     Ok(())
 }
 
-/// A circle's centre, unit normal and radius, from the point `x` turning
-/// about the line (`c`, `a`).
-fn circle(c: Vec3, a: Vec3, x: Vec3) -> (Vec3, Vec3, f64) {
-    let centre = add(c, scale(a, dot(sub(x, c), a)));
-    (centre, a, norm(sub(x, centre)))
-}
-
 #[allow(clippy::too_many_arguments)]
 fn intersect(
     s: &State3,
@@ -245,7 +239,7 @@ fn intersect(
 ) -> Result<Vec3, Break> {
     let p = |q: &P3| point(s, q, inputs);
     let d = |v: &D3| dir(s, v, inputs);
-    let circ = |pivot: &P3, axis: &D3, at: &P3| circle(p(pivot), d(axis), p(at));
+    let circ = |pivot: &P3, axis: &D3, at: &P3| spatial::circle_about(p(pivot), d(axis), p(at));
     match loci {
         [Locus3::Circle { pivot, axis, at }, Locus3::Circle {
             pivot: p2,

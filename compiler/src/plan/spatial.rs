@@ -396,6 +396,8 @@ pub struct Cluster3 {
     pub params: Vec<Param3>,
     /// Residual rows.
     pub rows: Vec<ClusterRow3>,
+    /// The mechanism's size: Newton's tolerance and step bound scale with it.
+    pub size: f64,
 }
 
 impl Cluster3 {

@@ -901,3 +901,12 @@ pub fn rotation_to_condition(
     *last = x.1.atan2(x.0);
     Ok(x)
 }
+
+/// The circle a point `at` traces turning about the line (`pivot`, unit
+/// `axis`): its centre (the foot of `at` on the axis), normal and radius,
+/// as the intersections take them.
+#[inline]
+pub fn circle_about(pivot: Vec3, axis: Vec3, at: Vec3) -> (Vec3, Vec3, f64) {
+    let centre = add(pivot, scale(axis, dot(sub(at, pivot), axis)));
+    (centre, axis, norm(sub(at, centre)))
+}

@@ -25,6 +25,7 @@
 //! and the rotation about an axis that meets a condition: [`circle_circle`],
 //! [`rotation_to_condition`], ...).
 
+pub mod cluster;
 mod locus;
 mod place;
 pub mod rows;
@@ -34,12 +35,13 @@ mod turn;
 mod tests;
 
 pub use locus::{
-    circle_circle, circle_circle_candidates, circle_distance, cone_cone, line_circle, line_plane,
-    line_sphere, plane_circle, rotation_to_condition, sphere_circle, CircleCandidates,
+    circle_about, circle_circle, circle_circle_candidates, circle_distance, cone_cone, line_circle,
+    line_plane, line_sphere, plane_circle, rotation_to_condition, sphere_circle, CircleCandidates,
 };
 pub use place::{
     rotate_about_axis_angle, rotate_about_axis_dir, rotate_about_axis_onto, rotate_about_point,
-    rotate_about_point_onto, translate_onto,
+    rotate_about_point_onto, slide_to, translate_along, translate_in_plane, translate_onto,
+    translate_to_line, translate_to_plane,
 };
 pub use turn::{tilt, twist_correction};
 

@@ -77,3 +77,42 @@ pub fn rotate_about_axis_angle(pose: &mut Pose3, pivot: Vec3, axis: Vec3, cos: f
 pub fn translate_onto(pose: &mut Pose3, from: Vec3, to: Vec3) {
     pose.translate(sub(to, from));
 }
+
+/// Translates a body along the unit `dir` by the component of `to − from`
+/// along it (a body sliding on a line: `from` reaches `to`'s height).
+#[inline]
+pub fn translate_along(pose: &mut Pose3, from: Vec3, to: Vec3, dir: Vec3) {
+    pose.translate(super::scale(dir, dot(sub(to, from), dir)));
+}
+
+/// Translates a body across the unit `normal` by the component of
+/// `to − from` across it (a body sliding in a plane).
+#[inline]
+pub fn translate_in_plane(pose: &mut Pose3, from: Vec3, to: Vec3, normal: Vec3) {
+    let v = sub(to, from);
+    pose.translate(sub(v, super::scale(normal, dot(v, normal))));
+}
+
+/// Translates a body so its point `from` lands on its foot on the line
+/// (`through`, unit `dir`).
+#[inline]
+pub fn translate_to_line(pose: &mut Pose3, from: Vec3, through: Vec3, dir: Vec3) {
+    let foot = super::add(through, super::scale(dir, dot(sub(from, through), dir)));
+    translate_onto(pose, from, foot);
+}
+
+/// Translates a body along the unit `normal` so its point `from` lands on
+/// the plane (`through`, `normal`).
+#[inline]
+pub fn translate_to_plane(pose: &mut Pose3, from: Vec3, through: Vec3, normal: Vec3) {
+    pose.translate(super::scale(normal, -dot(sub(from, through), normal)));
+}
+
+/// A slide input: translates a body along the unit `dir` so that the axial
+/// distance `(second − first)·dir` becomes `axial`; `sign` is +1 when the
+/// body carries the second marker and −1 when it carries the first.
+#[inline]
+pub fn slide_to(pose: &mut Pose3, first: Vec3, second: Vec3, dir: Vec3, axial: f64, sign: f64) {
+    let err = axial - dot(sub(second, first), dir);
+    pose.translate(super::scale(dir, sign * err));
+}

@@ -1478,7 +1478,11 @@ impl Planner<'_> {
                 }
             }
         }
-        let cluster = Cluster3 { params, rows };
+        let cluster = Cluster3 {
+            params,
+            rows,
+            size: self.size,
+        };
         let names: Vec<String> = members.iter().map(|&b| self.name(b).to_string()).collect();
         let text = format!(
             "numeric cluster: {} ({} unknowns, {} equations), Newton-Raphson",
