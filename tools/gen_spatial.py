@@ -2,7 +2,8 @@
 """Generate the bundled 3D mechanisms mechanisms/spatial/*.toml.
 
 Deterministic, stdlib only.  Usage:  python3 tools/gen_spatial.py [outdir]
-(default outdir: <repo>/mechanisms/spatial).  Check the result with
+(default outdir: <repo>/mechanisms/spatial), or
+python3 tools/gen_spatial.py --stress N outdir for one longer chain.  Check the result with
 tools/check_spatial.py (an independent solver).
 
 Every coordinate is written with repr() of a Python float, and both markers of
@@ -1034,6 +1035,19 @@ def spatial_stress(N, loops, stats):
 # ---------------------------------------------------------------------------
 
 def main(argv):
+    global STRESS_MAX
+    if argv[:1] == ["--stress"]:
+        # One longer chain for scaling measurements (not bundled):
+        # gen_spatial.py --stress N OUTDIR.
+        n = int(argv[1])
+        STRESS_MAX = max(STRESS_MAX, n)
+        loops, stats = stress_chain()
+        d = spatial_stress(n, loops, stats)
+        path = os.path.join(argv[2], d.name + ".toml")
+        with open(path, "w") as f:
+            f.write(d.text())
+        print("wrote %s" % path)
+        return 0
     out = argv[0] if argv else os.path.join(REPO, "mechanisms", "spatial")
     os.makedirs(out, exist_ok=True)
     docs = [cardan(), double_cardan(), rssr(), spherical_fourbar(), bennett(), tilted_fourbar(),

@@ -88,5 +88,53 @@ pub fn analyse(m: &Mechanism3) -> Result<Plan3, PlanError3> {
     for (slot, b) in plan.branches.iter_mut().zip(&state.branches) {
         slot.initial = *b;
     }
+    single_roots(&mut plan, &interp);
     Ok(plan)
+}
+
+/// Two circles in different planes that do not lie on one sphere meet in
+/// at most one of the two candidate points (a Bennett linkage's skew
+/// circles): where the drawing has only one valid candidate, the step needs
+/// no branch, and its explanation says so with the other's miss.
+fn single_roots(plan: &mut Plan3, interp: &Interpreter3) {
+    use crate::plan::spatial::{Locus3, StepKind3};
+    use dofplan_runtime::spatial::{circle_about, circle_circle_candidates};
+    let state = interp.initial_state();
+    let inputs = vec![0.0; plan.inputs.len()];
+    let p = |q: &crate::plan::spatial::P3| crate::interp::spatial::point(&state, q, &inputs);
+    let d = |v: &crate::plan::spatial::D3| crate::interp::spatial::dir(&state, v, &inputs);
+    for step in &mut plan.steps {
+        let StepKind3::Intersect {
+            loci, branch, tol, ..
+        } = &mut step.kind
+        else {
+            continue;
+        };
+        let [Locus3::Circle { pivot, axis, at }, Locus3::Circle {
+            pivot: p2,
+            axis: a2,
+            at: x2,
+        }] = loci.as_ref()
+        else {
+            continue;
+        };
+        let (c1, n1, r1) = circle_about(p(pivot), d(axis), p(at));
+        let (c2, n2, r2) = circle_about(p(p2), d(a2), p(x2));
+        let cand = circle_circle_candidates(c1, n1, r1, c2, n2, r2, *tol);
+        if !cand.coplanar && cand.count() == 1 {
+            let other = if cand.passes[0] {
+                cand.misses[1]
+            } else {
+                cand.misses[0]
+            };
+            *branch = None;
+            if let Some(i) = step.text.find(", branch slot") {
+                step.text.truncate(i);
+            }
+            step.text.push_str(&format!(
+                ", one valid root (the other misses by {})",
+                crate::plan::num(other)
+            ));
+        }
+    }
 }

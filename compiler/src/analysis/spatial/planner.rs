@@ -16,6 +16,8 @@
 //!
 //! Ties are broken by file order, so plans are deterministic.
 
+use std::collections::BTreeSet;
+
 use dofplan_runtime::spatial::{cross, norm, sub, unit, Vec3};
 use dofplan_runtime::Branch;
 
@@ -122,6 +124,10 @@ struct Planner<'m> {
     /// Redundant rows of loops closed through a driven slide: checked at the
     /// end, once the body carrying the point has followed.
     pending: Vec<(usize, usize)>,
+    /// Bodies whose state changed since the rules last looked: only
+    /// equations on them (or on their slide partners) can have become
+    /// applicable, which keeps planning linear in the mechanism's size.
+    changed: Vec<usize>,
 }
 
 /// Plans a spatial mechanism from its equations.
@@ -164,15 +170,61 @@ pub fn plan(m: &Mechanism3, eqs: &[Equation3]) -> Planned3 {
         size: m.size(),
         slides,
         pending: Vec::new(),
+        changed: Vec::new(),
+    };
+    // Equations by body, and each body's slide partners (a point carried
+    // by a slide becomes known when the partner is placed).
+    let mut on: Vec<Vec<usize>> = vec![Vec::new(); m.bodies.len()];
+    for (i, e) in eqs.iter().enumerate() {
+        on[e.bodies[0]].push(i);
+        if e.bodies[1] != e.bodies[0] {
+            on[e.bodies[1]].push(i);
+        }
+    }
+    let mut partners: Vec<Vec<usize>> = vec![Vec::new(); m.bodies.len()];
+    for (b, list) in p.slides.iter().enumerate() {
+        for &(ji, _) in list {
+            for id in m.joints[ji].markers {
+                if id.body != b {
+                    partners[id.body].push(b);
+                }
+            }
+        }
+    }
+    // Each rule takes the lowest-numbered equation it applies to, as a scan
+    // in file order would; an equation it found inapplicable comes back
+    // only when one of its bodies changes.
+    let mut propagate: BTreeSet<usize> = (0..eqs.len()).collect();
+    let mut closing: BTreeSet<usize> = (0..eqs.len()).collect();
+    let requeue = |p: &mut Planner, propagate: &mut BTreeSet<usize>, closing: &mut BTreeSet<usize>| {
+        for b in std::mem::take(&mut p.changed) {
+            for &c in std::iter::once(&b).chain(&partners[b]) {
+                for &i in &on[c] {
+                    if !p.used[i] {
+                        propagate.insert(i);
+                        closing.insert(i);
+                    }
+                }
+            }
+        }
     };
     loop {
-        if (0..eqs.len()).any(|i| !p.used[i] && p.propagate(i)) {
-            continue;
+        while let Some(i) = propagate.pop_first() {
+            if !p.used[i] && p.propagate(i) {
+                requeue(&mut p, &mut propagate, &mut closing);
+            }
         }
-        if (0..eqs.len()).any(|i| !p.used[i] && p.close_loop(i)) {
-            continue;
+        let mut closed = false;
+        while let Some(i) = closing.pop_first() {
+            if !p.used[i] && p.close_loop(i) {
+                closed = true;
+                break;
+            }
         }
-        if p.cluster() {
+        if closed || p.cluster() {
+            requeue(&mut p, &mut propagate, &mut closing);
+            // What a cluster or a closure leaves applicable may be any
+            // equation on the bodies it placed; the rest stay queued.
             continue;
         }
         break;
@@ -1113,6 +1165,7 @@ impl Planner<'_> {
             _ => return None,
         }
         self.state[b] = new;
+        self.changed.push(b);
         if frag.checks > 0 && !by_construction {
             self.check(i, frag.checks);
         }
@@ -1285,6 +1338,7 @@ impl Planner<'_> {
                     serves,
                 );
                 self.state[b].r = R::Fixed;
+                self.changed.push(b);
             }
             (T::Point { q }, R::Free) => {
                 let local = match &pt {
@@ -1304,6 +1358,7 @@ impl Planner<'_> {
                 self.state[b].r = R::Axis {
                     al: unit(sub(local, *q)),
                 };
+                self.changed.push(b);
             }
             (T::Line { .. }, R::Fixed) => {
                 let T::Line { q, dir } = st.t.clone() else {
@@ -1316,6 +1371,7 @@ impl Planner<'_> {
                     serves,
                 );
                 self.state[b].t = T::Point { q };
+                self.changed.push(b);
             }
             (T::Point { q }, R::Cone { u, w, cos }) => {
                 let (u, w, cos) = (*u, w.clone(), *cos);
@@ -1345,6 +1401,7 @@ impl Planner<'_> {
                     serves,
                 );
                 self.state[b].r = R::Fixed;
+                self.changed.push(b);
             }
             _ => {}
         }
@@ -1500,6 +1557,7 @@ impl Planner<'_> {
                 t: T::Point { q: [0.0; 3] },
                 r: R::Fixed,
             };
+            self.changed.push(b);
         }
         // Each contracted leg now swings onto the point it holds.
         for (a, carried, target, serves) in meets {
