@@ -1,6 +1,6 @@
 //! The command line on the bundled files, as a user runs it.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn mechanism(name: &str) -> PathBuf {
@@ -854,4 +854,47 @@ fn check_reports_a_chain_of_200_loops() {
         "{out}"
     );
     assert_eq!(lines.len(), 8, "no redundant, idle or unused equations: {out}");
+}
+
+#[test]
+fn check_json_reports_both_dimensions_with_the_same_keys() {
+    let spatial = |name: &str| {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../mechanisms/spatial")
+            .join(format!("{name}.toml"))
+    };
+    let run = |path: &Path| {
+        let o = dofplan(&["check", path.to_str().unwrap(), "--json"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        serde_json::from_str::<serde_json::Value>(&stdout(&o)).unwrap()
+    };
+    // The table: a consistent over-constrained planar mechanism.
+    let table = run(&mechanism("table"));
+    assert_eq!(table["dimension"], 2);
+    assert_eq!(table["mobility"]["grubler"], 0);
+    assert_eq!(table["mobility"]["rank"], 1);
+    assert_eq!(table["redundant_equations"], 1);
+    assert_eq!(table["redundant"][0]["joint"], "F");
+    assert_eq!(table["plan"]["cluster_unknowns"], 0);
+    // The sofa bed: 16 moving bodies, 22 joints, 2 inputs, heavily
+    // over-constrained yet consistent; every redundant row named.
+    let sofa = run(&spatial("sofa_bed"));
+    assert_eq!(sofa["dimension"], 3);
+    assert_eq!(sofa["mobility"]["grubler"], -20);
+    assert_eq!(sofa["mobility"]["rank"], 2);
+    assert_eq!(sofa["redundant_equations"], 22);
+    let named: u64 = sofa["redundant"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|r| r["rows"].as_u64().unwrap())
+        .sum();
+    assert_eq!(named, 22);
+    assert_eq!(sofa["plan"]["checked_rows"], 22);
+    assert_eq!(sofa["idle_freedoms"], 0);
+    // The Stewart platform: a 6-unknown cluster, six idle leg spins.
+    let stewart = run(&spatial("stewart"));
+    assert_eq!(stewart["plan"]["cluster_unknowns"], 6);
+    assert_eq!(stewart["plan"]["cluster_equations"], 6);
+    assert_eq!(stewart["idle_freedoms"], 6);
 }

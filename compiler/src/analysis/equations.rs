@@ -56,6 +56,15 @@ pub enum Equation {
 }
 
 impl Equation {
+    /// The primitive's name, as `check --json` lists redundant rows.
+    pub fn kind_name(&self) -> &'static str {
+        match self {
+            Equation::Coincident { .. } => "coincident",
+            Equation::InLine { .. } => "in-line",
+            Equation::Parallel { .. } => "offset",
+        }
+    }
+
     /// How many scalar equations it stands for.
     pub fn count(&self) -> usize {
         match self {

@@ -44,6 +44,8 @@ pub struct RankMobility {
     /// Equations that add no rank, by origin, with how many of their rows
     /// are dependent on the ones before them (file order).
     pub redundant: Vec<(String, usize)>,
+    /// The same rows by (origin, primitive, rows), an entry per primitive.
+    pub redundant_rows: Vec<(String, String, usize)>,
     /// Bodies that can move while every other body stays put, with how
     /// many freedoms they have on their own.
     pub idle: Vec<(String, usize)>,
@@ -65,6 +67,18 @@ pub fn rank_mobility(m: &Mechanism) -> RankMobility {
 pub fn rank_mobility_with(m: &Mechanism, progress: &mut dyn FnMut(Progress)) -> RankMobility {
     let mut free = m.clone();
     free.inputs.clear();
+    rank_of(&free, progress)
+}
+
+/// The freedoms no input drives: unknowns − the Jacobian's rank with the
+/// inputs' equations added (an idle body's, or a chain's left free).
+pub fn idle_freedoms(m: &Mechanism) -> i64 {
+    rank_of(m, &mut |_| {}).dof
+}
+
+/// The rank analysis of `free`'s equations as they are (inputs included if
+/// it has any).
+fn rank_of(free: &Mechanism, progress: &mut dyn FnMut(Progress)) -> RankMobility {
     let size = free.size();
     // Three columns per mobile body, in body order (pure Newton's columns).
     let mut column = vec![None; free.bodies.len()];
@@ -77,15 +91,24 @@ pub fn rank_mobility_with(m: &Mechanism, progress: &mut dyn FnMut(Progress)) -> 
     }
     // Every equation on a mobile body (one between fixed bodies constrains
     // nothing), in file order, with its rows.
-    let groups: Vec<(String, Vec<SparseRow>)> = equations(&free)
+    // Inputs at 0: the drawn pose (their values do not enter the rows'
+    // derivatives, only the residuals).
+    let zeros = vec![0.0; free.inputs.len()];
+    let groups: Vec<(String, &'static str, Vec<SparseRow>)> = equations(free)
         .into_iter()
         .filter(|s| s.eq.bodies().iter().any(|&b| column[b].is_some()))
-        .map(|s| (s.origin, jacobian_rows(&s.eq.row(), &column, size)))
+        .map(|s| {
+            (
+                s.origin,
+                s.eq.kind_name(),
+                jacobian_rows(&s.eq.row(), &column, size, &zeros),
+            )
+        })
         .collect();
-    let total: usize = groups.iter().map(|(_, rows)| rows.len()).sum();
+    let total: usize = groups.iter().map(|(_, _, rows)| rows.len()).sum();
     let largest = groups
         .iter()
-        .flat_map(|(_, rows)| rows.iter().flatten())
+        .flat_map(|(_, _, rows)| rows.iter().flatten())
         .map(|&(_, v)| v.abs())
         .fold(0.0, f64::max);
 
@@ -93,11 +116,13 @@ pub fn rank_mobility_with(m: &Mechanism, progress: &mut dyn FnMut(Progress)) -> 
     // the rows before it has dependent rows.
     let mut echelon = Echelon::new(unknowns, RANK_CUTOFF * largest);
     let mut redundant: Vec<(String, usize)> = Vec::new();
+    let mut redundant_rows: Vec<(String, String, usize)> = Vec::new();
     let mut done = 0;
-    for (origin, rows) in &groups {
+    for (origin, kind, rows) in &groups {
         let dependent = rows.iter().filter(|row| !echelon.add(row)).count();
         if dependent > 0 {
             redundant.push((origin.clone(), dependent));
+            redundant_rows.push((origin.clone(), kind.to_string(), dependent));
         }
         done += rows.len();
         progress(Progress {
@@ -109,7 +134,7 @@ pub fn rank_mobility_with(m: &Mechanism, progress: &mut dyn FnMut(Progress)) -> 
 
     // Each body's own columns, from the rows that touch it.
     let mut own: Vec<Vec<[f64; 3]>> = vec![Vec::new(); free.bodies.len()];
-    for row in groups.iter().flat_map(|(_, rows)| rows) {
+    for row in groups.iter().flat_map(|(_, _, rows)| rows) {
         let mut touched: Vec<usize> = row.iter().map(|&(c, _)| c / 3).collect();
         touched.dedup();
         for k in touched {
@@ -138,6 +163,7 @@ pub fn rank_mobility_with(m: &Mechanism, progress: &mut dyn FnMut(Progress)) -> 
         rank: echelon.rank(),
         dof: unknowns as i64 - echelon.rank() as i64,
         redundant,
+        redundant_rows,
         idle,
         eliminations: echelon.eliminations,
     }
@@ -148,7 +174,7 @@ pub fn rank_mobility_with(m: &Mechanism, progress: &mut dyn FnMut(Progress)) -> 
 /// free unknowns of its mobile bodies (`column`: each body's first
 /// column). Evaluated by the runtime's cluster system, so the derivatives
 /// are the ones pure Newton and the numeric clusters use.
-fn jacobian_rows(row: &ClusterRow, column: &[Option<usize>], size: f64) -> Vec<SparseRow> {
+fn jacobian_rows(row: &ClusterRow, column: &[Option<usize>], size: f64, inputs: &[f64]) -> Vec<SparseRow> {
     // The equation on a system of its own two bodies: local 0 and 1.
     let (a, b) = match *row {
         ClusterRow::Coincident { a, b, .. }
@@ -184,7 +210,7 @@ fn jacobian_rows(row: &ClusterRow, column: &[Option<usize>], size: f64) -> Vec<S
         .collect();
     let mut poses = vec![Pose::IDENTITY; bodies.len()];
     let rows = [local_row];
-    let (mut system, x) = System::new(&mut poses, &params, &rows, &[], size);
+    let (mut system, x) = System::new(&mut poses, &params, &rows, inputs, size);
     let (n, count) = (system.unknowns(), system.equations());
     let mut r = DVector::zeros(count);
     let mut j = DMatrix::zeros(count, n);

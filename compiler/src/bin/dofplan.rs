@@ -53,7 +53,7 @@ enum Command {
     Check {
         /// Mechanism file (TOML, or JSON with a .json extension).
         file: PathBuf,
-        /// Print one JSON object (spatial files) instead of text.
+        /// Print one JSON object instead of text (mobility, redundancy, idle freedoms, plan size).
         #[arg(long)]
         json: bool,
     },
@@ -260,17 +260,7 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
     }
     match command {
         Command::Fragments => spatial::fragments(out),
-        Command::Check { file, json } => {
-            if json {
-                error(
-                    &file.display().to_string(),
-                    "`check --json` covers spatial files so far",
-                    "run `dofplan check FILE` for the text report of a planar file",
-                );
-                return Ok(ExitCode::FAILURE);
-            }
-            check(&file, out)
-        }
+        Command::Check { file, json } => check(&file, json, out),
         Command::Plan { file } => with_plan(&file, |_, plan| {
             write!(out, "{}", plan.explain_all())?;
             Ok(ExitCode::SUCCESS)
@@ -340,6 +330,52 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
         }),
         Command::Assemble { file, write } => assemble(&file, write, out),
     }
+}
+
+/// `dofplan check --json` of a planar file: the keys of the spatial report,
+/// in the plane (3 unknowns per mobile body).
+fn check_json(
+    m: &Mechanism,
+    mob: &Mobility,
+    by_rank: &dofplan::analysis::rank::RankMobility,
+    analysis: Option<&Analysis>,
+    out: &mut dyn Write,
+) -> io::Result<ExitCode> {
+    let plan = analysis.map(|a| &a.plan);
+    let plan_json = match plan {
+        None => json!(null),
+        Some(Ok(p)) => {
+            let (u, e) = p.numeric_size();
+            json!({"steps": p.steps.len(), "cluster_unknowns": u, "cluster_equations": e})
+        }
+        Some(Err(e)) => json!({"error": e.to_string()}),
+    };
+    let value = json!({
+        "name": m.name,
+        "dimension": 2,
+        "bodies": m.bodies.len(),
+        "joints": m.joints.len(),
+        "equations": by_rank.equations,
+        "mobility": {"grubler": mob.dof, "rank": by_rank.dof},
+        "redundant_equations": by_rank.equations - by_rank.rank,
+        "redundant": by_rank.redundant_rows.iter().map(|(o, p, n)| json!({
+            "joint": o.split_once(' ').map_or(o.as_str(), |x| x.1),
+            "origin": o,
+            "primitive": p,
+            "rows": n,
+        })).collect::<Vec<_>>(),
+        "idle_freedoms": dofplan::analysis::rank::idle_freedoms(m),
+        "plan": plan_json,
+    });
+    writeln!(
+        out,
+        "{}",
+        serde_json::to_string_pretty(&value).unwrap_or_default()
+    )?;
+    Ok(match plan {
+        Some(Err(_)) => ExitCode::FAILURE,
+        _ => ExitCode::SUCCESS,
+    })
 }
 
 /// The spatial mechanism a command's file holds, if it is one (loaded and
@@ -518,7 +554,7 @@ fn with_plan(file: &Path, f: impl FnOnce(&Mechanism, &Plan) -> io::Result<ExitCo
     }
 }
 
-fn check(file: &Path, out: &mut dyn Write) -> io::Result<ExitCode> {
+fn check(file: &Path, json_out: bool, out: &mut dyn Write) -> io::Result<ExitCode> {
     let bar = progress::Bar::for_file(file);
     let Some(m) = load(&bar, file) else {
         return Ok(ExitCode::FAILURE);
@@ -531,6 +567,9 @@ fn check(file: &Path, out: &mut dyn Write) -> io::Result<ExitCode> {
         .map_or_else(|| Mobility::of(&m), |a| a.mobility.clone());
     let by_rank = rank_mobility_with(&m, &mut |p| bar.report(p));
     bar.finish();
+    if json_out {
+        return check_json(&m, &mob, &by_rank, analysis.as_ref(), out);
+    }
     let fixed = m.bodies.iter().filter(|b| b.fixed).count();
     writeln!(out, "{} ({})", m.name, file.display())?;
     writeln!(
