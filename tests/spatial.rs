@@ -249,14 +249,21 @@ fn tilted_fourbar_is_the_planar_fourbar_mapped_into_its_plane() {
     let at2 = |n: &str| m2.marker(m2.find_marker(n).unwrap()).at;
     // Planar A = (0, 0), D = (4, 0), B = (1, 1): o = A3, e1 = (D3 − o)/4,
     // e2 = B3 − o − e1.
-    assert_eq!((at2("ground.A"), at2("ground.D"), at2("crank.B")), ([0.0, 0.0], [4.0, 0.0], [1.0, 1.0]));
+    assert_eq!(
+        (at2("ground.A"), at2("ground.D"), at2("crank.B")),
+        ([0.0, 0.0], [4.0, 0.0], [1.0, 1.0])
+    );
     let o = at3("ground.A");
     let e1 = dofplan_runtime::spatial::scale(sub(at3("ground.D"), o), 0.25);
     let e2 = sub(sub(at3("crank.B"), o), e1);
     assert!((norm(e1) - 1.0).abs() < 1e-12 && (norm(e2) - 1.0).abs() < 1e-12 && dot(e1, e2).abs() < 1e-12);
     let map = |p: [f64; 2]| {
         let [x, y] = p;
-        [o[0] + x * e1[0] + y * e2[0], o[1] + x * e1[1] + y * e2[1], o[2] + x * e1[2] + y * e2[2]]
+        [
+            o[0] + x * e1[0] + y * e2[0],
+            o[1] + x * e1[1] + y * e2[1],
+            o[2] + x * e1[2] + y * e2[2],
+        ]
     };
     let plan2 = dofplan_tests::plan(&m2);
     let mut d2 = Driver::new(dofplan::interp::Interpreter::new(plan2), Options::default());
@@ -270,7 +277,10 @@ fn tilted_fourbar_is_the_planar_fourbar_mapped_into_its_plane() {
             let (id2, id3) = (m2.find_marker(name).unwrap(), m3.find_marker(name).unwrap());
             let want = map(d2.poses()[id2.body].world(m2.marker(id2).at));
             let got = poses3[id3.body].world(m3.marker(id3).at);
-            assert!(norm(sub(got, want)) < 1e-9, "{name} at {req:?}: {got:?} vs {want:?}");
+            assert!(
+                norm(sub(got, want)) < 1e-9,
+                "{name} at {req:?}: {got:?} vs {want:?}"
+            );
         }
     }
 }
@@ -289,7 +299,11 @@ fn double_cardan_output_equals_input() {
     };
     for (req, poses) in sweep(&m) {
         let (a, b) = (turned(&poses[inp]), turned(&poses[out]));
-        assert!((a - b).sin().abs() < 1e-9 && (a - b).cos() > 0.0, "theta {}: {a} vs {b}", req[0]);
+        assert!(
+            (a - b).sin().abs() < 1e-9 && (a - b).cos() > 0.0,
+            "theta {}: {a} vs {b}",
+            req[0]
+        );
         assert!((a - req[0].to_radians()).sin().abs() < 1e-12);
     }
 }
@@ -329,8 +343,57 @@ fn plans_agree_with_pure_newton_on_the_raw_equations() {
                 }
                 let p = m.marker(id).at;
                 let gap = norm(sub(poses[id.body].world(p), newton.poses()[id.body].world(p)));
-                assert!(gap < 1e-7 * m.size(), "{name} {} at {req:?}: {gap:e}", m.marker_name(id));
+                assert!(
+                    gap < 1e-7 * m.size(),
+                    "{name} {} at {req:?}: {gap:e}",
+                    m.marker_name(id)
+                );
             }
         }
     }
+}
+
+/// Dragging a marker with the inputs released: the Stewart platform's tool
+/// follows a reachable target exactly; an RSSR's coupler point (one freedom
+/// that moves it) comes as close to an unreachable one as the joints allow,
+/// and no joint ever opens.
+#[test]
+fn spatial_drags_follow_the_target_and_keep_every_joint_closed() {
+    use dofplan::numeric::spatial::{drag_plan, released};
+    use dofplan_runtime::{BreakPolicy, FrameStatus};
+    let run = |name: &str, marker: &str, to: [f64; 3], steps: usize| {
+        let m = bundled3(name);
+        let id = m.find_marker(marker).unwrap();
+        let free = released(&m);
+        let options = Options {
+            breaking: BreakPolicy::Stretch,
+            ..Options::default()
+        };
+        let mut d = Driver::new(Interpreter3::new(drag_plan(&m, id)), options);
+        let from = m.marker(id).at;
+        let mut out = Vec::new();
+        for i in 0..steps {
+            let t = (i + 1) as f64 / steps as f64;
+            let target: Vec<f64> = (0..3).map(|k| from[k] + t * (to[k] - from[k])).collect();
+            let status = d.frame(&target);
+            let r = residual(&free, d.poses(), &[]);
+            assert!(
+                r <= 1e-9,
+                "{name} frame {i}: a joint opened by {r:e} ({status:?})"
+            );
+            let at = d.poses()[id.body].world(m.marker(id).at);
+            out.push((status, norm(sub(at, [target[0], target[1], target[2]]))));
+        }
+        (out, from)
+    };
+    let (frames, _) = run("stewart", "platform.tool", [0.1, 0.1, 1.4], 20);
+    for (status, gap) in &frames {
+        assert!(status.is_solved() && *gap < 1e-9, "{status:?} {gap:e}");
+    }
+    let to = [0.5, 2.5, 0.3];
+    let (frames, from) = run("rssr", "coupler.M", to, 20);
+    let start = norm(sub(from, to));
+    let (last, gap) = frames.last().unwrap();
+    assert!(matches!(last, FrameStatus::Stretched { .. }), "{last:?}");
+    assert!(*gap < start, "approached: {gap} < {start}");
 }
