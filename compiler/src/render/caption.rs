@@ -2,23 +2,31 @@
 //! picture shows.
 
 use dofplan_runtime::planar::Pose;
+use dofplan_runtime::FrameStatus;
 
 use super::mechanism::world;
 use super::style::num;
-use crate::model::{InputKind, Mechanism};
+use crate::model::{Input, InputKind, Mechanism, Sweep};
 use crate::simulate::Frame;
 
 /// Indices of up to `n` frames evenly spaced among those whose pose belongs
 /// to their own input (solved or stretched; among all when there are none),
 /// the first and the last included, ascending.
 pub(super) fn pick_poses(frames: &[Frame], n: usize) -> Vec<usize> {
+    pick_of(frames.iter().map(|f| &f.status), n)
+}
+
+/// [`pick_poses`] over the frames' statuses alone (the spatial drawing's
+/// frames are of another type).
+pub(super) fn pick_of<'a>(statuses: impl Iterator<Item = &'a FrameStatus>, n: usize) -> Vec<usize> {
+    let statuses: Vec<&FrameStatus> = statuses.collect();
     // Stretched frames count: the input was applied with a step relaxed
     // (a drag's closest approach), and they are drawn marked as such.
-    let solved: Vec<usize> = (0..frames.len())
-        .filter(|&i| frames[i].status.is_solved() || frames[i].status.name() == "stretched")
+    let solved: Vec<usize> = (0..statuses.len())
+        .filter(|&i| statuses[i].is_solved() || statuses[i].name() == "stretched")
         .collect();
     let candidates: Vec<usize> = if solved.is_empty() {
-        (0..frames.len()).collect()
+        (0..statuses.len()).collect()
     } else {
         solved
     };
@@ -73,18 +81,46 @@ pub(super) fn titles(
     picked: &[usize],
     last_opaque: bool,
 ) -> (String, String) {
+    let shown: Vec<Shown> = frames
+        .iter()
+        .map(|f| Shown {
+            status: &f.status,
+            requested: &f.requested,
+        })
+        .collect();
+    titles_of(&m.name, &m.inputs, m.sweep.as_ref(), &shown, picked, last_opaque)
+}
+
+/// What the title and subtitle need of a frame.
+pub(super) struct Shown<'a> {
+    pub status: &'a FrameStatus,
+    /// The inputs requested (one per input of the mechanism, else the
+    /// subtitle names frames by number).
+    pub requested: &'a [f64],
+}
+
+/// [`titles`] for a mechanism of either dimension: its name, inputs and
+/// sweep, and what is known of each frame.
+pub(super) fn titles_of(
+    name: &str,
+    inputs: &[Input],
+    sweep: Option<&Sweep>,
+    frames: &[Shown],
+    picked: &[usize],
+    last_opaque: bool,
+) -> (String, String) {
     if frames.is_empty() {
         return (
-            format!("{} \u{2014} no frames", m.name),
+            format!("{name} \u{2014} no frames"),
             "no frames: the mechanism is shown as drawn".to_string(),
         );
     }
     let n = frames.len();
     let mut not_solved: Vec<String> = Vec::new();
-    for name in ["limited", "searched", "stretched"] {
-        let c = frames.iter().filter(|f| f.status.name() == name).count();
+    for status in ["limited", "searched", "stretched"] {
+        let c = frames.iter().filter(|f| f.status.name() == status).count();
         if c > 0 {
-            not_solved.push(format!("{c} {name}"));
+            not_solved.push(format!("{c} {status}"));
         }
     }
     let status = if not_solved.is_empty() {
@@ -93,12 +129,12 @@ pub(super) fn titles(
         not_solved.join(", ")
     };
     let plural = if n == 1 { "frame" } else { "frames" };
-    let title = format!("{} \u{2014} {n} {plural}, {status}", m.name);
+    let title = format!("{name} \u{2014} {n} {plural}, {status}");
 
-    let input = m.sweep.as_ref().map(|s| s.primary().input).unwrap_or(0);
+    let input = sweep.map(|s| s.primary().input).unwrap_or(0);
     // Frames of a drag carry targets, not the mechanism's inputs.
-    let of_inputs = frames[0].requested.len() == m.inputs.len();
-    let at = match m.inputs.get(input).filter(|_| of_inputs) {
+    let of_inputs = frames[0].requested.len() == inputs.len();
+    let at = match inputs.get(input).filter(|_| of_inputs) {
         Some(inp) => {
             let unit = match inp.kind {
                 InputKind::Angle => "\u{b0}",
@@ -132,7 +168,6 @@ pub(super) fn titles(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use dofplan_runtime::FrameStatus;
 
     #[test]
     fn picks_first_and_last() {

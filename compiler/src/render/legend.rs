@@ -5,7 +5,9 @@
 use svg::node::element::{Circle, Group, Line, Path, Rectangle, Text};
 
 use super::mechanism::STITCH_DASH;
-use super::style::{num, text_width, GREY, INK, TARGET_COLOUR};
+use super::spatial::{symbol, HATCH_ID};
+use super::style::{num, text_width, GREY, GROUND_COLOUR, INK, TARGET_COLOUR};
+use crate::model::spatial::JointKind3;
 
 /// At most this many entries are listed; the rest are counted in one more
 /// line ("… and 1,990 more bodies").
@@ -28,6 +30,10 @@ pub(super) enum Key {
     Target,
     /// A body: a filled box in its colour.
     Body(&'static str),
+    /// The ground of a spatial drawing: a hatched box.
+    Ground,
+    /// A spatial joint kind: its symbol.
+    Joint(JointKind3),
     /// The count of entries left out: no key.
     More,
 }
@@ -41,12 +47,17 @@ pub(super) struct Entry {
 
 /// Caps `entries` at `MAX_ENTRIES`: when there are more, the first
 /// `MAX_ENTRIES` stay and one line counts the others.
-pub(super) fn cap(mut entries: Vec<Entry>) -> Vec<Entry> {
-    if entries.len() <= MAX_ENTRIES + 1 {
+pub(super) fn cap(entries: Vec<Entry>) -> Vec<Entry> {
+    cap_at(entries, MAX_ENTRIES)
+}
+
+/// [`cap`] at `most` entries.
+pub(super) fn cap_at(mut entries: Vec<Entry>, most: usize) -> Vec<Entry> {
+    if entries.len() <= most + 1 {
         // One more line would take the room of the count anyway.
         return entries;
     }
-    let hidden = entries.split_off(MAX_ENTRIES);
+    let hidden = entries.split_off(most);
     let bodies = hidden.iter().filter(|e| matches!(e.key, Key::Body(_))).count();
     let what = if bodies == hidden.len() {
         if bodies == 1 {
@@ -190,6 +201,21 @@ pub(super) fn draw(entries: &[Entry], layout: &Layout, left: f64, top: f64) -> G
                     .set("stroke", INK)
                     .set("stroke-width", 0.5),
             ),
+            Key::Ground => g.add(
+                Rectangle::new()
+                    .set("x", num(x + 3.0))
+                    .set("y", num(y + 1.0))
+                    .set("width", 16)
+                    .set("height", 12)
+                    .set("fill", format!("url(#{HATCH_ID})"))
+                    .set("stroke", GROUND_COLOUR)
+                    .set("stroke-width", 1)
+                    .set("stroke-dasharray", "3 2"),
+            ),
+            Key::Joint(kind) => g.add(symbol(*kind, [1.0, 0.0], 1.0).set(
+                "transform",
+                format!("translate({} {})", num(x + 11.0), num(y + 7.0)),
+            )),
             Key::More => g,
         };
         g = g.add(

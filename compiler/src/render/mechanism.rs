@@ -6,7 +6,7 @@ use svg::node::element::{Circle, Group, Path, Polygon, Polyline, Text};
 
 use super::style::{line, num, points, BODY_COLOURS, GREY, GROUND_COLOUR, INK};
 use super::view::{finite, BBox, View};
-use crate::model::{JointKind, MarkerId, Mechanism};
+use crate::model::{Body, JointKind, MarkerId, Mechanism};
 
 /// The world position of a marker, if the ids are valid and it is finite.
 pub(super) fn world(m: &Mechanism, poses: &[Pose], id: MarkerId) -> Option<Point> {
@@ -23,10 +23,15 @@ pub(super) fn valid(m: &Mechanism, id: MarkerId) -> bool {
 /// The colour of body `b`: grey when fixed, else the palette in order of
 /// the mobile bodies.
 pub(super) fn body_colour(m: &Mechanism, b: usize) -> &'static str {
-    if m.bodies.get(b).is_none_or(|body| body.fixed) {
+    colour_of(&m.bodies, b)
+}
+
+/// [`body_colour`] for bodies of either dimension.
+pub(super) fn colour_of<M>(bodies: &[Body<M>], b: usize) -> &'static str {
+    if bodies.get(b).is_none_or(|body| body.fixed) {
         return GROUND_COLOUR;
     }
-    let rank = m.bodies[..b].iter().filter(|body| !body.fixed).count();
+    let rank = bodies[..b].iter().filter(|body| !body.fixed).count();
     BODY_COLOURS[rank % BODY_COLOURS.len()]
 }
 
@@ -253,7 +258,7 @@ pub(super) fn draw_ground(
 
 /// Convex hull (monotone chain) of page points, counter-clockwise on the
 /// page, collinear points dropped.
-fn hull(mut ps: Vec<Point>) -> Vec<Point> {
+pub(super) fn hull(mut ps: Vec<Point>) -> Vec<Point> {
     ps.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
     ps.dedup_by(|a, b| (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9);
     if ps.len() < 3 {

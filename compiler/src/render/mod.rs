@@ -13,7 +13,9 @@
 //! - `target`: the drag target and its path;
 //! - `legend`: the capped legend;
 //! - `caption`: which poses to draw, the title and subtitle;
-//! - `style`: colours and number formatting.
+//! - `style`: colours and number formatting;
+//! - [`spatial`]: spatial (3D) mechanisms in four views of one scale (front,
+//!   side, top, isometric), built from the same parts.
 //!
 //! The drawing stands on its own (no scripts, no external styles). World
 //! coordinates have y up; points are transformed here (y flipped) so that
@@ -27,6 +29,7 @@
 mod caption;
 mod legend;
 mod mechanism;
+pub mod spatial;
 mod style;
 mod target;
 mod trace;

@@ -42,36 +42,36 @@ fn trace_of(m: &Mechanism) -> Vec<MarkerId> {
 
 /// One element of a parsed picture.
 #[derive(Debug)]
-struct El {
-    name: String,
-    attrs: HashMap<String, String>,
+pub(super) struct El {
+    pub name: String,
+    pub attrs: HashMap<String, String>,
     /// The text directly inside it.
-    text: String,
+    pub text: String,
     /// The `class` of every enclosing element, outermost first.
-    within: Vec<String>,
+    pub within: Vec<String>,
 }
 
 impl El {
-    fn attr(&self, k: &str) -> &str {
+    pub fn attr(&self, k: &str) -> &str {
         self.attrs.get(k).map(String::as_str).unwrap_or("")
     }
 
-    fn f(&self, k: &str) -> f64 {
+    pub fn f(&self, k: &str) -> f64 {
         self.attr(k)
             .parse()
             .unwrap_or_else(|_| panic!("{k}={:?} of {self:?}", self.attr(k)))
     }
 
-    fn class(&self) -> &str {
+    pub fn class(&self) -> &str {
         self.attr("class")
     }
 
-    fn inside(&self, class: &str) -> bool {
+    pub fn inside(&self, class: &str) -> bool {
         self.within.iter().any(|c| c == class)
     }
 
     /// The `points` attribute.
-    fn points(&self) -> Vec<Point> {
+    pub fn points(&self) -> Vec<Point> {
         self.attr("points")
             .split_whitespace()
             .map(|xy| {
@@ -85,7 +85,7 @@ impl El {
 /// Parses a picture into its elements in document order, checking that it
 /// is well formed: one `<svg>` root, tags nested, no parse error, no
 /// non-finite number.
-fn parse(svg: &str) -> Vec<El> {
+pub(super) fn parse(svg: &str) -> Vec<El> {
     assert!(
         !svg.contains("NaN") && !svg.contains("inf"),
         "non-finite number in the SVG"
@@ -135,11 +135,11 @@ fn parse(svg: &str) -> Vec<El> {
     out
 }
 
-fn with_class<'a>(els: &'a [El], class: &str) -> Vec<&'a El> {
+pub(super) fn with_class<'a>(els: &'a [El], class: &str) -> Vec<&'a El> {
     els.iter().filter(|e| e.class() == class).collect()
 }
 
-fn texts(els: &[El]) -> Vec<&str> {
+pub(super) fn texts(els: &[El]) -> Vec<&str> {
     els.iter()
         .filter(|e| e.name == "text")
         .map(|e| e.text.as_str())

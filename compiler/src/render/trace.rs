@@ -453,7 +453,7 @@ pub(super) fn segments(t: &Trace, most: usize) -> Vec<[Point; 2]> {
 }
 
 /// Whether the segment `a`–`b` meets the box `r` (Liang–Barsky clipping).
-fn crosses(r: &Rect, a: Point, b: Point) -> bool {
+pub(super) fn crosses(r: &Rect, a: Point, b: Point) -> bool {
     let d = [b[0] - a[0], b[1] - a[1]];
     let (mut t0, mut t1) = (0.0f64, 1.0f64);
     for (p, q) in [

@@ -112,6 +112,24 @@ impl View {
         }
     }
 
+    /// A view of `scale` pixels per world unit whose plot area is `plot_w`
+    /// by `plot_h` with its top-left corner at (`left`, `top`), with the
+    /// world point `centre` at the middle of the plot (several views of one
+    /// scale side by side).
+    pub fn centred(centre: Point, scale: f64, left: f64, top: f64, plot_w: f64, plot_h: f64) -> View {
+        View {
+            scale,
+            x0: centre[0] - 0.5 * plot_w / scale,
+            y1: centre[1] + 0.5 * plot_h / scale,
+            ox: left,
+            oy: top,
+            left,
+            top,
+            plot_w,
+            plot_h,
+        }
+    }
+
     /// The page position of a world point.
     pub fn px(&self, p: Point) -> Point {
         [
