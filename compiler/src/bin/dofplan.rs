@@ -77,12 +77,13 @@ enum Command {
         /// The marker to drag, "body.marker".
         #[arg(long)]
         marker: String,
-        /// The last target, "X,Y".
+        /// The last target, "X,Y" ("X,Y,Z" for a spatial file).
         #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
-        to: [f64; 2],
-        /// The first target, "X,Y" (default: the marker's drawn position).
+        to: Target,
+        /// The first target, "X,Y" or "X,Y,Z" (default: the marker's drawn
+        /// position).
         #[arg(long, value_parser = parse_point, allow_hyphen_values = true)]
-        from: Option<[f64; 2]>,
+        from: Option<Target>,
         /// Number of targets, evenly spaced from --from to --to, both included.
         #[arg(long, default_value_t = 50, value_parser = clap::value_parser!(u32).range(1..=MAX_STEPS))]
         steps: u32,
@@ -285,11 +286,15 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
                 ..Options::default()
             };
             let form = Form::of(json, csv);
+            let place = file.display().to_string();
+            let (Ok(to), Ok(from)) = (to.of(2, &place), from.map(|f| f.of(2, &place)).transpose()) else {
+                return Ok(ExitCode::FAILURE);
+            };
             drag(
                 &file,
                 &marker,
-                from,
-                to,
+                from.map(|f| [f[0], f[1]]),
+                [to[0], to[1]],
                 steps as usize,
                 options,
                 form,
@@ -427,14 +432,6 @@ fn spatial_command(
             svg,
             ..
         } => {
-            if svg.is_some() {
-                error(
-                    &m.source.name,
-                    "drawing spatial sweeps (--svg) is not supported yet",
-                    "write the frames with --json or --csv and plot them",
-                );
-                return Ok(ExitCode::FAILURE);
-            }
             let sweep = match sweep_to_run(m, input.as_deref(), from, to, steps.map(|n| n as usize)) {
                 Ok(sweep) => sweep,
                 Err((message, help)) => {
@@ -464,9 +461,57 @@ fn spatial_command(
             } else {
                 spatial::Form3::Text
             };
-            spatial::simulate(m, &plan, &sweep, options, form, out)
+            spatial::simulate(m, &plan, &sweep, options, form, svg.as_deref(), out)
         }
-        Command::Emit { .. } | Command::Drag { .. } | Command::Assemble { .. } => {
+        Command::Drag {
+            marker,
+            to,
+            from,
+            steps,
+            policy,
+            json,
+            csv,
+            svg,
+            ..
+        } => {
+            let place = m.source.name.clone();
+            let (Ok(to), Ok(from)) = (to.of(3, &place), from.map(|f| f.of(3, &place)).transpose()) else {
+                return Ok(ExitCode::FAILURE);
+            };
+            let options = Options {
+                breaking: policy.into(),
+                ..Options::default()
+            };
+            let form = if json {
+                spatial::Form3::Json
+            } else if csv {
+                spatial::Form3::Csv
+            } else {
+                spatial::Form3::Text
+            };
+            spatial::drag(
+                m,
+                &marker,
+                from,
+                to,
+                steps as usize,
+                options,
+                form,
+                svg.as_deref(),
+                out,
+            )
+        }
+        Command::Emit { .. } => match dofplan::analysis::spatial::analyse(m) {
+            Ok(plan) => {
+                write!(out, "{}", dofplan::emit::emit_spatial(&plan))?;
+                Ok(ExitCode::SUCCESS)
+            }
+            Err(e) => {
+                report(&format!("{}: error: {e}", m.source.name));
+                Ok(ExitCode::FAILURE)
+            }
+        },
+        Command::Assemble { .. } => {
             error(
                 &m.source.name,
                 "this command does not take spatial (dimension = 3) files yet",
@@ -906,17 +951,47 @@ fn simulate(
 }
 
 /// Parses "X,Y" into a finite point.
-fn parse_point(text: &str) -> Result<[f64; 2], String> {
+fn parse_point(text: &str) -> Result<Target, String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
-    let [x, y] = parts.as_slice() else {
-        return Err(format!("expected X,Y (two numbers), got `{text}`"));
-    };
-    let x: f64 = x.parse().map_err(|_| format!("`{x}` is not a number"))?;
-    let y: f64 = y.parse().map_err(|_| format!("`{y}` is not a number"))?;
-    if !x.is_finite() || !y.is_finite() {
+    if !(2..=3).contains(&parts.len()) {
+        return Err(format!(
+            "expected X,Y (two numbers; X,Y,Z for a spatial file), got `{text}`"
+        ));
+    }
+    let mut c = [0.0_f64; 3];
+    for (k, part) in parts.iter().enumerate() {
+        c[k] = part.parse().map_err(|_| format!("`{part}` is not a number"))?;
+    }
+    if c.iter().any(|v| !v.is_finite()) {
         return Err(format!("`{text}` is not a finite point"));
     }
-    Ok([x, y])
+    Ok(Target { c, n: parts.len() })
+}
+
+/// A drag target as written: 2 coordinates (planar) or 3 (spatial).
+#[derive(Clone, Copy, Debug)]
+struct Target {
+    c: [f64; 3],
+    n: usize,
+}
+
+impl Target {
+    /// The target in `dimension` coordinates, or what to say.
+    fn of(self, dimension: usize, file: &str) -> Result<[f64; 3], ()> {
+        if self.n == dimension {
+            return Ok(self.c);
+        }
+        let want = if dimension == 2 { "X,Y" } else { "X,Y,Z" };
+        error(
+            file,
+            &format!(
+                "a drag target of this file has {dimension} coordinates ({want}), not {}",
+                self.n
+            ),
+            &format!("write --to {want}"),
+        );
+        Err(())
+    }
 }
 
 /// Parses a finite number.

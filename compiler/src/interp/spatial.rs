@@ -24,6 +24,18 @@ pub struct State3 {
     pub branches: Vec<Branch>,
     /// Each branch slot's last root angle (rotations to a condition).
     pub angles: Vec<f64>,
+    /// The state before the frame being computed: restored when a step
+    /// breaks (a frame is a transaction), in buffers sized once so a frame
+    /// does not allocate for it.
+    undo: Box<Undo3>,
+}
+
+#[derive(Clone, Debug, Default)]
+struct Undo3 {
+    poses: Vec<Pose3>,
+    temps: Vec<Vec3>,
+    branches: Vec<Branch>,
+    angles: Vec<f64>,
 }
 
 impl Interpreter3 {
@@ -283,6 +295,7 @@ impl Solver for Interpreter3 {
             temps: self.plan.temps.iter().map(|t| t.drawn).collect(),
             branches: self.plan.branches.iter().map(|b| b.initial).collect(),
             angles: self.plan.branches.iter().map(|b| b.angle).collect(),
+            undo: Box::default(),
         }
     }
 
@@ -295,10 +308,20 @@ impl Solver for Interpreter3 {
     }
 
     fn solve(&self, state: &mut State3, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
-        // A break must leave the state as it was: work on a copy.
-        let mut work = state.clone();
-        self.run(&mut work, inputs, ctx)?;
-        *state = work;
-        Ok(())
+        // A break must leave the state as it was.
+        let u = &mut state.undo;
+        u.poses.clone_from(&state.poses);
+        u.temps.clone_from(&state.temps);
+        u.branches.clone_from(&state.branches);
+        u.angles.clone_from(&state.angles);
+        let result = self.run(state, inputs, ctx);
+        if result.is_err() {
+            let u = &state.undo;
+            state.poses.clone_from(&u.poses);
+            state.temps.clone_from(&u.temps);
+            state.branches.clone_from(&u.branches);
+            state.angles.clone_from(&u.angles);
+        }
+        result
     }
 }

@@ -20,6 +20,7 @@ use crate::plan::spatial::{Cluster3, ClusterRow3, Param3, P3};
 enum Row<'c> {
     Frames(&'c crate::plan::spatial::CheckRow),
     Distance { a: &'c P3, b: Vec3, len: f64 },
+    Pin { body: usize, local: Vec3 },
 }
 
 struct System<'a> {
@@ -118,6 +119,24 @@ impl Equations for System<'_> {
                     }
                     row += 1;
                 }
+                Row::Pin { body, local } => {
+                    let (body, local) = (*body, *local);
+                    let w = self.poses[body].world(local);
+                    for i in 0..3 {
+                        r[row + i] = w[i] - self.inputs[i];
+                    }
+                    if let Some(j) = jacobian.as_deref_mut() {
+                        if let Some((first, count, tw)) = self.twists(x, body) {
+                            for (c, t) in tw.iter().take(count).enumerate() {
+                                let v = t.velocity(w);
+                                for i in 0..3 {
+                                    j[(row + i, first + c)] = v[i];
+                                }
+                            }
+                        }
+                    }
+                    row += 3;
+                }
             }
         }
     }
@@ -148,6 +167,10 @@ pub fn solve(s: &mut State3, c: &Cluster3, inputs: &[f64], ctx: &mut Ctx, step: 
                 b: point(s, b, inputs),
                 len: norm(sub(point(s, d, inputs), point(s, pc, inputs))),
             },
+            ClusterRow3::Pin { body, local, .. } => Row::Pin {
+                body: *body,
+                local: *local,
+            },
         })
         .collect();
     let mut system = System {
@@ -161,8 +184,62 @@ pub fn solve(s: &mut State3, c: &Cluster3, inputs: &[f64], ctx: &mut Ctx, step: 
         m: c.equations(),
     };
     let mut x = DVector::zeros(n);
+    if c.rows.iter().any(|r| matches!(r, ClusterRow3::Pin { .. })) {
+        let result = drag(&mut system, &mut x, c.size, ctx, step);
+        system.place(x.as_slice());
+        s.poses.copy_from_slice(&system.poses);
+        return result;
+    }
     let report = Newton::new(n, system.m).solve(&mut system, &mut x, &options(c.size));
     system.place(x.as_slice());
     s.poses.copy_from_slice(&system.poses);
     finish(ctx, step, report)
+}
+
+/// A drag's cluster by task priority: the joints' rows first (they must
+/// hold), the pinned marker's three rows in what motion the joints leave
+/// (Gauss–Newton in the joints' null space), so an unreachable target is
+/// approached as closely as the joints allow and never opens one.
+fn drag(system: &mut System, x: &mut DVector<f64>, size: f64, ctx: &mut Ctx, step: u32) -> Result<(), Break> {
+    let (n, m) = (system.n, system.m);
+    let joints = m - 3;
+    let mut r = DVector::zeros(m);
+    let mut j = DMatrix::zeros(m, n);
+    let tol = 1e-12 * size;
+    let pinv = |a: DMatrix<f64>| {
+        let svd = a.svd(true, true);
+        let cut = 1e-10 * svd.singular_values.max().max(1e-300);
+        svd.pseudo_inverse(cut).unwrap_or_else(|_| DMatrix::zeros(n, 0))
+    };
+    for _ in 0..100 {
+        system.eval(x, &mut r, Some(&mut j));
+        let (r1, r2) = (r.rows(0, joints).into_owned(), r.rows(joints, 3).into_owned());
+        let (j1, j2) = (j.rows(0, joints).into_owned(), j.rows(joints, 3).into_owned());
+        let j1p = pinv(j1.clone());
+        let dx1 = -(&j1p * &r1);
+        let null = DMatrix::identity(n, n) - &j1p * &j1;
+        let j2n = &j2 * &null;
+        let dx2 = pinv(j2n) * (-(&r2) - &j2 * &dx1);
+        let mut dx = dx1 + &null * dx2;
+        // Small steps: a frame is a small motion of the target.
+        let len = dx.norm();
+        if len > 0.25 * size {
+            dx *= 0.25 * size / len;
+        }
+        *x += &dx;
+        if dx.norm() <= tol && r1.amax() <= tol {
+            break;
+        }
+    }
+    system.eval(x, &mut r, None);
+    let (joint_gap, pin_gap) = (r.rows(0, joints).amax(), r.rows(joints, 3).norm());
+    if joint_gap.is_nan() || joint_gap > 1e-9 * size {
+        return ctx.fail(step, dofplan_runtime::BreakKind::NoSolution, joint_gap);
+    }
+    if pin_gap > 1e-9 * size {
+        // The closest approach: under stretch the frame keeps it and
+        // reports the distance; otherwise it breaks.
+        return ctx.fail(step, dofplan_runtime::BreakKind::NoSolution, pin_gap);
+    }
+    Ok(())
 }

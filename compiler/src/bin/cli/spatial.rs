@@ -2,6 +2,7 @@
 //! on `dimension = 3` files.
 
 use std::io::{self, Write};
+use std::path::Path;
 use std::process::ExitCode;
 
 use dofplan::analysis::spatial::{analyse, count::count, fragments};
@@ -9,6 +10,7 @@ use dofplan::interp::spatial::Interpreter3;
 use dofplan::model::spatial::Mechanism3;
 use dofplan::model::Sweep;
 use dofplan::plan::spatial::Plan3;
+use dofplan::render::spatial::{render_spatial, SpatialFrame};
 use dofplan::simulate::spatial::{marker_positions, residual};
 use dofplan::simulate::sweep_requests;
 use dofplan_runtime::{Driver, FrameStatus, Options};
@@ -166,13 +168,87 @@ pub fn simulate(
     sweep: &Sweep,
     options: Options,
     form: Form3,
+    svg: Option<&Path>,
+    out: &mut dyn Write,
+) -> io::Result<ExitCode> {
+    let names: Vec<String> = m.inputs.iter().map(|i| i.name.clone()).collect();
+    let requests = sweep_requests(sweep, m.inputs.len());
+    // The drawing traces what the sweep run traces.
+    let mut drawn = m.clone();
+    drawn.sweep = Some(sweep.clone());
+    let svg = svg.map(|p| (p, &drawn));
+    frames(m, plan, &names, requests, sweep.steps, options, form, svg, out)
+}
+
+/// `dofplan drag` of a spatial file: the marker pinned to targets evenly
+/// spaced from `from` (default: where it is drawn) to `to`, the inputs
+/// released.
+#[allow(clippy::too_many_arguments)]
+pub fn drag(
+    m: &Mechanism3,
+    marker: &str,
+    from: Option<[f64; 3]>,
+    to: [f64; 3],
+    steps: usize,
+    options: Options,
+    form: Form3,
+    svg: Option<&Path>,
+    out: &mut dyn Write,
+) -> io::Result<ExitCode> {
+    let Some(id) = m.find_marker(marker) else {
+        let names: Vec<String> = m.all_markers().map(|id| m.marker_name(id)).collect();
+        super::error(
+            &m.source.name,
+            &format!("no marker `{marker}` to drag"),
+            &format!("markers are: {}", names.join(", ")),
+        );
+        return Ok(ExitCode::FAILURE);
+    };
+    if m.bodies[id.body].fixed {
+        super::error(
+            &m.source.name,
+            &format!("`{marker}` is on a fixed body and cannot be dragged"),
+            "drag a marker of a moving body",
+        );
+        return Ok(ExitCode::FAILURE);
+    }
+    let free = dofplan::numeric::spatial::released(m);
+    let plan = dofplan::numeric::spatial::drag_plan(m, id);
+    let from = from.unwrap_or(m.marker(id).at);
+    let n = steps.max(1);
+    let requests = (0..n).map(move |i| {
+        let t = if n == 1 { 1.0 } else { i as f64 / (n - 1) as f64 };
+        (0..3)
+            .map(|k| from[k] + t * (to[k] - from[k]))
+            .collect::<Vec<f64>>()
+    });
+    let names = vec!["target.x".to_string(), "target.y".into(), "target.z".into()];
+    // The drawing traces the dragged marker.
+    let mut drawn = free.clone();
+    drawn.sweep = Some(Sweep::single(0, 0.0, 0.0, n, vec![id]));
+    let svg = svg.map(|p| (p, &drawn));
+    frames(&free, &plan, &names, requests, n, options, form, svg, out)
+}
+
+/// Drives `plan` through `requests` and writes each frame as it comes.
+#[allow(clippy::too_many_arguments)]
+fn frames(
+    m: &Mechanism3,
+    plan: &Plan3,
+    input_names: &[String],
+    requests: impl Iterator<Item = Vec<f64>>,
+    total: usize,
+    options: Options,
+    form: Form3,
+    svg: Option<(&Path, &Mechanism3)>,
     out: &mut dyn Write,
 ) -> io::Result<ExitCode> {
     let mut driver = Driver::new(Interpreter3::new(plan.clone()), options);
+    let mut kept: Vec<SpatialFrame> = Vec::new();
     let names: Vec<String> = m.all_markers().map(|id| m.marker_name(id)).collect();
     if form == Form3::Csv {
         let mut head: Vec<String> = vec!["frame".into(), "status".into()];
-        head.extend(m.inputs.iter().map(|i| i.name.clone()));
+        head.extend(input_names.iter().cloned());
         for n in &names {
             for c in ["x", "y", "z"] {
                 head.push(format!("{n}.{c}"));
@@ -181,10 +257,9 @@ pub fn simulate(
         head.push("residual".into());
         writeln!(out, "{}", head.join(","))?;
     }
-    let mut solved = 0;
+    let mut counts = [0usize; 4];
     let mut worst: f64 = 0.0;
     let mut broken = Vec::new();
-    let total = sweep.steps;
     if form == Form3::Json {
         writeln!(
             out,
@@ -192,17 +267,28 @@ pub fn simulate(
             json!(m.name)
         )?;
     }
-    for (i, requested) in sweep_requests(sweep, m.inputs.len()).enumerate() {
+    for (i, requested) in requests.enumerate() {
         let status = driver.frame(&requested);
         let poses = driver.poses();
         let res = residual(m, poses, driver.inputs());
         worst = worst.max(res);
-        if status.is_solved() {
-            solved += 1;
-        } else {
+        counts[match status {
+            FrameStatus::Solved => 0,
+            FrameStatus::Limited { .. } => 1,
+            FrameStatus::Searched { .. } => 2,
+            FrameStatus::Stretched { .. } => 3,
+        }] += 1;
+        if !status.is_solved() {
             broken.push(i);
         }
         let markers = marker_positions(m, poses);
+        if svg.is_some() {
+            kept.push(SpatialFrame {
+                requested: requested.clone(),
+                status,
+                poses: poses.to_vec(),
+            });
+        }
         match form {
             Form3::Csv => {
                 let mut row = vec![i.to_string(), status.name().to_string()];
@@ -229,7 +315,7 @@ pub fn simulate(
                     "frame": i,
                     "status": status.name(),
                     "requested": requested,
-                    "inputs": driver.inputs(),
+                    "inputs": input_names.iter().zip(driver.inputs()).map(|(n, v)| (n.clone(), json!(v))).collect::<Map<String, Value>>(),
                     "markers": Value::Object(mk),
                     "bodies": Value::Object(bodies),
                     "residual": res,
@@ -255,16 +341,26 @@ pub fn simulate(
             }
         }
     }
+    if let Some((path, drawn)) = svg {
+        if let Err(e) = std::fs::write(path, render_spatial(drawn, &kept)) {
+            super::report(&format!("{}: error: cannot write the SVG: {e}", path.display()));
+            return Ok(ExitCode::FAILURE);
+        }
+    }
     match form {
         Form3::Json => writeln!(out, "]}}")?,
         Form3::Csv => {}
         Form3::Text => {
+            let [solved, limited, searched, stretched] = counts;
             writeln!(
                 out,
-                "{}: {total} frames, {solved} solved, {} not; largest joint residual {worst:.2e}",
-                m.name,
-                total - solved
+                "{}: {total} frames: {solved} solved, {limited} limited, {searched} searched, {stretched} stretched; \
+                 largest joint residual {worst:.2e}",
+                m.name
             )?;
+            if let Some((path, _)) = svg {
+                writeln!(out, "wrote {}", path.display())?;
+            }
         }
     }
     Ok(ExitCode::SUCCESS)
