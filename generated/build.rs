@@ -2,13 +2,17 @@
 //! a plan module — exactly what a user's build.rs does — plus the drag
 //! demo's open chain dragged by its end, planned like an input, and the
 //! test fixtures of tests/fixtures/ (mechanisms that exercise generated
-//! code no bundled mechanism needs).
+//! code no bundled mechanism needs), and the spatial mechanisms of
+//! mechanisms/spatial/ (`dimension = 3`) with the spatial fixtures of
+//! tests/fixtures/spatial/, into the same index.
 //!
 //! It also compiles each of them a second time in the split form of large
 //! plans (`dofplan::emit::emit_chunked`), with functions of two or three
 //! steps, into `chunked::<module>`: the tests hold that form to the same
 //! standard (agreement with the interpreter, no allocation) on every
-//! mechanism, where only a huge one would otherwise use it.
+//! mechanism, where only a huge one would otherwise use it. Spatial
+//! mechanisms get the split form too, except the stress chains (hundreds
+//! of one-step functions each, which only slow the build).
 
 use std::path::{Path, PathBuf};
 
@@ -28,24 +32,35 @@ fn main() {
     let mechanisms = root.join("mechanisms");
     let mut all = files(&mechanisms);
     all.extend(files(&root.join("tests/fixtures")));
+    let mut spatial = files(&mechanisms.join("spatial"));
+    spatial.extend(files(&root.join("tests/fixtures/spatial")));
+    let compiled: Vec<&PathBuf> = all.iter().chain(&spatial).collect();
     let result = dofplan::build::Config::new()
         .drag(mechanisms.join("drag/open_chain_15.toml"), "link_15.E")
-        .compile(&all);
+        .compile(&compiled);
     if let Err(e) = result {
         // Cargo shows build-script output on failure; the error names the
         // file, line and column.
         eprintln!("{e}");
         std::process::exit(1);
     }
-    chunked(&all);
+    let small: Vec<PathBuf> = spatial
+        .into_iter()
+        .filter(|f| {
+            !f.file_stem()
+                .is_some_and(|s| s.to_string_lossy().starts_with("spatial_stress_"))
+        })
+        .collect();
+    chunked(&all, &small);
 }
 
 /// Tokens of step code per function in the `chunked` modules: two or
 /// three closed-form steps, a cluster step alone.
 const CHUNK_WEIGHT: usize = 150;
 
-/// Writes `chunked.rs`: every file of `files` in the split form.
-fn chunked(files: &[PathBuf]) {
+/// Writes `chunked.rs`: every file of `files` and of `spatial` in the
+/// split form.
+fn chunked(files: &[PathBuf], spatial: &[PathBuf]) {
     let out = PathBuf::from(std::env::var_os("OUT_DIR").expect("run by cargo"));
     let dir = out.join("chunked");
     std::fs::create_dir_all(&dir).expect("create OUT_DIR/chunked");
@@ -75,6 +90,29 @@ pub mod {module} {{
         ));
         modules.push(module);
     }
+    let mut spatial_modules = Vec::new();
+    for file in spatial {
+        let Ok(dofplan::model::Model::Spatial(m)) = dofplan::model::load_any(file) else {
+            panic!("{}: compiled above as a spatial file", file.display());
+        };
+        let plan = dofplan::analysis::spatial::analyse(&m).expect("planned above");
+        let module = dofplan::emit::ident_for(&m.name);
+        let path = dir.join(format!("{module}.rs"));
+        let source = dofplan::emit::emit_spatial_chunked(&plan, CHUNK_WEIGHT);
+        if std::fs::read_to_string(&path).ok().as_deref() != Some(source.as_str()) {
+            std::fs::write(&path, source).expect("write a chunked module");
+        }
+        index.push_str(&format!(
+            "#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal)]
+pub mod {module} {{
+    include!({:?});
+}}
+
+",
+            path.display().to_string()
+        ));
+        spatial_modules.push(module);
+    }
     index.push_str(
         "/// A driver for the split form of the compiled mechanism `name`.
 pub fn driver(name: &str, options: dofplan_runtime::Options) -> Option<Box<dyn dofplan_runtime::Animate>> {
@@ -82,6 +120,25 @@ pub fn driver(name: &str, options: dofplan_runtime::Options) -> Option<Box<dyn d
 ",
     );
     for module in &modules {
+        index.push_str(&format!(
+            "        {module:?} => Some(Box::new(dofplan_runtime::Driver::new({module}::Plan, options))),
+"
+        ));
+    }
+    index.push_str(
+        "        _ => None,
+    }
+}
+
+/// A driver for the split form of the compiled spatial mechanism `name`.
+pub fn spatial_driver(
+    name: &str,
+    options: dofplan_runtime::Options,
+) -> Option<Box<dyn dofplan_runtime::Animate<dofplan_runtime::spatial::Pose3>>> {
+    match name {
+",
+    );
+    for module in &spatial_modules {
         index.push_str(&format!(
             "        {module:?} => Some(Box::new(dofplan_runtime::Driver::new({module}::Plan, options))),
 "

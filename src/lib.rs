@@ -39,6 +39,57 @@ pub fn plan(m: &Mechanism) -> Plan {
     analyse(m).plan.unwrap_or_else(|e| panic!("{}: {e}", m.name))
 }
 
+/// Names (file stems) of every bundled spatial mechanism
+/// (`mechanisms/spatial/`), sorted.
+pub fn bundled_spatial() -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(mechanisms_dir().join("spatial"))
+        .expect("mechanisms/spatial/ exists")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "toml" || e == "json"))
+        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+/// Names (file stems) of the spatial test fixtures (`tests/fixtures/spatial/`:
+/// mechanisms that exercise generated code no bundled one needs), sorted.
+pub fn spatial_fixtures() -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(spatial_fixtures_dir())
+        .expect("tests/fixtures/spatial/ exists")
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|e| e == "toml" || e == "json"))
+        .map(|p| p.file_stem().unwrap().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    names
+}
+
+fn spatial_fixtures_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/spatial")
+}
+
+/// Loads a bundled spatial mechanism, or else a spatial fixture, by name,
+/// panicking with the diagnostics.
+pub fn load_spatial(name: &str) -> dofplan::model::spatial::Mechanism3 {
+    let bundled = mechanisms_dir().join(format!("spatial/{name}.toml"));
+    let path = if bundled.exists() {
+        bundled
+    } else {
+        spatial_fixtures_dir().join(format!("{name}.toml"))
+    };
+    match dofplan::model::load_any(&path) {
+        Ok(dofplan::model::Model::Spatial(m)) => m,
+        Ok(dofplan::model::Model::Planar(_)) => panic!("{} is planar", path.display()),
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// Plans a spatial mechanism, panicking with the reason if it has no plan.
+pub fn plan_spatial(m: &dofplan::model::spatial::Mechanism3) -> dofplan::plan::spatial::Plan3 {
+    dofplan::analysis::spatial::analyse(m).unwrap_or_else(|e| panic!("{}: {e}", m.name))
+}
+
 /// Every combination of breaking and branch policy, for tests that must
 /// hold under each.
 pub fn all_options() -> Vec<dofplan_runtime::Options> {

@@ -6,9 +6,9 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
 use dofplan::interp::Interpreter;
-use dofplan::simulate::sweep_inputs;
+use dofplan::simulate::{sweep_inputs, sweep_requests};
 use dofplan_runtime::{Driver, Options, Solver};
-use dofplan_tests::{all_options, load, plan};
+use dofplan_tests::{all_options, load, load_spatial, plan};
 
 struct Counting;
 
@@ -157,6 +157,81 @@ fn split_compiled_frames_allocate_nothing() {
         chain_15,
         duplex
     );
+}
+
+/// The frames of a bundled spatial mechanism's sweep, then (`overreach`)
+/// the sweep run three times as far backwards from its end, where frames
+/// break: the Stewart platform's legs grow too short for it, and its
+/// numeric cluster ends at least-squares points (SVD steps, damped line
+/// search).
+fn spatial_inputs(name: &str, overreach: bool) -> Vec<Vec<f64>> {
+    let m = load_spatial(name);
+    let mut sweep = m.sweep.clone().expect("every bundled file has a sweep");
+    let mut out: Vec<Vec<f64>> = sweep_requests(&sweep, m.inputs.len()).collect();
+    if !overreach {
+        return out;
+    }
+    sweep.steps = sweep.steps.min(61);
+    for s in &mut sweep.inputs {
+        (s.from, s.to) = (s.to, s.to - 4.0 * (s.to - s.from));
+    }
+    out.extend(sweep_requests(&sweep, m.inputs.len()));
+    out
+}
+
+/// Compiled spatial plans keep state in fixed-size arrays and solve a
+/// numeric cluster (the Stewart platform's) over fixed-size matrices: no
+/// frame allocates, under any policy, also where frames break.
+#[test]
+fn compiled_spatial_frames_allocate_nothing() {
+    macro_rules! check {
+        ($overreach:expr; $($name:ident),*) => {$(
+            let inputs = spatial_inputs(stringify!($name), $overreach);
+            for options in all_options() {
+                let n = frame_allocations(dofplan_generated::$name::Plan, options, &inputs);
+                assert_eq!(n, 0, "{} {options:?}", stringify!($name));
+                let n = frame_allocations(dofplan_generated::chunked::$name::Plan, options, &inputs);
+                assert_eq!(n, 0, "{} split {options:?}", stringify!($name));
+            }
+        )*};
+    }
+    check!(
+        true;
+        bennett,
+        cardan,
+        double_cardan,
+        excavator,
+        rssr,
+        sofa_bed,
+        spherical_fourbar,
+        stewart,
+        tilted_fourbar,
+        // The fixtures: the other loci steps...
+        puck,
+        rssp,
+        yoke
+    );
+    // ... and clusters of equation rows, along their sweeps (a debug
+    // build's bisections over a 27-unknown cluster that breaks take long).
+    check!(false; rps3, rps3_mixed);
+    let inputs = spatial_inputs("spatial_stress_10", true);
+    for options in all_options() {
+        let n = frame_allocations(dofplan_generated::spatial_stress_10::Plan, options, &inputs);
+        assert_eq!(n, 0, "spatial_stress_10 {options:?}");
+    }
+
+    // The Stewart platform's cluster did break on the way back, and did
+    // run Newton.
+    let stewart = spatial_inputs("stewart", true);
+    for options in all_options() {
+        let mut driver = Driver::new(dofplan_generated::stewart::Plan, options);
+        let statuses: Vec<_> = stewart.iter().map(|i| driver.frame(i)).collect();
+        assert!(
+            statuses.iter().any(|s| !s.is_solved()),
+            "{options:?}: no frame broke"
+        );
+        assert!(driver.numeric().is_some(), "{options:?}: no Newton report");
+    }
 }
 
 #[test]

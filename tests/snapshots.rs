@@ -1,10 +1,11 @@
 //! Snapshots of every bundled mechanism's explained plan and generated
-//! Rust, so every change to a plan is a reviewable diff. The generated
-//! snapshot is also exactly the source `dofplan-generated` compiles (checked
-//! below), so a snapshot that would not compile fails the build.
+//! Rust, planar and spatial, so every change to a plan is a reviewable
+//! diff. The generated snapshot is also exactly the source
+//! `dofplan-generated` compiles (checked below), so a snapshot that would
+//! not compile fails the build.
 
-use dofplan::emit::emit;
-use dofplan_tests::{bundled, load, plan};
+use dofplan::emit::{emit, emit_spatial};
+use dofplan_tests::{bundled, bundled_spatial, load, load_spatial, plan, plan_spatial};
 
 fn settings() -> insta::Settings {
     let mut s = insta::Settings::clone_current();
@@ -57,4 +58,41 @@ fn the_compiled_drag_is_snapshotted_too() {
     });
     let compiled = dofplan_generated::source("open_chain_15_drag_link_15_e").expect("compiled");
     assert_eq!(compiled, emit(&p), "dofplan-generated is stale");
+}
+
+/// Spatial plans (`mechanisms/spatial/`), as `dofplan plan` prints them.
+#[test]
+fn explained_spatial_plans() {
+    settings().bind(|| {
+        for name in bundled_spatial() {
+            let p = plan_spatial(&load_spatial(&name));
+            insta::assert_snapshot!(format!("plan_spatial_{name}"), p.explain_all());
+        }
+    });
+}
+
+/// Spatial modules, as `dofplan emit` prints them and `dofplan::build`
+/// writes them.
+#[test]
+fn generated_spatial_rust() {
+    settings().bind(|| {
+        for name in bundled_spatial() {
+            let p = plan_spatial(&load_spatial(&name));
+            insta::assert_snapshot!(format!("emit_spatial_{name}"), emit_spatial(&p));
+        }
+    });
+}
+
+#[test]
+fn compiled_crate_holds_exactly_the_snapshotted_spatial_source() {
+    for name in bundled_spatial() {
+        let m = load_spatial(&name);
+        let module = dofplan::emit::ident_for(&m.name);
+        let compiled = dofplan_generated::source(&module).expect("compiled");
+        assert_eq!(
+            compiled,
+            emit_spatial(&plan_spatial(&m)),
+            "{name}: dofplan-generated is stale"
+        );
+    }
 }

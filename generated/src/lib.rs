@@ -3,13 +3,16 @@
 //!
 //! Each mechanism is a module (`fourbar`, `stress_50`, …) with a `State`,
 //! a `solve` function and a `Plan` to drive with
-//! [`dofplan_runtime::Driver`].
+//! [`dofplan_runtime::Driver`]. The spatial ones of `mechanisms/spatial/`
+//! (`rssr`, `stewart`, …) are modules too, listed in `SPATIAL_MECHANISMS`
+//! and picked by name with `spatial_driver`.
 
 include!(concat!(env!("OUT_DIR"), "/mechanisms.rs"));
 
-/// Every mechanism above again, with its steps split into functions of two
-/// or three steps — the form `dofplan::emit` gives a plan too large for one
-/// function — so that the tests check that form on every mechanism.
+/// Every mechanism above again (but the spatial stress chains), with its
+/// steps split into functions of two or three steps — the form
+/// `dofplan::emit` gives a plan too large for one function — so that the
+/// tests check that form on every mechanism.
 pub mod chunked {
     include!(concat!(env!("OUT_DIR"), "/chunked.rs"));
 }

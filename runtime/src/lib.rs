@@ -19,7 +19,7 @@
 //! - [`drive`]: the [`Solver`] trait both back ends implement and the
 //!   [`Driver`] that applies a breaking policy around one plan execution.
 //! - [`marker`]: a marker by name, for reading points of a compiled
-//!   mechanism's poses.
+//!   mechanism's poses ([`Marker`] in the plane, [`Marker3`] in space).
 
 pub mod drive;
 pub mod frame;
@@ -30,6 +30,6 @@ pub mod spatial;
 
 pub use drive::{Animate, Driver, Solver};
 pub use frame::{Branch, BranchPolicy, Break, BreakKind, BreakPolicy, Ctx, FrameStatus, Options, StepId};
-pub use marker::Marker;
+pub use marker::{Marker, Marker3};
 pub use numeric::{Equations, Newton, NewtonOptions, NewtonOutcome, NewtonReport};
 pub use planar::{Point, Pose, Rot};

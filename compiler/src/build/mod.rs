@@ -9,13 +9,19 @@
 //! }
 //! ```
 //! and in the crate: `include!(concat!(env!("OUT_DIR"), "/mechanisms.rs"));`
+//!
+//! Planar and spatial (`dimension = 3`) files compile side by side into
+//! the same `mechanisms.rs`: each is a module, and the index picks one by
+//! name at run time (`driver` for planar mechanisms, `spatial_driver` for
+//! spatial ones; `source` for either).
 
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+use crate::analysis::spatial::PlanError3;
 use crate::analysis::{analyse, PlanError};
-use crate::emit::{emit, ident_for};
-use crate::model::{load_file, ModelError};
+use crate::emit::{emit, emit_spatial, ident_for, spatial_cluster_fits};
+use crate::model::{is_spatial_file, load_any, load_file, Model, ModelError};
 use crate::numeric::drag::carriage;
 
 /// Why a build failed.
@@ -33,6 +39,26 @@ pub enum BuildError {
         file: PathBuf,
         /// Why.
         error: PlanError,
+    },
+    /// A spatial file has no plan.
+    Plan3 {
+        /// The file.
+        file: PathBuf,
+        /// Why.
+        error: PlanError3,
+    },
+    /// A spatial plan's numeric cluster is too large for the fixed-size
+    /// matrices of generated code (see
+    /// [`spatial_cluster_fits`](crate::emit::spatial_cluster_fits)).
+    ClusterTooLarge {
+        /// The file.
+        file: PathBuf,
+        /// The cluster's step (1-based, as `dofplan plan` numbers it).
+        step: usize,
+        /// Its unknowns.
+        unknowns: usize,
+        /// Its equations.
+        equations: usize,
     },
     /// Reading a directory or writing output failed.
     Io {
@@ -67,6 +93,20 @@ impl fmt::Display for BuildError {
         match self {
             BuildError::Model(e) => write!(f, "{}", e.render(false)),
             BuildError::Plan { file, error } => write!(f, "{}: {error}", file.display()),
+            BuildError::Plan3 { file, error } => write!(f, "{}: {error}", file.display()),
+            BuildError::ClusterTooLarge {
+                file,
+                step,
+                unknowns,
+                equations,
+            } => write!(
+                f,
+                "{}: step {step} is a numeric cluster of {unknowns} unknowns and {equations} equations; \
+                 compiled spatial clusters hold at most {} of each (`dofplan plan` shows the step; \
+                 run the file with the interpreter instead)",
+                file.display(),
+                crate::emit::FIXED_LIMIT
+            ),
             BuildError::Io { path, error } => write!(f, "{}: {error}", path.display()),
             BuildError::DuplicateModule { module, files } => write!(
                 f,
@@ -129,7 +169,7 @@ impl Config {
     }
 
     /// Compiles every `.toml` and `.json` file of `dir` (sorted by name),
-    /// and the drags asked for.
+    /// planar or spatial, and the drags asked for.
     pub fn compile_dir(&self, dir: impl AsRef<Path>) -> Result<Vec<String>, BuildError> {
         let dir = dir.as_ref();
         let io = |error| BuildError::Io {
@@ -148,8 +188,10 @@ impl Config {
 
     /// Compiles the given files: one `<module>.rs` per mechanism and a
     /// `mechanisms.rs` that declares them all, plus `MECHANISMS` (the
-    /// module names) and `driver(name, options)` to pick one at run time.
-    /// Returns the module names.
+    /// planar module names) and `driver(name, options)` to pick one at run
+    /// time, and — when any file is spatial (`dimension = 3`) —
+    /// `SPATIAL_MECHANISMS` and `spatial_driver(name, options)`; `source`
+    /// covers both. Returns the module names (planar, then spatial).
     pub fn compile(&self, files: &[impl AsRef<Path>]) -> Result<Vec<String>, BuildError> {
         let out_dir = match &self.out_dir {
             Some(d) => d.clone(),
@@ -159,6 +201,7 @@ impl Config {
         };
         let mut modules: Vec<(String, PathBuf, PathBuf)> = Vec::new();
         let mut mechanisms = Vec::new();
+        let mut spatial = Vec::new();
         // Every file read is named to cargo before any is read, so that
         // fixing any of them (not only the first broken one) reruns the
         // build script.
@@ -171,7 +214,16 @@ impl Config {
         }
         for file in files {
             let file = file.as_ref();
-            mechanisms.push((file.to_path_buf(), load_file(file).map_err(BuildError::Model)?));
+            // Planar files keep their own loader (and its diagnostics);
+            // only a file that says `dimension = 3` goes the spatial way.
+            if is_spatial_file(file) {
+                match load_any(file).map_err(BuildError::Model)? {
+                    Model::Spatial(m) => spatial.push((file.to_path_buf(), m)),
+                    Model::Planar(m) => mechanisms.push((file.to_path_buf(), m)),
+                }
+            } else {
+                mechanisms.push((file.to_path_buf(), load_file(file).map_err(BuildError::Model)?));
+            }
         }
         for (file, marker) in &self.drags {
             let m = load_file(file).map_err(BuildError::Model)?;
@@ -189,13 +241,9 @@ impl Config {
             let c = carriage(&m, id).ok_or_else(|| why("the mechanism has no fixed body"))?;
             mechanisms.push((file.clone(), c));
         }
-        for (file, m) in &mechanisms {
-            let file = file.as_path();
-            let plan = analyse(m).plan.map_err(|error| BuildError::Plan {
-                file: file.to_path_buf(),
-                error,
-            })?;
-            let module = ident_for(&m.name);
+        // Each module's name and source, planar first: the name is checked
+        // against every module before it, of either dimension.
+        let mut add = |module: String, file: &Path, source: String| {
             if let Some((_, other, _)) = modules.iter().find(|(n, _, _)| *n == module) {
                 return Err(BuildError::DuplicateModule {
                     module,
@@ -203,8 +251,33 @@ impl Config {
                 });
             }
             let out = out_dir.join(format!("{module}.rs"));
-            write_if_changed(&out, &emit(&plan))?;
+            write_if_changed(&out, &source)?;
             modules.push((module, file.to_path_buf(), out));
+            Ok(())
+        };
+        for (file, m) in &mechanisms {
+            let file = file.as_path();
+            let plan = analyse(m).plan.map_err(|error| BuildError::Plan {
+                file: file.to_path_buf(),
+                error,
+            })?;
+            add(ident_for(&m.name), file, emit(&plan))?;
+        }
+        for (file, m) in &spatial {
+            let file = file.as_path();
+            let plan = crate::analysis::spatial::analyse(m).map_err(|error| BuildError::Plan3 {
+                file: file.to_path_buf(),
+                error,
+            })?;
+            if let Err((step, unknowns, equations)) = spatial_cluster_fits(&plan) {
+                return Err(BuildError::ClusterTooLarge {
+                    file: file.to_path_buf(),
+                    step,
+                    unknowns,
+                    equations,
+                });
+            }
+            add(ident_for(&m.name), file, emit_spatial(&plan))?;
         }
         let mut index = String::from("// @generated by dofplan — do not edit.\n\n");
         for (module, file, out) in &modules {
@@ -215,6 +288,12 @@ impl Config {
                 out.display().to_string()
             ));
         }
+        // Spatial modules come after every planar one. The planar index
+        // items name planar modules only (their drivers animate planar
+        // poses), so a build without spatial files writes what it always
+        // did.
+        let all = &modules;
+        let (modules, spatial_modules) = modules.split_at(mechanisms.len());
         let names: Vec<String> = modules.iter().map(|(m, _, _)| format!("{m:?}")).collect();
         index.push_str(&format!(
             "/// The names of the compiled mechanisms.\npub const MECHANISMS: &[&str] = &[{}];\n\n",
@@ -223,29 +302,60 @@ impl Config {
         index.push_str(
             "/// A driver for the compiled mechanism `name`, behind a trait object.\npub fn driver(name: &str, options: dofplan_runtime::Options) -> Option<Box<dyn dofplan_runtime::Animate>> {\n    match name {\n",
         );
-        for (module, _, _) in &modules {
+        for (module, _, _) in modules {
             index.push_str(&format!(
                 "        {module:?} => Some(Box::new(dofplan_runtime::Driver::new({module}::Plan, options))),\n"
             ));
         }
         index.push_str("        _ => None,\n    }\n}\n\n");
         index.push_str("/// The generated source of the compiled mechanism `name`.\npub fn source(name: &str) -> Option<&'static str> {\n    match name {\n");
-        for (module, _, _) in &modules {
+        for (module, _, _) in all {
             index.push_str(&format!("        {module:?} => Some({module}::SOURCE),\n"));
         }
         index.push_str("        _ => None,\n    }\n}\n\n");
         index.push_str(
             "/// Evaluates `$body` with `$plan` bound to the compiled plan of the mechanism\n/// named `$name`, monomorphised per mechanism (no trait object): `Some(value)`,\n/// or `None` for an unknown name.\n#[macro_export]\nmacro_rules! with_plan {\n    ($name:expr, |$plan:ident| $body:expr) => {\n        match $name {\n",
         );
-        for (module, _, _) in &modules {
+        for (module, _, _) in modules {
             index.push_str(&format!(
                 "            {module:?} => {{\n                let $plan = $crate::{module}::Plan;\n                Some($body)\n            }}\n"
             ));
         }
         index.push_str("            _ => None,\n        }\n    };\n}\n");
+        if !spatial_modules.is_empty() {
+            spatial_index(&mut index, spatial_modules);
+        }
         write_if_changed(&out_dir.join("mechanisms.rs"), &index)?;
-        Ok(modules.into_iter().map(|(m, _, _)| m).collect())
+        Ok(all.iter().map(|(m, _, _)| m.clone()).collect())
     }
+}
+
+/// The index items of spatial modules: `SPATIAL_MECHANISMS`,
+/// `spatial_driver` and `with_spatial_plan!`, as the planar ones.
+fn spatial_index(index: &mut String, modules: &[(String, PathBuf, PathBuf)]) {
+    let names: Vec<String> = modules.iter().map(|(m, _, _)| format!("{m:?}")).collect();
+    index.push_str(&format!(
+        "\n/// The names of the compiled spatial mechanisms.\npub const SPATIAL_MECHANISMS: &[&str] = &[{}];\n\n",
+        names.join(", ")
+    ));
+    index.push_str(
+        "/// A driver for the compiled spatial mechanism `name`, behind a trait object.\npub fn spatial_driver(name: &str, options: dofplan_runtime::Options) -> Option<Box<dyn dofplan_runtime::Animate<dofplan_runtime::spatial::Pose3>>> {\n    match name {\n",
+    );
+    for (module, _, _) in modules {
+        index.push_str(&format!(
+            "        {module:?} => Some(Box::new(dofplan_runtime::Driver::new({module}::Plan, options))),\n"
+        ));
+    }
+    index.push_str("        _ => None,\n    }\n}\n\n");
+    index.push_str(
+        "/// Evaluates `$body` with `$plan` bound to the compiled plan of the spatial\n/// mechanism named `$name`, monomorphised per mechanism (no trait object):\n/// `Some(value)`, or `None` for an unknown name.\n#[macro_export]\nmacro_rules! with_spatial_plan {\n    ($name:expr, |$plan:ident| $body:expr) => {\n        match $name {\n",
+    );
+    for (module, _, _) in modules {
+        index.push_str(&format!(
+            "            {module:?} => {{\n                let $plan = $crate::{module}::Plan;\n                Some($body)\n            }}\n"
+        ));
+    }
+    index.push_str("            _ => None,\n        }\n    };\n}\n");
 }
 
 /// Leaves an unchanged file alone so dependants are not rebuilt.

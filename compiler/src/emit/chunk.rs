@@ -62,7 +62,7 @@ impl Uses {
         }
     }
 
-    fn has(&self, ident: &str) -> bool {
+    pub fn has(&self, ident: &str) -> bool {
         self.idents.contains(ident)
     }
 }

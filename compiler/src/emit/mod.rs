@@ -9,6 +9,9 @@
 //! into functions of bounded size (see [`chunk`]), so that rustc compiles
 //! a mechanism of any size; every body and marker gets a named constant
 //! (see [`names`]).
+//!
+//! Spatial plans get a module of the same shape from [`emit_spatial`]
+//! (`spatial.rs`, clusters in `spatial_cluster.rs`).
 
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
@@ -16,8 +19,12 @@ use quote::{format_ident, quote};
 mod chunk;
 mod cluster;
 mod names;
+mod spatial;
+mod spatial_cluster;
 
 pub use chunk::CHUNK_WEIGHT;
+pub use cluster::FIXED_LIMIT;
+pub use spatial::{emit_spatial, emit_spatial_chunked, spatial_cluster_fits};
 
 use crate::model::InputKind;
 use crate::plan::{ClusterParam, ClusterRow, DirRef, Plan, PointRef, Rel, StepKind};

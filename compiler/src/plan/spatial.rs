@@ -13,6 +13,8 @@ use dofplan_runtime::spatial::rows::RowKind;
 use dofplan_runtime::spatial::Vec3;
 use dofplan_runtime::Branch;
 
+use crate::model::InputKind;
+
 /// Index of a body in the mechanism's body order.
 pub type BodyId = usize;
 
@@ -387,6 +389,16 @@ pub enum ClusterRow3 {
         /// "leg1".
         name: String,
     },
+    /// A dragged point: `body.world(local)` = (inputs[0], inputs[1],
+    /// inputs[2]) — the drag's target, carried as the plan's three inputs.
+    Pin {
+        /// The dragged body.
+        body: BodyId,
+        /// The dragged marker, local.
+        local: Vec3,
+        /// "coupler.P".
+        name: String,
+    },
 }
 
 /// A numeric cluster.
@@ -413,6 +425,7 @@ impl Cluster3 {
             .map(|r| match r {
                 ClusterRow3::Equation(c) => c.kind.rows(),
                 ClusterRow3::Distance { .. } => 1,
+                ClusterRow3::Pin { .. } => 3,
             })
             .sum()
     }
@@ -459,6 +472,17 @@ pub struct Plan3 {
     pub fixed: Vec<bool>,
     /// Input names.
     pub inputs: Vec<String>,
+    /// Each input's kind, in [`Plan3::inputs`] order: an angle (degrees) or
+    /// a slide (length units). Generated modules list them (`INPUT_KINDS`);
+    /// the steps already carry what they need of them.
+    pub input_kinds: Vec<InputKind>,
+    /// Each body's markers in file order: name and local (= drawn)
+    /// coordinates. The generated module names them (`marker::CRANK_B`);
+    /// no step reads them.
+    pub markers: Vec<Vec<(String, Vec3)>>,
+    /// The file's name without its folder (the generated module's header),
+    /// so a plan does not depend on where its file was read from.
+    pub source: String,
     /// Steps in order.
     pub steps: Vec<Step3>,
     /// Pseudo-markers.

@@ -57,6 +57,13 @@ pub fn analyse(m: &Mechanism3) -> Result<Plan3, PlanError3> {
         bodies: m.bodies.iter().map(|b| b.name.clone()).collect(),
         fixed: m.bodies.iter().map(|b| b.fixed).collect(),
         inputs: m.inputs.iter().map(|i| i.name.clone()).collect(),
+        input_kinds: m.inputs.iter().map(|i| i.kind).collect(),
+        markers: m
+            .bodies
+            .iter()
+            .map(|b| b.markers.iter().map(|mk| (mk.name.clone(), mk.at)).collect())
+            .collect(),
+        source: super::file_name(&m.source.name),
         steps: planned.steps,
         temps: planned.temps,
         branches: planned.branches,

@@ -1,0 +1,277 @@
+//! A numeric cluster of a spatial plan as a fixed-size closure for
+//! `dofplan_runtime::numeric::fixed_system`, solved by `Newton` at fixed
+//! size so a frame allocates nothing.
+//!
+//! It is [`crate::interp::spatial_cluster`] written out: the same
+//! operations in the same order, so compiled and interpreted clusters
+//! agree to rounding. Before the solve, each cluster body's unknowns
+//! (`cluster::Unknowns`) and warm start, and each distance row's far end
+//! and length, are read from the state. In the closure, each cluster
+//! body's trial pose is `cluster::moved` from its warm start; each row is
+//! evaluated as statements (`RowKind::eval` on the markers' world frames,
+//! or |a − b| − length); and, when Newton asks for the Jacobian, each
+//! unknown's twist (`cluster::columns`) gives its column: `RowKind::deriv`
+//! at the frames' rates, or u·velocity for a distance row.
+
+use proc_macro2::{Ident, Literal, TokenStream};
+use quote::quote;
+
+use super::spatial::{frames, row_kind, state_pose, Block, Emitter3};
+use super::{ident_for, index, lit};
+use crate::plan::spatial::{Cluster3, ClusterRow3, Param3, P3};
+
+/// A cluster body: its locals and its first unknown.
+struct Member {
+    body: usize,
+    base: Ident,
+    unknowns: Ident,
+    pose: Ident,
+    columns: Ident,
+    first: usize,
+    count: usize,
+}
+
+/// `j[(row, first + c)]`, written without `+ 0`.
+fn entry(row: usize, first: usize) -> TokenStream {
+    let r = index(row);
+    if first == 0 {
+        quote!(j[(#r, c)])
+    } else {
+        let f = index(first);
+        quote!(j[(#r, #f + c)])
+    }
+}
+
+/// `x[first..]`, the unknowns of a member from its first (`x` itself for
+/// the first member).
+fn unknowns_of(x: TokenStream, first: usize) -> TokenStream {
+    if first == 0 {
+        x
+    } else {
+        let f = index(first);
+        quote!(&#x[#f..])
+    }
+}
+
+impl Emitter3<'_> {
+    /// The code of cluster step `id` inside its block `b`.
+    pub(super) fn cluster(&self, b: &mut Block, c: &Cluster3, id: &Literal) -> TokenStream {
+        let (n, m) = (c.unknowns(), c.equations());
+        for name in [
+            "x", "r", "j", "c", "t", "d", "u", "v", "zero", "system", "report", "SIZE",
+        ] {
+            b.fresh(name);
+        }
+
+        // Before the solve: each cluster body's unknowns and warm start.
+        let mut members: Vec<Member> = Vec::new();
+        let mut first = 0;
+        for p in &c.params {
+            let body = p.body();
+            let name = ident_for(&self.plan.bodies[body]);
+            let u = match p {
+                Param3::Free { .. } => quote!(Unknowns::Free),
+                Param3::Pivot { pivot, .. } => {
+                    let c = b.point(pivot);
+                    quote!(Unknowns::Pivot(#c))
+                }
+                Param3::Axis { pivot, axis, .. } => {
+                    let c = b.point(pivot);
+                    let a = b.dir(axis, &format!("axis_{name}"));
+                    quote!(Unknowns::Axis(#c, #a))
+                }
+            };
+            let base = b.fresh(&format!("base_{name}"));
+            let unknowns = b.fresh(&format!("unknowns_{name}"));
+            let pose = b.fresh(&format!("pose_{name}"));
+            let columns = b.fresh(&format!("columns_{name}"));
+            let at = state_pose(body);
+            b.pre.push(quote!(let #base = #at;));
+            b.pre.push(quote!(let #unknowns = #u;));
+            members.push(Member {
+                body,
+                base,
+                unknowns,
+                pose,
+                columns,
+                first,
+                count: p.count(),
+            });
+            first += p.count();
+        }
+        let member = |body: usize| members.iter().find(|mb| mb.body == body);
+        // A body's pose in the closure: its trial pose if it is a cluster
+        // body, else the state's.
+        let trial = |body: usize| match member(body) {
+            Some(mb) => {
+                let p = &mb.pose;
+                quote!(#p)
+            }
+            None => state_pose(body),
+        };
+
+        // The rows, then their Jacobian entries.
+        let mut residuals = Vec::new();
+        let mut jacobian = Vec::new();
+        let mut used_columns = vec![false; members.len()];
+        let mut zero_used = false;
+        let mut row = 0;
+        for r in &c.rows {
+            match r {
+                ClusterRow3::Equation(e) => {
+                    let rows = e.kind.rows();
+                    let (f1, f2) = frames(e, &trial);
+                    let (f1_id, f2_id) = (b.fresh(&format!("f1_{row}")), b.fresh(&format!("f2_{row}")));
+                    let v = b.fresh(&format!("v_{row}"));
+                    let kind = row_kind(&e.kind);
+                    let writes = (0..rows).map(|i| {
+                        let (ri, vi) = (index(row + i), index(i));
+                        quote!(r[#ri] = #v[#vi];)
+                    });
+                    residuals.push(self.note(e.name.clone()));
+                    residuals.push(quote! {
+                        let #f1_id = #f1;
+                        let #f2_id = #f2;
+                        let #v = #kind.eval(&#f1_id, &#f2_id, inputs);
+                        #(#writes)*
+                    });
+                    for side in 0..2 {
+                        let body = e.bodies[side];
+                        if side == 1 && e.bodies[0] == body {
+                            continue;
+                        }
+                        let Some(k) = members.iter().position(|mb| mb.body == body) else {
+                            continue;
+                        };
+                        let mb = &members[k];
+                        used_columns[k] = true;
+                        let rate1 = quote!(t.rate(&#f1_id));
+                        let rate2 = quote!(t.rate(&#f2_id));
+                        let (d1, d2) = if side == 0 {
+                            if e.bodies[1] == body {
+                                (rate1, rate2)
+                            } else {
+                                zero_used = true;
+                                (rate1, quote!(zero))
+                            }
+                        } else {
+                            zero_used = true;
+                            (quote!(zero), rate2)
+                        };
+                        let adds = (0..rows).map(|i| {
+                            let (at, di) = (entry(row + i, mb.first), index(i));
+                            quote!(#at += d[#di];)
+                        });
+                        let (cols, count) = (&mb.columns, index(mb.count));
+                        jacobian.push(quote! {
+                            for (c, t) in #cols.iter().take(#count).enumerate() {
+                                let d = #kind.deriv(&#f1_id, &#f2_id, &#d1, &#d2, inputs);
+                                #(#adds)*
+                            }
+                        });
+                    }
+                    row += rows;
+                }
+                ClusterRow3::Distance {
+                    a,
+                    b: pb,
+                    c: pc,
+                    d: pd,
+                    name,
+                } => {
+                    // The far end and the length are read once, before the
+                    // solve, as the interpreter does.
+                    let end = b.point(pb);
+                    let (qc, qd) = (b.point(pc), b.point(pd));
+                    let len = b.bind(
+                        &format!("len_{row}"),
+                        quote!(spatial::norm(spatial::sub(#qd, #qc))),
+                    );
+                    let (pa, ab) = (b.fresh(&format!("a_{row}")), b.fresh(&format!("ab_{row}")));
+                    let a_expr = match b.point_expr(a, &trial) {
+                        Some((_, e)) => e,
+                        None => b.point(a),
+                    };
+                    let ri = index(row);
+                    residuals.push(self.note(format!("{name}: its length, kept")));
+                    residuals.push(quote! {
+                        let #pa = #a_expr;
+                        let #ab = spatial::sub(#pa, #end);
+                        r[#ri] = spatial::norm(#ab) - #len;
+                    });
+                    let body = match a {
+                        P3::Body { body, .. } | P3::Slid { body, .. } => Some(*body),
+                        _ => None,
+                    };
+                    if let Some(k) = body.and_then(|body| members.iter().position(|mb| mb.body == body)) {
+                        let mb = &members[k];
+                        used_columns[k] = true;
+                        let (at, cols, count) = (entry(row, mb.first), &mb.columns, index(mb.count));
+                        jacobian.push(quote! {
+                            let u = spatial::unit(#ab);
+                            for (c, t) in #cols.iter().take(#count).enumerate() {
+                                #at = spatial::dot(u, t.velocity(#pa));
+                            }
+                        });
+                    }
+                    row += 1;
+                }
+                // Drags are run by the interpreter (`numeric::spatial::
+                // drag_plan`); no plan the analysis makes pins a marker.
+                ClusterRow3::Pin { .. } => unreachable!("drag plans are not emitted"),
+            }
+        }
+        debug_assert_eq!(row, m);
+
+        let place = members.iter().map(|mb| {
+            let (pose, base, u) = (&mb.pose, &mb.base, &mb.unknowns);
+            let x = unknowns_of(quote!(x), mb.first);
+            quote!(let #pose = cluster::moved(&#base, &#u, #x);)
+        });
+        let columns = members
+            .iter()
+            .zip(&used_columns)
+            .filter(|(_, u)| **u)
+            .map(|(mb, _)| {
+                let (cols, base, u) = (&mb.columns, &mb.base, &mb.unknowns);
+                let x = unknowns_of(quote!(x), mb.first);
+                quote!(let #cols = cluster::columns(&#base, &#u, #x);)
+            });
+        let zero = if zero_used {
+            quote!(let zero = FrameRate::default();)
+        } else {
+            quote!()
+        };
+        let writes = members.iter().map(|mb| {
+            let (base, u) = (&mb.base, &mb.unknowns);
+            let at = state_pose(mb.body);
+            let x = unknowns_of(quote!(x.as_slice()), mb.first);
+            quote!(#at = cluster::moved(&#base, &#u, #x);)
+        });
+        let (n_lit, m_lit, size) = (index(n), index(m), lit(c.size));
+        let start = self.note("The unknowns start at 0: every cluster body at its warm start.".into());
+        let end = self.note(
+            "The poses at the solution (or, on a break, at the least-squares point the stretch policy shows).".into(),
+        );
+        quote! {
+            const SIZE: f64 = #size;
+            #start
+            let mut x = numeric::SVector::<f64, #n_lit>::zeros();
+            let mut system = numeric::fixed_system::<#m_lit, #n_lit, _>(|x, r, j| {
+                let x = x.as_slice();
+                #(#place)*
+                #(#residuals)*
+                let Some(j) = j else { return };
+                j.fill(0.0);
+                #(#columns)*
+                #zero
+                #(#jacobian)*
+            });
+            let report = numeric::Newton::<numeric::Const<#m_lit>, numeric::Const<#n_lit>>::fixed()
+                .solve(&mut system, &mut x, &numeric::cluster::options(SIZE));
+            #end
+            #(#writes)*
+            numeric::cluster::finish(ctx, #id, report)?;
+        }
+    }
+}
