@@ -1,7 +1,13 @@
-//! Prints the move-time table: mechanism, mobile links, joints, plan
-//! steps, compiled ns/frame, interpreted ns/frame, ratio.
+//! Prints the move-time tables: for planar mechanisms, mobile links,
+//! joints, plan steps, compiled ns/frame, interpreted ns/frame, ratio; for
+//! spatial ones (`mechanisms/spatial/`), bodies, joints, equations,
+//! redundant rows, plan steps, cluster unknowns, compiled and interpreted
+//! ns/frame, pure Newton µs/frame (six unknowns a body, no analysis) and
+//! its ratio to the compiled plan; then plan + check time of the spatial
+//! stress chains.
 //!
-//! `cargo run --release --example table` (add mechanism names to restrict).
+//! `cargo run --release --example table` (add mechanism names to restrict;
+//! `spatial` or `planar` for one table).
 //! Each figure is the median over repeated timed passes of the mechanism's
 //! sweep, driven frame by frame through `dofplan_runtime::Driver` exactly as
 //! an animation would (warm start, keep-branch, limit policy).
@@ -9,10 +15,13 @@
 use std::hint::black_box;
 use std::time::Instant;
 
+use dofplan::analysis::spatial::{analyse as analyse3, count::count};
+use dofplan::interp::spatial::Interpreter3;
 use dofplan::interp::Interpreter;
-use dofplan::simulate::sweep_inputs;
+use dofplan::numeric::spatial::pure_newton;
+use dofplan::simulate::{sweep_inputs, sweep_requests};
 use dofplan_runtime::{Driver, Options, Solver};
-use dofplan_tests::{bundled, load, plan};
+use dofplan_tests::{bundled, bundled_spatial, load, load_spatial, plan};
 
 /// Times one pass of `reps` sweeps, in ns per frame.
 fn pass<S: Solver>(driver: &mut Driver<S>, inputs: &[Vec<f64>], reps: usize) -> f64 {
@@ -56,7 +65,97 @@ fn compare<S: Solver, T: Solver>(
 }
 
 fn main() {
-    let filter: Vec<String> = std::env::args().skip(1).collect();
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let only = |table: &str| args.is_empty() || args.iter().any(|a| a == table);
+    let filter: Vec<String> = args
+        .iter()
+        .filter(|a| *a != "spatial" && *a != "planar")
+        .cloned()
+        .collect();
+    if only("planar") || !filter.is_empty() {
+        planar(&filter);
+    }
+    if only("spatial") || !filter.is_empty() {
+        spatial(&filter);
+    }
+}
+
+/// The spatial table.
+fn spatial(filter: &[String]) {
+    let names: Vec<String> = bundled_spatial()
+        .into_iter()
+        .filter(|n| filter.is_empty() || filter.contains(n))
+        .collect();
+    if names.is_empty() {
+        return;
+    }
+    println!();
+    println!(
+        "| spatial mechanism | bodies | joints | equations | redundant rows | plan steps | cluster unknowns | compiled ns/frame | interpreted ns/frame | pure Newton µs/frame | Newton / compiled |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for name in &names {
+        let m = load_spatial(name);
+        let p = analyse3(&m).expect("plans");
+        let c = count(&m);
+        let s = m.sweep.as_ref().expect("a sweep");
+        let inputs: Vec<Vec<f64>> = sweep_requests(s, m.inputs.len()).collect();
+        let mut interpreted = Driver::new(Interpreter3::new(p.clone()), Options::default());
+        let (compiled, interp) = dofplan_generated::with_spatial_plan!(name.as_str(), |plan| {
+            compare(
+                &mut Driver::new(plan, Options::default()),
+                &mut interpreted,
+                &inputs,
+                21,
+            )
+        })
+        .expect("compiled");
+        // Pure Newton on every frame of the sweep, warm-started. Its dense
+        // SVD grows with the cube of the unknowns: beyond 60 bodies (360
+        // unknowns) one sweep takes minutes, and the column says so, as
+        // Figure 30 leaves its slowest cell blank.
+        let (u, _) = p.cluster_size();
+        let newton = if m.moving() <= 60 {
+            let mut newton = Driver::new(Interpreter3::new(pure_newton(&m)), Options::default());
+            let passes = if m.moving() > 15 { 3 } else { 11 };
+            let reps = reps_for(&mut newton, &inputs);
+            let n = median((0..passes).map(|_| pass(&mut newton, &inputs, reps)).collect());
+            (format!("{:.1}", n / 1e3), format!("{:.0}", n / compiled))
+        } else {
+            ("–".to_string(), "–".to_string())
+        };
+        println!(
+            "| {name} | {} | {} | {} | {} | {} | {u} | {compiled:.0} | {interp:.0} | {} | {} |",
+            c.moving,
+            m.joints.len(),
+            c.equations,
+            c.redundant_equations,
+            p.steps.len(),
+            newton.0,
+            newton.1
+        );
+    }
+    // Plan + check of the stress chains (load excluded: what `check` adds
+    // to reading the file), median of 11.
+    println!();
+    println!("| spatial chain | bodies | plan + check ms |");
+    println!("|---|---:|---:|");
+    for name in names.iter().filter(|n| n.starts_with("spatial_stress_")) {
+        let m = load_spatial(name);
+        let t: Vec<f64> = (0..11)
+            .map(|_| {
+                let t = Instant::now();
+                black_box(analyse3(black_box(&m)).expect("plans"));
+                black_box(count(black_box(&m)));
+                t.elapsed().as_secs_f64() * 1e3
+            })
+            .collect();
+        println!("| {name} | {} | {:.2} |", m.moving(), median(t));
+    }
+}
+
+/// The planar table.
+fn planar(filter: &[String]) {
     let names: Vec<String> = bundled()
         .into_iter()
         .filter(|n| filter.is_empty() || filter.contains(n))

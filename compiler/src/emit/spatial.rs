@@ -347,16 +347,17 @@ fn act(b: &mut Block, body: usize, action: &Action3, id: &Literal) -> TokenStrea
         } => {
             let (c, a) = (b.point(pivot), b.dir(axis, "axis"));
             let (u1, u2) = (b.dir(x1, "x1"), b.dir(x2, "x2"));
-            // The interpreter adds 0 when no input drives the twist: folded
-            // here to the same number.
+            // The interpreter's target: the angle in degrees plus the input,
+            // turned into a cos/sin pair by `Rot::from_degrees`; with no input
+            // it adds 0, folded here to the same number.
             let target = match input {
                 Some(i) => {
-                    let (angle, i) = (lit(*angle), index(*i));
-                    quote!(#angle + inputs[#i].to_radians())
+                    let (degrees, i) = (lit(angle.to_degrees()), index(*i));
+                    quote!(dofplan_runtime::Rot::from_degrees(#degrees + inputs[#i]))
                 }
                 None => {
-                    let angle = lit(angle + 0.0);
-                    quote!(#angle)
+                    let degrees = lit(angle.to_degrees() + 0.0);
+                    quote!(dofplan_runtime::Rot::from_degrees(#degrees))
                 }
             };
             let sign = lit(*sign);
@@ -587,10 +588,19 @@ impl Emitter3<'_> {
         if !uses.has("ctx") {
             unused.push(quote!(let _ = ctx;));
         }
+        // As the interpreter: every moving body's rotation corrected once a
+        // frame, after the steps, so composed rotations stay rigid.
+        let moving: Vec<TokenStream> = (0..self.plan.bodies.len())
+            .filter(|&b| !self.plan.fixed[b])
+            .map(|b| {
+                let b = index(b);
+                quote!(w.poses[#b].renormalize();)
+            })
+            .collect();
         let Some(chunks) = chunks else {
             let why = self.note(COPY.to_string());
             let (take, commit) = if writes {
-                (quote!(let mut w = *s;), quote!(*s = w;))
+                (quote!(let mut w = *s;), quote!(#(#moving)* *s = w;))
             } else if steps.is_empty() {
                 (quote!(let _ = s;), quote!())
             } else {
@@ -657,6 +667,7 @@ impl Emitter3<'_> {
                 #why
                 let mut w = *s;
                 #(#calls)*
+                #(#moving)*
                 *s = w;
                 Ok(())
             }

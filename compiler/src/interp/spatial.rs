@@ -3,7 +3,7 @@
 
 use dofplan_runtime::spatial::rows::WorldFrame;
 use dofplan_runtime::spatial::{self, add, norm, scale, sub, unit, Pose3, Vec3};
-use dofplan_runtime::{Branch, Break, BreakKind, Ctx, Solver};
+use dofplan_runtime::{Branch, Break, BreakKind, Ctx, Rot, Solver};
 
 use crate::plan::spatial::{Action3, CheckRow, Locus3, Plan3, StepKind3, D3, P3};
 
@@ -81,6 +81,13 @@ impl Interpreter3 {
                 StepKind3::Cluster(c) => {
                     crate::interp::spatial_cluster::solve(s, c, inputs, ctx, id)?;
                 }
+            }
+        }
+        // Rotations composed frame after frame drift from orthonormal; one
+        // correction a frame keeps every body rigid indefinitely.
+        for (pose, fixed) in s.poses.iter_mut().zip(&self.plan.fixed) {
+            if !fixed {
+                pose.renormalize();
             }
         }
         Ok(())
@@ -210,8 +217,8 @@ fn act(
             sign,
         } => {
             let (c, a, u1, u2) = (p(s, pivot), d(s, axis), d(s, x1), d(s, x2));
-            let target = angle + input.map_or(0.0, |i| inputs[i].to_radians());
-            let (sin, cos) = spatial::twist_correction(a, u1, u2, target, *sign);
+            let degrees = angle.to_degrees() + input.map_or(0.0, |i| inputs[i]);
+            let (sin, cos) = spatial::twist_correction(a, u1, u2, Rot::from_degrees(degrees), *sign);
             spatial::rotate_about_axis_angle(&mut s.poses[body], c, a, cos, sin);
         }
         Action3::AxisCondition {

@@ -294,11 +294,35 @@ impl Rot3 {
     /// orthonormal to a few ulps.
     #[inline]
     pub fn minimal(from: Vec3, to: Vec3) -> Rot3 {
-        let a = unit(from);
-        let b = unit(to);
-        if norm2(a) == 0.0 || norm2(b) == 0.0 {
+        let (fa, fb) = (norm2(from), norm2(to));
+        if fa == 0.0 || fb == 0.0 {
             return Rot3::IDENTITY;
         }
+        // Away from opposite directions, Rodrigues' form straight from the
+        // unnormalised vectors: with k = (a × b)/(|a||b|) and c = cos θ,
+        // R = c·I + [k]× + k kᵀ/(1 + c) — one square root, one division.
+        let ab = (fa * fb).sqrt();
+        let c = dot(from, to) / ab;
+        if c > -0.5 {
+            let k = scale(cross(from, to), 1.0 / ab);
+            // Within rounding of parallel: exactly the identity, rather
+            // than a turn by rounding noise.
+            if norm2(k) <= 64e-32 {
+                return Rot3::IDENTITY;
+            }
+            let f = 1.0 / (1.0 + c);
+            let [x, y, z] = k;
+            let (fx, fy, fz) = (f * x, f * y, f * z);
+            return Rot3 {
+                m: [
+                    [c + fx * x, fx * y - z, fx * z + y],
+                    [fx * y + z, c + fy * y, fy * z - x],
+                    [fx * z - y, fy * z + x, c + fz * z],
+                ],
+            };
+        }
+        let a = unit(from);
+        let b = unit(to);
         let h = add(a, b);
         // The quaternion is (|â||b̂| + â·b̂, â × b̂). Its scalar part equals
         // (|h|² − (|â| − |b̂|)²)/2: |h|²/2 is that to O(ε²) without the
@@ -312,12 +336,39 @@ impl Rot3 {
             let p = perpendicular(a);
             return Rot3::from_quaternion(0.0, p[0], p[1], p[2]);
         }
-        // Within rounding of parallel (|v|/w = tan(θ/2), θ below 8e-16):
-        // exactly the identity, rather than a turn by rounding noise.
-        if norm2(v) <= 16e-32 * w * w {
-            return Rot3::IDENTITY;
-        }
         Rot3::from_quaternion(w, v[0], v[1], v[2])
+    }
+
+    /// One Newton–Schulz step toward the nearest rotation,
+    /// R·(3I − RᵀR)/2: it squares the orthonormality error, so applied once
+    /// a frame it keeps rotations composed millions of times rigid (without
+    /// it their error grows with every composition, and a mechanism's
+    /// redundant checks eventually fail on bodies that are no longer rigid).
+    /// No square root; an exact rotation comes back unchanged to rounding.
+    #[inline]
+    pub fn renormalized(&self) -> Rot3 {
+        let m = &self.m;
+        // E = RᵀR (symmetric).
+        let mut e = [[0.0; 3]; 3];
+        for i in 0..3 {
+            for j in i..3 {
+                let v = m[0][i] * m[0][j] + m[1][i] * m[1][j] + m[2][i] * m[2][j];
+                e[i][j] = v;
+                e[j][i] = v;
+            }
+        }
+        let mut out = [[0.0; 3]; 3];
+        for (r, row) in out.iter_mut().enumerate() {
+            for (c, entry) in row.iter_mut().enumerate() {
+                let mut v = 0.0;
+                for k in 0..3 {
+                    let f = if k == c { 3.0 - e[k][c] } else { -e[k][c] };
+                    v += m[r][k] * f;
+                }
+                *entry = 0.5 * v;
+            }
+        }
+        Rot3 { m: out }
     }
 
     /// The nearest orthonormal, right-handed matrix by Gram–Schmidt on the
@@ -399,6 +450,27 @@ impl Pose3 {
         Pose3 {
             rot: self.rot.mul(&local.rot),
             pos: self.world(local.pos),
+        }
+    }
+
+    /// Keeps the rotation rigid after many compositions: when RᵀR is off
+    /// the identity by more than 1e-14 (thousands of frames of rounding),
+    /// one [`Rot3::renormalized`] step; otherwise nothing, so the check is
+    /// all a frame pays. Plans call it on every moving body once a frame.
+    #[inline]
+    pub fn renormalize(&mut self) {
+        let m = &self.rot.m;
+        let col = |i: usize, j: usize| m[0][i] * m[0][j] + m[1][i] * m[1][j] + m[2][i] * m[2][j];
+        let off = (col(0, 0) - 1.0)
+            .abs()
+            .max((col(1, 1) - 1.0).abs())
+            .max((col(2, 2) - 1.0).abs())
+            .max(col(0, 1).abs())
+            .max(col(0, 2).abs())
+            .max(col(1, 2).abs());
+        // `!(off <= ..)`: a NaN rotation is left for the steps to report.
+        if off > 1e-14 {
+            self.rot = self.rot.renormalized();
         }
     }
 

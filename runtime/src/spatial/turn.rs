@@ -4,16 +4,29 @@
 //! rotation).
 
 use super::{cross, dot, norm, perpendicular, scale, unit, Pose3, Rot3, Vec3};
+use crate::planar::Rot;
 
 /// The (sin, cos) of the rotation about `axis` that brings the twist of
-/// `x2` about `axis` from `x1` to `target` (radians): the body carrying
-/// `x2` turns by `sign·(target − current)` (`sign` −1 when the body turned
-/// carries `x1` instead, which moves the twist the other way).
+/// `x2` about `axis` from `x1` to `target`: the body carrying `x2` turns by
+/// `sign·(target − current)` (`sign` −1 when the body turned carries `x1`
+/// instead, which moves the twist the other way). The target comes as a
+/// cos/sin pair ([`Rot::from_degrees`] of the input) and the current twist
+/// is read as one from dot products, so a frame needs no trigonometry here.
 #[inline]
-pub fn twist_correction(axis: Vec3, x1: Vec3, x2: Vec3, target: f64, sign: f64) -> (f64, f64) {
+pub fn twist_correction(axis: Vec3, x1: Vec3, x2: Vec3, target: Rot, sign: f64) -> (f64, f64) {
     let y1 = cross(axis, x1);
-    let current = dot(x2, y1).atan2(dot(x2, x1));
-    (sign * (target - current)).sin_cos()
+    let (c0, s0) = (dot(x2, x1), dot(x2, y1));
+    // Unit vectors: no overflow to guard against, so no `hypot`.
+    let n = (c0 * c0 + s0 * s0).sqrt();
+    if n == 0.0 {
+        // x2 along the axis: no twist to measure, nothing to turn.
+        return (0.0, 1.0);
+    }
+    let (c0, s0) = (c0 / n, s0 / n);
+    // target · current⁻¹ as complex numbers.
+    let c = target.c * c0 + target.s * s0;
+    let s = target.s * c0 - target.c * s0;
+    (sign * s, c)
 }
 
 /// Rotates `pose` about `pivot`, about the axis `from × to`, until the
