@@ -8,12 +8,15 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use dofplan::interp::spatial::Interpreter3;
 use dofplan::interp::Interpreter;
 use dofplan::model::load_file;
 use dofplan::numeric::drag::Drag;
+use dofplan::numeric::spatial::pure_newton;
 use dofplan::simulate::sweep_inputs;
+use dofplan::simulate::sweep_requests;
 use dofplan_runtime::{Driver, Options, Solver};
-use dofplan_tests::{bundled, load, mechanisms_dir, plan};
+use dofplan_tests::{bundled, bundled_spatial, load, load_spatial, mechanisms_dir, plan};
 
 fn sweep<S: Solver>(driver: &mut Driver<S>, inputs: &[Vec<f64>]) {
     for i in inputs {
@@ -73,5 +76,31 @@ fn drag(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, move_time, drag);
+/// Spatial mechanisms: compiled, interpreted, and (for those small enough
+/// for it) pure Newton with six unknowns a body and no analysis.
+fn spatial(c: &mut Criterion) {
+    for name in bundled_spatial() {
+        let m = load_spatial(&name);
+        let inputs: Vec<Vec<f64>> =
+            sweep_requests(m.sweep.as_ref().expect("a sweep"), m.inputs.len()).collect();
+        let mut group = c.benchmark_group(format!("spatial/{name}"));
+        group.throughput(Throughput::Elements(inputs.len() as u64));
+        dofplan_generated::with_spatial_plan!(name.as_str(), |plan| {
+            let mut compiled = Driver::new(plan, Options::default());
+            group.bench_function("compiled", |b| b.iter(|| sweep(&mut compiled, &inputs)));
+        })
+        .expect("compiled");
+        let plan = dofplan::analysis::spatial::analyse(&m).expect("plans");
+        let mut interpreted = Driver::new(Interpreter3::new(plan), Options::default());
+        group.bench_function("interpreted", |b| b.iter(|| sweep(&mut interpreted, &inputs)));
+        if m.moving() <= 20 {
+            let mut newton = Driver::new(Interpreter3::new(pure_newton(&m)), Options::default());
+            group.sample_size(10);
+            group.bench_function("pure_newton", |b| b.iter(|| sweep(&mut newton, &inputs)));
+        }
+        group.finish();
+    }
+}
+
+criterion_group!(benches, move_time, drag, spatial);
 criterion_main!(benches);

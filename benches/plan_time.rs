@@ -29,5 +29,22 @@ fn plan_time(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, plan_time);
+/// Plan and check of the spatial stress chains (10 and 100 RSSR loops).
+fn spatial_plan_time(c: &mut Criterion) {
+    for name in ["spatial_stress_10", "spatial_stress_100"] {
+        let m = dofplan_tests::load_spatial(name);
+        let mut group = c.benchmark_group(format!("plan_time_{name}"));
+        group.sample_size(20);
+        group.throughput(Throughput::Elements(m.bodies.len() as u64));
+        group.bench_function("analyse", |b| {
+            b.iter(|| dofplan::analysis::spatial::analyse(black_box(&m)))
+        });
+        group.bench_function("count", |b| {
+            b.iter(|| dofplan::analysis::spatial::count::count(black_box(&m)))
+        });
+        group.finish();
+    }
+}
+
+criterion_group!(benches, plan_time, spatial_plan_time);
 criterion_main!(benches);
