@@ -308,3 +308,34 @@ fn a_sweep_has_one_form() {
         ],
     );
 }
+
+#[test]
+fn an_open_joint_is_told_from_joints_in_conflict() {
+    // rod.C drawn 0.01 off slider.C: the mechanism closes nearby.
+    let off = with(
+        "markers.C = [5, 0, 0]\n[bodies.slider]",
+        "markers.C = [5, 0.01, 0]\n[bodies.slider]",
+    );
+    check(
+        &off,
+        "[joints.C]",
+        &[
+            "joint `C` does not hold in the drawn pose",
+            "the mechanism does assemble with joint C closed",
+            "only the drawing is off",
+        ],
+    );
+    // The crank's pin (1 from its pivot) held at ground.L (5 away): no pose
+    // closes both.
+    let conflict =
+        format!("{BASE}[constraints.K]\nkind = \"coincident\"\nmarkers = [\"ground.L\", \"crank.B\"]\n");
+    check(
+        &conflict,
+        "[constraints.K]",
+        &[
+            "constraint `K` does not hold in the drawn pose",
+            "the joints cannot all close near the drawing",
+            "constraint K (open by",
+        ],
+    );
+}

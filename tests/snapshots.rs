@@ -96,3 +96,15 @@ fn compiled_crate_holds_exactly_the_snapshotted_spatial_source() {
         );
     }
 }
+
+/// The spatial plan-fragment table the planner reads, as `dofplan
+/// fragments` prints it: a change to a fragment is a reviewable diff.
+#[test]
+fn the_spatial_fragment_table() {
+    settings().bind(|| {
+        insta::assert_snapshot!(
+            "fragments_spatial",
+            dofplan::analysis::spatial::fragments::table()
+        );
+    });
+}

@@ -180,6 +180,12 @@ pub fn load_any_str(file_name: &str, text: &str, format: Format) -> Result<Model
     let mut v = Validator::new(file);
     match v.mechanism3(&root) {
         Some(m) if v.diags.is_empty() => Ok(Model::Spatial(m)),
+        // Only joints open in the drawn pose: the least-squares assembly
+        // says whether the drawing is only off or the joints conflict.
+        Some(m) if v.diags.len() == v.open.len() => {
+            crate::analysis::spatial::conflict::review(&m, &v.open, &mut v.diags);
+            Err(ModelError { diagnostics: v.diags })
+        }
         _ => Err(ModelError { diagnostics: v.diags }),
     }
 }
