@@ -836,7 +836,8 @@ fn cone_cone_coaxial(
 /// - [`BranchPolicy::Nearest`] takes the root nearest φ = 0 (the larger
 ///   cosine): the step turns a body that is still in its previous frame's
 ///   pose, so the nearest root is the smaller turn. `last` is only written:
-///   the chosen φ in radians, in (−π, π].
+///   sin φ of the chosen root (a record for reports; no frame needs the
+///   angle itself, and an `atan2` per frame would cost more than the step).
 /// - `√(A² + B²)` ≈ 0 (1e-12 of `|v||w|`): the condition does not depend
 ///   on φ; it returns the identity (1, 0) if it holds, else breaks.
 /// - `|C| > √(A² + B²)` beyond round-off: [`BreakKind::LineCannotReach`],
@@ -870,7 +871,7 @@ pub fn rotation_to_condition(
         } else {
             (1.0, 0.0)
         };
-        *last = si.atan2(co);
+        *last = si;
         return Ok((co, si));
     }
     if r <= TANGENT_TOLERANCE * size || r2 == 0.0 {
@@ -898,7 +899,7 @@ pub fn rotation_to_condition(
         Branch::Plus => plus,
         Branch::Minus => minus,
     };
-    *last = x.1.atan2(x.0);
+    *last = x.1;
     Ok(x)
 }
 

@@ -1322,10 +1322,10 @@ fn rotation_meets_its_condition() {
             assert!((c * c + s * s - 1.0).abs() < 1e-15);
             let got = dot(Rot3::about_axis(axis, c, s).apply(v), w);
             assert!((got - target).abs() < 1e-12 * (1.0 + norm(v) * norm(w)));
-            assert!((last - s.atan2(c)).abs() < 1e-15);
+            assert_eq!(last, s, "the record of the root is its sine");
             // Branch + is the root atan2(B, A) + acos(...), i.e. counter-
             // clockwise from atan2(B, A) by at most π.
-            let off = (last - phi0).rem_euclid(std::f64::consts::TAU);
+            let off = (s.atan2(c) - phi0).rem_euclid(std::f64::consts::TAU);
             if b == Branch::Plus {
                 assert!(off <= std::f64::consts::PI + 1e-9, "{off}");
             } else {
@@ -1351,7 +1351,7 @@ fn rotation_meets_its_condition() {
     b = Branch::Minus;
     let (c, s) = rotation_to_condition(&mut keep(), 0, z, x, y, 0.5, &mut b, &mut last).unwrap();
     assert!((c - 0.75f64.sqrt()).abs() < 1e-15 && (s - 0.5).abs() < 1e-15);
-    assert!((last - 30.0f64.to_radians()).abs() < 1e-15);
+    assert_eq!(last, s, "the record of the root is its sine");
     // Out of reach: y component 2 for a unit vector.
     let e = rotation_to_condition(&mut keep(), 4, z, x, y, 2.0, &mut b, &mut last).unwrap_err();
     assert_eq!((e.step, e.kind, e.gap), (4, BreakKind::LineCannotReach, 1.0));
