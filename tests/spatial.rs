@@ -397,3 +397,56 @@ fn spatial_drags_follow_the_target_and_keep_every_joint_closed() {
     assert!(matches!(last, FrameStatus::Stretched { .. }), "{last:?}");
     assert!(*gap < start, "approached: {gap} < {start}");
 }
+
+/// Breaking policies in space: the excavator's boom cylinder pushed far
+/// past what its loop can close. Limit holds the last pose, search stops at
+/// the reachable boundary (a little further breaks), stretch relaxes the
+/// intersection and reports the gap — and no policy reports a solved frame
+/// with an open joint.
+#[test]
+fn breaking_policies_hold_search_and_stretch_in_space() {
+    use dofplan_runtime::{BranchPolicy, BreakPolicy, FrameStatus};
+    let m = bundled3("excavator");
+    let plan = analyse(&m).unwrap();
+    let boom = m.inputs.iter().position(|i| i.name == "boom_cyl").unwrap();
+    let mut far = vec![0.0; m.inputs.len()];
+    far[boom] = 10.0;
+    for breaking in [BreakPolicy::Limit, BreakPolicy::Search, BreakPolicy::Stretch] {
+        let options = Options {
+            breaking,
+            branch: BranchPolicy::Keep,
+            ..Options::default()
+        };
+        let mut d = Driver::new(Interpreter3::new(plan.clone()), options);
+        let status = d.frame(&far);
+        match (breaking, status) {
+            (BreakPolicy::Limit, FrameStatus::Limited { .. }) => {
+                assert_eq!(
+                    d.inputs(),
+                    &vec![0.0; m.inputs.len()][..],
+                    "held at the drawn pose"
+                );
+                assert!(residual(&m, d.poses(), d.inputs()) < 1e-12);
+            }
+            (BreakPolicy::Search, FrameStatus::Searched { reached, .. }) => {
+                assert!(reached > 0.0 && reached < 1.0, "{reached}");
+                // The pose it holds closes every joint at the inputs reached…
+                assert!(residual(&m, d.poses(), d.inputs()) < 1e-9);
+                // …and it is the boundary: a little further breaks.
+                let mut beyond = d.inputs().to_vec();
+                beyond[boom] += 1e-6;
+                let mut probe = Driver::new(Interpreter3::new(plan.clone()), Options::default());
+                let mut step = vec![0.0; m.inputs.len()];
+                for k in 1..=100 {
+                    step[boom] = d.inputs()[boom] * k as f64 / 100.0;
+                    assert!(probe.frame(&step).is_solved(), "reachable on the way");
+                }
+                assert!(!probe.frame(&beyond).is_solved(), "just past the boundary breaks");
+            }
+            (BreakPolicy::Stretch, FrameStatus::Stretched { residual: gap, .. }) => {
+                assert!(gap > 0.0);
+            }
+            other => panic!("{other:?}"),
+        }
+    }
+}
