@@ -48,6 +48,22 @@ pub struct Body<M = Marker> {
     pub markers: Vec<M>,
 }
 
+/// Looks a marker up by "body.marker" among `bodies` (either dimension).
+pub(crate) fn find_marker<M: MarkerLike>(bodies: &[Body<M>], name: &str) -> Option<MarkerId> {
+    let (body, marker) = name.split_once('.')?;
+    let b = bodies.iter().position(|b| b.name == body)?;
+    let m = bodies[b].markers.iter().position(|m| m.name() == marker)?;
+    Some(MarkerId { body: b, marker: m })
+}
+
+/// Every marker of `bodies`, body by body, in file order.
+pub(crate) fn all_markers<M>(bodies: &[Body<M>]) -> impl Iterator<Item = MarkerId> + '_ {
+    bodies
+        .iter()
+        .enumerate()
+        .flat_map(|(b, body)| (0..body.markers.len()).map(move |m| MarkerId { body: b, marker: m }))
+}
+
 /// What the loader and the reports need of a marker of either dimension.
 pub trait MarkerLike: Clone {
     /// Its name, unique on its body.
@@ -273,18 +289,12 @@ impl Mechanism {
 
     /// Looks a marker up by "body.marker".
     pub fn find_marker(&self, name: &str) -> Option<MarkerId> {
-        let (body, marker) = name.split_once('.')?;
-        let b = self.bodies.iter().position(|b| b.name == body)?;
-        let m = self.bodies[b].markers.iter().position(|m| m.name == marker)?;
-        Some(MarkerId { body: b, marker: m })
+        find_marker(&self.bodies, name)
     }
 
     /// Every marker, body by body, in file order.
     pub fn all_markers(&self) -> impl Iterator<Item = MarkerId> + '_ {
-        self.bodies
-            .iter()
-            .enumerate()
-            .flat_map(|(b, body)| (0..body.markers.len()).map(move |m| MarkerId { body: b, marker: m }))
+        all_markers(&self.bodies)
     }
 
     /// The size of the mechanism: the diagonal of its markers' bounding box

@@ -307,18 +307,12 @@ impl Mechanism3 {
 
     /// Looks a marker up by "body.marker".
     pub fn find_marker(&self, name: &str) -> Option<MarkerId> {
-        let (body, marker) = name.split_once('.')?;
-        let b = self.bodies.iter().position(|b| b.name == body)?;
-        let m = self.bodies[b].markers.iter().position(|m| m.name == marker)?;
-        Some(MarkerId { body: b, marker: m })
+        super::find_marker(&self.bodies, name)
     }
 
     /// Every marker, body by body, in file order.
     pub fn all_markers(&self) -> impl Iterator<Item = MarkerId> + '_ {
-        self.bodies
-            .iter()
-            .enumerate()
-            .flat_map(|(b, body)| (0..body.markers.len()).map(move |m| MarkerId { body: b, marker: m }))
+        super::all_markers(&self.bodies)
     }
 
     /// The size of the mechanism: the diagonal of its markers' bounding box

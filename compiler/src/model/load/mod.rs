@@ -1200,12 +1200,15 @@ impl Validator {
         });
     }
 
-    fn inputs(
+    /// Reads `[inputs]`: each names a joint of `joints` that takes its kind
+    /// and is not driven already (the rules of either dimension come from
+    /// [`JointLike`]).
+    fn inputs<J: JointLike, M: MarkerLike>(
         &mut self,
         node: &Node,
         joints_node: &Node,
-        joints: &[(Joint, Node)],
-        bodies: &[Body],
+        joints: &[(J, Node)],
+        bodies: &[Body<M>],
     ) -> Vec<Input> {
         let Some(entries) = self.table(node, "inputs") else {
             return Vec::new();
@@ -1235,7 +1238,7 @@ impl Validator {
             } else {
                 InputKind::Slide
             };
-            let Some(ji) = joints.iter().position(|(j, _)| j.name == jname) else {
+            let Some(ji) = joints.iter().position(|(j, _)| j.name() == jname) else {
                 // A joint that was written but failed validation has its own
                 // error already.
                 if !written_joints.contains(&jname) {
@@ -1247,7 +1250,7 @@ impl Validator {
                             "joints are: {}",
                             joints
                                 .iter()
-                                .map(|(j, _)| j.name.as_str())
+                                .map(|(j, _)| j.name())
                                 .collect::<Vec<_>>()
                                 .join(", ")
                         )),
@@ -1256,28 +1259,24 @@ impl Validator {
                 continue;
             };
             let joint = &joints[ji].0;
-            let wanted = match kind {
-                InputKind::Angle => JointKind::Revolute,
-                InputKind::Slide => JointKind::Prismatic,
-            };
-            if joint.kind != wanted {
+            if let Some(help) = joint.refuses(kind) {
                 let loc = self.loc(knode, &join(&path, "kind"));
-                let fits = match joint.kind {
-                    JointKind::Revolute => "angle",
-                    JointKind::Prismatic => "slide",
-                };
                 self.error_notes(
                     loc,
-                    format!("{owner} is of kind `{}` but joint `{jname}` is {}", kind.name(), joint.kind.name()),
+                    format!(
+                        "{owner} is of kind `{}` but joint `{jname}` is {}",
+                        kind.name(),
+                        joint.kind_name()
+                    ),
                     vec![Note {
                         location: self.loc(&joints[ji].1, &join("joints", jname)),
                         message: format!("joint `{jname}` is defined here"),
                     }],
-                    Some(format!("an angle input drives a revolute joint and a slide input a prismatic one; use kind = \"{fits}\"")),
+                    Some(help),
                 );
                 continue;
             }
-            if joint.markers.iter().all(|m| bodies[m.body].fixed) {
+            if joint.markers().iter().all(|m| bodies[m.body].fixed) {
                 let loc = self.loc(jnode, &join(&path, "joint"));
                 self.error(
                     loc,
@@ -1286,7 +1285,12 @@ impl Validator {
                 );
                 continue;
             }
-            if let Some(other) = inputs.iter().find(|i| i.joint == ji) {
+            // A cylindrical joint takes an angle and a slide; every other
+            // joint one input.
+            if let Some(other) = inputs
+                .iter()
+                .find(|i| i.joint == ji && (i.kind == kind || !joint.takes_both()))
+            {
                 let loc = self.loc(jnode, &join(&path, "joint"));
                 self.error(
                     loc,
@@ -1485,6 +1489,46 @@ impl Validator {
             }),
         );
         None
+    }
+}
+
+/// What the input rules need of a joint of either dimension.
+pub(super) trait JointLike {
+    /// Its name.
+    fn name(&self) -> &str;
+    /// Its kind's name in files.
+    fn kind_name(&self) -> &'static str;
+    /// Its two markers.
+    fn markers(&self) -> [MarkerId; 2];
+    /// `None` when an input of `kind` can drive it, else what to do.
+    fn refuses(&self, kind: InputKind) -> Option<String>;
+    /// Whether an angle and a slide input may drive it together.
+    fn takes_both(&self) -> bool {
+        false
+    }
+}
+
+impl JointLike for Joint {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn kind_name(&self) -> &'static str {
+        self.kind.name()
+    }
+    fn markers(&self) -> [MarkerId; 2] {
+        self.markers
+    }
+    fn refuses(&self, kind: InputKind) -> Option<String> {
+        let fits = match (kind, self.kind) {
+            (InputKind::Angle, JointKind::Revolute) | (InputKind::Slide, JointKind::Prismatic) => {
+                return None
+            }
+            (_, JointKind::Revolute) => "angle",
+            (_, JointKind::Prismatic) => "slide",
+        };
+        Some(format!(
+            "an angle input drives a revolute joint and a slide input a prismatic one; use kind = \"{fits}\""
+        ))
     }
 }
 

@@ -9,7 +9,7 @@ use super::{join, Validator, MAX_COORDINATE};
 use crate::analysis::spatial::equations::{drawn_residual, Frame};
 use crate::model::source::{Node, NodeKind};
 use crate::model::spatial::{Axes, Constraint3, Joint3, JointKind3, Marker3, Mechanism3, Primitive};
-use crate::model::{Body, Input, InputKind, MarkerId, Note, DRAWN_TOLERANCE};
+use crate::model::{Body, InputKind, MarkerId, DRAWN_TOLERANCE};
 
 /// Axes closer than this to parallel (or perpendicular), as a sine or a
 /// cosine, count as parallel (or perpendicular) as drawn.
@@ -62,7 +62,7 @@ impl Validator {
         let constraints = self.constraints3(constraints_node, &bodies, size);
         self.cross_duplicates(joints_node, constraints_node);
         let inputs = match Self::get(top, "inputs") {
-            Some(n) => self.inputs3(n, joints_node, &joints, &bodies),
+            Some(n) => self.inputs(n, joints_node, &joints, &bodies),
             None => Vec::new(),
         };
         let written_inputs: Vec<&str> = match Self::get(top, "inputs").map(|n| &n.kind) {
@@ -588,125 +588,6 @@ impl Validator {
             })
             .collect()
     }
-
-    fn inputs3(
-        &mut self,
-        node: &Node,
-        joints_node: &Node,
-        joints: &[(Joint3, Node)],
-        bodies: &[Body<Marker3>],
-    ) -> Vec<Input> {
-        let Some(entries) = self.table(node, "inputs") else {
-            return Vec::new();
-        };
-        self.check_keys(entries, &[], "inputs");
-        let written_joints: Vec<&str> = match &joints_node.kind {
-            NodeKind::Table(t) => t.iter().map(|(k, _)| k.name.as_str()).collect(),
-            _ => vec![],
-        };
-        let mut inputs: Vec<Input> = Vec::new();
-        for (key, inode) in entries {
-            let path = join("inputs", &key.name);
-            let owner = format!("input `{}`", key.name);
-            self.check_name(key, &path, "input");
-            let Some(fields) = self.table(inode, &path) else {
-                continue;
-            };
-            self.check_keys(fields, &["kind", "joint"], &path);
-            let kind = self.kind(fields, inode, &path, &["angle", "slide"], &owner);
-            let jnode = self.required(fields, "joint", inode, &path);
-            let jname = jnode.and_then(|n| self.string(n, &join(&path, "joint")));
-            let (Some((kind, knode)), Some(jname), Some(jnode)) = (kind, jname, jnode) else {
-                continue;
-            };
-            let kind = if kind == "angle" {
-                InputKind::Angle
-            } else {
-                InputKind::Slide
-            };
-            let Some(ji) = joints.iter().position(|(j, _)| j.name == jname) else {
-                if !written_joints.contains(&jname) {
-                    let loc = self.loc(jnode, &join(&path, "joint"));
-                    let names: Vec<&str> = joints.iter().map(|(j, _)| j.name.as_str()).collect();
-                    self.error(
-                        loc,
-                        format!("{owner} drives joint `{jname}`, which does not exist"),
-                        Some(format!("joints are: {}", names.join(", "))),
-                    );
-                }
-                continue;
-            };
-            let joint = &joints[ji].0;
-            let fits = match kind {
-                InputKind::Angle => joint.kind.takes_angle(),
-                InputKind::Slide => joint.kind.takes_slide(),
-            };
-            if !fits {
-                let loc = self.loc(knode, &join(&path, "kind"));
-                let help = match joint.kind {
-                    JointKind3::Spherical | JointKind3::Universal | JointKind3::Planar => format!(
-                        "joint `{jname}` has {} freedoms; an input needs a 1-DOF joint or a cylindrical joint",
-                        6 - joint.kind.equations()
-                    ),
-                    JointKind3::Fixed => format!("joint `{jname}` is fixed: nothing to drive"),
-                    k if k.takes_angle() => "use kind = \"angle\"".into(),
-                    _ => "use kind = \"slide\"".into(),
-                };
-                self.error_notes(
-                    loc,
-                    format!(
-                        "{owner} is of kind `{}` but joint `{jname}` is {}",
-                        kind.name(),
-                        joint.kind.name()
-                    ),
-                    vec![Note {
-                        location: self.loc(&joints[ji].1, &join("joints", jname)),
-                        message: format!("joint `{jname}` is defined here"),
-                    }],
-                    Some(format!(
-                        "{help} (angle: revolute, cylindrical; slide: prismatic, cylindrical, helical)"
-                    )),
-                );
-                continue;
-            }
-            if joint.markers.iter().all(|m| bodies[m.body].fixed) {
-                let loc = self.loc(jnode, &join(&path, "joint"));
-                self.error(
-                    loc,
-                    format!("{owner} drives joint `{jname}`, which joins two fixed bodies"),
-                    Some("drive a joint of a mobile body".into()),
-                );
-                continue;
-            }
-            if let Some(other) = inputs.iter().find(|i| i.joint == ji && i.kind == kind) {
-                let loc = self.loc(jnode, &join(&path, "joint"));
-                self.error(
-                    loc,
-                    format!(
-                        "{owner} drives joint `{jname}`, already driven by input `{}`",
-                        other.name
-                    ),
-                    None,
-                );
-                continue;
-            }
-            if joint.kind == JointKind3::Helical && inputs.iter().any(|i| i.joint == ji) {
-                let loc = self.loc(jnode, &join(&path, "joint"));
-                self.error(
-                    loc,
-                    format!("{owner}: helical joint `{jname}` has one freedom, already driven"),
-                    None,
-                );
-                continue;
-            }
-            inputs.push(Input {
-                name: key.name.clone(),
-                kind,
-                joint: ji,
-            });
-        }
-        inputs
-    }
 }
 
 /// The world frame of a marker as drawn; `borrow` stands in for missing
@@ -735,5 +616,42 @@ fn short_num(v: f64) -> String {
         "0".into()
     } else {
         format!("{}", (v * 1e6).round() / 1e6)
+    }
+}
+
+impl super::JointLike for Joint3 {
+    fn name(&self) -> &str {
+        &self.name
+    }
+    fn kind_name(&self) -> &'static str {
+        self.kind.name()
+    }
+    fn markers(&self) -> [MarkerId; 2] {
+        self.markers
+    }
+    fn refuses(&self, kind: InputKind) -> Option<String> {
+        let fits = match kind {
+            InputKind::Angle => self.kind.takes_angle(),
+            InputKind::Slide => self.kind.takes_slide(),
+        };
+        if fits {
+            return None;
+        }
+        let help = match self.kind {
+            JointKind3::Spherical | JointKind3::Universal | JointKind3::Planar => format!(
+                "joint `{}` has {} freedoms; an input needs a 1-DOF joint or a cylindrical joint",
+                self.name,
+                6 - self.kind.equations()
+            ),
+            JointKind3::Fixed => format!("joint `{}` is fixed: nothing to drive", self.name),
+            k if k.takes_angle() => "use kind = \"angle\"".into(),
+            _ => "use kind = \"slide\"".into(),
+        };
+        Some(format!(
+            "{help} (angle: revolute, cylindrical; slide: prismatic, cylindrical, helical)"
+        ))
+    }
+    fn takes_both(&self) -> bool {
+        self.kind == JointKind3::Cylindrical
     }
 }
