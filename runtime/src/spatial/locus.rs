@@ -861,7 +861,8 @@ pub fn rotation_to_condition(
     let cc = c - va * dot(axis, w);
     let r2 = a * a + b * b;
     let r = r2.sqrt();
-    let size = norm(v) * norm(w);
+    // |v||w| with one square root.
+    let size = (norm2(v) * norm2(w)).sqrt();
     let s2 = (r - cc.abs()) * (r + cc.abs());
     if s2 < 0.0 && cc.abs() - r > TANGENT_TOLERANCE * size {
         ctx.fail(step, BreakKind::LineCannotReach, cc.abs() - r)?;
@@ -886,18 +887,19 @@ pub fn rotation_to_condition(
         let n = (co * co + si * si).sqrt();
         (co / n, si / n)
     };
-    let plus = unit_pair(a * cl - b * s, b * cl + a * s);
-    let minus = unit_pair(a * cl + b * s, b * cl - a * s);
-    if ctx.branch == BranchPolicy::Nearest && plus != minus {
-        *branch = if plus.0 >= minus.0 {
-            Branch::Plus
-        } else {
-            Branch::Minus
-        };
+    // Only the root asked for is normalised, unless the nearest of the two
+    // is to be chosen: (A·C ∓ B·S, B·C ± A·S), both of length R².
+    if ctx.branch == BranchPolicy::Nearest {
+        let (pc, mc) = (a * cl - b * s, a * cl + b * s);
+        // Both pairs have the same length: the larger cosine is the larger
+        // first component.
+        if s != 0.0 {
+            *branch = if pc >= mc { Branch::Plus } else { Branch::Minus };
+        }
     }
     let x = match *branch {
-        Branch::Plus => plus,
-        Branch::Minus => minus,
+        Branch::Plus => unit_pair(a * cl - b * s, b * cl + a * s),
+        Branch::Minus => unit_pair(a * cl + b * s, b * cl - a * s),
     };
     *last = x.1;
     Ok(x)
