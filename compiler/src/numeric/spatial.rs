@@ -6,10 +6,11 @@
 //! interpreter and runtime cluster code as a mixed plan's clusters, so the
 //! two differ only in what the analysis saves.
 
+use crate::analysis::spatial::empty_plan;
 use crate::analysis::spatial::equations::equations;
 use crate::model::spatial::Mechanism3;
 use crate::model::MarkerId;
-use crate::plan::spatial::{CheckRow, Cluster3, ClusterRow3, Param3, Plan3, Step3, StepKind3};
+use crate::plan::spatial::{Cluster3, ClusterRow3, Param3, Plan3, Step3, StepKind3};
 
 /// The pure-Newton plan of a spatial mechanism: one cluster of every
 /// moving body (6 unknowns each) over every equation.
@@ -22,18 +23,7 @@ pub fn pure_newton(m: &Mechanism3) -> Plan3 {
     let rows: Vec<ClusterRow3> = equations(m)
         .iter()
         .filter(|e| e.bodies.iter().any(|&b| !m.bodies[b].fixed))
-        .map(|e| {
-            ClusterRow3::Equation(CheckRow {
-                kind: e.row_kind(),
-                bodies: e.bodies,
-                at: [e.frames[0].at, e.frames[1].at],
-                z: [e.frames[0].axes.z, e.frames[1].axes.z],
-                x: [e.frames[0].axes.x, e.frames[1].axes.x],
-                redundant: 0,
-                tol: 0.0,
-                name: format!("{} {}", e.origin, e.kind.name()),
-            })
-        })
+        .map(|e| ClusterRow3::Equation(e.check_row(0, size)))
         .collect();
     let cluster = Cluster3 { params, rows, size };
     let text = format!(
@@ -42,27 +32,12 @@ pub fn pure_newton(m: &Mechanism3) -> Plan3 {
         cluster.equations()
     );
     Plan3 {
-        name: m.name.clone(),
-        bodies: m.bodies.iter().map(|b| b.name.clone()).collect(),
-        fixed: m.bodies.iter().map(|b| b.fixed).collect(),
-        inputs: m.inputs.iter().map(|i| i.name.clone()).collect(),
-        input_kinds: m.inputs.iter().map(|i| i.kind).collect(),
-        markers: m
-            .bodies
-            .iter()
-            .map(|b| b.markers.iter().map(|mk| (mk.name.clone(), mk.at)).collect())
-            .collect(),
-        source: std::path::Path::new(&m.source.name)
-            .file_name()
-            .map_or_else(|| m.source.name.clone(), |f| f.to_string_lossy().into_owned()),
         steps: vec![Step3 {
             kind: StepKind3::Cluster(Box::new(cluster)),
             text,
             serves: vec![],
         }],
-        temps: vec![],
-        branches: vec![],
-        idle: vec![],
+        ..empty_plan(m)
     }
 }
 

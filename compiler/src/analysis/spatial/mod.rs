@@ -38,6 +38,28 @@ impl std::fmt::Display for PlanError3 {
 
 impl std::error::Error for PlanError3 {}
 
+/// A plan of `m` with no steps yet: the names, markers and inputs every
+/// spatial plan carries for its back ends.
+pub(crate) fn empty_plan(m: &Mechanism3) -> Plan3 {
+    Plan3 {
+        name: m.name.clone(),
+        bodies: m.bodies.iter().map(|b| b.name.clone()).collect(),
+        fixed: m.bodies.iter().map(|b| b.fixed).collect(),
+        inputs: m.inputs.iter().map(|i| i.name.clone()).collect(),
+        input_kinds: m.inputs.iter().map(|i| i.kind).collect(),
+        markers: m
+            .bodies
+            .iter()
+            .map(|b| b.markers.iter().map(|mk| (mk.name.clone(), mk.at)).collect())
+            .collect(),
+        source: super::file_name(&m.source.name),
+        steps: vec![],
+        temps: vec![],
+        branches: vec![],
+        idle: vec![],
+    }
+}
+
 /// Plans a spatial mechanism: the steps, then each branch chosen so the
 /// plan reproduces the drawn pose (run once from the drawing, taking the
 /// nearest root everywhere), checked against every equation.
@@ -54,21 +76,11 @@ pub fn analyse(m: &Mechanism3) -> Result<Plan3, PlanError3> {
         ));
     }
     let mut plan = Plan3 {
-        name: m.name.clone(),
-        bodies: m.bodies.iter().map(|b| b.name.clone()).collect(),
-        fixed: m.bodies.iter().map(|b| b.fixed).collect(),
-        inputs: m.inputs.iter().map(|i| i.name.clone()).collect(),
-        input_kinds: m.inputs.iter().map(|i| i.kind).collect(),
-        markers: m
-            .bodies
-            .iter()
-            .map(|b| b.markers.iter().map(|mk| (mk.name.clone(), mk.at)).collect())
-            .collect(),
-        source: super::file_name(&m.source.name),
         steps: planned.steps,
         temps: planned.temps,
         branches: planned.branches,
         idle: planned.idle,
+        ..empty_plan(m)
     };
     let interp = Interpreter3::new(plan.clone());
     let mut state = interp.initial_state();

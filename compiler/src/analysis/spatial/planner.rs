@@ -394,17 +394,7 @@ impl Planner<'_> {
     }
 
     fn check_row(&self, i: usize, redundant: usize) -> CheckRow {
-        let e = &self.eqs[i];
-        CheckRow {
-            kind: e.row_kind(),
-            bodies: e.bodies,
-            at: [e.frames[0].at, e.frames[1].at],
-            z: [e.frames[0].axes.z, e.frames[1].axes.z],
-            x: [e.frames[0].axes.x, e.frames[1].axes.x],
-            redundant,
-            tol: if e.linear() { 1e-9 * self.size } else { 1e-9 },
-            name: self.serves(i),
-        }
+        self.eqs[i].check_row(redundant, self.size)
     }
 
     /// A check step of `redundant` rows of equation `i`.
