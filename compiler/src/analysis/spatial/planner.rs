@@ -752,20 +752,7 @@ impl Planner<'_> {
             }
             (Do::RotateOnto, Target::Point(k)) => {
                 let q = st.pivot()?;
-                self.act(
-                    b,
-                    Action3::RotateOnto {
-                        pivot: pivot.clone(),
-                        from: m_pt,
-                        to: k.clone(),
-                    },
-                    format!(
-                        "{name}: rotate about {} taking {mname} onto {}",
-                        self.describe(&pivot),
-                        self.describe(k)
-                    ),
-                    serves,
-                );
+                self.rotate_onto(b, &pivot, m_pt, k, &mname, serves);
                 new.r = R::Axis {
                     al: unit(sub(fm.at, q)),
                 };
@@ -796,20 +783,7 @@ impl Planner<'_> {
                 if parallel(sub(fm.at, q), u) {
                     return None;
                 }
-                self.act(
-                    b,
-                    Action3::RotateOnto {
-                        pivot: pivot.clone(),
-                        from: m_pt,
-                        to: k.clone(),
-                    },
-                    format!(
-                        "{name}: rotate about {} taking {mname} onto {}",
-                        self.describe(&pivot),
-                        self.describe(k)
-                    ),
-                    serves,
-                );
+                self.rotate_onto(b, &pivot, m_pt, k, &mname, serves);
                 let slot = self.slot();
                 self.act(
                     b,
@@ -1160,6 +1134,27 @@ impl Planner<'_> {
             self.check(i, frag.checks);
         }
         Some(true)
+    }
+
+    /// Rotates body `b` about `pivot` taking its point `from` (the marker
+    /// `mname`) onto `to`.
+    fn rotate_onto(&mut self, b: usize, pivot: &P3, from: P3, to: &P3, mname: &str, serves: &[String]) {
+        let text = format!(
+            "{}: rotate about {} taking {mname} onto {}",
+            self.name(b),
+            self.describe(pivot),
+            self.describe(to)
+        );
+        self.act(
+            b,
+            Action3::RotateOnto {
+                pivot: pivot.clone(),
+                from,
+                to: to.clone(),
+            },
+            text,
+            serves,
+        );
     }
 
     fn describe(&self, p: &P3) -> String {

@@ -344,6 +344,9 @@ struct Written<'a> {
     path: String,
 }
 
+/// A table's entries as parsed.
+type Entries<'n> = &'n [(Key, Node)];
+
 /// Bodies by name, and markers by body and name.
 type Names = (HashMap<String, usize>, HashMap<(usize, String), usize>);
 
@@ -567,7 +570,9 @@ impl Validator {
         Some(p)
     }
 
-    fn mechanism(&mut self, root: &Node) -> Option<Mechanism> {
+    /// The top-level table of a file of either dimension, its keys checked,
+    /// and its `name`.
+    fn top<'n>(&mut self, root: &'n Node) -> Option<(Entries<'n>, Option<String>)> {
         let top = self.table(root, "")?;
         self.check_keys(
             top,
@@ -591,6 +596,11 @@ impl Validator {
                 self.error(loc, "`name` must not be empty".into(), None);
             }
         }
+        Some((top, name))
+    }
+
+    fn mechanism(&mut self, root: &Node) -> Option<Mechanism> {
+        let (top, name) = self.top(root)?;
         if let Some(d) = Self::get(top, "dimension") {
             match d.kind {
                 NodeKind::Int(2) => {}

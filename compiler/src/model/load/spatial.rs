@@ -17,29 +17,7 @@ const AXIS_TOLERANCE: f64 = 1e-9;
 
 impl Validator {
     pub(super) fn mechanism3(&mut self, root: &Node) -> Option<Mechanism3> {
-        let top = self.table(root, "")?;
-        self.check_keys(
-            top,
-            &[
-                "name",
-                "dimension",
-                "bodies",
-                "joints",
-                "constraints",
-                "inputs",
-                "sweep",
-            ],
-            "",
-        );
-        let name = self
-            .required(top, "name", root, "")
-            .and_then(|n| self.string(n, "name").map(str::to_string));
-        if let Some(n) = &name {
-            if n.is_empty() {
-                let loc = self.loc(Self::get(top, "name").unwrap(), "name");
-                self.error(loc, "`name` must not be empty".into(), None);
-            }
-        }
+        let (top, name) = self.top(root)?;
         let bodies = match self.required(top, "bodies", root, "") {
             Some(n) => self.bodies(n, Self::marker3),
             None => Vec::new(),
