@@ -782,8 +782,8 @@ impl Emitter3<'_> {
                 pub temps: [Vec3; #nt],
                 /// Each branch slot's branch.
                 pub branches: [Branch; #nk],
-                /// Each branch slot's last root angle (rotations to a
-                /// condition).
+                /// Each branch slot's last root, by its sine (rotations to
+                /// a condition).
                 pub angles: [f64; #nk],
             }
 

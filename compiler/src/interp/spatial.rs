@@ -22,7 +22,7 @@ pub struct State3 {
     pub temps: Vec<Vec3>,
     /// Each branch slot's current branch.
     pub branches: Vec<Branch>,
-    /// Each branch slot's last root angle (rotations to a condition).
+    /// Each branch slot's last root, by its sine (rotations to a condition).
     pub angles: Vec<f64>,
     /// The state before the frame being computed: restored when a step
     /// breaks (a frame is a transaction), in buffers sized once so a frame

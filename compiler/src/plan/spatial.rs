@@ -456,8 +456,8 @@ pub struct Temp3 {
 pub struct BranchSlot3 {
     /// The branch of the drawn pose.
     pub initial: Branch,
-    /// The root's last value, as drawn: an angle (0) for a rotation to a
-    /// condition, or unused.
+    /// The root's last record, as drawn: the sine of the angle (0) for a
+    /// rotation to a condition, or unused.
     pub angle: f64,
 }
 
