@@ -450,3 +450,30 @@ fn breaking_policies_hold_search_and_stretch_in_space() {
         }
     }
 }
+
+/// A spherical four-bar with every joint marker at the common centre has
+/// only directions to close its loop on (cone ∩ cone): it plans in closed
+/// form, and every body turns exactly as in the bundled spherical four-bar,
+/// whose revolute axes are the same.
+#[test]
+fn a_spherical_linkage_drawn_at_its_centre_closes_on_directions() {
+    let centre = dofplan_tests::load_spatial("spherical_centre");
+    let plan = analyse(&centre).unwrap();
+    assert_eq!(plan.cluster_size(), (0, 0), "closed form");
+    assert!(plan
+        .steps
+        .iter()
+        .any(|s| matches!(s.kind, dofplan::plan::spatial::StepKind3::IntersectDir { .. })));
+    let bundled = bundled3("spherical_fourbar");
+    let a = sweep(&centre);
+    let b = sweep(&bundled);
+    for ((req, pa), (_, pb)) in a.iter().zip(&b) {
+        for (x, y) in pa.iter().zip(pb) {
+            for r in 0..3 {
+                for c in 0..3 {
+                    assert!((x.rot.m[r][c] - y.rot.m[r][c]).abs() < 1e-9, "{req:?}");
+                }
+            }
+        }
+    }
+}

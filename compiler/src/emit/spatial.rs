@@ -204,6 +204,10 @@ impl<'p> Block<'p> {
                 let (a, b) = (self.point(a), self.point(b));
                 self.bind(role, quote!(spatial::unit(spatial::sub(#b, #a))))
             }
+            D3::Temp(t) => {
+                let t = index(*t);
+                quote!(w.temps[#t])
+            }
         }
     }
 }
@@ -251,6 +255,24 @@ impl Emitter3<'_> {
                 branch,
                 tol,
             } => intersect(&mut b, *temp, loci, *branch, *tol, &id),
+            StepKind3::IntersectDir {
+                temps,
+                cones,
+                sign,
+                branch,
+            } => {
+                // As the interpreter: `d` on both cones, then `sign·d`.
+                let [(a1, c1), (a2, c2)] = cones.as_ref();
+                let (w1, w2) = (b.dir(a1, "axis_1"), b.dir(a2, "axis_2"));
+                let (c1, c2s, sg) = (lit(*c1), lit(sign * c2), lit(*sign));
+                let (t0, t1, k) = (index(temps[0]), index(temps[1]), index(*branch));
+                quote! {
+                    let mut last = w.temps[#t0];
+                    let d = spatial::cone_cone(ctx, #id, #w1, #c1, #w2, #c2s, &mut w.branches[#k], &mut last)?;
+                    w.temps[#t0] = d;
+                    w.temps[#t1] = spatial::scale(d, #sg);
+                }
+            }
             StepKind3::Check { rows } => {
                 let checks: Vec<TokenStream> = rows.iter().map(|r| check(r, &id)).collect();
                 quote!(#(#checks)*)

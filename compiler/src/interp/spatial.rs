@@ -70,6 +70,21 @@ impl Interpreter3 {
                     }
                     s.temps[*temp] = x;
                 }
+                StepKind3::IntersectDir {
+                    temps,
+                    cones,
+                    sign,
+                    branch,
+                } => {
+                    let [(a1, c1), (a2, c2)] = cones.as_ref();
+                    let (w1, w2) = (dir(s, a1, inputs), dir(s, a2, inputs));
+                    let mut br = s.branches[*branch];
+                    let mut last = s.temps[temps[0]];
+                    let d = spatial::cone_cone(ctx, id, w1, *c1, w2, sign * c2, &mut br, &mut last)?;
+                    s.branches[*branch] = br;
+                    s.temps[temps[0]] = d;
+                    s.temps[temps[1]] = scale(d, *sign);
+                }
                 StepKind3::Check { rows } => {
                     for r in rows {
                         let gap = check_gap(s, r, inputs);
@@ -121,6 +136,7 @@ pub(crate) fn dir(s: &State3, d: &D3, inputs: &[f64]) -> Vec3 {
         D3::Fixed(v) => *v,
         D3::Body { body, local } => s.poses[*body].dir(*local),
         D3::Between(a, b) => unit(sub(point(s, b, inputs), point(s, a, inputs))),
+        D3::Temp(t) => s.temps[*t],
     }
 }
 

@@ -62,6 +62,8 @@ pub enum D3 {
     },
     /// The unit direction from one point to another.
     Between(Box<P3>, Box<P3>),
+    /// A pseudo-direction computed by an earlier intersection of cones.
+    Temp(usize),
 }
 
 /// What an action does to its body (SPATIAL.md §2.2). Every rotation is
@@ -316,6 +318,23 @@ pub enum StepKind3 {
         /// Candidates off a locus by more than this are not roots (the
         /// non-coplanar circles of a Bennett linkage).
         tol: f64,
+    },
+    /// Two pseudo-directions: a direction `d` on both cones (each the
+    /// directions at a fixed angle to a body's rotation axis: `cos` of it),
+    /// written to `temps[0]`, and `sign·d` to `temps[1]` — the world z of the
+    /// two markers of a parallel-z between two bodies turning about their
+    /// axes (directions-only loop closure: a spherical linkage drawn with
+    /// every joint at the centre).
+    IntersectDir {
+        /// Indices into [`Plan3::temps`].
+        temps: [usize; 2],
+        /// Each cone: the body's axis and the cosine of the angle kept to
+        /// it.
+        cones: Box<[(D3, f64); 2]>,
+        /// +1 or −1: the second direction is `sign·d`.
+        sign: f64,
+        /// The branch slot.
+        branch: usize,
     },
     /// Redundant rows: they must hold, or the frame breaks "inconsistent".
     Check {

@@ -746,7 +746,9 @@ pub fn table() -> String {
         "\nLoop closure (two partly placed bodies joined by coincident): intersect the markers' loci into a\n\
          pseudo-marker, then each body meets it by the rows above. Loci: T0·R1 circle, T0·R3 sphere, T1·R0 line;\n\
          pairs circle∩circle (coplanar, or on a common sphere, or one valid candidate), sphere∩circle,\n\
-         line∩sphere, line∩circle. What no row closes becomes a numeric cluster.\n",
+         line∩sphere, line∩circle. A parallel-z between two bodies turning about non-parallel axes\n\
+         closes on directions: cone∩cone into a pseudo-direction each turns onto.\n\
+         What no row closes becomes a numeric cluster.\n",
     );
     out
 }

@@ -1243,6 +1243,9 @@ impl Planner<'_> {
     /// bodies, by intersecting its markers' loci.
     fn close_loop(&mut self, i: usize) -> bool {
         let e = self.eqs[i].clone();
+        if e.kind == Kind3::Prim(Primitive::ParallelZ) {
+            return self.close_directions(i);
+        }
         if e.kind != Kind3::Prim(Primitive::Coincident) {
             return false;
         }
@@ -1301,6 +1304,82 @@ impl Planner<'_> {
                 self.pending.push((i, redundant));
             }
         }
+        true
+    }
+
+    /// Loop closure on directions: a parallel-z between two bodies that each
+    /// turn about an axis across their marker's z. Each z sweeps a cone
+    /// about its body's axis; the cones meet in (at most) two directions,
+    /// and each body turns about its axis onto its own (Kramer's
+    /// pseudo-direction and two parallel-z).
+    fn close_directions(&mut self, i: usize) -> bool {
+        let e = self.eqs[i].clone();
+        let [b1, b2] = e.bodies;
+        let (R::Axis { al: al1 }, R::Axis { al: al2 }) = (self.state[b1].r.clone(), self.state[b2].r.clone())
+        else {
+            return false;
+        };
+        let (z1, z2) = (e.frames[0].axes.z, e.frames[1].axes.z);
+        // Parallel axes (a planar loop) make the two cones one: a curve of
+        // solutions, not two; that loop closes on points instead.
+        if b1 == b2
+            || self.fixed(b1)
+            || self.fixed(b2)
+            || parallel(z1, al1)
+            || parallel(z2, al2)
+            || parallel(al1, al2)
+        {
+            return false;
+        }
+        let cos = |u: Vec3, a: Vec3| {
+            let n = (u[0] * u[0] + u[1] * u[1] + u[2] * u[2]).sqrt()
+                * (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+            (u[0] * a[0] + u[1] * a[1] + u[2] * a[2]) / n
+        };
+        let name1 = self.m.marker_name(e.markers[0]);
+        let name2 = self.m.marker_name(e.markers[1]);
+        let t1 = self.temp(format!("{name1} z"), z1);
+        let t2 = self.temp(format!("{name2} z"), z2);
+        let slot = self.slot();
+        let serves = vec![self.serves(i)];
+        self.push(
+            StepKind3::IntersectDir {
+                temps: [t1, t2],
+                cones: Box::new([
+                    (self.body_dir(b1, al1), cos(z1, al1)),
+                    (self.body_dir(b2, al2), cos(z2, al2)),
+                ]),
+                sign: e.sign,
+                branch: slot,
+            },
+            format!(
+                "{name1} z: cone about {}'s axis ∩ cone about {}'s axis, branch slot {slot}",
+                self.name(b1),
+                self.name(b2)
+            ),
+            serves.clone(),
+        );
+        for (b, al, z, t) in [(b1, al1, z1, t1), (b2, al2, z2, t2)] {
+            let pivot = self.pivot_point(b, &self.state[b].clone(), e.frames[0].at);
+            let name = self.name(b).to_string();
+            self.act(
+                b,
+                Action3::AxisDir {
+                    pivot,
+                    axis: self.body_dir(b, al),
+                    from: self.body_dir(b, z),
+                    to: D3::Temp(t),
+                },
+                format!(
+                    "{name}: turn about its axis onto the direction of step {}",
+                    self.steps.len() - (b != b1) as usize
+                ),
+                &serves,
+            );
+            self.state[b].r = R::Fixed;
+            self.changed.push(b);
+        }
+        self.used[i] = true;
         true
     }
 
