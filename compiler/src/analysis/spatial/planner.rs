@@ -497,20 +497,13 @@ impl Planner<'_> {
             }
             Kind3::Prim(Primitive::Helical) => return None,
         };
-        let case = self.case(&st, prim, &fm, &e, mover);
+        let case = self.case(&st, prim, &fm, &e);
         let frag = *lookup(st.tdof(), st.rdof(), prim, case)?;
         self.apply(i, mover, b, &frag, target, &serves, false)
     }
 
     /// The geometric case of the marker `fm` of a body in state `st`.
-    fn case(
-        &self,
-        st: &State,
-        prim: Prim,
-        fm: &super::equations::Frame,
-        e: &Equation3,
-        mover: usize,
-    ) -> Case {
+    fn case(&self, st: &State, prim: Prim, fm: &super::equations::Frame, e: &Equation3) -> Case {
         match prim {
             Prim::Coincident | Prim::InLine | Prim::InPlane => {
                 if let Some(q) = st.pivot() {
@@ -535,7 +528,6 @@ impl Planner<'_> {
                     Prim::Angle | Prim::Slide => e.frames[0].axes.z,
                     _ => fm.axes.z,
                 };
-                let _ = mover;
                 match (&st.r, &st.t) {
                     (_, T::Line { .. }) if prim == Prim::Slide => Case::Along,
                     (R::Axis { al }, _) => {
@@ -579,7 +571,6 @@ impl Planner<'_> {
     ) -> Option<bool> {
         let e = self.eqs[i].clone();
         let fm = e.frames[mover];
-        let fo = e.frames[1 - mover];
         let st = self.state[b].clone();
         let name = self.name(b).to_string();
         let mname = self.m.marker_name(e.markers[mover]);
@@ -933,19 +924,7 @@ impl Planner<'_> {
                 }
             }
             (Do::AlignDir, Target::Dir(t)) => {
-                self.act(
-                    b,
-                    Action3::AlignDir {
-                        pivot: pivot.clone(),
-                        from: self.body_dir(b, fm.axes.z),
-                        to: t.clone(),
-                    },
-                    format!(
-                        "{name}: rotate about {} aligning {mname}'s z",
-                        self.describe(&pivot)
-                    ),
-                    serves,
-                );
+                self.align_z(b, &pivot, fm.axes.z, t, &mname, serves);
                 new.r = R::Axis { al: fm.axes.z };
             }
             (Do::AxisDir, Target::Dir(t)) => {
@@ -967,19 +946,7 @@ impl Planner<'_> {
                 let R::Cone { u, w, cos } = st.r.clone() else {
                     return None;
                 };
-                self.act(
-                    b,
-                    Action3::AlignDir {
-                        pivot: pivot.clone(),
-                        from: self.body_dir(b, fm.axes.z),
-                        to: t.clone(),
-                    },
-                    format!(
-                        "{name}: rotate about {} aligning {mname}'s z",
-                        self.describe(&pivot)
-                    ),
-                    serves,
-                );
+                self.align_z(b, &pivot, fm.axes.z, t, &mname, serves);
                 let slot = self.slot();
                 self.act(
                     b,
@@ -1053,21 +1020,8 @@ impl Planner<'_> {
                 let [f1, f2] = e.frames;
                 if frag.action == Do::AlignTwist {
                     let Target::Dir(t) = &target else { return None };
-                    self.act(
-                        b,
-                        Action3::AlignDir {
-                            pivot: pivot.clone(),
-                            from: self.body_dir(b, fm.axes.z),
-                            to: t.clone(),
-                        },
-                        format!(
-                            "{name}: rotate about {} aligning {mname}'s z",
-                            self.describe(&pivot)
-                        ),
-                        serves,
-                    );
+                    self.align_z(b, &pivot, fm.axes.z, t, &mname, serves);
                 }
-                let _ = fo;
                 let input = match e.kind {
                     Kind3::Angle { input } => Some(input),
                     _ => None,
@@ -1134,6 +1088,26 @@ impl Planner<'_> {
             self.check(i, frag.checks);
         }
         Some(true)
+    }
+
+    /// Rotates body `b` about `pivot` so its marker `mname`'s z (local `z`)
+    /// points along `to`.
+    fn align_z(&mut self, b: usize, pivot: &P3, z: Vec3, to: &D3, mname: &str, serves: &[String]) {
+        let text = format!(
+            "{}: rotate about {} aligning {mname}'s z",
+            self.name(b),
+            self.describe(pivot)
+        );
+        self.act(
+            b,
+            Action3::AlignDir {
+                pivot: pivot.clone(),
+                from: self.body_dir(b, z),
+                to: to.clone(),
+            },
+            text,
+            serves,
+        );
     }
 
     /// Rotates body `b` about `pivot` taking its point `from` (the marker

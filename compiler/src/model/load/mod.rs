@@ -526,18 +526,34 @@ impl Validator {
     }
 
     fn point(&mut self, node: &Node, path: &str) -> Option<Point> {
+        self.coords(node, path)
+    }
+
+    /// `N` numbers `[x, y]` or `[x, y, z]`: a point of either dimension.
+    fn coords<const N: usize>(&mut self, node: &Node, path: &str) -> Option<[f64; N]> {
+        let form = ["x", "y", "z"][..N].join(", ");
         match &node.kind {
-            NodeKind::Array(items) if items.len() == 2 => {
-                let x = self.number(&items[0], &format!("{path}[0]"));
-                let y = self.number(&items[1], &format!("{path}[1]"));
-                Some([x?, y?])
+            NodeKind::Array(items) if items.len() == N => {
+                let mut out = [0.0; N];
+                let mut ok = true;
+                for (k, item) in items.iter().enumerate() {
+                    // Every coordinate is read, so each bad one is reported.
+                    match self.number(item, &format!("{path}[{k}]")) {
+                        Some(v) => out[k] = v,
+                        None => ok = false,
+                    }
+                }
+                ok.then_some(out)
             }
             NodeKind::Array(items) => {
                 let loc = self.loc(node, path);
                 self.error(
                     loc,
-                    format!("`{path}` must have 2 coordinates [x, y], found {}", items.len()),
-                    Some("dimension is 2: write [x, y]".into()),
+                    format!(
+                        "`{path}` must have {N} coordinates [{form}], found {}",
+                        items.len()
+                    ),
+                    Some(format!("dimension is {N}: write [{form}]")),
                 );
                 None
             }
@@ -545,7 +561,7 @@ impl Validator {
                 let loc = self.loc(node, path);
                 self.error(
                     loc,
-                    format!("`{path}` must be [x, y], found {}", other.type_name()),
+                    format!("`{path}` must be [{form}], found {}", other.type_name()),
                     None,
                 );
                 None

@@ -64,35 +64,7 @@ impl Validator {
 
     /// `[x, y, z]`.
     fn vec3(&mut self, node: &Node, path: &str) -> Option<Vec3> {
-        match &node.kind {
-            NodeKind::Array(items) if items.len() == 3 => {
-                let x = self.number(&items[0], &format!("{path}[0]"));
-                let y = self.number(&items[1], &format!("{path}[1]"));
-                let z = self.number(&items[2], &format!("{path}[2]"));
-                Some([x?, y?, z?])
-            }
-            NodeKind::Array(items) => {
-                let loc = self.loc(node, path);
-                self.error(
-                    loc,
-                    format!(
-                        "`{path}` must have 3 coordinates [x, y, z], found {}",
-                        items.len()
-                    ),
-                    Some("dimension is 3: write [x, y, z]".into()),
-                );
-                None
-            }
-            other => {
-                let loc = self.loc(node, path);
-                self.error(
-                    loc,
-                    format!("`{path}` must be [x, y, z], found {}", other.type_name()),
-                    None,
-                );
-                None
-            }
-        }
+        self.coords(node, path)
     }
 
     /// A direction: non-zero, normalisable.
