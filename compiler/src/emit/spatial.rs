@@ -29,7 +29,7 @@ use dofplan_runtime::Branch;
 use super::chunk::{Uses, CHUNK_WEIGHT};
 use super::{ident_for, index, lit, names};
 use crate::model::InputKind;
-use crate::plan::spatial::{Action3, CheckRow, Locus3, Plan3, StepKind3, D3, P3};
+use crate::plan::spatial::{Action3, CheckRow, HingeTurn, Locus3, Plan3, StepKind3, D3, P3};
 
 /// A point or direction as a literal `[x, y, z]`.
 pub(super) fn vec_lit(v: Vec3) -> TokenStream {
@@ -411,6 +411,35 @@ fn act(b: &mut Block, body: usize, action: &Action3, id: &Literal) -> TokenStrea
             let cos = lit(*cos);
             quote!(spatial::tilt(&mut #pose, #c, #f, #t, #cos);)
         }
+        Action3::Hinge { pivot, axis, turn } => {
+            let (c, a) = (vec_lit(*pivot), vec_lit(*axis));
+            match turn {
+                HingeTurn::Degrees { offset, input, sign } => {
+                    // The interpreter's `sign·(offset + input)`, the same
+                    // operations in the same order (with no input, the
+                    // number it computes, folded here).
+                    let degrees = match input {
+                        Some(i) => {
+                            let (k, o, i) = (lit(*sign), lit(*offset), index(*i));
+                            quote!(#k * (#o + inputs[#i]))
+                        }
+                        None => {
+                            let d = lit(sign * (offset + 0.0));
+                            quote!(#d)
+                        }
+                    };
+                    quote!(spatial::hinge_degrees(&mut #pose, #c, #a, #degrees);)
+                }
+                HingeTurn::Onto { from, to } => {
+                    let (f, t) = (vec_lit(*from), b.point(to));
+                    quote!(spatial::hinge_onto(&mut #pose, #c, #a, #f, #t);)
+                }
+                HingeTurn::Dir { from, to } => {
+                    let (f, t) = (vec_lit(*from), b.dir(to, "to_dir"));
+                    quote!(spatial::hinge_dir(&mut #pose, #c, #a, #f, #t);)
+                }
+            }
+        }
     }
 }
 
@@ -613,7 +642,7 @@ impl Emitter3<'_> {
         // As the interpreter: every moving body's rotation corrected once a
         // frame, after the steps, so composed rotations stay rigid.
         let moving: Vec<TokenStream> = (0..self.plan.bodies.len())
-            .filter(|&b| !self.plan.fixed[b])
+            .filter(|&b| self.plan.composes(b))
             .map(|b| {
                 let b = index(b);
                 quote!(w.poses[#b].renormalize();)

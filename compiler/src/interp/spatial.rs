@@ -5,12 +5,15 @@ use dofplan_runtime::spatial::rows::WorldFrame;
 use dofplan_runtime::spatial::{self, add, norm, scale, sub, unit, Pose3, Vec3};
 use dofplan_runtime::{Branch, Break, BreakKind, Ctx, Rot, Solver};
 
-use crate::plan::spatial::{Action3, CheckRow, Locus3, Plan3, StepKind3, D3, P3};
+use crate::plan::spatial::{Action3, CheckRow, HingeTurn, Locus3, Plan3, StepKind3, D3, P3};
 
 /// Executes a [`Plan3`].
 #[derive(Clone, Debug)]
 pub struct Interpreter3 {
     plan: Plan3,
+    /// The bodies whose rotations are composed frame after frame
+    /// ([`Plan3::composes`]), corrected once a frame.
+    composed: Vec<usize>,
 }
 
 /// What the interpreter carries from frame to frame.
@@ -41,7 +44,8 @@ struct Undo3 {
 impl Interpreter3 {
     /// An interpreter for `plan`.
     pub fn new(plan: Plan3) -> Interpreter3 {
-        Interpreter3 { plan }
+        let composed = (0..plan.bodies.len()).filter(|&b| plan.composes(b)).collect();
+        Interpreter3 { plan, composed }
     }
 
     /// The plan.
@@ -100,10 +104,8 @@ impl Interpreter3 {
         }
         // Rotations composed frame after frame drift from orthonormal; one
         // correction a frame keeps every body rigid indefinitely.
-        for (pose, fixed) in s.poses.iter_mut().zip(&self.plan.fixed) {
-            if !fixed {
-                pose.renormalize();
-            }
+        for &b in &self.composed {
+            s.poses[b].renormalize();
         }
         Ok(())
     }
@@ -257,6 +259,20 @@ fn act(
             let (c, f, t) = (p(s, pivot), d(s, from), d(s, to));
             spatial::tilt(&mut s.poses[body], c, f, t, *cos);
         }
+        Action3::Hinge { pivot, axis, turn } => match turn {
+            HingeTurn::Degrees { offset, input, sign } => {
+                let degrees = sign * (offset + input.map_or(0.0, |i| inputs[i]));
+                spatial::hinge_degrees(&mut s.poses[body], *pivot, *axis, degrees);
+            }
+            HingeTurn::Onto { from, to } => {
+                let t = p(s, to);
+                spatial::hinge_onto(&mut s.poses[body], *pivot, *axis, *from, t);
+            }
+            HingeTurn::Dir { from, to } => {
+                let t = d(s, to);
+                spatial::hinge_dir(&mut s.poses[body], *pivot, *axis, *from, t);
+            }
+        },
     }
     Ok(())
 }

@@ -211,6 +211,20 @@ pub enum Action3 {
         /// The branch slot.
         branch: usize,
     },
+    /// The pose of a body hinged on a fixed line, set outright: the turn
+    /// about (`pivot`, `axis`), both constants, from the drawn pose by the
+    /// angle `turn` gives. It replaces the steps that re-imposed the hinge
+    /// every frame and the relative turn that followed them: the body never
+    /// leaves its line, and its rotation, built afresh each frame, never
+    /// drifts (see `analysis::spatial::hinge`).
+    Hinge {
+        /// A point of the line.
+        pivot: Vec3,
+        /// The line's unit direction.
+        axis: Vec3,
+        /// The angle.
+        turn: HingeTurn,
+    },
     /// The rotation about `pivot` and about `from × to` that sets the angle
     /// between the body's `from` and `to` to acos(`cos`): the body's
     /// direction then lies on a cone about `to`.
@@ -223,6 +237,38 @@ pub enum Action3 {
         to: D3,
         /// cos of the cone's half-angle.
         cos: f64,
+    },
+}
+
+/// The angle of an [`Action3::Hinge`], from the drawn pose.
+#[derive(Clone, Debug, PartialEq)]
+pub enum HingeTurn {
+    /// `sign·(offset + input)` degrees (an angle input, or an offset-x
+    /// with no input).
+    Degrees {
+        /// Degrees added to the input: the twist wanted less the twist as
+        /// drawn.
+        offset: f64,
+        /// The angle input, if any.
+        input: Option<usize>,
+        /// +1 when the body carries the joint's second marker, −1 the first.
+        sign: f64,
+    },
+    /// The angle taking the body's point `from` (local = drawn) onto the
+    /// half-plane of `to`.
+    Onto {
+        /// A point of the body, local.
+        from: Vec3,
+        /// Its target.
+        to: P3,
+    },
+    /// The angle taking the body's direction `from` (local = drawn) to
+    /// `to`, across the line.
+    Dir {
+        /// A direction of the body, local.
+        from: Vec3,
+        /// Its target.
+        to: D3,
     },
 }
 
@@ -526,6 +572,20 @@ impl Plan3 {
             }
         }
         out
+    }
+
+    /// Whether body `b`'s rotation is composed frame after frame (turned
+    /// from last frame's pose), so the back ends correct it once a frame
+    /// ([`Pose3::renormalize`](dofplan_runtime::spatial::Pose3::renormalize)):
+    /// every moving body some step turns or a cluster solves, except those
+    /// set outright by [`Action3::Hinge`].
+    pub fn composes(&self, b: BodyId) -> bool {
+        !self.fixed[b]
+            && self.steps.iter().any(|s| match &s.kind {
+                StepKind3::Act { body, action } => *body == b && !matches!(**action, Action3::Hinge { .. }),
+                StepKind3::Cluster(c) => c.params.iter().any(|p| p.body() == b),
+                _ => false,
+            })
     }
 
     /// Unknowns and equations handed to Newton–Raphson.

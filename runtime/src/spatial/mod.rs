@@ -39,9 +39,9 @@ pub use locus::{
     line_plane, line_sphere, plane_circle, rotation_to_condition, sphere_circle, CircleCandidates,
 };
 pub use place::{
-    rotate_about_axis_angle, rotate_about_axis_dir, rotate_about_axis_onto, rotate_about_point,
-    rotate_about_point_onto, slide_to, translate_along, translate_in_plane, translate_onto,
-    translate_to_line, translate_to_plane,
+    hinge, hinge_degrees, hinge_dir, hinge_onto, rotate_about_axis_angle, rotate_about_axis_dir,
+    rotate_about_axis_onto, rotate_about_point, rotate_about_point_onto, slide_to, translate_along,
+    translate_in_plane, translate_onto, translate_to_line, translate_to_plane,
 };
 pub use turn::{tilt, twist_correction};
 

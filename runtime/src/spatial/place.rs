@@ -53,11 +53,21 @@ pub fn rotate_about_axis_onto(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from: V
 /// undefined and the body does not move.
 #[inline]
 pub fn rotate_about_axis_dir(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from_dir: Vec3, to_dir: Vec3) {
+    if let Some((c, s)) = axis_turn(axis, from_dir, to_dir) {
+        rotate_about_axis_angle(pose, pivot, axis, c, s);
+    }
+}
+
+/// The (cos, sin) of the signed angle about the unit `axis` from the
+/// component of `from_dir` across the axis to that of `to_dir`; none when
+/// either is (to rounding) along the axis.
+#[inline]
+fn axis_turn(axis: Vec3, from_dir: Vec3, to_dir: Vec3) -> Option<(f64, f64)> {
     let u = reject(from_dir, axis);
     let v = reject(to_dir, axis);
     let (u2, v2) = (norm2(u), norm2(v));
     if u2 <= ON_AXIS * ON_AXIS * norm2(from_dir) || v2 <= ON_AXIS * ON_AXIS * norm2(to_dir) {
-        return;
+        return None;
     }
     // cos and sin of the angle scaled by |u||v|: no trigonometry, one square
     // root to normalise (the pair's own length, so it is a unit pair even if
@@ -65,8 +75,48 @@ pub fn rotate_about_axis_dir(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from_dir
     let c = dot(u, v);
     let s = dot(cross(u, v), axis);
     let n = (c * c + s * s).sqrt();
-    if n > 0.0 {
-        rotate_about_axis_angle(pose, pivot, axis, c / n, s / n);
+    (n > 0.0).then(|| (c / n, s / n))
+}
+
+/// Places a body hinged on a fixed line outright: its pose becomes the turn
+/// by the angle whose cosine and sine are `cos` and `sin` about the line
+/// through `pivot` along the unit `axis`, from the drawn pose.
+///
+/// A body whose only joint to the fixed bodies is a hinge never leaves that
+/// line, so setting the pose (rather than turning last frame's) needs no
+/// step re-imposing the hinge, and a rotation built afresh every frame
+/// never drifts from orthonormal.
+#[inline]
+pub fn hinge(pose: &mut Pose3, pivot: Vec3, axis: Vec3, cos: f64, sin: f64) {
+    *pose = super::joint_pose(axis, pivot, cos, sin, 0.0);
+}
+
+/// [`hinge`] by `degrees` (right-handed about `axis`), the cosine and sine
+/// from [`Rot::from_degrees`](crate::planar::Rot::from_degrees) as every
+/// angle input's.
+#[inline]
+pub fn hinge_degrees(pose: &mut Pose3, pivot: Vec3, axis: Vec3, degrees: f64) {
+    let r = crate::planar::Rot::from_degrees(degrees);
+    hinge(pose, pivot, axis, r.c, r.s);
+}
+
+/// [`hinge`] by the angle that takes the body's point `from` *as drawn* onto
+/// the half-plane of the world point `to` bounded by the line (the
+/// outright form of [`rotate_about_axis_onto`]). If either point is on the
+/// line the angle is undefined and the body keeps its pose.
+#[inline]
+pub fn hinge_onto(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from: Vec3, to: Vec3) {
+    hinge_dir(pose, pivot, axis, sub(from, pivot), sub(to, pivot));
+}
+
+/// [`hinge`] by the angle that takes the body's direction `from_dir` *as
+/// drawn* to the world direction `to_dir` (their components across the
+/// line; the outright form of [`rotate_about_axis_dir`]). If either is
+/// along the line the body keeps its pose.
+#[inline]
+pub fn hinge_dir(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from_dir: Vec3, to_dir: Vec3) {
+    if let Some((c, s)) = axis_turn(axis, from_dir, to_dir) {
+        hinge(pose, pivot, axis, c, s);
     }
 }
 

@@ -1369,3 +1369,69 @@ fn rotation_meets_its_condition() {
     let e = rotation_to_condition(&mut keep(), 4, z, z, [0.0, 1.0, 1.0], 0.5, &mut b, &mut last).unwrap_err();
     assert_eq!(e.gap, 0.5);
 }
+
+/// A hinged body set outright lands where turning it from any pose about
+/// its hinge lands, keeps its line fixed, and is exactly rigid. The
+/// reference turn is Rodrigues' formula written out here, not the
+/// runtime's.
+#[test]
+fn hinge_sets_the_pose_a_turn_about_the_line_reaches() {
+    let mut g = Lcg(17);
+    for _ in 0..200 {
+        let (pivot, axis) = (g.point(5.0), g.unit());
+        let (from, to) = (g.point(5.0), g.point(5.0));
+        let mut set = Pose3::IDENTITY;
+        hinge_onto(&mut set, pivot, axis, from, to);
+        // Rigid: RᵀR = I to rounding, and the line stays where it is.
+        let m = set.rot.then(&set.rot.transpose());
+        for (i, row) in m.m.iter().enumerate() {
+            for (j, v) in row.iter().enumerate() {
+                let want = if i == j { 1.0 } else { 0.0 };
+                assert!((v - want).abs() < 1e-14);
+            }
+        }
+        let on_line = add(pivot, scale(axis, 2.5));
+        assert!(dist(set.world(on_line), on_line) < 1e-13);
+        // `from` went onto the half-plane of `to`: same height along the
+        // axis, perpendiculars parallel and pointing the same way.
+        let f = set.world(from);
+        let (uf, ut) = (reject(sub(f, pivot), axis), reject(sub(to, pivot), axis));
+        assert!((dot(sub(f, pivot), axis) - dot(sub(from, pivot), axis)).abs() < 1e-12);
+        assert!(norm(cross(uf, ut)) < 1e-12 * norm(uf) * norm(ut) + 1e-13);
+        assert!(dot(uf, ut) > 0.0);
+        // Rodrigues about the line by the angle measured here, applied to
+        // a point of the body: the same place.
+        let u0 = reject(sub(from, pivot), axis);
+        let angle = dot(cross(u0, ut), axis).atan2(dot(u0, ut));
+        let q = g.point(5.0);
+        let v = sub(q, pivot);
+        let (c, s) = (angle.cos(), angle.sin());
+        let turned = add(
+            add(scale(v, c), scale(cross(axis, v), s)),
+            scale(axis, dot(axis, v) * (1.0 - c)),
+        );
+        assert!(dist(set.world(q), add(pivot, turned)) < 1e-11);
+        // From a pose already turned about the line, the relative turn of
+        // the plan reaches the same pose.
+        let mut relative = Pose3::IDENTITY;
+        rotate_about_axis_angle(&mut relative, pivot, axis, 0.3_f64.cos(), 0.3_f64.sin());
+        let moved = relative.world(from);
+        rotate_about_axis_onto(&mut relative, pivot, axis, moved, to);
+        assert!(dist(relative.world(q), set.world(q)) < 1e-11);
+    }
+    // An angle input: 90° about z through (1, 0, 0) takes (2, 0, 0) to
+    // (1, 1, 0) exactly.
+    let mut p = Pose3::IDENTITY;
+    hinge_degrees(&mut p, [1.0, 0.0, 0.0], [0.0, 0.0, 1.0], 90.0);
+    assert_eq!(p.world([2.0, 0.0, 0.0]), [1.0, 1.0, 0.0]);
+    // A point on the line has no angle: the pose is kept.
+    let before = p;
+    hinge_onto(
+        &mut p,
+        [0.0; 3],
+        [0.0, 0.0, 1.0],
+        [0.0, 0.0, 3.0],
+        [1.0, 0.0, 0.0],
+    );
+    assert_eq!(p, before);
+}

@@ -6,6 +6,7 @@ pub(crate) mod conflict;
 pub mod count;
 pub mod equations;
 pub mod fragments;
+mod invariants;
 pub mod planner;
 
 use dofplan_runtime::{BranchPolicy, Ctx, Solver};
@@ -82,6 +83,7 @@ pub fn analyse(m: &Mechanism3) -> Result<Plan3, PlanError3> {
         idle: planned.idle,
         ..empty_plan(m)
     };
+    invariants::place_hinged(&mut plan, m.size());
     let interp = Interpreter3::new(plan.clone());
     let mut state = interp.initial_state();
     let inputs = vec![0.0; m.inputs.len()];
