@@ -35,6 +35,9 @@ use dofplan_runtime::{Animate, BranchPolicy, BreakPolicy, Driver, FrameStatus, O
 #[path = "dofplan/progress.rs"]
 mod progress;
 
+#[path = "cli/edit/mod.rs"]
+mod edit;
+
 /// Plan, explain and simulate mechanisms.
 #[derive(Parser)]
 #[command(name = "dofplan", version, about)]
@@ -172,6 +175,23 @@ enum Command {
         /// Draw the mechanism at several poses and the traces into this SVG file.
         #[arg(long, value_name = "OUT")]
         svg: Option<PathBuf>,
+    },
+    /// Open the mechanism in the interactive editor: a local web page that
+    /// draws it, animates its inputs and lets any moving body be dragged.
+    ///
+    /// Serves on 127.0.0.1 only and prints the page's address, with its
+    /// access token, as the first line of standard output; every request
+    /// needs the token. Stop it with Ctrl+C.
+    Edit {
+        /// Mechanism file (planar); without it, an empty document (ground
+        /// only).
+        file: Option<PathBuf>,
+        /// The port to listen on (default: a free one).
+        #[arg(long)]
+        port: Option<u16>,
+        /// Also open the page in the default browser (xdg-open or open).
+        #[arg(long)]
+        open: bool,
     },
     /// Move every marker to where the joints close: author a file from
     /// approximate coordinates.
@@ -334,6 +354,7 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
             simulate(m, plan, &sweep, options, solver, form, svg.as_deref(), out)
         }),
         Command::Assemble { file, write } => assemble(&file, write, out),
+        Command::Edit { file, port, open } => edit::run(file.as_deref(), port, open, out),
     }
 }
 
@@ -393,7 +414,7 @@ fn spatial_file(command: &Command) -> Option<Result<Mechanism3, ()>> {
         | Command::Simulate { file, .. }
         | Command::Drag { file, .. }
         | Command::Assemble { file, .. } => file,
-        Command::Fragments => return None,
+        Command::Fragments | Command::Edit { .. } => return None,
     };
     if !dofplan::model::is_spatial_file(file) {
         return None;
@@ -520,6 +541,8 @@ fn spatial_command(
             Ok(ExitCode::FAILURE)
         }
         Command::Fragments => spatial::fragments(out),
+        // Never a spatial file here (`spatial_file` leaves it to the editor).
+        Command::Edit { file, port, open } => edit::run(file.as_deref(), port, open, out),
     }
 }
 
@@ -604,19 +627,31 @@ fn check(file: &Path, json_out: bool, out: &mut dyn Write) -> io::Result<ExitCod
     let Some(m) = load(&bar, file) else {
         return Ok(ExitCode::FAILURE);
     };
+    check_mechanism(&m, &file.display().to_string(), json_out, &bar, out)
+}
+
+/// The report of `dofplan check` on a loaded mechanism, `place` naming its
+/// file (the editor shows it for a document that may have no file yet).
+fn check_mechanism(
+    m: &Mechanism,
+    place: &str,
+    json_out: bool,
+    bar: &progress::Bar,
+    out: &mut dyn Write,
+) -> io::Result<ExitCode> {
     // A file without inputs is for dragging: it has no plan to report, so
     // none is made (its search for numeric clusters is the costly part).
-    let analysis = (!m.inputs.is_empty()).then(|| analyse_with(&m, &mut |p| bar.report(p)));
+    let analysis = (!m.inputs.is_empty()).then(|| analyse_with(m, &mut |p| bar.report(p)));
     let mob = analysis
         .as_ref()
-        .map_or_else(|| Mobility::of(&m), |a| a.mobility.clone());
-    let by_rank = rank_mobility_with(&m, &mut |p| bar.report(p));
+        .map_or_else(|| Mobility::of(m), |a| a.mobility.clone());
+    let by_rank = rank_mobility_with(m, &mut |p| bar.report(p));
     bar.finish();
     if json_out {
-        return check_json(&m, &mob, &by_rank, analysis.as_ref(), out);
+        return check_json(m, &mob, &by_rank, analysis.as_ref(), out);
     }
     let fixed = m.bodies.iter().filter(|b| b.fixed).count();
-    writeln!(out, "{} ({})", m.name, file.display())?;
+    writeln!(out, "{} ({})", m.name, place)?;
     writeln!(
         out,
         "  bodies: {} ({} fixed, {} mobile), joints: {}, constraints: {}, inputs: {}",
@@ -734,7 +769,7 @@ fn check(file: &Path, json_out: bool, out: &mut dyn Write) -> io::Result<ExitCod
         writeln!(
             out,
             "  plan: no inputs, so nothing to plan — drag a marker with `dofplan drag {} --marker BODY.MARKER --to X,Y`",
-            file.display()
+            place
         )?;
         return Ok(ExitCode::SUCCESS);
     };
@@ -754,7 +789,7 @@ fn check(file: &Path, json_out: bool, out: &mut dyn Write) -> io::Result<ExitCod
                 "  plan: {kind}, {} steps, {} branch slot(s) — `dofplan plan {}` explains it",
                 p.steps.len(),
                 p.branches.len(),
-                file.display()
+                place
             )?;
             // The DOF analysis's own view of redundancy, beside the rank's:
             // steps that can only check what earlier steps decided.

@@ -1,0 +1,218 @@
+//! The document the editor serves: the mechanism as loaded, its plan, and
+//! what the side panels show (the texts of `dofplan plan`, `check` and
+//! `emit`), computed once when the server starts.
+
+use std::path::{Path, PathBuf};
+
+use serde_json::{json, Value};
+
+use dofplan::analysis::analyse;
+use dofplan::emit::emit;
+use dofplan::interp::Interpreter;
+use dofplan::model::{load_any, load_str, Format, InputKind, JointKind, Mechanism, Model};
+use dofplan::plan::Plan;
+use dofplan::simulate::{frames, marker_at, sweep_requests};
+use dofplan_runtime::{BreakPolicy, Driver, Options};
+
+use crate::progress;
+
+/// A new document: the ground alone, one marker at the origin to build on.
+const EMPTY: &str = "name = \"untitled\"\n\n[bodies.ground]\nfixed = true\nmarkers = { O = [0, 0] }\n";
+
+/// A mechanism open in the editor.
+pub struct Document {
+    /// The file it was read from (`None`: a new document).
+    pub path: Option<PathBuf>,
+    /// The mechanism as drawn in the file.
+    pub mechanism: Mechanism,
+    /// Its plan, or why it has none (no inputs, or the analysis failed).
+    pub plan: Result<Plan, String>,
+    /// What the page is sent first: the mechanism, the panels' texts and
+    /// the sweep's traces (see [`Document::describe`]).
+    pub description: Value,
+}
+
+impl Document {
+    /// Reads `path`, or starts an empty document. An error is the text to
+    /// print: the file's diagnostics, as `dofplan check` prints them.
+    pub fn open(path: Option<&Path>) -> Result<Document, String> {
+        let mechanism = match path {
+            None => load_str("untitled.toml", EMPTY, Format::Toml).map_err(|e| e.render(false))?,
+            Some(path) => match load_any(path) {
+                Ok(Model::Planar(m)) => m,
+                Ok(Model::Spatial(_)) => {
+                    return Err(format!(
+                        "{}: error: the editor does not open spatial (dimension = 3) files yet\n  \
+                         help: `dofplan simulate {0} --svg OUT.svg` draws one",
+                        path.display()
+                    ))
+                }
+                Err(e) => return Err(e.render(crate::colour())),
+            },
+        };
+        let plan = if mechanism.inputs.is_empty() {
+            Err("the mechanism has no inputs, so there is no plan to run: drag a body to move it".to_string())
+        } else {
+            analyse(&mechanism).plan.map_err(|e| e.to_string())
+        };
+        let mut doc = Document {
+            path: path.map(Path::to_path_buf),
+            mechanism,
+            plan,
+            description: Value::Null,
+        };
+        doc.description = doc.describe();
+        Ok(doc)
+    }
+
+    /// The file's name as the reports write it.
+    fn place(&self) -> String {
+        self.path
+            .as_ref()
+            .map_or_else(|| self.mechanism.source.name.clone(), |p| p.display().to_string())
+    }
+
+    /// The `document` message: bodies and markers as drawn, joints, inputs
+    /// with their slider ranges, the sweep, the traces of its traced
+    /// markers, and the texts of `dofplan plan`, `check` and `emit`.
+    fn describe(&self) -> Value {
+        let m = &self.mechanism;
+        let bodies: Vec<Value> = m
+            .bodies
+            .iter()
+            .map(|b| {
+                json!({
+                    "name": b.name,
+                    "fixed": b.fixed,
+                    "markers": b.markers.iter().map(|k| json!({
+                        "name": k.name,
+                        "at": k.at,
+                        "dir": k.unit_dir(),
+                    })).collect::<Vec<_>>(),
+                })
+            })
+            .collect();
+        let joints: Vec<Value> = m
+            .joints
+            .iter()
+            .map(|j| {
+                json!({
+                    "name": j.name,
+                    "kind": match j.kind {
+                        JointKind::Revolute => "revolute",
+                        JointKind::Prismatic => "prismatic",
+                    },
+                    "markers": [m.marker_name(j.markers[0]), m.marker_name(j.markers[1])],
+                })
+            })
+            .collect();
+        let size = m.size();
+        let inputs: Vec<Value> = (m.inputs.iter().enumerate())
+            .map(|(k, input)| {
+                // The sweep's range when the input is swept; otherwise a
+                // full turn, or the mechanism's size either way for a slide.
+                let swept = m
+                    .sweep
+                    .as_ref()
+                    .and_then(|s| s.inputs.iter().find(|w| w.input == k));
+                let (lo, hi) = match (swept, input.kind) {
+                    (Some(s), _) => (s.from.min(s.to), s.from.max(s.to)),
+                    (None, InputKind::Angle) => (-180.0, 180.0),
+                    (None, InputKind::Slide) => (-size, size),
+                };
+                json!({
+                    "name": input.name,
+                    "kind": input.kind.name(),
+                    "joint": m.joints[input.joint].name,
+                    "min": lo,
+                    "max": hi,
+                })
+            })
+            .collect();
+        let sweep = m.sweep.as_ref().map(|s| {
+            json!({
+                "steps": s.steps,
+                "inputs": s.inputs.iter().map(|w| json!({"input": w.input, "from": w.from, "to": w.to})).collect::<Vec<_>>(),
+            })
+        });
+        let plan_text = self.plan.as_ref().map(|p| p.explain_all()).map_err(Clone::clone);
+        let (traces, bounds) = self.traces();
+        json!({
+            "type": "document",
+            "name": m.name,
+            "file": self.place(),
+            "size": size,
+            "bodies": bodies,
+            "joints": joints,
+            "inputs": inputs,
+            "sweep": sweep,
+            "traces": traces,
+            "bounds": bounds,
+            "plan": plan_text.as_ref().ok(),
+            "plan_error": plan_text.as_ref().err(),
+            "check": self.check_text(),
+            "rust": self.plan.as_ref().ok().map(emit),
+        })
+    }
+
+    /// The report of `dofplan check`, as it prints it.
+    fn check_text(&self) -> String {
+        let mut out = Vec::new();
+        // A path that is no file (a new document) shows no progress, as a
+        // small file does not.
+        let bar = progress::Bar::for_file(self.path.as_deref().unwrap_or(Path::new("")));
+        let written = crate::check_mechanism(&self.mechanism, &self.place(), false, &bar, &mut out);
+        bar.finish();
+        match written {
+            Ok(_) => String::from_utf8_lossy(&out).into_owned(),
+            Err(e) => format!("cannot write the check report: {e}"),
+        }
+    }
+
+    /// The paths of the sweep's traced markers over the file's sweep, run
+    /// as `dofplan simulate` runs it (limit policy), by "body.marker".
+    /// Also the box every marker stays in over the sweep (the drawing's
+    /// without one), `[x0, y0, x1, y1]`, so the page can frame the whole
+    /// motion.
+    fn traces(&self) -> (Value, [f64; 4]) {
+        let m = &self.mechanism;
+        let mut bounds = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
+        let mut grow = |p: [f64; 2]| {
+            if p.iter().all(|v| v.is_finite()) {
+                bounds = [
+                    bounds[0].min(p[0]),
+                    bounds[1].min(p[1]),
+                    bounds[2].max(p[0]),
+                    bounds[3].max(p[1]),
+                ];
+            }
+        };
+        for id in m.all_markers() {
+            grow(m.marker(id).at);
+        }
+        let (Ok(plan), Some(sweep)) = (&self.plan, &m.sweep) else {
+            return (json!({}), bounds);
+        };
+        let options = Options {
+            breaking: BreakPolicy::Limit,
+            ..Options::default()
+        };
+        let mut driver = Driver::new(Interpreter::new(plan.clone()), options);
+        let mut paths = vec![Vec::new(); sweep.trace.len()];
+        for f in frames(&mut driver, sweep_requests(sweep, m.inputs.len())) {
+            for (path, &id) in paths.iter_mut().zip(&sweep.trace) {
+                path.push(marker_at(m, &f.poses, id));
+            }
+            for id in m.all_markers() {
+                grow(marker_at(m, &f.poses, id));
+            }
+        }
+        let traces = Value::Object(
+            (sweep.trace.iter())
+                .zip(paths)
+                .map(|(&id, path)| (m.marker_name(id), json!(path)))
+                .collect(),
+        );
+        (traces, bounds)
+    }
+}

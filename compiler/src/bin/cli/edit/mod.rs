@@ -1,0 +1,400 @@
+//! `dofplan edit`: the interactive editor, a page served on the loopback
+//! interface with a WebSocket for the live loop.
+//!
+//! The page ([`compiler/web/`](../../../../web)) is embedded in the binary, so
+//! the editor needs no network beyond 127.0.0.1. Every request must carry
+//! the random token printed with the address (as a query parameter, or the
+//! cookie the page is served with), its Host must be this server's own
+//! address (a DNS-rebinding page's Host is its own name), and the
+//! WebSocket's Origin must be the page's.
+
+mod document;
+mod session;
+
+use std::io::{self, Read, Write};
+use std::net::{Ipv4Addr, SocketAddr};
+use std::path::Path;
+use std::process::ExitCode;
+use std::sync::Arc;
+
+use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
+use axum::extract::{Request, State};
+use axum::http::{header, HeaderMap, HeaderValue, StatusCode};
+use axum::middleware::{self, Next};
+use axum::response::{IntoResponse, Response};
+use axum::routing::get;
+use axum::Router;
+use futures_util::FutureExt;
+use serde_json::Value;
+
+use document::Document;
+use session::Session;
+
+/// The page and its script and style, embedded at compile time.
+const INDEX_HTML: &str = include_str!("../../../../web/index.html");
+const APP_JS: &str = include_str!("../../../../web/app.js");
+const STYLE_CSS: &str = include_str!("../../../../web/style.css");
+
+/// The largest WebSocket message accepted: a message is a few numbers.
+const MAX_MESSAGE: usize = 64 * 1024;
+
+/// Queued messages read at once before solving (see [`coalesce`]).
+const MAX_BATCH: usize = 256;
+
+/// What every request handler shares.
+struct Server {
+    doc: Arc<Document>,
+    token: String,
+    port: u16,
+}
+
+/// Runs `dofplan edit`: prints the page's address as the first line of
+/// `out`, then serves until the process is stopped.
+pub fn run(file: Option<&Path>, port: Option<u16>, open: bool, out: &mut dyn Write) -> io::Result<ExitCode> {
+    let doc = match Document::open(file) {
+        Ok(doc) => Arc::new(doc),
+        Err(text) => {
+            crate::report(&text);
+            return Ok(ExitCode::FAILURE);
+        }
+    };
+    let token = match token() {
+        Ok(t) => t,
+        Err(e) => {
+            crate::report(&format!(
+                "error: cannot read random bytes for the access token: {e}"
+            ));
+            return Ok(ExitCode::FAILURE);
+        }
+    };
+    // Bound before the runtime starts so that a taken port is reported
+    // plainly; port 0 lets the system choose a free one.
+    let address = SocketAddr::from((Ipv4Addr::LOCALHOST, port.unwrap_or(0)));
+    let listener = match std::net::TcpListener::bind(address)
+        .and_then(|l| l.set_nonblocking(true).map(|()| l))
+    {
+        Ok(l) => l,
+        Err(e) => {
+            crate::report(&format!(
+                "error: cannot listen on {address}: {e}\n  help: choose another port with --port N, or leave it out for a free one"
+            ));
+            return Ok(ExitCode::FAILURE);
+        }
+    };
+    let port = listener.local_addr()?.port();
+    let url = format!("http://127.0.0.1:{port}/?token={token}");
+    writeln!(out, "{url}")?;
+    out.flush()?;
+    crate::report(&format!(
+        "dofplan edit: serving {} at the address above (127.0.0.1 only); Ctrl+C stops",
+        doc.description["file"].as_str().unwrap_or("a new document")
+    ));
+    if open {
+        open_browser(&url);
+    }
+    let server = Arc::new(Server { doc, token, port });
+    let runtime = match tokio::runtime::Builder::new_multi_thread()
+        .worker_threads(2)
+        .enable_all()
+        .build()
+    {
+        Ok(r) => r,
+        Err(e) => {
+            crate::report(&format!("error: cannot start the server's runtime: {e}"));
+            return Ok(ExitCode::FAILURE);
+        }
+    };
+    let served = runtime.block_on(async move {
+        let listener = tokio::net::TcpListener::from_std(listener)?;
+        axum::serve(listener, router(server)).await
+    });
+    match served {
+        Ok(()) => Ok(ExitCode::SUCCESS),
+        Err(e) => {
+            crate::report(&format!("error: the server stopped: {e}"));
+            Ok(ExitCode::FAILURE)
+        }
+    }
+}
+
+/// The routes, every one behind [`guard`].
+fn router(server: Arc<Server>) -> Router {
+    Router::new()
+        .route("/", get(index))
+        .route(
+            "/app.js",
+            get(|| async { asset(APP_JS, "text/javascript; charset=utf-8") }),
+        )
+        .route(
+            "/style.css",
+            get(|| async { asset(STYLE_CSS, "text/css; charset=utf-8") }),
+        )
+        .route("/ws", get(socket))
+        .layer(middleware::from_fn_with_state(server.clone(), guard))
+        .with_state(server)
+}
+
+/// 128 random bits from the system, in hex.
+fn token() -> io::Result<String> {
+    let mut bytes = [0u8; 16];
+    std::fs::File::open("/dev/urandom")?.read_exact(&mut bytes)?;
+    Ok(bytes.iter().map(|b| format!("{b:02x}")).collect())
+}
+
+/// Asks the desktop to open `url`; only reports when it cannot.
+fn open_browser(url: &str) {
+    let opener = if cfg!(target_os = "macos") {
+        "open"
+    } else {
+        "xdg-open"
+    };
+    match std::process::Command::new(opener)
+        .arg(url)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+    {
+        Ok(_) => {}
+        Err(e) => crate::report(&format!(
+            "dofplan edit: could not open a browser ({opener}: {e}); open the address above by hand"
+        )),
+    }
+}
+
+/// The name of the cookie that carries the token, one per port so that
+/// two editors on one machine do not overwrite each other's.
+fn cookie_name(port: u16) -> String {
+    format!("dofplan_token_{port}")
+}
+
+/// Compares in time independent of where the strings differ.
+fn same(a: &str, b: &str) -> bool {
+    a.len() == b.len() && a.bytes().zip(b.bytes()).fold(0u8, |d, (x, y)| d | (x ^ y)) == 0
+}
+
+/// Refuses (403) a request whose Host is not this server's address, or
+/// that carries no valid token (query `token=` or the cookie), or a
+/// WebSocket whose Origin is not the page's.
+async fn guard(State(s): State<Arc<Server>>, request: Request, next: Next) -> Response {
+    let headers = request.headers();
+    let Some(host) = own_host(headers, s.port) else {
+        return refuse("the Host header is not this server's address (127.0.0.1 or localhost with its port)");
+    };
+    let query_token = request
+        .uri()
+        .query()
+        .into_iter()
+        .flat_map(|q| q.split('&'))
+        .find_map(|kv| kv.strip_prefix("token="));
+    let cookie = cookie_name(s.port);
+    let cookie_token = headers
+        .get_all(header::COOKIE)
+        .iter()
+        .filter_map(|v| v.to_str().ok())
+        .flat_map(|v| v.split(';'))
+        .find_map(|kv| kv.trim().strip_prefix(cookie.as_str())?.strip_prefix('='));
+    let valid =
+        query_token.is_some_and(|t| same(t, &s.token)) || cookie_token.is_some_and(|t| same(t, &s.token));
+    if !valid {
+        return refuse("a valid access token is needed: open the address `dofplan edit` printed");
+    }
+    if request.uri().path() == "/ws" {
+        let origin = headers.get(header::ORIGIN).and_then(|v| v.to_str().ok());
+        if origin != Some(format!("http://{host}").as_str()) {
+            return refuse("the WebSocket's Origin is not this page's");
+        }
+    }
+    next.run(request).await
+}
+
+/// The request's Host, if it names this server.
+fn own_host(headers: &HeaderMap, port: u16) -> Option<String> {
+    let host = headers.get(header::HOST)?.to_str().ok()?;
+    [format!("127.0.0.1:{port}"), format!("localhost:{port}")]
+        .into_iter()
+        .find(|h| h == host)
+}
+
+fn refuse(why: &str) -> Response {
+    (StatusCode::FORBIDDEN, format!("403 forbidden: {why}\n")).into_response()
+}
+
+fn asset(body: &'static str, kind: &'static str) -> Response {
+    (
+        [(header::CONTENT_TYPE, kind), (header::CACHE_CONTROL, "no-store")],
+        body,
+    )
+        .into_response()
+}
+
+/// The page, with the cookie that lets its script, style and WebSocket in
+/// (HttpOnly: scripts never read it; SameSite: other sites never send it).
+async fn index(State(s): State<Arc<Server>>) -> Response {
+    let mut response = asset(INDEX_HTML, "text/html; charset=utf-8");
+    let cookie = format!(
+        "{}={}; Path=/; HttpOnly; SameSite=Strict",
+        cookie_name(s.port),
+        s.token
+    );
+    if let Ok(value) = HeaderValue::from_str(&cookie) {
+        response.headers_mut().insert(header::SET_COOKIE, value);
+    }
+    response
+}
+
+async fn socket(State(s): State<Arc<Server>>, upgrade: WebSocketUpgrade) -> Response {
+    let doc = s.doc.clone();
+    upgrade
+        .max_message_size(MAX_MESSAGE)
+        .max_frame_size(MAX_MESSAGE)
+        .on_upgrade(move |socket| live(socket, doc))
+}
+
+/// The live loop of one page: the document and the drawn pose first, then
+/// one reply per request, in order. Requests that queued up while a frame
+/// was being solved are coalesced first.
+async fn live(mut socket: WebSocket, doc: Arc<Document>) {
+    let mut session = Session::new(doc.clone());
+    for greeting in [doc.description.clone(), session.current(0)] {
+        if send(&mut socket, &greeting).await.is_err() {
+            return;
+        }
+    }
+    loop {
+        let Some(Ok(first)) = socket.recv().await else {
+            return;
+        };
+        let mut batch = vec![first];
+        // Whatever else has already arrived, without waiting: dropping a
+        // pending `recv` loses nothing (the stream keeps its messages).
+        while batch.len() < MAX_BATCH {
+            match socket.recv().now_or_never() {
+                Some(Some(Ok(next))) => batch.push(next),
+                Some(None | Some(Err(_))) => return,
+                None => break,
+            }
+        }
+        let mut requests = Vec::with_capacity(batch.len());
+        for message in batch {
+            match message {
+                Message::Text(text) => requests.push(
+                    serde_json::from_str::<session::Request>(text.as_str())
+                        .map_err(|e| session::error(0, &format!("bad message: {e}"))),
+                ),
+                Message::Binary(_) => {
+                    requests.push(Err(session::error(0, "bad message: expected JSON text")))
+                }
+                Message::Close(_) => return,
+                Message::Ping(_) | Message::Pong(_) => {}
+            }
+        }
+        for request in coalesce(requests) {
+            let reply = match request {
+                Ok(request) => {
+                    // Solving is CPU work: let the runtime move other tasks
+                    // off this thread meanwhile.
+                    let solved = tokio::task::block_in_place(|| {
+                        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| session.handle(request)))
+                    });
+                    solved.unwrap_or_else(|_| {
+                        // A bug, not the user's input: start the page over
+                        // from the drawing rather than lose the server.
+                        session = Session::new(doc.clone());
+                        session::error(
+                            0,
+                            "internal error while solving: the pose was reset to the drawing",
+                        )
+                    })
+                }
+                Err(reply) => reply,
+            };
+            if send(&mut socket, &reply).await.is_err() {
+                return;
+            }
+        }
+    }
+}
+
+/// Drops every drag (or input) request directly followed by another of the
+/// same kind: only the latest target or slider values matter, so the reply
+/// to the last one of a run answers them all.
+fn coalesce(requests: Vec<Result<session::Request, Value>>) -> Vec<Result<session::Request, Value>> {
+    let kind = |r: &Result<session::Request, Value>| match r {
+        Ok(session::Request::Drag { .. }) => 1,
+        Ok(session::Request::Inputs { .. }) => 2,
+        _ => 0,
+    };
+    let mut kept: Vec<Result<session::Request, Value>> = Vec::with_capacity(requests.len());
+    for r in requests {
+        if let Some(last) = kept.last() {
+            if kind(last) != 0 && kind(last) == kind(&r) {
+                kept.pop();
+            }
+        }
+        kept.push(r);
+    }
+    kept
+}
+
+async fn send(socket: &mut WebSocket, value: &Value) -> Result<(), axum::Error> {
+    socket.send(Message::Text(value.to_string().into())).await
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use session::Request as R;
+
+    fn ids(requests: &[Result<R, Value>]) -> Vec<u64> {
+        requests.iter().map(|r| r.as_ref().map_or(0, R::id)).collect()
+    }
+
+    #[test]
+    fn a_run_of_drags_or_inputs_is_solved_once_at_its_latest() {
+        let drag = |id| Ok(R::Drag { id, to: [0.0, 0.0] });
+        let inputs = |id| {
+            Ok(R::Inputs {
+                id,
+                values: vec![1.0],
+                policy: None,
+            })
+        };
+        let queued = vec![
+            Ok(R::Grab {
+                id: 1,
+                body: "b".into(),
+                at: [0.0, 0.0],
+            }),
+            drag(2),
+            drag(3),
+            drag(4),
+            Ok(R::Release { id: 5 }),
+            inputs(6),
+            inputs(7),
+            drag(8),
+        ];
+        assert_eq!(ids(&coalesce(queued)), [1, 4, 5, 7, 8]);
+    }
+
+    #[test]
+    fn only_this_servers_host_is_let_in() {
+        let with_host = |host: &str| {
+            let mut h = HeaderMap::new();
+            h.insert(header::HOST, HeaderValue::from_str(host).unwrap());
+            own_host(&h, 8123)
+        };
+        assert_eq!(with_host("127.0.0.1:8123").as_deref(), Some("127.0.0.1:8123"));
+        assert_eq!(with_host("localhost:8123").as_deref(), Some("localhost:8123"));
+        assert_eq!(with_host("evil.example:8123"), None, "a rebound name");
+        assert_eq!(with_host("127.0.0.1:8124"), None, "another port");
+        assert_eq!(own_host(&HeaderMap::new(), 8123), None, "no Host at all");
+    }
+
+    #[test]
+    fn tokens_compare_whole() {
+        assert!(same("00ff", "00ff"));
+        assert!(!same("00ff", "00fe"));
+        assert!(!same("00ff", "00ff0"));
+        assert!(!same("", "00ff"));
+    }
+}

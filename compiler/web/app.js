@@ -1,0 +1,499 @@
+// dofplan edit: the page. It draws the mechanism the server sends, and
+// sends back what the user does (slider values, sweep playback, drags); the
+// server solves and answers with the new pose. Nothing is solved here.
+//
+// Coordinates: the server speaks world coordinates (y up); the script maps
+// them to screen pixels itself, so every drawn element's attributes are in
+// pixels and each marker also carries its world position in data-x/data-y.
+
+const SVG = "http://www.w3.org/2000/svg";
+const COLOURS = ["#2563eb", "#dc2626", "#059669", "#d97706", "#7c3aed", "#0891b2", "#db2777", "#65a30d"];
+
+const $ = (id) => document.getElementById(id);
+const canvas = $("canvas");
+
+// What the test reads: round trips of drag frames in milliseconds, from the
+// pointer event to the animation frame after the new pose is in the DOM,
+// and the same up to the DOM update alone.
+const probe = { ready: false, frames: 0, latencies: [], domLatencies: [], errors: [] };
+window.__dofplan = probe;
+
+let doc = null; // the `document` message
+let markerIndex = []; // [{body, name, key}] in the server's marker order
+let hulls = []; // per body: indices into markerIndex, in outline order
+let pose = null; // the last `frame` message
+let view = { s: 1, ox: 0, oy: 0 };
+let values = []; // slider values, one per input
+let grabbed = null; // {body} while dragging
+
+// The outbox: one request in flight at a time, and queued requests of one
+// kind replaced by the newest (only the latest drag target or slider values
+// matter), so a slow frame never builds a backlog.
+let socket = null;
+let nextId = 1;
+let inFlight = null;
+const outbox = [];
+
+function enqueue(message, t0) {
+  const last = outbox[outbox.length - 1];
+  if (last && (message.type === "drag" || message.type === "inputs") && last.message.type === message.type) {
+    // Keep the older pointer time: the latency counts from the first
+    // pointer event this frame answers.
+    last.message = message;
+  } else {
+    outbox.push({ message, t0 });
+  }
+  flush();
+}
+
+function flush() {
+  if (inFlight || outbox.length === 0 || !socket || socket.readyState !== WebSocket.OPEN) return;
+  const item = outbox.shift();
+  item.message.id = nextId++;
+  inFlight = item;
+  socket.send(JSON.stringify(item.message));
+}
+
+function connect() {
+  const scheme = location.protocol === "https:" ? "wss:" : "ws:";
+  socket = new WebSocket(`${scheme}//${location.host}/ws${location.search}`);
+  socket.addEventListener("open", () => setConnection("connected", "connected"));
+  socket.addEventListener("close", () => {
+    setConnection("closed", "disconnected: is `dofplan edit` still running?");
+    inFlight = null;
+  });
+  socket.addEventListener("message", (event) => receive(JSON.parse(event.data)));
+}
+
+function setConnection(state, text) {
+  const c = $("connection");
+  c.dataset.state = state;
+  c.textContent = text;
+}
+
+function receive(message) {
+  const answered = inFlight && message.id === inFlight.message.id ? inFlight : null;
+  if (answered) inFlight = null;
+  if (message.type === "document") {
+    setDocument(message);
+  } else if (message.type === "frame") {
+    setFrame(message, answered);
+  } else if (message.type === "error") {
+    probe.errors.push(message.message);
+    showStatus("error", message.message);
+  }
+  if (answered && answered.message.type === "inputs" && playing) {
+    requestAnimationFrame(playStep);
+  }
+  flush();
+}
+
+// ---- the document -------------------------------------------------------
+
+function el(name, attributes = {}, parent = null) {
+  const e = document.createElementNS(SVG, name);
+  for (const [k, v] of Object.entries(attributes)) e.setAttribute(k, v);
+  if (parent) parent.appendChild(e);
+  return e;
+}
+
+function setDocument(d) {
+  doc = d;
+  $("name").textContent = d.name;
+  $("file").textContent = d.file;
+  $("panel-plan").textContent = d.plan ?? `No plan: ${d.plan_error}`;
+  $("panel-check").textContent = d.check;
+  $("panel-rust").textContent = d.rust ?? `No module to emit: ${d.plan_error}`;
+  markerIndex = [];
+  d.bodies.forEach((b, bi) =>
+    b.markers.forEach((m) => markerIndex.push({ body: bi, name: m.name, key: `${b.name}.${m.name}` })),
+  );
+  hulls = d.bodies.map((b, bi) => {
+    const ids = markerIndex.map((m, i) => [m, i]).filter(([m]) => m.body === bi).map(([, i]) => i);
+    const order = hull(ids.map((i) => markerAt(i).at));
+    return order.map((k) => ids[k]);
+  });
+  buildInputs();
+  buildDrawing();
+  fitView();
+}
+
+// The drawn position and direction of marker `i`.
+function markerAt(i) {
+  const m = markerIndex[i];
+  return doc.bodies[m.body].markers.find((x) => x.name === m.name);
+}
+
+// Indices of the convex hull of `points`, counter-clockwise (monotone
+// chain); every point when there are fewer than three.
+function hull(points) {
+  const idx = points.map((_, i) => i).sort((a, b) => points[a][0] - points[b][0] || points[a][1] - points[b][1]);
+  if (idx.length < 3) return idx;
+  const cross = (o, a, b) =>
+    (points[a][0] - points[o][0]) * (points[b][1] - points[o][1]) -
+    (points[a][1] - points[o][1]) * (points[b][0] - points[o][0]);
+  const chain = (list) => {
+    const out = [];
+    for (const p of list) {
+      while (out.length >= 2 && cross(out[out.length - 2], out[out.length - 1], p) <= 0) out.pop();
+      out.push(p);
+    }
+    out.pop();
+    return out;
+  };
+  const result = chain(idx).concat(chain(idx.slice().reverse()));
+  return result.length >= 2 ? result : idx;
+}
+
+function buildInputs() {
+  const box = $("inputs");
+  box.replaceChildren();
+  values = doc.inputs.map(() => 0);
+  doc.inputs.forEach((input, k) => {
+    const row = document.createElement("div");
+    row.className = "input-row";
+    const label = document.createElement("label");
+    label.textContent = input.name;
+    label.title = `${input.kind} at joint ${input.joint}`;
+    const slider = document.createElement("input");
+    slider.type = "range";
+    slider.dataset.input = input.name;
+    // The drawing is at 0: the range always holds it.
+    slider.min = Math.min(input.min, 0);
+    slider.max = Math.max(input.max, 0);
+    slider.step = input.kind === "angle" ? 0.5 : (slider.max - slider.min) / 1000;
+    slider.value = 0;
+    slider.id = `input-${k}`;
+    label.htmlFor = slider.id;
+    const out = document.createElement("output");
+    out.id = `value-${k}`;
+    slider.addEventListener("input", () => {
+      values[k] = Number(slider.value);
+      stopPlaying();
+      sendInputs();
+    });
+    row.append(label, slider, out);
+    box.appendChild(row);
+  });
+  showValues();
+  const play = $("play");
+  play.disabled = !(doc.sweep && doc.plan);
+  play.title = doc.sweep ? "" : "the file has no [sweep]";
+}
+
+function showValues() {
+  doc.inputs.forEach((input, k) => {
+    const unit = input.kind === "angle" ? "°" : "";
+    $(`value-${k}`).textContent = `${values[k].toFixed(2)}${unit}`;
+  });
+}
+
+function sendInputs() {
+  enqueue({ type: "inputs", values: values.slice(), policy: $("policy").value }, performance.now());
+}
+
+function buildDrawing() {
+  for (const id of ["traces", "ground", "bodies", "joints"]) $(id).replaceChildren();
+  for (const key of Object.keys(doc.traces)) {
+    el("path", { class: "trace", "data-trace": key }, $("traces"));
+  }
+  doc.bodies.forEach((b, bi) => {
+    const g = el("g", { class: b.fixed ? "body fixed" : "body", "data-body": b.name }, $("bodies"));
+    const colour = COLOURS[bi % COLOURS.length];
+    if (!b.fixed) {
+      const shape = hulls[bi].length >= 3 ? "polygon" : "polyline";
+      el(shape, { class: "link", stroke: colour, fill: colour }, g);
+    }
+    markerIndex.forEach((m, i) => {
+      if (m.body !== bi) return;
+      el("circle", { class: b.fixed ? "marker ground-marker" : "marker", r: 3.5, "data-marker": m.key, "data-index": i }, g);
+    });
+    if (!b.fixed) {
+      g.addEventListener("pointerdown", (event) => grab(event, b.name));
+    }
+  });
+  // Ground hatching under every ground marker a joint uses (or every
+  // ground marker, when none is jointed yet).
+  const fixedMarkers = markerIndex.map((m, i) => [m, i]).filter(([m]) => doc.bodies[m.body].fixed);
+  const jointed = new Set(doc.joints.flatMap((j) => j.markers));
+  const anchors = fixedMarkers.filter(([m]) => jointed.has(m.key));
+  for (const [m, i] of anchors.length ? anchors : fixedMarkers) {
+    const g = el("g", { class: "ground-anchor", "data-ground": m.key, "data-index": i }, $("ground"));
+    el("rect", { class: "ground-hatch", width: 32, height: 10 }, g);
+    el("line", { class: "ground-base" }, g);
+  }
+  for (const j of doc.joints) {
+    const g = el("g", { class: `joint ${j.kind}`, "data-joint": j.name }, $("joints"));
+    if (j.kind === "revolute") {
+      el("circle", { r: 6 }, g);
+    } else {
+      el("line", {}, g);
+      el("rect", { width: 26, height: 14, rx: 2 }, g);
+    }
+    // Names help on a small linkage and only clutter a long chain.
+    if (doc.joints.length <= 12) el("text", { class: "joint-label" }, g).textContent = j.name;
+  }
+  el("circle", { class: "grab-point", r: 4.5, visibility: "hidden", id: "grab-point" }, canvas);
+}
+
+// ---- view -----------------------------------------------------------------
+
+function fitView() {
+  if (!doc) return;
+  // The whole motion of the sweep, and the pose on screen.
+  const [bx0, by0, bx1, by1] = doc.bounds;
+  const points = [[bx0, by0], [bx1, by1]];
+  for (const path of Object.values(doc.traces)) points.push(...path);
+  if (pose) points.push(...pose.markers);
+  let [x0, y0, x1, y1] = [Infinity, Infinity, -Infinity, -Infinity];
+  for (const [x, y] of points) {
+    x0 = Math.min(x0, x);
+    y0 = Math.min(y0, y);
+    x1 = Math.max(x1, x);
+    y1 = Math.max(y1, y);
+  }
+  const size = doc.size || 1;
+  const pad = 0.25 * size;
+  x0 -= pad;
+  x1 += pad;
+  y0 -= pad;
+  y1 += pad;
+  const rect = canvas.getBoundingClientRect();
+  const s = Math.min(rect.width / (x1 - x0), rect.height / (y1 - y0));
+  view = { s, ox: rect.width / 2 - s * (x0 + x1) / 2, oy: rect.height / 2 + s * (y0 + y1) / 2 };
+  for (const [key, path] of Object.entries(doc.traces)) {
+    const d = path.map(([x, y], k) => `${k ? "L" : "M"}${sx(x).toFixed(1)},${sy(y).toFixed(1)}`).join("");
+    canvas.querySelector(`path[data-trace="${CSS.escape(key)}"]`).setAttribute("d", d);
+  }
+  draw();
+}
+
+const sx = (x) => view.ox + view.s * x;
+const sy = (y) => view.oy - view.s * y;
+
+function toWorld(event) {
+  const rect = canvas.getBoundingClientRect();
+  return [(event.clientX - rect.left - view.ox) / view.s, (view.oy - (event.clientY - rect.top)) / view.s];
+}
+
+// ---- a frame ----------------------------------------------------------------
+
+function setFrame(frame, answered) {
+  pose = frame;
+  if (frame.inputs.length === values.length && !sliderHeld) {
+    values = frame.inputs.slice();
+    doc.inputs.forEach((input, k) => {
+      const slider = canvasInputs()[k];
+      if (slider) slider.value = values[k];
+    });
+    showValues();
+  }
+  draw();
+  showFrameStatus(frame);
+  probe.frames++;
+  if (answered && answered.message.type === "drag") {
+    const t0 = answered.t0;
+    probe.domLatencies.push(performance.now() - t0);
+    requestAnimationFrame(() => probe.latencies.push(performance.now() - t0));
+  }
+  probe.ready = true;
+}
+
+function canvasInputs() {
+  return Array.from(document.querySelectorAll("input[data-input]"));
+}
+
+// A slider the user is holding is not moved under the pointer.
+let sliderHeld = false;
+document.addEventListener("pointerdown", (e) => {
+  if (e.target.matches && e.target.matches("input[data-input]")) sliderHeld = true;
+});
+document.addEventListener("pointerup", () => {
+  sliderHeld = false;
+});
+
+function draw() {
+  if (!doc || !pose) return;
+  const world = pose.markers;
+  const screen = world.map(([x, y]) => [sx(x), sy(y)]);
+  canvas.querySelectorAll("[data-marker]").forEach((c) => {
+    const i = Number(c.dataset.index);
+    c.setAttribute("cx", screen[i][0].toFixed(2));
+    c.setAttribute("cy", screen[i][1].toFixed(2));
+    c.dataset.x = String(world[i][0]);
+    c.dataset.y = String(world[i][1]);
+  });
+  doc.bodies.forEach((b, bi) => {
+    if (b.fixed) return;
+    const shape = canvas.querySelector(`g[data-body="${CSS.escape(b.name)}"] .link`);
+    const points = hulls[bi].map((i) => `${screen[i][0].toFixed(2)},${screen[i][1].toFixed(2)}`);
+    // A one-marker body is a dot: a polyline needs two points.
+    if (points.length === 1) points.push(points[0]);
+    shape.setAttribute("points", points.join(" "));
+  });
+  canvas.querySelectorAll(".ground-anchor").forEach((g) => {
+    const [x, y] = screen[Number(g.dataset.index)];
+    const rect = g.querySelector("rect");
+    rect.setAttribute("x", (x - 16).toFixed(2));
+    rect.setAttribute("y", (y + 7).toFixed(2));
+    const base = g.querySelector("line");
+    for (const [k, v] of Object.entries({ x1: x - 18, x2: x + 18, y1: y + 7, y2: y + 7 })) base.setAttribute(k, v.toFixed(2));
+  });
+  const index = new Map(markerIndex.map((m, i) => [m.key, i]));
+  for (const j of doc.joints) {
+    const g = canvas.querySelector(`g[data-joint="${CSS.escape(j.name)}"]`);
+    const [a, b] = j.markers.map((k) => index.get(k));
+    const [x, y] = screen[b];
+    const label = g.querySelector("text");
+    if (label) {
+      label.setAttribute("x", (x + 9).toFixed(2));
+      label.setAttribute("y", (y - 9).toFixed(2));
+    }
+    if (j.kind === "revolute") {
+      const c = g.querySelector("circle");
+      c.setAttribute("cx", x.toFixed(2));
+      c.setAttribute("cy", y.toFixed(2));
+      continue;
+    }
+    // A prismatic joint: a block on the second marker, sliding along the
+    // first marker's direction (turned with its body), and its slot.
+    const dir = markerAt(a).dir || [1, 0];
+    const [c, s] = pose.poses[markerIndex[a].body];
+    const [dx, dy] = [c * dir[0] - s * dir[1], s * dir[0] + c * dir[1]];
+    const degrees = (-Math.atan2(dy, dx) * 180) / Math.PI;
+    const rect = g.querySelector("rect");
+    rect.setAttribute("x", (x - 13).toFixed(2));
+    rect.setAttribute("y", (y - 7).toFixed(2));
+    rect.setAttribute("transform", `rotate(${degrees.toFixed(3)} ${x.toFixed(2)} ${y.toFixed(2)})`);
+    const reach = 0.6 * doc.size * view.s;
+    const [ax, ay] = screen[a];
+    const line = g.querySelector("line");
+    line.setAttribute("x1", (ax - reach * dx).toFixed(2));
+    line.setAttribute("y1", (ay + reach * dy).toFixed(2));
+    line.setAttribute("x2", (ax + reach * dx).toFixed(2));
+    line.setAttribute("y2", (ay - reach * dy).toFixed(2));
+  }
+  if (grabbed) {
+    const p = grabbed.world;
+    const dot = $("grab-point");
+    dot.setAttribute("cx", sx(p[0]).toFixed(2));
+    dot.setAttribute("cy", sy(p[1]).toFixed(2));
+  }
+}
+
+function showFrameStatus(frame) {
+  const d = frame.detail;
+  let text = frame.status;
+  if (d && (frame.status === "limited" || frame.status === "searched")) {
+    const held = frame.status === "limited" ? "held at the last pose that closed" : "stopped at the break point";
+    text = `${frame.status}: ${held}\nstep ${d.step} broke (${d.reason}, gap ${d.gap.toPrecision(3)}): ${d.explanation}`;
+  } else if (d && frame.status === "stretched" && grabbed) {
+    // A drag relaxes only the drag itself: its "step" is the drag.
+    text = `stretched: ${d.reason}, ${d.residual.toPrecision(3)} away\n${d.explanation}`;
+  } else if (d && frame.status === "stretched") {
+    text = `stretched: ${d.reason} (residual ${d.residual.toPrecision(3)})\nstep ${d.step}: ${d.explanation}`;
+  }
+  showStatus(frame.status, text);
+}
+
+function showStatus(kind, text) {
+  const s = $("status");
+  s.dataset.status = kind;
+  s.textContent = text;
+}
+
+// ---- dragging ----------------------------------------------------------------
+
+function grab(event, body) {
+  if (event.button !== 0 || !pose) return;
+  event.preventDefault();
+  stopPlaying();
+  const at = toWorld(event);
+  // The grabbed point on the body, kept to show where the pointer holds it.
+  grabbed = { body, world: at };
+  canvas.setPointerCapture(event.pointerId);
+  canvas.querySelector(`g[data-body="${CSS.escape(body)}"]`).classList.add("grabbed");
+  $("grab-point").setAttribute("visibility", "visible");
+  enqueue({ type: "grab", body, at }, performance.now());
+  draw();
+}
+
+canvas.addEventListener("pointermove", (event) => {
+  if (!grabbed) return;
+  const t0 = performance.now();
+  const to = toWorld(event);
+  grabbed.world = to;
+  enqueue({ type: "drag", to }, t0);
+});
+
+function release() {
+  if (!grabbed) return;
+  canvas.querySelector(`g[data-body="${CSS.escape(grabbed.body)}"]`)?.classList.remove("grabbed");
+  grabbed = null;
+  $("grab-point").setAttribute("visibility", "hidden");
+  enqueue({ type: "release" }, performance.now());
+}
+canvas.addEventListener("pointerup", release);
+canvas.addEventListener("pointercancel", release);
+
+// ---- the sweep ------------------------------------------------------------------
+
+let playing = false;
+let playIndex = 0;
+
+function stopPlaying() {
+  playing = false;
+  const b = $("play");
+  b.dataset.playing = "false";
+  b.textContent = "Play sweep";
+}
+
+$("play").addEventListener("click", () => {
+  if (playing) return stopPlaying();
+  playing = true;
+  const b = $("play");
+  b.dataset.playing = "true";
+  b.textContent = "Pause";
+  playStep();
+});
+
+// The next frame of the file's sweep (each input it moves takes the value
+// `dofplan simulate` gives that frame), wrapping around at the end.
+function playStep() {
+  if (!playing || !doc.sweep) return;
+  const { steps, inputs } = doc.sweep;
+  const i = playIndex % steps;
+  for (const w of inputs) {
+    values[w.input] = steps <= 1 || i === 0 ? w.from : i === steps - 1 ? w.to : w.from + ((w.to - w.from) * i) / (steps - 1);
+  }
+  playIndex = i + 1;
+  sendInputs();
+}
+
+// ---- panels ------------------------------------------------------------------------
+
+for (const tab of document.querySelectorAll("#tabs button")) {
+  tab.addEventListener("click", () => {
+    for (const t of document.querySelectorAll("#tabs button")) t.classList.toggle("active", t === tab);
+    for (const p of document.querySelectorAll(".panel")) p.hidden = p.dataset.panel !== tab.dataset.tab;
+  });
+}
+
+$("policy").addEventListener("change", () => {
+  if (doc && doc.inputs.length) sendInputs();
+});
+
+// For the test: whether a request is still unanswered, the document, and
+// a page point in world coordinates.
+probe.busy = () => Boolean(inFlight) || outbox.length > 0;
+probe.doc = () => doc;
+probe.toWorld = (x, y) => toWorld({ clientX: x, clientY: y });
+probe.scale = () => view.s;
+probe.toPage = ([x, y]) => {
+  const rect = canvas.getBoundingClientRect();
+  return [rect.left + sx(x), rect.top + sy(y)];
+};
+
+new ResizeObserver(() => fitView()).observe(canvas);
+
+connect();
