@@ -1,0 +1,330 @@
+// End-to-end test of `dofplan edit` in headless Chromium (Debian's package,
+// driven by playwright-core; no browser is downloaded).
+//
+//   DOFPLAN_BIN   the dofplan binary (default: target/release/dofplan)
+//   CHROMIUM      the browser (default: /usr/bin/chromium)
+//   DRAG_MOVES    drag moves per latency measurement (default: 240)
+//
+// Screenshots go to target/browser-screenshots/. Exits non-zero on the
+// first failed check, after printing what failed.
+
+import { spawn, execFileSync } from "node:child_process";
+import { mkdirSync } from "node:fs";
+import { createInterface } from "node:readline";
+import { dirname, join, resolve } from "node:path";
+import { fileURLToPath } from "node:url";
+import { chromium } from "playwright-core";
+
+const ROOT = resolve(dirname(fileURLToPath(import.meta.url)), "../..");
+const BIN = resolve(ROOT, process.env.DOFPLAN_BIN ?? "target/release/dofplan");
+const CHROMIUM = process.env.CHROMIUM ?? "/usr/bin/chromium";
+const SHOTS = join(ROOT, "target/browser-screenshots");
+const MOVES = Number(process.env.DRAG_MOVES ?? 240);
+// A joint is closed when its two markers are this close, relative to the
+// mechanism's size (the server refuses poses open by more than 1e-7).
+const CLOSED = 1e-6;
+
+let failures = 0;
+function check(ok, what) {
+  console.log(`${ok ? "ok  " : "FAIL"} ${what}`);
+  if (!ok) failures++;
+}
+
+function dofplan(...args) {
+  return execFileSync(BIN, args, { cwd: ROOT, encoding: "utf8" });
+}
+
+/** Starts `dofplan edit FILE`; resolves with the URL it prints first. */
+function startEditor(file) {
+  const child = spawn(BIN, file ? ["edit", file] : ["edit"], { cwd: ROOT, stdio: ["ignore", "pipe", "inherit"] });
+  return new Promise((ok, fail) => {
+    const lines = createInterface({ input: child.stdout });
+    lines.once("line", (url) => ok({ child, url }));
+    child.once("exit", (code) => fail(new Error(`dofplan edit ${file} exited (${code}) before printing its URL`)));
+  });
+}
+
+/** Every marker's world position from the DOM, by "body.marker". */
+async function markers(page) {
+  return page.$$eval("[data-marker]", (els) =>
+    Object.fromEntries(els.map((e) => [e.dataset.marker, [Number(e.dataset.x), Number(e.dataset.y)]])),
+  );
+}
+
+/** The largest gap between the two markers of a revolute joint, and the
+ * mechanism's extent (to make it relative). */
+async function worstJoint(page, joints) {
+  const at = await markers(page);
+  const xs = Object.values(at);
+  const extent = Math.max(
+    Math.max(...xs.map((p) => p[0])) - Math.min(...xs.map((p) => p[0])),
+    Math.max(...xs.map((p) => p[1])) - Math.min(...xs.map((p) => p[1])),
+  );
+  let worst = 0;
+  let name = "";
+  for (const j of joints.filter((j) => j.kind === "revolute")) {
+    const [a, b] = j.markers.map((k) => at[k]);
+    if (!a || !b || !a.every(Number.isFinite) || !b.every(Number.isFinite)) return { gap: Infinity, name: j.name };
+    const gap = Math.hypot(a[0] - b[0], a[1] - b[1]) / extent;
+    if (gap > worst) [worst, name] = [gap, j.name];
+  }
+  return { gap: worst, name };
+}
+
+/** Waits until the page has no request in flight or queued. */
+async function settled(page) {
+  await page.waitForFunction(() => window.__dofplan.ready && !window.__dofplan.busy());
+}
+
+/** The document the page was sent (joints with their markers). */
+async function documentOf(page) {
+  return page.evaluate(() => window.__dofplan.doc());
+}
+
+const percentile = (xs, p) => {
+  const s = xs.slice().sort((a, b) => a - b);
+  return s[Math.min(s.length - 1, Math.ceil((p / 100) * s.length) - 1)];
+};
+
+/** Drags from the centre of `selector` with real mouse events: `moves`
+ * moves on a circle, each waited for until its pose is on screen. Returns
+ * the round trips measured in the page. */
+async function dragLatency(page, selector, moves, radius) {
+  const box = await page.locator(selector).boundingBox();
+  const [cx, cy] = [box.x + box.width / 2, box.y + box.height / 2];
+  await page.mouse.move(cx, cy);
+  await page.mouse.down();
+  const before = await page.evaluate(() => window.__dofplan.latencies.length);
+  for (let i = 1; i <= moves; i++) {
+    const t = (2 * Math.PI * i) / 60;
+    await page.mouse.move(cx + radius * Math.sin(t), cy - radius * (1 - Math.cos(t)));
+    await page.waitForFunction((n) => window.__dofplan.latencies.length >= n, before + i);
+  }
+  await page.mouse.up();
+  await settled(page);
+  const all = await page.evaluate(() => ({ rendered: window.__dofplan.latencies, dom: window.__dofplan.domLatencies }));
+  return { rendered: all.rendered.slice(before), dom: all.dom.slice(before) };
+}
+
+function report(name, lat) {
+  const f = (x) => x.toFixed(2);
+  console.log(
+    `     ${name}: ${lat.rendered.length} drag moves, pointer event → pose rendered (next animation frame): ` +
+      `p50 ${f(percentile(lat.rendered, 50))} ms, p99 ${f(percentile(lat.rendered, 99))} ms; ` +
+      `pointer event → DOM updated: p50 ${f(percentile(lat.dom, 50))} ms, p99 ${f(percentile(lat.dom, 99))} ms`,
+  );
+}
+
+async function openEditor(browser, file) {
+  const { child, url } = await startEditor(file);
+  const page = await browser.newPage({ viewport: { width: 1400, height: 860 } });
+  page.on("pageerror", (e) => check(false, `no script error on the page (${e.message})`));
+  await page.goto(url);
+  await settled(page);
+  return { child, page, url };
+}
+
+async function fourbar(browser) {
+  console.log("== mechanisms/fourbar.toml");
+  const { child, page, url } = await openEditor(browser, "mechanisms/fourbar.toml");
+  try {
+    // The token is needed: the same page without it is refused.
+    const port = new URL(url).port;
+    const bare = await fetch(`http://127.0.0.1:${port}/`);
+    check(bare.status === 403, `a request without the token is refused (${bare.status})`);
+
+    const bodies = await page.$$eval("g[data-body]", (els) => els.map((e) => e.dataset.body));
+    check(
+      JSON.stringify(bodies) === JSON.stringify(["ground", "crank", "coupler", "rocker"]),
+      `a group per body (${bodies})`,
+    );
+    const drawn = await markers(page);
+    check(Object.keys(drawn).length === 9, `a data-marker per marker (${Object.keys(drawn).length})`);
+    check(drawn["coupler.P"][0] === 3 && drawn["coupler.P"][1] === 3.5, `coupler.P at its drawn (3, 3.5): ${drawn["coupler.P"]}`);
+    const joints = await page.$$eval("[data-joint]", (els) => els.map((e) => e.dataset.joint));
+    check(JSON.stringify(joints) === JSON.stringify(["A", "B", "C", "D"]), `a data-joint per joint (${joints})`);
+    check((await page.locator('input[data-input="theta"]').count()) === 1, "a slider for input theta");
+    check((await page.locator('path[data-trace="coupler.P"]').getAttribute("d"))?.length > 100, "the trace of coupler.P");
+    const panel = async (name) => page.$eval(`[data-panel="${name}"]`, (e) => e.textContent);
+    check((await panel("plan")) === dofplan("plan", "mechanisms/fourbar.toml"), "the Plan panel is `dofplan plan`");
+    check((await panel("check")) === dofplan("check", "mechanisms/fourbar.toml"), "the Check panel is `dofplan check`");
+    check((await panel("rust")) === dofplan("emit", "mechanisms/fourbar.toml"), "the Rust panel is `dofplan emit`");
+    await page.screenshot({ path: join(SHOTS, "fourbar-drawn.png") });
+
+    const doc = await documentOf(page);
+    // The slider at 90°: every marker where `dofplan simulate` puts it.
+    await page.$eval('input[data-input="theta"]', (s) => {
+      s.value = "90";
+      s.dispatchEvent(new Event("input", { bubbles: true }));
+    });
+    await settled(page);
+    const at90 = await markers(page);
+    const simulated = JSON.parse(
+      dofplan("simulate", "mechanisms/fourbar.toml", "--from", "90", "--to", "90", "--steps", "1", "--json"),
+    ).frames[0].markers;
+    let off = 0;
+    for (const [k, p] of Object.entries(simulated)) off = Math.max(off, Math.hypot(p[0] - at90[k][0], p[1] - at90[k][1]));
+    check(off < 1e-9, `slider at 90°: markers as \`dofplan simulate\` at 90° (largest difference ${off.toExponential(2)})`);
+    check(at90["crank.B"][0] !== drawn["crank.B"][0], `the slider moved crank.B (${drawn["crank.B"]} → ${at90["crank.B"]})`);
+    let w = await worstJoint(page, doc.joints);
+    check(w.gap < CLOSED, `every joint closed at 90° (worst ${w.name}: ${w.gap.toExponential(2)})`);
+    await page.screenshot({ path: join(SHOTS, "fourbar-slider-90.png") });
+
+    // Drag coupler.P along its coupler curve (the file's trace), 1.5 units
+    // ahead: a one-DOF linkage can follow the pointer only along it.
+    const startP = (await markers(page))["coupler.P"];
+    const curve = doc.traces["coupler.P"];
+    const near = (p) => Math.min(...curve.map((q) => Math.hypot(p[0] - q[0], p[1] - q[1])));
+    const k = curve.reduce((best, q, i) => (Math.hypot(q[0] - startP[0], q[1] - startP[1]) < Math.hypot(curve[best][0] - startP[0], curve[best][1] - startP[1]) ? i : best), 0);
+    const ahead = curve[(k + 12) % curve.length];
+    const along = Math.hypot(ahead[0] - startP[0], ahead[1] - startP[1]);
+    const target = [startP[0] + (1.5 * (ahead[0] - startP[0])) / along, startP[1] + (1.5 * (ahead[1] - startP[1])) / along];
+    const [px, py] = await page.evaluate((p) => window.__dofplan.toPage(p), startP);
+    const [tx, ty] = await page.evaluate((p) => window.__dofplan.toPage(p), target);
+    await page.mouse.move(px, py);
+    await page.mouse.down();
+    for (let i = 1; i <= 30; i++) {
+      await page.mouse.move(px + ((tx - px) * i) / 30, py + ((ty - py) * i) / 30);
+      await page.waitForTimeout(5);
+    }
+    await settled(page);
+    const endP = (await markers(page))["coupler.P"];
+    const before = Math.hypot(startP[0] - target[0], startP[1] - target[1]);
+    const after = Math.hypot(endP[0] - target[0], endP[1] - target[1]);
+    check(after < 0.5 * before, `dragging coupler.P: it followed the pointer (distance ${before.toFixed(3)} → ${after.toFixed(3)})`);
+    // The trace is a polyline of 1° steps: its chords stay within 0.01.
+    check(near(endP) < 0.01, `coupler.P stayed on its coupler curve (${near(endP).toExponential(2)} off the trace)`);
+    w = await worstJoint(page, doc.joints);
+    check(w.gap < CLOSED, `every joint closed while dragging (worst ${w.name}: ${w.gap.toExponential(2)})`);
+    await page.screenshot({ path: join(SHOTS, "fourbar-drag.png") });
+    await page.mouse.up();
+    await settled(page);
+    const status = await page.$eval("#status", (e) => e.dataset.status);
+    check(["solved", "stretched"].includes(status), `the drag's status is shown (${status})`);
+
+    // After the drag the slider drives the mechanism from where it is.
+    const dragged = await markers(page);
+    await page.$eval('input[data-input="theta"]', (s) => {
+      s.value = String(Number(s.value) + 20);
+      s.dispatchEvent(new Event("input", { bubbles: true }));
+    });
+    await settled(page);
+    const moved = await markers(page);
+    check(moved["crank.B"][0] !== dragged["crank.B"][0], "after a drag, the slider still moves the mechanism");
+    w = await worstJoint(page, doc.joints);
+    check(w.gap < CLOSED, `every joint closed after the drag and slider (worst ${w.name}: ${w.gap.toExponential(2)})`);
+    const errors = await page.evaluate(() => window.__dofplan.errors);
+    check(errors.length === 0, `no error replies (${errors.join("; ")})`);
+
+    const lat = await dragLatency(page, '[data-marker="coupler.P"]', MOVES, 40);
+    w = await worstJoint(page, doc.joints);
+    check(w.gap < CLOSED, `every joint closed after ${MOVES} drag moves (worst ${w.name}: ${w.gap.toExponential(2)})`);
+    report("fourbar", lat);
+    await page.screenshot({ path: join(SHOTS, "fourbar-after-latency.png") });
+    return lat;
+  } finally {
+    child.kill();
+  }
+}
+
+async function stress(browser) {
+  console.log("== mechanisms/stress_50.toml");
+  const { child, page } = await openEditor(browser, "mechanisms/stress_50.toml");
+  try {
+    const doc = await documentOf(page);
+    const n = await page.locator("[data-body]").count();
+    check(n === doc.bodies.length && n === 50, `a group per body (${n})`);
+    await page.screenshot({ path: join(SHOTS, "stress_50-drawn.png") });
+    // The last coupler: the far end of the chain.
+    const last = doc.bodies.filter((b) => b.name.startsWith("coupler")).pop();
+    const marker = `${last.name}.${last.markers[last.markers.length - 1].name}`;
+    const lat = await dragLatency(page, `[data-marker="${marker}"]`, MOVES, 25);
+    const w = await worstJoint(page, doc.joints);
+    check(w.gap < CLOSED, `every joint closed after dragging ${marker} (worst ${w.name}: ${w.gap.toExponential(2)})`);
+    report(`stress_50 (dragging ${marker})`, lat);
+    await page.screenshot({ path: join(SHOTS, "stress_50-dragged.png") });
+    const errors = await page.evaluate(() => window.__dofplan.errors);
+    check(errors.length === 0, `no error replies (${errors.join("; ")})`);
+    return lat;
+  } finally {
+    child.kill();
+  }
+}
+
+async function openChain(browser) {
+  console.log("== mechanisms/drag/open_chain_15.toml (no inputs, 15 free DOF)");
+  const { child, page } = await openEditor(browser, "mechanisms/drag/open_chain_15.toml");
+  try {
+    const doc = await documentOf(page);
+    check((await page.locator("input[data-input]").count()) === 0, "no sliders: the file has no inputs");
+    const panel = await page.$eval('[data-panel="plan"]', (e) => e.textContent);
+    check(panel.startsWith("No plan: the mechanism has no inputs"), `the Plan panel says why there is no plan (${panel.split("\n")[0]})`);
+    // Pull the free end 2 units up: an under-constrained chain reaches it.
+    const start = (await markers(page))["link_15.E"];
+    const target = [start[0] - 1, start[1] + 2];
+    const [px, py] = await page.evaluate((p) => window.__dofplan.toPage(p), start);
+    const [tx, ty] = await page.evaluate((p) => window.__dofplan.toPage(p), target);
+    await page.mouse.move(px, py);
+    await page.mouse.down();
+    for (let i = 1; i <= 25; i++) {
+      await page.mouse.move(px + ((tx - px) * i) / 25, py + ((ty - py) * i) / 25);
+      await page.waitForTimeout(5);
+    }
+    await settled(page);
+    await page.screenshot({ path: join(SHOTS, "open_chain_15-drag.png") });
+    await page.mouse.up();
+    await settled(page);
+    const end = (await markers(page))["link_15.E"];
+    const left = Math.hypot(end[0] - target[0], end[1] - target[1]);
+    // The pointer is at a pixel: the target is known to a pixel's width.
+    const pixel = await page.evaluate(() => 1 / window.__dofplan.scale());
+    check(left < 2 * pixel, `the chain's free end reached the pointer (${left.toExponential(2)} away)`);
+    const w = await worstJoint(page, doc.joints);
+    check(w.gap < CLOSED, `every joint closed (worst ${w.name}: ${w.gap.toExponential(2)})`);
+  } finally {
+    child.kill();
+  }
+}
+
+async function empty(browser) {
+  console.log("== a new document (no file)");
+  const { child, page } = await openEditor(browser, null);
+  try {
+    const bodies = await page.$$eval("g[data-body]", (els) => els.map((e) => e.dataset.body));
+    check(JSON.stringify(bodies) === '["ground"]', `the ground alone (${bodies})`);
+    check((await page.locator('[data-marker="ground.O"]').count()) === 1, "its marker ground.O");
+    const check_ = await page.$eval('[data-panel="check"]', (e) => e.textContent);
+    check(check_.startsWith("untitled (untitled.toml)"), `the Check panel reports the new document (${check_.split("\n")[0]})`);
+    await page.screenshot({ path: join(SHOTS, "empty.png") });
+  } finally {
+    child.kill();
+  }
+}
+
+mkdirSync(SHOTS, { recursive: true });
+const browser = await chromium.launch({
+  executablePath: CHROMIUM,
+  args: [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--disable-default-apps",
+    "--no-first-run",
+  ],
+});
+try {
+  await fourbar(browser);
+  await openChain(browser);
+  await empty(browser);
+  await stress(browser);
+} catch (e) {
+  check(false, `the test ran to the end (${e.stack ?? e})`);
+} finally {
+  await browser.close();
+}
+console.log(failures ? `${failures} check(s) failed` : "all checks passed");
+console.log(`screenshots in ${SHOTS}`);
+process.exit(failures ? 1 : 0);
