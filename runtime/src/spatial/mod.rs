@@ -494,7 +494,7 @@ impl Pose3 {
 /// written as `vers·(at⊥) − sin·(axis × at) + slide·axis` (with `at⊥` the
 /// part of `at` perpendicular to the axis) rather than `at − R·at`, which
 /// would lose digits for small angles far from the origin.
-#[inline]
+#[inline(always)]
 pub fn joint_pose(axis: Vec3, at: Vec3, cos: f64, sin: f64, slide: f64) -> Pose3 {
     let rot = Rot3::about_axis(axis, cos, sin);
     let vers = versine(cos, sin);

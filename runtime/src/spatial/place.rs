@@ -61,7 +61,7 @@ pub fn rotate_about_axis_dir(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from_dir
 /// The (cos, sin) of the signed angle about the unit `axis` from the
 /// component of `from_dir` across the axis to that of `to_dir`; none when
 /// either is (to rounding) along the axis.
-#[inline]
+#[inline(always)]
 fn axis_turn(axis: Vec3, from_dir: Vec3, to_dir: Vec3) -> Option<(f64, f64)> {
     let u = reject(from_dir, axis);
     let v = reject(to_dir, axis);
@@ -86,7 +86,7 @@ fn axis_turn(axis: Vec3, from_dir: Vec3, to_dir: Vec3) -> Option<(f64, f64)> {
 /// line, so setting the pose (rather than turning last frame's) needs no
 /// step re-imposing the hinge, and a rotation built afresh every frame
 /// never drifts from orthonormal.
-#[inline]
+#[inline(always)]
 pub fn hinge(pose: &mut Pose3, pivot: Vec3, axis: Vec3, cos: f64, sin: f64) {
     *pose = super::joint_pose(axis, pivot, cos, sin, 0.0);
 }
@@ -94,7 +94,7 @@ pub fn hinge(pose: &mut Pose3, pivot: Vec3, axis: Vec3, cos: f64, sin: f64) {
 /// [`hinge`] by `degrees` (right-handed about `axis`), the cosine and sine
 /// from [`Rot::from_degrees`](crate::planar::Rot::from_degrees) as every
 /// angle input's.
-#[inline]
+#[inline(always)]
 pub fn hinge_degrees(pose: &mut Pose3, pivot: Vec3, axis: Vec3, degrees: f64) {
     let r = crate::planar::Rot::from_degrees(degrees);
     hinge(pose, pivot, axis, r.c, r.s);
@@ -104,7 +104,7 @@ pub fn hinge_degrees(pose: &mut Pose3, pivot: Vec3, axis: Vec3, degrees: f64) {
 /// the half-plane of the world point `to` bounded by the line (the
 /// outright form of [`rotate_about_axis_onto`]). If either point is on the
 /// line the angle is undefined and the body keeps its pose.
-#[inline]
+#[inline(always)]
 pub fn hinge_onto(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from: Vec3, to: Vec3) {
     hinge_dir(pose, pivot, axis, sub(from, pivot), sub(to, pivot));
 }
@@ -113,7 +113,7 @@ pub fn hinge_onto(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from: Vec3, to: Vec
 /// drawn* to the world direction `to_dir` (their components across the
 /// line; the outright form of [`rotate_about_axis_dir`]). If either is
 /// along the line the body keeps its pose.
-#[inline]
+#[inline(always)]
 pub fn hinge_dir(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from_dir: Vec3, to_dir: Vec3) {
     if let Some((c, s)) = axis_turn(axis, from_dir, to_dir) {
         hinge(pose, pivot, axis, c, s);
