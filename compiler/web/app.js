@@ -15,7 +15,7 @@ const canvas = $("canvas");
 // What the test reads: round trips of drag frames in milliseconds, from the
 // pointer event to the animation frame after the new pose is in the DOM,
 // and the same up to the DOM update alone.
-const probe = { ready: false, frames: 0, latencies: [], domLatencies: [], errors: [] };
+const probe = { ready: false, frames: 0, latencies: [], domLatencies: [], serverMs: [], errors: [] };
 window.__dofplan = probe;
 
 let doc = null; // the `document` message
@@ -24,7 +24,10 @@ let hulls = []; // per body: indices into markerIndex, in outline order
 let pose = null; // the last `frame` message
 let view = { s: 1, ox: 0, oy: 0 };
 let values = []; // slider values, one per input
-let grabbed = null; // {body} while dragging
+let grabbed = null; // {body, world} while dragging
+// The drawing's elements, found once (a frame of a 50-body chain would
+// otherwise spend its time in selector lookups).
+let parts = { markers: [], shapes: [], ground: [], joints: [], bodies: new Map() };
 
 // The outbox: one request in flight at a time, and queued requests of one
 // kind replaced by the newest (only the latest drag target or slider values
@@ -181,10 +184,19 @@ function buildInputs() {
   play.title = doc.sweep ? "" : "the file has no [sweep]";
 }
 
-function showValues() {
+// Each slider's value, and where the mechanism is when that differs (held
+// at a limit).
+function showValues(reached = values) {
   doc.inputs.forEach((input, k) => {
     const unit = input.kind === "angle" ? "°" : "";
-    $(`value-${k}`).textContent = `${values[k].toFixed(2)}${unit}`;
+    const out = $(`value-${k}`);
+    const at = reached[k] ?? values[k];
+    out.textContent = `${values[k].toFixed(2)}${unit}`;
+    out.title = "";
+    if (Math.abs(at - values[k]) > 1e-9) {
+      out.textContent += ` → ${at.toFixed(2)}${unit}`;
+      out.title = "the value asked → where the mechanism is";
+    }
   });
 }
 
@@ -194,19 +206,23 @@ function sendInputs() {
 
 function buildDrawing() {
   for (const id of ["traces", "ground", "bodies", "joints"]) $(id).replaceChildren();
+  parts = { markers: [], shapes: [], ground: [], joints: [], bodies: new Map() };
+  const index = new Map(markerIndex.map((m, i) => [m.key, i]));
   for (const key of Object.keys(doc.traces)) {
     el("path", { class: "trace", "data-trace": key }, $("traces"));
   }
   doc.bodies.forEach((b, bi) => {
     const g = el("g", { class: b.fixed ? "body fixed" : "body", "data-body": b.name }, $("bodies"));
+    parts.bodies.set(b.name, g);
     const colour = COLOURS[bi % COLOURS.length];
     if (!b.fixed) {
       const shape = hulls[bi].length >= 3 ? "polygon" : "polyline";
-      el(shape, { class: "link", stroke: colour, fill: colour }, g);
+      parts.shapes.push({ el: el(shape, { class: "link", stroke: colour, fill: colour }, g), body: bi });
     }
     markerIndex.forEach((m, i) => {
       if (m.body !== bi) return;
-      el("circle", { class: b.fixed ? "marker ground-marker" : "marker", r: 3.5, "data-marker": m.key, "data-index": i }, g);
+      const attributes = { class: b.fixed ? "marker ground-marker" : "marker", r: 3.5, "data-marker": m.key };
+      parts.markers.push({ el: el("circle", attributes, g), i });
     });
     if (!b.fixed) {
       g.addEventListener("pointerdown", (event) => grab(event, b.name));
@@ -218,20 +234,26 @@ function buildDrawing() {
   const jointed = new Set(doc.joints.flatMap((j) => j.markers));
   const anchors = fixedMarkers.filter(([m]) => jointed.has(m.key));
   for (const [m, i] of anchors.length ? anchors : fixedMarkers) {
-    const g = el("g", { class: "ground-anchor", "data-ground": m.key, "data-index": i }, $("ground"));
-    el("rect", { class: "ground-hatch", width: 32, height: 10 }, g);
-    el("line", { class: "ground-base" }, g);
+    const g = el("g", { class: "ground-anchor", "data-ground": m.key }, $("ground"));
+    const rect = el("rect", { class: "ground-hatch", width: 32, height: 10 }, g);
+    parts.ground.push({ rect, line: el("line", { class: "ground-base" }, g), i });
   }
   for (const j of doc.joints) {
     const g = el("g", { class: `joint ${j.kind}`, "data-joint": j.name }, $("joints"));
+    const [a, b] = j.markers.map((k) => index.get(k));
+    const part = { joint: j, a, b };
     if (j.kind === "revolute") {
-      el("circle", { r: 6 }, g);
+      part.circle = el("circle", { r: 6 }, g);
     } else {
-      el("line", {}, g);
-      el("rect", { width: 26, height: 14, rx: 2 }, g);
+      part.line = el("line", {}, g);
+      part.rect = el("rect", { width: 26, height: 14, rx: 2 }, g);
     }
     // Names help on a small linkage and only clutter a long chain.
-    if (doc.joints.length <= 12) el("text", { class: "joint-label" }, g).textContent = j.name;
+    if (doc.joints.length <= 12) {
+      part.label = el("text", { class: "joint-label" }, g);
+      part.label.textContent = j.name;
+    }
+    parts.joints.push(part);
   }
   el("circle", { class: "grab-point", r: 4.5, visibility: "hidden", id: "grab-point" }, canvas);
 }
@@ -280,20 +302,23 @@ function toWorld(event) {
 
 function setFrame(frame, answered) {
   pose = frame;
-  if (frame.inputs.length === values.length && !sliderHeld) {
+  // Sliders keep what was asked of them (a limit shows beside it); a drag
+  // moves the inputs, and the sliders follow.
+  const asked = answered && answered.message.type === "inputs";
+  if (!asked && frame.inputs.length === values.length && !sliderHeld) {
     values = frame.inputs.slice();
-    doc.inputs.forEach((input, k) => {
-      const slider = canvasInputs()[k];
-      if (slider) slider.value = values[k];
+    canvasInputs().forEach((slider, k) => {
+      slider.value = values[k];
     });
-    showValues();
   }
+  showValues(frame.inputs);
   draw();
   showFrameStatus(frame);
   probe.frames++;
   if (answered && answered.message.type === "drag") {
     const t0 = answered.t0;
     probe.domLatencies.push(performance.now() - t0);
+    probe.serverMs.push(frame.server_ms);
     requestAnimationFrame(() => probe.latencies.push(performance.now() - t0));
   }
   probe.ready = true;
@@ -316,43 +341,33 @@ function draw() {
   if (!doc || !pose) return;
   const world = pose.markers;
   const screen = world.map(([x, y]) => [sx(x), sy(y)]);
-  canvas.querySelectorAll("[data-marker]").forEach((c) => {
-    const i = Number(c.dataset.index);
+  for (const { el: c, i } of parts.markers) {
     c.setAttribute("cx", screen[i][0].toFixed(2));
     c.setAttribute("cy", screen[i][1].toFixed(2));
     c.dataset.x = String(world[i][0]);
     c.dataset.y = String(world[i][1]);
-  });
-  doc.bodies.forEach((b, bi) => {
-    if (b.fixed) return;
-    const shape = canvas.querySelector(`g[data-body="${CSS.escape(b.name)}"] .link`);
-    const points = hulls[bi].map((i) => `${screen[i][0].toFixed(2)},${screen[i][1].toFixed(2)}`);
+  }
+  for (const { el: shape, body } of parts.shapes) {
+    const points = hulls[body].map((i) => `${screen[i][0].toFixed(2)},${screen[i][1].toFixed(2)}`);
     // A one-marker body is a dot: a polyline needs two points.
     if (points.length === 1) points.push(points[0]);
     shape.setAttribute("points", points.join(" "));
-  });
-  canvas.querySelectorAll(".ground-anchor").forEach((g) => {
-    const [x, y] = screen[Number(g.dataset.index)];
-    const rect = g.querySelector("rect");
+  }
+  for (const { rect, line, i } of parts.ground) {
+    const [x, y] = screen[i];
     rect.setAttribute("x", (x - 16).toFixed(2));
     rect.setAttribute("y", (y + 7).toFixed(2));
-    const base = g.querySelector("line");
-    for (const [k, v] of Object.entries({ x1: x - 18, x2: x + 18, y1: y + 7, y2: y + 7 })) base.setAttribute(k, v.toFixed(2));
-  });
-  const index = new Map(markerIndex.map((m, i) => [m.key, i]));
-  for (const j of doc.joints) {
-    const g = canvas.querySelector(`g[data-joint="${CSS.escape(j.name)}"]`);
-    const [a, b] = j.markers.map((k) => index.get(k));
+    for (const [k, v] of Object.entries({ x1: x - 18, x2: x + 18, y1: y + 7, y2: y + 7 })) line.setAttribute(k, v.toFixed(2));
+  }
+  for (const { joint, a, b, label, circle, rect, line } of parts.joints) {
     const [x, y] = screen[b];
-    const label = g.querySelector("text");
     if (label) {
       label.setAttribute("x", (x + 9).toFixed(2));
       label.setAttribute("y", (y - 9).toFixed(2));
     }
-    if (j.kind === "revolute") {
-      const c = g.querySelector("circle");
-      c.setAttribute("cx", x.toFixed(2));
-      c.setAttribute("cy", y.toFixed(2));
+    if (joint.kind === "revolute") {
+      circle.setAttribute("cx", x.toFixed(2));
+      circle.setAttribute("cy", y.toFixed(2));
       continue;
     }
     // A prismatic joint: a block on the second marker, sliding along the
@@ -361,13 +376,11 @@ function draw() {
     const [c, s] = pose.poses[markerIndex[a].body];
     const [dx, dy] = [c * dir[0] - s * dir[1], s * dir[0] + c * dir[1]];
     const degrees = (-Math.atan2(dy, dx) * 180) / Math.PI;
-    const rect = g.querySelector("rect");
     rect.setAttribute("x", (x - 13).toFixed(2));
     rect.setAttribute("y", (y - 7).toFixed(2));
     rect.setAttribute("transform", `rotate(${degrees.toFixed(3)} ${x.toFixed(2)} ${y.toFixed(2)})`);
     const reach = 0.6 * doc.size * view.s;
     const [ax, ay] = screen[a];
-    const line = g.querySelector("line");
     line.setAttribute("x1", (ax - reach * dx).toFixed(2));
     line.setAttribute("y1", (ay + reach * dy).toFixed(2));
     line.setAttribute("x2", (ax + reach * dx).toFixed(2));
@@ -412,7 +425,7 @@ function grab(event, body) {
   // The grabbed point on the body, kept to show where the pointer holds it.
   grabbed = { body, world: at };
   canvas.setPointerCapture(event.pointerId);
-  canvas.querySelector(`g[data-body="${CSS.escape(body)}"]`).classList.add("grabbed");
+  parts.bodies.get(body)?.classList.add("grabbed");
   $("grab-point").setAttribute("visibility", "visible");
   enqueue({ type: "grab", body, at }, performance.now());
   draw();
@@ -428,7 +441,7 @@ canvas.addEventListener("pointermove", (event) => {
 
 function release() {
   if (!grabbed) return;
-  canvas.querySelector(`g[data-body="${CSS.escape(grabbed.body)}"]`)?.classList.remove("grabbed");
+  parts.bodies.get(grabbed.body)?.classList.remove("grabbed");
   grabbed = null;
   $("grab-point").setAttribute("visibility", "hidden");
   enqueue({ type: "release" }, performance.now());
@@ -467,6 +480,9 @@ function playStep() {
     values[w.input] = steps <= 1 || i === 0 ? w.from : i === steps - 1 ? w.to : w.from + ((w.to - w.from) * i) / (steps - 1);
   }
   playIndex = i + 1;
+  canvasInputs().forEach((slider, k) => {
+    slider.value = values[k];
+  });
   sendInputs();
 }
 

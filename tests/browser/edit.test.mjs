@@ -102,8 +102,12 @@ async function dragLatency(page, selector, moves, radius) {
   }
   await page.mouse.up();
   await settled(page);
-  const all = await page.evaluate(() => ({ rendered: window.__dofplan.latencies, dom: window.__dofplan.domLatencies }));
-  return { rendered: all.rendered.slice(before), dom: all.dom.slice(before) };
+  const all = await page.evaluate(() => ({
+    rendered: window.__dofplan.latencies,
+    dom: window.__dofplan.domLatencies,
+    server: window.__dofplan.serverMs,
+  }));
+  return { rendered: all.rendered.slice(before), dom: all.dom.slice(before), server: all.server.slice(before) };
 }
 
 function report(name, lat) {
@@ -111,7 +115,8 @@ function report(name, lat) {
   console.log(
     `     ${name}: ${lat.rendered.length} drag moves, pointer event → pose rendered (next animation frame): ` +
       `p50 ${f(percentile(lat.rendered, 50))} ms, p99 ${f(percentile(lat.rendered, 99))} ms; ` +
-      `pointer event → DOM updated: p50 ${f(percentile(lat.dom, 50))} ms, p99 ${f(percentile(lat.dom, 99))} ms`,
+      `pointer event → DOM updated: p50 ${f(percentile(lat.dom, 50))} ms, p99 ${f(percentile(lat.dom, 99))} ms; ` +
+      `of which solving on the server: p50 ${f(percentile(lat.server, 50))} ms, p99 ${f(percentile(lat.server, 99))} ms`,
   );
 }
 
@@ -216,6 +221,36 @@ async function fourbar(browser) {
     const errors = await page.evaluate(() => window.__dofplan.errors);
     check(errors.length === 0, `no error replies (${errors.join("; ")})`);
 
+    // Malformed and hostile messages on a second connection: each gets an
+    // error reply, and the server keeps serving.
+    const replies = await page.evaluate(async () => {
+      const ws = new WebSocket(`ws://${location.host}/ws${location.search}`);
+      const got = [];
+      ws.onmessage = (e) => got.push(JSON.parse(e.data));
+      await new Promise((ok) => (ws.onopen = ok));
+      for (const m of [
+        "not json",
+        JSON.stringify({ type: "inputs", id: 1, values: [1e400] }),
+        '{"type":"inputs","id":2,"values":[NaN]}',
+        JSON.stringify({ type: "inputs", id: 3, values: [1, 2, 3] }),
+        JSON.stringify({ type: "grab", id: 4, body: "nobody", at: [0, 0] }),
+        JSON.stringify({ type: "grab", id: 5, body: "ground", at: [0, 0] }),
+        JSON.stringify({ type: "drag", id: 6, to: [1, 1] }),
+        JSON.stringify({ type: "explode", id: 7 }),
+        JSON.stringify({ type: "inputs", id: 8, values: [45] }),
+      ]) {
+        ws.send(m);
+        await new Promise((r) => setTimeout(r, 20));
+      }
+      await new Promise((r) => setTimeout(r, 200));
+      ws.close();
+      return got.filter((m) => m.type !== "document").map((m) => [m.type, m.id, m.message ?? m.status]);
+    });
+    const errorsFor = replies.filter(([t]) => t === "error").length;
+    check(errorsFor === 8, `8 bad messages, 8 error replies: ${JSON.stringify(replies.slice(1, 9))}`);
+    const last = replies[replies.length - 1];
+    check(last[0] === "frame" && last[1] === 8 && last[2] === "solved", `and the connection still solves (${last})`);
+
     const lat = await dragLatency(page, '[data-marker="coupler.P"]', MOVES, 40);
     w = await worstJoint(page, doc.joints);
     check(w.gap < CLOSED, `every joint closed after ${MOVES} drag moves (worst ${w.name}: ${w.gap.toExponential(2)})`);
@@ -286,6 +321,75 @@ async function openChain(browser) {
   }
 }
 
+async function limits(browser) {
+  console.log("== mechanisms/rocker_rocker.toml (breaks past its limits)");
+  const { child, page } = await openEditor(browser, "mechanisms/rocker_rocker.toml");
+  try {
+    const doc = await documentOf(page);
+    const held = await markers(page);
+    await page.$eval('input[data-input="theta"]', (s) => {
+      s.value = "90";
+      s.dispatchEvent(new Event("input", { bubbles: true }));
+    });
+    await settled(page);
+    const status = await page.$eval("#status", (e) => ({ kind: e.dataset.status, text: e.textContent }));
+    check(status.kind === "limited", `theta = 90° is past the limit: status ${status.kind}`);
+    // The breaking step's explanation, as `dofplan plan` writes step 2.
+    const step2 = dofplan("plan", "mechanisms/rocker_rocker.toml")
+      .split("\n")[3]
+      .trim()
+      .replace(/^2\s+/, "")
+      .replace(/\s+\[[^\]]*\]$/, "");
+    check(status.text.includes("step 2 broke") && status.text.includes(step2), `the status names the breaking step: ${JSON.stringify(status.text)}`);
+    const w = await worstJoint(page, doc.joints);
+    check(w.gap < CLOSED, `the pose held at the limit has every joint closed (worst ${w.name}: ${w.gap.toExponential(2)})`);
+    const now = await markers(page);
+    check(now["coupler.C"][0] === held["coupler.C"][0], "limit: the mechanism stays at the last pose that closed");
+    await page.screenshot({ path: join(SHOTS, "rocker_rocker-limited.png") });
+    // Search goes to the break point instead.
+    await page.selectOption("#policy", "search");
+    await settled(page);
+    const searched = await page.$eval("#status", (e) => e.dataset.status);
+    check(searched === "searched", `search: status ${searched}`);
+    const atBreak = await markers(page);
+    check(atBreak["coupler.C"][0] !== held["coupler.C"][0], "search: the mechanism moved to the break point");
+    const w2 = await worstJoint(page, doc.joints);
+    check(w2.gap < CLOSED, `the pose at the break point has every joint closed (worst ${w2.name}: ${w2.gap.toExponential(2)})`);
+    await page.screenshot({ path: join(SHOTS, "rocker_rocker-searched.png") });
+  } finally {
+    child.kill();
+  }
+}
+
+async function sliderCrank(browser) {
+  console.log("== mechanisms/slider_crank.toml (a prismatic joint; the sweep played)");
+  const { child, page } = await openEditor(browser, "mechanisms/slider_crank.toml");
+  try {
+    const doc = await documentOf(page);
+    const prismatic = doc.joints.filter((j) => j.kind === "prismatic").map((j) => j.name);
+    check(prismatic.length > 0, `the file has a prismatic joint (${prismatic})`);
+    for (const name of prismatic) {
+      check((await page.locator(`[data-joint="${name}"].prismatic rect`).count()) === 1, `joint ${name} drawn as a slider block`);
+    }
+    const before = await page.evaluate(() => window.__dofplan.frames);
+    await page.click("#play");
+    await page.waitForFunction((n) => window.__dofplan.frames >= n + 30, before);
+    await page.screenshot({ path: join(SHOTS, "slider_crank-playing.png") });
+    await page.click("#play");
+    await settled(page);
+    const after = await page.evaluate(() => window.__dofplan.frames);
+    check(after >= before + 30, `playing the sweep streams frames (${after - before})`);
+    const playing = await page.$eval("#play", (b) => b.dataset.playing);
+    check(playing === "false", "pause stops it");
+    await page.waitForTimeout(200);
+    check((await page.evaluate(() => window.__dofplan.frames)) === after, "no frame after pausing");
+    const w = await worstJoint(page, doc.joints);
+    check(w.gap < CLOSED, `every revolute joint closed (worst ${w.name}: ${w.gap.toExponential(2)})`);
+  } finally {
+    child.kill();
+  }
+}
+
 async function empty(browser) {
   console.log("== a new document (no file)");
   const { child, page } = await openEditor(browser, null);
@@ -318,6 +422,8 @@ const browser = await chromium.launch({
 try {
   await fourbar(browser);
   await openChain(browser);
+  await limits(browser);
+  await sliderCrank(browser);
   await empty(browser);
   await stress(browser);
 } catch (e) {

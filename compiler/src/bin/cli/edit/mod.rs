@@ -289,7 +289,8 @@ async fn live(mut socket: WebSocket, doc: Arc<Document>) {
             }
         }
         for request in coalesce(requests) {
-            let reply = match request {
+            let started = std::time::Instant::now();
+            let mut reply = match request {
                 Ok(request) => {
                     // Solving is CPU work: let the runtime move other tasks
                     // off this thread meanwhile.
@@ -308,6 +309,8 @@ async fn live(mut socket: WebSocket, doc: Arc<Document>) {
                 }
                 Err(reply) => reply,
             };
+            // How long the server took, for the page's latency figures.
+            reply["server_ms"] = serde_json::json!(started.elapsed().as_secs_f64() * 1e3);
             if send(&mut socket, &reply).await.is_err() {
                 return;
             }
