@@ -208,6 +208,7 @@ function buildDrawing() {
   for (const id of ["traces", "ground", "bodies", "joints"]) $(id).replaceChildren();
   parts = { markers: [], shapes: [], ground: [], joints: [], bodies: new Map() };
   const index = new Map(markerIndex.map((m, i) => [m.key, i]));
+  const jointed = new Set(doc.joints.flatMap((j) => j.markers));
   for (const key of Object.keys(doc.traces)) {
     el("path", { class: "trace", "data-trace": key }, $("traces"));
   }
@@ -222,7 +223,14 @@ function buildDrawing() {
     markerIndex.forEach((m, i) => {
       if (m.body !== bi) return;
       const attributes = { class: b.fixed ? "marker ground-marker" : "marker", r: 3.5, "data-marker": m.key };
-      parts.markers.push({ el: el("circle", attributes, g), i });
+      const part = { el: el("circle", attributes, g), i };
+      // A joint's label names its markers' place; a marker no joint uses
+      // (a coupler point) is named itself, on a small linkage.
+      if (!jointed.has(m.key) && doc.joints.length <= 12 && !b.fixed) {
+        part.label = el("text", { class: "marker-label" }, g);
+        part.label.textContent = m.key;
+      }
+      parts.markers.push(part);
     });
     if (!b.fixed) {
       g.addEventListener("pointerdown", (event) => grab(event, b.name));
@@ -231,7 +239,6 @@ function buildDrawing() {
   // Ground hatching under every ground marker a joint uses (or every
   // ground marker, when none is jointed yet).
   const fixedMarkers = markerIndex.map((m, i) => [m, i]).filter(([m]) => doc.bodies[m.body].fixed);
-  const jointed = new Set(doc.joints.flatMap((j) => j.markers));
   const anchors = fixedMarkers.filter(([m]) => jointed.has(m.key));
   for (const [m, i] of anchors.length ? anchors : fixedMarkers) {
     const g = el("g", { class: "ground-anchor", "data-ground": m.key }, $("ground"));
@@ -341,9 +348,13 @@ function draw() {
   if (!doc || !pose) return;
   const world = pose.markers;
   const screen = world.map(([x, y]) => [sx(x), sy(y)]);
-  for (const { el: c, i } of parts.markers) {
+  for (const { el: c, i, label } of parts.markers) {
     c.setAttribute("cx", screen[i][0].toFixed(2));
     c.setAttribute("cy", screen[i][1].toFixed(2));
+    if (label) {
+      label.setAttribute("x", (screen[i][0] + 7).toFixed(2));
+      label.setAttribute("y", (screen[i][1] - 7).toFixed(2));
+    }
     c.dataset.x = String(world[i][0]);
     c.dataset.y = String(world[i][1]);
   }

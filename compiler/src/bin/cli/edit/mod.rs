@@ -141,24 +141,36 @@ fn token() -> io::Result<String> {
     Ok(bytes.iter().map(|b| format!("{b:02x}")).collect())
 }
 
-/// Asks the desktop to open `url`; only reports when it cannot.
+/// Asks the desktop to open `url`; only reports when it cannot. The opener
+/// is waited for on its own thread: some run the browser until it closes.
 fn open_browser(url: &str) {
     let opener = if cfg!(target_os = "macos") {
         "open"
     } else {
         "xdg-open"
     };
-    match std::process::Command::new(opener)
+    let child = std::process::Command::new(opener)
         .arg(url)
+        .stdin(std::process::Stdio::null())
         .stdout(std::process::Stdio::null())
         .stderr(std::process::Stdio::null())
-        .spawn()
-    {
-        Ok(_) => {}
-        Err(e) => crate::report(&format!(
-            "dofplan edit: could not open a browser ({opener}: {e}); open the address above by hand"
+        .spawn();
+    let mut child = match child {
+        Ok(c) => c,
+        Err(e) => {
+            crate::report(&format!(
+                "dofplan edit: could not open a browser ({opener}: {e}); open the address above by hand"
+            ));
+            return;
+        }
+    };
+    std::thread::spawn(move || match child.wait() {
+        Ok(status) if status.success() => {}
+        Ok(status) => crate::report(&format!(
+            "dofplan edit: could not open a browser ({opener} {status}); open the address above by hand"
         )),
-    }
+        Err(e) => crate::report(&format!("dofplan edit: could not open a browser ({opener}: {e})")),
+    });
 }
 
 /// The name of the cookie that carries the token, one per port so that
