@@ -213,7 +213,7 @@ impl<'p> Block<'p> {
 }
 
 /// Why `solve` works on a copy, as its comment says.
-const COPY: &str = "Work on a copy and commit it at the end: a break (an early return) leaves `s` as it was, so no caller has to copy the state per frame to roll back.";
+const COPY: &str = "Keep a copy to restore on a break (an early return) and work on `s` itself: a break leaves `s` as it was, no caller has to copy the state per frame to roll back, and a frame copies the state once.";
 
 /// A body's pose in the frame's working copy.
 pub(super) fn state_pose(body: usize) -> TokenStream {
@@ -649,23 +649,35 @@ impl Emitter3<'_> {
             })
             .collect();
         let Some(chunks) = chunks else {
-            let why = self.note(COPY.to_string());
-            let (take, commit) = if writes {
-                (quote!(let mut w = *s;), quote!(#(#moving)* *s = w;))
-            } else if steps.is_empty() {
-                (quote!(let _ = s;), quote!())
-            } else {
-                (quote!(let w = *s;), quote!())
-            };
+            if !writes {
+                // Only checks (or nothing): the state is read, never written.
+                let take = if steps.is_empty() {
+                    quote!(let _ = s;)
+                } else {
+                    quote!(let w = *s;)
+                };
+                return quote! {
+                    #[doc = #doc]
+                    #[inline]
+                    pub fn solve(s: &mut State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+                        #(#unused)*
+                        #take
+                        #(#steps)*
+                        Ok(())
+                    }
+                };
+            }
+            let solve = self.transaction(doc);
             return quote! {
-                #[doc = #doc]
-                #[inline]
-                pub fn solve(s: &mut State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+                #solve
+
+                /// Every step of [`solve`] in place; `solve` restores the
+                /// state when one breaks.
+                #[inline(always)]
+                fn run_steps(w: &mut State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
                     #(#unused)*
-                    #why
-                    #take
                     #(#steps)*
-                    #commit
+                    #(#moving)*
                     Ok(())
                 }
             };
@@ -688,16 +700,12 @@ impl Emitter3<'_> {
             let (f, fdoc) = if first == last {
                 (
                     format_ident!("step_{}", first + 1),
-                    format!(" Step {} of [`solve`], on its working copy.", first + 1),
+                    format!(" Step {} of [`solve`], in place.", first + 1),
                 )
             } else {
                 (
                     format_ident!("steps_{}_to_{}", first + 1, last + 1),
-                    format!(
-                        " Steps {} to {} of [`solve`], on its working copy.",
-                        first + 1,
-                        last + 1
-                    ),
+                    format!(" Steps {} to {} of [`solve`], in place.", first + 1, last + 1),
                 )
             };
             functions.push(quote! {
@@ -708,22 +716,41 @@ impl Emitter3<'_> {
                     Ok(())
                 }
             });
-            calls.push(quote!(#f(&mut w, inputs, ctx)?;));
+            calls.push(quote!(#f(w, inputs, ctx)?;));
         }
+        let solve = self.transaction(doc);
+        quote! {
+            #solve
+
+            /// Every step of [`solve`] in place, a few steps a function;
+            /// `solve` restores the state when one breaks.
+            #[inline(always)]
+            fn run_steps(w: &mut State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+                #(#calls)*
+                #(#moving)*
+                Ok(())
+            }
+
+            #(#functions)*
+        }
+    }
+
+    /// `solve` as a transaction: [`run_steps`] on the state, restored from a
+    /// copy if a step breaks.
+    fn transaction(&self, doc: &str) -> TokenStream {
         let why = self.note(COPY.to_string());
         quote! {
             #[doc = #doc]
             #[inline]
             pub fn solve(s: &mut State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
                 #why
-                let mut w = *s;
-                #(#calls)*
-                #(#moving)*
-                *s = w;
-                Ok(())
+                let before = *s;
+                let result = run_steps(s, inputs, ctx);
+                if result.is_err() {
+                    *s = before;
+                }
+                result
             }
-
-            #(#functions)*
         }
     }
 
