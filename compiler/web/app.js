@@ -297,6 +297,11 @@ function fitView() {
   draw();
 }
 
+function inView(points) {
+  const rect = canvas.getBoundingClientRect();
+  return points.every(([x, y]) => sx(x) >= 0 && sx(x) <= rect.width && sy(y) >= 0 && sy(y) <= rect.height);
+}
+
 const sx = (x) => view.ox + view.s * x;
 const sy = (y) => view.oy - view.s * y;
 
@@ -319,6 +324,9 @@ function setFrame(frame, answered) {
     });
   }
   showValues(frame.inputs);
+  // A pose that has left the view is brought back into it, but never
+  // while dragging: the view would slide under the pointer.
+  if (!grabbed && !inView(frame.markers)) fitView();
   draw();
   showFrameStatus(frame);
   probe.frames++;

@@ -321,6 +321,39 @@ async function openChain(browser) {
   }
 }
 
+async function pendulum(browser) {
+  console.log("== tests/browser/fixtures/pendulum.toml (a link hanging on one pin)");
+  const { child, page } = await openEditor(browser, "tests/browser/fixtures/pendulum.toml");
+  try {
+    const doc = await documentOf(page);
+    // Grab the link halfway down and pull to the right, beyond its reach:
+    // it turns about the pin to point at the pointer.
+    const [px, py] = await page.evaluate((p) => window.__dofplan.toPage(p), [0, -1]);
+    const [tx, ty] = await page.evaluate((p) => window.__dofplan.toPage(p), [3, -1]);
+    await page.mouse.move(px, py);
+    await page.mouse.down();
+    for (let i = 1; i <= 25; i++) {
+      await page.mouse.move(px + ((tx - px) * i) / 25, py + ((ty - py) * i) / 25);
+      await page.waitForTimeout(5);
+    }
+    await settled(page);
+    await page.screenshot({ path: join(SHOTS, "pendulum-drag.png") });
+    await page.mouse.up();
+    await settled(page);
+    const at = await markers(page);
+    const [ex, ey] = at["link.E"];
+    // The link from the pin through the pointer (3, -1), at its length 2.
+    const want = [(2 * 3) / Math.hypot(3, 1), (2 * -1) / Math.hypot(3, 1)];
+    const off = Math.hypot(ex - want[0], ey - want[1]);
+    const pixel = await page.evaluate(() => 1 / window.__dofplan.scale());
+    check(off < 2 * pixel, `the link turned about its pin toward the pointer (link.E ${off.toExponential(2)} from the line to it)`);
+    const w = await worstJoint(page, doc.joints);
+    check(w.gap < CLOSED, `its pin stayed closed (${w.gap.toExponential(2)})`);
+  } finally {
+    child.kill();
+  }
+}
+
 async function limits(browser) {
   console.log("== mechanisms/rocker_rocker.toml (breaks past its limits)");
   const { child, page } = await openEditor(browser, "mechanisms/rocker_rocker.toml");
@@ -422,6 +455,7 @@ const browser = await chromium.launch({
 try {
   await fourbar(browser);
   await openChain(browser);
+  await pendulum(browser);
   await limits(browser);
   await sliderCrank(browser);
   await empty(browser);

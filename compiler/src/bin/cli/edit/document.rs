@@ -171,9 +171,9 @@ impl Document {
 
     /// The paths of the sweep's traced markers over the file's sweep, run
     /// as `dofplan simulate` runs it (limit policy), by "body.marker".
-    /// Also the box every marker stays in over the sweep (the drawing's
-    /// without one), `[x0, y0, x1, y1]`, so the page can frame the whole
-    /// motion.
+    /// Also the box every marker stays in over the sweep (without one, a
+    /// square twice the drawing's extent), `[x0, y0, x1, y1]`, so the page
+    /// can frame the whole motion.
     fn traces(&self) -> (Value, [f64; 4]) {
         let m = &self.mechanism;
         let mut bounds = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
@@ -191,7 +191,11 @@ impl Document {
             grow(m.marker(id).at);
         }
         let (Ok(plan), Some(sweep)) = (&self.plan, &m.sweep) else {
-            return (json!({}), bounds);
+            // No sweep to say how far the bodies go: a dragged chain can
+            // swing about anywhere within its own extent of the drawing.
+            let [x0, y0, x1, y1] = bounds;
+            let (cx, cy, r) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0, (x1 - x0).max(y1 - y0));
+            return (json!({}), [cx - r, cy - r, cx + r, cy + r]);
         };
         let options = Options {
             breaking: BreakPolicy::Limit,
