@@ -405,6 +405,121 @@ mod tests {
         assert_eq!(own_host(&HeaderMap::new(), 8123), None, "no Host at all");
     }
 
+    /// Serves fourbar on a free port from a thread of its own; the port and
+    /// the token.
+    fn serve_fourbar() -> (u16, String) {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../mechanisms/fourbar.toml");
+        let doc = Arc::new(Document::open(Some(&path)).expect("fourbar opens"));
+        let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
+        listener.set_nonblocking(true).unwrap();
+        let port = listener.local_addr().unwrap().port();
+        let token = "0123456789abcdef".repeat(2);
+        let server = Arc::new(Server {
+            doc,
+            token: token.clone(),
+            port,
+        });
+        std::thread::spawn(move || {
+            let runtime = tokio::runtime::Builder::new_multi_thread()
+                .worker_threads(1)
+                .enable_all()
+                .build()
+                .unwrap();
+            runtime.block_on(async move {
+                let listener = tokio::net::TcpListener::from_std(listener).unwrap();
+                axum::serve(listener, router(server)).await.unwrap();
+            });
+        });
+        (port, token)
+    }
+
+    /// The status code and head of a GET with these extra header lines.
+    fn get(port: u16, target: &str, headers: &[String]) -> (u16, String) {
+        use std::io::{Read, Write};
+        let mut stream = std::net::TcpStream::connect(("127.0.0.1", port)).unwrap();
+        let mut request = format!("GET {target} HTTP/1.1\r\n");
+        if !headers.iter().any(|h| h.starts_with("Connection:")) {
+            request.push_str("Connection: close\r\n");
+        }
+        for h in headers {
+            request.push_str(h);
+            request.push_str("\r\n");
+        }
+        request.push_str("\r\n");
+        stream.write_all(request.as_bytes()).unwrap();
+        stream
+            .set_read_timeout(Some(std::time::Duration::from_secs(5)))
+            .unwrap();
+        let mut response = Vec::new();
+        let mut buf = [0u8; 4096];
+        while let Ok(n) = stream.read(&mut buf) {
+            if n == 0 {
+                break;
+            }
+            response.extend_from_slice(&buf[..n]);
+            // A connection kept open (an upgrade, refused or not) is done
+            // when its head and body are in.
+            let text = String::from_utf8_lossy(&response).to_lowercase();
+            if let Some(end) = text.find("\r\n\r\n") {
+                let length = text
+                    .lines()
+                    .find_map(|l| l.strip_prefix("content-length: "))
+                    .and_then(|n| n.trim().parse::<usize>().ok())
+                    .unwrap_or(0);
+                if response.len() >= end + 4 + length {
+                    break;
+                }
+            }
+        }
+        let text = String::from_utf8_lossy(&response).into_owned();
+        let code = text.split(' ').nth(1).and_then(|c| c.parse().ok()).unwrap_or(0);
+        (code, text)
+    }
+
+    #[test]
+    fn the_server_wants_its_token_its_host_and_its_origin() {
+        let (port, token) = serve_fourbar();
+        let host = format!("Host: 127.0.0.1:{port}");
+        let with = |extra: &[&str]| {
+            let mut h = vec![host.clone()];
+            h.extend(extra.iter().map(|s| s.to_string()));
+            h
+        };
+        assert_eq!(get(port, "/", &with(&[])).0, 403, "no token");
+        assert_eq!(get(port, "/?token=0000", &with(&[])).0, 403, "a wrong token");
+        let (code, page) = get(port, &format!("/?token={token}"), &with(&[]));
+        assert_eq!(code, 200);
+        let cookie = format!("dofplan_token_{port}={token}");
+        assert!(page.contains(&format!("set-cookie: {cookie}")), "{page}");
+        assert!(page.contains("<svg id=\"canvas\""), "the embedded page");
+        let by_cookie = format!("Cookie: other=1; {cookie}");
+        assert_eq!(
+            get(port, "/app.js", &with(&[&by_cookie])).0,
+            200,
+            "the cookie lets the script in"
+        );
+        let evil = [format!("Host: evil.example:{port}")];
+        assert_eq!(
+            get(port, &format!("/?token={token}"), &evil).0,
+            403,
+            "DNS rebinding"
+        );
+        let upgrade = [
+            "Connection: Upgrade",
+            "Upgrade: websocket",
+            "Sec-WebSocket-Version: 13",
+            "Sec-WebSocket-Key: dGhlIHNhbXBsZSBub25jZQ==",
+        ];
+        let ws = format!("/ws?token={token}");
+        let mut foreign = with(&upgrade);
+        foreign.push("Origin: http://evil.example".into());
+        assert_eq!(get(port, &ws, &foreign).0, 403, "another site's WebSocket");
+        let mut none = with(&upgrade);
+        assert_eq!(get(port, &ws, &none).0, 403, "a WebSocket without Origin");
+        none.push(format!("Origin: http://127.0.0.1:{port}"));
+        assert_eq!(get(port, &ws, &none).0, 101, "the page's own WebSocket");
+    }
+
     #[test]
     fn tokens_compare_whole() {
         assert!(same("00ff", "00ff"));

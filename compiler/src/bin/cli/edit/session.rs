@@ -411,6 +411,62 @@ fn input_values(m: &Mechanism, poses: &[Pose], near: &[f64]) -> Vec<f64> {
 mod tests {
     use super::*;
 
+    fn fourbar() -> Session {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../mechanisms/fourbar.toml");
+        Session::new(Arc::new(Document::open(Some(&path)).expect("fourbar opens")))
+    }
+
+    fn reply(s: &mut Session, message: &str) -> Value {
+        match serde_json::from_str::<Request>(message) {
+            Ok(r) => s.handle(r),
+            Err(e) => error(0, &e.to_string()),
+        }
+    }
+
+    #[test]
+    fn bad_requests_get_errors_and_leave_the_pose_alone() {
+        let mut s = fourbar();
+        for bad in [
+            r#"{"type":"inputs","id":1,"values":[1,2]}"#,
+            r#"{"type":"inputs","id":2,"values":[1],"policy":"stretch"}"#,
+            r#"{"type":"grab","id":3,"body":"ground","at":[0,0]}"#,
+            r#"{"type":"grab","id":4,"body":"nobody","at":[0,0]}"#,
+            r#"{"type":"drag","id":5,"to":[1,1]}"#,
+            r#"{"type":"inputs","id":6,"values":[1e999]}"#,
+            r#"{"type":"inputs","id":7,"values":[1],"extra":true}"#,
+        ] {
+            assert_eq!(reply(&mut s, bad)["type"], "error", "{bad}");
+        }
+        assert!(s.poses.iter().all(|p| *p == Pose::IDENTITY));
+        let frame = reply(&mut s, r#"{"type":"inputs","id":8,"values":[90]}"#);
+        assert_eq!(
+            (frame["type"].as_str(), frame["status"].as_str()),
+            (Some("frame"), Some("solved"))
+        );
+    }
+
+    #[test]
+    fn a_slider_after_a_drag_continues_from_the_dragged_pose() {
+        let mut s = fourbar();
+        reply(&mut s, r#"{"type":"grab","id":1,"body":"coupler","at":[3,3.5]}"#);
+        let dragged = reply(&mut s, r#"{"type":"drag","id":2,"to":[2.9,3.6]}"#);
+        assert_eq!(dragged["type"], "frame", "{dragged}");
+        reply(&mut s, r#"{"type":"release","id":3}"#);
+        let theta = s.inputs[0];
+        assert!(theta.abs() > 0.1, "the drag turned the crank ({theta}°)");
+        // The same value again: the mechanism stays where the drag left it.
+        let held = s.poses.clone();
+        let again = reply(
+            &mut s,
+            &format!(r#"{{"type":"inputs","id":4,"values":[{theta}]}}"#),
+        );
+        assert_eq!(again["status"], "solved", "{again}");
+        for (a, b) in held.iter().zip(&s.poses) {
+            assert!((a.at[0] - b.at[0]).abs() < 1e-9 && (a.at[1] - b.at[1]).abs() < 1e-9);
+            assert!((a.rot.s - b.rot.s).abs() < 1e-9 && (a.rot.c - b.rot.c).abs() < 1e-9);
+        }
+    }
+
     #[test]
     fn composing_with_the_base_pose_keeps_world_points() {
         let base = Pose {
