@@ -330,6 +330,7 @@ function setFrame(frame, answered) {
   draw();
   showFrameStatus(frame);
   probe.frames++;
+  if (answered && answered.message.type === "grab") probe.grabMs = frame.server_ms;
   if (answered && answered.message.type === "drag") {
     const t0 = answered.t0;
     probe.domLatencies.push(performance.now() - t0);

@@ -36,11 +36,16 @@ function dofplan(...args) {
 
 /** Starts `dofplan edit FILE`; resolves with the URL it prints first. */
 function startEditor(file) {
-  const child = spawn(BIN, file ? ["edit", file] : ["edit"], { cwd: ROOT, stdio: ["ignore", "pipe", "inherit"] });
+  const child = spawn(BIN, file ? ["edit", file] : ["edit"], { cwd: ROOT, stdio: ["ignore", "pipe", "pipe"] });
+  // Its standard error is shown only if it stops before printing its URL.
+  let stderr = "";
+  child.stderr.on("data", (d) => (stderr += d));
   return new Promise((ok, fail) => {
     const lines = createInterface({ input: child.stdout });
     lines.once("line", (url) => ok({ child, url }));
-    child.once("exit", (code) => fail(new Error(`dofplan edit ${file} exited (${code}) before printing its URL`)));
+    child.once("exit", (code) =>
+      fail(new Error(`dofplan edit ${file} exited (${code}) before printing its URL:\n${stderr}`)),
+    );
   });
 }
 
@@ -102,12 +107,18 @@ async function dragLatency(page, selector, moves, radius) {
   }
   await page.mouse.up();
   await settled(page);
+  const grabMs = await page.evaluate(() => window.__dofplan.grabMs);
   const all = await page.evaluate(() => ({
     rendered: window.__dofplan.latencies,
     dom: window.__dofplan.domLatencies,
     server: window.__dofplan.serverMs,
   }));
-  return { rendered: all.rendered.slice(before), dom: all.dom.slice(before), server: all.server.slice(before) };
+  return {
+    rendered: all.rendered.slice(before),
+    dom: all.dom.slice(before),
+    server: all.server.slice(before),
+    grabMs,
+  };
 }
 
 function report(name, lat) {
@@ -116,7 +127,8 @@ function report(name, lat) {
     `     ${name}: ${lat.rendered.length} drag moves, pointer event → pose rendered (next animation frame): ` +
       `p50 ${f(percentile(lat.rendered, 50))} ms, p99 ${f(percentile(lat.rendered, 99))} ms; ` +
       `pointer event → DOM updated: p50 ${f(percentile(lat.dom, 50))} ms, p99 ${f(percentile(lat.dom, 99))} ms; ` +
-      `of which solving on the server: p50 ${f(percentile(lat.server, 50))} ms, p99 ${f(percentile(lat.server, 99))} ms`,
+      `of which solving on the server: p50 ${f(percentile(lat.server, 50))} ms, p99 ${f(percentile(lat.server, 99))} ms ` +
+      `(the grab that set the drag up: ${f(lat.grabMs)} ms)`,
   );
 }
 
