@@ -51,13 +51,25 @@ impl Line {
 /// mechanism's size: points within 1e-12 of it are one.
 pub(super) fn place_hinged(plan: &mut Plan3, size: f64) {
     let tol = 1e-12 * size.max(1.0);
-    let mut hinged: Vec<(BodyId, Line)> = Vec::new();
+    // Each body's hinge, if it is set outright.
+    let mut hinged: Vec<Option<Line>> = vec![None; plan.bodies.len()];
     let mut dropped = vec![false; plan.steps.len()];
+    // Each body's actions, and whether a cluster turns it (from last
+    // frame's pose, so it is not set outright): one walk over the steps.
+    let mut acts_of = vec![Vec::new(); plan.bodies.len()];
+    let mut clustered = vec![false; plan.bodies.len()];
+    for (i, s) in plan.steps.iter().enumerate() {
+        match &s.kind {
+            StepKind3::Act { body, .. } => acts_of[*body].push(i),
+            StepKind3::Cluster(c) => c.params.iter().for_each(|p| clustered[p.body()] = true),
+            _ => {}
+        }
+    }
     for b in 0..plan.bodies.len() {
-        if plan.fixed[b] {
+        if plan.fixed[b] || clustered[b] {
             continue;
         }
-        let Some((line, acts, turns)) = hinge_of(plan, b, tol) else {
+        let Some((line, acts, turns)) = hinge_of(plan, b, std::mem::take(&mut acts_of[b]), tol) else {
             continue;
         };
         let mut serves: Vec<String> = Vec::new();
@@ -85,9 +97,9 @@ pub(super) fn place_hinged(plan: &mut Plan3, size: f64) {
                 step.serves = std::mem::take(&mut serves);
             }
         }
-        hinged.push((b, line));
+        hinged[b] = Some(line);
     }
-    if hinged.is_empty() {
+    if hinged.iter().all(Option::is_none) {
         return;
     }
     // Step ids are 1-based, as explanations cite them.
@@ -114,19 +126,10 @@ pub(super) fn place_hinged(plan: &mut Plan3, size: f64) {
     }
 }
 
-/// Body `b`'s hinge, the indices of its actions (the two re-imposing the
-/// hinge first) and its turns rewritten, if `b` is hinged and only turned
-/// about its hinge after that.
-fn hinge_of(plan: &Plan3, b: BodyId, tol: f64) -> Option<(Line, Vec<usize>, Vec<Action3>)> {
-    let mut acts = Vec::new();
-    for (i, s) in plan.steps.iter().enumerate() {
-        match &s.kind {
-            StepKind3::Act { body, .. } if *body == b => acts.push(i),
-            // A cluster turns its bodies from last frame's pose.
-            StepKind3::Cluster(c) if c.params.iter().any(|p| p.body() == b) => return None,
-            _ => {}
-        }
-    }
+/// Body `b`'s hinge, the indices of its actions `acts` (the two
+/// re-imposing the hinge first) and its turns rewritten, if `b` is hinged
+/// and only turned about its hinge after that.
+fn hinge_of(plan: &Plan3, b: BodyId, acts: Vec<usize>, tol: f64) -> Option<(Line, Vec<usize>, Vec<Action3>)> {
     if acts.len() < 3 {
         return None;
     }
@@ -300,17 +303,17 @@ fn renumber(text: &str, new_id: &[usize]) -> String {
 /// Reads as constants what the hinged bodies keep fixed (their points on
 /// the line, their directions along it, the circles their points sweep
 /// about it) and every sphere's radius.
-fn read_constants(kind: &mut StepKind3, hinged: &[(BodyId, Line)], tol: f64) {
+fn read_constants(kind: &mut StepKind3, hinged: &[Option<Line>], tol: f64) {
     let fixed_point = |p: &mut P3| {
         if let P3::Body { body, local } = p {
-            if hinged.iter().any(|(b, l)| b == body && l.holds(*local, tol)) {
+            if hinged[*body].is_some_and(|l| l.holds(*local, tol)) {
                 *p = P3::Fixed(*local);
             }
         }
     };
     let fixed_dir = |d: &mut D3| {
         if let D3::Body { body, local } = d {
-            if hinged.iter().any(|(b, l)| b == body && l.along(*local)) {
+            if hinged[*body].is_some_and(|l| l.along(*local)) {
                 *d = D3::Fixed(*local);
             }
         }
@@ -328,9 +331,7 @@ fn read_constants(kind: &mut StepKind3, hinged: &[(BodyId, Line)], tol: f64) {
                     at,
                 } => {
                     if let P3::Body { body, local } = at {
-                        let swept = hinged
-                            .iter()
-                            .any(|(b, l)| b == body && l.holds(*c, tol) && l.along(*a));
+                        let swept = hinged[*body].is_some_and(|l| l.holds(*c, tol) && l.along(*a));
                         if swept {
                             *at = P3::Fixed(*local);
                         }
