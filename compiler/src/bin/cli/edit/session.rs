@@ -21,7 +21,7 @@ use dofplan::interp::Interpreter;
 use dofplan::model::{InputKind, Marker, MarkerId, Mechanism};
 use dofplan::numeric::drag::Drag;
 use dofplan::plan::Plan;
-use dofplan::simulate::{marker_positions, residuals};
+use dofplan::simulate::{marker_at, residuals};
 use dofplan_runtime::planar::{Point, Pose};
 use dofplan_runtime::{Break, BreakPolicy, Driver, FrameStatus, Options};
 
@@ -137,7 +137,7 @@ impl Session {
 
     /// The `frame` message of the pose on screen (the drawing, at first).
     pub fn current(&self, id: u64) -> Value {
-        self.frame(id, &FrameStatus::Solved, &|_| String::new())
+        self.frame(id, &FrameStatus::Solved, None)
     }
 
     /// Answers one request: a `frame` with the new pose, or an `error`.
@@ -188,9 +188,14 @@ impl Session {
             .zip(&a.offset)
             .map(|(v, o)| v + o)
             .collect();
-        let plan = a.driver.solver().plan().clone();
-        self.show(poses, Some(inputs))?;
-        Ok(self.frame(id, &status, &|step| plan.explain(step as usize)))
+        let explanation = step_of(&status).map(|step| a.driver.solver().plan().explain(step as usize));
+        if let Err(e) = self.show(poses, Some(inputs)) {
+            // The driver has moved on to the refused pose: plan again from
+            // the one on screen.
+            self.animation = None;
+            return Err(e);
+        }
+        Ok(self.frame(id, &status, explanation))
     }
 
     /// The plan of the mechanism redrawn at the pose on screen, and the
@@ -260,9 +265,9 @@ impl Session {
         let body = g.body.clone();
         let inputs = input_values(&self.doc.mechanism, &poses, &self.inputs);
         self.show(poses, Some(inputs))?;
-        Ok(self.frame(id, &status, &|_| {
-            format!("{body} is held at the closest approach to the pointer that its joints allow")
-        }))
+        let explanation = step_of(&status)
+            .map(|_| format!("{body} is held at the closest approach to the pointer that its joints allow"));
+        Ok(self.frame(id, &status, explanation))
     }
 
     /// Makes `poses` the pose on screen, unless a joint is open there.
@@ -290,20 +295,18 @@ impl Session {
 
     /// The `frame` message: every marker's world position (file order),
     /// every body's pose, the slider values, and the status with the
-    /// breaking step's explanation.
-    fn frame(&self, id: u64, status: &FrameStatus, explain: &dyn Fn(u32) -> String) -> Value {
+    /// breaking step's `explanation`.
+    fn frame(&self, id: u64, status: &FrameStatus, explanation: Option<String>) -> Value {
         let m = &self.doc.mechanism;
-        let markers: Vec<Point> = marker_positions(m, &self.poses)
-            .into_iter()
-            .map(|(_, p)| p)
-            .collect();
+        // In file order, as the document lists them (names are not resent).
+        let markers: Vec<Point> = m.all_markers().map(|id| marker_at(m, &self.poses, id)).collect();
         let poses: Vec<[f64; 4]> = (self.poses.iter())
             .map(|p| [p.rot.c, p.rot.s, p.at[0], p.at[1]])
             .collect();
         let brk = |b: &Break| {
             json!({
                 "step": b.step,
-                "explanation": explain(b.step),
+                "explanation": explanation,
                 "reason": b.kind.describe(),
                 "gap": b.gap,
             })
@@ -318,7 +321,7 @@ impl Session {
             }
             FrameStatus::Stretched { step, residual } => json!({
                 "step": step,
-                "explanation": explain(*step),
+                "explanation": explanation,
                 "reason": "out of reach",
                 "residual": residual,
             }),
@@ -332,6 +335,15 @@ impl Session {
             "status": status.name(),
             "detail": detail,
         })
+    }
+}
+
+/// The step a frame broke or stretched at, if it did.
+fn step_of(status: &FrameStatus) -> Option<u32> {
+    match status {
+        FrameStatus::Solved => None,
+        FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. } => Some(brk.step),
+        FrameStatus::Stretched { step, .. } => Some(*step),
     }
 }
 
