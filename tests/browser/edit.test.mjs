@@ -94,7 +94,7 @@ const percentile = (xs, p) => {
 /** Drags from the centre of `selector` with real mouse events: `moves`
  * moves on a circle, each waited for until its pose is on screen. Returns
  * the round trips measured in the page. */
-async function dragLatency(page, selector, moves, radius) {
+async function dragLatency(page, selector, moves, radius, eachFrame = null) {
   const box = await page.locator(selector).boundingBox();
   const [cx, cy] = [box.x + box.width / 2, box.y + box.height / 2];
   await page.mouse.move(cx, cy);
@@ -104,6 +104,7 @@ async function dragLatency(page, selector, moves, radius) {
     const t = (2 * Math.PI * i) / 60;
     await page.mouse.move(cx + radius * Math.sin(t), cy - radius * (1 - Math.cos(t)));
     await page.waitForFunction((n) => window.__dofplan.latencies.length >= n, before + i);
+    if (eachFrame) await eachFrame(i);
   }
   await page.mouse.up();
   await settled(page);
@@ -263,7 +264,18 @@ async function fourbar(browser) {
     const last = replies[replies.length - 1];
     check(last[0] === "frame" && last[1] === 8 && last[2] === "solved", `and the connection still solves (${last})`);
 
-    const lat = await dragLatency(page, '[data-marker="coupler.P"]', MOVES, 40);
+    // The assembly mode is the side of the line B→D that C is on: a smooth
+    // drag never flips it.
+    const side = (at) => {
+      const [b, c, d] = [at["crank.B"], at["coupler.C"], at["ground.D"]];
+      return Math.sign((d[0] - b[0]) * (c[1] - b[1]) - (d[1] - b[1]) * (c[0] - b[0]));
+    };
+    const mode = side(await markers(page));
+    let flips = 0;
+    const lat = await dragLatency(page, '[data-marker="coupler.P"]', MOVES, 40, async () => {
+      if (side(await markers(page)) !== mode) flips++;
+    });
+    check(flips === 0, `no branch flip over ${MOVES} drag moves (${flips} frames on the other side of B→D)`);
     w = await worstJoint(page, doc.joints);
     check(w.gap < CLOSED, `every joint closed after ${MOVES} drag moves (worst ${w.name}: ${w.gap.toExponential(2)})`);
     report("fourbar", lat);
