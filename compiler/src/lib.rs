@@ -20,6 +20,7 @@
 pub mod analysis;
 pub mod assemble;
 pub mod build;
+pub mod edit;
 pub mod emit;
 pub mod interp;
 pub mod model;

@@ -1,0 +1,183 @@
+//! Editing a planar mechanism file the way MechEdit's user does — adding
+//! bodies and markers, joining markers, toggling a joint between revolute
+//! and prismatic, marking inputs, deleting — with every edit checked and
+//! undoable, and the file's comments and key order kept.
+//!
+//! An [`Editor`] holds the file's text as a `toml_edit` document. Each
+//! [`Edit`] changes the document, and the result is loaded exactly as
+//! `dofplan check` loads a file: an edit that would make the file invalid
+//! (a joint whose markers do not coincide, a name used twice, …) is refused
+//! with the message `check` would print, and the document is left as it
+//! was. Edits that remove more than they name (deleting a body deletes its
+//! joints, the inputs on them, the sweep that drove them and the traces of
+//! its markers) say so in their summary: nothing is dropped silently.
+//!
+//! Constraints are added in a solved state (MechEdit §5.1): after a drag
+//! the caller redraws the file at the pose on screen ([`Editor::redraw`]),
+//! so the next edit starts from what the user sees.
+
+mod names;
+mod ops;
+pub mod save;
+
+use dofplan_runtime::planar::Pose;
+use toml_edit::DocumentMut;
+
+use crate::model::{load_str, Format, Mechanism};
+
+pub use ops::Edit;
+
+/// The ground alone, with one marker at the origin to build on: a new
+/// document.
+pub const EMPTY: &str = "name = \"untitled\"\n\n[bodies.ground]\nfixed = true\nmarkers = { O = [0, 0] }\n";
+
+/// How many edits [`Editor::undo`] can take back.
+const HISTORY: usize = 1000;
+
+/// A mechanism file being edited.
+#[derive(Clone, Debug)]
+pub struct Editor {
+    /// The name diagnostics give the file.
+    file_name: String,
+    doc: DocumentMut,
+    mechanism: Mechanism,
+    /// Earlier texts, the last one the most recent.
+    undo: Vec<String>,
+    /// Texts undone, the last one the next to redo.
+    redo: Vec<String>,
+}
+
+/// Why an edit was not made. The document is as it was.
+#[derive(Clone, Debug, PartialEq)]
+pub enum EditError {
+    /// The edit names something that is not there, or asks for something
+    /// no file can say (deleting the only fixed body, …).
+    Refused(String),
+    /// The edited file would not load: `dofplan check`'s message.
+    Invalid(String),
+}
+
+impl std::fmt::Display for EditError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            EditError::Refused(why) | EditError::Invalid(why) => f.write_str(why),
+        }
+    }
+}
+
+impl std::error::Error for EditError {}
+
+impl Editor {
+    /// Opens `text`, a planar TOML mechanism file called `file_name` in
+    /// diagnostics. The error is `dofplan check`'s message.
+    pub fn new(file_name: &str, text: &str) -> Result<Editor, EditError> {
+        let doc: DocumentMut = text
+            .parse()
+            .map_err(|_| EditError::Invalid(invalid(file_name, text)))?;
+        let mechanism =
+            load_str(file_name, text, Format::Toml).map_err(|e| EditError::Invalid(e.render(false)))?;
+        Ok(Editor {
+            file_name: file_name.to_string(),
+            doc,
+            mechanism,
+            undo: Vec::new(),
+            redo: Vec::new(),
+        })
+    }
+
+    /// A new document: the ground alone ([`EMPTY`]).
+    pub fn empty(file_name: &str) -> Editor {
+        Editor::new(file_name, EMPTY).expect("the empty document is valid")
+    }
+
+    /// The mechanism as the file now draws it.
+    pub fn mechanism(&self) -> &Mechanism {
+        &self.mechanism
+    }
+
+    /// The file's text, comments and key order as they were read.
+    pub fn text(&self) -> String {
+        self.doc.to_string()
+    }
+
+    /// Makes `edit`, or refuses it and changes nothing. The summary says
+    /// what changed, including what the edit removed besides what it names.
+    pub fn apply(&mut self, edit: &Edit) -> Result<String, EditError> {
+        let mut doc = self.doc.clone();
+        let summary = ops::apply(&mut doc, &self.mechanism, edit)?;
+        self.commit(doc)?;
+        Ok(summary)
+    }
+
+    /// Redraws the file at `poses` (one per body, in file order): every
+    /// marker, and its direction, where the body's pose puts it, so the
+    /// pose on screen becomes the drawn pose. Inputs then start from 0 at
+    /// this pose. One undoable edit.
+    pub fn redraw(&mut self, poses: &[Pose]) -> Result<String, EditError> {
+        let mut doc = self.doc.clone();
+        let summary = ops::redraw(&mut doc, &self.mechanism, poses)?;
+        self.commit(doc)?;
+        Ok(summary)
+    }
+
+    /// Takes the last edit back; false when there is none.
+    pub fn undo(&mut self) -> bool {
+        self.travel(true)
+    }
+
+    /// Makes the last undone edit again; false when there is none.
+    pub fn redo(&mut self) -> bool {
+        self.travel(false)
+    }
+
+    /// Whether [`Editor::undo`] and [`Editor::redo`] have something to do.
+    pub fn can(&self) -> (bool, bool) {
+        (!self.undo.is_empty(), !self.redo.is_empty())
+    }
+
+    /// Loads `doc` as `check` would and makes it the document, the old one
+    /// kept for undo.
+    fn commit(&mut self, doc: DocumentMut) -> Result<(), EditError> {
+        let text = doc.to_string();
+        let mechanism = load_str(&self.file_name, &text, Format::Toml)
+            .map_err(|e| EditError::Invalid(e.render(false)))?;
+        let old = std::mem::replace(&mut self.doc, doc).to_string();
+        self.mechanism = mechanism;
+        self.undo.push(old);
+        if self.undo.len() > HISTORY {
+            self.undo.remove(0);
+        }
+        self.redo.clear();
+        Ok(())
+    }
+
+    fn travel(&mut self, back: bool) -> bool {
+        let (from, to) = if back {
+            (&mut self.undo, &mut self.redo)
+        } else {
+            (&mut self.redo, &mut self.undo)
+        };
+        let Some(text) = from.pop() else {
+            return false;
+        };
+        // Every text on either stack loaded when it was current.
+        let doc: DocumentMut = text.parse().expect("a text that loaded before parses");
+        let mechanism =
+            load_str(&self.file_name, &text, Format::Toml).expect("a text that loaded before loads");
+        to.push(self.doc.to_string());
+        self.doc = doc;
+        self.mechanism = mechanism;
+        true
+    }
+}
+
+/// The loader's message for a text that is not TOML.
+fn invalid(file_name: &str, text: &str) -> String {
+    match load_str(file_name, text, Format::Toml) {
+        Err(e) => e.render(false),
+        Ok(_) => format!("{file_name}: error: the file cannot be edited as TOML"),
+    }
+}
+
+#[cfg(test)]
+mod tests;
