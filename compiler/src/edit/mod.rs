@@ -120,6 +120,38 @@ impl Editor {
         Ok(summary)
     }
 
+    /// Makes `edits` in order as one undoable edit, after redrawing the
+    /// file at `poses` when given (the pose on screen, as
+    /// [`Editor::redraw`]): what the user did to what they saw is taken
+    /// back by one undo. Each edit sees the file the previous one left, and
+    /// every step must load as `check` loads a file; if one is refused,
+    /// nothing changes. The summaries, one per edit (and the redraw's
+    /// first).
+    pub fn apply_at(&mut self, poses: Option<&[Pose]>, edits: &[Edit]) -> Result<Vec<String>, EditError> {
+        let mut doc = self.doc.clone();
+        let mut mechanism = self.mechanism.clone();
+        let mut summaries = Vec::with_capacity(edits.len() + 1);
+        if let Some(poses) = poses {
+            summaries.push(ops::redraw(&mut doc, &mechanism, poses)?);
+            mechanism = self.load(&doc)?;
+        }
+        for edit in edits {
+            summaries.push(ops::apply(&mut doc, &mechanism, edit)?);
+            mechanism = self.load(&doc)?;
+        }
+        self.commit(doc)?;
+        Ok(summaries)
+    }
+
+    /// Calls the file `file_name` in diagnostics from now on (after it is
+    /// saved under a new name); the history is kept.
+    pub fn set_file_name(&mut self, file_name: &str) {
+        self.file_name = file_name.to_string();
+        if let Ok(m) = load_str(file_name, &self.doc.to_string(), Format::Toml) {
+            self.mechanism = m;
+        }
+    }
+
     /// Takes the last edit back; false when there is none.
     pub fn undo(&mut self) -> bool {
         self.travel(true)
@@ -149,6 +181,12 @@ impl Editor {
         }
         self.redo.clear();
         Ok(())
+    }
+
+    /// `doc` loaded as `check` would load it.
+    fn load(&self, doc: &DocumentMut) -> Result<Mechanism, EditError> {
+        load_str(&self.file_name, &doc.to_string(), Format::Toml)
+            .map_err(|e| EditError::Invalid(e.render(false)))
     }
 
     fn travel(&mut self, back: bool) -> bool {

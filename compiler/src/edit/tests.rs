@@ -225,3 +225,69 @@ fn redrawing_at_a_solved_pose_makes_it_the_drawn_one() {
     // edit starts from the pose that was on screen.
     assert!(e.can().0);
 }
+
+#[test]
+fn edits_made_together_at_a_pose_are_one_undo_and_all_or_nothing() {
+    let mut e = Editor::empty("new.toml");
+    edit(&mut e, r#"{"op": "add_marker", "body": "ground", "at": [4, 0]}"#).unwrap();
+    let before = e.text();
+    let ops: Vec<Edit> = serde_json::from_str(
+        r#"[{"op": "add_body", "name": "crank", "markers": [[0, 0], [1, 1]]},
+            {"op": "join", "a": "ground.O", "b": "crank.A"}]"#,
+    )
+    .unwrap();
+    let summaries = e.apply_at(None, &ops).unwrap();
+    assert_eq!(summaries.len(), 2, "{summaries:?}");
+    assert_eq!(e.mechanism().joints.len(), 1);
+    assert!(e.undo());
+    assert_eq!(e.text(), before, "one undo takes both back");
+    // The second edit fails (no such marker): the first is not made either.
+    let bad: Vec<Edit> = serde_json::from_str(
+        r#"[{"op": "add_body", "markers": [[0, 0], [1, 1]]},
+            {"op": "join", "a": "ground.O", "b": "link1.Z"}]"#,
+    )
+    .unwrap();
+    assert!(e.apply_at(None, &bad).is_err());
+    assert_eq!(e.text(), before);
+    assert_eq!(e.can(), (true, true), "the refused edits left the history alone");
+}
+
+#[test]
+fn an_edit_at_the_pose_on_screen_redraws_first() {
+    let mut e = Editor::new("fourbar.toml", FOURBAR).unwrap();
+    let m = e.mechanism().clone();
+    let plan = analyse(&m).plan.unwrap();
+    let mut d = Driver::new(Interpreter::new(plan), Options::default());
+    assert_eq!(d.frame(&[30.0]), FrameStatus::Solved);
+    let poses = d.poses().to_vec();
+    let add: Vec<Edit> =
+        serde_json::from_str(r#"[{"op": "add_marker", "body": "crank", "at": [0, 0]}]"#).unwrap();
+    let summaries = e.apply_at(Some(&poses), &add).unwrap();
+    assert_eq!(summaries.len(), 2, "the redraw's summary, then the edit's");
+    let b = at(&e, "crank.B");
+    let angle = 75f64.to_radians();
+    assert!(
+        (b[0] - 2f64.sqrt() * angle.cos()).abs() < 1e-12,
+        "drawn at 30° ({b:?})"
+    );
+    assert!(
+        e.undo() && !e.can().0,
+        "one undo takes back the redraw and the edit"
+    );
+    assert_eq!(e.text(), FOURBAR);
+}
+
+#[test]
+fn a_renamed_file_is_named_so_in_diagnostics() {
+    let mut e = Editor::empty("untitled.toml");
+    e.set_file_name("linkage.toml");
+    edit(&mut e, r#"{"op": "add_body", "markers": [[1, 0], [2, 0]]}"#).unwrap();
+    // Not snapped: ground.O and link1.A are a unit apart, which check
+    // refuses, naming the file.
+    let err = edit(&mut e, r#"{"op": "join", "a": "ground.O", "b": "link1.A"}"#).unwrap_err();
+    assert!(matches!(err, EditError::Invalid(_)), "{err:?}");
+    assert!(
+        err.to_string().contains("linkage.toml") && !err.to_string().contains("untitled"),
+        "{err}"
+    );
+}
