@@ -11,6 +11,7 @@
 //! limit fits all.
 
 pub mod drag;
+pub mod input_drag;
 pub mod spatial;
 
 use dofplan_runtime::numeric::cluster::{self, Param};

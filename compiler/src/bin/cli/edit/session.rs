@@ -20,6 +20,7 @@ use dofplan::analysis::analyse;
 use dofplan::interp::Interpreter;
 use dofplan::model::{InputKind, Marker, MarkerId, Mechanism};
 use dofplan::numeric::drag::Drag;
+use dofplan::numeric::input_drag::drag_inputs;
 use dofplan::plan::Plan;
 use dofplan::simulate::{marker_at, residuals};
 use dofplan_runtime::planar::{Point, Pose};
@@ -97,10 +98,29 @@ struct Animation {
 
 /// A grabbed point being dragged.
 struct Grab {
-    driver: Driver<Drag>,
-    base: Vec<Pose>,
+    how: Dragging,
     /// "coupler" — what the status names.
     body: String,
+}
+
+/// How a grabbed point is dragged.
+enum Dragging {
+    /// Through the plan: every freedom is driven by an input, so the
+    /// inputs move (in the session's animation) until the point is as
+    /// close to the pointer as the mechanism reaches
+    /// ([`drag_inputs`]): a few runs of the plan a move.
+    Inputs {
+        /// The grabbed body's index.
+        body: usize,
+        /// The grabbed point, in the animation's drawing.
+        local: Point,
+    },
+    /// A freedom no input drives (or no plan): every body's pose is
+    /// unknown to a task-priority Newton solve pinning the point.
+    Free {
+        driver: Box<Driver<Drag>>,
+        base: Vec<Pose>,
+    },
 }
 
 /// One connection's state.
@@ -229,6 +249,17 @@ impl Session {
         if m.bodies[b].fixed {
             return Err(format!("body {body} is fixed: grab a moving body"));
         }
+        // A plan from the pose on screen moves every body from the
+        // inputs: drag through it (and the sliders continue from where the
+        // drag leaves them, in the same animation).
+        if let Ok(animation) = self.replan(BreakPolicy::Limit) {
+            self.animation = Some(animation);
+            self.grab = Some(Grab {
+                how: Dragging::Inputs { body: b, local: at },
+                body: body.to_string(),
+            });
+            return Ok(self.current(id));
+        }
         let mut r = redrawn(m, &self.poses);
         r.bodies[b].markers.push(Marker {
             name: GRABBED.into(),
@@ -244,8 +275,10 @@ impl Session {
         // approach with every joint exact (the drag is relaxed, never the
         // mechanism), so a one-DOF linkage follows its own curve.
         self.grab = Some(Grab {
-            driver: Driver::new(drag, options(BreakPolicy::Stretch)),
-            base: self.poses.clone(),
+            how: Dragging::Free {
+                driver: Box::new(Driver::new(drag, options(BreakPolicy::Stretch))),
+                base: self.poses.clone(),
+            },
             body: body.to_string(),
         });
         // Animating after the drag plans from where the drag left it.
@@ -260,13 +293,58 @@ impl Session {
         let Some(g) = self.grab.as_mut() else {
             return Err("nothing is grabbed: send `grab` first".into());
         };
-        let status = g.driver.frame(&to);
-        let poses = compose(g.driver.poses(), &g.base);
-        let body = g.body.clone();
-        let inputs = input_values(&self.doc.mechanism, &poses, &self.inputs);
-        self.show(poses, Some(inputs))?;
-        let explanation = step_of(&status)
-            .map(|_| format!("{body} is held at the closest approach to the pointer that its joints allow"));
+        let m = &self.doc.mechanism;
+        let held = || {
+            format!(
+                "{} is held at the closest approach to the pointer that its joints allow",
+                g.body
+            )
+        };
+        let (status, poses, inputs, explanation) = match &mut g.how {
+            Dragging::Inputs { body, local } => {
+                let a = self
+                    .animation
+                    .as_mut()
+                    .ok_or("the drag lost its plan: grab again")?;
+                let kinds: Vec<InputKind> = m.inputs.iter().map(|i| i.kind).collect();
+                let report = drag_inputs(&mut a.driver, *body, *local, to, &kinds, m.size());
+                let poses = compose(a.driver.poses(), &a.base);
+                let inputs: Vec<f64> = (a.driver.inputs().iter())
+                    .zip(&a.offset)
+                    .map(|(v, o)| v + o)
+                    .collect();
+                // Within a thousandth of the size counts as reached (the
+                // pointer's own precision is coarser).
+                let (status, explanation) = match report.status {
+                    FrameStatus::Limited { brk } => {
+                        let text = a.driver.solver().plan().explain(brk.step as usize);
+                        (FrameStatus::Limited { brk }, Some(text))
+                    }
+                    _ if report.distance > 1e-3 * m.size() => (
+                        FrameStatus::Stretched {
+                            step: 0,
+                            residual: report.distance,
+                        },
+                        Some(held()),
+                    ),
+                    status => (status, None),
+                };
+                (status, poses, inputs, explanation)
+            }
+            Dragging::Free { driver, base } => {
+                let status = driver.frame(&to);
+                let poses = compose(driver.poses(), base);
+                let inputs = input_values(m, &poses, &self.inputs);
+                let explanation = step_of(&status).map(|_| held());
+                (status, poses, inputs, explanation)
+            }
+        };
+        if let Err(e) = self.show(poses, Some(inputs)) {
+            // The animation has moved on to the refused pose: plan again
+            // from the one on screen.
+            self.animation = None;
+            return Err(e);
+        }
         Ok(self.frame(id, &status, explanation))
     }
 
