@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 use serde_json::{json, Value};
 
 use dofplan::analysis::analyse;
+use dofplan::edit::EMPTY;
 use dofplan::emit::emit;
 use dofplan::interp::Interpreter;
 use dofplan::model::{load_any, load_str, Format, InputKind, JointKind, Mechanism, Model};
@@ -16,8 +17,8 @@ use dofplan_runtime::{BreakPolicy, Driver, Options};
 
 use crate::progress;
 
-/// A new document: the ground alone, one marker at the origin to build on.
-const EMPTY: &str = "name = \"untitled\"\n\n[bodies.ground]\nfixed = true\nmarkers = { O = [0, 0] }\n";
+/// What a new document is called until it is saved.
+pub const UNTITLED: &str = "untitled.toml";
 
 /// A mechanism open in the editor.
 pub struct Document {
@@ -37,7 +38,7 @@ impl Document {
     /// print: the file's diagnostics, as `dofplan check` prints them.
     pub fn open(path: Option<&Path>) -> Result<Document, String> {
         let mechanism = match path {
-            None => load_str("untitled.toml", EMPTY, Format::Toml).map_err(|e| e.render(false))?,
+            None => load_str(UNTITLED, EMPTY, Format::Toml).map_err(|e| e.render(false))?,
             Some(path) => match load_any(path) {
                 Ok(Model::Planar(m)) => m,
                 Ok(Model::Spatial(_)) => {
@@ -50,6 +51,12 @@ impl Document {
                 Err(e) => return Err(e.render(crate::colour())),
             },
         };
+        Ok(Document::new(path, mechanism))
+    }
+
+    /// The document of `mechanism`, read from (or to be saved to) `path`:
+    /// its plan and panels computed from it.
+    pub fn new(path: Option<&Path>, mechanism: Mechanism) -> Document {
         let plan = if mechanism.inputs.is_empty() {
             Err("the mechanism has no inputs, so there is no plan to run: drag a body to move it".to_string())
         } else {
@@ -62,7 +69,7 @@ impl Document {
             description: Value::Null,
         };
         doc.description = doc.describe();
-        Ok(doc)
+        doc
     }
 
     /// The file's name as the reports write it.

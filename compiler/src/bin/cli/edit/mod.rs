@@ -9,13 +9,14 @@
 //! WebSocket's Origin must be the page's.
 
 mod document;
+mod editing;
 mod session;
 
 use std::io::{self, Read, Write};
 use std::net::{Ipv4Addr, SocketAddr};
 use std::path::Path;
 use std::process::ExitCode;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex, MutexGuard};
 
 use axum::extract::ws::{Message, WebSocket, WebSocketUpgrade};
 use axum::extract::{Request, State};
@@ -28,6 +29,7 @@ use futures_util::FutureExt;
 use serde_json::Value;
 
 use document::Document;
+use editing::Workspace;
 use session::Session;
 
 /// The page and its script and style, embedded at compile time.
@@ -43,21 +45,42 @@ const MAX_BATCH: usize = 256;
 
 /// What every request handler shares.
 struct Server {
-    doc: Arc<Document>,
+    /// The document every page shows and edits.
+    workspace: Mutex<Workspace>,
     token: String,
     port: u16,
+}
+
+impl Server {
+    /// The workspace, even if a page's handler panicked holding it (each
+    /// change to it is made whole or not at all).
+    fn workspace(&self) -> MutexGuard<'_, Workspace> {
+        self.workspace
+            .lock()
+            .unwrap_or_else(|poisoned| poisoned.into_inner())
+    }
 }
 
 /// Runs `dofplan edit`: prints the page's address as the first line of
 /// `out`, then serves until the process is stopped.
 pub fn run(file: Option<&Path>, port: Option<u16>, open: bool, out: &mut dyn Write) -> io::Result<ExitCode> {
-    let doc = match Document::open(file) {
-        Ok(doc) => Arc::new(doc),
+    // Files are opened and saved by name in the directory the server is
+    // started in, nothing outside it.
+    let dir = match std::env::current_dir() {
+        Ok(d) => d,
+        Err(e) => {
+            crate::report(&format!("error: cannot read the current directory: {e}"));
+            return Ok(ExitCode::FAILURE);
+        }
+    };
+    let workspace = match Workspace::open(file, dir) {
+        Ok(w) => w,
         Err(text) => {
             crate::report(&text);
             return Ok(ExitCode::FAILURE);
         }
     };
+    let doc = workspace.doc();
     let token = match token() {
         Ok(t) => t,
         Err(e) => {
@@ -92,7 +115,11 @@ pub fn run(file: Option<&Path>, port: Option<u16>, open: bool, out: &mut dyn Wri
     if open {
         open_browser(&url);
     }
-    let server = Arc::new(Server { doc, token, port });
+    let server = Arc::new(Server {
+        workspace: Mutex::new(workspace),
+        token,
+        port,
+    });
     let runtime = match tokio::runtime::Builder::new_multi_thread()
         .worker_threads(2)
         .enable_all()
@@ -255,19 +282,31 @@ async fn index(State(s): State<Arc<Server>>) -> Response {
 }
 
 async fn socket(State(s): State<Arc<Server>>, upgrade: WebSocketUpgrade) -> Response {
-    let doc = s.doc.clone();
     upgrade
         .max_message_size(MAX_MESSAGE)
         .max_frame_size(MAX_MESSAGE)
-        .on_upgrade(move |socket| live(socket, doc))
+        .on_upgrade(move |socket| live(socket, s))
+}
+
+/// Messages of the page, read: a run of requests for the session (the
+/// pose on screen), or a change of the document.
+enum Run {
+    Live(Vec<Result<session::Request, Value>>),
+    Editing(Result<editing::Request, Value>),
 }
 
 /// The live loop of one page: the document and the drawn pose first, then
 /// one reply per request, in order. Requests that queued up while a frame
-/// was being solved are coalesced first.
-async fn live(mut socket: WebSocket, doc: Arc<Document>) {
+/// was being solved are coalesced first. A change of the document (an
+/// edit, undo, save, open) is answered with the new document and its
+/// drawn pose.
+async fn live(mut socket: WebSocket, server: Arc<Server>) {
+    let (mut doc, greeting) = {
+        let w = server.workspace();
+        (w.doc(), w.describe())
+    };
     let mut session = Session::new(doc.clone());
-    for greeting in [doc.description.clone(), session.current(0)] {
+    for greeting in [greeting, session.current(0)] {
         if send(&mut socket, &greeting).await.is_err() {
             return;
         }
@@ -286,47 +325,118 @@ async fn live(mut socket: WebSocket, doc: Arc<Document>) {
                 None => break,
             }
         }
-        let mut requests = Vec::with_capacity(batch.len());
+        // Runs of session requests are coalesced; a change of the document
+        // is made where it came, between them.
+        let mut runs: Vec<Run> = Vec::new();
         for message in batch {
-            match message {
-                Message::Text(text) => requests.push(
-                    serde_json::from_str::<session::Request>(text.as_str())
-                        .map_err(|e| session::error(0, &format!("bad message: {e}"))),
-                ),
-                Message::Binary(_) => {
-                    requests.push(Err(session::error(0, "bad message: expected JSON text")))
+            let live = match message {
+                Message::Text(text) if editing::is_editing(text.as_str()) => {
+                    runs.push(Run::Editing(
+                        serde_json::from_str::<editing::Request>(text.as_str())
+                            .map_err(|e| session::error(0, &format!("bad message: {e}"))),
+                    ));
+                    continue;
                 }
+                Message::Text(text) => serde_json::from_str::<session::Request>(text.as_str())
+                    .map_err(|e| session::error(0, &format!("bad message: {e}"))),
+                Message::Binary(_) => Err(session::error(0, "bad message: expected JSON text")),
                 Message::Close(_) => return,
-                Message::Ping(_) | Message::Pong(_) => {}
-            }
-        }
-        for request in coalesce(requests) {
-            let started = std::time::Instant::now();
-            let mut reply = match request {
-                Ok(request) => {
-                    // Solving is CPU work: let the runtime move other tasks
-                    // off this thread meanwhile.
-                    let solved = tokio::task::block_in_place(|| {
-                        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| session.handle(request)))
-                    });
-                    solved.unwrap_or_else(|_| {
-                        // A bug, not the user's input: start the page over
-                        // from the drawing rather than lose the server.
-                        session = Session::new(doc.clone());
-                        session::error(
-                            0,
-                            "internal error while solving: the pose was reset to the drawing",
-                        )
-                    })
-                }
-                Err(reply) => reply,
+                Message::Ping(_) | Message::Pong(_) => continue,
             };
-            // How long the server took, for the page's latency figures.
-            reply["server_ms"] = serde_json::json!(started.elapsed().as_secs_f64() * 1e3);
-            if send(&mut socket, &reply).await.is_err() {
-                return;
+            match runs.last_mut() {
+                Some(Run::Live(run)) => run.push(live),
+                _ => runs.push(Run::Live(vec![live])),
             }
         }
+        for run in runs {
+            let replies = match run {
+                Run::Editing(Err(reply)) => vec![reply],
+                Run::Editing(Ok(request)) => {
+                    let started = std::time::Instant::now();
+                    let mut replies =
+                        tokio::task::block_in_place(|| change(&server, &mut doc, &mut session, request));
+                    for r in &mut replies {
+                        r["server_ms"] = serde_json::json!(started.elapsed().as_secs_f64() * 1e3);
+                    }
+                    replies
+                }
+                Run::Live(requests) => coalesce(requests)
+                    .into_iter()
+                    .map(|request| solve(&mut session, &doc, request))
+                    .collect(),
+            };
+            for reply in replies {
+                if send(&mut socket, &reply).await.is_err() {
+                    return;
+                }
+            }
+        }
+    }
+}
+
+/// The reply to one session request: a frame, or an error.
+fn solve(session: &mut Session, doc: &Arc<Document>, request: Result<session::Request, Value>) -> Value {
+    let started = std::time::Instant::now();
+    let mut reply = match request {
+        Ok(request) => {
+            // Solving is CPU work: let the runtime move other tasks off
+            // this thread meanwhile.
+            let solved = tokio::task::block_in_place(|| {
+                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| session.handle(request)))
+            });
+            solved.unwrap_or_else(|_| {
+                // A bug, not the user's input: start the page over from
+                // the drawing rather than lose the server.
+                *session = Session::new(doc.clone());
+                session::error(
+                    0,
+                    "internal error while solving: the pose was reset to the drawing",
+                )
+            })
+        }
+        Err(reply) => reply,
+    };
+    // How long the server took, for the page's latency figures.
+    reply["server_ms"] = serde_json::json!(started.elapsed().as_secs_f64() * 1e3);
+    reply
+}
+
+/// Makes the change `request` asks for at the pose on screen, and the
+/// replies: the new document and its drawn pose (the frame answering the
+/// request, with what changed in `edited`), or an error, nothing changed.
+/// The page's document `doc` and `session` start over from the new one.
+fn change(
+    server: &Server,
+    doc: &mut Arc<Document>,
+    session: &mut Session,
+    request: editing::Request,
+) -> Vec<Value> {
+    let id = request.id();
+    let mut w = server.workspace();
+    if !Arc::ptr_eq(doc, &w.doc()) {
+        // Another page changed the document: this one's pose is of an
+        // older drawing, and an edit made at it would be of a file no
+        // longer there.
+        return vec![session::error(
+            id,
+            "the document was changed in another page: reload this one to edit it",
+        )];
+    }
+    let poses = editing::poses_of(&session.current(0));
+    let changed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| w.handle(request, &poses)));
+    match changed {
+        Ok(Ok(summary)) => {
+            *doc = w.doc();
+            *session = Session::new(doc.clone());
+            let mut frame = session.current(id);
+            frame["edited"] = Value::String(summary);
+            vec![w.describe(), frame]
+        }
+        Ok(Err(message)) => vec![session::error(id, &message)],
+        Err(_) => vec![session::error(
+            id,
+            "internal error while editing: the document was left as it was",
+        )],
     }
 }
 
@@ -409,13 +519,13 @@ mod tests {
     /// the token.
     fn serve_fourbar() -> (u16, String) {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../mechanisms/fourbar.toml");
-        let doc = Arc::new(Document::open(Some(&path)).expect("fourbar opens"));
+        let workspace = Workspace::open(Some(&path), std::env::temp_dir()).expect("fourbar opens");
         let listener = std::net::TcpListener::bind("127.0.0.1:0").unwrap();
         listener.set_nonblocking(true).unwrap();
         let port = listener.local_addr().unwrap().port();
         let token = "0123456789abcdef".repeat(2);
         let server = Arc::new(Server {
-            doc,
+            workspace: Mutex::new(workspace),
             token: token.clone(),
             port,
         });
