@@ -1175,12 +1175,15 @@ fn output(
     };
     writer.begin(out)?;
     let mut kept = Vec::new();
+    let mut bar = progress::FrameBar::new(frames.size_hint().1);
     for (i, f) in frames.enumerate() {
         writer.frame(out, i, &f)?;
         if svg.is_some() {
             kept.push(f);
         }
+        bar.tick(i + 1);
     }
+    drop(bar);
     writer.end(out)?;
     if let Some(path) = svg {
         let options = SvgOptions {

@@ -267,7 +267,9 @@ fn frames(
             json!(m.name)
         )?;
     }
+    let mut bar = crate::progress::FrameBar::new(Some(total));
     for (i, requested) in requests.enumerate() {
+        bar.tick(i);
         let status = driver.frame(&requested);
         let poses = driver.poses();
         let res = residual(m, poses, driver.inputs());
@@ -341,6 +343,7 @@ fn frames(
             }
         }
     }
+    drop(bar);
     if let Some((path, drawn)) = svg {
         if let Err(e) = std::fs::write(path, render_spatial(drawn, &kept)) {
             super::report(&format!("{}: error: cannot write the SVG: {e}", path.display()));

@@ -5,7 +5,7 @@
 use std::cell::Cell;
 use std::io::IsTerminal;
 use std::path::Path;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use dofplan::analysis::Progress;
 use dofplan::model::{load_file, Mechanism, ModelError};
@@ -100,5 +100,65 @@ impl Bar {
 impl Drop for Bar {
     fn drop(&mut self) {
         self.finish();
+    }
+}
+
+/// Progress of a long run of frames (`simulate`, `drag`): a bar on standard
+/// error once the run has taken a second — shorter runs never show one —
+/// when standard error is a terminal and standard output is not (the
+/// frames are written there, and a bar would break their lines).
+pub struct FrameBar {
+    total: u64,
+    start: Instant,
+    shown: Option<ProgressBar>,
+    possible: bool,
+}
+
+impl FrameBar {
+    /// How long a run goes before its bar appears.
+    const AFTER: Duration = Duration::from_secs(1);
+
+    /// The display of a run of `total` frames (`None`: unknown).
+    pub fn new(total: Option<usize>) -> FrameBar {
+        FrameBar {
+            total: total.unwrap_or(0) as u64,
+            start: Instant::now(),
+            shown: None,
+            possible: std::io::stderr().is_terminal() && !std::io::stdout().is_terminal(),
+        }
+    }
+
+    /// `done` frames are written.
+    pub fn tick(&mut self, done: usize) {
+        // Checking the clock every frame would cost more than a small
+        // frame: every 64th.
+        if !self.possible || done % 64 != 0 {
+            return;
+        }
+        if self.shown.is_none() && self.start.elapsed() >= Self::AFTER {
+            let bar = ProgressBar::new(self.total).with_elapsed(self.start.elapsed());
+            let template = if self.total > 0 {
+                "frames [{bar:30}] {pos}/{len} {elapsed}"
+            } else {
+                "frames {pos} {elapsed}"
+            };
+            bar.set_style(
+                ProgressStyle::with_template(template)
+                    .expect("a valid template")
+                    .progress_chars("=> "),
+            );
+            self.shown = Some(bar);
+        }
+        if let Some(bar) = &self.shown {
+            bar.set_position(done as u64);
+        }
+    }
+}
+
+impl Drop for FrameBar {
+    fn drop(&mut self) {
+        if let Some(bar) = &self.shown {
+            bar.finish_and_clear();
+        }
     }
 }
