@@ -853,7 +853,24 @@ fn check_reports_a_chain_of_200_loops() {
         lines[7].starts_with("  plan: closed form, 602 steps, 200 branch slot(s)"),
         "{out}"
     );
-    assert_eq!(lines.len(), 8, "no redundant, idle or unused equations: {out}");
+    // The crank turns fully; then the four-bar loops, 12 listed.
+    assert_eq!(
+        lines[8..10],
+        [
+            "  assembly ranges (each input alone, the others at 0; break points to 1e-9):",
+            "    theta: turns fully"
+        ],
+        "{out}"
+    );
+    assert!(
+        lines[10..22].iter().all(|l| l.starts_with("  four-bar ")),
+        "{out}"
+    );
+    assert_eq!(
+        lines[22..],
+        ["  … and 188 more four-bar loops (`dofplan check --json` lists them all)"],
+        "no redundant, idle or unused equations: {out}"
+    );
 }
 
 #[test]
@@ -897,4 +914,45 @@ fn check_json_reports_both_dimensions_with_the_same_keys() {
     assert_eq!(stewart["plan"]["cluster_unknowns"], 6);
     assert_eq!(stewart["plan"]["cluster_equations"], 6);
     assert_eq!(stewart["idle_freedoms"], 6);
+}
+
+/// `check --json`'s assembly ranges and Grashof classes: rocker_rocker's
+/// break points by the law of cosines (its link lengths computed here from
+/// the file's markers), fourbar's full turn.
+#[test]
+fn check_json_reports_assembly_ranges_and_grashof_classes() {
+    let run = |name: &str| {
+        let o = dofplan(&["check", mechanism(name).to_str().unwrap(), "--json"]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        serde_json::from_str::<serde_json::Value>(&stdout(&o)).unwrap()
+    };
+    let v = run("rocker_rocker");
+    // Lengths from the file: A = (0, 0), B = 2.5 (cos 30°, sin 30°),
+    // C = (3.593491092453303, 2.6498552211379014), D = (5, 0).
+    let (bx, by) = (2.165063509461097_f64, 1.2499999999999998_f64);
+    let (cx, cy) = (3.593491092453303_f64, 2.6498552211379014_f64);
+    let a = bx.hypot(by);
+    let b = (cx - bx).hypot(cy - by);
+    let c = (5.0 - cx).hypot(cy);
+    let g = 5.0;
+    let star = ((a * a + g * g - (b + c) * (b + c)) / (2.0 * a * g))
+        .acos()
+        .to_degrees();
+    let drawn = by.atan2(bx).to_degrees();
+    let theta = v["ranges"]["theta"].as_array().unwrap();
+    assert_eq!(theta.len(), 1, "{v}");
+    let (lo, hi) = (theta[0][0].as_f64().unwrap(), theta[0][1].as_f64().unwrap());
+    assert!(
+        (lo - (-star - drawn)).abs() < 1e-8 && (hi - (star - drawn)).abs() < 1e-8,
+        "{v}"
+    );
+    assert_eq!(v["grashof"][0]["class"], "double-rocker");
+    assert_eq!(v["grashof"][0]["grashof"], false);
+    assert_eq!(
+        v["grashof"][0]["loop"],
+        serde_json::json!(["ground", "input", "coupler", "output"])
+    );
+    let v = run("fourbar");
+    assert_eq!(v["ranges"]["theta"], serde_json::json!([[-180.0, 180.0]]));
+    assert_eq!(v["grashof"][0]["class"], "crank-rocker");
 }

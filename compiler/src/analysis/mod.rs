@@ -4,8 +4,10 @@
 
 pub mod conflict;
 pub mod equations;
+pub mod grashof;
 pub mod mobility;
 mod planner;
+pub mod ranges;
 pub mod rank;
 pub mod spatial;
 

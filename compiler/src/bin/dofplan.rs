@@ -13,6 +13,8 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand, ValueEnum};
 use serde_json::{json, Map, Value};
 
+use dofplan::analysis::grashof::{four_bars, Class as GrashofClass};
+use dofplan::analysis::ranges::{self, assembly_ranges};
 use dofplan::analysis::rank::rank_mobility_with;
 use dofplan::analysis::{analyse_with, Analysis, Class, Mobility};
 use dofplan::assemble::assemble_file;
@@ -23,7 +25,7 @@ use dofplan::model::Model;
 #[path = "cli/spatial.rs"]
 mod spatial;
 use dofplan::interp::Interpreter;
-use dofplan::model::{MarkerId, Mechanism, Sweep, MAX_STEPS};
+use dofplan::model::{InputKind, MarkerId, Mechanism, Sweep, MAX_STEPS};
 use dofplan::numeric::drag::Drag;
 use dofplan::numeric::PureNewton;
 use dofplan::plan::{num, Plan};
@@ -358,6 +360,99 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
     }
 }
 
+/// The assembly ranges of `check`: per input, where the mechanism
+/// assembles with the others at 0, each end a break point with the step
+/// that breaks beyond it.
+fn write_ranges(m: &Mechanism, plan: &Plan, out: &mut dyn Write) -> io::Result<()> {
+    let ranges = assembly_ranges(m, plan);
+    if ranges.is_empty() {
+        return Ok(());
+    }
+    writeln!(
+        out,
+        "  assembly ranges (each input alone, the others at 0; break points to 1e-9):"
+    )?;
+    for r in &ranges {
+        let input = &m.inputs[r.input];
+        let unit = match input.kind {
+            InputKind::Angle => "°",
+            InputKind::Slide => "",
+        };
+        if r.full_turn() {
+            writeln!(out, "    {}: turns fully", input.name)?;
+            continue;
+        }
+        let end = |e: &ranges::End| match &e.brk {
+            Some(b) => format!(
+                "{}{unit} (step {} breaks beyond: {})",
+                precise(e.at),
+                b.step,
+                b.kind.describe()
+            ),
+            None => format!("{}{unit} (end of the range searched)", precise(e.at)),
+        };
+        let intervals: Vec<String> = r
+            .intervals
+            .iter()
+            .map(|(a, b)| format!("from {} to {}", end(a), end(b)))
+            .collect();
+        writeln!(out, "    {}: {}", input.name, intervals.join("; "))?;
+    }
+    Ok(())
+}
+
+/// `"ranges"` of `check --json`: by input name, the intervals `[from, to]`.
+fn ranges_json(m: &Mechanism, plan: &Plan) -> Value {
+    Value::Object(
+        assembly_ranges(m, plan)
+            .iter()
+            .map(|r| {
+                let intervals: Vec<Value> = r.intervals.iter().map(|(a, b)| json!([a.at, b.at])).collect();
+                (m.inputs[r.input].name.clone(), json!(intervals))
+            })
+            .collect(),
+    )
+}
+
+/// The four-bar loops of `check` with their Grashof class (at most 12
+/// listed; `--json` has them all).
+fn write_four_bars(m: &Mechanism, out: &mut dyn Write) -> io::Result<()> {
+    const LISTED: usize = 12;
+    let loops = four_bars(m);
+    for f in loops.iter().take(LISTED) {
+        let names: Vec<&str> = f.bodies.iter().map(|&b| m.bodies[b].name.as_str()).collect();
+        let (sl, pq) = f.sums;
+        let relation = if f.class == GrashofClass::ChangePoint {
+            "="
+        } else if f.grashof {
+            "<"
+        } else {
+            ">"
+        };
+        writeln!(
+            out,
+            "  four-bar {}: {} (s + l = {} {relation} p + q = {}{})",
+            names.join("–"),
+            f.class.name(),
+            num(sl),
+            num(pq),
+            if f.grashof || f.class == GrashofClass::ChangePoint {
+                ""
+            } else {
+                "; non-Grashof: no link turns fully"
+            }
+        )?;
+    }
+    if loops.len() > LISTED {
+        writeln!(
+            out,
+            "  … and {} more four-bar loops (`dofplan check --json` lists them all)",
+            loops.len() - LISTED
+        )?;
+    }
+    Ok(())
+}
+
 /// `dofplan check --json` of a planar file: the keys of the spatial report,
 /// in the plane (3 unknowns per mobile body).
 fn check_json(
@@ -392,6 +487,16 @@ fn check_json(
         })).collect::<Vec<_>>(),
         "idle_freedoms": dofplan::analysis::rank::idle_freedoms(m),
         "plan": plan_json,
+        "ranges": match plan {
+            Some(Ok(p)) => ranges_json(m, p),
+            _ => json!(null),
+        },
+        "grashof": four_bars(m).iter().map(|f| json!({
+            "loop": f.bodies.iter().map(|&b| m.bodies[b].name.as_str()).collect::<Vec<_>>(),
+            "class": f.class.name(),
+            "grashof": f.grashof,
+            "lengths": f.lengths,
+        })).collect::<Vec<_>>(),
     });
     writeln!(
         out,
@@ -771,6 +876,7 @@ fn check_mechanism(
             "  plan: no inputs, so nothing to plan — drag a marker with `dofplan drag {} --marker BODY.MARKER --to X,Y`",
             place
         )?;
+        write_four_bars(m, out)?;
         return Ok(ExitCode::SUCCESS);
     };
     let code = match &plan {
@@ -804,6 +910,7 @@ fn check_mechanism(
                     checks.join("; ")
                 )?;
             }
+            write_ranges(m, p, out)?;
             ExitCode::SUCCESS
         }
         Err(e) => {
@@ -818,6 +925,7 @@ fn check_mechanism(
             unused.join(", ")
         )?;
     }
+    write_four_bars(m, out)?;
     Ok(code)
 }
 
