@@ -1,6 +1,8 @@
 // dofplan edit: the page. It draws the mechanism the server sends, and
-// sends back what the user does (slider values, sweep playback, drags); the
-// server solves and answers with the new pose. Nothing is solved here.
+// sends back what the user does (slider values, sweep playback, drags, and
+// edits of the mechanism); the server solves, or edits the file, and answers
+// with the new pose or document. Nothing is solved or validated here: an
+// edit the server refuses shows its message and changes nothing.
 //
 // Coordinates: the server speaks world coordinates (y up); the script maps
 // them to screen pixels itself, so every drawn element's attributes are in
@@ -23,6 +25,7 @@ let markerIndex = []; // [{body, name, key}] in the server's marker order
 let hulls = []; // per body: indices into markerIndex, in outline order
 let pose = null; // the last `frame` message
 let view = { s: 1, ox: 0, oy: 0 };
+let userView = false; // zoomed or panned by the user: never refitted on its own
 let values = []; // slider values, one per input
 let grabbed = null; // {body, world} while dragging
 // The drawing's elements, found once (a frame of a 50-body chain would
@@ -78,12 +81,22 @@ function receive(message) {
   const answered = inFlight && message.id === inFlight.message.id ? inFlight : null;
   if (answered) inFlight = null;
   if (message.type === "document") {
+    // A document after the first one is an edit of the one on screen,
+    // which keeps its view; an opened file is framed afresh.
+    const refit = !doc || (answered && answered.message.type === "open");
     setDocument(message);
+    if (refit) fitView();
+    else renderTraces();
   } else if (message.type === "frame") {
     setFrame(message, answered);
   } else if (message.type === "error") {
     probe.errors.push(message.message);
     showStatus("error", message.message);
+    if (answered && answered.message.type === "open" && /unsaved changes/.test(message.message)) {
+      // Asked again, the same file is opened and the changes dropped.
+      openDiscard = answered.message.name;
+    }
+    draw();
   }
   if (answered && answered.message.type === "inputs" && playing) {
     requestAnimationFrame(playStep);
@@ -102,6 +115,9 @@ function el(name, attributes = {}, parent = null) {
 
 function setDocument(d) {
   doc = d;
+  // The last pose is of the document before: nothing is drawn until the
+  // frame of this one, which the server sends next.
+  pose = null;
   $("name").textContent = d.name;
   $("file").textContent = d.file;
   $("panel-plan").textContent = d.plan ?? `No plan: ${d.plan_error}`;
@@ -118,7 +134,7 @@ function setDocument(d) {
   });
   buildInputs();
   buildDrawing();
-  fitView();
+  showEditing();
 }
 
 // The drawn position and direction of marker `i`.
@@ -175,7 +191,14 @@ function buildInputs() {
       stopPlaying();
       sendInputs();
     });
-    row.append(label, slider, out);
+    const remove = document.createElement("button");
+    remove.type = "button";
+    remove.className = "remove-input";
+    remove.dataset.removeInput = input.name;
+    remove.title = `delete input ${input.name} (the joint stays)`;
+    remove.textContent = "×";
+    remove.addEventListener("click", () => sendEdits([{ op: "delete_input", input: input.name }]));
+    row.append(label, slider, out, remove);
     box.appendChild(row);
   });
   showValues();
@@ -233,7 +256,9 @@ function buildDrawing() {
       parts.markers.push(part);
     });
     if (!b.fixed) {
-      g.addEventListener("pointerdown", (event) => grab(event, b.name));
+      g.addEventListener("pointerdown", (event) => {
+        if (mode === "move" && !panning && !spaceHeld) grab(event, b.name);
+      });
     }
   });
   // Ground hatching under every ground marker a joint uses (or every
@@ -263,6 +288,7 @@ function buildDrawing() {
     parts.joints.push(part);
   }
   el("circle", { class: "grab-point", r: 4.5, visibility: "hidden", id: "grab-point" }, canvas);
+  markSelection();
 }
 
 // ---- view -----------------------------------------------------------------
@@ -281,6 +307,13 @@ function fitView() {
     x1 = Math.max(x1, x);
     y1 = Math.max(y1, y);
   }
+  // A drawing of one point (a new document) is shown ten units wide.
+  if (x1 - x0 < 1e-9 && y1 - y0 < 1e-9) {
+    x0 -= 5;
+    x1 += 5;
+    y0 -= 5;
+    y1 += 5;
+  }
   const size = doc.size || 1;
   const pad = 0.25 * size;
   x0 -= pad;
@@ -290,6 +323,13 @@ function fitView() {
   const rect = canvas.getBoundingClientRect();
   const s = Math.min(rect.width / (x1 - x0), rect.height / (y1 - y0));
   view = { s, ox: rect.width / 2 - s * (x0 + x1) / 2, oy: rect.height / 2 + s * (y0 + y1) / 2 };
+  userView = false;
+  renderTraces();
+}
+
+// The traces in screen pixels, after the view or the document changed.
+function renderTraces() {
+  if (!doc) return;
   for (const [key, path] of Object.entries(doc.traces)) {
     const d = path.map(([x, y], k) => `${k ? "L" : "M"}${sx(x).toFixed(1)},${sy(y).toFixed(1)}`).join("");
     canvas.querySelector(`path[data-trace="${CSS.escape(key)}"]`).setAttribute("d", d);
@@ -326,9 +366,10 @@ function setFrame(frame, answered) {
   showValues(frame.inputs);
   // A pose that has left the view is brought back into it, but never
   // while dragging: the view would slide under the pointer.
-  if (!grabbed && !inView(frame.markers)) fitView();
+  if (!grabbed && !userView && !inView(frame.markers)) fitView();
   draw();
-  showFrameStatus(frame);
+  if (frame.edited !== undefined) showStatus("edited", frame.edited);
+  else showFrameStatus(frame);
   probe.frames++;
   if (answered && answered.message.type === "grab") probe.grabMs = frame.server_ms;
   if (answered && answered.message.type === "drag") {
@@ -406,6 +447,7 @@ function draw() {
     line.setAttribute("x2", (ax + reach * dx).toFixed(2));
     line.setAttribute("y2", (ay - reach * dy).toFixed(2));
   }
+  drawPreview();
   if (grabbed) {
     const p = grabbed.world;
     const dot = $("grab-point");
@@ -506,6 +548,376 @@ function playStep() {
   sendInputs();
 }
 
+// ---- construct (MechEdit §5.1: constraints added in a solved state) ----------
+//
+// Every edit is sent to the server, which makes it on the file at the pose
+// on screen (the pose becomes the drawing first) and answers with the new
+// document, or with the message `dofplan check` would print and no change.
+
+// Pixels within which a click or a drop is on a marker or a joint.
+const SNAP = 8;
+let mode = "move";
+let selection = null; // {kind: "joint" | "marker" | "body", name}
+let sketch = []; // the body being drawn: [{at, key}] (key: the marker snapped to)
+let hover = null; // the pointer, in world coordinates, while drawing
+let moving = null; // a marker dragged in edit mode: {key, body, from, at, moved, target, joint}
+let panning = null; // {x, y, ox, oy} while panning
+let spaceHeld = false;
+let openDiscard = null; // the file whose unsaved changes the next Open drops
+
+function sendEdits(edits) {
+  enqueue({ type: "edit", edits }, performance.now());
+}
+
+function setMode(next) {
+  mode = next;
+  sketch = [];
+  moving = null;
+  for (const b of document.querySelectorAll("#modes button")) b.classList.toggle("active", b.dataset.mode === mode);
+  canvas.dataset.mode = mode;
+  $("hint").textContent = {
+    move: "Drag any moving body with the mouse; the sliders drive the inputs.",
+    edit: "Click a joint, marker or body to select it. Drag a marker to move it; drop it on another body's marker to join them.",
+    body: "Click two or more points (on a marker to join there); Enter or double-click finishes, Escape cancels.",
+    marker: "Click on a body to add a marker to it, or off every body to add one to the ground.",
+  }[mode];
+  draw();
+}
+
+for (const b of document.querySelectorAll("#modes button")) b.addEventListener("click", () => setMode(b.dataset.mode));
+
+// The screen position of the pointer in the canvas.
+function screenOf(event) {
+  const rect = canvas.getBoundingClientRect();
+  return [event.clientX - rect.left, event.clientY - rect.top];
+}
+
+// The marker nearest the screen point `p` within SNAP pixels (the last drawn
+// wins among coincident ones: it is on top), not of body `except`.
+function markerNear(p, except = null) {
+  if (!pose) return null;
+  let best = null;
+  pose.markers.forEach(([x, y], i) => {
+    if (except !== null && markerIndex[i].body === except) return;
+    const d = Math.hypot(sx(x) - p[0], sy(y) - p[1]);
+    if (d <= SNAP && (!best || d <= best.d)) best = { i, key: markerIndex[i].key, d };
+  });
+  return best;
+}
+
+// The joint whose pin is within SNAP pixels of `p`.
+function jointNear(p) {
+  if (!pose) return null;
+  const index = new Map(markerIndex.map((m, i) => [m.key, i]));
+  let best = null;
+  for (const j of doc.joints) {
+    const [x, y] = pose.markers[index.get(j.markers[1])];
+    const d = Math.hypot(sx(x) - p[0], sy(y) - p[1]);
+    if (d <= SNAP && (!best || d < best.d)) best = { name: j.name, d };
+  }
+  return best;
+}
+
+function bodyUnder(event) {
+  const g = event.target.closest && event.target.closest("[data-body]");
+  return g ? g.dataset.body : null;
+}
+
+function select(next) {
+  selection = next;
+  markSelection();
+}
+
+// Marks the selection in the drawing and the toolbar; a selection the
+// document no longer has is dropped.
+function markSelection() {
+  for (const e of canvas.querySelectorAll(".selected")) e.classList.remove("selected");
+  let element = null;
+  if (selection && doc) {
+    const attribute = { joint: "data-joint", marker: "data-marker", body: "data-body" }[selection.kind];
+    element = canvas.querySelector(`[${attribute}="${CSS.escape(selection.name)}"]`);
+    if (!element) selection = null;
+  }
+  if (element) element.classList.add("selected");
+  const joint = selection && selection.kind === "joint" ? doc.joints.find((j) => j.name === selection.name) : null;
+  const driven = joint && doc.inputs.some((i) => i.joint === joint.name);
+  $("selection").textContent = selection
+    ? `${selection.kind} ${selection.name}${joint ? ` (${joint.kind}${driven ? ", an input" : ""})` : ""}`
+    : "nothing selected";
+  const editable = Boolean(doc && doc.editing.editable);
+  $("toggle").disabled = !editable || !joint;
+  $("make-input").disabled = !editable || !joint || driven;
+  $("delete").disabled = !editable || !selection;
+}
+
+// The editing controls as the document allows them.
+function showEditing() {
+  const e = doc.editing;
+  for (const b of document.querySelectorAll("#modes button")) b.disabled = !e.editable && b.dataset.mode !== "move";
+  if (!e.editable && mode !== "move") setMode("move");
+  $("modes").title = e.editable ? "" : `not editable: ${e.why}`;
+  $("undo").disabled = !e.undo;
+  $("redo").disabled = !e.redo;
+  $("save").disabled = !e.editable;
+  $("save-as").disabled = !e.editable;
+  $("file").dataset.dirty = String(e.dirty);
+  $("file").textContent = `${doc.file}${e.dirty ? " (unsaved)" : ""}`;
+  const list = $("open-file");
+  const chosen = list.value;
+  list.replaceChildren(
+    ...e.files.map((f) => {
+      const o = document.createElement("option");
+      o.value = o.textContent = f;
+      return o;
+    }),
+  );
+  if (e.files.length === 0) {
+    const o = document.createElement("option");
+    o.textContent = "no .toml files here";
+    list.appendChild(o);
+  }
+  list.disabled = e.files.length === 0;
+  if (e.files.includes(chosen)) list.value = chosen;
+  $("open").disabled = e.files.length === 0;
+  markSelection();
+}
+
+// A new body's name and its markers' (as the server names them: the
+// first free `linkN`; markers A, B, … then M1, …).
+function newBodyName() {
+  const taken = new Set(doc.bodies.map((b) => b.name));
+  for (let n = 1; ; n++) if (!taken.has(`link${n}`)) return `link${n}`;
+}
+const markerName = (k) => (k < 26 ? String.fromCharCode(65 + k) : `M${k - 25}`);
+
+function finishBody() {
+  if (sketch.length === 0) return;
+  const name = newBodyName();
+  const edits = [{ op: "add_body", name, markers: sketch.map((p) => p.at) }];
+  sketch.forEach((p, k) => {
+    // A point put on a marker is joined to it there.
+    if (p.key) edits.push({ op: "join", a: p.key, b: `${name}.${markerName(k)}`, snap: true });
+  });
+  sketch = [];
+  sendEdits(edits);
+  draw();
+}
+
+function deleteSelection() {
+  if (!selection) return;
+  const op = { joint: "delete_joint", marker: "delete_marker", body: "delete_body" }[selection.kind];
+  const key = { joint: "joint", marker: "marker", body: "body" }[selection.kind];
+  sendEdits([{ op, [key]: selection.name }]);
+}
+
+function toggleJoint(want = null) {
+  if (!selection || selection.kind !== "joint") return;
+  const joint = doc.joints.find((j) => j.name === selection.name);
+  if (!joint || (want && joint.kind === want)) return;
+  sendEdits([{ op: "toggle", joint: joint.name }]);
+}
+
+function makeInput() {
+  if (selection && selection.kind === "joint") sendEdits([{ op: "add_input", joint: selection.name }]);
+}
+
+$("toggle").addEventListener("click", () => toggleJoint());
+$("make-input").addEventListener("click", makeInput);
+$("delete").addEventListener("click", deleteSelection);
+$("undo").addEventListener("click", () => enqueue({ type: "undo" }, performance.now()));
+$("redo").addEventListener("click", () => enqueue({ type: "redo" }, performance.now()));
+$("fit").addEventListener("click", () => fitView());
+
+function save() {
+  if (!doc) return;
+  if (!doc.editing.named) {
+    showStatus("error", "this document has no file yet: type a name beside Save as");
+    $("save-name").focus();
+    return;
+  }
+  enqueue({ type: "save" }, performance.now());
+}
+$("save").addEventListener("click", save);
+$("save-as").addEventListener("click", () => enqueue({ type: "save", name: $("save-name").value }, performance.now()));
+$("save-name").addEventListener("keydown", (e) => {
+  if (e.key === "Enter") $("save-as").click();
+});
+$("open").addEventListener("click", () => {
+  const name = $("open-file").value;
+  enqueue({ type: "open", name, discard: openDiscard === name }, performance.now());
+  openDiscard = null;
+});
+
+// Pointer on the canvas: pan (middle button, or Space held), and the edit
+// modes. Move mode's grab is the bodies' own listener.
+canvas.addEventListener("pointerdown", (event) => {
+  if (!doc || !pose) return;
+  if (event.button === 1 || (event.button === 0 && spaceHeld)) {
+    event.preventDefault();
+    panning = { x: event.clientX, y: event.clientY, ox: view.ox, oy: view.oy };
+    canvas.setPointerCapture(event.pointerId);
+    return;
+  }
+  if (event.button !== 0 || mode === "move") return;
+  const p = screenOf(event);
+  const at = toWorld(event);
+  if (mode === "body") {
+    const near = markerNear(p);
+    sketch.push(near ? { at: pose.markers[near.i].slice(), key: near.key } : { at, key: null });
+    draw();
+  } else if (mode === "marker") {
+    const body = bodyUnder(event) ?? doc.bodies.find((b) => b.fixed).name;
+    sendEdits([{ op: "add_marker", body, at }]);
+  } else if (mode === "edit") {
+    const near = markerNear(p);
+    const joint = jointNear(p);
+    if (near) {
+      canvas.setPointerCapture(event.pointerId);
+      moving = { key: near.key, body: markerIndex[near.i].body, from: p, at, moved: false, target: null, joint, shift: event.shiftKey };
+    } else {
+      const body = bodyUnder(event);
+      select(body && !doc.bodies.find((b) => b.name === body).fixed ? { kind: "body", name: body } : null);
+    }
+  }
+});
+
+// A double-click finishes the body being drawn; its two clicks put one
+// point (pointer events carry no click count to tell them apart sooner).
+canvas.addEventListener("dblclick", () => {
+  if (mode !== "body" || sketch.length === 0) return;
+  const [a, b] = sketch.slice(-2).map((p) => [sx(p.at[0]), sy(p.at[1])]);
+  if (b && Math.hypot(a[0] - b[0], a[1] - b[1]) <= SNAP) sketch.pop();
+  finishBody();
+});
+
+canvas.addEventListener("pointermove", (event) => {
+  if (panning) {
+    view.ox = panning.ox + event.clientX - panning.x;
+    view.oy = panning.oy + event.clientY - panning.y;
+    userView = true;
+    renderTraces();
+    return;
+  }
+  if (mode === "body") {
+    hover = toWorld(event);
+    drawPreview();
+  } else if (moving) {
+    const p = screenOf(event);
+    moving.moved ||= Math.hypot(p[0] - moving.from[0], p[1] - moving.from[1]) > 3;
+    const target = markerNear(p, moving.body);
+    moving.target = target ? target.key : null;
+    moving.at = target ? pose.markers[target.i].slice() : toWorld(event);
+    drawPreview();
+  }
+});
+
+function endPointer() {
+  if (panning) {
+    panning = null;
+    return;
+  }
+  if (!moving) return;
+  const m = moving;
+  moving = null;
+  if (!m.moved) {
+    // A click: the joint there, or (Shift, or no joint) the marker.
+    select(m.joint && !m.shift ? { kind: "joint", name: m.joint.name } : { kind: "marker", name: m.key });
+  } else if (m.target) {
+    // Dropped on another body's marker: snapped onto it and joined.
+    sendEdits([{ op: "join", a: m.target, b: m.key, snap: true }]);
+  } else {
+    sendEdits([{ op: "move_marker", marker: m.key, to: m.at }]);
+  }
+  draw();
+}
+canvas.addEventListener("pointerup", endPointer);
+canvas.addEventListener("pointercancel", endPointer);
+
+// The wheel zooms about the pointer.
+canvas.addEventListener(
+  "wheel",
+  (event) => {
+    event.preventDefault();
+    const [px, py] = screenOf(event);
+    const [wx, wy] = toWorld(event);
+    const s = Math.min(1e6, Math.max(1e-3, view.s * Math.exp(-event.deltaY * 0.0015)));
+    view = { s, ox: px - s * wx, oy: py + s * wy };
+    userView = true;
+    renderTraces();
+  },
+  { passive: false },
+);
+
+// The body being drawn, or the marker being dragged, over the drawing.
+function drawPreview() {
+  const g = $("preview");
+  if (!g) return;
+  g.replaceChildren();
+  if (mode === "body" && sketch.length) {
+    const points = sketch.map((p) => p.at);
+    if (hover) points.push(hover);
+    el("polyline", { class: "sketch", points: points.map(([x, y]) => `${sx(x).toFixed(1)},${sy(y).toFixed(1)}`).join(" ") }, g);
+    for (const p of sketch) el("circle", { class: p.key ? "sketch-point snapped" : "sketch-point", r: 4, cx: sx(p.at[0]), cy: sy(p.at[1]) }, g);
+  }
+  if (moving && moving.moved) {
+    const i = markerIndex.findIndex((m) => m.key === moving.key);
+    const [x0, y0] = pose.markers[i];
+    const [x1, y1] = moving.at;
+    el("line", { class: "move-line", x1: sx(x0), y1: sy(y0), x2: sx(x1), y2: sy(y1) }, g);
+    el("circle", { class: moving.target ? "move-ghost snapped" : "move-ghost", r: moving.target ? 7 : 4.5, cx: sx(x1), cy: sy(y1) }, g);
+  }
+}
+
+function typing(event) {
+  return event.target.matches && event.target.matches("input[type=text], select, textarea");
+}
+
+document.addEventListener("keydown", (event) => {
+  if (event.key === " " && !typing(event)) {
+    spaceHeld = true;
+    if (event.target === document.body) event.preventDefault();
+  }
+  if (typing(event)) return;
+  const ctrl = event.ctrlKey || event.metaKey;
+  const key = event.key.toLowerCase();
+  if (ctrl && key === "z") {
+    event.preventDefault();
+    enqueue({ type: event.shiftKey ? "redo" : "undo" }, performance.now());
+  } else if (ctrl && key === "y") {
+    event.preventDefault();
+    enqueue({ type: "redo" }, performance.now());
+  } else if (ctrl && key === "s") {
+    event.preventDefault();
+    save();
+  } else if (ctrl || event.altKey) {
+    return;
+  } else if (event.key === "Enter" && mode === "body") {
+    finishBody();
+  } else if (event.key === "Escape") {
+    if (sketch.length || moving) {
+      sketch = [];
+      moving = null;
+      draw();
+    } else select(null);
+  } else if (event.key === "Delete" || event.key === "Backspace") {
+    if (mode === "body" && sketch.length) {
+      sketch.pop();
+      draw();
+    } else deleteSelection();
+  } else if (key === "r") toggleJoint("revolute");
+  else if (key === "p") toggleJoint("prismatic");
+  else if (key === "i") makeInput();
+  else if (key === "f") fitView();
+  else if (!(doc && doc.editing.editable) && key !== "m") return;
+  else if (key === "m") setMode("move");
+  else if (key === "e") setMode("edit");
+  else if (key === "b") setMode("body");
+  else if (key === "n") setMode("marker");
+});
+document.addEventListener("keyup", (event) => {
+  if (event.key === " ") spaceHeld = false;
+});
+
 // ---- panels ------------------------------------------------------------------------
 
 for (const tab of document.querySelectorAll("#tabs button")) {
@@ -525,11 +937,17 @@ probe.busy = () => Boolean(inFlight) || outbox.length > 0;
 probe.doc = () => doc;
 probe.toWorld = (x, y) => toWorld({ clientX: x, clientY: y });
 probe.scale = () => view.s;
+probe.pose = () => pose;
+probe.selection = () => selection;
 probe.toPage = ([x, y]) => {
   const rect = canvas.getBoundingClientRect();
   return [rect.left + sx(x), rect.top + sy(y)];
 };
 
-new ResizeObserver(() => fitView()).observe(canvas);
+new ResizeObserver(() => {
+  if (userView) renderTraces();
+  else fitView();
+  draw();
+}).observe(canvas);
 
 connect();

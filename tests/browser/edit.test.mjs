@@ -4,12 +4,14 @@
 //   DOFPLAN_BIN   the dofplan binary (default: target/release/dofplan)
 //   CHROMIUM      the browser (default: /usr/bin/chromium)
 //   DRAG_MOVES    drag moves per latency measurement (default: 240)
+//   ONLY          run only the scenarios named, comma-separated (e.g. construct)
 //
 // Screenshots go to target/browser-screenshots/. Exits non-zero on the
 // first failed check, after printing what failed.
 
 import { spawn, execFileSync } from "node:child_process";
-import { mkdirSync } from "node:fs";
+import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync } from "node:fs";
+import { tmpdir } from "node:os";
 import { createInterface } from "node:readline";
 import { dirname, join, resolve } from "node:path";
 import { fileURLToPath } from "node:url";
@@ -34,9 +36,10 @@ function dofplan(...args) {
   return execFileSync(BIN, args, { cwd: ROOT, encoding: "utf8" });
 }
 
-/** Starts `dofplan edit FILE`; resolves with the URL it prints first. */
-function startEditor(file) {
-  const child = spawn(BIN, file ? ["edit", file] : ["edit"], { cwd: ROOT, stdio: ["ignore", "pipe", "pipe"] });
+/** Starts `dofplan edit FILE` in `cwd`; resolves with the URL it prints
+ * first. */
+function startEditor(file, cwd = ROOT) {
+  const child = spawn(BIN, file ? ["edit", file] : ["edit"], { cwd, stdio: ["ignore", "pipe", "pipe"] });
   // Its standard error is shown only if it stops before printing its URL.
   let stderr = "";
   child.stderr.on("data", (d) => (stderr += d));
@@ -133,8 +136,8 @@ function report(name, lat) {
   );
 }
 
-async function openEditor(browser, file) {
-  const { child, url } = await startEditor(file);
+async function openEditor(browser, file, cwd = ROOT) {
+  const { child, url } = await startEditor(file, cwd);
   const page = await browser.newPage({ viewport: { width: 1400, height: 860 } });
   page.on("pageerror", (e) => check(false, `no script error on the page (${e.message})`));
   await page.goto(url);
@@ -462,6 +465,244 @@ async function empty(browser) {
   }
 }
 
+/** A snapshot of what the page draws: markers with their positions, joints
+ * with their kinds, sliders, and the panels. */
+async function snapshot(page) {
+  return page.evaluate(() => ({
+    markers: Array.from(document.querySelectorAll("[data-marker]")).map((e) => [e.dataset.marker, e.dataset.x, e.dataset.y]),
+    joints: Array.from(document.querySelectorAll("[data-joint]")).map((e) => [e.dataset.joint, e.getAttribute("class")]),
+    inputs: Array.from(document.querySelectorAll("input[data-input]")).map((e) => e.dataset.input),
+    plan: document.querySelector('[data-panel="plan"]').textContent,
+    check: document.querySelector('[data-panel="check"]').textContent,
+    rust: document.querySelector('[data-panel="rust"]').textContent,
+  }));
+}
+
+async function construct(browser) {
+  console.log("== a four-bar built by mouse and keyboard from a new document, saved in a temporary directory");
+  const dir = mkdtempSync(join(tmpdir(), "dofplan-edit-"));
+  const { child, page } = await openEditor(browser, null, dir);
+  try {
+    const pageOf = (p) => page.evaluate((q) => window.__dofplan.toPage(q), p);
+    const at = async (key) => (await markers(page))[key];
+    const click = async (p) => {
+      const [x, y] = await pageOf(p);
+      await page.mouse.click(x, y);
+    };
+    /** Waits for the reply to the last request; the status it left. */
+    const status = async () => {
+      await settled(page);
+      return page.$eval("#status", (e) => ({ kind: e.dataset.status, text: e.textContent }));
+    };
+    const jointsOf = async () => (await documentOf(page)).joints;
+
+    // A second ground pivot, four units to the right of O.
+    await page.keyboard.press("n");
+    await click([4, 0]);
+    let s = await status();
+    const pivot = await at("ground.A");
+    check(Boolean(pivot) && Math.hypot(pivot[0] - 4, pivot[1]) < 0.05, `Marker mode: a click adds ground.A at (4, 0): ${pivot} (${s.text})`);
+
+    // The crank: from O (snapped) to (1, 1), finished with Enter.
+    await page.keyboard.press("b");
+    await click(await at("ground.O"));
+    await click([1, 1]);
+    await page.screenshot({ path: join(SHOTS, "construct-drawing-crank.png") });
+    await page.keyboard.press("Enter");
+    s = await status();
+    let joints = await jointsOf();
+    check(
+      (await page.locator('[data-body="link1"]').count()) === 1 && joints.length === 1 && joints[0].markers.join() === "ground.O,link1.A",
+      `Body mode: link1 drawn from ground.O, joined there (${JSON.stringify(joints)}; ${s.text})`,
+    );
+    // The coupler, from the crank's end to (3.5, 2.5).
+    await click(await at("link1.B"));
+    await click([3.5, 2.5]);
+    await page.keyboard.press("Enter");
+    await status();
+    // The rocker, from the coupler's end to near the pivot (not on it),
+    // finished with a double-click.
+    await click(await at("link2.B"));
+    const [rx, ry] = await pageOf([4.4, 0.5]);
+    await page.mouse.dblclick(rx, ry);
+    s = await status();
+    joints = await jointsOf();
+    check(joints.length === 3, `three links, three pins (${joints.map((j) => j.markers.join("–")).join(", ")}; ${s.text})`);
+    // Edit mode: drop the rocker's end onto the pivot — it snaps and joins.
+    await page.keyboard.press("e");
+    const [fx, fy] = await pageOf(await at("link3.B"));
+    const [gx, gy] = await pageOf(pivot);
+    await page.mouse.move(fx, fy);
+    await page.mouse.down();
+    for (let i = 1; i <= 10; i++) await page.mouse.move(fx + ((gx + 3 - fx) * i) / 10, fy + ((gy - 2 - fy) * i) / 10);
+    await page.screenshot({ path: join(SHOTS, "construct-snapping.png") });
+    await page.mouse.up();
+    s = await status();
+    joints = await jointsOf();
+    const last = joints[joints.length - 1];
+    check(joints.length === 4 && last.markers.join() === "ground.A,link3.B", `dropped within a few pixels, link3.B snapped onto ground.A and joined (${last.markers}; ${s.text})`);
+    let w = await worstJoint(page, joints);
+    check(w.gap < CLOSED, `every joint of the built four-bar closed (worst ${w.name}: ${w.gap.toExponential(2)})`);
+    // Dragging the pivot 0.2 to the left moves the ground's marker (the
+    // plan is rebuilt); the rocker's end, pinned to it, goes with it.
+    const [hx, hy] = await pageOf(pivot);
+    const [kx, ky] = await pageOf([pivot[0] - 0.2, pivot[1]]);
+    await page.mouse.move(hx, hy);
+    await page.mouse.down();
+    for (let i = 1; i <= 8; i++) await page.mouse.move(hx + ((kx - hx) * i) / 8, hy + ((ky - hy) * i) / 8);
+    await page.mouse.up();
+    s = await status();
+    const pivot2 = await at("ground.A");
+    check(Math.abs(pivot2[0] - (pivot[0] - 0.2)) < 0.02 && Math.abs(pivot2[1] - pivot[1]) < 0.02, `a dragged pivot moves (${pivot} → ${pivot2}; ${s.text})`);
+    w = await worstJoint(page, joints);
+    check(w.gap < CLOSED && (await jointsOf()).length === 4, `its pin moved with it and stays closed (worst ${w.name}: ${w.gap.toExponential(2)})`);
+    let text = await page.$eval('[data-panel="check"]', (e) => e.textContent);
+    check(text.includes("= 1") && text.includes("mobility"), `the Check panel has mobility 1 (${text.split("\n")[2]})`);
+
+    // A click on the crank's pin selects the joint; I makes it the input.
+    await click(await at("ground.O"));
+    const selected = await page.evaluate(() => window.__dofplan.selection());
+    check(selected && selected.kind === "joint" && selected.name === "J1", `a click on a pin selects its joint (${JSON.stringify(selected)})`);
+    await page.keyboard.press("i");
+    s = await status();
+    check((await page.locator('input[data-input="theta"]').count()) === 1, `I: joint J1 is an input, with a slider (${s.text})`);
+    text = await page.$eval('[data-panel="plan"]', (e) => e.textContent);
+    check(!text.startsWith("No plan"), `the Plan panel has a plan (${text.split("\n")[0]})`);
+    await page.screenshot({ path: join(SHOTS, "construct-fourbar-built.png") });
+
+    // A refused edit: a second input on the same joint. check's message,
+    // and nothing changes.
+    const before = await snapshot(page);
+    await page.keyboard.press("i");
+    s = await status();
+    const message = "error: input `theta2` drives joint `J1`, already driven by input `theta`";
+    check(s.kind === "error" && s.text.includes(message) && s.text.includes("untitled.toml:"), `a refused edit shows check's message: ${JSON.stringify(s.text.split("\n").slice(0, 2))}`);
+    check(JSON.stringify(await snapshot(page)) === JSON.stringify(before), "and changes nothing on the page");
+    await page.screenshot({ path: join(SHOTS, "construct-refused.png") });
+
+    // The slider turns the crank; every pin stays closed.
+    const crankB = await at("link1.B");
+    await page.$eval('input[data-input="theta"]', (e) => {
+      e.value = "40";
+      e.dispatchEvent(new Event("input", { bubbles: true }));
+    });
+    s = await status();
+    const turned = await at("link1.B");
+    check(Math.hypot(turned[0] - crankB[0], turned[1] - crankB[1]) > 0.5, `the slider turned the crank (${s.kind}: link1.B ${crankB} → ${turned})`);
+    w = await worstJoint(page, joints);
+    check(w.gap < CLOSED, `every revolute joint closed at theta = 40° (worst ${w.name}: ${w.gap.toExponential(2)})`);
+
+    // P and R toggle the coupler–rocker pin; the pose on screen (the
+    // slider's) becomes the drawing first.
+    const moved = await markers(page);
+    await click(await at("link2.B"));
+    await page.keyboard.press("p");
+    s = await status();
+    const drawn = await markers(page);
+    let off = 0;
+    for (const [k, p] of Object.entries(moved)) off = Math.max(off, Math.hypot(p[0] - drawn[k][0], p[1] - drawn[k][1]));
+    check(off < 1e-9, `an edit after a slider move is made at the pose on screen (markers moved ${off.toExponential(2)})`);
+    check((await page.locator('[data-joint="J3"].prismatic').count()) === 1, `P: J3 is prismatic (${s.text})`);
+    await page.screenshot({ path: join(SHOTS, "construct-prismatic.png") });
+    const prismatic = await snapshot(page);
+    await page.keyboard.press("r");
+    s = await status();
+    check((await page.locator('[data-joint="J3"].revolute').count()) === 1, `R: J3 is revolute again (${s.text})`);
+    const revolute = await snapshot(page);
+
+    // Undo and redo restore the page.
+    await page.keyboard.press("Control+z");
+    await status();
+    check(JSON.stringify(await snapshot(page)) === JSON.stringify(prismatic), "Ctrl+Z: the page is as it was before R");
+    await page.keyboard.press("Control+Shift+z");
+    await status();
+    check(JSON.stringify(await snapshot(page)) === JSON.stringify(revolute), "Ctrl+Shift+Z: and as it was after R");
+    await page.click("#undo");
+    await status();
+    await page.click("#redo");
+    await status();
+    check(JSON.stringify(await snapshot(page)) === JSON.stringify(revolute), "the Undo and Redo buttons too");
+
+    // Save: a name out of the directory is refused; a plain one is written.
+    await page.$eval('input[data-input="theta"]', (e) => {
+      e.value = "-30";
+      e.dispatchEvent(new Event("input", { bubbles: true }));
+    });
+    await status();
+    const onScreen = await markers(page);
+    await page.fill("#save-name", "../x");
+    await page.click("#save-as");
+    s = await status();
+    check(s.kind === "error" && s.text.includes("not a plain file name") && !existsSync(join(dir, "../x.toml")), `"../x" is refused (${s.text})`);
+    await page.fill("#save-name", "built");
+    await page.click("#save-as");
+    s = await status();
+    const saved = join(dir, "built.toml");
+    check(existsSync(saved) && s.text === "saved built.toml", `saved as built.toml in the editor's directory (${s.text})`);
+    const run = (...args) => execFileSync(BIN, args, { cwd: dir, encoding: "utf8" });
+    const report = run("check", "built.toml");
+    const valid = report.includes("= 1") && report.includes("closed form");
+    check(valid, `\`dofplan check built.toml\`: valid, mobility 1, closed form${valid ? "" : `\n${report}`}`);
+    check((await page.$eval('[data-panel="plan"]', (e) => e.textContent)) === run("plan", "built.toml"), "its `dofplan plan` is the plan shown");
+    check((await page.$eval('[data-panel="check"]', (e) => e.textContent)) === report, "its `dofplan check` is the Check panel");
+    const fileMarkers = JSON.parse(run("simulate", "built.toml", "--from", "0", "--to", "0", "--steps", "1", "--json")).frames[0].markers;
+    off = 0;
+    for (const [k, p] of Object.entries(onScreen)) off = Math.max(off, Math.hypot(p[0] - fileMarkers[k][0], p[1] - fileMarkers[k][1]));
+    check(
+      Object.keys(fileMarkers).length === Object.keys(onScreen).length && off < 1e-9,
+      `the saved file's drawing is the pose that was on screen (largest difference ${off.toExponential(2)})`,
+    );
+    const file = await page.$eval("#file", (e) => e.textContent);
+    check(file === "built.toml", `the page names the file (${file})`);
+    // A change, then Save (no name needed now) writes it back.
+    await page.keyboard.press("n");
+    await click([2, -1]);
+    await status();
+    await page.click("#save");
+    s = await status();
+    check(readFileSync(saved, "utf8").includes("B = [2"), `Save writes the change back to built.toml (${s.text})`);
+    await page.screenshot({ path: join(SHOTS, "construct-saved.png") });
+
+    // Deleting the coupler (selected by a click on it) takes its pins.
+    await page.keyboard.press("e");
+    const [c0, c1] = [await at("link2.A"), await at("link2.B")];
+    await click([(c0[0] + c1[0]) / 2, (c0[1] + c1[1]) / 2]);
+    await page.keyboard.press("Delete");
+    s = await status();
+    check((await page.locator('[data-body="link2"]').count()) === 0 && (await jointsOf()).length === 2, `Delete: the coupler and its two pins are gone (${s.text})`);
+    // Open the saved file again, dropping the deletion.
+    await page.selectOption("#open-file", "built.toml");
+    await page.click("#open");
+    s = await status();
+    check(s.kind === "error" && s.text.includes("unsaved changes"), `Open asks before dropping unsaved changes (${s.text})`);
+    await page.click("#open");
+    s = await status();
+    check((await page.locator('[data-body="link2"]').count()) === 1, `the second Open reads built.toml again (${s.text})`);
+    // The wheel zooms about the pointer; a middle-button drag pans. The
+    // world positions stay; their place on the page moves.
+    const pin = await at("ground.O");
+    const [ox, oy] = await pageOf(pin);
+    const scale = await page.evaluate(() => window.__dofplan.scale());
+    await page.mouse.move(ox, oy);
+    await page.mouse.wheel(0, -300);
+    await page.waitForFunction((s0) => window.__dofplan.scale() > s0, scale);
+    const zoomed = await page.evaluate(() => window.__dofplan.scale());
+    const [zx, zy] = await pageOf(pin);
+    check(zoomed > 1.3 * scale && Math.hypot(zx - ox, zy - oy) < 1, `the wheel zooms about the pointer (scale ×${(zoomed / scale).toFixed(2)}, ground.O stays under it)`);
+    await page.mouse.down({ button: "middle" });
+    await page.mouse.move(ox + 60, oy + 40, { steps: 5 });
+    await page.mouse.up({ button: "middle" });
+    const [qx, qy] = await pageOf(pin);
+    check(Math.hypot(qx - ox - 60, qy - oy - 40) < 1 && (await at("ground.O"))[0] === pin[0], `a middle-button drag pans (ground.O moved ${(qx - ox).toFixed(1)}, ${(qy - oy).toFixed(1)} px on the page)`);
+    await page.screenshot({ path: join(SHOTS, "construct-zoomed.png") });
+    const errors = await page.evaluate(() => window.__dofplan.errors);
+    check(errors.length === 3, `three refusals in all, each shown (${errors.length})`);
+  } finally {
+    child.kill();
+    rmSync(dir, { recursive: true, force: true });
+  }
+}
+
 mkdirSync(SHOTS, { recursive: true });
 const browser = await chromium.launch({
   executablePath: CHROMIUM,
@@ -476,14 +717,11 @@ const browser = await chromium.launch({
     "--no-first-run",
   ],
 });
+const ONLY = process.env.ONLY ? process.env.ONLY.split(",") : null;
 try {
-  await fourbar(browser);
-  await openChain(browser);
-  await pendulum(browser);
-  await limits(browser);
-  await sliderCrank(browser);
-  await empty(browser);
-  await stress(browser);
+  for (const scenario of [fourbar, openChain, pendulum, limits, sliderCrank, empty, construct, stress]) {
+    if (!ONLY || ONLY.includes(scenario.name)) await scenario(browser);
+  }
 } catch (e) {
   check(false, `the test ran to the end (${e.stack ?? e})`);
 } finally {
