@@ -22,8 +22,8 @@ use dofplan_runtime::Point;
 
 use crate::analysis::conflict::{self, Assembly};
 use crate::model::{
-    load_file, load_str, load_str_drawn, ConstraintKind, Diagnostic, Format, JointKind, Location, MarkerId,
-    Mechanism, ModelError, Note, SourceFile, DRAWN_TOLERANCE,
+    load_file, load_str, load_str_drawn, Diagnostic, Format, Location, MarkerId, Mechanism, ModelError, Note,
+    SourceFile, DRAWN_TOLERANCE,
 };
 use crate::plan::num;
 
@@ -311,18 +311,7 @@ fn same_where_joined(m: &Mechanism, ids: &[MarkerId], stays: &[bool], to: &mut [
         }
         i
     }
-    let joined = m
-        .joints
-        .iter()
-        .filter(|j| j.kind == JointKind::Revolute)
-        .map(|j| j.markers)
-        .chain(
-            m.constraints
-                .iter()
-                .filter(|c| c.kind == ConstraintKind::Coincident)
-                .map(|c| c.markers),
-        );
-    for [a, b] in joined {
+    for [a, b] in m.coincident_pairs() {
         let (Some(a), Some(b)) = (index(a), index(b)) else {
             continue;
         };

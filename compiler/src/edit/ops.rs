@@ -350,18 +350,7 @@ fn move_group(
     let mut i = 0;
     while i < group.len() {
         let at = group[i];
-        let pairs = m
-            .joints
-            .iter()
-            .filter(|j| j.kind == JointKind::Revolute)
-            .map(|j| j.markers)
-            .chain(
-                m.constraints
-                    .iter()
-                    .filter(|c| c.kind == crate::model::ConstraintKind::Coincident)
-                    .map(|c| c.markers),
-            );
-        for [a, b] in pairs {
+        for [a, b] in m.coincident_pairs() {
             for (x, y) in [(a, b), (b, a)] {
                 if x == at && !group.contains(&y) {
                     group.push(y);

@@ -297,6 +297,14 @@ impl Mechanism {
         all_markers(&self.bodies)
     }
 
+    /// The pairs of markers held on one point: those of every revolute
+    /// joint and every coincident constraint, in file order.
+    pub fn coincident_pairs(&self) -> impl Iterator<Item = [MarkerId; 2]> + '_ {
+        let joints = self.joints.iter().filter(|j| j.kind == JointKind::Revolute);
+        let constraints = (self.constraints.iter()).filter(|c| c.kind == ConstraintKind::Coincident);
+        joints.map(|j| j.markers).chain(constraints.map(|c| c.markers))
+    }
+
     /// The size of the mechanism: the diagonal of its markers' bounding box
     /// as drawn (1 if they all coincide). Tolerances are relative to it.
     pub fn size(&self) -> f64 {
