@@ -353,7 +353,10 @@ function toWorld(event) {
 // ---- a frame ----------------------------------------------------------------
 
 function setFrame(frame, answered) {
+  const first = !pose;
   pose = frame;
+  // The first pose of a document: the selection's controls can show it.
+  if (first) markSelection();
   // Sliders keep what was asked of them (a limit shows beside it); a drag
   // moves the inputs, and the sliders follow.
   const asked = answered && answered.message.type === "inputs";
@@ -646,6 +649,14 @@ function markSelection() {
     : "nothing selected";
   const editable = Boolean(doc && doc.editing.editable);
   $("toggle").disabled = !editable || !joint;
+  // A prismatic joint's line (its first marker's direction, turned with
+  // its body), editable.
+  const sliding = editable && joint && joint.kind === "prismatic" && pose;
+  $("direction-box").hidden = !sliding;
+  if (sliding && document.activeElement !== $("direction")) {
+    const [dx, dy] = lineOf(joint);
+    $("direction").value = ((Math.atan2(dy, dx) * 180) / Math.PI).toFixed(1);
+  }
   $("make-input").disabled = !editable || !joint || driven;
   $("delete").disabled = !editable || !selection;
 }
@@ -709,6 +720,24 @@ function deleteSelection() {
   const key = { joint: "joint", marker: "marker", body: "body" }[selection.kind];
   sendEdits([{ op, [key]: selection.name }]);
 }
+
+// The world direction of prismatic `joint`'s line in the pose on screen.
+function lineOf(joint) {
+  const a = markerIndex.findIndex((m) => m.key === joint.markers[0]);
+  const dir = markerAt(a).dir || [1, 0];
+  const [c, s] = pose.poses[markerIndex[a].body];
+  return [c * dir[0] - s * dir[1], s * dir[0] + c * dir[1]];
+}
+
+$("direction").addEventListener("change", () => {
+  const joint = selection && selection.kind === "joint" ? doc.joints.find((j) => j.name === selection.name) : null;
+  const degrees = Number($("direction").value);
+  if (!joint || joint.kind !== "prismatic" || !Number.isFinite(degrees)) return;
+  const r = (degrees * Math.PI) / 180;
+  // Sent as the line in the pose on screen, which the edit makes the
+  // drawing first.
+  sendEdits([{ op: "set_dir", marker: joint.markers[0], dir: [Math.cos(r), Math.sin(r)] }]);
+});
 
 function toggleJoint(want = null) {
   if (!selection || selection.kind !== "joint") return;
@@ -869,7 +898,7 @@ function drawPreview() {
 }
 
 function typing(event) {
-  return event.target.matches && event.target.matches("input[type=text], select, textarea");
+  return event.target.matches && event.target.matches("input:not([type=range]), select, textarea");
 }
 
 document.addEventListener("keydown", (event) => {

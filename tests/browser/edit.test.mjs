@@ -603,6 +603,15 @@ async function construct(browser) {
     for (const [k, p] of Object.entries(moved)) off = Math.max(off, Math.hypot(p[0] - drawn[k][0], p[1] - drawn[k][1]));
     check(off < 1e-9, `an edit after a slider move is made at the pose on screen (markers moved ${off.toExponential(2)})`);
     check((await page.locator('[data-joint="J3"].prismatic').count()) === 1, `P: J3 is prismatic (${s.text})`);
+    // Its line, editable: 30° from the x axis.
+    await page.fill("#direction", "30");
+    await page.press("#direction", "Tab");
+    s = await status();
+    const line = (await documentOf(page)).bodies.find((b) => b.name === "link2").markers.find((m) => m.name === "B").dir;
+    check(
+      Math.abs(line[0] - Math.cos(Math.PI / 6)) < 1e-9 && Math.abs(line[1] - 0.5) < 1e-9,
+      `the prismatic joint's line set to 30° (${line}; ${s.text})`,
+    );
     await page.screenshot({ path: join(SHOTS, "construct-prismatic.png") });
     const prismatic = await snapshot(page);
     await page.keyboard.press("r");
