@@ -240,7 +240,9 @@ function buildDrawing() {
     parts.bodies.set(b.name, g);
     const colour = COLOURS[bi % COLOURS.length];
     if (!b.fixed) {
-      const shape = hulls[bi].length >= 3 ? "polygon" : "polyline";
+      // In 3D the outline is found again each frame, from the projection.
+      const outline = is3d() ? b.markers.length : hulls[bi].length;
+      const shape = outline >= 3 ? "polygon" : "polyline";
       parts.shapes.push({ el: el(shape, { class: "link", stroke: colour, fill: colour }, g), body: bi });
     }
     markerIndex.forEach((m, i) => {
@@ -257,13 +259,14 @@ function buildDrawing() {
     });
     if (!b.fixed) {
       g.addEventListener("pointerdown", (event) => {
-        if (mode === "move" && !panning && !spaceHeld) grab(event, b.name);
+        if (mode === "move" && !panning && !spaceHeld && !is3d()) grab(event, b.name);
       });
     }
   });
   // Ground hatching under every ground marker a joint uses (or every
   // ground marker, when none is jointed yet).
-  const fixedMarkers = markerIndex.map((m, i) => [m, i]).filter(([m]) => doc.bodies[m.body].fixed);
+  // (Hatching is a planar drawing's: a spatial ground has no "below".)
+  const fixedMarkers = is3d() ? [] : markerIndex.map((m, i) => [m, i]).filter(([m]) => doc.bodies[m.body].fixed);
   const anchors = fixedMarkers.filter(([m]) => jointed.has(m.key));
   for (const [m, i] of anchors.length ? anchors : fixedMarkers) {
     const g = el("g", { class: "ground-anchor", "data-ground": m.key }, $("ground"));
@@ -274,7 +277,8 @@ function buildDrawing() {
     const g = el("g", { class: `joint ${j.kind}`, "data-joint": j.name }, $("joints"));
     const [a, b] = j.markers.map((k) => index.get(k));
     const part = { joint: j, a, b };
-    if (j.kind === "revolute") {
+    if (j.kind !== "prismatic" || is3d()) {
+      // A pin; in 3D every kind is drawn as one, named by its class.
       part.circle = el("circle", { r: 6 }, g);
     } else {
       part.line = el("line", {}, g);
@@ -296,10 +300,18 @@ function buildDrawing() {
 function fitView() {
   if (!doc) return;
   // The whole motion of the sweep, and the pose on screen.
-  const [bx0, by0, bx1, by1] = doc.bounds;
-  const points = [[bx0, by0], [bx1, by1]];
-  for (const path of Object.values(doc.traces)) points.push(...path);
-  if (pose) points.push(...pose.markers);
+  const world = [];
+  if (is3d()) {
+    // The corners of the box the sweep stays in, as projected.
+    const [x0, y0, z0, x1, y1, z1] = doc.bounds;
+    for (const x of [x0, x1]) for (const y of [y0, y1]) for (const z of [z0, z1]) world.push([x, y, z]);
+  } else {
+    const [bx0, by0, bx1, by1] = doc.bounds;
+    world.push([bx0, by0], [bx1, by1]);
+  }
+  for (const path of Object.values(doc.traces)) world.push(...path);
+  if (pose) world.push(...pose.markers);
+  const points = world.filter((p) => p.every(Number.isFinite)).map(project);
   let [x0, y0, x1, y1] = [Infinity, Infinity, -Infinity, -Infinity];
   for (const [x, y] of points) {
     x0 = Math.min(x0, x);
@@ -331,7 +343,12 @@ function fitView() {
 function renderTraces() {
   if (!doc) return;
   for (const [key, path] of Object.entries(doc.traces)) {
-    const d = path.map(([x, y], k) => `${k ? "L" : "M"}${sx(x).toFixed(1)},${sy(y).toFixed(1)}`).join("");
+    const d = path
+      .map((p, k) => {
+        const [x, y] = toScreen(p);
+        return `${k ? "L" : "M"}${x.toFixed(1)},${y.toFixed(1)}`;
+      })
+      .join("");
     canvas.querySelector(`path[data-trace="${CSS.escape(key)}"]`).setAttribute("d", d);
   }
   draw();
@@ -339,7 +356,26 @@ function renderTraces() {
 
 function inView(points) {
   const rect = canvas.getBoundingClientRect();
-  return points.every(([x, y]) => sx(x) >= 0 && sx(x) <= rect.width && sy(y) >= 0 && sy(y) <= rect.height);
+  return points.map(toScreen).every(([x, y]) => x >= 0 && x <= rect.width && y >= 0 && y <= rect.height);
+}
+
+// The view of a spatial document: turned `yaw` about the world z axis,
+// then tilted `pitch` toward it (90°: seen from above, along -z).
+const camera = { yaw: (-30 * Math.PI) / 180, pitch: (55 * Math.PI) / 180 };
+const is3d = () => Boolean(doc && doc.dimension === 3);
+
+// A world point in the plane of the screen (before scaling): a planar
+// point as it is, a spatial one as the camera sees it.
+function project(p) {
+  if (!is3d()) return [p[0], p[1]];
+  const [c, s] = [Math.cos(camera.yaw), Math.sin(camera.yaw)];
+  const [x1, y1] = [c * p[0] - s * p[1], s * p[0] + c * p[1]];
+  return [x1, y1 * Math.sin(camera.pitch) + p[2] * Math.cos(camera.pitch)];
+}
+
+function toScreen(p) {
+  const [u, v] = project(p);
+  return [sx(u), sy(v)];
 }
 
 const sx = (x) => view.ox + view.s * x;
@@ -400,7 +436,7 @@ document.addEventListener("pointerup", () => {
 function draw() {
   if (!doc || !pose) return;
   const world = pose.markers;
-  const screen = world.map(([x, y]) => [sx(x), sy(y)]);
+  const screen = world.map(toScreen);
   for (const { el: c, i, label } of parts.markers) {
     c.setAttribute("cx", screen[i][0].toFixed(2));
     c.setAttribute("cy", screen[i][1].toFixed(2));
@@ -410,9 +446,15 @@ function draw() {
     }
     c.dataset.x = String(world[i][0]);
     c.dataset.y = String(world[i][1]);
+    if (world[i].length === 3) c.dataset.z = String(world[i][2]);
   }
   for (const { el: shape, body } of parts.shapes) {
-    const points = hulls[body].map((i) => `${screen[i][0].toFixed(2)},${screen[i][1].toFixed(2)}`);
+    let outline = hulls[body];
+    if (is3d()) {
+      const ids = markerIndex.map((m, i) => [m, i]).filter(([m]) => m.body === body).map(([, i]) => i);
+      outline = hull(ids.map((i) => screen[i])).map((k) => ids[k]);
+    }
+    const points = outline.map((i) => `${screen[i][0].toFixed(2)},${screen[i][1].toFixed(2)}`);
     // A one-marker body is a dot: a polyline needs two points.
     if (points.length === 1) points.push(points[0]);
     shape.setAttribute("points", points.join(" "));
@@ -429,7 +471,7 @@ function draw() {
       label.setAttribute("x", (x + 9).toFixed(2));
       label.setAttribute("y", (y - 9).toFixed(2));
     }
-    if (joint.kind === "revolute") {
+    if (circle) {
       circle.setAttribute("cx", x.toFixed(2));
       circle.setAttribute("cy", y.toFixed(2));
       continue;
@@ -565,6 +607,7 @@ let sketch = []; // the body being drawn: [{at, key}] (key: the marker snapped t
 let hover = null; // the pointer, in world coordinates, while drawing
 let moving = null; // a marker dragged in edit mode: {key, body, from, at, moved, target, joint}
 let panning = null; // {x, y, ox, oy} while panning
+let orbiting = null; // {x, y, yaw, pitch} while turning a spatial view
 let spaceHeld = false;
 let openDiscard = null; // the file whose unsaved changes the next Open drops
 
@@ -667,6 +710,9 @@ function showEditing() {
   for (const b of document.querySelectorAll("#modes button")) b.disabled = !e.editable && b.dataset.mode !== "move";
   if (!e.editable && mode !== "move") setMode("move");
   $("modes").title = e.editable ? "" : `not editable: ${e.why}`;
+  if (is3d()) {
+    $("hint").textContent = "Drag to orbit, wheel to zoom, middle or Space+drag to pan; the sliders drive the inputs. Spatial files are shown, not edited.";
+  }
   $("undo").disabled = !e.undo;
   $("redo").disabled = !e.redo;
   $("save").disabled = !e.editable;
@@ -689,7 +735,10 @@ function showEditing() {
   }
   list.disabled = e.files.length === 0;
   if (e.files.includes(chosen)) list.value = chosen;
-  $("open").disabled = e.files.length === 0;
+  // A spatial page is a view of its file alone: another file is opened
+  // by starting the editor with it.
+  $("open").disabled = e.files.length === 0 || is3d();
+  list.disabled ||= is3d();
   markSelection();
 }
 
@@ -787,6 +836,13 @@ canvas.addEventListener("pointerdown", (event) => {
     canvas.setPointerCapture(event.pointerId);
     return;
   }
+  if (event.button === 0 && is3d()) {
+    // A spatial document turns under the pointer (it is not dragged).
+    event.preventDefault();
+    orbiting = { x: event.clientX, y: event.clientY, yaw: camera.yaw, pitch: camera.pitch };
+    canvas.setPointerCapture(event.pointerId);
+    return;
+  }
   if (event.button !== 0 || mode === "move") return;
   const p = screenOf(event);
   const at = toWorld(event);
@@ -820,6 +876,13 @@ canvas.addEventListener("dblclick", () => {
 });
 
 canvas.addEventListener("pointermove", (event) => {
+  if (orbiting) {
+    camera.yaw = orbiting.yaw + (event.clientX - orbiting.x) * 0.01;
+    const pitch = orbiting.pitch + (event.clientY - orbiting.y) * 0.01;
+    camera.pitch = Math.max(-Math.PI / 2, Math.min(Math.PI / 2, pitch));
+    renderTraces();
+    return;
+  }
   if (panning) {
     view.ox = panning.ox + event.clientX - panning.x;
     view.oy = panning.oy + event.clientY - panning.y;
@@ -841,6 +904,7 @@ canvas.addEventListener("pointermove", (event) => {
 });
 
 function endPointer() {
+  orbiting = null;
   if (panning) {
     panning = null;
     return;
@@ -968,10 +1032,12 @@ probe.toWorld = (x, y) => toWorld({ clientX: x, clientY: y });
 probe.scale = () => view.s;
 probe.pose = () => pose;
 probe.selection = () => selection;
-probe.toPage = ([x, y]) => {
+probe.toPage = (p) => {
   const rect = canvas.getBoundingClientRect();
-  return [rect.left + sx(x), rect.top + sy(y)];
+  const [x, y] = toScreen(p);
+  return [rect.left + x, rect.top + y];
 };
+probe.camera = () => ({ ...camera });
 
 new ResizeObserver(() => {
   if (userView) renderTraces();

@@ -712,6 +712,84 @@ async function construct(browser) {
   }
 }
 
+async function spatial(browser) {
+  console.log("== mechanisms/spatial/rssr.toml (a spatial file: shown in 3D, not edited)");
+  const file = "mechanisms/spatial/rssr.toml";
+  const { child, page } = await openEditor(browser, file);
+  try {
+    const doc = await documentOf(page);
+    check(doc.dimension === 3 && (await page.locator("[data-body]").count()) === doc.bodies.length, `a group per body of the 3D file (${doc.bodies.length})`);
+    const zs = await page.$$eval("[data-marker]", (els) => els.map((e) => e.dataset.z));
+    check(zs.length > 0 && zs.every((z) => z !== undefined && Number.isFinite(Number(z))), `every marker carries data-z (${zs.length})`);
+    const panel = async (name) => page.$eval(`[data-panel="${name}"]`, (e) => e.textContent);
+    check((await panel("plan")) === dofplan("plan", file), "the Plan panel is `dofplan plan`");
+    check((await panel("check")) === dofplan("check", file), "the Check panel is `dofplan check`");
+    check((await panel("rust")) === dofplan("emit", file), "the Rust panel is `dofplan emit`");
+    check((await page.locator('path[data-trace]').count()) > 0, "the sweep's traces are drawn");
+    await page.screenshot({ path: join(SHOTS, "rssr-3d.png") });
+
+    // The slider at 40°: every marker where `dofplan simulate` puts it.
+    await page.$eval('input[data-input="theta"]', (e) => {
+      e.value = "40";
+      e.dispatchEvent(new Event("input", { bubbles: true }));
+    });
+    await settled(page);
+    const at = await page.$$eval("[data-marker]", (els) =>
+      Object.fromEntries(els.map((e) => [e.dataset.marker, [Number(e.dataset.x), Number(e.dataset.y), Number(e.dataset.z)]])),
+    );
+    const simulated = JSON.parse(dofplan("simulate", file, "--from", "40", "--to", "40", "--steps", "1", "--json")).frames[0].markers;
+    let off = 0;
+    for (const [k, p] of Object.entries(simulated)) off = Math.max(off, Math.hypot(...p.map((v, c) => v - at[k][c])));
+    check(off < 1e-9, `slider at 40°: markers as \`dofplan simulate\` at 40° (largest difference ${off.toExponential(2)})`);
+
+    // Dragging the view orbits it: the world positions stay, the drawing turns.
+    const before = await page.evaluate(() => window.__dofplan.camera());
+    const [px, py] = await page.evaluate((p) => window.__dofplan.toPage(p), simulated["coupler.C"]);
+    const box = await page.locator("#canvas").boundingBox();
+    await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+    await page.mouse.down();
+    await page.mouse.move(box.x + box.width / 2 + 80, box.y + box.height / 2 + 20, { steps: 8 });
+    await page.mouse.up();
+    await settled(page);
+    const after = await page.evaluate(() => window.__dofplan.camera());
+    const [qx, qy] = await page.evaluate((p) => window.__dofplan.toPage(p), simulated["coupler.C"]);
+    const still = await page.$eval('[data-marker="coupler.C"]', (e) => [Number(e.dataset.x), Number(e.dataset.y), Number(e.dataset.z)]);
+    check(
+      Math.abs(after.yaw - before.yaw - 0.8) < 1e-9 && Math.hypot(qx - px, qy - py) > 5 && Math.hypot(...still.map((v, c) => v - at["coupler.C"][c])) === 0,
+      `a drag orbits the view (yaw +${(after.yaw - before.yaw).toFixed(2)} rad; coupler.C moved ${Math.hypot(qx - px, qy - py).toFixed(1)} px on the page, not in the world)`,
+    );
+    const shown = await page.$eval('[data-marker="coupler.C"]', (e) => [Number(e.getAttribute("cx")), Number(e.getAttribute("cy"))]);
+    check(Math.hypot(box.x + shown[0] - qx, box.y + shown[1] - qy) < 0.5, "and the marker is drawn where the view projects it");
+    await page.screenshot({ path: join(SHOTS, "rssr-3d-orbited.png") });
+
+    // The sweep plays.
+    const frames = await page.evaluate(() => window.__dofplan.frames);
+    await page.click("#play");
+    await page.waitForFunction((n) => window.__dofplan.frames >= n + 30, frames);
+    await page.click("#play");
+    await settled(page);
+    check(true, "playing the 3D sweep streams frames");
+    // Nothing edits it: the edit modes are off, and the server refuses.
+    const disabled = await page.$$eval('[data-mode="body"], [data-mode="edit"], #save, #save-as, #open', (bs) => bs.map((b) => b.disabled));
+    check(disabled.every(Boolean), `the edit modes, Save and Open are disabled (${disabled})`);
+    const refused = await page.evaluate(async () => {
+      const ws = new WebSocket(`ws://${location.host}/ws${location.search}`);
+      const got = [];
+      ws.onmessage = (e) => got.push(JSON.parse(e.data));
+      await new Promise((ok) => (ws.onopen = ok));
+      ws.send(JSON.stringify({ type: "edit", id: 7, edits: [{ op: "delete_body", body: "coupler" }] }));
+      ws.send(JSON.stringify({ type: "grab", id: 8, body: "coupler", at: [0, 0] }));
+      await new Promise((r) => setTimeout(r, 300));
+      ws.close();
+      return got.filter((m) => m.type === "error").map((m) => m.id);
+    });
+    check(JSON.stringify(refused) === "[7,8]", `an edit and a drag of a spatial file are refused (${refused})`);
+    await page.screenshot({ path: join(SHOTS, "rssr-3d-played.png") });
+  } finally {
+    child.kill();
+  }
+}
+
 mkdirSync(SHOTS, { recursive: true });
 const browser = await chromium.launch({
   executablePath: CHROMIUM,
@@ -728,7 +806,7 @@ const browser = await chromium.launch({
 });
 const ONLY = process.env.ONLY ? process.env.ONLY.split(",") : null;
 try {
-  for (const scenario of [fourbar, openChain, pendulum, limits, sliderCrank, empty, construct, stress]) {
+  for (const scenario of [fourbar, openChain, pendulum, limits, sliderCrank, empty, construct, spatial, stress]) {
     if (!ONLY || ONLY.includes(scenario.name)) await scenario(browser);
   }
 } catch (e) {

@@ -19,6 +19,7 @@ use dofplan::model::{load_any_str, Format, Model};
 use dofplan_runtime::planar::{Pose, Rot};
 
 use super::document::{Document, UNTITLED};
+use super::view3::{Document3, READ_ONLY};
 
 /// A message from the page that changes the document (the others, for
 /// the pose on screen, are [`super::session::Request`]s).
@@ -100,13 +101,38 @@ pub struct Workspace {
     /// when the editor's differs.
     saved: String,
     /// What the pages are sent, rebuilt after every change.
-    doc: Arc<Document>,
+    view: View,
+}
+
+/// The document the pages show.
+#[derive(Clone)]
+pub enum View {
+    /// A planar mechanism: dragged and edited.
+    Planar(Arc<Document>),
+    /// A spatial one: shown with its sliders and sweep only.
+    Spatial(Arc<Document3>),
 }
 
 impl Workspace {
     /// Opens `file` (or a new document) for a server started in `dir`. An
     /// error is the text to print: the file's diagnostics.
     pub fn open(file: Option<&Path>, dir: PathBuf) -> Result<Workspace, String> {
+        if let Some(path) = file.filter(|p| dofplan::model::is_spatial_file(p)) {
+            match dofplan::model::load_any(path) {
+                Ok(Model::Spatial(m)) => {
+                    return Ok(Workspace {
+                        editor: Err(READ_ONLY.to_string()),
+                        path: Some(path.to_path_buf()),
+                        dir,
+                        saved: String::new(),
+                        view: View::Spatial(Arc::new(Document3::new(path, m))),
+                    })
+                }
+                // Rewritten as a planar file meanwhile: opened as one below.
+                Ok(Model::Planar(_)) => {}
+                Err(e) => return Err(e.render(crate::colour())),
+            }
+        }
         let doc = Document::open(file)?;
         let editor = match file {
             None => Ok(Editor::empty(UNTITLED)),
@@ -119,13 +145,21 @@ impl Workspace {
             editor,
             path: file.map(Path::to_path_buf),
             dir,
-            doc: Arc::new(doc),
+            view: View::Planar(Arc::new(doc)),
         })
     }
 
     /// The document as it is now.
-    pub fn doc(&self) -> Arc<Document> {
-        self.doc.clone()
+    pub fn view(&self) -> View {
+        self.view.clone()
+    }
+
+    /// The planar document as it is now, if it is planar.
+    pub fn planar(&self) -> Option<Arc<Document>> {
+        match &self.view {
+            View::Planar(doc) => Some(doc.clone()),
+            View::Spatial(_) => None,
+        }
     }
 
     /// The `document` message: the document's description and what the
@@ -133,7 +167,10 @@ impl Workspace {
     /// redone, whether it has a file and unsaved changes, the files that
     /// can be opened).
     pub fn describe(&self) -> Value {
-        let mut d = self.doc.description.clone();
+        let mut d = match &self.view {
+            View::Planar(doc) => doc.description.clone(),
+            View::Spatial(doc) => doc.description.clone(),
+        };
         let (undo, redo) = self.editor.as_ref().map_or((false, false), Editor::can);
         d["editing"] = json!({
             "editable": self.editor.is_ok(),
@@ -228,7 +265,7 @@ impl Workspace {
             Ok(Model::Planar(m)) => m,
             Ok(Model::Spatial(_)) => {
                 return Err(format!(
-                    "{file}: the editor does not open spatial (dimension = 3) files yet"
+                    "{file}: spatial (dimension = 3) files are not opened from here: start `dofplan edit {file}` to view one"
                 ))
             }
             Err(e) => return Err(e.render(false)),
@@ -236,7 +273,7 @@ impl Workspace {
         let editor = editor_of(Path::new(&file), &text)?;
         self.saved = editor.text();
         self.editor = Ok(editor);
-        self.doc = Arc::new(Document::new(Some(Path::new(&file)), mechanism));
+        self.view = View::Planar(Arc::new(Document::new(Some(Path::new(&file)), mechanism)));
         self.path = Some(path);
         Ok(format!("opened {file}"))
     }
@@ -253,7 +290,7 @@ impl Workspace {
         if let Ok(editor) = &self.editor {
             let m = editor.mechanism().clone();
             let shown = self.path.as_deref().map(|p| self.shown(p));
-            self.doc = Arc::new(Document::new(shown.as_deref(), m));
+            self.view = View::Planar(Arc::new(Document::new(shown.as_deref(), m)));
         }
     }
 }
@@ -338,7 +375,7 @@ mod tests {
             &none,
         )
         .unwrap();
-        assert_eq!(w.doc().mechanism.bodies.len(), 2);
+        assert_eq!(w.planar().unwrap().mechanism.bodies.len(), 2);
         assert_eq!(w.describe()["editing"]["undo"], false);
         let _ = std::fs::remove_dir_all(&dir);
     }
@@ -362,6 +399,30 @@ mod tests {
             Err("nothing to undo".into())
         );
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn a_spatial_file_is_shown_and_every_change_refused() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../mechanisms/spatial/rssr.toml");
+        let mut w = Workspace::open(Some(&path), std::env::temp_dir()).unwrap();
+        let d = w.describe();
+        assert_eq!(
+            (d["dimension"].as_u64(), d["editing"]["editable"].as_bool()),
+            (Some(3), Some(false))
+        );
+        assert!(
+            d["plan"].is_string() && d["check"].as_str().is_some_and(|c| c.contains("mobility")),
+            "{d}"
+        );
+        for request in [
+            r#"{"type":"edit","id":1,"edits":[{"op":"add_marker","body":"ground","at":[0,0]}]}"#,
+            r#"{"type":"save","id":2}"#,
+            r#"{"type":"undo","id":3}"#,
+        ] {
+            let why = w.handle(edits(request), &[]).unwrap_err();
+            assert!(why.contains("planar-only"), "{request}: {why}");
+        }
+        assert!(w.planar().is_none());
     }
 
     #[test]

@@ -11,6 +11,7 @@
 mod document;
 mod editing;
 mod session;
+mod view3;
 
 use std::io::{self, Read, Write};
 use std::net::{Ipv4Addr, SocketAddr};
@@ -29,7 +30,7 @@ use futures_util::FutureExt;
 use serde_json::Value;
 
 use document::Document;
-use editing::Workspace;
+use editing::{View, Workspace};
 use session::Session;
 
 /// The page and its script and style, embedded at compile time.
@@ -80,7 +81,7 @@ pub fn run(file: Option<&Path>, port: Option<u16>, open: bool, out: &mut dyn Wri
             return Ok(ExitCode::FAILURE);
         }
     };
-    let doc = workspace.doc();
+    let description = workspace.describe();
     let token = match token() {
         Ok(t) => t,
         Err(e) => {
@@ -110,7 +111,7 @@ pub fn run(file: Option<&Path>, port: Option<u16>, open: bool, out: &mut dyn Wri
     out.flush()?;
     crate::report(&format!(
         "dofplan edit: serving {} at the address above (127.0.0.1 only); Ctrl+C stops",
-        doc.description["file"].as_str().unwrap_or("a new document")
+        description["file"].as_str().unwrap_or("a new document")
     ));
     if open {
         open_browser(&url);
@@ -301,9 +302,13 @@ enum Run {
 /// edit, undo, save, open) is answered with the new document and its
 /// drawn pose.
 async fn live(mut socket: WebSocket, server: Arc<Server>) {
-    let (mut doc, greeting) = {
+    let (view, greeting) = {
         let w = server.workspace();
-        (w.doc(), w.describe())
+        (w.view(), w.describe())
+    };
+    let mut doc = match view {
+        View::Planar(doc) => doc,
+        View::Spatial(doc) => return live3(socket, doc, greeting).await,
     };
     let mut session = Session::new(doc.clone());
     for greeting in [greeting, session.current(0)] {
@@ -374,6 +379,48 @@ async fn live(mut socket: WebSocket, server: Arc<Server>) {
     }
 }
 
+/// The live loop of a page showing a spatial document: sliders and the
+/// sweep run its plan; drags and edits are refused (planar-only).
+async fn live3(mut socket: WebSocket, doc: Arc<view3::Document3>, greeting: Value) {
+    let mut session = view3::Session3::new(doc);
+    for greeting in [greeting, session.current(0)] {
+        if send(&mut socket, &greeting).await.is_err() {
+            return;
+        }
+    }
+    while let Some(Ok(message)) = socket.recv().await {
+        let reply = match message {
+            Message::Text(text) if editing::is_editing(text.as_str()) => {
+                let id = serde_json::from_str::<Value>(text.as_str())
+                    .ok()
+                    .and_then(|v| v["id"].as_u64())
+                    .unwrap_or(0);
+                session::error(id, view3::READ_ONLY)
+            }
+            Message::Text(text) => match serde_json::from_str::<session::Request>(text.as_str()) {
+                Ok(request) => {
+                    let started = std::time::Instant::now();
+                    let solved = tokio::task::block_in_place(|| {
+                        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| session.handle(request)))
+                    });
+                    let mut reply = solved.unwrap_or_else(|_| {
+                        session::error(0, "internal error while solving: reload the page")
+                    });
+                    reply["server_ms"] = serde_json::json!(started.elapsed().as_secs_f64() * 1e3);
+                    reply
+                }
+                Err(e) => session::error(0, &format!("bad message: {e}")),
+            },
+            Message::Binary(_) => session::error(0, "bad message: expected JSON text"),
+            Message::Close(_) => return,
+            Message::Ping(_) | Message::Pong(_) => continue,
+        };
+        if send(&mut socket, &reply).await.is_err() {
+            return;
+        }
+    }
+}
+
 /// The reply to one session request: a frame, or an error.
 fn solve(session: &mut Session, doc: &Arc<Document>, request: Result<session::Request, Value>) -> Value {
     let started = std::time::Instant::now();
@@ -413,7 +460,7 @@ fn change(
 ) -> Vec<Value> {
     let id = request.id();
     let mut w = server.workspace();
-    if !Arc::ptr_eq(doc, &w.doc()) {
+    if !w.planar().is_some_and(|now| Arc::ptr_eq(doc, &now)) {
         // Another page changed the document: this one's pose is of an
         // older drawing, and an edit made at it would be of a file no
         // longer there.
@@ -426,7 +473,13 @@ fn change(
     let changed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| w.handle(request, &poses)));
     match changed {
         Ok(Ok(summary)) => {
-            *doc = w.doc();
+            let Some(now) = w.planar() else {
+                return vec![session::error(
+                    id,
+                    "the document is no longer planar: reload the page",
+                )];
+            };
+            *doc = now;
             *session = Session::new(doc.clone());
             let mut frame = session.current(id);
             frame["edited"] = Value::String(summary);
