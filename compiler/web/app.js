@@ -493,6 +493,7 @@ function draw() {
     line.setAttribute("y2", (ay - reach * dy).toFixed(2));
   }
   drawPreview();
+  drawAxes();
   if (grabbed) {
     const p = grabbed.world;
     const dot = $("grab-point");
@@ -961,14 +962,42 @@ function drawPreview() {
   }
 }
 
+// The world axes as the 3D view turns them, in the drawing's lower left
+// corner; nothing for a planar document.
+function drawAxes() {
+  const g = $("axes");
+  if (!is3d()) {
+    if (g.childElementCount) g.replaceChildren();
+    return;
+  }
+  if (!g.childElementCount) {
+    for (const name of ["x", "y", "z"]) {
+      el("line", { class: `axis axis-${name}` }, g);
+      el("text", { class: `axis-label axis-${name}` }, g).textContent = name;
+    }
+  }
+  const rect = canvas.getBoundingClientRect();
+  const [x0, y0] = [40, rect.height - 60];
+  [[1, 0, 0], [0, 1, 0], [0, 0, 1]].forEach((unit, k) => {
+    const [u, v] = project(unit);
+    const [x1, y1] = [x0 + 28 * u, y0 - 28 * v];
+    const line = g.children[2 * k];
+    for (const [a, value] of Object.entries({ x1: x0, y1: y0, x2: x1, y2: y1 })) line.setAttribute(a, value.toFixed(1));
+    const label = g.children[2 * k + 1];
+    label.setAttribute("x", (x0 + 36 * u - 3).toFixed(1));
+    label.setAttribute("y", (y0 - 36 * v + 4).toFixed(1));
+  });
+}
+
 function typing(event) {
   return event.target.matches && event.target.matches("input:not([type=range]), select, textarea");
 }
 
 document.addEventListener("keydown", (event) => {
   if (event.key === " " && !typing(event)) {
+    // Held to pan: neither a scroll nor a press of the focused button.
     spaceHeld = true;
-    if (event.target === document.body) event.preventDefault();
+    event.preventDefault();
   }
   if (typing(event)) return;
   const ctrl = event.ctrlKey || event.metaKey;
@@ -985,6 +1014,8 @@ document.addEventListener("keydown", (event) => {
   } else if (ctrl || event.altKey) {
     return;
   } else if (event.key === "Enter" && mode === "body") {
+    // Not also a press of the focused button (the mode's, say).
+    event.preventDefault();
     finishBody();
   } else if (event.key === "Escape") {
     if (sketch.length || moving) {
@@ -993,6 +1024,7 @@ document.addEventListener("keydown", (event) => {
       draw();
     } else select(null);
   } else if (event.key === "Delete" || event.key === "Backspace") {
+    event.preventDefault();
     if (mode === "body" && sketch.length) {
       sketch.pop();
       draw();
@@ -1008,7 +1040,10 @@ document.addEventListener("keydown", (event) => {
   else if (key === "n") setMode("marker");
 });
 document.addEventListener("keyup", (event) => {
-  if (event.key === " ") spaceHeld = false;
+  if (event.key === " ") {
+    spaceHeld = false;
+    if (!typing(event)) event.preventDefault();
+  }
 });
 
 // ---- panels ------------------------------------------------------------------------
