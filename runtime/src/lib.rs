@@ -26,6 +26,7 @@ pub mod frame;
 pub mod marker;
 pub mod numeric;
 pub mod planar;
+pub mod real;
 pub mod spatial;
 
 pub use drive::{Animate, Driver, Solver};

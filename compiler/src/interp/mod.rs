@@ -6,8 +6,9 @@ pub mod spatial;
 pub mod spatial_cluster;
 
 use dofplan_runtime::numeric::{cluster, Newton};
-use dofplan_runtime::planar::{self, Point, Pose, Rot};
-use dofplan_runtime::{Branch, Break, Ctx, Solver};
+use dofplan_runtime::planar::{self, cst, Point, Pose, Rot};
+use dofplan_runtime::real::{Jet2, Real};
+use dofplan_runtime::{Branch, BranchPolicy, Break, Ctx, Solver};
 
 use crate::model::InputKind;
 use crate::plan::{ClusterParam, DirRef, Plan, PointRef, Rel, StepKind};
@@ -33,14 +34,16 @@ pub struct InterpState {
     work: Work,
 }
 
+/// One execution's buffers, of `f64`s for a frame, of [`Jet2`]s for its
+/// rates ([`Interpreter::rates`]).
 #[derive(Debug)]
-struct Work {
-    poses: Vec<Pose>,
-    last: Vec<Point>,
+struct Work<T = f64> {
+    poses: Vec<Pose<T>>,
+    last: Vec<[T; 2]>,
     branches: Vec<Branch>,
-    temps: Vec<Point>,
-    rots: Vec<Rot>,
-    /// Newton work buffers, one per cluster.
+    temps: Vec<[T; 2]>,
+    rots: Vec<Rot<T>>,
+    /// Newton work buffers, one per cluster (frames only).
     newtons: Vec<Newton>,
 }
 
@@ -97,10 +100,10 @@ impl Interpreter {
         &self.plan
     }
 
-    fn point(&self, s: &Work, inputs: &[f64], p: &PointRef) -> Point {
+    fn point<T: Scalar>(&self, s: &Work<T>, inputs: &[T], p: &PointRef) -> [T; 2] {
         match p {
-            PointRef::Fixed { at, .. } => *at,
-            PointRef::Marker { body, local, .. } => s.poses[*body].world(*local),
+            PointRef::Fixed { at, .. } => cst(*at),
+            PointRef::Marker { body, local, .. } => s.poses[*body].world(cst(*local)),
             PointRef::Slid {
                 body,
                 local,
@@ -109,17 +112,18 @@ impl Interpreter {
                 sign,
                 ..
             } => {
-                let u = sign * inputs[*input];
-                s.poses[*body].world([local[0] + u * dir[0], local[1] + u * dir[1]])
+                let u = T::cst(*sign) * inputs[*input];
+                let (l, d) = (cst::<T>(*local), cst::<T>(*dir));
+                s.poses[*body].world([l[0] + u * d[0], l[1] + u * d[1]])
             }
             PointRef::Temp { id } => s.temps[*id],
         }
     }
 
-    fn dir(&self, s: &Work, d: &DirRef) -> Point {
+    fn dir<T: Scalar>(&self, s: &Work<T>, d: &DirRef) -> [T; 2] {
         match d {
-            DirRef::Fixed(v) => *v,
-            DirRef::Body { body, local } => s.poses[*body].world_dir(*local),
+            DirRef::Fixed(v) => cst(*v),
+            DirRef::Body { body, local } => s.poses[*body].world_dir(cst(*local)),
         }
     }
 }
@@ -177,11 +181,12 @@ impl Solver for Interpreter {
 }
 
 impl Interpreter {
-    /// Executes every step on the work buffers.
-    fn run(&self, s: &mut Work, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+    /// Executes every step on the work buffers: a frame with `f64`s, its
+    /// rates with [`Jet2`]s — the same steps, the same runtime functions.
+    fn run<T: Scalar>(&self, s: &mut Work<T>, inputs: &[T], ctx: &mut Ctx) -> Result<(), Break> {
         for (k, input) in self.plan.inputs.iter().enumerate() {
             if input.kind == InputKind::Angle {
-                s.rots[k] = Rot::from_degrees(inputs[k]);
+                s.rots[k] = T::rot_from_degrees(inputs[k]);
             }
         }
         for (i, step) in self.plan.steps.iter().enumerate() {
@@ -189,7 +194,7 @@ impl Interpreter {
             match &step.kind {
                 StepKind::Orient { body, from, rel } => {
                     let r = match rel {
-                        Rel::Identity => Rot::IDENTITY,
+                        Rel::Identity => Rot::cst(Rot::IDENTITY),
                         Rel::Input {
                             input,
                             inverse: false,
@@ -206,7 +211,7 @@ impl Interpreter {
                 }
                 StepKind::Anchor { body, local, at } => {
                     let at = self.point(s, inputs, at);
-                    planar::anchor(&mut s.poses[*body], *local, at);
+                    planar::anchor(&mut s.poses[*body], cst(*local), at);
                 }
                 StepKind::Align {
                     body,
@@ -218,10 +223,11 @@ impl Interpreter {
                 } => {
                     let p_at = self.point(s, inputs, p_at);
                     let q_at = self.point(s, inputs, q_at);
+                    let (p, q) = (cst(*p), cst(*q));
                     if *redundant {
-                        planar::align_consistent(ctx, id, &mut s.poses[*body], *p, p_at, *q, q_at)?;
+                        planar::align_consistent(ctx, id, &mut s.poses[*body], p, p_at, q, q_at)?;
                     } else {
-                        planar::align(&mut s.poses[*body], *p, p_at, *q, q_at);
+                        planar::align(&mut s.poses[*body], p, p_at, q, q_at);
                     }
                 }
                 StepKind::CircleCircle {
@@ -238,9 +244,9 @@ impl Interpreter {
                         ctx,
                         id,
                         c1,
-                        *r1,
+                        T::cst(*r1),
                         c2,
-                        *r2,
+                        T::cst(*r2),
                         &mut s.branches[*branch],
                         &mut s.last[*branch],
                     )?;
@@ -259,7 +265,7 @@ impl Interpreter {
                         ctx,
                         id,
                         c,
-                        *r,
+                        T::cst(*r),
                         p,
                         d,
                         &mut s.branches[*branch],
@@ -274,44 +280,7 @@ impl Interpreter {
                     s.temps[*out] = planar::line_line(ctx, id, p1, d1, p2, d2)?;
                 }
                 StepKind::Cluster { index, params, rows } => {
-                    let params: Vec<cluster::Param> = params
-                        .iter()
-                        .map(|p| match p {
-                            ClusterParam::Free { body } => cluster::Param::Free { body: *body },
-                            ClusterParam::Angle { body, pin, at } => cluster::Param::Angle {
-                                body: *body,
-                                pin: *pin,
-                                at: self.point(s, inputs, at),
-                            },
-                            ClusterParam::Hinge {
-                                body,
-                                pin,
-                                parent,
-                                at,
-                                ..
-                            } => cluster::Param::Hinge {
-                                body: *body,
-                                pin: *pin,
-                                parent: *parent,
-                                at: *at,
-                            },
-                            ClusterParam::Slide { body, dir } => cluster::Param::Slide {
-                                body: *body,
-                                dir: self.dir(s, dir),
-                            },
-                            ClusterParam::Translate { body } => cluster::Param::Translate { body: *body },
-                        })
-                        .collect();
-                    cluster::solve(
-                        ctx,
-                        id,
-                        &mut s.poses,
-                        &params,
-                        rows,
-                        inputs,
-                        self.plan.size,
-                        &mut s.newtons[*index],
-                    )?;
+                    T::cluster(self, s, inputs, ctx, id, *index, params, rows)?;
                 }
                 StepKind::TurnLine {
                     body,
@@ -328,8 +297,8 @@ impl Interpreter {
                         id,
                         pivot,
                         target,
-                        *dir,
-                        *kappa,
+                        cst(*dir),
+                        T::cst(*kappa),
                         &mut s.branches[*branch],
                         &mut s.last[*branch],
                     )?;
@@ -337,5 +306,171 @@ impl Interpreter {
             }
         }
         Ok(())
+    }
+}
+
+/// What the interpreter computes with: `f64` for frames, [`Jet2`] for
+/// their rates. Two steps differ: an angle input's rotation (with its
+/// rates), and a numeric cluster (solved by Newton for a frame; its rates
+/// are not computed yet, so [`Interpreter::rates`] refuses plans with one).
+trait Scalar: Real {
+    fn rot_from_degrees(degrees: Self) -> Rot<Self>;
+    #[allow(clippy::too_many_arguments)]
+    fn cluster(
+        interp: &Interpreter,
+        s: &mut Work<Self>,
+        inputs: &[Self],
+        ctx: &mut Ctx,
+        id: u32,
+        index: usize,
+        params: &[ClusterParam],
+        rows: &[crate::plan::ClusterRow],
+    ) -> Result<(), Break>;
+}
+
+impl Scalar for f64 {
+    fn rot_from_degrees(degrees: f64) -> Rot {
+        Rot::from_degrees(degrees)
+    }
+
+    fn cluster(
+        interp: &Interpreter,
+        s: &mut Work,
+        inputs: &[f64],
+        ctx: &mut Ctx,
+        id: u32,
+        index: usize,
+        params: &[ClusterParam],
+        rows: &[crate::plan::ClusterRow],
+    ) -> Result<(), Break> {
+        let params: Vec<cluster::Param> = params
+            .iter()
+            .map(|p| match p {
+                ClusterParam::Free { body } => cluster::Param::Free { body: *body },
+                ClusterParam::Angle { body, pin, at } => cluster::Param::Angle {
+                    body: *body,
+                    pin: *pin,
+                    at: interp.point(s, inputs, at),
+                },
+                ClusterParam::Hinge {
+                    body,
+                    pin,
+                    parent,
+                    at,
+                    ..
+                } => cluster::Param::Hinge {
+                    body: *body,
+                    pin: *pin,
+                    parent: *parent,
+                    at: *at,
+                },
+                ClusterParam::Slide { body, dir } => cluster::Param::Slide {
+                    body: *body,
+                    dir: interp.dir(s, dir),
+                },
+                ClusterParam::Translate { body } => cluster::Param::Translate { body: *body },
+            })
+            .collect();
+        cluster::solve(
+            ctx,
+            id,
+            &mut s.poses,
+            &params,
+            rows,
+            inputs,
+            interp.plan.size,
+            &mut s.newtons[index],
+        )
+    }
+}
+
+impl Scalar for Jet2 {
+    fn rot_from_degrees(degrees: Jet2) -> Rot<Jet2> {
+        Rot::from_degrees_jet(degrees)
+    }
+
+    fn cluster(
+        _: &Interpreter,
+        _: &mut Work<Jet2>,
+        _: &[Jet2],
+        _: &mut Ctx,
+        id: u32,
+        _: usize,
+        _: &[ClusterParam],
+        _: &[crate::plan::ClusterRow],
+    ) -> Result<(), Break> {
+        // Never reached: `rates` refuses a plan with a cluster first.
+        Err(Break {
+            step: id,
+            kind: dofplan_runtime::BreakKind::Inconsistent,
+            gap: f64::NAN,
+        })
+    }
+}
+
+/// Why a frame's rates were not computed.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RateError {
+    /// The plan has a numeric cluster, whose rates (by the implicit
+    /// function theorem on its Jacobian) are not computed yet.
+    Cluster,
+    /// The frame is at a dead point: a rate is infinite there (two roots
+    /// of a step meet), so it is reported as singular, not as a number.
+    Singular,
+    /// The frame does not assemble at these inputs.
+    Break(Break),
+}
+
+impl std::fmt::Display for RateError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RateError::Cluster => write!(f, "rates of numeric clusters are not computed yet"),
+            RateError::Singular => write!(f, "singular: a dead point, where a rate is infinite"),
+            RateError::Break(b) => write!(f, "step {} breaks ({})", b.step, b.kind.describe()),
+        }
+    }
+}
+
+impl Interpreter {
+    /// Every body's pose at the frame `state` was solved to (at `inputs`),
+    /// with its first and second derivatives along the inputs' `rates` and
+    /// `accelerations`: forward-mode differentiation through the plan, the
+    /// same steps run on [`Jet2`]s with the branches the frame took. With
+    /// one input at rate 1 and acceleration 0 the derivatives are d/dθ and
+    /// d²/dθ² (per degree for an angle); with real rates, velocities and
+    /// accelerations.
+    pub fn rates(
+        &self,
+        state: &InterpState,
+        inputs: &[f64],
+        rates: &[f64],
+        accelerations: &[f64],
+    ) -> Result<Vec<Pose<Jet2>>, RateError> {
+        if self.plan.clusters() > 0 {
+            return Err(RateError::Cluster);
+        }
+        let mut w: Work<Jet2> = Work {
+            poses: state.poses.iter().map(|p| Pose::cst(*p)).collect(),
+            last: state.last.iter().map(|p| cst(*p)).collect(),
+            branches: state.branches.clone(),
+            temps: vec![cst([0.0; 2]); self.plan.temps.len()],
+            rots: vec![Rot::cst(Rot::IDENTITY); self.plan.inputs.len()],
+            newtons: Vec::new(),
+        };
+        let jets: Vec<Jet2> = (0..inputs.len())
+            .map(|k| Jet2::new(inputs[k], rates[k], accelerations[k]))
+            .collect();
+        // The frame's branches, kept: the rates are those of the root it took.
+        let mut ctx = Ctx::new(BranchPolicy::Keep, false);
+        self.run(&mut w, &jets, &mut ctx).map_err(RateError::Break)?;
+        let finite = w
+            .poses
+            .iter()
+            .all(|p| p.at.iter().all(|x| x.finite()) && p.rot.c.finite() && p.rot.s.finite());
+        if finite {
+            Ok(w.poses)
+        } else {
+            Err(RateError::Singular)
+        }
     }
 }

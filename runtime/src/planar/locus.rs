@@ -6,21 +6,27 @@
 //! closest and records the gap. Roots are chosen by [`Branch`] sign so that
 //! the branch of the drawn pose is kept along smooth motions.
 
-use super::{add, cross, dist2, dot, perp, scale, sub, Point, Rot};
+use super::{add, cross, dist2, dot, perp, scale, sub, Rot};
 use crate::frame::{Branch, BranchPolicy, Break, BreakKind, Ctx, StepId};
+use crate::real::Real;
 
 /// Squared half-chords smaller than this (relative to the squared radii)
 /// count as tangency rather than a miss: round-off at a tangent pose must
 /// not break a mechanism that is exactly at its limit.
 const TANGENT_TOLERANCE: f64 = 1e-12;
 
+/// Squared half-chords below this (relative to the squared radii) are dead
+/// points for rates ([`Real::sqrt_dead`]): within about 1e-10 rad of the
+/// pose where the two roots meet, where a break-point search stops.
+const DEAD_FOR_RATES: f64 = 1e-10;
+
 /// Picks one of two roots `base ± off` by policy and records the choice.
 #[inline(always)]
-fn pick(ctx: &Ctx, base: Point, off: Point, branch: &mut Branch, last: &mut Point) -> Point {
+fn pick<T: Real>(ctx: &Ctx, base: [T; 2], off: [T; 2], branch: &mut Branch, last: &mut [T; 2]) -> [T; 2] {
     let plus = add(base, off);
     let minus = sub(base, off);
     if ctx.branch == BranchPolicy::Nearest {
-        *branch = if dist2(plus, *last) <= dist2(minus, *last) {
+        *branch = if dist2(plus, *last).value() <= dist2(minus, *last).value() {
             Branch::Plus
         } else {
             Branch::Minus
@@ -39,28 +45,29 @@ fn pick(ctx: &Ctx, base: Point, off: Point, branch: &mut Branch, last: &mut Poin
 /// Branch + lies to the left of the directed line `c1 → c2`.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub fn circle_circle(
+pub fn circle_circle<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    c1: Point,
-    r1: f64,
-    c2: Point,
-    r2: f64,
+    c1: [T; 2],
+    r1: T,
+    c2: [T; 2],
+    r2: T,
     branch: &mut Branch,
-    last: &mut Point,
-) -> Result<Point, Break> {
+    last: &mut [T; 2],
+) -> Result<[T; 2], Break> {
+    let half = T::cst(0.5);
     let d_vec = sub(c2, c1);
     let d2 = dot(d_vec, d_vec);
-    if d2 == 0.0 {
+    if d2.value() == 0.0 {
         // Concentric circles: no isolated intersection. Stretching puts the
         // point on the first circle, on the side of the last frame.
-        ctx.fail(step, BreakKind::CirclesApart, (r1 - r2).abs())?;
+        ctx.fail(step, BreakKind::CirclesApart, (r1 - r2).value().abs())?;
         let toward = sub(*last, c1);
         let n = dot(toward, toward).sqrt();
-        let u = if n > 0.0 {
-            scale(toward, 1.0 / n)
+        let u = if n.value() > 0.0 {
+            scale(toward, T::cst(1.0) / n)
         } else {
-            [1.0, 0.0]
+            [T::cst(1.0), T::cst(0.0)]
         };
         let x = add(c1, scale(u, r1));
         *last = x;
@@ -72,37 +79,40 @@ pub fn circle_circle(
     // (of (h·d)²) do not wait for each other.
     // (h·d)² factored as ((r1 + r2)² − d²)(d² − (r1 − r2)²)/4: no
     // cancellation near tangency, and a shorter chain of operations.
-    let k = 0.5 * (r1 * r1 - r2 * r2 + d2);
+    let k = half * (r1 * r1 - r2 * r2 + d2);
     let sum = r1 + r2;
     let diff = r1 - r2;
-    let hd2 = 0.25 * ((sum * sum - d2) * (d2 - diff * diff));
-    let inv_d2 = 1.0 / d2;
-    let hd = if hd2 >= 0.0 {
-        hd2.sqrt()
-    } else if hd2 >= -TANGENT_TOLERANCE * (r1 * r1 + r2 * r2) * d2 {
-        0.0
+    let hd2 = T::cst(0.25) * ((sum * sum - d2) * (d2 - diff * diff));
+    let inv_d2 = T::cst(1.0) / d2;
+    let hd = if hd2.value() >= 0.0 {
+        hd2.sqrt_dead(DEAD_FOR_RATES * (r1 * r1 + r2 * r2).value() * d2.value())
+    } else if hd2.value() >= -TANGENT_TOLERANCE * (r1 * r1 + r2 * r2).value() * d2.value() {
+        // Tangent within round-off: the two roots are one, and a rate
+        // through it would be infinite (a dead point).
+        (hd2 - T::cst(hd2.value())).sqrt()
     } else {
         // Apart (d > r1 + r2) or nested (d < |r1 - r2|): the closest pair of
         // points lies on the centre line; stretching takes their midpoint.
         let d = d2.sqrt();
-        let u = scale(d_vec, 1.0 / d);
-        let gap = if d > r1 + r2 {
-            d - r1 - r2
+        let u = scale(d_vec, T::cst(1.0) / d);
+        let (dv, r1v, r2v) = (d.value(), r1.value(), r2.value());
+        let gap = if dv > r1v + r2v {
+            dv - r1v - r2v
         } else {
-            (r1 - r2).abs() - d
+            (r1v - r2v).abs() - dv
         };
         ctx.fail(step, BreakKind::CirclesApart, gap)?;
-        let on1 = if d > r1 + r2 || r1 >= r2 {
+        let on1 = if dv > r1v + r2v || r1v >= r2v {
             add(c1, scale(u, r1))
         } else {
             sub(c1, scale(u, r1))
         };
-        let on2 = if d > r1 + r2 || r2 >= r1 {
+        let on2 = if dv > r1v + r2v || r2v >= r1v {
             sub(c2, scale(u, r2))
         } else {
             add(c2, scale(u, r2))
         };
-        let x = scale(add(on1, on2), 0.5);
+        let x = scale(add(on1, on2), half);
         *last = x;
         return Ok(x);
     };
@@ -115,29 +125,31 @@ pub fn circle_circle(
 /// `dir`.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub fn circle_line(
+pub fn circle_line<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    c: Point,
-    r: f64,
-    p: Point,
-    dir: Point,
+    c: [T; 2],
+    r: T,
+    p: [T; 2],
+    dir: [T; 2],
     branch: &mut Branch,
-    last: &mut Point,
-) -> Result<Point, Break> {
+    last: &mut [T; 2],
+) -> Result<[T; 2], Break> {
     let foot = add(p, scale(dir, dot(sub(c, p), dir)));
     let off2 = dist2(c, foot);
     let h2 = r * r - off2;
-    let h = if h2 >= 0.0 {
-        h2.sqrt()
-    } else if h2 >= -TANGENT_TOLERANCE * r * r {
-        0.0
+    let h = if h2.value() >= 0.0 {
+        h2.sqrt_dead(DEAD_FOR_RATES * (r * r).value())
+    } else if h2.value() >= -TANGENT_TOLERANCE * (r * r).value() {
+        // Tangent within round-off (a dead point for rates, as in
+        // `circle_circle`).
+        (h2 - T::cst(h2.value())).sqrt()
     } else {
         let off = off2.sqrt();
-        ctx.fail(step, BreakKind::LineMissesCircle, off - r)?;
+        ctx.fail(step, BreakKind::LineMissesCircle, (off - r).value())?;
         // Midway between the line and the circle's nearest point.
         let on_circle = add(c, scale(sub(foot, c), r / off));
-        let x = scale(add(on_circle, foot), 0.5);
+        let x = scale(add(on_circle, foot), T::cst(0.5));
         *last = x;
         return Ok(x);
     };
@@ -147,21 +159,21 @@ pub fn circle_line(
 /// The point common to the line through `p1` along `d1` and the line through
 /// `p2` along `d2` (PRP dyad; directions of unit length).
 #[inline(always)]
-pub fn line_line(
+pub fn line_line<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    p1: Point,
-    d1: Point,
-    p2: Point,
-    d2: Point,
-) -> Result<Point, Break> {
+    p1: [T; 2],
+    d1: [T; 2],
+    p2: [T; 2],
+    d2: [T; 2],
+) -> Result<[T; 2], Break> {
     let det = cross(d1, d2);
-    if det.abs() < 1e-12 {
-        let gap = cross(sub(p2, p1), d1).abs();
+    if det.value().abs() < 1e-12 {
+        let gap = cross(sub(p2, p1), d1).value().abs();
         ctx.fail(step, BreakKind::ParallelLines, gap)?;
         // Midway between the two parallel lines, at the foot of p1.
         let foot = add(p2, scale(d2, dot(sub(p1, p2), d2)));
-        return Ok(scale(add(p1, foot), 0.5));
+        return Ok(scale(add(p1, foot), T::cst(0.5)));
     }
     let s = cross(sub(p2, p1), d2) / det;
     Ok(add(p1, scale(d1, s)))
@@ -177,24 +189,28 @@ pub fn line_line(
 /// previous (cos, sin) for the nearest policy.
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
-pub fn turn_line_through(
+pub fn turn_line_through<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    pivot: Point,
-    target: Point,
-    dir: Point,
-    kappa: f64,
+    pivot: [T; 2],
+    target: [T; 2],
+    dir: [T; 2],
+    kappa: T,
     branch: &mut Branch,
-    last: &mut Point,
-) -> Result<Rot, Break> {
+    last: &mut [T; 2],
+) -> Result<Rot<T>, Break> {
     let e_vec = sub(target, pivot);
     let e = dot(e_vec, e_vec).sqrt();
-    let mut sin_a = if e > 0.0 { kappa / e } else { f64::INFINITY };
-    if sin_a.abs() > 1.0 {
-        if sin_a.abs() > 1.0 + TANGENT_TOLERANCE {
-            ctx.fail(step, BreakKind::LineCannotReach, kappa.abs() - e)?;
+    let mut sin_a = if e.value() > 0.0 {
+        kappa / e
+    } else {
+        T::cst(f64::INFINITY)
+    };
+    if sin_a.value().abs() > 1.0 {
+        if sin_a.value().abs() > 1.0 + TANGENT_TOLERANCE {
+            ctx.fail(step, BreakKind::LineCannotReach, kappa.value().abs() - e.value())?;
         }
-        if e == 0.0 {
+        if e.value() == 0.0 {
             // The target sits on the pivot: any rotation is as good; keep
             // the last one.
             return Ok(Rot {
@@ -202,12 +218,18 @@ pub fn turn_line_through(
                 s: last[1],
             });
         }
-        sin_a = sin_a.signum();
+        sin_a = T::cst(sin_a.value().signum());
     }
-    let cos_a = (1.0 - sin_a * sin_a).max(0.0).sqrt();
-    let eu = scale(e_vec, 1.0 / e);
+    let one_less = T::cst(1.0) - sin_a * sin_a;
+    // Within round-off of ±1: the two roots meet (a dead point for rates).
+    let cos_a = if one_less.value() > 0.0 {
+        one_less.sqrt_dead(DEAD_FOR_RATES)
+    } else {
+        (one_less - T::cst(one_less.value())).sqrt()
+    };
+    let eu = scale(e_vec, T::cst(1.0) / e);
     // World direction of the line for each root: eu turned by ±alpha.
-    let line_dir = |cos: f64| -> Rot {
+    let line_dir = |cos: T| -> Rot<T> {
         let w = [eu[0] * cos - eu[1] * sin_a, eu[0] * sin_a + eu[1] * cos];
         // R maps dir to w: R = w · conj(dir) as complex numbers.
         Rot {
@@ -218,9 +240,12 @@ pub fn turn_line_through(
     let plus = line_dir(cos_a);
     let minus = line_dir(-cos_a);
     if ctx.branch == BranchPolicy::Nearest {
-        let dp = (plus.c - last[0]).powi(2) + (plus.s - last[1]).powi(2);
-        let dm = (minus.c - last[0]).powi(2) + (minus.s - last[1]).powi(2);
-        *branch = if dp <= dm { Branch::Plus } else { Branch::Minus };
+        let far = |r: Rot<T>| (r.c - last[0]).value().powi(2) + (r.s - last[1]).value().powi(2);
+        *branch = if far(plus) <= far(minus) {
+            Branch::Plus
+        } else {
+            Branch::Minus
+        };
     }
     let r = match *branch {
         Branch::Plus => plus,

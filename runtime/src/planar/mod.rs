@@ -14,17 +14,79 @@ mod turn_table;
 pub use locus::{circle_circle, circle_line, line_line, turn_line_through};
 pub use place::{align, align_consistent, anchor, orient, set_rotation};
 
+use crate::real::{Jet2, Real};
+
 /// A point or a vector in the plane.
 pub type Point = [f64; 2];
 
-/// A rotation as its (cos, sin) pair.
+/// A rotation as its (cos, sin) pair: of `f64`s, or of [`Jet2`]s carrying
+/// the rotation's rates.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct Rot {
+pub struct Rot<T = f64> {
     /// Cosine of the angle.
-    pub c: f64,
+    pub c: T,
     /// Sine of the angle.
-    pub s: f64,
+    pub s: T,
+}
+
+impl Rot<Jet2> {
+    /// The rotation by `degrees` counter-clockwise, with its rates: the
+    /// value from [`Rot::from_degrees`], the derivatives by the chain rule
+    /// (c' = −s·ω, c'' = −s·α − c·ω², with ω and α the angle's rates in
+    /// radians).
+    pub fn from_degrees_jet(degrees: Jet2) -> Rot<Jet2> {
+        let r = Rot::from_degrees(degrees.v);
+        let k = std::f64::consts::PI / 180.0;
+        let (w, a) = (degrees.d * k, degrees.dd * k);
+        Rot {
+            c: Jet2::new(r.c, -r.s * w, -r.s * a - r.c * w * w),
+            s: Jet2::new(r.s, r.c * w, r.c * a - r.s * w * w),
+        }
+    }
+
+    /// The values alone.
+    pub fn value(self) -> Rot {
+        Rot {
+            c: self.c.v,
+            s: self.s.v,
+        }
+    }
+}
+
+impl<T: Real> Rot<T> {
+    /// `self` followed by `other` (angles add).
+    #[inline]
+    pub fn then(self, other: Rot<T>) -> Rot<T> {
+        Rot {
+            c: self.c * other.c - self.s * other.s,
+            s: self.s * other.c + self.c * other.s,
+        }
+    }
+
+    /// The inverse rotation.
+    #[inline]
+    pub fn inverse(self) -> Rot<T> {
+        Rot {
+            c: self.c,
+            s: -self.s,
+        }
+    }
+
+    /// Rotates a vector.
+    #[inline(always)]
+    pub fn apply(self, v: [T; 2]) -> [T; 2] {
+        [self.c * v[0] - self.s * v[1], self.s * v[0] + self.c * v[1]]
+    }
+
+    /// A rotation of constants.
+    #[inline(always)]
+    pub fn cst(r: Rot) -> Rot<T> {
+        Rot {
+            c: T::cst(r.c),
+            s: T::cst(r.s),
+        }
+    }
 }
 
 impl Rot {
@@ -76,44 +138,21 @@ impl Rot {
         Rot { c, s }
     }
 
-    /// `self` followed by `other` (angles add).
-    #[inline]
-    pub fn then(self, other: Rot) -> Rot {
-        Rot {
-            c: self.c * other.c - self.s * other.s,
-            s: self.s * other.c + self.c * other.s,
-        }
-    }
-
-    /// The inverse rotation.
-    #[inline]
-    pub fn inverse(self) -> Rot {
-        Rot {
-            c: self.c,
-            s: -self.s,
-        }
-    }
-
-    /// Rotates a vector.
-    #[inline(always)]
-    pub fn apply(self, v: Point) -> Point {
-        [self.c * v[0] - self.s * v[1], self.s * v[0] + self.c * v[1]]
-    }
-
     /// The angle in degrees (for reports only, never on the per-frame path).
     pub fn degrees(self) -> f64 {
         self.s.atan2(self.c).to_degrees()
     }
 }
 
-/// Where a body is: world = `rot` · local + `at`.
+/// Where a body is: world = `rot` · local + `at` (of `f64`s, or of
+/// [`Jet2`]s carrying the body's velocity and acceleration).
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
-pub struct Pose {
+pub struct Pose<T = f64> {
     /// Translation (the world position of the local origin).
-    pub at: Point,
+    pub at: [T; 2],
     /// Rotation relative to the drawn pose.
-    pub rot: Rot,
+    pub rot: Rot<T>,
 }
 
 impl Pose {
@@ -123,13 +162,6 @@ impl Pose {
         rot: Rot::IDENTITY,
     };
 
-    /// World position of a marker given in local (= drawn) coordinates.
-    #[inline(always)]
-    pub fn world(&self, local: Point) -> Point {
-        let r = self.rot.apply(local);
-        [self.at[0] + r[0], self.at[1] + r[1]]
-    }
-
     /// World position of a marker and its derivative with respect to the
     /// body's angle (the point turned a quarter turn about the body's
     /// origin): the Jacobian columns of a numeric cluster.
@@ -138,10 +170,28 @@ impl Pose {
         let r = self.rot.apply(local);
         ([self.at[0] + r[0], self.at[1] + r[1]], [-r[1], r[0]])
     }
+}
+
+impl<T: Real> Pose<T> {
+    /// A pose of constants.
+    #[inline(always)]
+    pub fn cst(p: Pose) -> Pose<T> {
+        Pose {
+            at: [T::cst(p.at[0]), T::cst(p.at[1])],
+            rot: Rot::cst(p.rot),
+        }
+    }
+
+    /// World position of a marker given in local (= drawn) coordinates.
+    #[inline(always)]
+    pub fn world(&self, local: [T; 2]) -> [T; 2] {
+        let r = self.rot.apply(local);
+        [self.at[0] + r[0], self.at[1] + r[1]]
+    }
 
     /// World direction of a local direction.
     #[inline]
-    pub fn world_dir(&self, local: Point) -> Point {
+    pub fn world_dir(&self, local: [T; 2]) -> [T; 2] {
         self.rot.apply(local)
     }
 }
@@ -152,41 +202,47 @@ impl Default for Pose {
     }
 }
 
-#[inline]
-pub(crate) fn sub(a: Point, b: Point) -> Point {
+#[inline(always)]
+pub(crate) fn sub<T: Real>(a: [T; 2], b: [T; 2]) -> [T; 2] {
     [a[0] - b[0], a[1] - b[1]]
 }
 
-#[inline]
-pub(crate) fn add(a: Point, b: Point) -> Point {
+#[inline(always)]
+pub(crate) fn add<T: Real>(a: [T; 2], b: [T; 2]) -> [T; 2] {
     [a[0] + b[0], a[1] + b[1]]
 }
 
-#[inline]
-pub(crate) fn scale(a: Point, k: f64) -> Point {
+#[inline(always)]
+pub(crate) fn scale<T: Real>(a: [T; 2], k: T) -> [T; 2] {
     [a[0] * k, a[1] * k]
 }
 
-#[inline]
-pub(crate) fn dot(a: Point, b: Point) -> f64 {
+#[inline(always)]
+pub(crate) fn dot<T: Real>(a: [T; 2], b: [T; 2]) -> T {
     a[0] * b[0] + a[1] * b[1]
 }
 
-#[inline]
-pub(crate) fn cross(a: Point, b: Point) -> f64 {
+#[inline(always)]
+pub(crate) fn cross<T: Real>(a: [T; 2], b: [T; 2]) -> T {
     a[0] * b[1] - a[1] * b[0]
 }
 
 /// `a` turned a quarter counter-clockwise.
-#[inline]
-pub(crate) fn perp(a: Point) -> Point {
+#[inline(always)]
+pub(crate) fn perp<T: Real>(a: [T; 2]) -> [T; 2] {
     [-a[1], a[0]]
 }
 
-#[inline]
-pub(crate) fn dist2(a: Point, b: Point) -> f64 {
+#[inline(always)]
+pub(crate) fn dist2<T: Real>(a: [T; 2], b: [T; 2]) -> T {
     let d = sub(a, b);
     dot(d, d)
+}
+
+/// Constants as a point of `T`s.
+#[inline(always)]
+pub fn cst<T: Real>(p: Point) -> [T; 2] {
+    [T::cst(p[0]), T::cst(p[1])]
 }
 
 #[cfg(test)]

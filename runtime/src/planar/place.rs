@@ -1,27 +1,28 @@
 //! Placing a body once its loci are met.
 
-use super::{cross, dot, sub, Point, Pose, Rot};
+use super::{cross, dot, sub, Pose, Rot};
 use crate::frame::{Break, BreakKind, Ctx, StepId};
+use crate::real::Real;
 
 /// Sets a body's rotation to `from` followed by `rel` (a relative rotation
 /// carried by a joint: the identity for a prismatic joint or an offset
 /// constraint, the input angle for a driven revolute).
 #[inline(always)]
-pub fn orient(pose: &mut Pose, from: Rot, rel: Rot) {
+pub fn orient<T: Real>(pose: &mut Pose<T>, from: Rot<T>, rel: Rot<T>) {
     pose.rot = from.then(rel);
 }
 
 /// Sets a body's rotation relative to the ground (whose rotation is the
 /// identity, so composing with it would only cost multiplications).
 #[inline(always)]
-pub fn set_rotation(pose: &mut Pose, rot: Rot) {
+pub fn set_rotation<T: Real>(pose: &mut Pose<T>, rot: Rot<T>) {
     pose.rot = rot;
 }
 
 /// Translates a body whose rotation is known so that its marker `local`
 /// lands on the world point `at`.
 #[inline(always)]
-pub fn anchor(pose: &mut Pose, local: Point, at: Point) {
+pub fn anchor<T: Real>(pose: &mut Pose<T>, local: [T; 2], at: [T; 2]) {
     let r = pose.rot.apply(local);
     pose.at = [at[0] - r[0], at[1] - r[1]];
 }
@@ -31,7 +32,7 @@ pub fn anchor(pose: &mut Pose, local: Point, at: Point) {
 /// agree, which the step that computed `q_at` guarantees unless it was
 /// stretched).
 #[inline(always)]
-pub fn align(pose: &mut Pose, p: Point, p_at: Point, q: Point, q_at: Point) {
+pub fn align<T: Real>(pose: &mut Pose<T>, p: [T; 2], p_at: [T; 2], q: [T; 2], q_at: [T; 2]) {
     let dl = sub(q, p);
     let dw = sub(q_at, p_at);
     let l2 = dot(dl, dl);
@@ -42,7 +43,7 @@ pub fn align(pose: &mut Pose, p: Point, p_at: Point, q: Point, q_at: Point) {
     // stretched step, a span of zero length) is out of line: the hot path
     // then neither computes a square root speculatively nor depends on the
     // previous frame's pose.
-    if l2 > 0.0 && (w2 - l2).abs() <= 1e-12 * l2 {
+    if l2.value() > 0.0 && (w2 - l2).value().abs() <= 1e-12 * l2.value() {
         let k = [dl[0] / l2, dl[1] / l2];
         pose.rot = Rot {
             c: dot(k, dw),
@@ -60,18 +61,18 @@ pub fn align(pose: &mut Pose, p: Point, p_at: Point, q: Point, q_at: Point) {
 /// contraction — or the step breaks (or, stretching, places the body
 /// anyway and reports the gap).
 #[inline(always)]
-pub fn align_consistent(
+pub fn align_consistent<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    pose: &mut Pose,
-    p: Point,
-    p_at: Point,
-    q: Point,
-    q_at: Point,
+    pose: &mut Pose<T>,
+    p: [T; 2],
+    p_at: [T; 2],
+    q: [T; 2],
+    q_at: [T; 2],
 ) -> Result<(), Break> {
     let dl = sub(q, p);
     let dw = sub(q_at, p_at);
-    let (l, w) = (dot(dl, dl).sqrt(), dot(dw, dw).sqrt());
+    let (l, w) = (dot(dl, dl).value().sqrt(), dot(dw, dw).value().sqrt());
     if (w - l).abs() > 1e-9 * l.max(1.0) {
         ctx.fail(step, BreakKind::Inconsistent, (w - l).abs())?;
     }
@@ -85,9 +86,9 @@ pub fn align_consistent(
 /// choice).
 #[cold]
 #[inline(never)]
-fn align_rotation_slow(pose: &mut Pose, l2: f64, w2: f64, c: f64, s: f64) {
+fn align_rotation_slow<T: Real>(pose: &mut Pose<T>, l2: T, w2: T, c: T, s: T) {
     let n = (l2 * w2).sqrt();
-    if n > 0.0 {
+    if n.value() > 0.0 {
         pose.rot = Rot { c: c / n, s: s / n };
     }
 }

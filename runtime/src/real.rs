@@ -1,0 +1,190 @@
+//! The numbers plan steps compute with: `f64` for positions, and [`Jet2`]
+//! — a value with its first and second derivatives along one direction of
+//! the inputs (time, or one input) — for velocities and accelerations by
+//! forward-mode differentiation through the very same step functions.
+//!
+//! The planar steps are written once, generic over [`Real`]; every
+//! decision they take (which root, whether circles meet) is taken on
+//! [`Real::value`], so a run with jets follows the branches of the run with
+//! `f64` and only adds the derivatives.
+
+use std::fmt::Debug;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+/// A number a plan step computes with.
+pub trait Real:
+    Copy
+    + Debug
+    + PartialEq
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+{
+    /// A constant (derivatives 0).
+    fn cst(x: f64) -> Self;
+    /// The value, on which every decision is taken.
+    fn value(self) -> f64;
+    /// The square root.
+    fn sqrt(self) -> Self;
+    /// The square root of a quantity that vanishes at a dead point (a
+    /// half-chord squared): at or below `dead` (in the value's units) the
+    /// rates through it are reported infinite — a value this close to the
+    /// dead point has rates that are huge and meaningless, not numbers to
+    /// print. The value itself is the plain square root.
+    fn sqrt_dead(self, dead: f64) -> Self;
+}
+
+impl Real for f64 {
+    #[inline(always)]
+    fn cst(x: f64) -> f64 {
+        x
+    }
+    #[inline(always)]
+    fn value(self) -> f64 {
+        self
+    }
+    #[inline(always)]
+    fn sqrt(self) -> f64 {
+        f64::sqrt(self)
+    }
+    #[inline(always)]
+    fn sqrt_dead(self, _: f64) -> f64 {
+        f64::sqrt(self)
+    }
+}
+
+/// A value with its first and second derivatives along one direction:
+/// `x(t)` as `x`, `ẋ`, `ẍ`. Seeded with an input's value, rate and
+/// acceleration it carries velocities and accelerations; seeded with
+/// (θ, 1, 0) it carries d/dθ and d²/dθ².
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct Jet2 {
+    /// The value.
+    pub v: f64,
+    /// The first derivative.
+    pub d: f64,
+    /// The second derivative.
+    pub dd: f64,
+}
+
+impl Jet2 {
+    /// A jet.
+    pub const fn new(v: f64, d: f64, dd: f64) -> Jet2 {
+        Jet2 { v, d, dd }
+    }
+
+    /// Whether the derivatives are finite (not at a dead point, where a
+    /// square root of zero has a nonzero rate).
+    pub fn finite(self) -> bool {
+        self.d.is_finite() && self.dd.is_finite()
+    }
+}
+
+impl Add for Jet2 {
+    type Output = Jet2;
+    #[inline(always)]
+    fn add(self, o: Jet2) -> Jet2 {
+        Jet2::new(self.v + o.v, self.d + o.d, self.dd + o.dd)
+    }
+}
+
+impl Sub for Jet2 {
+    type Output = Jet2;
+    #[inline(always)]
+    fn sub(self, o: Jet2) -> Jet2 {
+        Jet2::new(self.v - o.v, self.d - o.d, self.dd - o.dd)
+    }
+}
+
+impl Neg for Jet2 {
+    type Output = Jet2;
+    #[inline(always)]
+    fn neg(self) -> Jet2 {
+        Jet2::new(-self.v, -self.d, -self.dd)
+    }
+}
+
+impl Mul for Jet2 {
+    type Output = Jet2;
+    /// (ab)' = a'b + ab', (ab)'' = a''b + 2a'b' + ab''.
+    #[inline(always)]
+    fn mul(self, o: Jet2) -> Jet2 {
+        Jet2::new(
+            self.v * o.v,
+            self.d * o.v + self.v * o.d,
+            self.dd * o.v + 2.0 * self.d * o.d + self.v * o.dd,
+        )
+    }
+}
+
+impl Div for Jet2 {
+    type Output = Jet2;
+    /// q = a/b: q' = (a' − q b')/b, q'' = (a'' − 2q' b' − q b'')/b.
+    #[inline(always)]
+    fn div(self, o: Jet2) -> Jet2 {
+        let q = self.v / o.v;
+        let d = (self.d - q * o.d) / o.v;
+        let dd = (self.dd - 2.0 * d * o.d - q * o.dd) / o.v;
+        Jet2::new(q, d, dd)
+    }
+}
+
+impl Real for Jet2 {
+    #[inline(always)]
+    fn cst(x: f64) -> Jet2 {
+        Jet2::new(x, 0.0, 0.0)
+    }
+    #[inline(always)]
+    fn value(self) -> f64 {
+        self.v
+    }
+    /// r = √a: r' = a'/(2r), r'' = (a'' − 2r'²)/(2r). At a = 0 with a
+    /// nonzero rate the derivatives are infinite: a dead point, reported as
+    /// such rather than as a huge number.
+    #[inline(always)]
+    fn sqrt(self) -> Jet2 {
+        let r = self.v.sqrt();
+        if r == 0.0 {
+            let d = if self.d == 0.0 { 0.0 } else { f64::INFINITY };
+            let dd = if self.d == 0.0 && self.dd == 0.0 {
+                0.0
+            } else {
+                f64::INFINITY
+            };
+            return Jet2::new(0.0, d, dd);
+        }
+        let d = self.d / (2.0 * r);
+        Jet2::new(r, d, (self.dd - 2.0 * d * d) / (2.0 * r))
+    }
+    fn sqrt_dead(self, dead: f64) -> Jet2 {
+        if self.v <= dead {
+            Jet2::new(self.v.max(0.0).sqrt(), f64::INFINITY, f64::INFINITY)
+        } else {
+            self.sqrt()
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// x(t) = 2 + 3t + t²/2 ⇒ against the derivatives of x², x/(1 + t)
+    /// and √x written out by hand at t = 0.
+    #[test]
+    fn jets_carry_the_chain_rule() {
+        let x = Jet2::new(2.0, 3.0, 1.0);
+        let one_plus_t = Jet2::new(1.0, 1.0, 0.0);
+        let sq = x * x; // (x²)' = 2xx' = 12, (x²)'' = 2x'² + 2xx'' = 18 + 4
+        assert_eq!(sq, Jet2::new(4.0, 12.0, 22.0));
+        let q = x / one_plus_t; // q = x/(1+t): q' = x' − x = 1, q'' = x'' − 2x' + 2x = 1 − 6 + 4
+        assert!((q.v - 2.0).abs() < 1e-15 && (q.d - 1.0).abs() < 1e-15 && (q.dd + 1.0).abs() < 1e-15);
+        let r = x.sqrt(); // r' = x'/(2√x), r'' = x''/(2√x) − x'²/(4 x^1.5)
+        let s2 = 2f64.sqrt();
+        assert!((r.d - 3.0 / (2.0 * s2)).abs() < 1e-15);
+        assert!((r.dd - (1.0 / (2.0 * s2) - 9.0 / (4.0 * 2f64.powf(1.5)))).abs() < 1e-15);
+        assert!(!Jet2::new(0.0, 1.0, 0.0).sqrt().finite());
+    }
+}
