@@ -639,6 +639,11 @@ async function construct(browser) {
     });
     await status();
     const onScreen = await markers(page);
+    // Ctrl+S on a new document asks for a name first.
+    await page.keyboard.press("Control+s");
+    s = await status();
+    const focused = await page.evaluate(() => document.activeElement.id);
+    check(s.kind === "error" && s.text.includes("no file yet") && focused === "save-name", `Ctrl+S on a new document asks for a name (${s.text}; focus on #${focused})`);
     await page.fill("#save-name", "../x");
     await page.click("#save-as");
     s = await status();

@@ -684,6 +684,51 @@ mod tests {
     }
 
     #[test]
+    fn an_edit_from_a_page_showing_an_older_document_is_refused() {
+        let dir = std::env::temp_dir();
+        let server = Server {
+            workspace: Mutex::new(Workspace::open(None, dir).expect("a new document")),
+            token: String::new(),
+            port: 0,
+        };
+        let first = server.workspace().planar().expect("planar");
+        let (mut doc, mut stale) = (first.clone(), first);
+        let mut session = Session::new(doc.clone());
+        let mut stale_session = Session::new(stale.clone());
+        let add = || {
+            serde_json::from_str::<editing::Request>(
+                r#"{"type":"edit","id":1,"edits":[{"op":"add_marker","body":"ground","at":[1,0]}]}"#,
+            )
+            .unwrap()
+        };
+        let replies = change(&server, &mut doc, &mut session, add());
+        assert_eq!(replies.len(), 2, "{replies:?}");
+        assert_eq!(
+            (replies[0]["type"].as_str(), replies[1]["type"].as_str()),
+            (Some("document"), Some("frame"))
+        );
+        assert_eq!(replies[1]["edited"], "added marker ground.A at (1, 0)");
+        assert_eq!(
+            doc.mechanism.bodies[0].markers.len(),
+            2,
+            "the page's document is the new one"
+        );
+        // The other page still shows the ground alone.
+        let refused = change(&server, &mut stale, &mut stale_session, add());
+        assert_eq!(refused[0]["type"], "error");
+        assert!(
+            refused[0]["message"].as_str().unwrap().contains("reload"),
+            "{refused:?}"
+        );
+        assert_eq!(
+            server.workspace().planar().unwrap().mechanism.bodies[0]
+                .markers
+                .len(),
+            2
+        );
+    }
+
+    #[test]
     fn tokens_compare_whole() {
         assert!(same("00ff", "00ff"));
         assert!(!same("00ff", "00fe"));
