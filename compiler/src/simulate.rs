@@ -1,6 +1,7 @@
 //! Running a plan over a sweep and reading the result: marker positions and
 //! the residual of every joint, constraint and input.
 
+pub mod kinematics;
 pub mod spatial;
 
 use dofplan_runtime::numeric::NewtonReport;

@@ -956,3 +956,87 @@ fn check_json_reports_assembly_ranges_and_grashof_classes() {
     assert_eq!(v["ranges"]["theta"], serde_json::json!([[-180.0, 180.0]]));
     assert_eq!(v["grashof"][0]["class"], "crank-rocker");
 }
+
+/// `analyze`: the four-bar's transmission angle over its sweep spans what
+/// its header says (computed by the generator, [42.5°, 115.3°]); the crank
+/// pin's velocity at 1 rad/s is the pin turned a quarter (|AB| = √2 at 45°:
+/// (−1, 1)); every JSON frame has simulate's keys plus the rates; CSV has
+/// six columns a marker; a dead point's rates are null, not numbers; the
+/// plots are drawn.
+#[test]
+fn analyze_reports_rates_transmission_and_dead_points() {
+    let o = dofplan(&["analyze", mechanism("fourbar").to_str().unwrap(), "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let frames = v["frames"].as_array().unwrap();
+    assert_eq!(frames.len(), 361);
+    let b = &frames[0]["velocity"]["crank.B"];
+    assert!(
+        (b[0].as_f64().unwrap() + 1.0).abs() < 1e-12 && (b[1].as_f64().unwrap() - 1.0).abs() < 1e-12,
+        "{b}"
+    );
+    for key in [
+        "inputs",
+        "reached",
+        "status",
+        "markers",
+        "bodies",
+        "velocity",
+        "acceleration",
+        "angular",
+        "transmission",
+    ] {
+        assert!(frames[0].get(key).is_some(), "no {key}");
+    }
+    let mu: Vec<f64> = frames
+        .iter()
+        .map(|f| f["transmission"][0]["angle"].as_f64().unwrap())
+        .collect();
+    let (lo, hi) = mu
+        .iter()
+        .fold((f64::INFINITY, 0.0_f64), |(l, h), x| (l.min(*x), h.max(*x)));
+    assert!((lo - 42.5).abs() < 0.1 && (hi - 115.3).abs() < 0.1, "{lo} {hi}");
+    let o = dofplan(&[
+        "analyze",
+        mechanism("fourbar").to_str().unwrap(),
+        "--csv",
+        "--steps",
+        "3",
+    ]);
+    let csv = stdout(&o);
+    let head: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    // frame, theta, status; 9 markers × 6; 4 bodies × 2; 1 loop.
+    assert_eq!(head.len(), 3 + 9 * 6 + 4 * 2 + 1, "{head:?}");
+    assert_eq!(csv.lines().count(), 4);
+    // The parallelogram's change points (θ = 120° and 300°, all four links
+    // in line, by its header): two roots meet, the rates are singular.
+    let o = dofplan(&["analyze", mechanism("parallelogram").to_str().unwrap(), "--json"]);
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let singular: Vec<f64> = (v["frames"].as_array().unwrap().iter())
+        .filter(|f| f.get("singular").is_some())
+        .map(|f| f["inputs"]["theta"].as_f64().unwrap())
+        .collect();
+    assert_eq!(singular, [120.0, 300.0]);
+    assert!(v["frames"][120]["velocity"].is_null());
+    let dir = std::env::temp_dir().join(format!("dofplan-analyze-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let svg = dir.join("plots.svg");
+    let o = dofplan(&[
+        "analyze",
+        mechanism("fourbar").to_str().unwrap(),
+        "--svg",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    for caption in [
+        "paths of the traced markers",
+        "velocity",
+        "acceleration",
+        "transmission angle",
+        "min 42.5°",
+    ] {
+        assert!(text.contains(caption), "no {caption:?} in the plots");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -40,6 +40,9 @@ mod progress;
 #[path = "cli/edit/mod.rs"]
 mod edit;
 
+#[path = "cli/analyze.rs"]
+mod analyze;
+
 /// Plan, explain and simulate mechanisms.
 #[derive(Parser)]
 #[command(name = "dofplan", version, about)]
@@ -175,6 +178,55 @@ enum Command {
         #[arg(long)]
         csv: bool,
         /// Draw the mechanism at several poses and the traces into this SVG file.
+        #[arg(long, value_name = "OUT")]
+        svg: Option<PathBuf>,
+    },
+    /// Run the sweep with exact velocities and accelerations (forward-mode
+    /// differentiation through the plan, not finite differences): every
+    /// marker's position, velocity and acceleration, every body's angular
+    /// velocity and acceleration, and each four-bar loop's transmission
+    /// angle.
+    ///
+    /// The sweep is simulate's (the file's [sweep] with --input, --from, --to
+    /// and --steps replacing its fields); its first input moves at --rate,
+    /// the others in proportion. A frame at a dead point, where a rate is
+    /// infinite, reports its rates as singular (null in JSON, empty in CSV),
+    /// never as a huge number. Planar plans without numeric clusters.
+    Analyze {
+        /// Mechanism file.
+        file: PathBuf,
+        /// The swept input (default: the sweep's, or the file's only input).
+        #[arg(long)]
+        input: Option<String>,
+        /// The swept input's first value.
+        #[arg(long, allow_hyphen_values = true, value_parser = parse_finite)]
+        from: Option<f64>,
+        /// The swept input's last value.
+        #[arg(long, allow_hyphen_values = true, value_parser = parse_finite)]
+        to: Option<f64>,
+        /// Number of frames (default: the sweep's, or 101).
+        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_STEPS))]
+        steps: Option<u32>,
+        /// The first swept input's rate, constant: radians per second for an
+        /// angle, length units per second for a slide.
+        #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = parse_finite)]
+        rate: f64,
+        /// One JSON document: simulate's frames plus "velocity" and
+        /// "acceleration" (by "body.marker", like "markers"), "angular"
+        /// (each body's "omega" and "alpha", radians per second and per
+        /// second squared), "transmission" (each four-bar loop's angle in
+        /// degrees) and "singular" at a dead point; "rates" at the top gives
+        /// each input's rate (degrees per second for angles).
+        #[arg(long, conflicts_with = "csv")]
+        json: bool,
+        /// CSV, one row per frame: frame, inputs, status, every marker's x, y,
+        /// vx, vy, ax, ay, every body's omega and alpha, each loop's
+        /// transmission angle.
+        #[arg(long)]
+        csv: bool,
+        /// Draw plots into this SVG file: the traced markers' paths, their
+        /// position, velocity and acceleration against the input, and the
+        /// transmission angles with their extremes.
         #[arg(long, value_name = "OUT")]
         svg: Option<PathBuf>,
     },
@@ -355,6 +407,34 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
             let form = Form::of(json, csv);
             simulate(m, plan, &sweep, options, solver, form, svg.as_deref(), out)
         }),
+        Command::Analyze {
+            file,
+            input,
+            from,
+            to,
+            steps,
+            rate,
+            json,
+            csv,
+            svg,
+        } => with_plan(&file, |m, plan| {
+            let sweep = match sweep_to_run(m, input.as_deref(), from, to, steps.map(|n| n as usize)) {
+                Ok(sweep) => sweep,
+                Err((message, help)) => {
+                    error(&m.source.name, &message, &help);
+                    return Ok(ExitCode::FAILURE);
+                }
+            };
+            if plan.clusters() > 0 {
+                error(
+                    &m.source.name,
+                    "the plan has a numeric cluster, whose rates `analyze` does not compute yet",
+                    "`dofplan simulate` gives its positions",
+                );
+                return Ok(ExitCode::FAILURE);
+            }
+            analyze::analyze(m, plan, &sweep, rate, Form::of(json, csv), svg.as_deref(), out)
+        }),
         Command::Assemble { file, write } => assemble(&file, write, out),
         Command::Edit { file, port, open } => edit::run(file.as_deref(), port, open, out),
     }
@@ -517,6 +597,7 @@ fn spatial_file(command: &Command) -> Option<Result<Mechanism3, ()>> {
         | Command::Plan { file }
         | Command::Emit { file }
         | Command::Simulate { file, .. }
+        | Command::Analyze { file, .. }
         | Command::Drag { file, .. }
         | Command::Assemble { file, .. } => file,
         Command::Fragments | Command::Edit { .. } => return None,
@@ -626,6 +707,14 @@ fn spatial_command(
                 svg.as_deref(),
                 out,
             )
+        }
+        Command::Analyze { .. } => {
+            error(
+                &m.source.name,
+                "`analyze` computes the rates of planar plans only, for now",
+                "`dofplan simulate` gives a spatial sweep's positions",
+            );
+            Ok(ExitCode::FAILURE)
         }
         Command::Emit { .. } => match dofplan::analysis::spatial::analyse(m) {
             Ok(plan) => {
@@ -1062,6 +1151,14 @@ fn simulate(
         SolverArg::Plan => Box::new(Driver::new(Interpreter::new(plan.clone()), options)),
         SolverArg::Newton => Box::new(Driver::new(PureNewton::new(m), options)),
     };
+    let report = sweep_report(m, plan, sweep, solver);
+    let requested = sweep_requests(sweep, m.inputs.len());
+    output(&report, frames(driver.as_mut(), requested), form, svg, out)
+}
+
+/// The report of a sweep (`simulate`, `analyze`): its title, the inputs'
+/// names, and how a break is explained.
+fn sweep_report<'a>(m: &'a Mechanism, plan: &'a Plan, sweep: &Sweep, solver: SolverArg) -> Report<'a> {
     let input = sweep.primary().input;
     let name = m.inputs[input].name.clone();
     let ranges: Vec<String> = sweep
@@ -1076,7 +1173,7 @@ fn simulate(
             )
         })
         .collect();
-    let report = Report {
+    Report {
         m,
         title: format!("{}: {} frames, {}", m.name, sweep.steps, ranges.join(", ")),
         input_names: m.inputs.iter().map(|i| i.name.clone()).collect(),
@@ -1088,9 +1185,7 @@ fn simulate(
         }),
         trace: sweep.trace.clone(),
         targets: false,
-    };
-    let requested = sweep_requests(sweep, m.inputs.len());
-    output(&report, frames(driver.as_mut(), requested), form, svg, out)
+    }
 }
 
 /// Parses "X,Y" into a finite point.

@@ -29,6 +29,8 @@
 mod caption;
 mod legend;
 mod mechanism;
+#[cfg(feature = "plots")]
+pub mod plots;
 pub mod spatial;
 mod style;
 mod target;

@@ -1,0 +1,362 @@
+//! `dofplan analyze`: the file's sweep with every marker's velocity and
+//! acceleration and every body's angular rates — exact, by forward-mode
+//! differentiation through the plan — and each four-bar loop's
+//! transmission angle; printed as a summary, JSON or CSV (streamed frame by
+//! frame), and drawn as plots a designer looks at (plotters' SVG backend).
+
+use std::io::{self, Write};
+use std::path::Path;
+use std::process::ExitCode;
+
+use dofplan::analysis::grashof::{four_bars, FourBar};
+use dofplan::interp::{Interpreter, RateError};
+use dofplan::model::{InputKind, Mechanism, Sweep};
+use dofplan::plan::{num, Plan};
+use dofplan::render::plots::Sample;
+use dofplan::simulate::kinematics::{motion, sweep_rates, transmission_angle, Motion};
+use dofplan::simulate::{sweep_requests, Frame};
+use dofplan_runtime::{Driver, Options};
+use serde_json::{json, Map, Value};
+
+use crate::{frame_json, sweep_report, Form, SolverArg};
+
+/// One traced marker's series over the sweep, for the summary and plots.
+#[derive(Default)]
+struct Series {
+    name: String,
+    points: Vec<Sample>,
+}
+
+/// Runs `analyze`: the sweep with rates at `rate` (radians or length units
+/// per second for the sweep's first input), in `form`, with plots in `svg`.
+pub fn analyze(
+    m: &Mechanism,
+    plan: &Plan,
+    sweep: &Sweep,
+    rate: f64,
+    form: Form,
+    svg: Option<&Path>,
+    out: &mut dyn Write,
+) -> io::Result<ExitCode> {
+    let interp = Interpreter::new(plan.clone());
+    let mut driver = Driver::new(interp.clone(), Options::default());
+    let report = sweep_report(m, plan, sweep, SolverArg::Plan);
+    let rates = sweep_rates(m, sweep, rate);
+    let zero = vec![0.0; m.inputs.len()];
+    let loops = four_bars(m);
+    let loop_names: Vec<Vec<&str>> = (loops.iter())
+        .map(|f| f.bodies.iter().map(|&b| m.bodies[b].name.as_str()).collect())
+        .collect();
+    let names: Vec<String> = m.all_markers().map(|id| m.marker_name(id)).collect();
+    let primary = sweep.primary().input;
+    let traced: Vec<usize> = (sweep.trace.iter())
+        .filter_map(|t| m.all_markers().position(|id| id == *t))
+        .collect();
+    let mut series: Vec<Series> = (traced.iter())
+        .map(|&k| Series {
+            name: names[k].clone(),
+            ..Series::default()
+        })
+        .collect();
+    let mut angles: Vec<Vec<(f64, f64)>> = vec![Vec::new(); loops.len()];
+    let mut singular = Vec::new();
+    let total = sweep.steps;
+    if form == Form::Json {
+        let rates_json: Map<String, Value> = (m.inputs.iter().zip(&rates))
+            .map(|(i, r)| (i.name.clone(), json!(r)))
+            .collect();
+        writeln!(
+            out,
+            "{{\n  \"mechanism\": {},\n  \"rates\": {},\n  \"frames\": [",
+            json!(m.name),
+            Value::Object(rates_json)
+        )?;
+    }
+    if form == Form::Csv {
+        let mut head = vec!["frame".to_string()];
+        head.extend(m.inputs.iter().map(|i| i.name.clone()));
+        head.push("status".into());
+        for n in &names {
+            for c in ["x", "y", "vx", "vy", "ax", "ay"] {
+                head.push(format!("{n}.{c}"));
+            }
+        }
+        for b in &m.bodies {
+            head.push(format!("{}.omega", b.name));
+            head.push(format!("{}.alpha", b.name));
+        }
+        for l in &loop_names {
+            head.push(format!("mu[{}]", l.join("-")));
+        }
+        writeln!(out, "{}", head.join(","))?;
+    }
+    let mut bar = crate::progress::FrameBar::new(Some(total));
+    for (i, requested) in sweep_requests(sweep, m.inputs.len()).enumerate() {
+        bar.tick(i);
+        let status = driver.frame(&requested);
+        let frame = Frame {
+            requested,
+            inputs: driver.inputs().to_vec(),
+            status,
+            poses: driver.poses().to_vec(),
+            numeric: driver.numeric(),
+        };
+        let rates_here = interp.rates(driver.state(), &frame.inputs, &rates, &zero);
+        let moving: Result<Motion, RateError> = rates_here.map(|j| motion(m, &j));
+        if let Err(RateError::Singular) = moving {
+            singular.push(i);
+        }
+        let mus: Vec<f64> = loops
+            .iter()
+            .map(|f| transmission_angle(m, f, &frame.poses))
+            .collect();
+        let x = frame.inputs[primary];
+        for (s, &k) in series.iter_mut().zip(&traced) {
+            let id = m.all_markers().nth(k).expect("a traced marker");
+            let p = frame.poses[id.body].world(m.marker(id).at);
+            let r = moving
+                .as_ref()
+                .ok()
+                .map(|mo| (mo.velocity[k], mo.acceleration[k]));
+            s.points.push(Sample {
+                input: x,
+                at: p,
+                rates: r,
+            });
+        }
+        for (a, mu) in angles.iter_mut().zip(&mus) {
+            a.push((x, *mu));
+        }
+        match form {
+            Form::Json => {
+                let mut o = frame_json(&report, &frame);
+                add_rates(&mut o, m, &names, &moving, &loop_names, &mus);
+                let sep = if i + 1 < total { "," } else { "" };
+                writeln!(out, "    {o}{sep}")?;
+            }
+            Form::Csv => {
+                let mut row = vec![i.to_string()];
+                row.extend(frame.requested.iter().map(|v| format!("{v}")));
+                row.push(frame.status.name().to_string());
+                for (k, id) in m.all_markers().enumerate() {
+                    let p = frame.poses[id.body].world(m.marker(id).at);
+                    row.extend(p.iter().map(|v| format!("{v}")));
+                    match &moving {
+                        Ok(mo) => {
+                            let (v, a) = (mo.velocity[k], mo.acceleration[k]);
+                            row.extend([v[0], v[1], a[0], a[1]].iter().map(|v| format!("{v}")));
+                        }
+                        // A dead point: no number, not a huge one.
+                        Err(_) => row.extend(std::iter::repeat_n(String::new(), 4)),
+                    }
+                }
+                for b in 0..m.bodies.len() {
+                    match &moving {
+                        Ok(mo) => row.extend([format!("{}", mo.omega[b]), format!("{}", mo.alpha[b])]),
+                        Err(_) => row.extend([String::new(), String::new()]),
+                    }
+                }
+                row.extend(mus.iter().map(|v| format!("{v}")));
+                writeln!(out, "{}", row.join(","))?;
+            }
+            Form::Text => {}
+        }
+    }
+    drop(bar);
+    if form == Form::Json {
+        writeln!(out, "  ]\n}}")?;
+    }
+    if form == Form::Text {
+        summary(
+            m,
+            sweep,
+            &rates,
+            &series,
+            &loops,
+            &loop_names,
+            &angles,
+            &singular,
+            out,
+        )?;
+    }
+    if let Some(path) = svg {
+        let input = &m.inputs[primary];
+        let unit = match input.kind {
+            InputKind::Angle => "°",
+            InputKind::Slide => "",
+        };
+        let axis = format!(
+            "{} ({})",
+            input.name,
+            if unit.is_empty() { "length" } else { "degrees" }
+        );
+        let rate_text = match input.kind {
+            InputKind::Angle => format!("{} rad/s", num(rate)),
+            InputKind::Slide => format!("{} units/s", num(rate)),
+        };
+        let text = dofplan::render::plots::draw(
+            &m.name,
+            &axis,
+            &rate_text,
+            &series_view(&series),
+            &loop_views(&loop_names, &angles),
+        );
+        match text {
+            Ok(text) => {
+                if let Err(e) = std::fs::write(path, text) {
+                    crate::report(&format!("{}: error: cannot write the plots: {e}", path.display()));
+                    return Ok(ExitCode::FAILURE);
+                }
+            }
+            Err(e) => {
+                crate::report(&format!("{}: error: cannot draw the plots: {e}", path.display()));
+                return Ok(ExitCode::FAILURE);
+            }
+        }
+        if form == Form::Text {
+            writeln!(out, "wrote {}", path.display())?;
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The keys `analyze --json` adds to a `simulate` frame.
+fn add_rates(
+    o: &mut Value,
+    m: &Mechanism,
+    names: &[String],
+    moving: &Result<Motion, RateError>,
+    loops: &[Vec<&str>],
+    mus: &[f64],
+) {
+    match moving {
+        Ok(mo) => {
+            let by_name = |v: &[[f64; 2]]| -> Value {
+                Value::Object(names.iter().zip(v).map(|(n, p)| (n.clone(), json!(p))).collect())
+            };
+            o["velocity"] = by_name(&mo.velocity);
+            o["acceleration"] = by_name(&mo.acceleration);
+            o["angular"] = Value::Object(
+                (m.bodies.iter().enumerate())
+                    .map(|(b, body)| {
+                        (
+                            body.name.clone(),
+                            json!({"omega": mo.omega[b], "alpha": mo.alpha[b]}),
+                        )
+                    })
+                    .collect(),
+            );
+        }
+        Err(e) => {
+            o["velocity"] = Value::Null;
+            o["acceleration"] = Value::Null;
+            o["angular"] = Value::Null;
+            o["singular"] = json!(e.to_string());
+        }
+    }
+    if !loops.is_empty() {
+        o["transmission"] = json!(loops
+            .iter()
+            .zip(mus)
+            .map(|(l, mu)| json!({"loop": l, "angle": mu}))
+            .collect::<Vec<_>>());
+    }
+}
+
+/// The text summary: the rates used, each traced marker's largest speed
+/// and acceleration and where, each loop's transmission angle range.
+#[allow(clippy::too_many_arguments)]
+fn summary(
+    m: &Mechanism,
+    sweep: &Sweep,
+    rates: &[f64],
+    series: &[Series],
+    loops: &[FourBar],
+    loop_names: &[Vec<&str>],
+    angles: &[Vec<(f64, f64)>],
+    singular: &[usize],
+    out: &mut dyn Write,
+) -> io::Result<()> {
+    let primary = &m.inputs[sweep.primary().input];
+    let unit = |k: InputKind| if k == InputKind::Angle { "°/s" } else { "/s" };
+    let rates: Vec<String> = (m.inputs.iter().zip(rates))
+        .filter(|(_, r)| **r != 0.0)
+        .map(|(i, r)| format!("{} at {} {}", i.name, num(*r), unit(i.kind)))
+        .collect();
+    writeln!(out, "{}: {} frames, {}", m.name, sweep.steps, rates.join(", "))?;
+    let at = |x: f64| {
+        let u = if primary.kind == InputKind::Angle {
+            "°"
+        } else {
+            ""
+        };
+        format!("{} = {}{u}", primary.name, num(x))
+    };
+    for s in series {
+        let speed = (s.points.iter())
+            .filter_map(|p| p.rates.map(|(v, _)| (p.input, v[0].hypot(v[1]))))
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        let accel = (s.points.iter())
+            .filter_map(|p| p.rates.map(|(_, a)| (p.input, a[0].hypot(a[1]))))
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        if let (Some((xv, v)), Some((xa, a))) = (speed, accel) {
+            writeln!(
+                out,
+                "  {}: largest speed {} at {}, largest acceleration {} at {}",
+                s.name,
+                num(v),
+                at(xv),
+                num(a),
+                at(xa)
+            )?;
+        }
+    }
+    for ((_, name), a) in loops.iter().zip(loop_names).zip(angles) {
+        let lo = a.iter().min_by(|p, q| p.1.total_cmp(&q.1));
+        let hi = a.iter().max_by(|p, q| p.1.total_cmp(&q.1));
+        if let (Some(lo), Some(hi)) = (lo, hi) {
+            writeln!(
+                out,
+                "  transmission angle of {}: from {}° (at {}) to {}° (at {})",
+                name.join("–"),
+                num(lo.1),
+                at(lo.0),
+                num(hi.1),
+                at(hi.0)
+            )?;
+        }
+    }
+    if !singular.is_empty() {
+        writeln!(
+            out,
+            "  {} frame(s) at a dead point (rates singular), the first frame {}",
+            singular.len(),
+            singular[0]
+        )?;
+    }
+    Ok(())
+}
+
+fn series_view(series: &[Series]) -> Vec<dofplan::render::plots::Traced<'_>> {
+    series
+        .iter()
+        .map(|s| dofplan::render::plots::Traced {
+            name: &s.name,
+            points: &s.points,
+        })
+        .collect()
+}
+
+fn loop_views<'a>(
+    names: &'a [Vec<&'a str>],
+    angles: &'a [Vec<(f64, f64)>],
+) -> Vec<dofplan::render::plots::Loop<'a>> {
+    names
+        .iter()
+        .zip(angles)
+        .map(|(n, a)| dofplan::render::plots::Loop {
+            name: n.join("–"),
+            angles: a,
+        })
+        .collect()
+}

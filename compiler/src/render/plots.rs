@@ -1,0 +1,286 @@
+//! Plots of a sweep's kinematics (`dofplan analyze --svg`), drawn with
+//! plotters' SVG backend: the traced markers' paths (coupler curves), their
+//! position, velocity and acceleration against the input, and each
+//! four-bar loop's transmission angle with its extremes marked.
+//!
+//! Behind the `plots` feature: plotters is a dependency of the CLI, not of
+//! `build.rs` users.
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+/// One frame of a traced marker.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Sample {
+    /// The swept input's value.
+    pub input: f64,
+    /// The marker's position.
+    pub at: [f64; 2],
+    /// Its velocity and acceleration; `None` at a dead point (a gap in the
+    /// plot, not a spike).
+    pub rates: Option<([f64; 2], [f64; 2])>,
+}
+
+/// A traced marker's series.
+pub struct Traced<'a> {
+    /// "coupler.P".
+    pub name: &'a str,
+    /// One sample a frame.
+    pub points: &'a [Sample],
+}
+
+/// A four-bar loop's transmission angle (input, degrees) over the sweep.
+pub struct Loop<'a> {
+    /// "ground–crank–coupler–rocker".
+    pub name: String,
+    /// One entry a frame.
+    pub angles: &'a [(f64, f64)],
+}
+
+const WIDTH: u32 = 900;
+const PANEL: u32 = 300;
+const COLOURS: [RGBColor; 6] = [
+    RGBColor(37, 99, 235),
+    RGBColor(220, 38, 38),
+    RGBColor(5, 150, 105),
+    RGBColor(217, 119, 6),
+    RGBColor(124, 58, 237),
+    RGBColor(8, 145, 178),
+];
+
+/// The SVG text: the paths panel, then position, velocity and acceleration
+/// against `axis` (the swept input, moving at `rate`, e.g. "1 rad/s"),
+/// then one transmission-angle panel.
+pub fn draw(
+    title: &str,
+    axis: &str,
+    rate: &str,
+    traced: &[Traced],
+    loops: &[Loop],
+) -> Result<String, String> {
+    let panels = if traced.is_empty() { 0 } else { 4 } + usize::from(!loops.is_empty());
+    let mut svg = String::new();
+    if panels == 0 {
+        return Err("nothing to plot: the sweep traces no marker and has no four-bar loop".into());
+    }
+    {
+        let root = SVGBackend::with_string(&mut svg, (WIDTH, PANEL * panels as u32)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let areas = root.split_evenly((panels, 1));
+        let mut next = areas.iter();
+        if !traced.is_empty() {
+            paths(next.next().expect("a panel"), title, traced)?;
+            against(
+                next.next().expect("a panel"),
+                "position (solid x, thin y)",
+                axis,
+                traced,
+                &|p| Some((p.at[0], p.at[1])),
+            )?;
+            against(
+                next.next().expect("a panel"),
+                &format!("velocity (solid vx, thin vy), the input at {rate}"),
+                axis,
+                traced,
+                &|p| p.rates.map(|(v, _)| (v[0], v[1])),
+            )?;
+            against(
+                next.next().expect("a panel"),
+                &format!("acceleration (solid ax, thin ay), the input at {rate}"),
+                axis,
+                traced,
+                &|p| p.rates.map(|(_, a)| (a[0], a[1])),
+            )?;
+        }
+        if !loops.is_empty() {
+            transmission(next.next().expect("a panel"), axis, loops)?;
+        }
+        root.present().map_err(|e| e.to_string())?;
+    }
+    Ok(svg)
+}
+
+/// Bounds of `values` with a margin (a flat series gets a unit span).
+fn span(values: impl Iterator<Item = f64>) -> (f64, f64) {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    if !lo.is_finite() {
+        return (-1.0, 1.0);
+    }
+    let pad = if hi > lo {
+        0.05 * (hi - lo)
+    } else {
+        0.5_f64.max(lo.abs() * 0.05)
+    };
+    (lo - pad, hi + pad)
+}
+
+type Area<'b> = DrawingArea<SVGBackend<'b>, Shift>;
+
+/// The traced markers' paths in the plane, at one scale on both axes.
+fn paths(area: &Area, title: &str, traced: &[Traced]) -> Result<(), String> {
+    let (x0, x1) = span(traced.iter().flat_map(|t| t.points.iter().map(|p| p.at[0])));
+    let (y0, y1) = span(traced.iter().flat_map(|t| t.points.iter().map(|p| p.at[1])));
+    // One scale: widen the narrower range to the panel's aspect.
+    let aspect = (WIDTH - 80) as f64 / (PANEL - 70) as f64;
+    let (w, h) = (x1 - x0, y1 - y0);
+    let (x0, x1, y0, y1) = if w / h > aspect {
+        let extra = (w / aspect - h) / 2.0;
+        (x0, x1, y0 - extra, y1 + extra)
+    } else {
+        let extra = (h * aspect - w) / 2.0;
+        (x0 - extra, x1 + extra, y0, y1)
+    };
+    let mut chart = ChartBuilder::on(area)
+        .caption(
+            format!("{title}: paths of the traced markers"),
+            ("sans-serif", 18),
+        )
+        .margin(10)
+        .x_label_area_size(30)
+        .y_label_area_size(50)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc("x")
+        .y_desc("y")
+        .draw()
+        .map_err(|e| e.to_string())?;
+    for (k, t) in traced.iter().enumerate() {
+        let colour = COLOURS[k % COLOURS.len()];
+        chart
+            .draw_series(LineSeries::new(
+                t.points.iter().map(|p| (p.at[0], p.at[1])),
+                colour.stroke_width(2),
+            ))
+            .map_err(|e| e.to_string())?
+            .label(t.name)
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+/// A pair of components per traced marker against the input: the first
+/// solid, the second thin; gaps where `pick` has nothing (dead points).
+fn against(
+    area: &Area,
+    caption: &str,
+    axis: &str,
+    traced: &[Traced],
+    pick: &dyn Fn(&Sample) -> Option<(f64, f64)>,
+) -> Result<(), String> {
+    let (x0, x1) = span(traced.iter().flat_map(|t| t.points.iter().map(|p| p.input)));
+    let (y0, y1) = span(
+        traced
+            .iter()
+            .flat_map(|t| t.points.iter().filter_map(pick).flat_map(|(a, b)| [a, b])),
+    );
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", 16))
+        .margin(10)
+        .x_label_area_size(30)
+        .y_label_area_size(60)
+        .build_cartesian_2d(x0..x1, y0..y1)
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc(axis)
+        .draw()
+        .map_err(|e| e.to_string())?;
+    for (k, t) in traced.iter().enumerate() {
+        let colour = COLOURS[k % COLOURS.len()];
+        for (component, width) in [(0, 2), (1, 1)] {
+            // Runs between gaps, each its own line.
+            let mut run: Vec<(f64, f64)> = Vec::new();
+            let mut runs = Vec::new();
+            for p in t.points {
+                match pick(p) {
+                    Some(v) => run.push((p.input, if component == 0 { v.0 } else { v.1 })),
+                    None => runs.push(std::mem::take(&mut run)),
+                }
+            }
+            runs.push(run);
+            for (r, points) in runs.into_iter().filter(|r| !r.is_empty()).enumerate() {
+                let series = chart
+                    .draw_series(LineSeries::new(points, colour.stroke_width(width)))
+                    .map_err(|e| e.to_string())?;
+                if r == 0 && component == 0 {
+                    series.label(t.name).legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
+                    });
+                }
+            }
+        }
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+/// Transmission angles against the input, the extremes of each loop marked
+/// and labelled.
+fn transmission(area: &Area, axis: &str, loops: &[Loop]) -> Result<(), String> {
+    let (x0, x1) = span(loops.iter().flat_map(|l| l.angles.iter().map(|p| p.0)));
+    let (lo, hi) = span(loops.iter().flat_map(|l| l.angles.iter().map(|p| p.1)));
+    let mut chart = ChartBuilder::on(area)
+        .caption(
+            "transmission angle (degrees; 90 is ideal, below 40 or above 140 transmits poorly)",
+            ("sans-serif", 16),
+        )
+        .margin(10)
+        .x_label_area_size(30)
+        .y_label_area_size(50)
+        .build_cartesian_2d(x0..x1, lo.min(0.0)..hi.max(180.0))
+        .map_err(|e| e.to_string())?;
+    chart
+        .configure_mesh()
+        .x_desc(axis)
+        .y_desc("μ (°)")
+        .draw()
+        .map_err(|e| e.to_string())?;
+    for (k, l) in loops.iter().enumerate() {
+        let colour = COLOURS[k % COLOURS.len()];
+        chart
+            .draw_series(LineSeries::new(l.angles.iter().copied(), colour.stroke_width(2)))
+            .map_err(|e| e.to_string())?
+            .label(l.name.clone())
+            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
+        let min = l.angles.iter().min_by(|a, b| a.1.total_cmp(&b.1));
+        let max = l.angles.iter().max_by(|a, b| a.1.total_cmp(&b.1));
+        for (p, what) in [(min, "min"), (max, "max")] {
+            if let Some(&(x, y)) = p {
+                chart
+                    .draw_series(std::iter::once(Circle::new((x, y), 4, colour.filled())))
+                    .map_err(|e| e.to_string())?;
+                chart
+                    .draw_series(std::iter::once(Text::new(
+                        format!("{what} {y:.1}° at {x:.1}"),
+                        (x, y),
+                        ("sans-serif", 13),
+                    )))
+                    .map_err(|e| e.to_string())?;
+            }
+        }
+    }
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| e.to_string())?;
+    Ok(())
+}

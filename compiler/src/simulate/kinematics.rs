@@ -1,0 +1,131 @@
+//! What a designer reads off a frame beyond positions: every marker's
+//! velocity and acceleration, every body's angular velocity and
+//! acceleration (from [`Interpreter::rates`](crate::interp::Interpreter::rates),
+//! exact), and each four-bar loop's transmission angle.
+
+use dofplan_runtime::planar::{Point, Pose};
+use dofplan_runtime::real::Jet2;
+
+use crate::analysis::grashof::FourBar;
+use crate::model::{InputKind, Mechanism, Sweep};
+
+/// One frame's rates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Motion {
+    /// Every marker's velocity, in [`Mechanism::all_markers`] order.
+    pub velocity: Vec<Point>,
+    /// Every marker's acceleration, in the same order.
+    pub acceleration: Vec<Point>,
+    /// Every body's angular velocity (rad per unit of time).
+    pub omega: Vec<f64>,
+    /// Every body's angular acceleration.
+    pub alpha: Vec<f64>,
+}
+
+/// The rates of `m`'s markers and bodies from the bodies' jets.
+pub fn motion(m: &Mechanism, jets: &[Pose<Jet2>]) -> Motion {
+    let (mut velocity, mut acceleration) = (Vec::new(), Vec::new());
+    for id in m.all_markers() {
+        let local = m.marker(id).at;
+        let p = jets[id.body].world([Jet2::new(local[0], 0.0, 0.0), Jet2::new(local[1], 0.0, 0.0)]);
+        velocity.push([p[0].d, p[1].d]);
+        acceleration.push([p[0].dd, p[1].dd]);
+    }
+    // For a unit (c, s): ω = c·ṡ − s·ċ, α = c·s̈ − s·c̈.
+    let omega = jets
+        .iter()
+        .map(|p| p.rot.c.v * p.rot.s.d - p.rot.s.v * p.rot.c.d)
+        .collect();
+    let alpha = jets
+        .iter()
+        .map(|p| p.rot.c.v * p.rot.s.dd - p.rot.s.v * p.rot.c.dd)
+        .collect();
+    Motion {
+        velocity,
+        acceleration,
+        omega,
+        alpha,
+    }
+}
+
+/// Each input's rate along a sweep, in the input's units per unit of time
+/// (degrees for angles), when the sweep's first input moves at `rate`
+/// (radians or length units per unit of time) and the others keep their
+/// proportions to it.
+pub fn sweep_rates(m: &Mechanism, sweep: &Sweep, rate: f64) -> Vec<f64> {
+    let primary = sweep.primary();
+    let span = primary.to - primary.from;
+    let per_unit = match m.inputs[primary.input].kind {
+        InputKind::Angle => rate.to_degrees(),
+        InputKind::Slide => rate,
+    };
+    let mut rates = vec![0.0; m.inputs.len()];
+    for s in &sweep.inputs {
+        rates[s.input] = if span == 0.0 {
+            if s.input == primary.input {
+                per_unit
+            } else {
+                0.0
+            }
+        } else {
+            per_unit * (s.to - s.from) / span.abs()
+        };
+    }
+    rates
+}
+
+/// The transmission angle of a four-bar loop at `poses`, in degrees
+/// (0..180): the angle between the coupler and the output link at their
+/// joint. The output is the link beside the frame that no input drives
+/// (the second, unless an input drives the joint of the second to the
+/// frame).
+pub fn transmission_angle(m: &Mechanism, f: &FourBar, poses: &[Pose]) -> f64 {
+    let driven_last = m.inputs.iter().any(|i| i.joint == f.joints[3]);
+    // (coupler's far joint, the shared joint, the output's far joint)
+    let (far_c, at, far_o, coupler, output) = if driven_last {
+        (f.joints[2], f.joints[1], f.joints[0], f.bodies[2], f.bodies[1])
+    } else {
+        (f.joints[1], f.joints[2], f.joints[3], f.bodies[2], f.bodies[3])
+    };
+    let point = |joint: usize, body: usize| {
+        let [a, b] = m.joints[joint].markers;
+        let id = if a.body == body { a } else { b };
+        poses[body].world(m.marker(id).at)
+    };
+    let j = point(at, coupler);
+    let u = sub(point(far_c, coupler), j);
+    let v = sub(point(far_o, output), j);
+    let cos = (u[0] * v[0] + u[1] * v[1]) / (u[0].hypot(u[1]) * v[0].hypot(v[1]));
+    cos.clamp(-1.0, 1.0).acos().to_degrees()
+}
+
+fn sub(a: Point, b: Point) -> Point {
+    [a[0] - b[0], a[1] - b[1]]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::analysis::grashof::four_bars;
+    use crate::model::{load_str, Format};
+
+    /// fourbar as drawn: C = (4.5, 2.5), B = (1, 1), D = (4, 0):
+    /// μ = angle between C→B = (−3.5, −1.5) and C→D = (−0.5, −2.5), worked
+    /// out here.
+    #[test]
+    fn the_drawn_fourbar_transmits_at_the_angle_of_its_coupler_and_rocker() {
+        let m = load_str(
+            "f.toml",
+            include_str!("../../../mechanisms/fourbar.toml"),
+            Format::Toml,
+        )
+        .unwrap();
+        let f = &four_bars(&m)[0];
+        let poses = vec![Pose::IDENTITY; m.bodies.len()];
+        let (u, v) = ([-3.5_f64, -1.5_f64], [-0.5_f64, -2.5_f64]);
+        let want = ((u[0] * v[0] + u[1] * v[1]) / (u[0].hypot(u[1]) * v[0].hypot(v[1])))
+            .acos()
+            .to_degrees();
+        assert!((transmission_angle(&m, f, &poses) - want).abs() < 1e-12);
+    }
+}
