@@ -114,34 +114,8 @@ impl Document {
             })
             .collect();
         let size = m.size();
-        let inputs: Vec<Value> = (m.inputs.iter().enumerate())
-            .map(|(k, input)| {
-                // The sweep's range when the input is swept; otherwise a
-                // full turn, or the mechanism's size either way for a slide.
-                let swept = m
-                    .sweep
-                    .as_ref()
-                    .and_then(|s| s.inputs.iter().find(|w| w.input == k));
-                let (lo, hi) = match (swept, input.kind) {
-                    (Some(s), _) => (s.from.min(s.to), s.from.max(s.to)),
-                    (None, InputKind::Angle) => (-180.0, 180.0),
-                    (None, InputKind::Slide) => (-size, size),
-                };
-                json!({
-                    "name": input.name,
-                    "kind": input.kind.name(),
-                    "joint": m.joints[input.joint].name,
-                    "min": lo,
-                    "max": hi,
-                })
-            })
-            .collect();
-        let sweep = m.sweep.as_ref().map(|s| {
-            json!({
-                "steps": s.steps,
-                "inputs": s.inputs.iter().map(|w| json!({"input": w.input, "from": w.from, "to": w.to})).collect::<Vec<_>>(),
-            })
-        });
+        let joint_names: Vec<&str> = m.joints.iter().map(|j| j.name.as_str()).collect();
+        let (inputs, sweep) = inputs_and_sweep(&m.inputs, &joint_names, m.sweep.as_ref(), size);
         let plan_text = self.plan.as_ref().map(|p| p.explain_all()).map_err(Clone::clone);
         let (traces, bounds) = self.traces();
         json!({
@@ -226,4 +200,40 @@ impl Document {
         );
         (traces, bounds)
     }
+}
+
+/// The `inputs` of a `document` message — each with its slider's range:
+/// the sweep's when it is swept, otherwise a full turn (angles) or the
+/// mechanism's size either way (slides) — and its `sweep`. Both dimensions
+/// share it (`joint_names` by joint index).
+pub(super) fn inputs_and_sweep(
+    inputs: &[dofplan::model::Input],
+    joint_names: &[&str],
+    sweep: Option<&dofplan::model::Sweep>,
+    size: f64,
+) -> (Vec<Value>, Option<Value>) {
+    let described = (inputs.iter().enumerate())
+        .map(|(k, input)| {
+            let swept = sweep.and_then(|s| s.inputs.iter().find(|w| w.input == k));
+            let (lo, hi) = match (swept, input.kind) {
+                (Some(s), _) => (s.from.min(s.to), s.from.max(s.to)),
+                (None, InputKind::Angle) => (-180.0, 180.0),
+                (None, InputKind::Slide) => (-size, size),
+            };
+            json!({
+                "name": input.name,
+                "kind": input.kind.name(),
+                "joint": joint_names[input.joint],
+                "min": lo,
+                "max": hi,
+            })
+        })
+        .collect();
+    let sweep = sweep.map(|s| {
+        json!({
+            "steps": s.steps,
+            "inputs": s.inputs.iter().map(|w| json!({"input": w.input, "from": w.from, "to": w.to})).collect::<Vec<_>>(),
+        })
+    });
+    (described, sweep)
 }

@@ -13,7 +13,6 @@ use dofplan::analysis::spatial::analyse;
 use dofplan::emit::emit_spatial;
 use dofplan::interp::spatial::Interpreter3;
 use dofplan::model::spatial::Mechanism3;
-use dofplan::model::InputKind;
 use dofplan::plan::spatial::Plan3;
 use dofplan::simulate::spatial::marker_positions;
 use dofplan::simulate::sweep_requests;
@@ -77,29 +76,9 @@ impl Document3 {
             })
             .collect();
         let size = m.size();
-        let inputs: Vec<Value> = (m.inputs.iter().enumerate())
-            .map(|(k, input)| {
-                let swept = (m.sweep.as_ref()).and_then(|s| s.inputs.iter().find(|w| w.input == k));
-                let (lo, hi) = match (swept, input.kind) {
-                    (Some(s), _) => (s.from.min(s.to), s.from.max(s.to)),
-                    (None, InputKind::Angle) => (-180.0, 180.0),
-                    (None, InputKind::Slide) => (-size, size),
-                };
-                json!({
-                    "name": input.name,
-                    "kind": input.kind.name(),
-                    "joint": m.joints[input.joint].name,
-                    "min": lo,
-                    "max": hi,
-                })
-            })
-            .collect();
-        let sweep = m.sweep.as_ref().map(|s| {
-            json!({
-                "steps": s.steps,
-                "inputs": s.inputs.iter().map(|w| json!({"input": w.input, "from": w.from, "to": w.to})).collect::<Vec<_>>(),
-            })
-        });
+        let joint_names: Vec<&str> = m.joints.iter().map(|j| j.name.as_str()).collect();
+        let (inputs, sweep) =
+            super::document::inputs_and_sweep(&m.inputs, &joint_names, m.sweep.as_ref(), size);
         let mut check = Vec::new();
         let check = match crate::spatial::check(m, false, &mut check) {
             Ok(_) => String::from_utf8_lossy(&check).into_owned(),
