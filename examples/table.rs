@@ -69,7 +69,7 @@ fn main() {
     let only = |table: &str| args.is_empty() || args.iter().any(|a| a == table);
     let filter: Vec<String> = args
         .iter()
-        .filter(|a| *a != "spatial" && *a != "planar")
+        .filter(|a| *a != "spatial" && *a != "planar" && *a != "rates")
         .cloned()
         .collect();
     if only("planar") || !filter.is_empty() {
@@ -77,6 +77,9 @@ fn main() {
     }
     if only("spatial") || !filter.is_empty() {
         spatial(&filter);
+    }
+    if only("rates") || !filter.is_empty() {
+        rates(&filter);
     }
 }
 
@@ -187,5 +190,63 @@ fn planar(filter: &[String]) {
             p.steps.len(),
             i / c
         );
+    }
+}
+
+/// The rates table: per compiled planar plan with a generated `rates`, a
+/// frame's cost with its velocities and accelerations against without
+/// (medians of alternating passes over the sweep, as above).
+fn rates(filter: &[String]) {
+    use dofplan_runtime::planar::Pose;
+    use dofplan_runtime::real::{Jet2, Rates};
+    let names: Vec<String> = bundled()
+        .into_iter()
+        .filter(|n| filter.is_empty() || filter.contains(n))
+        .collect();
+    println!();
+    println!("| mechanism | plan steps | compiled ns/frame | with rates ns/frame | ratio |");
+    println!("|---|---:|---:|---:|---:|");
+    for name in names {
+        let m = load(&name);
+        let p = plan(&m);
+        if p.clusters() > 0 {
+            continue;
+        }
+        let inputs = sweep_inputs(&m, None);
+        let n = m.inputs.len();
+        let (r, a) = (vec![30.0; n], vec![0.0; n]);
+        let row = dofplan_generated::with_plan!(name.as_str(), |plan| {
+            let mut out = vec![Pose::<Jet2>::cst(Pose::IDENTITY); m.bodies.len()];
+            let mut d = Driver::new(plan, Options::default());
+            let time = |d: &mut Driver<_>, out: &mut Vec<Pose<Jet2>>, with: bool, reps: usize| {
+                d.reset();
+                let t = Instant::now();
+                for _ in 0..reps {
+                    for i in &inputs {
+                        black_box(d.frame(black_box(i)));
+                        if with {
+                            let _ = black_box(plan.rates_into(d.state(), d.inputs(), &r, &a, out));
+                        }
+                    }
+                }
+                t.elapsed().as_secs_f64() * 1e9 / (reps * inputs.len()) as f64
+            };
+            // A module without `rates` (a numeric cluster, a split plan).
+            let has_rates = plan.rates_into(d.state(), d.inputs(), &r, &a, &mut out).is_ok();
+            has_rates.then(|| {
+                let per = time(&mut d, &mut out, true, 1) * 1e-9;
+                let reps = ((5e-3 / per) as usize / inputs.len()).max(1);
+                let (mut without, mut with) = (Vec::new(), Vec::new());
+                for _ in 0..21 {
+                    without.push(time(&mut d, &mut out, false, reps));
+                    with.push(time(&mut d, &mut out, true, reps));
+                }
+                (median(without), median(with))
+            })
+        })
+        .expect("compiled");
+        if let Some((c, w)) = row {
+            println!("| {name} | {} | {c:.1} | {w:.1} | {:.2} |", p.steps.len(), w / c);
+        }
     }
 }

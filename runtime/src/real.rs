@@ -11,6 +11,10 @@
 use std::fmt::Debug;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
+use crate::drive::Solver;
+use crate::frame::Break;
+use crate::planar::Pose;
+
 /// A number a plan step computes with.
 pub trait Real:
     Copy
@@ -164,6 +168,71 @@ impl Real for Jet2 {
         } else {
             self.sqrt()
         }
+    }
+}
+
+/// Why a frame's rates were not computed.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RateError {
+    /// The plan has a numeric cluster, whose rates (by the implicit
+    /// function theorem on its Jacobian) are not computed yet.
+    Cluster,
+    /// The frame is at a dead point: a rate is infinite there (two roots
+    /// of a step meet), so it is reported as singular, not as a number.
+    Singular,
+    /// The frame does not assemble at these inputs.
+    Break(Break),
+    /// The plan was split into functions (too large for one), whose rates
+    /// are not generated yet.
+    Split,
+}
+
+impl From<Break> for RateError {
+    fn from(b: Break) -> RateError {
+        RateError::Break(b)
+    }
+}
+
+impl std::fmt::Display for RateError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RateError::Cluster => write!(f, "rates of numeric clusters are not computed yet"),
+            RateError::Singular => write!(f, "singular: a dead point, where a rate is infinite"),
+            RateError::Break(b) => write!(f, "step {} breaks ({})", b.step, b.kind.describe()),
+            RateError::Split => write!(f, "rates of plans split into functions are not generated yet"),
+        }
+    }
+}
+
+impl std::error::Error for RateError {}
+
+/// A planar plan that gives its frames' rates: every body's pose with its
+/// first and second derivatives along given input rates and accelerations
+/// (the generated modules' `rates`, the interpreter's).
+pub trait Rates: Solver<Pose = Pose> {
+    /// The rates at the frame `state` was solved to (at `inputs`), into
+    /// `out` (one pose a body).
+    fn rates_into(
+        &self,
+        state: &Self::State,
+        inputs: &[f64],
+        rates: &[f64],
+        accelerations: &[f64],
+        out: &mut [Pose<Jet2>],
+    ) -> Result<(), RateError>;
+}
+
+/// `poses` if every rate in them is finite, else [`RateError::Singular`]
+/// (a dead point): what a run of the steps on jets returns.
+pub fn checked<P: AsRef<[Pose<Jet2>]>>(poses: P) -> Result<P, RateError> {
+    let finite = poses
+        .as_ref()
+        .iter()
+        .all(|p| p.at.iter().all(|x| x.finite()) && p.rot.c.finite() && p.rot.s.finite());
+    if finite {
+        Ok(poses)
+    } else {
+        Err(RateError::Singular)
     }
 }
 

@@ -79,6 +79,9 @@ struct Emitter<'p> {
     /// Whether the steps are split into functions over a working copy of
     /// the state (see [`chunk`]).
     chunked: bool,
+    /// Whether the steps are written for `rates`: on jets, every constant
+    /// lifted ([`Real::cst`](dofplan_runtime::real::Real::cst)).
+    jets: bool,
 }
 
 impl Emitter<'_> {
@@ -87,10 +90,34 @@ impl Emitter<'_> {
     fn pose(&self, body: usize) -> TokenStream {
         if self.plan.bodies[body].fixed {
             let b = index(body);
-            quote!(s.poses[#b])
+            if self.jets {
+                quote!(Pose::<Jet2>::cst(s.poses[#b]))
+            } else {
+                quote!(s.poses[#b])
+            }
         } else {
             let id = &self.pose_idents[body];
             quote!(#id)
+        }
+    }
+
+    /// A constant point: a literal, or lifted to jets.
+    fn plit(&self, p: [f64; 2]) -> TokenStream {
+        let l = point_lit(p);
+        if self.jets {
+            quote!(planar::cst(#l))
+        } else {
+            l
+        }
+    }
+
+    /// A constant number: a literal, or lifted to a jet.
+    fn slit(&self, x: f64) -> TokenStream {
+        let l = lit(x);
+        if self.jets {
+            quote!(Jet2::cst(#l))
+        } else {
+            quote!(#l)
         }
     }
 
@@ -98,10 +125,10 @@ impl Emitter<'_> {
     /// expression that names it.
     fn point(&self, p: &PointRef, prelude: &mut Vec<TokenStream>) -> TokenStream {
         match p {
-            PointRef::Fixed { at, .. } => point_lit(*at),
+            PointRef::Fixed { at, .. } => self.plit(*at),
             PointRef::Marker { body, local, name } => {
                 let id = format_ident!("{}", point_ident(name));
-                let (b, l) = (self.pose(*body), point_lit(*local));
+                let (b, l) = (self.pose(*body), self.plit(*local));
                 prelude.push(quote!(let #id = #b.world(#l);));
                 quote!(#id)
             }
@@ -117,7 +144,12 @@ impl Emitter<'_> {
                 let b = self.pose(*body);
                 let u = &self.input_idents[*input];
                 let u = if *sign < 0.0 { quote!((-#u)) } else { quote!(#u) };
-                let (lx, ly, dx, dy) = (lit(local[0]), lit(local[1]), lit(dir[0]), lit(dir[1]));
+                let (lx, ly, dx, dy) = (
+                    self.slit(local[0]),
+                    self.slit(local[1]),
+                    self.slit(dir[0]),
+                    self.slit(dir[1]),
+                );
                 prelude.push(quote!(let #id = #b.world([#lx + #u * #dx, #ly + #u * #dy]);));
                 quote!(#id)
             }
@@ -130,10 +162,10 @@ impl Emitter<'_> {
 
     fn dir(&self, d: &DirRef, name: &str, prelude: &mut Vec<TokenStream>) -> TokenStream {
         match d {
-            DirRef::Fixed(v) => point_lit(*v),
+            DirRef::Fixed(v) => self.plit(*v),
             DirRef::Body { body, local } => {
                 let id = format_ident!("{}", name);
-                let (b, l) = (self.pose(*body), point_lit(*local));
+                let (b, l) = (self.pose(*body), self.plit(*local));
                 prelude.push(quote!(let #id = #b.world_dir(#l);));
                 quote!(#id)
             }
@@ -149,6 +181,7 @@ impl Emitter<'_> {
             StepKind::Orient { body, from, rel } => {
                 let b = self.pose(*body);
                 let r = match rel {
+                    Rel::Identity if self.jets => quote!(Rot::cst(Rot::IDENTITY)),
                     Rel::Identity => quote!(Rot::IDENTITY),
                     Rel::Input { input, inverse } => {
                         let u = &self.input_idents[*input];
@@ -175,7 +208,7 @@ impl Emitter<'_> {
             }
             StepKind::Anchor { body, local, at } => {
                 let at = self.point(at, &mut pre);
-                let (b, l) = (self.pose(*body), point_lit(*local));
+                let (b, l) = (self.pose(*body), self.plit(*local));
                 quote! {
                     #marker
                     {
@@ -194,7 +227,7 @@ impl Emitter<'_> {
             } => {
                 let p_at = self.point(p_at, &mut pre);
                 let q_at = self.point(q_at, &mut pre);
-                let (b, p, q) = (self.pose(*body), point_lit(*p), point_lit(*q));
+                let (b, p, q) = (self.pose(*body), self.plit(*p), self.plit(*q));
                 let call = if *redundant {
                     quote!(planar::align_consistent(ctx, #id, &mut #b, #p, #p_at, #q, #q_at)?;)
                 } else {
@@ -219,7 +252,7 @@ impl Emitter<'_> {
                 let t = &self.temp_idents[*out];
                 let c1 = self.point(c1, &mut pre);
                 let c2 = self.point(c2, &mut pre);
-                let (r1, r2, k) = (lit(*r1), lit(*r2), index(*branch));
+                let (r1, r2, k) = (self.slit(*r1), self.slit(*r2), index(*branch));
                 quote! {
                     #marker
                     let #t = {
@@ -239,7 +272,7 @@ impl Emitter<'_> {
                 let c = self.point(c, &mut pre);
                 let p = self.point(&line.through, &mut pre);
                 let d = self.dir(&line.dir, "line_dir", &mut pre);
-                let (r, k) = (lit(*r), index(*branch));
+                let (r, k) = (self.slit(*r), index(*branch));
                 quote! {
                     #marker
                     let #t = {
@@ -370,7 +403,12 @@ impl Emitter<'_> {
             } => {
                 let pv = self.point(pivot, &mut pre);
                 let tg = self.point(target, &mut pre);
-                let (b, d, kp, k) = (self.pose(*body), point_lit(*dir), lit(*kappa), index(*branch));
+                let (b, d, kp, k) = (
+                    self.pose(*body),
+                    self.plit(*dir),
+                    self.slit(*kappa),
+                    index(*branch),
+                );
                 quote! {
                     #marker
                     {
@@ -472,6 +510,7 @@ impl Emitter<'_> {
         let id = &self.input_idents[k];
         let i = index(k);
         match self.plan.inputs[k].kind {
+            InputKind::Angle if self.jets => quote!(let #id = Rot::from_degrees_jet(inputs[#i]);),
             InputKind::Angle => quote!(let #id = Rot::from_degrees(inputs[#i]);),
             InputKind::Slide => quote!(let #id = inputs[#i];),
         }
@@ -540,6 +579,7 @@ impl Emitter<'_> {
         &self,
         steps: Vec<TokenStream>,
         chunks: Option<(Vec<chunk::Uses>, Vec<chunk::Chunk>)>,
+        rates: Option<TokenStream>,
     ) -> TokenStream {
         let plan = self.plan;
         let name = &plan.mechanism;
@@ -583,10 +623,37 @@ impl Emitter<'_> {
             Some((uses, chunks)) => self.chunked_solve(steps, uses, &chunks, &doc_solve),
         };
         let names = self.names();
+        let (rates_use, rates_impl) = if rates.is_some() {
+            (
+                quote!(
+                    use dofplan_runtime::real::{self, Jet2, RateError, Real};
+                    use dofplan_runtime::BranchPolicy;
+                ),
+                quote!(self::rates(s, inputs, rates, accelerations).map(|r| out.copy_from_slice(&r))),
+            )
+        } else {
+            // Why there is no `rates`: a numeric cluster, or a plan split
+            // into functions.
+            let why = if plan.clusters() > 0 {
+                quote!(RateError::Cluster)
+            } else {
+                quote!(RateError::Split)
+            };
+            (
+                quote!(
+                    use dofplan_runtime::real::{Jet2, RateError};
+                ),
+                quote!({
+                    let _ = (s, inputs, rates, accelerations, out);
+                    Err(#why)
+                }),
+            )
+        };
         quote! {
             use dofplan_runtime::planar::{self, Point, Pose, Rot};
             use dofplan_runtime::{Branch, Break, Ctx, Marker, Solver};
             #numeric_use
+            #rates_use
 
             /// Kind of an input.
             pub use dofplan_runtime::planar::InputKind;
@@ -652,7 +719,88 @@ impl Emitter<'_> {
                 }
             }
 
+            impl dofplan_runtime::real::Rates for Plan {
+                fn rates_into(
+                    &self,
+                    s: &State,
+                    inputs: &[f64],
+                    rates: &[f64],
+                    accelerations: &[f64],
+                    out: &mut [Pose<Jet2>],
+                ) -> Result<(), RateError> {
+                    #rates_impl
+                }
+            }
+
             #solve
+
+            #rates
+        }
+    }
+
+    /// `rates`: the steps of `solve` again on jets, from the frame `s` was
+    /// solved to, with the branches it took.
+    fn rates_fn(&self, steps: Vec<TokenStream>) -> TokenStream {
+        let plan = self.plan;
+        let mut is_written = vec![false; plan.bodies.len()];
+        for step in &plan.steps {
+            for b in step.kind.writes() {
+                is_written[b] = true;
+            }
+        }
+        let written = |b: usize| !plan.bodies[b].fixed && is_written[b];
+        let take = (0..plan.bodies.len()).filter(|&b| written(b)).map(|b| {
+            let (id, i) = (&self.pose_idents[b], index(b));
+            quote!(let mut #id = Pose::<Jet2>::cst(s.poses[#i]);)
+        });
+        let out = (0..plan.bodies.len()).map(|b| {
+            if written(b) {
+                let id = &self.pose_idents[b];
+                quote!(#id)
+            } else {
+                let i = index(b);
+                quote!(Pose::<Jet2>::cst(s.poses[#i]))
+            }
+        });
+        let branches = if plan.branches.is_empty() {
+            quote!()
+        } else {
+            quote!(let mut last = s.last.map(planar::cst::<Jet2>); let mut branches = s.branches;)
+        };
+        let bind_inputs = (0..plan.inputs.len()).map(|k| self.bind_input(k));
+        let unused_ctx = if self.fallible() {
+            quote!()
+        } else {
+            quote!(let _ = ctx;)
+        };
+        let (nb, ni) = (index(plan.bodies.len()), index(plan.inputs.len()));
+        quote! {
+            /// Every body's pose at the frame `s` was solved to (at
+            /// `inputs`) with its first and second derivatives along the
+            /// inputs' `rates` and `accelerations` (per second, in the
+            /// inputs' units: degrees for angles): the steps of [`solve`] run
+            /// again on [`Jet2`]s — forward-mode differentiation through the
+            /// plan — with the branches the frame took. A dead point, where
+            /// a rate is infinite, is [`RateError::Singular`].
+            pub fn rates(
+                s: &State,
+                inputs: &[f64],
+                rates: &[f64],
+                accelerations: &[f64],
+            ) -> Result<[Pose<Jet2>; #nb], RateError> {
+                let inputs: [Jet2; #ni] =
+                    core::array::from_fn(|k| Jet2::new(inputs[k], rates[k], accelerations[k]));
+                let _ = &inputs;
+                // The frame's branches are kept: the rates are those of the
+                // roots it took.
+                let ctx = &mut Ctx::new(BranchPolicy::Keep, false);
+                #unused_ctx
+                #(#take)*
+                #branches
+                #(#bind_inputs)*
+                #(#steps)*
+                real::checked([#(#out),*])
+            }
         }
     }
 }
@@ -697,6 +845,7 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
         temp_idents,
         pose_idents,
         chunked: false,
+        jets: false,
     };
     let mut steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
     let kinds: Vec<&StepKind> = plan.steps.iter().map(|s| &s.kind).collect();
@@ -713,7 +862,17 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
         }
         (uses, chunks)
     });
-    let tokens = e.module(steps, chunks);
+    // Rates of a plan without numeric clusters, in one function (their
+    // rates by the implicit function theorem, and rates of split plans,
+    // are not generated yet).
+    let rates = (chunks.is_none() && plan.clusters() == 0).then(|| {
+        e.jets = true;
+        let jet_steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
+        let rates = e.rates_fn(jet_steps);
+        e.jets = false;
+        rates
+    });
+    let tokens = e.module(steps, chunks, rates);
     let file = syn::parse2::<syn::File>(tokens).expect("the emitter produces valid Rust");
     let pretty = prettyplease::unparse(&file);
     // Comments are not tokens: each step was marked by a macro call that is

@@ -408,26 +408,19 @@ impl Scalar for Jet2 {
     }
 }
 
-/// Why a frame's rates were not computed.
-#[derive(Clone, Debug, PartialEq)]
-pub enum RateError {
-    /// The plan has a numeric cluster, whose rates (by the implicit
-    /// function theorem on its Jacobian) are not computed yet.
-    Cluster,
-    /// The frame is at a dead point: a rate is infinite there (two roots
-    /// of a step meet), so it is reported as singular, not as a number.
-    Singular,
-    /// The frame does not assemble at these inputs.
-    Break(Break),
-}
+pub use dofplan_runtime::real::RateError;
 
-impl std::fmt::Display for RateError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            RateError::Cluster => write!(f, "rates of numeric clusters are not computed yet"),
-            RateError::Singular => write!(f, "singular: a dead point, where a rate is infinite"),
-            RateError::Break(b) => write!(f, "step {} breaks ({})", b.step, b.kind.describe()),
-        }
+impl dofplan_runtime::real::Rates for Interpreter {
+    fn rates_into(
+        &self,
+        state: &InterpState,
+        inputs: &[f64],
+        rates: &[f64],
+        accelerations: &[f64],
+        out: &mut [Pose<Jet2>],
+    ) -> Result<(), RateError> {
+        out.copy_from_slice(&self.rates(state, inputs, rates, accelerations)?);
+        Ok(())
     }
 }
 
