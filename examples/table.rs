@@ -204,8 +204,10 @@ fn rates(filter: &[String]) {
         .filter(|n| filter.is_empty() || filter.contains(n))
         .collect();
     println!();
-    println!("| mechanism | plan steps | compiled ns/frame | with rates ns/frame | ratio |");
-    println!("|---|---:|---:|---:|---:|");
+    println!(
+        "| mechanism | plan steps | compiled ns/frame | solve then rates ns/frame | ratio | solve_rates (one pass) ns/frame | ratio |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|---:|");
     for name in names {
         let m = load(&name);
         let p = plan(&m);
@@ -231,22 +233,42 @@ fn rates(filter: &[String]) {
                 }
                 t.elapsed().as_secs_f64() * 1e9 / (reps * inputs.len()) as f64
             };
+            // The one-pass form: frames by hand (keep-branch, limit), as the
+            // driver runs them.
+            let fused = |out: &mut Vec<Pose<Jet2>>, reps: usize| {
+                let mut st = dofplan_runtime::Solver::initial_state(&plan);
+                let t = Instant::now();
+                for _ in 0..reps {
+                    for i in &inputs {
+                        let mut ctx = dofplan_runtime::Ctx::new(Default::default(), false);
+                        let _ =
+                            black_box(plan.solve_rates_into(&mut st, black_box(i), &r, &a, &mut ctx, out));
+                    }
+                }
+                t.elapsed().as_secs_f64() * 1e9 / (reps * inputs.len()) as f64
+            };
             // A module without `rates` (a numeric cluster, a split plan).
             let has_rates = plan.rates_into(d.state(), d.inputs(), &r, &a, &mut out).is_ok();
             has_rates.then(|| {
                 let per = time(&mut d, &mut out, true, 1) * 1e-9;
                 let reps = ((5e-3 / per) as usize / inputs.len()).max(1);
-                let (mut without, mut with) = (Vec::new(), Vec::new());
+                let (mut without, mut with, mut one) = (Vec::new(), Vec::new(), Vec::new());
                 for _ in 0..21 {
                     without.push(time(&mut d, &mut out, false, reps));
                     with.push(time(&mut d, &mut out, true, reps));
+                    one.push(fused(&mut out, reps));
                 }
-                (median(without), median(with))
+                (median(without), median(with), median(one))
             })
         })
         .expect("compiled");
-        if let Some((c, w)) = row {
-            println!("| {name} | {} | {c:.1} | {w:.1} | {:.2} |", p.steps.len(), w / c);
+        if let Some((c, w, f)) = row {
+            println!(
+                "| {name} | {} | {c:.1} | {w:.1} | {:.2} | {f:.1} | {:.2} |",
+                p.steps.len(),
+                w / c,
+                f / c
+            );
         }
     }
 }

@@ -254,12 +254,29 @@ fn compiled_rates_equal_interpreted_rates() {
             let mut dc = Driver::new(compiled, Options::default());
             let mut di = Driver::new(interp.clone(), Options::default());
             let mut out = vec![Pose::<Jet2>::cst(Pose::IDENTITY); m.bodies.len()];
+            let mut fused_out = out.clone();
+            // The fused pass (solve and rates on jets at once), driven by
+            // hand beside the driver: its positions are exactly solve's.
+            let mut fused_state = dofplan_runtime::Solver::initial_state(&compiled);
             for u in &requests {
                 assert_eq!(dc.frame(u), di.frame(u), "{name}");
+                let mut ctx = dofplan_runtime::Ctx::new(Default::default(), false);
+                let fused =
+                    compiled.solve_rates_into(&mut fused_state, u, &rates, &accels, &mut ctx, &mut fused_out);
+                if fused.is_ok() || fused == Err(RateError::Singular) {
+                    assert_eq!(
+                        fused_state.poses,
+                        dc.state().poses,
+                        "{name}: the fused pass's positions are solve's"
+                    );
+                }
                 let c = compiled.rates_into(dc.state(), dc.inputs(), &rates, &accels, &mut out);
                 let i = interp.rates(di.state(), di.inputs(), &rates, &accels);
                 match (c, i) {
                     (Ok(()), Ok(jets)) => {
+                        if fused.is_ok() {
+                            assert_eq!(fused_out, out, "{name}: the fused pass's rates are rates'");
+                        }
                         for (a, b) in out.iter().zip(&jets) {
                             for (x, y) in [
                                 (a.at[0], b.at[0]),

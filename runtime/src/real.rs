@@ -220,6 +220,22 @@ pub trait Rates: Solver<Pose = Pose> {
         accelerations: &[f64],
         out: &mut [Pose<Jet2>],
     ) -> Result<(), RateError>;
+
+    /// A frame and its rates together: `solve` at `inputs` from `state`
+    /// (committed as `solve` commits), then the rates into `out`. Generated
+    /// plans do both in one pass on jets.
+    fn solve_rates_into(
+        &self,
+        state: &mut Self::State,
+        inputs: &[f64],
+        rates: &[f64],
+        accelerations: &[f64],
+        ctx: &mut crate::frame::Ctx,
+        out: &mut [Pose<Jet2>],
+    ) -> Result<(), RateError> {
+        self.solve(state, inputs, ctx)?;
+        self.rates_into(state, inputs, rates, accelerations, out)
+    }
 }
 
 /// `poses` if every rate in them is finite, else [`RateError::Singular`]

@@ -623,6 +623,21 @@ impl Emitter<'_> {
             Some((uses, chunks)) => self.chunked_solve(steps, uses, &chunks, &doc_solve),
         };
         let names = self.names();
+        let fused_impl = rates.is_some().then(|| {
+            quote! {
+                fn solve_rates_into(
+                    &self,
+                    s: &mut State,
+                    inputs: &[f64],
+                    rates: &[f64],
+                    accelerations: &[f64],
+                    ctx: &mut Ctx,
+                    out: &mut [Pose<Jet2>],
+                ) -> Result<(), RateError> {
+                    self::solve_rates(s, inputs, rates, accelerations, ctx).map(|r| out.copy_from_slice(&r))
+                }
+            }
+        });
         let (rates_use, rates_impl) = if rates.is_some() {
             (
                 quote!(
@@ -730,6 +745,8 @@ impl Emitter<'_> {
                 ) -> Result<(), RateError> {
                     #rates_impl
                 }
+
+                #fused_impl
             }
 
             #solve
@@ -803,6 +820,77 @@ impl Emitter<'_> {
             }
         }
     }
+
+    /// `solve_rates`: a frame and its rates in one pass on jets (their
+    /// values are `solve`'s, the same operations on the same numbers),
+    /// committed to `s` as `solve` commits.
+    fn solve_rates_fn(&self, steps: Vec<TokenStream>) -> TokenStream {
+        let plan = self.plan;
+        let mut is_written = vec![false; plan.bodies.len()];
+        for step in &plan.steps {
+            for b in step.kind.writes() {
+                is_written[b] = true;
+            }
+        }
+        let written: Vec<usize> = (0..plan.bodies.len())
+            .filter(|&b| !plan.bodies[b].fixed && is_written[b])
+            .collect();
+        let take = written.iter().map(|&b| {
+            let (id, i) = (&self.pose_idents[b], index(b));
+            quote!(let mut #id = Pose::<Jet2>::cst(s.poses[#i]);)
+        });
+        let commit = written.iter().map(|&b| {
+            let (id, i) = (&self.pose_idents[b], index(b));
+            quote!(s.poses[#i] = #id.value();)
+        });
+        let out = (0..plan.bodies.len()).map(|b| {
+            if written.contains(&b) {
+                let id = &self.pose_idents[b];
+                quote!(#id)
+            } else {
+                let i = index(b);
+                quote!(Pose::<Jet2>::cst(s.poses[#i]))
+            }
+        });
+        let (take_branches, commit_branches) = if plan.branches.is_empty() {
+            (quote!(), quote!())
+        } else {
+            (
+                quote!(let mut last = s.last.map(planar::cst::<Jet2>); let mut branches = s.branches;),
+                quote!(s.last = last.map(|p| [p[0].v, p[1].v]); s.branches = branches;),
+            )
+        };
+        let bind_inputs = (0..plan.inputs.len()).map(|k| self.bind_input(k));
+        let (nb, ni) = (index(plan.bodies.len()), index(plan.inputs.len()));
+        quote! {
+            /// [`solve`] and [`rates`] in one pass: every body placed for
+            /// `inputs`, warm-started from `s`, and returned with its first
+            /// and second derivatives along `rates` and `accelerations` — the
+            /// steps run once, on [`Jet2`]s, whose values are exactly
+            /// `solve`'s. On a break `s` is left unchanged
+            /// ([`RateError::Break`]); at a dead point, where a rate is
+            /// infinite, the frame is committed (its positions are exact)
+            /// and the rates are [`RateError::Singular`].
+            pub fn solve_rates(
+                s: &mut State,
+                inputs: &[f64],
+                rates: &[f64],
+                accelerations: &[f64],
+                ctx: &mut Ctx,
+            ) -> Result<[Pose<Jet2>; #nb], RateError> {
+                let inputs: [Jet2; #ni] =
+                    core::array::from_fn(|k| Jet2::new(inputs[k], rates[k], accelerations[k]));
+                let _ = (&inputs, &ctx);
+                #(#take)*
+                #take_branches
+                #(#bind_inputs)*
+                #(#steps)*
+                #(#commit)*
+                #commit_branches
+                real::checked([#(#out),*])
+            }
+        }
+    }
 }
 
 /// Rust source of the compiled plan module of `plan`.
@@ -868,9 +956,10 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
     let rates = (chunks.is_none() && plan.clusters() == 0).then(|| {
         e.jets = true;
         let jet_steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
-        let rates = e.rates_fn(jet_steps);
+        let rates = e.rates_fn(jet_steps.clone());
+        let fused = e.solve_rates_fn(jet_steps);
         e.jets = false;
-        rates
+        quote!(#rates #fused)
     });
     let tokens = e.module(steps, chunks, rates);
     let file = syn::parse2::<syn::File>(tokens).expect("the emitter produces valid Rust");

@@ -172,6 +172,16 @@ impl Pose {
     }
 }
 
+impl Pose<Jet2> {
+    /// The values alone.
+    pub fn value(&self) -> Pose {
+        Pose {
+            at: [self.at[0].v, self.at[1].v],
+            rot: self.rot.value(),
+        }
+    }
+}
+
 impl<T: Real> Pose<T> {
     /// A pose of constants.
     #[inline(always)]
