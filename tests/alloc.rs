@@ -245,3 +245,31 @@ fn interpreted_frames_allocate_nothing_once_built() {
         }
     }
 }
+
+/// A compiled frame's rates (`solve_rates`, one pass on jets, and `rates`
+/// after a frame) allocate nothing either: fixed-size arrays of jets.
+#[test]
+fn compiled_rates_allocate_nothing() {
+    use dofplan_runtime::planar::Pose;
+    use dofplan_runtime::real::{Jet2, Rates};
+    use dofplan_runtime::Ctx;
+    for name in ["fourbar", "rocker_rocker", "stress_50"] {
+        let inputs = sweep_inputs(&load(name), None);
+        let count = dofplan_generated::with_plan!(name, |plan| {
+            let mut state = plan.initial_state();
+            let mut out = vec![Pose::<Jet2>::cst(Pose::IDENTITY); state.poses.len()];
+            let (r, a) = ([30.0], [1.0]);
+            allocations(|| {
+                for i in &inputs {
+                    let mut ctx = Ctx::new(Default::default(), false);
+                    let _ = std::hint::black_box(
+                        plan.solve_rates_into(&mut state, i, &r, &a, &mut ctx, &mut out),
+                    );
+                    let _ = std::hint::black_box(plan.rates_into(&state, i, &r, &a, &mut out));
+                }
+            })
+        })
+        .expect("compiled");
+        assert_eq!(count, 0, "{name}");
+    }
+}
