@@ -10,7 +10,7 @@ use std::io::{self, BufWriter, IsTerminal, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
-use clap::{Parser, Subcommand, ValueEnum};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use serde_json::{json, Map, Value};
 
 use dofplan::analysis::grashof::{four_bars, Class as GrashofClass};
@@ -124,20 +124,8 @@ enum Command {
     Simulate {
         /// Mechanism file.
         file: PathBuf,
-        /// The input to sweep (default: the sweep's, or the file's only
-        /// input).
-        #[arg(long, value_name = "NAME")]
-        input: Option<String>,
-        /// The swept input's first value (degrees for an angle input).
-        #[arg(long, value_name = "A", value_parser = parse_finite, allow_hyphen_values = true)]
-        from: Option<f64>,
-        /// The swept input's last value.
-        #[arg(long, value_name = "B", value_parser = parse_finite, allow_hyphen_values = true)]
-        to: Option<f64>,
-        /// Number of frames, evenly spaced from --from to --to, both
-        /// included (default: the sweep's, or 101).
-        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_STEPS))]
-        steps: Option<u32>,
+        #[command(flatten)]
+        sweep: SweepArgs,
         /// What to do when an input cannot be met.
         #[arg(long, value_enum, default_value_t = PolicyArg::Limit)]
         policy: PolicyArg,
@@ -195,18 +183,8 @@ enum Command {
     Analyze {
         /// Mechanism file.
         file: PathBuf,
-        /// The swept input (default: the sweep's, or the file's only input).
-        #[arg(long)]
-        input: Option<String>,
-        /// The swept input's first value.
-        #[arg(long, allow_hyphen_values = true, value_parser = parse_finite)]
-        from: Option<f64>,
-        /// The swept input's last value.
-        #[arg(long, allow_hyphen_values = true, value_parser = parse_finite)]
-        to: Option<f64>,
-        /// Number of frames (default: the sweep's, or 101).
-        #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_STEPS))]
-        steps: Option<u32>,
+        #[command(flatten)]
+        sweep: SweepArgs,
         /// The first swept input's rate, constant: radians per second for an
         /// angle, length units per second for a slide.
         #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = parse_finite)]
@@ -267,6 +245,39 @@ enum Command {
         #[arg(long)]
         write: bool,
     },
+}
+
+/// The sweep a command runs: the file's `[sweep]` with these replacing its
+/// fields (`simulate`, `analyze`).
+#[derive(Args)]
+struct SweepArgs {
+    /// The input to sweep (default: the sweep's, or the file's only
+    /// input).
+    #[arg(long, value_name = "NAME")]
+    input: Option<String>,
+    /// The swept input's first value (degrees for an angle input).
+    #[arg(long, value_name = "A", value_parser = parse_finite, allow_hyphen_values = true)]
+    from: Option<f64>,
+    /// The swept input's last value.
+    #[arg(long, value_name = "B", value_parser = parse_finite, allow_hyphen_values = true)]
+    to: Option<f64>,
+    /// Number of frames, evenly spaced from --from to --to, both
+    /// included (default: the sweep's, or 101).
+    #[arg(long, value_parser = clap::value_parser!(u32).range(1..=MAX_STEPS))]
+    steps: Option<u32>,
+}
+
+impl SweepArgs {
+    /// The sweep to run on `m`, or what to say.
+    fn of(&self, m: &dyn SweepSource) -> Result<Sweep, (String, String)> {
+        sweep_to_run(
+            m,
+            self.input.as_deref(),
+            self.from,
+            self.to,
+            self.steps.map(|n| n as usize),
+        )
+    }
 }
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -378,10 +389,7 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
         }
         Command::Simulate {
             file,
-            input,
-            from,
-            to,
-            steps,
+            sweep: sweep_args,
             policy,
             branch,
             solver,
@@ -389,7 +397,7 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
             csv,
             svg,
         } => with_plan(&file, |m, plan| {
-            let sweep = match sweep_to_run(m, input.as_deref(), from, to, steps.map(|n| n as usize)) {
+            let sweep = match sweep_args.of(m) {
                 Ok(sweep) => sweep,
                 Err((message, help)) => {
                     error(&m.source.name, &message, &help);
@@ -409,16 +417,13 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
         }),
         Command::Analyze {
             file,
-            input,
-            from,
-            to,
-            steps,
+            sweep: sweep_args,
             rate,
             json,
             csv,
             svg,
         } => with_plan(&file, |m, plan| {
-            let sweep = match sweep_to_run(m, input.as_deref(), from, to, steps.map(|n| n as usize)) {
+            let sweep = match sweep_args.of(m) {
                 Ok(sweep) => sweep,
                 Err((message, help)) => {
                     error(&m.source.name, &message, &help);
@@ -628,10 +633,7 @@ fn spatial_command(
         Command::Check { json, .. } => spatial::check(m, json, out),
         Command::Plan { .. } => spatial::plan(m, out),
         Command::Simulate {
-            input,
-            from,
-            to,
-            steps,
+            sweep: sweep_args,
             policy,
             branch,
             json,
@@ -639,7 +641,7 @@ fn spatial_command(
             svg,
             ..
         } => {
-            let sweep = match sweep_to_run(m, input.as_deref(), from, to, steps.map(|n| n as usize)) {
+            let sweep = match sweep_args.of(m) {
                 Ok(sweep) => sweep,
                 Err((message, help)) => {
                     error(&m.source.name, &message, &help);

@@ -521,15 +521,7 @@ impl Emitter<'_> {
     /// copied.
     fn single_solve(&self, steps: Vec<TokenStream>, doc_solve: &str) -> TokenStream {
         let plan = self.plan;
-        let mut is_written = vec![false; plan.bodies.len()];
-        for step in &plan.steps {
-            for b in step.kind.writes() {
-                is_written[b] = true;
-            }
-        }
-        let written: Vec<usize> = (0..plan.bodies.len())
-            .filter(|&b| !plan.bodies[b].fixed && is_written[b])
-            .collect();
+        let written = self.written_bodies();
         let take_poses = written.iter().map(|&b| {
             let (id, i) = (&self.pose_idents[b], index(b));
             quote!(let mut #id = s.poses[#i];)
@@ -755,9 +747,9 @@ impl Emitter<'_> {
         }
     }
 
-    /// `rates`: the steps of `solve` again on jets, from the frame `s` was
-    /// solved to, with the branches it took.
-    fn rates_fn(&self, steps: Vec<TokenStream>) -> TokenStream {
+    /// The mobile bodies some step writes: each is a named local during a
+    /// frame, read from the state first and written back at the end.
+    fn written_bodies(&self) -> Vec<usize> {
         let plan = self.plan;
         let mut is_written = vec![false; plan.bodies.len()];
         for step in &plan.steps {
@@ -765,32 +757,16 @@ impl Emitter<'_> {
                 is_written[b] = true;
             }
         }
-        let written = |b: usize| !plan.bodies[b].fixed && is_written[b];
-        let take = (0..plan.bodies.len()).filter(|&b| written(b)).map(|b| {
-            let (id, i) = (&self.pose_idents[b], index(b));
-            quote!(let mut #id = Pose::<Jet2>::cst(s.poses[#i]);)
-        });
-        let out = (0..plan.bodies.len()).map(|b| {
-            if written(b) {
-                let id = &self.pose_idents[b];
-                quote!(#id)
-            } else {
-                let i = index(b);
-                quote!(Pose::<Jet2>::cst(s.poses[#i]))
-            }
-        });
-        let branches = if plan.branches.is_empty() {
-            quote!()
-        } else {
-            quote!(let mut last = s.last.map(planar::cst::<Jet2>); let mut branches = s.branches;)
-        };
-        let bind_inputs = (0..plan.inputs.len()).map(|k| self.bind_input(k));
-        let unused_ctx = if self.fallible() {
-            quote!()
-        } else {
-            quote!(let _ = ctx;)
-        };
-        let (nb, ni) = (index(plan.bodies.len()), index(plan.inputs.len()));
+        (0..plan.bodies.len())
+            .filter(|&b| !plan.bodies[b].fixed && is_written[b])
+            .collect()
+    }
+
+    /// `rates`: `solve_rates` on a copy of the frame, keeping its branches
+    /// (solving a frame's own inputs again from it gives the same roots,
+    /// so its rates are those of the roots it took).
+    fn rates_fn(&self) -> TokenStream {
+        let nb = index(self.plan.bodies.len());
         quote! {
             /// Every body's pose at the frame `s` was solved to (at
             /// `inputs`) with its first and second derivatives along the
@@ -805,18 +781,8 @@ impl Emitter<'_> {
                 rates: &[f64],
                 accelerations: &[f64],
             ) -> Result<[Pose<Jet2>; #nb], RateError> {
-                let inputs: [Jet2; #ni] =
-                    core::array::from_fn(|k| Jet2::new(inputs[k], rates[k], accelerations[k]));
-                let _ = &inputs;
-                // The frame's branches are kept: the rates are those of the
-                // roots it took.
-                let ctx = &mut Ctx::new(BranchPolicy::Keep, false);
-                #unused_ctx
-                #(#take)*
-                #branches
-                #(#bind_inputs)*
-                #(#steps)*
-                real::checked([#(#out),*])
+                let mut again = *s;
+                solve_rates(&mut again, inputs, rates, accelerations, &mut Ctx::new(BranchPolicy::Keep, false))
             }
         }
     }
@@ -826,15 +792,7 @@ impl Emitter<'_> {
     /// committed to `s` as `solve` commits.
     fn solve_rates_fn(&self, steps: Vec<TokenStream>) -> TokenStream {
         let plan = self.plan;
-        let mut is_written = vec![false; plan.bodies.len()];
-        for step in &plan.steps {
-            for b in step.kind.writes() {
-                is_written[b] = true;
-            }
-        }
-        let written: Vec<usize> = (0..plan.bodies.len())
-            .filter(|&b| !plan.bodies[b].fixed && is_written[b])
-            .collect();
+        let written = self.written_bodies();
         let take = written.iter().map(|&b| {
             let (id, i) = (&self.pose_idents[b], index(b));
             quote!(let mut #id = Pose::<Jet2>::cst(s.poses[#i]);)
@@ -956,7 +914,7 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
     let rates = (chunks.is_none() && plan.clusters() == 0).then(|| {
         e.jets = true;
         let jet_steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
-        let rates = e.rates_fn(jet_steps.clone());
+        let rates = e.rates_fn();
         let fused = e.solve_rates_fn(jet_steps);
         e.jets = false;
         quote!(#rates #fused)

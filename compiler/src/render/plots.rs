@@ -6,6 +6,7 @@
 //! Behind the `plots` feature: plotters is a dependency of the CLI, not of
 //! `build.rs` users.
 
+use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
@@ -119,6 +120,47 @@ fn span(values: impl Iterator<Item = f64>) -> (f64, f64) {
 }
 
 type Area<'b> = DrawingArea<SVGBackend<'b>, Shift>;
+type Chart<'a, 'b> = ChartContext<'a, SVGBackend<'b>, Cartesian2d<RangedCoordf64, RangedCoordf64>>;
+
+/// A panel's chart with its caption (`caption_size` points), axes over `x`
+/// and `y`, and its mesh with the axes' descriptions drawn; `y_labels` is
+/// the width left for the y labels.
+#[allow(clippy::too_many_arguments)]
+fn chart<'a, 'b>(
+    area: &'a Area<'b>,
+    caption: &str,
+    caption_size: u32,
+    x: std::ops::Range<f64>,
+    y: std::ops::Range<f64>,
+    x_desc: &str,
+    y_desc: Option<&str>,
+    y_labels: u32,
+) -> Result<Chart<'a, 'b>, String> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, ("sans-serif", caption_size))
+        .margin(10)
+        .x_label_area_size(30)
+        .y_label_area_size(y_labels)
+        .build_cartesian_2d(x, y)
+        .map_err(|e| e.to_string())?;
+    let mut mesh = chart.configure_mesh();
+    mesh.x_desc(x_desc);
+    if let Some(d) = y_desc {
+        mesh.y_desc(d);
+    }
+    mesh.draw().map_err(|e| e.to_string())?;
+    Ok(chart)
+}
+
+/// The series' legend, on a pale box.
+fn legend<'a, 'b: 'a>(chart: &mut Chart<'a, 'b>) -> Result<(), String> {
+    chart
+        .configure_series_labels()
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .draw()
+        .map_err(|e| e.to_string())
+}
 
 /// The traced markers' paths in the plane, at one scale on both axes.
 fn paths(area: &Area, title: &str, traced: &[Traced]) -> Result<(), String> {
@@ -134,22 +176,8 @@ fn paths(area: &Area, title: &str, traced: &[Traced]) -> Result<(), String> {
         let extra = (h * aspect - w) / 2.0;
         (x0 - extra, x1 + extra, y0, y1)
     };
-    let mut chart = ChartBuilder::on(area)
-        .caption(
-            format!("{title}: paths of the traced markers"),
-            ("sans-serif", 18),
-        )
-        .margin(10)
-        .x_label_area_size(30)
-        .y_label_area_size(50)
-        .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(|e| e.to_string())?;
-    chart
-        .configure_mesh()
-        .x_desc("x")
-        .y_desc("y")
-        .draw()
-        .map_err(|e| e.to_string())?;
+    let caption = format!("{title}: paths of the traced markers");
+    let mut chart = chart(area, &caption, 18, x0..x1, y0..y1, "x", Some("y"), 50)?;
     for (k, t) in traced.iter().enumerate() {
         let colour = COLOURS[k % COLOURS.len()];
         chart
@@ -161,13 +189,7 @@ fn paths(area: &Area, title: &str, traced: &[Traced]) -> Result<(), String> {
             .label(t.name)
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2)));
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
-        .map_err(|e| e.to_string())?;
-    Ok(())
+    legend(&mut chart)
 }
 
 /// A pair of components per traced marker against the input: the first
@@ -185,18 +207,7 @@ fn against(
             .iter()
             .flat_map(|t| t.points.iter().filter_map(pick).flat_map(|(a, b)| [a, b])),
     );
-    let mut chart = ChartBuilder::on(area)
-        .caption(caption, ("sans-serif", 16))
-        .margin(10)
-        .x_label_area_size(30)
-        .y_label_area_size(60)
-        .build_cartesian_2d(x0..x1, y0..y1)
-        .map_err(|e| e.to_string())?;
-    chart
-        .configure_mesh()
-        .x_desc(axis)
-        .draw()
-        .map_err(|e| e.to_string())?;
+    let mut chart = chart(area, caption, 16, x0..x1, y0..y1, axis, None, 60)?;
     for (k, t) in traced.iter().enumerate() {
         let colour = COLOURS[k % COLOURS.len()];
         for (component, width) in [(0, 2), (1, 1)] {
@@ -222,13 +233,7 @@ fn against(
             }
         }
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
-        .map_err(|e| e.to_string())?;
-    Ok(())
+    legend(&mut chart)
 }
 
 /// Transmission angles against the input, the extremes of each loop marked
@@ -236,22 +241,16 @@ fn against(
 fn transmission(area: &Area, axis: &str, loops: &[Loop]) -> Result<(), String> {
     let (x0, x1) = span(loops.iter().flat_map(|l| l.angles.iter().map(|p| p.0)));
     let (lo, hi) = span(loops.iter().flat_map(|l| l.angles.iter().map(|p| p.1)));
-    let mut chart = ChartBuilder::on(area)
-        .caption(
-            "transmission angle (degrees; 90 is ideal, below 40 or above 140 transmits poorly)",
-            ("sans-serif", 16),
-        )
-        .margin(10)
-        .x_label_area_size(30)
-        .y_label_area_size(50)
-        .build_cartesian_2d(x0..x1, lo.min(0.0)..hi.max(180.0))
-        .map_err(|e| e.to_string())?;
-    chart
-        .configure_mesh()
-        .x_desc(axis)
-        .y_desc("μ (°)")
-        .draw()
-        .map_err(|e| e.to_string())?;
+    let mut chart = chart(
+        area,
+        "transmission angle (degrees; 90 is ideal, below 40 or above 140 transmits poorly)",
+        16,
+        x0..x1,
+        lo.min(0.0)..hi.max(180.0),
+        axis,
+        Some("μ (°)"),
+        50,
+    )?;
     for (k, l) in loops.iter().enumerate() {
         let colour = COLOURS[k % COLOURS.len()];
         chart
@@ -276,11 +275,5 @@ fn transmission(area: &Area, axis: &str, loops: &[Loop]) -> Result<(), String> {
             }
         }
     }
-    chart
-        .configure_series_labels()
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .draw()
-        .map_err(|e| e.to_string())?;
-    Ok(())
+    legend(&mut chart)
 }
