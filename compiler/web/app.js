@@ -539,13 +539,19 @@ function grab(event, body) {
   draw();
 }
 
-canvas.addEventListener("pointermove", (event) => {
+// Drag targets are sent from `pointerrawupdate` where the browser has it:
+// `pointermove` is held back until the start of the next animation frame,
+// so its answer could only be painted one frame later; the raw event comes
+// as soon as the pointer moves, and its answer usually makes the next paint.
+const RAW = "onpointerrawupdate" in window;
+function dragTo(event) {
   if (!grabbed) return;
-  const t0 = performance.now();
+  const t0 = Math.min(event.timeStamp, performance.now());
   const to = toWorld(event);
   grabbed.world = to;
   enqueue({ type: "drag", to }, t0);
-});
+}
+canvas.addEventListener(RAW ? "pointerrawupdate" : "pointermove", dragTo);
 
 function release() {
   if (!grabbed) return;

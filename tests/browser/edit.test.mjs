@@ -5,6 +5,7 @@
 //   CHROMIUM      the browser (default: /usr/bin/chromium)
 //   DRAG_MOVES    drag moves per latency measurement (default: 240)
 //   ONLY          run only the scenarios named, comma-separated (e.g. construct)
+//   HIST          also print every painted drag latency (ms), to see their spread
 //
 // Screenshots go to target/browser-screenshots/. Exits non-zero on the
 // first failed check, after printing what failed.
@@ -134,6 +135,7 @@ function report(name, lat) {
       `of which solving on the server: p50 ${f(percentile(lat.server, 50))} ms, p99 ${f(percentile(lat.server, 99))} ms ` +
       `(the grab that set the drag up: ${f(lat.grabMs)} ms)`,
   );
+  if (process.env.HIST) console.log(JSON.stringify(lat.rendered.map((x) => Math.round(x * 10) / 10)));
 }
 
 async function openEditor(browser, file, cwd = ROOT) {
