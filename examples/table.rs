@@ -7,7 +7,9 @@
 //! stress chains.
 //!
 //! `cargo run --release --example table` (add mechanism names to restrict;
-//! `spatial` or `planar` for one table).
+//! `spatial`, `planar`, `rates` or `batch` for one table). The batch table
+//! times a sweep of 20,000 frames through the driver, `solve_batch` and
+//! `solve_batch_parallel`.
 //! Each figure is the median over repeated timed passes of the mechanism's
 //! sweep, driven frame by frame through `dofplan_runtime::Driver` exactly as
 //! an animation would (warm start, keep-branch, limit policy).
@@ -69,7 +71,7 @@ fn main() {
     let only = |table: &str| args.is_empty() || args.iter().any(|a| a == table);
     let filter: Vec<String> = args
         .iter()
-        .filter(|a| *a != "spatial" && *a != "planar" && *a != "rates")
+        .filter(|a| !["spatial", "planar", "rates", "batch"].contains(&a.as_str()))
         .cloned()
         .collect();
     if only("planar") || !filter.is_empty() {
@@ -80,6 +82,74 @@ fn main() {
     }
     if only("rates") || !filter.is_empty() {
         rates(&filter);
+    }
+    if only("batch") || !filter.is_empty() {
+        batch(&filter);
+    }
+}
+
+/// The batch table: per compiled planar plan, a sweep frame by frame
+/// through the driver against `solve_batch` on one core (lanes of frames
+/// for closed-form plans) and `solve_batch_parallel` on every core, on
+/// the mechanism's sweep repeated to 20,000 frames (medians of
+/// alternating passes).
+fn batch(filter: &[String]) {
+    use dofplan_runtime::batch::solve_batch_parallel;
+    use dofplan_runtime::planar::Pose;
+    use dofplan_runtime::{Batch, FrameStatus};
+    let names: Vec<String> = bundled()
+        .into_iter()
+        .filter(|n| filter.is_empty() || filter.contains(n))
+        .collect();
+    println!();
+    println!(
+        "| mechanism | plan steps | lanes | driver ns/frame | solve_batch ns/frame (one core) | speed-up | solve_batch_parallel ns/frame ({} cores) |",
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    );
+    println!("|---|---:|---|---:|---:|---:|---:|");
+    for name in names {
+        let m = load(&name);
+        let p = plan(&m);
+        let sweep = sweep_inputs(&m, None);
+        let frames: usize = std::env::var("BATCH_FRAMES")
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(20_000);
+        let rows: Vec<Vec<f64>> = sweep.iter().cycle().take(frames).cloned().collect();
+        let flat: Vec<f64> = rows.iter().flatten().copied().collect();
+        let (c, b, par, lanes) = dofplan_generated::with_plan!(name.as_str(), |plan| {
+            let mut driver = Driver::new(plan, Options::default());
+            let mut out = vec![Pose::IDENTITY; frames * m.bodies.len()];
+            let mut status = vec![FrameStatus::Solved; frames];
+            let time = |f: &mut dyn FnMut()| {
+                let t = Instant::now();
+                f();
+                t.elapsed().as_secs_f64() * 1e9 / frames as f64
+            };
+            let (mut c, mut b, mut par) = (Vec::new(), Vec::new(), Vec::new());
+            for _ in 0..11 {
+                c.push(time(&mut || {
+                    driver.reset();
+                    for i in &rows {
+                        black_box(driver.frame(black_box(i)));
+                    }
+                }));
+                b.push(time(&mut || {
+                    plan.solve_batch(black_box(&flat), &mut out, &mut status)
+                }));
+                par.push(time(&mut || {
+                    solve_batch_parallel(&plan, black_box(&flat), &mut out, &mut status)
+                }));
+            }
+            (median(c), median(b), median(par), plan.independent())
+        })
+        .expect("compiled");
+        println!(
+            "| {name} | {} | {} | {c:.1} | {b:.1} | {:.2} | {par:.1} |",
+            p.steps.len(),
+            if lanes { "yes" } else { "no (in order)" },
+            c / b
+        );
     }
 }
 

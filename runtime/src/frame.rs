@@ -108,6 +108,11 @@ pub enum BreakKind {
     /// A redundant equation does not hold: the mechanism is over-constrained
     /// and inconsistent at this input.
     Inconsistent,
+    /// Frames solved together in lanes took different paths through a step
+    /// (one at a dead point, one apart, …). Batch solving then solves them
+    /// one at a time, so this never reaches a caller of
+    /// [`Batch::solve_batch`](crate::batch::Batch::solve_batch).
+    LanesDiffer,
 }
 
 impl BreakKind {
@@ -121,6 +126,9 @@ impl BreakKind {
             BreakKind::NoSolution => "no solution within reach (least-squares minimum)",
             BreakKind::NotConverged => "Newton-Raphson did not converge within its iterations",
             BreakKind::Inconsistent => "a redundant joint does not hold (over-constrained and inconsistent)",
+            BreakKind::LanesDiffer => {
+                "frames solved together took different paths (solved one at a time instead)"
+            }
         }
     }
 }

@@ -18,17 +18,23 @@
 //!   share.
 //! - [`drive`]: the [`Solver`] trait both back ends implement and the
 //!   [`Driver`] that applies a breaking policy around one plan execution.
+//! - [`batch`]: many frames in one call ([`Batch`]), in [`lanes`] of
+//!   frames solved side by side where a plan's frames are independent, and
+//!   on every core with the `rayon` feature.
 //! - [`marker`]: a marker by name, for reading points of a compiled
 //!   mechanism's poses ([`Marker`] in the plane, [`Marker3`] in space).
 
+pub mod batch;
 pub mod drive;
 pub mod frame;
+pub mod lanes;
 pub mod marker;
 pub mod numeric;
 pub mod planar;
 pub mod real;
 pub mod spatial;
 
+pub use batch::Batch;
 pub use drive::{Animate, Driver, Solver};
 pub use frame::{Branch, BranchPolicy, Break, BreakKind, BreakPolicy, Ctx, FrameStatus, Options, StepId};
 pub use marker::{Marker, Marker3};

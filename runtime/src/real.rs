@@ -38,6 +38,60 @@ pub trait Real:
     /// dead point has rates that are huge and meaningless, not numbers to
     /// print. The value itself is the plain square root.
     fn sqrt_dead(self, dead: f64) -> Self;
+
+    /// Whether the number holds several frames' values side by side
+    /// ([`Lanes`](crate::lanes::Lanes)): a step then takes its usual path
+    /// only when every lane does, and gives up on the frames together (a
+    /// [`BreakKind::LanesDiffer`](crate::frame::BreakKind::LanesDiffer)
+    /// break, after which they are solved one at a time) where one of them
+    /// would take another.
+    const LANES: bool = false;
+
+    /// Whether `f` holds of the value (of every lane's value, for lanes):
+    /// the test of a step's usual path.
+    #[inline(always)]
+    fn all(self, f: impl Fn(f64) -> bool) -> bool {
+        f(self.value())
+    }
+
+    /// Whether `f` holds of the value (of some lane's value, for lanes):
+    /// the test of leaving a step's usual path.
+    #[inline(always)]
+    fn any(self, f: impl Fn(f64) -> bool) -> bool {
+        f(self.value())
+    }
+
+    /// Per value (per lane): `then` where `f` holds of `self`, else
+    /// `otherwise`.
+    #[inline(always)]
+    fn select(self, f: impl Fn(f64) -> bool, then: Self, otherwise: Self) -> Self {
+        if f(self.value()) {
+            then
+        } else {
+            otherwise
+        }
+    }
+}
+
+/// On lanes, gives up on the frames of a step that is about to leave its
+/// usual path (see [`Real::LANES`]); nothing otherwise.
+#[inline(always)]
+pub fn lanes_differ<T: Real>(step: crate::frame::StepId) -> Result<(), Break> {
+    if T::LANES {
+        Err(lanes_break(step))
+    } else {
+        Ok(())
+    }
+}
+
+/// The break by which frames in lanes give up on step `step`.
+#[cold]
+pub fn lanes_break(step: crate::frame::StepId) -> Break {
+    Break {
+        step,
+        kind: crate::frame::BreakKind::LanesDiffer,
+        gap: f64::NAN,
+    }
 }
 
 impl Real for f64 {

@@ -82,16 +82,29 @@ struct Emitter<'p> {
     /// Whether the steps are written for `rates`: on jets, every constant
     /// lifted ([`Real::cst`](dofplan_runtime::real::Real::cst)).
     jets: bool,
+    /// With `jets`: the steps are written for `solve_lanes`, on
+    /// [`Lanes`](dofplan_runtime::lanes::Lanes) of frames instead of jets.
+    lanes: bool,
 }
 
 impl Emitter<'_> {
+    /// The number type constants are lifted to (with `jets`).
+    fn num(&self) -> TokenStream {
+        if self.lanes {
+            quote!(Lanes)
+        } else {
+            quote!(Jet2)
+        }
+    }
+
     /// A body's pose: its local for a mobile body, the state's (never
     /// written) entry for a fixed one.
     fn pose(&self, body: usize) -> TokenStream {
         if self.plan.bodies[body].fixed {
             let b = index(body);
             if self.jets {
-                quote!(Pose::<Jet2>::cst(s.poses[#b]))
+                let t = self.num();
+                quote!(Pose::<#t>::cst(s.poses[#b]))
             } else {
                 quote!(s.poses[#b])
             }
@@ -115,7 +128,8 @@ impl Emitter<'_> {
     fn slit(&self, x: f64) -> TokenStream {
         let l = lit(x);
         if self.jets {
-            quote!(Jet2::cst(#l))
+            let t = self.num();
+            quote!(#t::cst(#l))
         } else {
             quote!(#l)
         }
@@ -510,6 +524,7 @@ impl Emitter<'_> {
         let id = &self.input_idents[k];
         let i = index(k);
         match self.plan.inputs[k].kind {
+            InputKind::Angle if self.lanes => quote!(let #id = Rot::from_degrees_lanes(inputs[#i]);),
             InputKind::Angle if self.jets => quote!(let #id = Rot::from_degrees_jet(inputs[#i]);),
             InputKind::Angle => quote!(let #id = Rot::from_degrees(inputs[#i]);),
             InputKind::Slide => quote!(let #id = inputs[#i];),
@@ -572,6 +587,7 @@ impl Emitter<'_> {
         steps: Vec<TokenStream>,
         chunks: Option<(Vec<chunk::Uses>, Vec<chunk::Chunk>)>,
         rates: Option<TokenStream>,
+        lanes: Option<TokenStream>,
     ) -> TokenStream {
         let plan = self.plan;
         let name = &plan.mechanism;
@@ -656,11 +672,41 @@ impl Emitter<'_> {
                 }),
             )
         };
+        let (lanes_use, batch_impl) = if lanes.is_some() {
+            (
+                quote!(
+                    use dofplan_runtime::lanes::Lanes;
+                ),
+                quote! {
+                    /// Frames of a closed-form plan are independent: solved in
+                    /// lanes, and on several cores by
+                    /// `dofplan_runtime::batch::solve_batch_parallel`.
+                    impl dofplan_runtime::Batch for Plan {
+                        fn independent(&self) -> bool {
+                            true
+                        }
+
+                        fn solve_batch(&self, inputs: &[f64], out: &mut [Pose], status: &mut [dofplan_runtime::FrameStatus]) {
+                            self::solve_batch(inputs, out, status)
+                        }
+                    }
+                },
+            )
+        } else {
+            (
+                quote!(),
+                quote! {
+                    /// Frames solved in order, each warm-started from the last.
+                    impl dofplan_runtime::Batch for Plan {}
+                },
+            )
+        };
         quote! {
             use dofplan_runtime::planar::{self, Point, Pose, Rot};
             use dofplan_runtime::{Branch, Break, Ctx, Marker, Solver};
             #numeric_use
             #rates_use
+            #lanes_use
 
             /// Kind of an input.
             pub use dofplan_runtime::planar::InputKind;
@@ -741,9 +787,13 @@ impl Emitter<'_> {
                 #fused_impl
             }
 
+            #batch_impl
+
             #solve
 
             #rates
+
+            #lanes
         }
     }
 
@@ -849,6 +899,111 @@ impl Emitter<'_> {
             }
         }
     }
+
+    /// `solve_lanes`: [`LANES`](dofplan_runtime::lanes::LANES) frames at
+    /// once from the drawn pose (keep-branch, no stretching), for
+    /// `solve_batch`.
+    fn solve_lanes_fn(&self, steps: Vec<TokenStream>) -> TokenStream {
+        let plan = self.plan;
+        let written = self.written_bodies();
+        let take = written.iter().map(|&b| {
+            let (id, i) = (&self.pose_idents[b], index(b));
+            quote!(let mut #id = Pose::<Lanes>::cst(s.poses[#i]);)
+        });
+        let out = (0..plan.bodies.len()).map(|b| {
+            if written.contains(&b) {
+                let id = &self.pose_idents[b];
+                quote!(#id)
+            } else {
+                let i = index(b);
+                quote!(Pose::<Lanes>::cst(s.poses[#i]))
+            }
+        });
+        let take_branches = if plan.branches.is_empty() {
+            quote!()
+        } else {
+            quote!(let mut last = s.last.map(planar::cst::<Lanes>); let mut branches = s.branches;)
+        };
+        let bind_inputs = (0..plan.inputs.len()).map(|k| self.bind_input(k));
+        let (nb, ni) = (index(plan.bodies.len()), index(plan.inputs.len()));
+        quote! {
+        /// [`solve`] of [`LANES`](dofplan_runtime::lanes::LANES) frames
+        /// side by side (lane `l` of every input is frame `l`'s), each
+        /// from the drawn pose under keep-branch: the frames of a
+        /// closed-form plan do not depend on each other. A break in any
+        /// frame, or frames that part ways at a step
+        /// ([`BreakKind::LanesDiffer`](dofplan_runtime::BreakKind::LanesDiffer)),
+        /// is an error for all of them: [`solve_batch`] then solves
+        /// them one at a time.
+        #[inline(always)]
+        pub fn solve_lanes(inputs: &[Lanes; #ni]) -> Result<[Pose<Lanes>; #nb], Break> {
+            let s = &State::DRAWN;
+            let ctx = &mut Ctx::new(dofplan_runtime::BranchPolicy::Keep, false);
+            let _ = (&inputs, &ctx);
+            #(#take)*
+            #take_branches
+            #(#bind_inputs)*
+            #(#steps)*
+            Ok([#(#out),*])
+        }
+
+        /// Every frame of `inputs` (one row of [`INPUTS`] values a
+        /// frame) into `out` (one row of [`BODIES`] poses a frame),
+        /// with the driver's results (keep-branch and limit policies,
+        /// from the drawn pose) in `status`:
+        /// [`LANES`](dofplan_runtime::lanes::LANES) frames at a time
+        /// through [`solve_lanes`].
+        ///
+        /// # Panics
+        /// If `inputs` or `out` is not `status.len()` rows long.
+        pub fn solve_batch(inputs: &[f64], out: &mut [Pose], status: &mut [dofplan_runtime::FrameStatus]) {
+            #[cfg(target_arch = "x86_64")]
+            if std::arch::is_x86_feature_detected!("avx2") {
+                // SAFETY: this CPU has AVX2, checked just above.
+                return unsafe { solve_batch_avx2(inputs, out, status) };
+            }
+            solve_batch_baseline(inputs, out, status)
+        }
+
+        /// [`solve_batch`] for any CPU. Its own function, as the AVX2
+        /// one is, so that `solve_batch` does not hold a frame of lane
+        /// temporaries on the stack beside the one it calls (unoptimised
+        /// builds give every temporary a slot of its own).
+        #[inline(never)]
+        fn solve_batch_baseline(inputs: &[f64], out: &mut [Pose], status: &mut [dofplan_runtime::FrameStatus]) {
+            batch_in_lanes(inputs, out, status)
+        }
+
+        /// [`solve_batch`] compiled for AVX2: a lane group in two
+        /// registers instead of four. The same operations in the same
+        /// order (no fused multiply-add), so the same numbers.
+        ///
+        /// # Safety
+        /// The CPU must have AVX2.
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = "avx2")]
+        unsafe fn solve_batch_avx2(inputs: &[f64], out: &mut [Pose], status: &mut [dofplan_runtime::FrameStatus]) {
+            batch_in_lanes(inputs, out, status)
+        }
+
+        /// The lane groups through [`solve_lanes`], the rest one frame
+        /// at a time (see `dofplan_runtime::batch::lane_groups`).
+        #[inline(always)]
+        fn batch_in_lanes(inputs: &[f64], out: &mut [Pose], status: &mut [dofplan_runtime::FrameStatus]) {
+            use dofplan_runtime::batch;
+            let groups = batch::lane_groups(&Plan, inputs, out, status);
+            for g in 0..groups {
+                match solve_lanes(&batch::group_inputs(inputs, g)) {
+                    Ok(poses) => batch::put_group(&poses, g, out, status),
+                    Err(_) => {
+                        let lanes = dofplan_runtime::lanes::LANES;
+                        batch::one_at_a_time(&Plan, g * lanes..(g + 1) * lanes, inputs, out, status)
+                    }
+                }
+            }
+            batch::finish(&Plan, groups * dofplan_runtime::lanes::LANES, inputs, out, status);
+        }        }
+    }
 }
 
 /// Rust source of the compiled plan module of `plan`.
@@ -892,6 +1047,7 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
         pose_idents,
         chunked: false,
         jets: false,
+        lanes: false,
     };
     let mut steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
     let kinds: Vec<&StepKind> = plan.steps.iter().map(|s| &s.kind).collect();
@@ -919,7 +1075,19 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
         e.jets = false;
         quote!(#rates #fused)
     });
-    let tokens = e.module(steps, chunks, rates);
+    // The steps on lanes of frames, for `solve_batch`: only closed-form
+    // plans, whose frames do not depend on each other (a cluster's Newton
+    // solve starts from the last frame's pose).
+    let lanes = (chunks.is_none() && plan.clusters() == 0).then(|| {
+        e.jets = true;
+        e.lanes = true;
+        let lane_steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
+        let lanes = e.solve_lanes_fn(lane_steps);
+        e.lanes = false;
+        e.jets = false;
+        lanes
+    });
+    let tokens = e.module(steps, chunks, rates, lanes);
     let file = syn::parse2::<syn::File>(tokens).expect("the emitter produces valid Rust");
     let pretty = prettyplease::unparse(&file);
     // Comments are not tokens: each step was marked by a macro call that is

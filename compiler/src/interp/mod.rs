@@ -410,6 +410,10 @@ impl Scalar for Jet2 {
 
 pub use dofplan_runtime::real::RateError;
 
+/// Frames solved in order, each warm-started from the last, as a driver
+/// runs them (the interpreter has no lanes).
+impl dofplan_runtime::Batch for Interpreter {}
+
 impl dofplan_runtime::real::Rates for Interpreter {
     fn rates_into(
         &self,

@@ -8,7 +8,7 @@
 
 use super::{add, cross, dist2, dot, perp, scale, sub, Rot};
 use crate::frame::{Branch, BranchPolicy, Break, BreakKind, Ctx, StepId};
-use crate::real::Real;
+use crate::real::{lanes_break, lanes_differ, Real};
 
 /// Squared half-chords smaller than this (relative to the squared radii)
 /// count as tangency rather than a miss: round-off at a tangent pose must
@@ -20,7 +20,18 @@ const TANGENT_TOLERANCE: f64 = 1e-12;
 /// pose where the two roots meet, where a break-point search stops.
 const DEAD_FOR_RATES: f64 = 1e-10;
 
+/// The nearest-root policy compares each frame with its own previous one:
+/// frames solved together in lanes cannot follow it.
+#[inline(always)]
+fn nearest_on_lanes<T: Real>(ctx: &Ctx, step: StepId) -> Result<(), Break> {
+    if ctx.branch == BranchPolicy::Nearest {
+        lanes_differ::<T>(step)?;
+    }
+    Ok(())
+}
+
 /// Picks one of two roots `base ± off` by policy and records the choice.
+/// (Lanes never reach the nearest policy: [`nearest_on_lanes`] stops them.)
 #[inline(always)]
 fn pick<T: Real>(ctx: &Ctx, base: [T; 2], off: [T; 2], branch: &mut Branch, last: &mut [T; 2]) -> [T; 2] {
     let plus = add(base, off);
@@ -55,12 +66,14 @@ pub fn circle_circle<T: Real>(
     branch: &mut Branch,
     last: &mut [T; 2],
 ) -> Result<[T; 2], Break> {
+    nearest_on_lanes::<T>(ctx, step)?;
     let half = T::cst(0.5);
     let d_vec = sub(c2, c1);
     let d2 = dot(d_vec, d_vec);
-    if d2.value() == 0.0 {
+    if d2.any(|v| v == 0.0) {
         // Concentric circles: no isolated intersection. Stretching puts the
         // point on the first circle, on the side of the last frame.
+        lanes_differ::<T>(step)?;
         ctx.fail(step, BreakKind::CirclesApart, (r1 - r2).value().abs())?;
         let toward = sub(*last, c1);
         let n = dot(toward, toward).sqrt();
@@ -84,8 +97,12 @@ pub fn circle_circle<T: Real>(
     let diff = r1 - r2;
     let hd2 = T::cst(0.25) * ((sum * sum - d2) * (d2 - diff * diff));
     let inv_d2 = T::cst(1.0) / d2;
-    let hd = if hd2.value() >= 0.0 {
+    let hd = if hd2.all(|v| v >= 0.0) {
         hd2.sqrt_dead(DEAD_FOR_RATES * (r1 * r1 + r2 * r2).value() * d2.value())
+    } else if T::LANES {
+        // Frames in lanes leave together when one leaves the usual path
+        // (tangent or apart).
+        return Err(lanes_break(step));
     } else if hd2.value() >= -TANGENT_TOLERANCE * (r1 * r1 + r2 * r2).value() * d2.value() {
         // Tangent within round-off: the two roots are one, and a rate
         // through it would be infinite (a dead point).
@@ -135,11 +152,14 @@ pub fn circle_line<T: Real>(
     branch: &mut Branch,
     last: &mut [T; 2],
 ) -> Result<[T; 2], Break> {
+    nearest_on_lanes::<T>(ctx, step)?;
     let foot = add(p, scale(dir, dot(sub(c, p), dir)));
     let off2 = dist2(c, foot);
     let h2 = r * r - off2;
-    let h = if h2.value() >= 0.0 {
+    let h = if h2.all(|v| v >= 0.0) {
         h2.sqrt_dead(DEAD_FOR_RATES * (r * r).value())
+    } else if T::LANES {
+        return Err(lanes_break(step));
     } else if h2.value() >= -TANGENT_TOLERANCE * (r * r).value() {
         // Tangent within round-off (a dead point for rates, as in
         // `circle_circle`).
@@ -168,7 +188,8 @@ pub fn line_line<T: Real>(
     d2: [T; 2],
 ) -> Result<[T; 2], Break> {
     let det = cross(d1, d2);
-    if det.value().abs() < 1e-12 {
+    if det.any(|v| v.abs() < 1e-12) {
+        lanes_differ::<T>(step)?;
         let gap = cross(sub(p2, p1), d1).value().abs();
         ctx.fail(step, BreakKind::ParallelLines, gap)?;
         // Midway between the two parallel lines, at the foot of p1.
@@ -199,14 +220,12 @@ pub fn turn_line_through<T: Real>(
     branch: &mut Branch,
     last: &mut [T; 2],
 ) -> Result<Rot<T>, Break> {
+    nearest_on_lanes::<T>(ctx, step)?;
     let e_vec = sub(target, pivot);
     let e = dot(e_vec, e_vec).sqrt();
-    let mut sin_a = if e.value() > 0.0 {
-        kappa / e
-    } else {
-        T::cst(f64::INFINITY)
-    };
-    if sin_a.value().abs() > 1.0 {
+    let mut sin_a = e.select(|v| v > 0.0, kappa / e, T::cst(f64::INFINITY));
+    if sin_a.any(|v| v.abs() > 1.0) {
+        lanes_differ::<T>(step)?;
         if sin_a.value().abs() > 1.0 + TANGENT_TOLERANCE {
             ctx.fail(step, BreakKind::LineCannotReach, kappa.value().abs() - e.value())?;
         }
@@ -222,8 +241,10 @@ pub fn turn_line_through<T: Real>(
     }
     let one_less = T::cst(1.0) - sin_a * sin_a;
     // Within round-off of ±1: the two roots meet (a dead point for rates).
-    let cos_a = if one_less.value() > 0.0 {
+    let cos_a = if one_less.all(|v| v > 0.0) {
         one_less.sqrt_dead(DEAD_FOR_RATES)
+    } else if T::LANES {
+        return Err(lanes_break(step));
     } else {
         (one_less - T::cst(one_less.value())).sqrt()
     };

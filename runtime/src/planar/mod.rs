@@ -104,10 +104,23 @@ impl Rot {
     /// which otherwise dominates a small mechanism's frame.
     #[inline]
     pub fn from_degrees(degrees: f64) -> Rot {
-        const STEP: f64 = 360.0 / 256.0;
-        if !degrees.is_finite() || degrees.abs() >= 1e12 {
+        if !Rot::in_table_range(degrees) {
             return Rot::from_degrees_slow(degrees);
         }
+        Rot::from_degrees_in_range(degrees)
+    }
+
+    /// Whether [`Rot::from_degrees_in_range`] takes `degrees`.
+    #[inline(always)]
+    pub(crate) fn in_table_range(degrees: f64) -> bool {
+        degrees.is_finite() && degrees.abs() < 1e12
+    }
+
+    /// [`Rot::from_degrees`] of a finite angle below 1e12° (no branch: lanes
+    /// of angles go through it side by side).
+    #[inline(always)]
+    pub(crate) fn from_degrees_in_range(degrees: f64) -> Rot {
+        const STEP: f64 = 360.0 / 256.0;
         // Round to the nearest step by the 1.5·2⁵² trick: two additions, where
         // `f64::round` is a library call on baseline x86-64.
         const ROUND: f64 = 6_755_399_441_055_744.0;

@@ -2,7 +2,7 @@
 
 use super::{cross, dot, sub, Pose, Rot};
 use crate::frame::{Break, BreakKind, Ctx, StepId};
-use crate::real::Real;
+use crate::real::{lanes_differ, Real};
 
 /// Sets a body's rotation to `from` followed by `rel` (a relative rotation
 /// carried by a joint: the identity for a prismatic joint or an offset
@@ -43,7 +43,11 @@ pub fn align<T: Real>(pose: &mut Pose<T>, p: [T; 2], p_at: [T; 2], q: [T; 2], q_
     // stretched step, a span of zero length) is out of line: the hot path
     // then neither computes a square root speculatively nor depends on the
     // previous frame's pose.
-    if l2.value() > 0.0 && (w2 - l2).value().abs() <= 1e-12 * l2.value() {
+    // (|w2 − l2| ≤ tol as two comparisons, which lanes make side by side;
+    // for finite numbers a − b ≤ 0 exactly when a ≤ b.)
+    let tol = T::cst(1e-12) * l2;
+    let dev = w2 - l2;
+    if l2.all(|v| v > 0.0) && (dev - tol).all(|v| v <= 0.0) && (dev + tol).all(|v| v >= 0.0) {
         let k = [dl[0] / l2, dl[1] / l2];
         pose.rot = Rot {
             c: dot(k, dw),
@@ -72,9 +76,14 @@ pub fn align_consistent<T: Real>(
 ) -> Result<(), Break> {
     let dl = sub(q, p);
     let dw = sub(q_at, p_at);
-    let (l, w) = (dot(dl, dl).value().sqrt(), dot(dw, dw).value().sqrt());
-    if (w - l).abs() > 1e-9 * l.max(1.0) {
-        ctx.fail(step, BreakKind::Inconsistent, (w - l).abs())?;
+    // The local span is the same in every lane (constants); the world
+    // span is checked in each.
+    let l = dot(dl, dl).value().sqrt();
+    let tol = 1e-9 * l.max(1.0);
+    let w = dot(dw, dw).sqrt();
+    if w.any(|w| (w - l).abs() > tol) {
+        lanes_differ::<T>(step)?;
+        ctx.fail(step, BreakKind::Inconsistent, (w.value() - l).abs())?;
     }
     align(pose, p, p_at, q, q_at);
     Ok(())
@@ -88,9 +97,10 @@ pub fn align_consistent<T: Real>(
 #[inline(never)]
 fn align_rotation_slow<T: Real>(pose: &mut Pose<T>, l2: T, w2: T, c: T, s: T) {
     let n = (l2 * w2).sqrt();
-    if n.value() > 0.0 {
-        pose.rot = Rot { c: c / n, s: s / n };
-    }
+    pose.rot = Rot {
+        c: n.select(|v| v > 0.0, c / n, pose.rot.c),
+        s: n.select(|v| v > 0.0, s / n, pose.rot.s),
+    };
 }
 
 #[cfg(test)]
