@@ -17,6 +17,16 @@
 //! - steps with two roots take a [`Branch`](crate::frame::Branch) whose sign
 //!   is geometric (documented per function), so a smooth motion away from
 //!   singular poses never flips it.
+//! - the steps are written once, generic over [`Real`]: on `f64` they
+//!   place a frame, on [`Jet2`]s they also carry its velocities and
+//!   accelerations (forward mode through the plan, [`Rates3`]). Every
+//!   decision (which root, whether loci meet, whether a turn is within
+//!   rounding of none) is taken on the values, so a run on jets follows the
+//!   run on `f64` and its values are that run's, bit for bit; a shortcut
+//!   that drops a dependence on `f64` (a turn within rounding of none taken
+//!   as none) keeps its exact value on jets and takes the rates of the
+//!   turn it stands for; dead points give infinite rates
+//!   ([`Real::sqrt_dead`]), reported as singular.
 //!
 //! Besides the vector helpers, [`Rot3`], [`Pose3`] and [`joint_pose`], the
 //! module holds the actions on one body (rotating it about a point or an
