@@ -13,7 +13,7 @@ use dofplan::simulate::sweep_requests;
 use dofplan_runtime::real::{Jet2, RateError};
 use dofplan_runtime::spatial::{cross, dot, Pose3, Rates3, Vec3};
 use dofplan_runtime::{Ctx, Driver, FrameStatus, Options, Solver};
-use dofplan_tests::{bundled_spatial, load_spatial, plan_spatial};
+use dofplan_tests::{bundled_spatial, load_spatial, plan_spatial, spatial_fixtures};
 
 type M3 = [[f64; 3]; 3];
 
@@ -43,6 +43,22 @@ fn vee(m: &M3) -> Vec3 {
 fn omega_alpha(p: &Pose3<Jet2>) -> (Vec3, Vec3) {
     let (r, rd, rdd) = parts(p);
     (vee(&mul_t(&rd, &r)), vee(&mul_t(&rdd, &r)))
+}
+
+/// The bundled spatial mechanisms and the spatial fixtures
+/// (tests/fixtures/spatial/: the steps no bundled one needs), by name.
+fn every_spatial() -> Vec<String> {
+    let mut names = bundled_spatial();
+    names.extend(spatial_fixtures());
+    names
+}
+
+/// Whether `m`'s plan has a numeric cluster.
+fn has_cluster(m: &Mechanism3) -> bool {
+    plan_spatial(m)
+        .steps
+        .iter()
+        .any(|s| matches!(s.kind, dofplan::plan::spatial::StepKind3::Cluster(_)))
 }
 
 fn unit(v: Vec3) -> Vec3 {
@@ -136,18 +152,19 @@ fn direction(m: &Mechanism3) -> Vec<f64> {
     dir.iter().map(|x| x / scale).collect()
 }
 
-/// Every bundled spatial sweep: at frames spread over it, every marker's
-/// position and axes have first and second derivatives along the sweep's
-/// direction equal to central differences of positions solved by the plan
-/// (h = 1e-3 of the direction); dead points are reported singular, not
-/// as numbers. The Stewart platform, whose plan has a numeric cluster,
-/// reports [`RateError::Cluster`] (its rates by the implicit function
-/// theorem are not computed yet).
+/// Every bundled spatial sweep, and every spatial fixture's: at frames
+/// spread over it, every marker's position and axes have first and second
+/// derivatives along the sweep's direction equal to central differences of
+/// positions solved by the plan (h = 1e-3 of the direction); dead points
+/// are reported singular, not as numbers. The plans with a numeric cluster
+/// (the Stewart platform; the fixtures rps3 and rps3_mixed) report
+/// [`RateError::Cluster`] (their rates by the implicit function theorem
+/// are not computed yet), and only they.
 #[test]
 fn spatial_rates_agree_with_central_differences_on_every_bundled_sweep() {
     let mut checked = 0;
     let mut skipped = Vec::new();
-    for name in bundled_spatial() {
+    for name in every_spatial() {
         let m = load_spatial(&name);
         let interp = Interpreter3::new(plan_spatial(&m));
         let n = m.inputs.len();
@@ -171,6 +188,7 @@ fn spatial_rates_agree_with_central_differences_on_every_bundled_sweep() {
                 Ok(j) => j,
                 Err(RateError::Singular) => continue,
                 Err(RateError::Cluster) => {
+                    assert!(has_cluster(&m), "{name}");
                     skipped.push(name.clone());
                     break;
                 }
@@ -240,7 +258,12 @@ fn spatial_rates_agree_with_central_differences_on_every_bundled_sweep() {
             checked += 1;
         }
     }
-    assert_eq!(skipped, ["stewart"], "the plans with numeric clusters");
+    let clusters: Vec<String> = every_spatial()
+        .into_iter()
+        .filter(|n| has_cluster(&load_spatial(n)))
+        .collect();
+    assert!(clusters.contains(&"stewart".to_string()));
+    assert_eq!(skipped, clusters, "the plans with numeric clusters");
     assert!(checked >= 100, "{checked} frames checked");
 }
 
@@ -261,17 +284,17 @@ fn bits(poses: &[Pose3]) -> Vec<u64> {
 }
 
 /// The generated modules' `rates` (the same steps emitted for jets) equal
-/// the interpreter's to 1e-12 on every frame of every bundled spatial sweep
-/// (a spread of frames on the stress chains); `solve_rates`, a frame and
-/// its rates in one pass on jets, gives exactly `solve`'s positions and
-/// `rates`' rates. The Stewart platform (a numeric cluster) and the
-/// largest chains, whose steps are split into functions, say why they
-/// have none.
+/// the interpreter's to 1e-12 on every frame of every bundled spatial
+/// sweep and spatial fixture's (a spread of frames on the stress chains);
+/// `solve_rates`, a frame and its rates in one pass on jets, gives exactly
+/// `solve`'s positions, and the interpreter's rates from the frame before.
+/// The plans with a numeric cluster and the largest chains, whose steps
+/// are split into functions, say why they have none.
 #[test]
 fn compiled_spatial_rates_equal_interpreted_rates() {
     let mut compared = 0;
     let mut without = Vec::new();
-    for name in bundled_spatial() {
+    for name in every_spatial() {
         let m = load_spatial(&name);
         let interp = Interpreter3::new(plan_spatial(&m));
         let n = m.inputs.len();
@@ -342,7 +365,10 @@ fn compiled_spatial_rates_equal_interpreted_rates() {
                         assert_eq!(fused, Err(RateError::Split));
                         why = Some(RateError::Split);
                     }
-                    (Err(RateError::Cluster), Err(RateError::Cluster)) => why = Some(RateError::Cluster),
+                    (Err(RateError::Cluster), Err(RateError::Cluster)) => {
+                        assert!(has_cluster(&m), "{name}");
+                        why = Some(RateError::Cluster);
+                    }
                     (Err(a), Err(b)) if a == b => {}
                     (c, i) => panic!("{name}: compiled {c:?}, interpreted {:?}", i.map(|_| ())),
                 }
@@ -353,12 +379,21 @@ fn compiled_spatial_rates_equal_interpreted_rates() {
         })
         .expect("every bundled spatial mechanism is compiled");
     }
-    let names: Vec<&str> = without.iter().map(|(n, _)| n.as_str()).collect();
-    assert_eq!(
-        names,
-        ["spatial_stress_100", "spatial_stress_50", "stewart"],
-        "{without:?}"
-    );
+    let split: Vec<&str> = without
+        .iter()
+        .filter(|(_, why)| *why == RateError::Split)
+        .map(|(n, _)| n.as_str())
+        .collect();
+    assert_eq!(split, ["spatial_stress_100", "spatial_stress_50"], "{without:?}");
+    let clusters = without
+        .iter()
+        .filter(|(_, why)| *why == RateError::Cluster)
+        .count();
+    let expected = every_spatial()
+        .iter()
+        .filter(|n| has_cluster(&load_spatial(n)))
+        .count();
+    assert_eq!(clusters, expected, "{without:?}");
     assert!(compared > 1500, "{compared} frames compared");
 }
 
