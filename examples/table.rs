@@ -341,4 +341,89 @@ fn rates(filter: &[String]) {
             );
         }
     }
+    spatial_rates(filter);
+}
+
+/// The rates table's spatial rows: per compiled spatial plan with a
+/// generated `rates` (no numeric cluster, not split into functions), a
+/// frame's cost with its velocities and accelerations against without
+/// (medians of alternating passes over the sweep, as above).
+fn spatial_rates(filter: &[String]) {
+    use dofplan_runtime::real::Jet2;
+    use dofplan_runtime::spatial::{Pose3, Rates3};
+    let names: Vec<String> = bundled_spatial()
+        .into_iter()
+        .filter(|n| filter.is_empty() || filter.contains(n))
+        .collect();
+    if names.is_empty() {
+        return;
+    }
+    println!();
+    println!(
+        "| spatial mechanism | plan steps | compiled ns/frame | solve then rates ns/frame | ratio | solve_rates (one pass) ns/frame | ratio |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|---:|");
+    for name in names {
+        let m = load_spatial(&name);
+        let p = analyse3(&m).expect("plans");
+        let s = m.sweep.as_ref().expect("a sweep");
+        let inputs: Vec<Vec<f64>> = sweep_requests(s, m.inputs.len()).collect();
+        let n = m.inputs.len();
+        let (r, a) = (vec![30.0; n], vec![0.0; n]);
+        let row = dofplan_generated::with_spatial_plan!(name.as_str(), |plan| {
+            let mut out = vec![Pose3::<Jet2>::cst(Pose3::IDENTITY); m.bodies.len()];
+            let mut d = Driver::new(plan, Options::default());
+            let time = |d: &mut Driver<_>, out: &mut Vec<Pose3<Jet2>>, with: bool, reps: usize| {
+                d.reset();
+                let t = Instant::now();
+                for _ in 0..reps {
+                    for i in &inputs {
+                        black_box(d.frame(black_box(i)));
+                        if with {
+                            let _ = black_box(plan.rates_into(d.state(), d.inputs(), &r, &a, out));
+                        }
+                    }
+                }
+                t.elapsed().as_secs_f64() * 1e9 / (reps * inputs.len()) as f64
+            };
+            // The one-pass form: frames by hand (keep-branch, limit), as the
+            // driver runs them.
+            let fused = |out: &mut Vec<Pose3<Jet2>>, reps: usize| {
+                let mut st = dofplan_runtime::Solver::initial_state(&plan);
+                let t = Instant::now();
+                for _ in 0..reps {
+                    for i in &inputs {
+                        let mut ctx = dofplan_runtime::Ctx::new(Default::default(), false);
+                        let _ =
+                            black_box(plan.solve_rates_into(&mut st, black_box(i), &r, &a, &mut ctx, out));
+                    }
+                }
+                t.elapsed().as_secs_f64() * 1e9 / (reps * inputs.len()) as f64
+            };
+            // A module without rates (a numeric cluster, a split plan).
+            d.frame(&inputs[0]);
+            let has_rates = plan.rates_into(d.state(), d.inputs(), &r, &a, &mut out).is_ok();
+            has_rates.then(|| {
+                let per = time(&mut d, &mut out, true, 1) * 1e-9;
+                let reps = ((5e-3 / per) as usize / inputs.len()).max(1);
+                let (mut without, mut with, mut one) = (Vec::new(), Vec::new(), Vec::new());
+                for _ in 0..21 {
+                    without.push(time(&mut d, &mut out, false, reps));
+                    with.push(time(&mut d, &mut out, true, reps));
+                    one.push(fused(&mut out, reps));
+                }
+                (median(without), median(with), median(one))
+            })
+        })
+        .expect("compiled");
+        match row {
+            Some((c, w, f)) => println!(
+                "| {name} | {} | {c:.1} | {w:.1} | {:.2} | {f:.1} | {:.2} |",
+                p.steps.len(),
+                w / c,
+                f / c
+            ),
+            None => println!("| {name} | {} | – | – | – | – | – |", p.steps.len()),
+        }
+    }
 }

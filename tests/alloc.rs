@@ -273,3 +273,55 @@ fn compiled_rates_allocate_nothing() {
         assert_eq!(count, 0, "{name}");
     }
 }
+
+/// A compiled spatial frame's rates (`solve_rates` and `rates`) allocate
+/// nothing either, also where frames break and where a plan has no rates
+/// (the Stewart platform's cluster, a split plan).
+#[test]
+fn compiled_spatial_rates_allocate_nothing() {
+    use dofplan_runtime::real::Jet2;
+    use dofplan_runtime::spatial::{Pose3, Rates3};
+    use dofplan_runtime::Ctx;
+    for name in [
+        "cardan",
+        "excavator",
+        "rssr",
+        "sofa_bed",
+        "spatial_stress_10",
+        "stewart",
+    ] {
+        let inputs = spatial_inputs(name, true);
+        let n = inputs[0].len();
+        let (r, a): (Vec<f64>, Vec<f64>) = ((0..n).map(|k| 30.0 + k as f64).collect(), vec![1.0; n]);
+        let count = dofplan_generated::with_spatial_plan!(name, |plan| {
+            let mut state = plan.initial_state();
+            let mut out = vec![Pose3::<Jet2>::cst(Pose3::IDENTITY); state.poses.len()];
+            allocations(|| {
+                for i in &inputs {
+                    let mut ctx = Ctx::new(Default::default(), false);
+                    let _ = std::hint::black_box(
+                        plan.solve_rates_into(&mut state, i, &r, &a, &mut ctx, &mut out),
+                    );
+                    let _ = std::hint::black_box(plan.rates_into(&state, i, &r, &a, &mut out));
+                }
+            })
+        })
+        .expect("compiled");
+        assert_eq!(count, 0, "{name}");
+    }
+    let inputs = spatial_inputs("cardan", true);
+    let mut state = dofplan_generated::chunked::cardan::State::DRAWN;
+    let count = allocations(|| {
+        for i in &inputs {
+            let mut ctx = dofplan_runtime::Ctx::new(Default::default(), false);
+            let _ = std::hint::black_box(dofplan_generated::chunked::cardan::solve_rates(
+                &mut state,
+                i,
+                &[30.0],
+                &[1.0],
+                &mut ctx,
+            ));
+        }
+    });
+    assert_eq!(count, 0, "cardan split");
+}

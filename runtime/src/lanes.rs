@@ -132,6 +132,40 @@ impl Real for Lanes {
         }
         Lanes(r)
     }
+
+    // What the spatial steps need (they are not run on lanes, but a
+    // `Real` has them): lane by lane, as `f64` has them.
+    const JETS: bool = false;
+
+    /// Every lane `v` (on `f64`, the value itself).
+    #[inline(always)]
+    fn with_value(self, v: f64) -> Lanes {
+        Lanes::splat(v)
+    }
+
+    #[inline(always)]
+    fn atan2(self, x: Lanes) -> Lanes {
+        let mut r = self.0;
+        for (r, x) in r.iter_mut().zip(x.0) {
+            *r = r.atan2(x);
+        }
+        Lanes(r)
+    }
+
+    #[inline(always)]
+    fn sin_cos(self) -> (Lanes, Lanes) {
+        (self.map(f64::sin), self.map(f64::cos))
+    }
+
+    #[inline(always)]
+    fn mul_f64(self, k: f64) -> Lanes {
+        self.map(|x| x * k)
+    }
+
+    #[inline(always)]
+    fn degrees_rot(self) -> Rot<Lanes> {
+        Rot::from_degrees_lanes(self)
+    }
 }
 
 impl Rot<Lanes> {

@@ -71,6 +71,26 @@ pub trait Real:
             otherwise
         }
     }
+
+    // --- What the spatial steps need besides (kept apart from the above).
+
+    /// Whether this type carries derivatives (false for `f64`): a step
+    /// whose `f64` path takes a shortcut that drops a dependence (a turn
+    /// within rounding of none, taken as none) takes it on values only
+    /// when this is true.
+    const JETS: bool;
+    /// `self`'s derivatives with the value `v` (for `f64`, `v`): a
+    /// shortcut's exact value with the rates of the formula it stands for.
+    fn with_value(self, v: f64) -> Self;
+    /// The angle of the point (`x`, `self`), as `f64::atan2`.
+    fn atan2(self, x: Self) -> Self;
+    /// The sine and the cosine (radians).
+    fn sin_cos(self) -> (Self, Self);
+    /// `self·k` for a constant `k` (for `f64`, the same product).
+    fn mul_f64(self, k: f64) -> Self;
+    /// The rotation by `self` degrees as a (cos, sin) pair, its value from
+    /// [`Rot::from_degrees`](crate::planar::Rot::from_degrees).
+    fn degrees_rot(self) -> crate::planar::Rot<Self>;
 }
 
 /// On lanes, gives up on the frames of a step that is about to leave its
@@ -110,6 +130,30 @@ impl Real for f64 {
     #[inline(always)]
     fn sqrt_dead(self, _: f64) -> f64 {
         f64::sqrt(self)
+    }
+
+    // --- Spatial steps.
+
+    const JETS: bool = false;
+    #[inline(always)]
+    fn with_value(self, v: f64) -> f64 {
+        v
+    }
+    #[inline(always)]
+    fn atan2(self, x: f64) -> f64 {
+        f64::atan2(self, x)
+    }
+    #[inline(always)]
+    fn sin_cos(self) -> (f64, f64) {
+        f64::sin_cos(self)
+    }
+    #[inline(always)]
+    fn mul_f64(self, k: f64) -> f64 {
+        self * k
+    }
+    #[inline(always)]
+    fn degrees_rot(self) -> crate::planar::Rot {
+        crate::planar::Rot::from_degrees(self)
     }
 }
 
@@ -222,6 +266,43 @@ impl Real for Jet2 {
         } else {
             self.sqrt()
         }
+    }
+
+    // --- Spatial steps.
+
+    const JETS: bool = true;
+    #[inline(always)]
+    fn with_value(self, v: f64) -> Jet2 {
+        Jet2::new(v, self.d, self.dd)
+    }
+    /// θ = atan2(y, x): θ' = (x y' − y x')/ρ², with ρ² = x² + y², and
+    /// θ'' = ((x y'' − y x'') − 2 θ' (x x' + y y'))/ρ².
+    #[inline(always)]
+    fn atan2(self, x: Jet2) -> Jet2 {
+        let y = self;
+        let r2 = x.v * x.v + y.v * y.v;
+        let d = (x.v * y.d - y.v * x.d) / r2;
+        let dd = (x.v * y.dd - y.v * x.dd - 2.0 * d * (x.v * x.d + y.v * y.d)) / r2;
+        Jet2::new(y.v.atan2(x.v), d, dd)
+    }
+    /// (sin θ)' = cos θ·θ', (sin θ)'' = cos θ·θ'' − sin θ·θ'², and the
+    /// cosine likewise.
+    #[inline(always)]
+    fn sin_cos(self) -> (Jet2, Jet2) {
+        let (s, c) = self.v.sin_cos();
+        let (w, a) = (self.d, self.dd);
+        (
+            Jet2::new(s, c * w, c * a - s * w * w),
+            Jet2::new(c, -s * w, -s * a - c * w * w),
+        )
+    }
+    #[inline(always)]
+    fn mul_f64(self, k: f64) -> Jet2 {
+        Jet2::new(self.v * k, self.d * k, self.dd * k)
+    }
+    #[inline(always)]
+    fn degrees_rot(self) -> crate::planar::Rot<Jet2> {
+        crate::planar::Rot::from_degrees_jet(self)
     }
 }
 

@@ -16,7 +16,7 @@
 //! copy. So a large plan splits into functions of bounded size that take
 //! the copy by reference, with nothing to hand from one to the next.
 
-use std::cell::RefCell;
+use std::cell::{Cell, RefCell};
 use std::collections::{HashMap, HashSet};
 
 use proc_macro2::{Ident, Literal, Span, TokenStream};
@@ -69,8 +69,21 @@ pub(super) fn row_kind(k: &RowKind) -> TokenStream {
 
 /// Names no local of a step may take: the frame's own (the working copy,
 /// the parameters) and the runtime's modules.
-const RESERVED: [&str; 12] = [
-    "w", "s", "ctx", "inputs", "spatial", "cluster", "numeric", "root", "gap", "sin", "cos", "turn",
+const RESERVED: [&str; 14] = [
+    "w",
+    "s",
+    "ctx",
+    "inputs",
+    "input_values",
+    "spatial",
+    "cluster",
+    "numeric",
+    "root",
+    "gap",
+    "sin",
+    "cos",
+    "turn",
+    "Jet2",
 ];
 
 /// The locals of one step's block: each point and direction the step reads
@@ -78,6 +91,10 @@ const RESERVED: [&str; 12] = [
 /// runtime call below reads like the step's explanation.
 pub(super) struct Block<'p> {
     plan: &'p Plan3,
+    /// Whether the step is written for `solve_rates`: on jets, every
+    /// constant point, direction and input expression lifted to
+    /// [`Jet2`](dofplan_runtime::real::Jet2)s.
+    pub jets: bool,
     /// The bindings, in order.
     pub pre: Vec<TokenStream>,
     taken: HashSet<String>,
@@ -91,9 +108,30 @@ impl<'p> Block<'p> {
     pub fn new(plan: &'p Plan3) -> Block<'p> {
         Block {
             plan,
+            jets: false,
             pre: Vec::new(),
             taken: RESERVED.iter().map(|s| s.to_string()).collect(),
             bound: HashMap::new(),
+        }
+    }
+
+    /// A constant point or direction: a literal, or lifted to jets.
+    pub fn vlit(&self, v: Vec3) -> TokenStream {
+        let l = vec_lit(v);
+        if self.jets {
+            quote!(spatial::cst(#l))
+        } else {
+            l
+        }
+    }
+
+    /// A constant number: a literal, or lifted to a jet.
+    pub fn slit(&self, x: f64) -> TokenStream {
+        let l = lit(x);
+        if self.jets {
+            quote!(Jet2::cst(#l))
+        } else {
+            quote!(#l)
         }
     }
 
@@ -159,16 +197,23 @@ impl<'p> Block<'p> {
                     quote!(inputs[#i])
                 } else if *sign == -1.0 {
                     quote!(-inputs[#i])
+                } else if self.jets {
+                    let k = lit(*sign);
+                    quote!(inputs[#i].mul_f64(#k))
                 } else {
                     let k = lit(*sign);
                     quote!(#k * inputs[#i])
                 };
                 // Another body's marker carried along the slide (a rod's end
                 // seen from its barrel): named for the body it rides on.
-                Some((
-                    format!("{}_slid", ident_for(&self.plan.bodies[*body])),
-                    quote!(#b.world(spatial::add(#l, spatial::scale(#d, #s)))),
-                ))
+                let name = format!("{}_slid", ident_for(&self.plan.bodies[*body]));
+                if self.jets {
+                    return Some((
+                        name,
+                        quote!(#b.world_of(spatial::add(spatial::cst(#l), spatial::scale(spatial::cst(#d), #s)))),
+                    ));
+                }
+                Some((name, quote!(#b.world(spatial::add(#l, spatial::scale(#d, #s))))))
             }
             P3::Temp(t) => {
                 let t_lit = index(*t);
@@ -184,7 +229,7 @@ impl<'p> Block<'p> {
     /// local bound in the block.
     pub fn point(&mut self, p: &P3) -> TokenStream {
         match p {
-            P3::Fixed(v) => vec_lit(*v),
+            P3::Fixed(v) => self.vlit(*v),
             _ => {
                 let (name, expr) = self.point_expr(p, &state_pose).expect("not fixed");
                 self.bind(&name, expr)
@@ -195,7 +240,7 @@ impl<'p> Block<'p> {
     /// A world direction the step reads, bound under `role` unless constant.
     pub fn dir(&mut self, d: &D3, role: &str) -> TokenStream {
         match d {
-            D3::Fixed(v) => vec_lit(*v),
+            D3::Fixed(v) => self.vlit(*v),
             D3::Body { body, local } => {
                 let (b, l) = (state_pose(*body), vec_lit(*local));
                 self.bind(role, quote!(#b.dir(#l)))
@@ -228,6 +273,8 @@ pub(super) struct Emitter3<'p> {
     /// Comments inside a step (a cluster's rows), by the index their
     /// placeholder names.
     pub notes: RefCell<Vec<String>>,
+    /// Whether steps are written for `solve_rates` (on jets).
+    pub jets: Cell<bool>,
 }
 
 impl Emitter3<'_> {
@@ -247,6 +294,7 @@ impl Emitter3<'_> {
         let marker_i = index(i);
         let marker = quote!(__dofplan_step!(#marker_i););
         let mut b = Block::new(self.plan);
+        b.jets = self.jets.get();
         let code = match &step.kind {
             StepKind3::Act { body, action } => act(&mut b, *body, action, &id),
             StepKind3::Intersect {
@@ -264,7 +312,7 @@ impl Emitter3<'_> {
                 // As the interpreter: `d` on both cones, then `sign·d`.
                 let [(a1, c1), (a2, c2)] = cones.as_ref();
                 let (w1, w2) = (b.dir(a1, "axis_1"), b.dir(a2, "axis_2"));
-                let (c1, c2s, sg) = (lit(*c1), lit(sign * c2), lit(*sign));
+                let (c1, c2s, sg) = (lit(*c1), lit(sign * c2), b.slit(*sign));
                 let (t0, t1, k) = (index(temps[0]), index(temps[1]), index(*branch));
                 quote! {
                     let mut last = w.temps[#t0];
@@ -274,9 +322,10 @@ impl Emitter3<'_> {
                 }
             }
             StepKind3::Check { rows } => {
-                let checks: Vec<TokenStream> = rows.iter().map(|r| check(r, &id)).collect();
+                let checks: Vec<TokenStream> = rows.iter().map(|r| check(r, &id, b.jets)).collect();
                 quote!(#(#checks)*)
             }
+            StepKind3::Cluster(_) if b.jets => unreachable!("no rates are written for clusters"),
             StepKind3::Cluster(c) => self.cluster(&mut b, c, &id),
         };
         let pre = &b.pre;
@@ -327,7 +376,7 @@ fn act(b: &mut Block, body: usize, action: &Action3, id: &Literal) -> TokenStrea
             sign,
         } => {
             let (f, o, u) = (b.point(from), b.point(origin), b.dir(dir, "dir"));
-            let (axial0, i, sign) = (lit(*axial0), index(*input), lit(*sign));
+            let (axial0, i, sign) = (b.slit(*axial0), index(*input), lit(*sign));
             quote!(spatial::slide_to(&mut #pose, #o, #f, #u, #axial0 + inputs[#i], #sign);)
         }
         Action3::RotateOnto { pivot, from, to } => {
@@ -373,9 +422,17 @@ fn act(b: &mut Block, body: usize, action: &Action3, id: &Literal) -> TokenStrea
             // turned into a cos/sin pair by `Rot::from_degrees`; with no input
             // it adds 0, folded here to the same number.
             let target = match input {
+                Some(i) if b.jets => {
+                    let (degrees, i) = (b.slit(angle.to_degrees()), index(*i));
+                    quote!(dofplan_runtime::Rot::from_degrees_jet(#degrees + inputs[#i]))
+                }
                 Some(i) => {
                     let (degrees, i) = (lit(angle.to_degrees()), index(*i));
                     quote!(dofplan_runtime::Rot::from_degrees(#degrees + inputs[#i]))
+                }
+                None if b.jets => {
+                    let degrees = lit(angle.to_degrees() + 0.0);
+                    quote!(dofplan_runtime::Rot::cst(dofplan_runtime::Rot::from_degrees(#degrees)))
                 }
                 None => {
                     let degrees = lit(angle.to_degrees() + 0.0);
@@ -419,14 +476,16 @@ fn act(b: &mut Block, body: usize, action: &Action3, id: &Literal) -> TokenStrea
                     // operations in the same order (with no input, the
                     // number it computes, folded here).
                     let degrees = match input {
+                        // On jets `x.mul_f64(k)`, the same product as `k * x`.
+                        Some(i) if b.jets => {
+                            let (k, o, i) = (lit(*sign), b.slit(*offset), index(*i));
+                            quote!((#o + inputs[#i]).mul_f64(#k))
+                        }
                         Some(i) => {
                             let (k, o, i) = (lit(*sign), lit(*offset), index(*i));
                             quote!(#k * (#o + inputs[#i]))
                         }
-                        None => {
-                            let d = lit(sign * (offset + 0.0));
-                            quote!(#d)
-                        }
+                        None => b.slit(sign * (offset + 0.0)),
                     };
                     quote!(spatial::hinge_degrees(&mut #pose, #c, #a, #degrees);)
                 }
@@ -536,12 +595,25 @@ pub(super) fn frames(r: &CheckRow, pose: &dyn Fn(usize) -> TokenStream) -> (Toke
 }
 
 /// A redundant row: it must hold, or the frame breaks "inconsistent"
-/// (`interp::spatial::check_gap`).
-fn check(r: &CheckRow, id: &Literal) -> TokenStream {
-    let (f1, f2) = frames(r, &state_pose);
+/// (`interp::spatial::check_gap_at`). On jets it is checked on the values.
+fn check(r: &CheckRow, id: &Literal, jets: bool) -> TokenStream {
+    let value_pose = |body: usize| {
+        let b = index(body);
+        quote!(w.poses[#b].value())
+    };
+    let (f1, f2) = if jets {
+        frames(r, &value_pose)
+    } else {
+        frames(r, &state_pose)
+    };
     let (kind, tol) = (row_kind(&r.kind), lit(r.tol));
+    let inputs = if jets {
+        quote!(input_values)
+    } else {
+        quote!(inputs)
+    };
     quote! {
-        let gap = #kind.gap(&#f1, &#f2, inputs);
+        let gap = #kind.gap(&#f1, &#f2, #inputs);
         if gap > #tol {
             ctx.fail(#id, BreakKind::Inconsistent, gap)?;
         }
@@ -754,10 +826,16 @@ impl Emitter3<'_> {
         }
     }
 
-    fn module(&self, steps: Vec<TokenStream>, chunks: Option<Vec<(usize, usize)>>) -> TokenStream {
+    fn module(
+        &self,
+        steps: Vec<TokenStream>,
+        chunks: Option<Vec<(usize, usize)>>,
+        jet_steps: Option<Vec<TokenStream>>,
+    ) -> TokenStream {
         let plan = self.plan;
         let code = quote!(#(#steps)*);
         let u = Uses::of(&code);
+        let (rates, rates_use) = self.rates(jet_steps, chunks.is_some());
         let name = &plan.name;
         let nb = index(plan.bodies.len());
         let nt = index(plan.temps.len());
@@ -787,7 +865,11 @@ impl Emitter3<'_> {
                 .map(|n| format_ident!("{}", n))
                 .collect()
         };
-        let spatial_self = if u.has("spatial") { quote!(self,) } else { quote!() };
+        let spatial_self = if u.has("spatial") || rates_use {
+            quote!(self,)
+        } else {
+            quote!()
+        };
         let mut imports = vec![quote!(use dofplan_runtime::spatial::{#spatial_self Pose3, Vec3};)];
         let rows = pick(&["FrameRate", "RowKind", "WorldFrame"]);
         if !rows.is_empty() {
@@ -807,6 +889,18 @@ impl Emitter3<'_> {
         }
         let kinds = pick(&["BreakKind"]);
         imports.push(quote!(use dofplan_runtime::{Branch, Break, #(#kinds,)* Ctx, Marker3, Solver};));
+        if rates_use {
+            imports.push(quote!(
+                use dofplan_runtime::real::{Jet2, RateError, Real};
+            ));
+            imports.push(quote!(
+                use dofplan_runtime::BranchPolicy;
+            ));
+        } else {
+            imports.push(quote!(
+                use dofplan_runtime::real::{Jet2, RateError};
+            ));
+        }
 
         let doc_solve = format!(
             " Places every body for `inputs` ({}), warm-started from `s`. On a break `s` is left unchanged.",
@@ -903,8 +997,161 @@ impl Emitter3<'_> {
                 }
             }
 
+            impl dofplan_runtime::spatial::Rates3 for Plan {
+                fn rates_into(
+                    &self,
+                    s: &State,
+                    inputs: &[f64],
+                    rates: &[f64],
+                    accelerations: &[f64],
+                    out: &mut [Pose3<Jet2>],
+                ) -> Result<(), RateError> {
+                    self::rates(s, inputs, rates, accelerations).map(|r| out.copy_from_slice(&r))
+                }
+
+                fn solve_rates_into(
+                    &self,
+                    s: &mut State,
+                    inputs: &[f64],
+                    rates: &[f64],
+                    accelerations: &[f64],
+                    ctx: &mut Ctx,
+                    out: &mut [Pose3<Jet2>],
+                ) -> Result<(), RateError> {
+                    self::solve_rates(s, inputs, rates, accelerations, ctx).map(|r| out.copy_from_slice(&r))
+                }
+            }
+
             #solve
+
+            #rates
         }
+    }
+
+    /// `solve_rates` and `rates`, and whether they run steps on jets (so
+    /// the module imports what they use). `jet_steps` are the steps written
+    /// on jets; none for a plan with a numeric cluster (its rates, by the
+    /// implicit function theorem, are not computed yet) or split into
+    /// functions (`split`), whose `solve_rates` solves the frame and
+    /// reports why there are no rates.
+    fn rates(&self, jet_steps: Option<Vec<TokenStream>>, split: bool) -> (TokenStream, bool) {
+        let plan = self.plan;
+        let nb = index(plan.bodies.len());
+        let Some(steps) = jet_steps else {
+            let why = if plan.steps.iter().any(|s| matches!(s.kind, StepKind3::Cluster(_))) {
+                quote!(RateError::Cluster)
+            } else {
+                debug_assert!(split);
+                quote!(RateError::Split)
+            };
+            let code = quote! {
+                /// The frame at `inputs`, as [`solve`]; its rates are not
+                /// computed for this plan (the error says why).
+                pub fn solve_rates(
+                    s: &mut State,
+                    inputs: &[f64],
+                    rates: &[f64],
+                    accelerations: &[f64],
+                    ctx: &mut Ctx,
+                ) -> Result<[Pose3<Jet2>; #nb], RateError> {
+                    let _ = (rates, accelerations);
+                    solve(s, inputs, ctx)?;
+                    Err(#why)
+                }
+
+                /// The rates of a frame: not computed for this plan (the
+                /// error says why).
+                pub fn rates(
+                    s: &State,
+                    inputs: &[f64],
+                    rates: &[f64],
+                    accelerations: &[f64],
+                ) -> Result<[Pose3<Jet2>; #nb], RateError> {
+                    let _ = (s, inputs, rates, accelerations);
+                    Err(#why)
+                }
+            };
+            return (code, false);
+        };
+        let (nt, nk, ni) = (
+            index(plan.temps.len()),
+            index(plan.branches.len()),
+            index(plan.inputs.len()),
+        );
+        let moving = (0..plan.bodies.len()).filter(|&b| plan.composes(b)).map(|b| {
+            let b = index(b);
+            quote!(w.poses[#b].renormalize();)
+        });
+        let code = quote! {
+            /// [`State`] on jets: what [`solve_rates`] works on.
+            #[derive(Clone, Copy)]
+            struct Jets {
+                poses: [Pose3<Jet2>; #nb],
+                temps: [Vec3<Jet2>; #nt],
+                branches: [Branch; #nk],
+                angles: [f64; #nk],
+            }
+
+            /// [`solve`] and [`rates`] in one pass: every body placed for
+            /// `inputs`, warm-started from `s`, and returned with its first
+            /// and second derivatives along `rates` and `accelerations` (per
+            /// second, in the inputs' units: degrees for angles) — the steps
+            /// run once, on [`Jet2`]s, whose values are exactly `solve`'s.
+            /// On a break `s` is left unchanged ([`RateError::Break`]); at a
+            /// dead point, where a rate is infinite, the frame is committed
+            /// (its positions are exact) and the rates are
+            /// [`RateError::Singular`].
+            pub fn solve_rates(
+                s: &mut State,
+                inputs: &[f64],
+                rates: &[f64],
+                accelerations: &[f64],
+                ctx: &mut Ctx,
+            ) -> Result<[Pose3<Jet2>; #nb], RateError> {
+                let jets: [Jet2; #ni] =
+                    core::array::from_fn(|k| Jet2::new(inputs[k], rates[k], accelerations[k]));
+                let mut w = Jets {
+                    poses: s.poses.map(Pose3::cst),
+                    temps: s.temps.map(spatial::cst),
+                    branches: s.branches,
+                    angles: s.angles,
+                };
+                run_jets(&mut w, &jets, inputs, ctx)?;
+                s.poses = w.poses.map(|p| p.value());
+                s.temps = w.temps.map(spatial::value);
+                s.branches = w.branches;
+                s.angles = w.angles;
+                spatial::checked3(w.poses)
+            }
+
+            /// Every step of [`solve`] on jets, in place (checks on
+            /// `input_values`).
+            #[inline(always)]
+            fn run_jets(w: &mut Jets, inputs: &[Jet2], input_values: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+                let _ = (&w, &inputs, &input_values, &ctx);
+                #(#steps)*
+                #(#moving)*
+                Ok(())
+            }
+
+            /// Every body's pose at the frame `s` was solved to (at
+            /// `inputs`) with its first and second derivatives along the
+            /// inputs' `rates` and `accelerations` (per second, in the
+            /// inputs' units: degrees for angles): the steps of [`solve`]
+            /// run again on [`Jet2`]s — forward-mode differentiation through
+            /// the plan — with the branches the frame took. A dead point,
+            /// where a rate is infinite, is [`RateError::Singular`].
+            pub fn rates(
+                s: &State,
+                inputs: &[f64],
+                rates: &[f64],
+                accelerations: &[f64],
+            ) -> Result<[Pose3<Jet2>; #nb], RateError> {
+                let mut again = *s;
+                solve_rates(&mut again, inputs, rates, accelerations, &mut Ctx::new(BranchPolicy::Keep, false))
+            }
+        };
+        (code, true)
     }
 }
 
@@ -949,11 +1196,22 @@ pub fn emit_spatial_chunked(plan: &Plan3, chunk_weight: usize) -> String {
     let e = Emitter3 {
         plan,
         notes: RefCell::new(Vec::new()),
+        jets: Cell::new(false),
     };
     let steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
     let weights: Vec<usize> = steps.iter().map(|s| Uses::of(s).weight).collect();
     let chunks = partition(&weights, chunk_weight);
-    let tokens = e.module(steps, chunks);
+    // Rates of a plan without numeric clusters, in one function (rates of
+    // clusters, by the implicit function theorem, and of split plans are
+    // not generated yet).
+    let clusters = plan.steps.iter().any(|s| matches!(s.kind, StepKind3::Cluster(_)));
+    let jet_steps = (chunks.is_none() && !clusters).then(|| {
+        e.jets.set(true);
+        let jet_steps = (0..plan.steps.len()).map(|i| e.step(i)).collect();
+        e.jets.set(false);
+        jet_steps
+    });
+    let tokens = e.module(steps, chunks, jet_steps);
     let file = syn::parse2::<syn::File>(tokens).expect("the emitter produces valid Rust");
     let pretty = prettyplease::unparse(&file);
     let notes = e.notes.into_inner();

@@ -1,9 +1,12 @@
 //! The spatial plan interpreter: executes a [`Plan3`] step by step through
-//! the same `dofplan_runtime::spatial` functions generated code calls.
+//! the same `dofplan_runtime::spatial` functions generated code calls —
+//! on `f64`s for a frame, on [`Jet2`]s for its rates
+//! ([`Interpreter3::rates`]).
 
+use dofplan_runtime::real::{Jet2, RateError, Real};
 use dofplan_runtime::spatial::rows::WorldFrame;
-use dofplan_runtime::spatial::{self, add, norm, scale, sub, unit, Pose3, Vec3};
-use dofplan_runtime::{Branch, Break, BreakKind, Ctx, Rot, Solver};
+use dofplan_runtime::spatial::{self, add, cst, norm, scale, sub, unit, Pose3, Rates3, Vec3};
+use dofplan_runtime::{Branch, BranchPolicy, Break, BreakKind, Ctx, Rot, Solver};
 
 use crate::plan::spatial::{Action3, CheckRow, HingeTurn, Locus3, Plan3, StepKind3, D3, P3};
 
@@ -56,23 +59,61 @@ impl Interpreter3 {
     /// Runs every step on `s` (left half-updated on a break: [`Solver::solve`]
     /// works on a copy).
     pub fn run(&self, s: &mut State3, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
-        for (i, step) in self.plan.steps.iter().enumerate() {
+        let mut from = 0;
+        loop {
+            let mut w = Work {
+                poses: &mut s.poses,
+                temps: &mut s.temps,
+                branches: &mut s.branches,
+                angles: &mut s.angles,
+            };
+            // A numeric cluster needs the whole state: the closed-form
+            // steps stop before it, and go on after it.
+            let Some(i) = self.steps(&mut w, inputs, inputs, ctx, from)? else {
+                break;
+            };
+            let StepKind3::Cluster(c) = &self.plan.steps[i].kind else {
+                unreachable!("the steps stop at clusters only");
+            };
+            crate::interp::spatial_cluster::solve(s, c, inputs, ctx, (i + 1) as u32)?;
+            from = i + 1;
+        }
+        // Rotations composed frame after frame drift from orthonormal; one
+        // correction a frame keeps every body rigid indefinitely.
+        for &b in &self.composed {
+            s.poses[b].renormalize();
+        }
+        Ok(())
+    }
+
+    /// The closed-form steps from step `from` on, on `f64`s or on jets
+    /// (`inputs`; check rows read their values, `values`), up to the first
+    /// numeric cluster: its index, or none when the plan is done.
+    fn steps<T: Real>(
+        &self,
+        w: &mut Work<T>,
+        inputs: &[T],
+        values: &[f64],
+        ctx: &mut Ctx,
+        from: usize,
+    ) -> Result<Option<usize>, Break> {
+        for (i, step) in self.plan.steps.iter().enumerate().skip(from) {
             let id = (i + 1) as u32;
             match &step.kind {
-                StepKind3::Act { body, action } => act(s, *body, action, inputs, ctx, id)?,
+                StepKind3::Act { body, action } => act(w, *body, action, inputs, ctx, id)?,
                 StepKind3::Intersect {
                     temp,
                     loci,
                     branch,
                     tol,
                 } => {
-                    let mut br = branch.map_or(Branch::Plus, |k| s.branches[k]);
-                    let mut last = s.temps[*temp];
-                    let x = intersect(s, loci, *tol, inputs, ctx, id, &mut br, &mut last)?;
+                    let mut br = branch.map_or(Branch::Plus, |k| w.branches[k]);
+                    let mut last = w.temps[*temp];
+                    let x = intersect(w, loci, *tol, inputs, ctx, id, &mut br, &mut last)?;
                     if let Some(k) = branch {
-                        s.branches[*k] = br;
+                        w.branches[*k] = br;
                     }
-                    s.temps[*temp] = x;
+                    w.temps[*temp] = x;
                 }
                 StepKind3::IntersectDir {
                     temps,
@@ -81,33 +122,103 @@ impl Interpreter3 {
                     branch,
                 } => {
                     let [(a1, c1), (a2, c2)] = cones.as_ref();
-                    let (w1, w2) = (dir(s, a1, inputs), dir(s, a2, inputs));
-                    let mut br = s.branches[*branch];
-                    let mut last = s.temps[temps[0]];
+                    let (w1, w2) = (w.dir(a1, inputs), w.dir(a2, inputs));
+                    let mut br = w.branches[*branch];
+                    let mut last = w.temps[temps[0]];
                     let d = spatial::cone_cone(ctx, id, w1, *c1, w2, sign * c2, &mut br, &mut last)?;
-                    s.branches[*branch] = br;
-                    s.temps[temps[0]] = d;
-                    s.temps[temps[1]] = scale(d, *sign);
+                    w.branches[*branch] = br;
+                    w.temps[temps[0]] = d;
+                    w.temps[temps[1]] = scale(d, T::cst(*sign));
                 }
                 StepKind3::Check { rows } => {
                     for r in rows {
-                        let gap = check_gap(s, r, inputs);
+                        let gap = check_gap_at(w.poses, r, values);
                         if gap > r.tol {
                             ctx.fail(id, BreakKind::Inconsistent, gap)?;
                         }
                     }
                 }
-                StepKind3::Cluster(c) => {
-                    crate::interp::spatial_cluster::solve(s, c, inputs, ctx, id)?;
-                }
+                StepKind3::Cluster(_) => return Ok(Some(i)),
             }
         }
-        // Rotations composed frame after frame drift from orthonormal; one
-        // correction a frame keeps every body rigid indefinitely.
-        for &b in &self.composed {
-            s.poses[b].renormalize();
+        Ok(None)
+    }
+
+    /// Every body's pose at the frame `state` was solved to (at `inputs`),
+    /// with its first and second derivatives along the inputs' `rates` and
+    /// `accelerations`: forward-mode differentiation through the plan, the
+    /// same steps run on [`Jet2`]s with the branches the frame took (the
+    /// spatial counterpart of
+    /// [`Interpreter::rates`](crate::interp::Interpreter::rates)). A plan
+    /// with a numeric cluster gives [`RateError::Cluster`]; a dead point,
+    /// where a rate is infinite, [`RateError::Singular`].
+    pub fn rates(
+        &self,
+        state: &State3,
+        inputs: &[f64],
+        rates: &[f64],
+        accelerations: &[f64],
+    ) -> Result<Vec<Pose3<Jet2>>, RateError> {
+        if self
+            .plan
+            .steps
+            .iter()
+            .any(|s| matches!(s.kind, StepKind3::Cluster(_)))
+        {
+            return Err(RateError::Cluster);
         }
+        let mut poses: Vec<Pose3<Jet2>> = state.poses.iter().map(|p| Pose3::cst(*p)).collect();
+        let mut temps: Vec<Vec3<Jet2>> = state.temps.iter().map(|t| cst(*t)).collect();
+        let (mut branches, mut angles) = (state.branches.clone(), state.angles.clone());
+        let jets: Vec<Jet2> = (0..inputs.len())
+            .map(|k| Jet2::new(inputs[k], rates[k], accelerations[k]))
+            .collect();
+        // The frame's branches, kept: the rates are those of the root it took.
+        let mut ctx = Ctx::new(BranchPolicy::Keep, false);
+        let mut w = Work {
+            poses: &mut poses,
+            temps: &mut temps,
+            branches: &mut branches,
+            angles: &mut angles,
+        };
+        self.steps(&mut w, &jets, inputs, &mut ctx, 0)?;
+        for &b in &self.composed {
+            poses[b].renormalize();
+        }
+        spatial::checked3(poses)
+    }
+}
+
+impl Rates3 for Interpreter3 {
+    fn rates_into(
+        &self,
+        state: &State3,
+        inputs: &[f64],
+        rates: &[f64],
+        accelerations: &[f64],
+        out: &mut [Pose3<Jet2>],
+    ) -> Result<(), RateError> {
+        out.copy_from_slice(&self.rates(state, inputs, rates, accelerations)?);
         Ok(())
+    }
+}
+
+/// One execution's buffers, borrowed apart: of a [`State3`] for a frame, of
+/// jets for its rates.
+struct Work<'a, T> {
+    poses: &'a mut [Pose3<T>],
+    temps: &'a mut [Vec3<T>],
+    branches: &'a mut [Branch],
+    angles: &'a mut [f64],
+}
+
+impl<T: Real> Work<'_, T> {
+    fn point(&self, p: &P3, inputs: &[T]) -> Vec3<T> {
+        point_at(self.poses, self.temps, p, inputs)
+    }
+
+    fn dir(&self, d: &D3, inputs: &[T]) -> Vec3<T> {
+        dir_at(self.poses, self.temps, d, inputs)
     }
 }
 
@@ -117,48 +228,66 @@ pub(crate) fn point(s: &State3, p: &P3, inputs: &[f64]) -> Vec3 {
 }
 
 /// A world point at given poses and pseudo-markers.
-pub(crate) fn point_at(poses: &[Pose3], temps: &[Vec3], p: &P3, inputs: &[f64]) -> Vec3 {
+pub(crate) fn point_at<T: Real>(poses: &[Pose3<T>], temps: &[Vec3<T>], p: &P3, inputs: &[T]) -> Vec3<T> {
     match p {
-        P3::Fixed(v) => *v,
+        P3::Fixed(v) => cst(*v),
         P3::Body { body, local } => poses[*body].world(*local),
+        // `input·sign`, the same product as the generated `sign * input`.
         P3::Slid {
             body,
             local,
             dir,
             input,
             sign,
-        } => poses[*body].world(add(*local, scale(*dir, sign * inputs[*input]))),
+        } => poses[*body].world_of(add(cst(*local), scale(cst(*dir), inputs[*input].mul_f64(*sign)))),
         P3::Temp(t) => temps[*t],
     }
 }
 
 /// A world direction (unit).
 pub(crate) fn dir(s: &State3, d: &D3, inputs: &[f64]) -> Vec3 {
+    dir_at(&s.poses, &s.temps, d, inputs)
+}
+
+/// A world direction (unit) at given poses and pseudo-markers.
+fn dir_at<T: Real>(poses: &[Pose3<T>], temps: &[Vec3<T>], d: &D3, inputs: &[T]) -> Vec3<T> {
     match d {
-        D3::Fixed(v) => *v,
-        D3::Body { body, local } => s.poses[*body].dir(*local),
-        D3::Between(a, b) => unit(sub(point(s, b, inputs), point(s, a, inputs))),
-        D3::Temp(t) => s.temps[*t],
+        D3::Fixed(v) => cst(*v),
+        D3::Body { body, local } => poses[*body].dir(*local),
+        D3::Between(a, b) => unit(sub(
+            point_at(poses, temps, b, inputs),
+            point_at(poses, temps, a, inputs),
+        )),
+        D3::Temp(t) => temps[*t],
     }
 }
 
-/// A check row's largest residual at the current poses.
-pub(crate) fn check_gap(s: &State3, r: &CheckRow, inputs: &[f64]) -> f64 {
-    let f1 = WorldFrame::of(&s.poses[r.bodies[0]], r.at[0], r.z[0], r.x[0]);
-    let f2 = WorldFrame::of(&s.poses[r.bodies[1]], r.at[1], r.z[1], r.x[1]);
+/// A check row's largest residual at the values of `poses`.
+fn check_gap_at<T: Real>(poses: &[Pose3<T>], r: &CheckRow, inputs: &[f64]) -> f64 {
+    let value = |b: usize| {
+        let p = &poses[b];
+        Pose3 {
+            rot: dofplan_runtime::spatial::Rot3 {
+                m: p.rot.m.map(spatial::value),
+            },
+            pos: spatial::value(p.pos),
+        }
+    };
+    let f1 = WorldFrame::of(&value(r.bodies[0]), r.at[0], r.z[0], r.x[0]);
+    let f2 = WorldFrame::of(&value(r.bodies[1]), r.at[1], r.z[1], r.x[1]);
     r.kind.gap(&f1, &f2, inputs)
 }
 
-fn act(
-    s: &mut State3,
+fn act<T: Real>(
+    s: &mut Work<T>,
     body: usize,
     a: &Action3,
-    inputs: &[f64],
+    inputs: &[T],
     ctx: &mut Ctx,
     id: u32,
 ) -> Result<(), Break> {
-    let p = |s: &State3, q: &P3| point(s, q, inputs);
-    let d = |s: &State3, v: &D3| dir(s, v, inputs);
+    let p = |s: &Work<T>, q: &P3| s.point(q, inputs);
+    let d = |s: &Work<T>, v: &D3| s.dir(v, inputs);
     match a {
         Action3::TranslateOnto { from, to } => {
             let (f, t) = (p(s, from), p(s, to));
@@ -197,7 +326,14 @@ fn act(
             sign,
         } => {
             let (f, o, u) = (p(s, from), p(s, origin), d(s, l));
-            spatial::slide_to(&mut s.poses[body], o, f, u, axial0 + inputs[*input], *sign);
+            spatial::slide_to(
+                &mut s.poses[body],
+                o,
+                f,
+                u,
+                T::cst(*axial0) + inputs[*input],
+                *sign,
+            );
         }
         Action3::RotateOnto { pivot, from, to } => {
             let (c, f, t) = (p(s, pivot), p(s, from), p(s, to));
@@ -235,8 +371,9 @@ fn act(
             sign,
         } => {
             let (c, a, u1, u2) = (p(s, pivot), d(s, axis), d(s, x1), d(s, x2));
-            let degrees = angle.to_degrees() + input.map_or(0.0, |i| inputs[i]);
-            let (sin, cos) = spatial::twist_correction(a, u1, u2, Rot::from_degrees(degrees), *sign);
+            let degrees = T::cst(angle.to_degrees()) + input.map_or(T::cst(0.0), |i| inputs[i]);
+            let target: Rot<T> = degrees.degrees_rot();
+            let (sin, cos) = spatial::twist_correction(a, u1, u2, target, *sign);
             spatial::rotate_about_axis_angle(&mut s.poses[body], c, a, cos, sin);
         }
         Action3::AxisCondition {
@@ -261,7 +398,9 @@ fn act(
         }
         Action3::Hinge { pivot, axis, turn } => match turn {
             HingeTurn::Degrees { offset, input, sign } => {
-                let degrees = sign * (offset + input.map_or(0.0, |i| inputs[i]));
+                // `(offset + input)·sign`, the same product as the
+                // generated `sign * (offset + input)`.
+                let degrees = (T::cst(*offset) + input.map_or(T::cst(0.0), |i| inputs[i])).mul_f64(*sign);
                 spatial::hinge_degrees(&mut s.poses[body], *pivot, *axis, degrees);
             }
             HingeTurn::Onto { from, to } => {
@@ -278,18 +417,18 @@ fn act(
 }
 
 #[allow(clippy::too_many_arguments)]
-fn intersect(
-    s: &State3,
+fn intersect<T: Real>(
+    s: &Work<T>,
     loci: &[Locus3; 2],
     tol: f64,
-    inputs: &[f64],
+    inputs: &[T],
     ctx: &mut Ctx,
     id: u32,
     branch: &mut Branch,
-    last: &mut Vec3,
-) -> Result<Vec3, Break> {
-    let p = |q: &P3| point(s, q, inputs);
-    let d = |v: &D3| dir(s, v, inputs);
+    last: &mut Vec3<T>,
+) -> Result<Vec3<T>, Break> {
+    let p = |q: &P3| s.point(q, inputs);
+    let d = |v: &D3| s.dir(v, inputs);
     let circ = |pivot: &P3, axis: &D3, at: &P3| spatial::circle_about(p(pivot), d(axis), p(at));
     match loci {
         [Locus3::Circle { pivot, axis, at }, Locus3::Circle {

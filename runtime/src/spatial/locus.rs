@@ -12,8 +12,9 @@
 //! Radii are non-negative; normals, axes and line directions are unit
 //! vectors (the compiler normalises them once, at plan time).
 
-use super::{add, cross, dot, norm, norm2, perpendicular, reject, scale, sub, unit, Vec3};
+use super::{add, cross, cst, dot, norm, norm2, perpendicular, reject, scale, sub, unit, value, Vec3};
 use crate::frame::{Branch, BranchPolicy, Break, BreakKind, Ctx, StepId};
+use crate::real::Real;
 
 /// Squared half-chords smaller than this (relative to the squared radii)
 /// count as tangency rather than a miss: round-off at a tangent pose must
@@ -29,14 +30,26 @@ const COPLANAR: f64 = 1e-9;
 /// a plane's unit normal is parallel to the plane (as planar `line_line`).
 const PARALLEL: f64 = 1e-12;
 
+/// Squared half-chords below this (relative to the squared radii) are dead
+/// points for rates ([`Real::sqrt_dead`]), as in the planar steps.
+const DEAD_FOR_RATES: f64 = 1e-10;
+
+/// A root within round-off of tangency: the value 0 exactly (as the `f64`
+/// steps take it), with infinite rates if the squared half-chord `h2`
+/// moves (a dead point).
+#[inline(always)]
+fn tangent<T: Real>(h2: T) -> T {
+    (h2 - T::cst(h2.value())).sqrt()
+}
+
 #[inline]
 fn dist2(a: Vec3, b: Vec3) -> f64 {
     norm2(sub(a, b))
 }
 
 #[inline]
-fn midpoint(a: Vec3, b: Vec3) -> Vec3 {
-    scale(add(a, b), 0.5)
+fn midpoint<T: Real>(a: Vec3<T>, b: Vec3<T>) -> Vec3<T> {
+    scale(add(a, b), T::cst(0.5))
 }
 
 /// Chooses one of two roots by policy and records the choice. When the two
@@ -44,9 +57,16 @@ fn midpoint(a: Vec3, b: Vec3) -> Vec3 {
 /// the branch is left alone: there is nothing to choose, and resetting it
 /// would flip a mechanism passing through a tangent pose.
 #[inline]
-fn choose(ctx: &Ctx, plus: Vec3, minus: Vec3, branch: &mut Branch, last: &mut Vec3) -> Vec3 {
-    if ctx.branch == BranchPolicy::Nearest && plus != minus {
-        *branch = if dist2(plus, *last) <= dist2(minus, *last) {
+fn choose<T: Real>(
+    ctx: &Ctx,
+    plus: Vec3<T>,
+    minus: Vec3<T>,
+    branch: &mut Branch,
+    last: &mut Vec3<T>,
+) -> Vec3<T> {
+    let (pv, mv, lv) = (value(plus), value(minus), value(*last));
+    if ctx.branch == BranchPolicy::Nearest && pv != mv {
+        *branch = if dist2(pv, lv) <= dist2(mv, lv) {
             Branch::Plus
         } else {
             Branch::Minus
@@ -62,7 +82,7 @@ fn choose(ctx: &Ctx, plus: Vec3, minus: Vec3, branch: &mut Branch, last: &mut Ve
 
 /// [`choose`] between `base + off` (branch +) and `base − off`.
 #[inline]
-fn pick(ctx: &Ctx, base: Vec3, off: Vec3, branch: &mut Branch, last: &mut Vec3) -> Vec3 {
+fn pick<T: Real>(ctx: &Ctx, base: Vec3<T>, off: Vec3<T>, branch: &mut Branch, last: &mut Vec3<T>) -> Vec3<T> {
     choose(ctx, add(base, off), sub(base, off), branch, last)
 }
 
@@ -71,9 +91,9 @@ fn pick(ctx: &Ctx, base: Vec3, off: Vec3, branch: &mut Branch, last: &mut Vec3) 
 /// projects onto `c`: the direction a degenerate step (concentric loci)
 /// falls back on, continuous with the last frame.
 #[inline]
-fn in_plane_toward(c: Vec3, n: Vec3, toward: Vec3) -> Vec3 {
+fn in_plane_toward<T: Real>(c: Vec3<T>, n: Vec3<T>, toward: Vec3<T>) -> Vec3<T> {
     let u = unit(reject(sub(toward, c), n));
-    if norm2(u) > 0.0 {
+    if norm2(u).value() > 0.0 {
         u
     } else {
         perpendicular(n)
@@ -94,11 +114,11 @@ pub fn circle_distance(x: Vec3, c: Vec3, n: Vec3, r: f64) -> f64 {
 }
 
 /// Two circles in one plane of unit normal `n`.
-enum Pair {
+enum Pair<T> {
     /// They meet at `base ± off`, `off` along `n × (c2 − c1)`.
-    Meet { base: Vec3, off: Vec3 },
+    Meet { base: Vec3<T>, off: Vec3<T> },
     /// They do not meet: `at` is the midpoint of their closest points.
-    Apart { at: Vec3 },
+    Apart { at: Vec3<T> },
     /// They have the same centre.
     Concentric,
 }
@@ -106,25 +126,26 @@ enum Pair {
 /// The points at distance `r1` from `c1` and `r2` from `c2` in the plane of
 /// unit normal `n` through both centres: the planar dyad.
 #[inline]
-fn coplanar_pair(c1: Vec3, r1: f64, c2: Vec3, r2: f64, n: Vec3) -> Pair {
+fn coplanar_pair<T: Real>(c1: Vec3<T>, r1: T, c2: Vec3<T>, r2: T, n: Vec3<T>) -> Pair<T> {
     let d_vec = sub(c2, c1);
     let d2 = norm2(d_vec);
-    if d2 == 0.0 {
+    if d2.value() == 0.0 {
         return Pair::Concentric;
     }
     // As planar `circle_circle`: with k = (r1² − r2² + d²)/2 the chord's foot
     // is c1 + k/d²·(c2 − c1) and the half-chord (h·d)/d²·|c2 − c1|, where
     // (h·d)² = ((r1 + r2)² − d²)(d² − (r1 − r2)²)/4 is factored so that it
     // does not cancel near tangency.
-    let k = 0.5 * (r1 * r1 - r2 * r2 + d2);
+    let k = T::cst(0.5) * (r1 * r1 - r2 * r2 + d2);
     let sum = r1 + r2;
     let diff = r1 - r2;
-    let hd2 = 0.25 * ((sum * sum - d2) * (d2 - diff * diff));
-    let inv_d2 = 1.0 / d2;
-    let hd = if hd2 >= 0.0 {
-        hd2.sqrt()
-    } else if hd2 >= -TANGENT_TOLERANCE * (r1 * r1 + r2 * r2) * d2 {
-        0.0
+    let hd2 = T::cst(0.25) * ((sum * sum - d2) * (d2 - diff * diff));
+    let inv_d2 = T::cst(1.0) / d2;
+    let radii2 = (r1 * r1 + r2 * r2).value();
+    let hd = if hd2.value() >= 0.0 {
+        hd2.sqrt_dead(DEAD_FOR_RATES * radii2 * d2.value())
+    } else if hd2.value() >= -TANGENT_TOLERANCE * radii2 * d2.value() {
+        tangent(hd2)
     } else {
         return coplanar_apart(c1, r1, c2, r2, d_vec, d2);
     };
@@ -138,16 +159,17 @@ fn coplanar_pair(c1: Vec3, r1: f64, c2: Vec3, r2: f64, n: Vec3) -> Pair {
 /// lies on the centre line; the midpoint is what stretching places.
 #[cold]
 #[inline(never)]
-fn coplanar_apart(c1: Vec3, r1: f64, c2: Vec3, r2: f64, d_vec: Vec3, d2: f64) -> Pair {
+fn coplanar_apart<T: Real>(c1: Vec3<T>, r1: T, c2: Vec3<T>, r2: T, d_vec: Vec3<T>, d2: T) -> Pair<T> {
     let d = d2.sqrt();
-    let u = scale(d_vec, 1.0 / d);
-    let apart = d > r1 + r2;
-    let on1 = if apart || r1 >= r2 {
+    let u = scale(d_vec, T::cst(1.0) / d);
+    let (dv, r1v, r2v) = (d.value(), r1.value(), r2.value());
+    let apart = dv > r1v + r2v;
+    let on1 = if apart || r1v >= r2v {
         add(c1, scale(u, r1))
     } else {
         sub(c1, scale(u, r1))
     };
-    let on2 = if apart || r2 >= r1 {
+    let on2 = if apart || r2v >= r1v {
         sub(c2, scale(u, r2))
     } else {
         add(c2, scale(u, r2))
@@ -162,12 +184,13 @@ fn coplanar_apart(c1: Vec3, r1: f64, c2: Vec3, r2: f64, d_vec: Vec3, d2: f64) ->
 /// it by more than `tol` (a line missing by at most `tol`, or by round-off,
 /// touches it: half-chord 0).
 #[inline]
-fn half_chord(r: f64, d: f64, tol: f64) -> Option<f64> {
+fn half_chord<T: Real>(r: T, d: T, tol: f64) -> Option<T> {
     let h2 = (r - d) * (r + d);
-    if h2 >= 0.0 {
-        Some(h2.sqrt())
-    } else if d - r <= tol || h2 >= -TANGENT_TOLERANCE * r * r {
-        Some(0.0)
+    let (h2v, rv) = (h2.value(), r.value());
+    if h2v >= 0.0 {
+        Some(h2.sqrt_dead(DEAD_FOR_RATES * rv * rv))
+    } else if d.value() - rv <= tol || h2v >= -TANGENT_TOLERANCE * rv * rv {
+        Some(tangent(h2))
     } else {
         None
     }
@@ -179,11 +202,11 @@ fn half_chord(r: f64, d: f64, tol: f64) -> Option<f64> {
 /// to learn how many candidates pass (two: a branch to choose; one: a
 /// unique point; none: the circles do not meet).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CircleCandidates {
+pub struct CircleCandidates<T = f64> {
     /// The candidates: index 0 is branch +, index 1 branch −. When the
     /// circles do not meet these are the closest points the rules below
     /// find (possibly the same point twice).
-    pub points: [Vec3; 2],
+    pub points: [Vec3<T>; 2],
     /// Each candidate's miss: its distance from circle 1 plus its distance
     /// from circle 2 (0 for a true intersection; for a point on one circle,
     /// its distance from the other).
@@ -200,7 +223,7 @@ pub struct CircleCandidates {
     pub concentric: bool,
 }
 
-impl CircleCandidates {
+impl<T> CircleCandidates<T> {
     /// How many candidates pass (0, 1 or 2).
     #[inline]
     pub fn count(&self) -> usize {
@@ -229,26 +252,26 @@ pub fn circle_circle_candidates(
 /// from `c1` the concentric fallback takes (the last frame's point).
 #[allow(clippy::too_many_arguments)]
 #[inline]
-fn candidates(
-    c1: Vec3,
-    n1: Vec3,
-    r1: f64,
-    c2: Vec3,
-    n2: Vec3,
-    r2: f64,
+fn candidates<T: Real>(
+    c1: Vec3<T>,
+    n1: Vec3<T>,
+    r1: T,
+    c2: Vec3<T>,
+    n2: Vec3<T>,
+    r2: T,
     tol: f64,
-    toward: Vec3,
-) -> CircleCandidates {
+    toward: Vec3<T>,
+) -> CircleCandidates<T> {
     let m = cross(n1, n2);
     let m2 = norm2(m);
-    if m2 > COPLANAR * COPLANAR {
+    if m2.value() > COPLANAR * COPLANAR {
         return skew_candidates(c1, n1, r1, c2, n2, r2, tol, m, m2);
     }
     // Parallel planes: solve in circle 1's plane, then lift the result
     // halfway to circle 2's plane so that a small offset between the planes
     // is shared by both circles.
     let z = dot(sub(c2, c1), n1);
-    let lift = scale(n1, 0.5 * z);
+    let lift = scale(n1, T::cst(0.5) * z);
     let mut concentric = false;
     let points = match coplanar_pair(c1, r1, sub(c2, scale(n1, z)), r2, n1) {
         Pair::Meet { base, off } => [add(add(base, off), lift), add(sub(base, off), lift)],
@@ -258,7 +281,10 @@ fn candidates(
             [add(add(c1, scale(in_plane_toward(c1, n1, toward), r1)), lift); 2]
         }
     };
-    let miss = |x: Vec3| circle_distance(x, c1, n1, r1) + circle_distance(x, c2, n2, r2);
+    // The misses decide, on values.
+    let (c1v, n1v, r1v, c2v, n2v, r2v) = (value(c1), value(n1), r1.value(), value(c2), value(n2), r2.value());
+    let miss =
+        |x: Vec3<T>| circle_distance(value(x), c1v, n1v, r1v) + circle_distance(value(x), c2v, n2v, r2v);
     let misses = [miss(points[0]), miss(points[1])];
     let ok = !concentric;
     CircleCandidates {
@@ -275,19 +301,22 @@ fn candidates(
 /// 1. `m = n1 × n2`, `m2 = |m|²`.
 #[allow(clippy::too_many_arguments)]
 #[inline]
-fn skew_candidates(
-    c1: Vec3,
-    n1: Vec3,
-    r1: f64,
-    c2: Vec3,
-    n2: Vec3,
-    r2: f64,
+fn skew_candidates<T: Real>(
+    c1: Vec3<T>,
+    n1: Vec3<T>,
+    r1: T,
+    c2: Vec3<T>,
+    n2: Vec3<T>,
+    r2: T,
     tol: f64,
-    m: Vec3,
-    m2: f64,
-) -> CircleCandidates {
-    let miss = |x: Vec3| circle_distance(x, c1, n1, r1) + circle_distance(x, c2, n2, r2);
-    let t = scale(m, 1.0 / m2.sqrt());
+    m: Vec3<T>,
+    m2: T,
+) -> CircleCandidates<T> {
+    // The misses decide, on values.
+    let (c1v, n1v, r1v, c2v, n2v, r2v) = (value(c1), value(n1), r1.value(), value(c2), value(n2), r2.value());
+    let miss =
+        |x: Vec3<T>| circle_distance(value(x), c1v, n1v, r1v) + circle_distance(value(x), c2v, n2v, r2v);
+    let t = scale(m, T::cst(1.0) / m2.sqrt());
     // p0, the point of ℓ nearest c1: c1 moved within plane 1 (along
     // m × n1 = n2 − (n1·n2)·n1) until it reaches plane 2. |m|² stands for
     // 1 − (n1·n2)², which would cancel for nearly parallel planes.
@@ -299,13 +328,21 @@ fn skew_candidates(
     let d2 = norm(sub(c2, add(p0, scale(t, s2))));
     let h1 = half_chord(r1, norm(off1), tol);
     let h2 = half_chord(r2, d2, tol);
-    let at = |tau: f64| add(p0, scale(t, tau));
+    let at = |tau: T| add(p0, scale(t, tau));
     // Index 0 is the larger τ (branch + along t). When ℓ misses circle 2,
     // circle 1's chord ends stand in; when it misses both, the two feet.
     let taus = match (h2, h1) {
         (Some(h2), _) => [s2 + h2, s2 - h2],
         (None, Some(h1)) => [h1, -h1],
-        (None, None) => [s2.max(0.0), s2.min(0.0)],
+        (None, None) => {
+            // [max(s2, 0), min(s2, 0)]
+            let zero = T::cst(0.0);
+            if s2.value() > 0.0 {
+                [s2, zero]
+            } else {
+                [zero, s2]
+            }
+        }
     };
     let mut points = [at(taus[0]), at(taus[1])];
     let mut misses = [miss(points[0]), miss(points[1])];
@@ -316,17 +353,24 @@ fn skew_candidates(
         // two are averaged with weights (h/r²)²: the result is as close to
         // both circles as the better conditioned chord allows, and moves
         // continuously as the conditioning changes.
-        let weight = |h: f64, r: f64| if r > 0.0 { (h / (r * r)).powi(2) } else { 0.0 };
+        let weight = |h: T, r: T| {
+            if r.value() > 0.0 {
+                let q = h / (r * r);
+                q * q
+            } else {
+                T::cst(0.0)
+            }
+        };
         let (w1, w2) = (weight(h1, r1), weight(h2, r2));
         for i in 0..2 {
             if misses[i] > tol {
                 continue;
             }
-            let tau1 = if taus[i] >= 0.0 { h1 } else { -h1 };
-            let tau = if w1 + w2 > 0.0 {
+            let tau1 = if taus[i].value() >= 0.0 { h1 } else { -h1 };
+            let tau = if (w1 + w2).value() > 0.0 {
                 (w1 * tau1 + w2 * taus[i]) / (w1 + w2)
             } else {
-                0.5 * (tau1 + taus[i])
+                T::cst(0.5) * (tau1 + taus[i])
             };
             let x = at(tau);
             let e = miss(x);
@@ -373,19 +417,19 @@ fn skew_candidates(
 /// lies on both circles as accurately as their conditioning allows.
 #[allow(clippy::too_many_arguments)]
 #[inline]
-pub fn circle_circle(
+pub fn circle_circle<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    c1: Vec3,
-    n1: Vec3,
-    r1: f64,
-    c2: Vec3,
-    n2: Vec3,
-    r2: f64,
+    c1: Vec3<T>,
+    n1: Vec3<T>,
+    r1: T,
+    c2: Vec3<T>,
+    n2: Vec3<T>,
+    r2: T,
     tol: f64,
     branch: &mut Branch,
-    last: &mut Vec3,
-) -> Result<Vec3, Break> {
+    last: &mut Vec3<T>,
+) -> Result<Vec3<T>, Break> {
     let cand = candidates(c1, n1, r1, c2, n2, r2, tol, *last);
     let [p, m] = cand.passes;
     let gap = cand.misses[0].min(cand.misses[1]);
@@ -430,24 +474,27 @@ pub fn circle_circle(
 /// midpoint between the circle's point nearest the sphere and the sphere.
 #[allow(clippy::too_many_arguments)]
 #[inline]
-pub fn sphere_circle(
+pub fn sphere_circle<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    cs: Vec3,
-    rs: f64,
-    c: Vec3,
-    n: Vec3,
-    r: f64,
+    cs: Vec3<T>,
+    rs: T,
+    c: Vec3<T>,
+    n: Vec3<T>,
+    r: T,
     branch: &mut Branch,
-    last: &mut Vec3,
-) -> Result<Vec3, Break> {
+    last: &mut Vec3<T>,
+) -> Result<Vec3<T>, Break> {
     let s = dot(sub(cs, c), n);
     let cp = sub(cs, scale(n, s));
-    let rho2 = (rs - s.abs()) * (rs + s.abs());
-    let rho = if rho2 >= 0.0 {
-        Some(rho2.sqrt())
-    } else if rho2 >= -TANGENT_TOLERANCE * rs * rs {
-        Some(0.0)
+    // |s|, its sign taken on the value.
+    let s_abs = if s.value() < 0.0 { -s } else { s };
+    let rho2 = (rs - s_abs) * (rs + s_abs);
+    let (rho2v, rsv) = (rho2.value(), rs.value());
+    let rho = if rho2v >= 0.0 {
+        Some(rho2.sqrt_dead(DEAD_FOR_RATES * rsv * rsv))
+    } else if rho2v >= -TANGENT_TOLERANCE * rsv * rsv {
+        Some(tangent(rho2))
     } else {
         None
     };
@@ -466,22 +513,23 @@ pub fn sphere_circle(
 #[allow(clippy::too_many_arguments)]
 #[cold]
 #[inline(never)]
-fn sphere_circle_miss(
+fn sphere_circle_miss<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    cs: Vec3,
-    rs: f64,
-    c: Vec3,
-    n: Vec3,
-    r: f64,
-    s: f64,
-    cp: Vec3,
-    last: &mut Vec3,
-) -> Result<Vec3, Break> {
+    cs: Vec3<T>,
+    rs: T,
+    c: Vec3<T>,
+    n: Vec3<T>,
+    r: T,
+    s: T,
+    cp: Vec3<T>,
+    last: &mut Vec3<T>,
+) -> Result<Vec3<T>, Break> {
     let e_vec = sub(cp, c);
     let e = norm(e_vec);
-    let near = (s * s + (e - r) * (e - r)).sqrt();
-    let far = (s * s + (e + r) * (e + r)).sqrt();
+    let (sv, ev, rv, rs_t, rs) = (s.value(), e.value(), r.value(), rs, rs.value());
+    let near = (sv * sv + (ev - rv) * (ev - rv)).sqrt();
+    let far = (sv * sv + (ev + rv) * (ev + rv)).sqrt();
     let gap = if rs < near {
         near - rs
     } else if rs > far {
@@ -495,22 +543,22 @@ fn sphere_circle_miss(
     // its far side (too small rather than too large).
     let near_side = rs - near <= far - rs;
     ctx.fail(step, BreakKind::CirclesApart, gap)?;
-    let u = if e > 0.0 {
-        scale(e_vec, 1.0 / e)
+    let u = if ev > 0.0 {
+        scale(e_vec, T::cst(1.0) / e)
     } else {
         in_plane_toward(c, n, *last)
     };
     // The circle's point nearest the sphere: toward cs when the sphere is
     // too small to reach the circle, away from it when too large.
-    let on_circle = if near_side || e == 0.0 {
+    let on_circle = if near_side || ev == 0.0 {
         add(c, scale(u, r))
     } else {
         sub(c, scale(u, r))
     };
     let toward = sub(on_circle, cs);
     let dn = norm(toward);
-    let on_sphere = if dn > 0.0 {
-        add(cs, scale(toward, rs / dn))
+    let on_sphere = if dn.value() > 0.0 {
+        add(cs, scale(toward, rs_t / dn))
     } else {
         on_circle
     };
@@ -528,26 +576,27 @@ fn sphere_circle_miss(
 /// nearest `c` and the sphere.
 #[allow(clippy::too_many_arguments)]
 #[inline]
-pub fn line_sphere(
+pub fn line_sphere<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    p: Vec3,
-    d: Vec3,
-    c: Vec3,
-    r: f64,
+    p: Vec3<T>,
+    d: Vec3<T>,
+    c: Vec3<T>,
+    r: T,
     branch: &mut Branch,
-    last: &mut Vec3,
-) -> Result<Vec3, Break> {
+    last: &mut Vec3<T>,
+) -> Result<Vec3<T>, Break> {
     let foot = add(p, scale(d, dot(sub(c, p), d)));
     let v = sub(foot, c);
     let off = norm(v);
     let h2 = (r - off) * (r + off);
-    let h = if h2 >= 0.0 {
-        h2.sqrt()
-    } else if h2 >= -TANGENT_TOLERANCE * r * r {
-        0.0
+    let (h2v, rv) = (h2.value(), r.value());
+    let h = if h2v >= 0.0 {
+        h2.sqrt_dead(DEAD_FOR_RATES * rv * rv)
+    } else if h2v >= -TANGENT_TOLERANCE * rv * rv {
+        tangent(h2)
     } else {
-        ctx.fail(step, BreakKind::LineMissesCircle, off - r)?;
+        ctx.fail(step, BreakKind::LineMissesCircle, off.value() - rv)?;
         // off > r ≥ 0 here, so the division is safe.
         let x = midpoint(add(c, scale(v, r / off)), foot);
         *last = x;
@@ -571,22 +620,22 @@ pub fn line_sphere(
 ///   otherwise; stretching returns the midpoint between it and the circle.
 #[allow(clippy::too_many_arguments)]
 #[inline]
-pub fn line_circle(
+pub fn line_circle<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    p: Vec3,
-    d: Vec3,
-    c: Vec3,
-    n: Vec3,
-    r: f64,
+    p: Vec3<T>,
+    d: Vec3<T>,
+    c: Vec3<T>,
+    n: Vec3<T>,
+    r: T,
     tol: f64,
     branch: &mut Branch,
-    last: &mut Vec3,
-) -> Result<Vec3, Break> {
+    last: &mut Vec3<T>,
+) -> Result<Vec3<T>, Break> {
     let dn = dot(d, n);
-    if dn.abs() > COPLANAR {
+    if dn.value().abs() > COPLANAR {
         let x = add(p, scale(d, dot(sub(c, p), n) / dn));
-        let miss = circle_distance(x, c, n, r);
+        let miss = circle_distance(value(x), value(c), value(n), r.value());
         if miss > tol {
             ctx.fail(step, BreakKind::LineMissesCircle, miss)?;
             let on_circle = add(c, scale(in_plane_toward(c, n, x), r));
@@ -605,22 +654,23 @@ pub fn line_circle(
     let v_in = sub(v, scale(n, z));
     let off = norm(v_in);
     let h2 = (r - off) * (r + off);
-    let h = if h2 >= 0.0 {
-        h2.sqrt()
-    } else if h2 >= -TANGENT_TOLERANCE * r * r {
-        0.0
+    let (h2v, rv) = (h2.value(), r.value());
+    let h = if h2v >= 0.0 {
+        h2.sqrt_dead(DEAD_FOR_RATES * rv * rv)
+    } else if h2v >= -TANGENT_TOLERANCE * rv * rv {
+        tangent(h2)
     } else {
-        let dr = off - r;
-        ctx.fail(step, BreakKind::LineMissesCircle, (dr * dr + z * z).sqrt())?;
+        let (dr, zv) = (off.value() - rv, z.value());
+        ctx.fail(step, BreakKind::LineMissesCircle, (dr * dr + zv * zv).sqrt())?;
         let x = midpoint(add(c, scale(v_in, r / off)), foot);
         *last = x;
         return Ok(x);
     };
     let mut base = foot;
-    if z.abs() > tol {
-        ctx.fail(step, BreakKind::LineMissesCircle, z.abs())?;
+    if z.value().abs() > tol {
+        ctx.fail(step, BreakKind::LineMissesCircle, z.value().abs())?;
         // Halfway down to the circle's plane, above the in-plane roots.
-        base = sub(foot, scale(n, 0.5 * z));
+        base = sub(foot, scale(n, T::cst(0.5) * z));
     }
     Ok(pick(ctx, base, scale(d, h), branch, last))
 }
@@ -631,12 +681,19 @@ pub fn line_circle(
 /// distance from the plane); stretching returns the point halfway from `p`
 /// to the plane.
 #[inline]
-pub fn line_plane(ctx: &mut Ctx, step: StepId, p: Vec3, d: Vec3, q: Vec3, n: Vec3) -> Result<Vec3, Break> {
+pub fn line_plane<T: Real>(
+    ctx: &mut Ctx,
+    step: StepId,
+    p: Vec3<T>,
+    d: Vec3<T>,
+    q: Vec3<T>,
+    n: Vec3<T>,
+) -> Result<Vec3<T>, Break> {
     let dn = dot(d, n);
     let z = dot(sub(q, p), n);
-    if dn.abs() <= PARALLEL {
-        ctx.fail(step, BreakKind::ParallelLines, z.abs())?;
-        return Ok(add(p, scale(n, 0.5 * z)));
+    if dn.value().abs() <= PARALLEL {
+        ctx.fail(step, BreakKind::ParallelLines, z.value().abs())?;
+        return Ok(add(p, scale(n, T::cst(0.5) * z)));
     }
     Ok(add(p, scale(d, z / dn)))
 }
@@ -653,25 +710,25 @@ pub fn line_plane(ctx: &mut Ctx, step: StepId, p: Vec3, d: Vec3, q: Vec3, n: Vec
 /// that point moved halfway to the plane).
 #[allow(clippy::too_many_arguments)]
 #[inline]
-pub fn plane_circle(
+pub fn plane_circle<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    q: Vec3,
-    nq: Vec3,
-    c: Vec3,
-    n: Vec3,
-    r: f64,
+    q: Vec3<T>,
+    nq: Vec3<T>,
+    c: Vec3<T>,
+    n: Vec3<T>,
+    r: T,
     branch: &mut Branch,
-    last: &mut Vec3,
-) -> Result<Vec3, Break> {
+    last: &mut Vec3<T>,
+) -> Result<Vec3<T>, Break> {
     let t = cross(nq, n);
     let t2 = norm2(t);
     // Height of the circle's centre above the plane.
     let zc = dot(sub(c, q), nq);
-    if t2 <= PARALLEL * PARALLEL {
-        ctx.fail(step, BreakKind::ParallelLines, zc.abs())?;
+    if t2.value() <= PARALLEL * PARALLEL {
+        ctx.fail(step, BreakKind::ParallelLines, zc.value().abs())?;
         let on_circle = add(c, scale(in_plane_toward(c, n, *last), r));
-        let x = sub(on_circle, scale(nq, 0.5 * dot(sub(on_circle, q), nq)));
+        let x = sub(on_circle, scale(nq, T::cst(0.5) * dot(sub(on_circle, q), nq)));
         *last = x;
         return Ok(x);
     }
@@ -680,20 +737,22 @@ pub fn plane_circle(
     // roots are c − zc/|w|²·w ± √(r²|w|² − zc²)/|w|²·t.
     let w = cross(n, t);
     let rw = r * t2.sqrt();
-    let h2 = (rw - zc.abs()) * (rw + zc.abs());
-    let h = if h2 >= 0.0 {
-        h2.sqrt()
-    } else if h2 >= -TANGENT_TOLERANCE * rw * rw {
-        0.0
+    let zc_abs = if zc.value() < 0.0 { -zc } else { zc };
+    let h2 = (rw - zc_abs) * (rw + zc_abs);
+    let (h2v, rwv) = (h2.value(), rw.value());
+    let h = if h2v >= 0.0 {
+        h2.sqrt_dead(DEAD_FOR_RATES * rwv * rwv)
+    } else if h2v >= -TANGENT_TOLERANCE * rwv * rwv {
+        tangent(h2)
     } else {
-        ctx.fail(step, BreakKind::LineMissesCircle, zc.abs() - rw)?;
-        let toward = scale(w, -zc.signum() * r / t2.sqrt());
+        ctx.fail(step, BreakKind::LineMissesCircle, zc_abs.value() - rwv)?;
+        let toward = scale(w, (r / t2.sqrt()).mul_f64(-zc.value().signum()));
         let on_circle = add(c, toward);
-        let x = sub(on_circle, scale(nq, 0.5 * dot(sub(on_circle, q), nq)));
+        let x = sub(on_circle, scale(nq, T::cst(0.5) * dot(sub(on_circle, q), nq)));
         *last = x;
         return Ok(x);
     };
-    let inv_t2 = 1.0 / t2;
+    let inv_t2 = T::cst(1.0) / t2;
     let base = sub(c, scale(w, zc * inv_t2));
     Ok(pick(ctx, base, scale(t, h * inv_t2), branch, last))
 }
@@ -715,33 +774,34 @@ pub fn plane_circle(
 /// root and break too (stretching: midway toward `last`).
 #[allow(clippy::too_many_arguments)]
 #[inline]
-pub fn cone_cone(
+pub fn cone_cone<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    w1: Vec3,
+    w1: Vec3<T>,
     cos1: f64,
-    w2: Vec3,
+    w2: Vec3<T>,
     cos2: f64,
     branch: &mut Branch,
-    last: &mut Vec3,
-) -> Result<Vec3, Break> {
+    last: &mut Vec3<T>,
+) -> Result<Vec3<T>, Break> {
     let c = dot(w1, w2);
     let m = cross(w1, w2);
     let m2 = norm2(m);
-    if m2 <= COPLANAR * COPLANAR {
+    if m2.value() <= COPLANAR * COPLANAR {
         return cone_cone_coaxial(ctx, step, w1, cos1, c, cos2, last);
     }
-    let xp = cos1 - c * cos2;
-    let yp = cos2 - c * cos1;
-    let det = (1.0 - cos1) * (1.0 + cos1) * m2 - yp * yp;
-    let root = if det >= 0.0 {
-        det.sqrt()
-    } else if det >= -TANGENT_TOLERANCE * m2 {
-        0.0
+    let xp = T::cst(cos1) - c.mul_f64(cos2);
+    let yp = T::cst(cos2) - c.mul_f64(cos1);
+    let det = m2.mul_f64((1.0 - cos1) * (1.0 + cos1)) - yp * yp;
+    let m2v = m2.value();
+    let root = if det.value() >= 0.0 {
+        det.sqrt_dead(DEAD_FOR_RATES * m2v)
+    } else if det.value() >= -TANGENT_TOLERANCE * m2v {
+        tangent(det)
     } else {
         return cone_cone_apart(ctx, step, w1, cos1, cos2, c, m, m2, last);
     };
-    let inv_m2 = 1.0 / m2;
+    let inv_m2 = T::cst(1.0) / m2;
     let base = scale(add(scale(w1, xp), scale(w2, yp)), inv_m2);
     Ok(pick(ctx, base, scale(m, root * inv_m2), branch, last))
 }
@@ -764,33 +824,34 @@ fn wrap(a: f64, b: f64) -> f64 {
 #[allow(clippy::too_many_arguments)]
 #[cold]
 #[inline(never)]
-fn cone_cone_apart(
+fn cone_cone_apart<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    w1: Vec3,
+    w1: Vec3<T>,
     cos1: f64,
     cos2: f64,
-    c: f64,
-    m: Vec3,
-    m2: f64,
-    last: &mut Vec3,
-) -> Result<Vec3, Break> {
+    c: T,
+    m: Vec3<T>,
+    m2: T,
+    last: &mut Vec3<T>,
+) -> Result<Vec3<T>, Break> {
     let mn = m2.sqrt();
     let alpha = cos1.clamp(-1.0, 1.0).acos();
     let beta = cos2.clamp(-1.0, 1.0).acos();
     let gamma = mn.atan2(c);
-    let mut best = (f64::INFINITY, 0.0);
+    let mut best = (f64::INFINITY, T::cst(0.0));
     for a in [alpha, -alpha] {
-        for b in [gamma + beta, gamma - beta] {
-            let d = wrap(a, b);
-            if d.abs() < best.0 {
-                best = (d.abs(), b + 0.5 * d);
+        for b in [gamma + T::cst(beta), gamma - T::cst(beta)] {
+            // wrap(a, b) on the value, with the rates of a − b.
+            let d = (T::cst(a) - b).with_value(wrap(a, b.value()));
+            if d.value().abs() < best.0 {
+                best = (d.value().abs(), b + T::cst(0.5) * d);
             }
         }
     }
     ctx.fail(step, BreakKind::CirclesApart, best.0)?;
     // The unit vector of the axes' plane perpendicular to w1, toward w2.
-    let u = scale(cross(m, w1), 1.0 / mn);
+    let u = scale(cross(m, w1), T::cst(1.0) / mn);
     let (s, co) = best.1.sin_cos();
     let x = add(scale(w1, co), scale(u, s));
     *last = x;
@@ -801,21 +862,21 @@ fn cone_cone_apart(
 /// (of angle β or π − β), so the cones coincide or miss entirely.
 #[cold]
 #[inline(never)]
-fn cone_cone_coaxial(
+fn cone_cone_coaxial<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    w1: Vec3,
+    w1: Vec3<T>,
     cos1: f64,
-    c: f64,
+    c: T,
     cos2: f64,
-    last: &mut Vec3,
-) -> Result<Vec3, Break> {
+    last: &mut Vec3<T>,
+) -> Result<Vec3<T>, Break> {
     let alpha = cos1.clamp(-1.0, 1.0).acos();
-    let beta = (c.signum() * cos2).clamp(-1.0, 1.0).acos();
+    let beta = (c.value().signum() * cos2).clamp(-1.0, 1.0).acos();
     ctx.fail(step, BreakKind::CirclesApart, (alpha - beta).abs())?;
-    let u = in_plane_toward([0.0; 3], w1, *last);
+    let u = in_plane_toward(cst([0.0; 3]), w1, *last);
     let (s, co) = (0.5 * (alpha + beta)).sin_cos();
-    let x = add(scale(w1, co), scale(u, s));
+    let x = add(scale(w1, T::cst(co)), scale(u, T::cst(s)));
     *last = x;
     Ok(x)
 }
@@ -845,55 +906,68 @@ fn cone_cone_coaxial(
 ///   closest angle, atan2(B, A) (or that plus π when C < 0).
 #[allow(clippy::too_many_arguments)]
 #[inline]
-pub fn rotation_to_condition(
+pub fn rotation_to_condition<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    axis: Vec3,
-    v: Vec3,
-    w: Vec3,
+    axis: Vec3<T>,
+    v: Vec3<T>,
+    w: Vec3<T>,
     c: f64,
     branch: &mut Branch,
     last: &mut f64,
-) -> Result<(f64, f64), Break> {
+) -> Result<(T, T), Break> {
     let va = dot(v, axis);
     let a = dot(reject(v, axis), w);
     let b = dot(cross(axis, v), w);
-    let cc = c - va * dot(axis, w);
+    let cc = T::cst(c) - va * dot(axis, w);
     let r2 = a * a + b * b;
     let r = r2.sqrt();
     // |v||w| with one square root.
-    let size = (norm2(v) * norm2(w)).sqrt();
-    let s2 = (r - cc.abs()) * (r + cc.abs());
-    if s2 < 0.0 && cc.abs() - r > TANGENT_TOLERANCE * size {
-        ctx.fail(step, BreakKind::LineCannotReach, cc.abs() - r)?;
-        let (co, si) = if r > TANGENT_TOLERANCE * size {
-            let k = cc.signum() / r;
+    let size = (norm2(v) * norm2(w)).value().sqrt();
+    // |C|, its sign taken on the value.
+    let cc_abs = if cc.value() < 0.0 { -cc } else { cc };
+    let s2 = (r - cc_abs) * (r + cc_abs);
+    let (rv, ccv) = (r.value(), cc.value());
+    if s2.value() < 0.0 && ccv.abs() - rv > TANGENT_TOLERANCE * size {
+        ctx.fail(step, BreakKind::LineCannotReach, ccv.abs() - rv)?;
+        let (co, si) = if rv > TANGENT_TOLERANCE * size {
+            let k = (T::cst(1.0) / r).mul_f64(ccv.signum());
             (a * k, b * k)
         } else {
-            (1.0, 0.0)
+            (T::cst(1.0), T::cst(0.0))
         };
-        *last = si;
+        *last = si.value();
         return Ok((co, si));
     }
-    if r <= TANGENT_TOLERANCE * size || r2 == 0.0 {
+    if rv <= TANGENT_TOLERANCE * size || r2.value() == 0.0 {
         *last = 0.0;
-        return Ok((1.0, 0.0));
+        return Ok((T::cst(1.0), T::cst(0.0)));
     }
-    let s = s2.max(0.0).sqrt();
+    let s = if s2.value() > 0.0 {
+        s2.sqrt_dead(DEAD_FOR_RATES * r2.value())
+    } else {
+        tangent(s2)
+    };
     // Normalised by their own lengths so that both are unit pairs to
     // rounding (C is clamped to ±R at tangency).
-    let cl = cc.clamp(-r, r);
-    let unit_pair = |co: f64, si: f64| {
+    let cl = if ccv < -rv {
+        -r
+    } else if ccv > rv {
+        r
+    } else {
+        cc
+    };
+    let unit_pair = |co: T, si: T| {
         let n = (co * co + si * si).sqrt();
         (co / n, si / n)
     };
     // Only the root asked for is normalised, unless the nearest of the two
     // is to be chosen: (A·C ∓ B·S, B·C ± A·S), both of length R².
     if ctx.branch == BranchPolicy::Nearest {
-        let (pc, mc) = (a * cl - b * s, a * cl + b * s);
+        let (pc, mc) = ((a * cl - b * s).value(), (a * cl + b * s).value());
         // Both pairs have the same length: the larger cosine is the larger
         // first component.
-        if s != 0.0 {
+        if s.value() != 0.0 {
             *branch = if pc >= mc { Branch::Plus } else { Branch::Minus };
         }
     }
@@ -901,7 +975,7 @@ pub fn rotation_to_condition(
         Branch::Plus => unit_pair(a * cl - b * s, b * cl + a * s),
         Branch::Minus => unit_pair(a * cl + b * s, b * cl - a * s),
     };
-    *last = x.1;
+    *last = x.1.value();
     Ok(x)
 }
 
@@ -909,7 +983,7 @@ pub fn rotation_to_condition(
 /// `axis`): its centre (the foot of `at` on the axis), normal and radius,
 /// as the intersections take them.
 #[inline]
-pub fn circle_about(pivot: Vec3, axis: Vec3, at: Vec3) -> (Vec3, Vec3, f64) {
+pub fn circle_about<T: Real>(pivot: Vec3<T>, axis: Vec3<T>, at: Vec3<T>) -> (Vec3<T>, Vec3<T>, T) {
     let centre = add(pivot, scale(axis, dot(sub(at, pivot), axis)));
     (centre, axis, norm(sub(at, centre)))
 }

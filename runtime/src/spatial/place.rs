@@ -1,7 +1,8 @@
 //! Placing a body once its loci are met: rotations about a point or an axis
 //! and translations, each applied to the body's current pose.
 
-use super::{cross, dot, norm2, reject, sub, Pose3, Rot3, Vec3};
+use super::{cross, cst, dot, norm2, reject, sub, Pose3, Rot3, Vec3};
+use crate::real::Real;
 
 /// A perpendicular shorter than this fraction of its point's distance from
 /// the pivot is rounding, not a direction: the point counts as on the axis.
@@ -13,11 +14,17 @@ const ON_AXIS: f64 = 1e-12;
 /// marker's world position minus the pivot and its target minus the pivot;
 /// [`rotate_about_point_onto`] takes the points themselves.
 #[inline]
-pub fn rotate_about_point(pose: &mut Pose3, pivot: Vec3, from: Vec3, to: Vec3) {
+pub fn rotate_about_point<T: Real>(pose: &mut Pose3<T>, pivot: Vec3<T>, from: Vec3<T>, to: Vec3<T>) {
     // Already aligned (to rounding): the common case of a body whose
-    // direction a previous frame set, at no cost.
+    // direction a previous frame set, at no cost. On jets the pose keeps
+    // its value and takes the rates of the turn (which need not vanish).
     let k = cross(from, to);
-    if dot(from, to) > 0.0 && norm2(k) <= 1e-30 * norm2(from) * norm2(to) {
+    if dot(from, to).value() > 0.0 && norm2(k).value() <= 1e-30 * norm2(from).value() * norm2(to).value() {
+        if T::JETS {
+            let before = *pose;
+            pose.rotate_about(pivot, &Rot3::minimal(from, to));
+            *pose = pose.with_values(&before);
+        }
         return;
     }
     pose.rotate_about(pivot, &Rot3::minimal(from, to));
@@ -27,7 +34,7 @@ pub fn rotate_about_point(pose: &mut Pose3, pivot: Vec3, from: Vec3, to: Vec3) {
 /// puts the world point `from` on the ray from `pivot` through the world
 /// point `to` (exactly on `to` when both are as far from the pivot).
 #[inline]
-pub fn rotate_about_point_onto(pose: &mut Pose3, pivot: Vec3, from: Vec3, to: Vec3) {
+pub fn rotate_about_point_onto<T: Real>(pose: &mut Pose3<T>, pivot: Vec3<T>, from: Vec3<T>, to: Vec3<T>) {
     rotate_about_point(pose, pivot, sub(from, pivot), sub(to, pivot));
 }
 
@@ -41,7 +48,13 @@ pub fn rotate_about_point_onto(pose: &mut Pose3, pivot: Vec3, from: Vec3, to: Ve
 /// If either point is on the axis, the angle is undefined and the body does
 /// not move.
 #[inline]
-pub fn rotate_about_axis_onto(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from: Vec3, to: Vec3) {
+pub fn rotate_about_axis_onto<T: Real>(
+    pose: &mut Pose3<T>,
+    pivot: Vec3<T>,
+    axis: Vec3<T>,
+    from: Vec3<T>,
+    to: Vec3<T>,
+) {
     rotate_about_axis_dir(pose, pivot, axis, sub(from, pivot), sub(to, pivot));
 }
 
@@ -52,7 +65,13 @@ pub fn rotate_about_axis_onto(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from: V
 /// If either direction is (to rounding) along the axis, the angle is
 /// undefined and the body does not move.
 #[inline]
-pub fn rotate_about_axis_dir(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from_dir: Vec3, to_dir: Vec3) {
+pub fn rotate_about_axis_dir<T: Real>(
+    pose: &mut Pose3<T>,
+    pivot: Vec3<T>,
+    axis: Vec3<T>,
+    from_dir: Vec3<T>,
+    to_dir: Vec3<T>,
+) {
     if let Some((c, s)) = axis_turn(axis, from_dir, to_dir) {
         rotate_about_axis_angle(pose, pivot, axis, c, s);
     }
@@ -62,11 +81,11 @@ pub fn rotate_about_axis_dir(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from_dir
 /// component of `from_dir` across the axis to that of `to_dir`; none when
 /// either is (to rounding) along the axis.
 #[inline(always)]
-fn axis_turn(axis: Vec3, from_dir: Vec3, to_dir: Vec3) -> Option<(f64, f64)> {
+fn axis_turn<T: Real>(axis: Vec3<T>, from_dir: Vec3<T>, to_dir: Vec3<T>) -> Option<(T, T)> {
     let u = reject(from_dir, axis);
     let v = reject(to_dir, axis);
-    let (u2, v2) = (norm2(u), norm2(v));
-    if u2 <= ON_AXIS * ON_AXIS * norm2(from_dir) || v2 <= ON_AXIS * ON_AXIS * norm2(to_dir) {
+    let (u2, v2) = (norm2(u).value(), norm2(v).value());
+    if u2 <= ON_AXIS * ON_AXIS * norm2(from_dir).value() || v2 <= ON_AXIS * ON_AXIS * norm2(to_dir).value() {
         return None;
     }
     // cos and sin of the angle scaled by |u||v|: no trigonometry, one square
@@ -75,7 +94,7 @@ fn axis_turn(axis: Vec3, from_dir: Vec3, to_dir: Vec3) -> Option<(f64, f64)> {
     let c = dot(u, v);
     let s = dot(cross(u, v), axis);
     let n = (c * c + s * s).sqrt();
-    (n > 0.0).then(|| (c / n, s / n))
+    (n.value() > 0.0).then(|| (c / n, s / n))
 }
 
 /// Places a body hinged on a fixed line outright: its pose becomes the turn
@@ -87,16 +106,16 @@ fn axis_turn(axis: Vec3, from_dir: Vec3, to_dir: Vec3) -> Option<(f64, f64)> {
 /// step re-imposing the hinge, and a rotation built afresh every frame
 /// never drifts from orthonormal.
 #[inline(always)]
-pub fn hinge(pose: &mut Pose3, pivot: Vec3, axis: Vec3, cos: f64, sin: f64) {
-    *pose = super::joint_pose(axis, pivot, cos, sin, 0.0);
+pub fn hinge<T: Real>(pose: &mut Pose3<T>, pivot: Vec3, axis: Vec3, cos: T, sin: T) {
+    *pose = super::joint_pose(cst(axis), cst(pivot), cos, sin, T::cst(0.0));
 }
 
 /// [`hinge`] by `degrees` (right-handed about `axis`), the cosine and sine
 /// from [`Rot::from_degrees`](crate::planar::Rot::from_degrees) as every
 /// angle input's.
 #[inline(always)]
-pub fn hinge_degrees(pose: &mut Pose3, pivot: Vec3, axis: Vec3, degrees: f64) {
-    let r = crate::planar::Rot::from_degrees(degrees);
+pub fn hinge_degrees<T: Real>(pose: &mut Pose3<T>, pivot: Vec3, axis: Vec3, degrees: T) {
+    let r = degrees.degrees_rot();
     hinge(pose, pivot, axis, r.c, r.s);
 }
 
@@ -105,8 +124,8 @@ pub fn hinge_degrees(pose: &mut Pose3, pivot: Vec3, axis: Vec3, degrees: f64) {
 /// outright form of [`rotate_about_axis_onto`]). If either point is on the
 /// line the angle is undefined and the body keeps its pose.
 #[inline(always)]
-pub fn hinge_onto(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from: Vec3, to: Vec3) {
-    hinge_dir(pose, pivot, axis, sub(from, pivot), sub(to, pivot));
+pub fn hinge_onto<T: Real>(pose: &mut Pose3<T>, pivot: Vec3, axis: Vec3, from: Vec3, to: Vec3<T>) {
+    hinge_dir(pose, pivot, axis, sub(from, pivot), sub(to, cst(pivot)));
 }
 
 /// [`hinge`] by the angle that takes the body's direction `from_dir` *as
@@ -114,8 +133,8 @@ pub fn hinge_onto(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from: Vec3, to: Vec
 /// line; the outright form of [`rotate_about_axis_dir`]). If either is
 /// along the line the body keeps its pose.
 #[inline(always)]
-pub fn hinge_dir(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from_dir: Vec3, to_dir: Vec3) {
-    if let Some((c, s)) = axis_turn(axis, from_dir, to_dir) {
+pub fn hinge_dir<T: Real>(pose: &mut Pose3<T>, pivot: Vec3, axis: Vec3, from_dir: Vec3, to_dir: Vec3<T>) {
+    if let Some((c, s)) = axis_turn(cst(axis), cst(from_dir), to_dir) {
         hinge(pose, pivot, axis, c, s);
     }
 }
@@ -123,28 +142,28 @@ pub fn hinge_dir(pose: &mut Pose3, pivot: Vec3, axis: Vec3, from_dir: Vec3, to_d
 /// Rotates a body about the line through `pivot` along the unit vector
 /// `axis` by the angle whose cosine and sine are `cos` and `sin`.
 #[inline]
-pub fn rotate_about_axis_angle(pose: &mut Pose3, pivot: Vec3, axis: Vec3, cos: f64, sin: f64) {
+pub fn rotate_about_axis_angle<T: Real>(pose: &mut Pose3<T>, pivot: Vec3<T>, axis: Vec3<T>, cos: T, sin: T) {
     pose.rotate_about(pivot, &Rot3::about_axis(axis, cos, sin));
 }
 
 /// Translates a body by `to − from`, so that the world point `from` (a
 /// marker's current world position) lands on `to`.
 #[inline]
-pub fn translate_onto(pose: &mut Pose3, from: Vec3, to: Vec3) {
+pub fn translate_onto<T: Real>(pose: &mut Pose3<T>, from: Vec3<T>, to: Vec3<T>) {
     pose.translate(sub(to, from));
 }
 
 /// Translates a body along the unit `dir` by the component of `to − from`
 /// along it (a body sliding on a line: `from` reaches `to`'s height).
 #[inline]
-pub fn translate_along(pose: &mut Pose3, from: Vec3, to: Vec3, dir: Vec3) {
+pub fn translate_along<T: Real>(pose: &mut Pose3<T>, from: Vec3<T>, to: Vec3<T>, dir: Vec3<T>) {
     pose.translate(super::scale(dir, dot(sub(to, from), dir)));
 }
 
 /// Translates a body across the unit `normal` by the component of
 /// `to − from` across it (a body sliding in a plane).
 #[inline]
-pub fn translate_in_plane(pose: &mut Pose3, from: Vec3, to: Vec3, normal: Vec3) {
+pub fn translate_in_plane<T: Real>(pose: &mut Pose3<T>, from: Vec3<T>, to: Vec3<T>, normal: Vec3<T>) {
     let v = sub(to, from);
     pose.translate(sub(v, super::scale(normal, dot(v, normal))));
 }
@@ -152,7 +171,7 @@ pub fn translate_in_plane(pose: &mut Pose3, from: Vec3, to: Vec3, normal: Vec3) 
 /// Translates a body so its point `from` lands on its foot on the line
 /// (`through`, unit `dir`).
 #[inline]
-pub fn translate_to_line(pose: &mut Pose3, from: Vec3, through: Vec3, dir: Vec3) {
+pub fn translate_to_line<T: Real>(pose: &mut Pose3<T>, from: Vec3<T>, through: Vec3<T>, dir: Vec3<T>) {
     let foot = super::add(through, super::scale(dir, dot(sub(from, through), dir)));
     translate_onto(pose, from, foot);
 }
@@ -160,7 +179,7 @@ pub fn translate_to_line(pose: &mut Pose3, from: Vec3, through: Vec3, dir: Vec3)
 /// Translates a body along the unit `normal` so its point `from` lands on
 /// the plane (`through`, `normal`).
 #[inline]
-pub fn translate_to_plane(pose: &mut Pose3, from: Vec3, through: Vec3, normal: Vec3) {
+pub fn translate_to_plane<T: Real>(pose: &mut Pose3<T>, from: Vec3<T>, through: Vec3<T>, normal: Vec3<T>) {
     pose.translate(super::scale(normal, -dot(sub(from, through), normal)));
 }
 
@@ -168,7 +187,14 @@ pub fn translate_to_plane(pose: &mut Pose3, from: Vec3, through: Vec3, normal: V
 /// distance `(second − first)·dir` becomes `axial`; `sign` is +1 when the
 /// body carries the second marker and −1 when it carries the first.
 #[inline]
-pub fn slide_to(pose: &mut Pose3, first: Vec3, second: Vec3, dir: Vec3, axial: f64, sign: f64) {
+pub fn slide_to<T: Real>(
+    pose: &mut Pose3<T>,
+    first: Vec3<T>,
+    second: Vec3<T>,
+    dir: Vec3<T>,
+    axial: T,
+    sign: f64,
+) {
     let err = axial - dot(sub(second, first), dir);
-    pose.translate(super::scale(dir, sign * err));
+    pose.translate(super::scale(dir, err.mul_f64(sign)));
 }

@@ -5,6 +5,7 @@
 
 use super::{cross, dot, norm, perpendicular, scale, unit, Pose3, Rot3, Vec3};
 use crate::planar::Rot;
+use crate::real::Real;
 
 /// The (sin, cos) of the rotation about `axis` that brings the twist of
 /// `x2` about `axis` from `x1` to `target`: the body carrying `x2` turns by
@@ -13,20 +14,26 @@ use crate::planar::Rot;
 /// cos/sin pair ([`Rot::from_degrees`] of the input) and the current twist
 /// is read as one from dot products, so a frame needs no trigonometry here.
 #[inline]
-pub fn twist_correction(axis: Vec3, x1: Vec3, x2: Vec3, target: Rot, sign: f64) -> (f64, f64) {
+pub fn twist_correction<T: Real>(
+    axis: Vec3<T>,
+    x1: Vec3<T>,
+    x2: Vec3<T>,
+    target: Rot<T>,
+    sign: f64,
+) -> (T, T) {
     let y1 = cross(axis, x1);
     let (c0, s0) = (dot(x2, x1), dot(x2, y1));
     // Unit vectors: no overflow to guard against, so no `hypot`.
     let n = (c0 * c0 + s0 * s0).sqrt();
-    if n == 0.0 {
+    if n.value() == 0.0 {
         // x2 along the axis: no twist to measure, nothing to turn.
-        return (0.0, 1.0);
+        return (T::cst(0.0), T::cst(1.0));
     }
     let (c0, s0) = (c0 / n, s0 / n);
     // target · current⁻¹ as complex numbers.
     let c = target.c * c0 + target.s * s0;
     let s = target.s * c0 - target.c * s0;
-    (sign * s, c)
+    (s.mul_f64(sign), c)
 }
 
 /// Rotates `pose` about `pivot`, about the axis `from × to`, until the
@@ -34,17 +41,18 @@ pub fn twist_correction(axis: Vec3, x1: Vec3, x2: Vec3, target: Rot, sign: f64) 
 /// smallest rotation that puts `from` on the cone about `to`. Parallel
 /// directions tilt about a deterministic perpendicular.
 #[inline]
-pub fn tilt(pose: &mut Pose3, pivot: Vec3, from: Vec3, to: Vec3, cos: f64) {
+pub fn tilt<T: Real>(pose: &mut Pose3<T>, pivot: Vec3<T>, from: Vec3<T>, to: Vec3<T>, cos: f64) {
     let k = cross(from, to);
     let s = norm(k);
-    let axis = if s > 1e-12 {
-        scale(k, 1.0 / s)
+    let axis = if s.value() > 1e-12 {
+        scale(k, T::cst(1.0) / s)
     } else {
         perpendicular(from)
     };
     let current = s.atan2(dot(from, to));
     let wanted = cos.clamp(-1.0, 1.0).acos();
-    let turn = current - wanted;
-    let r = Rot3::about_axis(unit(axis), turn.cos(), turn.sin());
+    let turn = current - T::cst(wanted);
+    let (sin, cos) = turn.sin_cos();
+    let r = Rot3::about_axis(unit(axis), cos, sin);
     pose.rotate_about(pivot, &r);
 }
