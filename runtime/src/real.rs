@@ -38,6 +38,12 @@ pub trait Real:
     /// dead point has rates that are huge and meaningless, not numbers to
     /// print. The value itself is the plain square root.
     fn sqrt_dead(self, dead: f64) -> Self;
+
+    // -- Numeric clusters' rates (the implicit function theorem) --
+
+    /// The sine and cosine of an angle in radians, `(sin, cos)` (as
+    /// `f64::sin_cos`): a cluster body's rotation from its angle unknown.
+    fn sin_cos(self) -> (Self, Self);
 }
 
 impl Real for f64 {
@@ -56,6 +62,13 @@ impl Real for f64 {
     #[inline(always)]
     fn sqrt_dead(self, _: f64) -> f64 {
         f64::sqrt(self)
+    }
+
+    // -- Numeric clusters' rates --
+
+    #[inline(always)]
+    fn sin_cos(self) -> (f64, f64) {
+        f64::sin_cos(self)
     }
 }
 
@@ -169,13 +182,28 @@ impl Real for Jet2 {
             self.sqrt()
         }
     }
+
+    // -- Numeric clusters' rates --
+
+    /// The value by `f64::sin_cos`; s' = c·a', c' = −s·a',
+    /// s'' = c·a'' − s·a'², c'' = −s·a'' − c·a'².
+    #[inline(always)]
+    fn sin_cos(self) -> (Jet2, Jet2) {
+        let (s, c) = self.v.sin_cos();
+        let (w, a) = (self.d, self.dd);
+        (
+            Jet2::new(s, c * w, c * a - s * w * w),
+            Jet2::new(c, -s * w, -s * a - c * w * w),
+        )
+    }
 }
 
 /// Why a frame's rates were not computed.
 #[derive(Clone, Debug, PartialEq)]
 pub enum RateError {
-    /// The plan has a numeric cluster, whose rates (by the implicit
-    /// function theorem on its Jacobian) are not computed yet.
+    /// The plan has a numeric cluster whose rates are not computed. Planar
+    /// clusters have theirs (by the implicit function theorem on the
+    /// cluster's Jacobian) and never give this.
     Cluster,
     /// The frame is at a dead point: a rate is infinite there (two roots
     /// of a step meet), so it is reported as singular, not as a number.
@@ -196,7 +224,7 @@ impl From<Break> for RateError {
 impl std::fmt::Display for RateError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            RateError::Cluster => write!(f, "rates of numeric clusters are not computed yet"),
+            RateError::Cluster => write!(f, "rates of this numeric cluster are not computed"),
             RateError::Singular => write!(f, "singular: a dead point, where a rate is infinite"),
             RateError::Break(b) => write!(f, "step {} breaks ({})", b.step, b.kind.describe()),
             RateError::Split => write!(f, "rates of plans split into functions are not generated yet"),

