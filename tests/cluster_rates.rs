@@ -9,7 +9,7 @@ use dofplan::interp::{Interpreter, RateError};
 use dofplan::model::Mechanism;
 use dofplan::simulate::sweep_requests;
 use dofplan_runtime::planar::Pose;
-use dofplan_runtime::real::Jet2;
+use dofplan_runtime::real::{Jet2, Rates};
 use dofplan_runtime::{Ctx, Driver, FrameStatus, Options, Solver};
 use dofplan_tests::{bundled, load, plan};
 
@@ -110,4 +110,85 @@ fn cluster_rates_agree_with_central_differences() {
         checked += here_checked;
     }
     assert!(checked >= 50, "{checked} frames checked");
+}
+
+/// The compiled plans with clusters: `rates` equals the interpreter's to
+/// 1e-12 on every frame of their sweeps, `solve_rates` gives `solve`'s
+/// positions bit for bit and `rates`' jets exactly.
+#[test]
+fn compiled_cluster_rates_equal_interpreted_ones() {
+    let mut compared = 0;
+    for (name, m) in with_clusters() {
+        let Some(sweep) = m.sweep.clone() else { continue };
+        let interp = Interpreter::new(plan(&m));
+        let n = m.inputs.len();
+        let rates: Vec<f64> = (0..n).map(|k| 10.0 + k as f64).collect();
+        let accels: Vec<f64> = (0..n).map(|k| 2.0 - k as f64).collect();
+        let requests: Vec<Vec<f64>> = sweep_requests(&sweep, n).collect();
+        let module = dofplan::emit::ident_for(&name);
+        dofplan_generated::with_plan!(module.as_str(), |compiled| {
+            let mut dc = Driver::new(compiled, Options::default());
+            let mut di = Driver::new(interp.clone(), Options::default());
+            let mut out = vec![Pose::<Jet2>::cst(Pose::IDENTITY); m.bodies.len()];
+            let mut fused_out = out.clone();
+            let mut fused_state = Solver::initial_state(&compiled);
+            for (i, u) in requests.iter().enumerate() {
+                assert_eq!(dc.frame(u), di.frame(u), "{name}");
+                let mut ctx = Ctx::new(Default::default(), false);
+                let fused =
+                    compiled.solve_rates_into(&mut fused_state, u, &rates, &accels, &mut ctx, &mut fused_out);
+                assert!(
+                    matches!(fused, Ok(()) | Err(RateError::Singular)),
+                    "{name} frame {i}: {fused:?}"
+                );
+                assert_eq!(
+                    fused_state.poses,
+                    dc.state().poses,
+                    "{name} frame {i}: solve_rates' positions are solve's"
+                );
+                let c = compiled.rates_into(dc.state(), dc.inputs(), &rates, &accels, &mut out);
+                let i_rates = interp.rates(di.state(), di.inputs(), &rates, &accels);
+                match (c, i_rates) {
+                    (Ok(()), Ok(jets)) => {
+                        // `rates` solves the cluster again from the frame
+                        // (the unknowns read back from the poses, within
+                        // Newton's tolerance of the one pass's solution but
+                        // not bit for bit, and a last iteration when that
+                        // tips the residual over the tolerance): the one
+                        // pass's jets agree with it to that tolerance, the
+                        // compiled and interpreted `rates` to round-off.
+                        let pairs = |a: &[Pose<Jet2>], b: &[Pose<Jet2>], tol: f64, what: &str| {
+                            for (a, b) in a.iter().zip(b) {
+                                for (x, y) in [
+                                    (a.at[0], b.at[0]),
+                                    (a.at[1], b.at[1]),
+                                    (a.rot.c, b.rot.c),
+                                    (a.rot.s, b.rot.s),
+                                ] {
+                                    for (p, q) in [(x.v, y.v), (x.d, y.d), (x.dd, y.dd)] {
+                                        assert!(
+                                            (p - q).abs() <= tol * (1.0 + q.abs()),
+                                            "{name} frame {i}, {what}: {p} vs {q}"
+                                        );
+                                    }
+                                }
+                            }
+                        };
+                        if fused.is_ok() {
+                            pairs(&fused_out, &out, 1e-9, "solve_rates against rates");
+                        }
+                        pairs(&out, &jets, 1e-12, "compiled against interpreted");
+                        compared += 1;
+                    }
+                    (Err(a), Err(b)) if a == b => {}
+                    (c, i_rates) => panic!(
+                        "{name} frame {i}: compiled {c:?}, interpreted {:?}",
+                        i_rates.map(|_| ())
+                    ),
+                }
+            }
+        })
+        .expect("every mechanism with a cluster is compiled");
+    }
+    assert!(compared > 300, "{compared} frames compared");
 }

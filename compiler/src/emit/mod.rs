@@ -70,6 +70,7 @@ fn index(i: usize) -> Literal {
     Literal::usize_unsuffixed(i)
 }
 
+#[derive(Clone)]
 struct Emitter<'p> {
     plan: &'p Plan,
     input_idents: Vec<Ident>,
@@ -298,8 +299,12 @@ impl Emitter<'_> {
             StepKind::Cluster { params, rows, .. }
                 if Self::fixed_cluster(step.kind.cluster_size().0, step.kind.cluster_size().1) =>
             {
-                let code =
-                    self.fixed_cluster_step(&quote!(#id), params, rows, step.kind.cluster_size(), &mut pre);
+                let size = step.kind.cluster_size();
+                let code = if self.jets {
+                    self.fixed_cluster_rates(&quote!(#id), params, rows, size)
+                } else {
+                    self.fixed_cluster_step(&quote!(#id), params, rows, size, &mut pre, false)
+                };
                 quote! {
                     #marker
                     {
@@ -318,6 +323,7 @@ impl Emitter<'_> {
                             ClusterParam::Free { .. } => quote!(cluster::Param::Free { body: #b }),
                             ClusterParam::Angle { pin, at, .. } => {
                                 let at = self.point(at, &mut pre);
+                                // The pin is local: constants either way.
                                 let pin = point_lit(*pin);
                                 quote!(cluster::Param::Angle { body: #b, pin: #pin, at: #at })
                             }
@@ -378,6 +384,13 @@ impl Emitter<'_> {
                     quote!(#id = all[#i];)
                 });
                 let (n, m, size) = (index(n), index(m), lit(self.plan.size));
+                // On jets: solved on the values as `solve` does, then
+                // differentiated by the implicit function theorem.
+                let solve = if self.jets {
+                    quote!(cluster::solve_rates(ctx, #id, &mut all, &params, &ROWS, &inputs, #size, &mut newton)?;)
+                } else {
+                    quote!(cluster::solve(ctx, #id, &mut all, &params, &ROWS, inputs, #size, &mut newton)?;)
+                };
                 quote! {
                     #marker
                     {
@@ -388,7 +401,7 @@ impl Emitter<'_> {
                         // Too large for fixed-size matrices: the runtime's
                         // dynamically sized solver (which allocates).
                         let mut newton = numeric::Newton::new(#n, #m);
-                        cluster::solve(ctx, #id, &mut all, &params, &ROWS, inputs, #size, &mut newton)?;
+                        #solve
                         #(#writes)*
                     }
                 }
@@ -639,20 +652,14 @@ impl Emitter<'_> {
                 quote!(self::rates(s, inputs, rates, accelerations).map(|r| out.copy_from_slice(&r))),
             )
         } else {
-            // Why there is no `rates`: a numeric cluster, or a plan split
-            // into functions.
-            let why = if plan.clusters() > 0 {
-                quote!(RateError::Cluster)
-            } else {
-                quote!(RateError::Split)
-            };
+            // No `rates`: a plan split into functions.
             (
                 quote!(
                     use dofplan_runtime::real::{Jet2, RateError};
                 ),
                 quote!({
                     let _ = (s, inputs, rates, accelerations, out);
-                    Err(#why)
+                    Err(RateError::Split)
                 }),
             )
         };
@@ -908,10 +915,9 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
         }
         (uses, chunks)
     });
-    // Rates of a plan without numeric clusters, in one function (their
-    // rates by the implicit function theorem, and rates of split plans,
-    // are not generated yet).
-    let rates = (chunks.is_none() && plan.clusters() == 0).then(|| {
+    // Rates of a plan in one function (rates of split plans are not
+    // generated yet).
+    let rates = chunks.is_none().then(|| {
         e.jets = true;
         let jet_steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
         let rates = e.rates_fn();
