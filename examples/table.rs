@@ -211,9 +211,6 @@ fn rates(filter: &[String]) {
     for name in names {
         let m = load(&name);
         let p = plan(&m);
-        if p.clusters() > 0 {
-            continue;
-        }
         let inputs = sweep_inputs(&m, None);
         let n = m.inputs.len();
         let (r, a) = (vec![30.0; n], vec![0.0; n]);

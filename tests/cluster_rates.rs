@@ -192,3 +192,96 @@ fn compiled_cluster_rates_equal_interpreted_ones() {
     }
     assert!(compared > 300, "{compared} frames compared");
 }
+
+/// A body's angular velocity and acceleration from its rotation's jets:
+/// for a unit (c, s), ω = c·ṡ − s·ċ and α = c·s̈ − s·c̈.
+fn omega_alpha(p: &Pose<Jet2>) -> (f64, f64) {
+    let (c, s) = (p.rot.c, p.rot.s);
+    (c.v * s.d - s.v * c.d, c.v * s.dd - s.v * c.dd)
+}
+
+/// Chain-4 (links 2 to 4 a cluster of three angles and one closing joint,
+/// under-constrained): with aₖ link k's vector (joint to joint, the last
+/// one to the ground pivot G1) and P1 the driven link's end, the loop
+/// closure P1 + a2 + a3 + a4 = G1 differentiated gives
+/// [a2⊥ a3⊥ a4⊥]·(ω2, ω3, ω4) = −ω1·P1⊥, and again
+/// [a2⊥ a3⊥ a4⊥]·(α2, α3, α4) = −α1·P1⊥ + ω1²·P1 + Σ ωₖ²·aₖ: two equations
+/// in three rates, solved here by the minimum-norm formula Aᵀ(AAᵀ)⁻¹b (the
+/// least motion the cluster's Newton takes, all unknowns being angles on
+/// one scale), against the plan's jets.
+#[test]
+fn chain_4_moves_by_the_least_motion_its_loop_closure_allows() {
+    let m = load("chain_4");
+    let interp = Interpreter::new(plan(&m));
+    let mut d = Driver::new(interp.clone(), Options::default());
+    let body = |name: &str| m.bodies.iter().position(|b| b.name == name).unwrap();
+    let links = [body("link_1"), body("link_2"), body("link_3"), body("link_4")];
+    let marker = |b: usize, name: &str| m.bodies[b].markers.iter().find(|k| k.name == name).unwrap().at;
+    let g1 = marker(body("ground"), "G1");
+    let (rate, accel) = (30.0, 5.0);
+    let k = std::f64::consts::PI / 180.0;
+    let (w1, a1) = (rate * k, accel * k);
+    let perp = |v: [f64; 2]| [-v[1], v[0]];
+    let sub = |a: [f64; 2], b: [f64; 2]| [a[0] - b[0], a[1] - b[1]];
+    // The minimum-norm solution of the 2 × 3 system [c0 c1 c2]·x = b.
+    let min_norm = |c: [[f64; 2]; 3], b: [f64; 2]| {
+        let g = |i: usize, j: usize| c.iter().map(|col| col[i] * col[j]).sum::<f64>();
+        let (g00, g01, g11) = (g(0, 0), g(0, 1), g(1, 1));
+        let det = g00 * g11 - g01 * g01;
+        let y = [(g11 * b[0] - g01 * b[1]) / det, (g00 * b[1] - g01 * b[0]) / det];
+        c.map(|col| col[0] * y[0] + col[1] * y[1])
+    };
+    for theta in [0.0, -5.0, -11.0, -17.0, -24.0, -30.0] {
+        assert_eq!(d.frame(&[theta]), FrameStatus::Solved);
+        let poses = d.poses();
+        let at = |l: usize, name: &str| poses[links[l]].world(marker(links[l], name));
+        let (p1, p2, p3) = (at(0, "E"), at(1, "E"), at(2, "E"));
+        let a = [sub(p2, p1), sub(p3, p2), sub(g1, p3)];
+        let cols = a.map(perp);
+        let pp1 = perp(p1); // G0 is the origin
+        let w = min_norm(cols, [-w1 * pp1[0], -w1 * pp1[1]]);
+        let rhs =
+            |i: usize| -a1 * pp1[i] + w1 * w1 * p1[i] + (0..3).map(|k| w[k] * w[k] * a[k][i]).sum::<f64>();
+        let al = min_norm(cols, [rhs(0), rhs(1)]);
+        let jets = interp.rates(d.state(), &[theta], &[rate], &[accel]).unwrap();
+        let close = |x: f64, y: f64| (x - y).abs() <= 1e-9 * (1.0 + y.abs());
+        for l in 1..4 {
+            let (pw, pa) = omega_alpha(&jets[links[l]]);
+            assert!(close(pw, w[l - 1]), "{theta}°: ω{} {pw} vs {}", l + 1, w[l - 1]);
+            assert!(close(pa, al[l - 1]), "{theta}°: α{} {pa} vs {}", l + 1, al[l - 1]);
+        }
+    }
+}
+
+/// Turned the other way Chain-4 pulls straight (at about 12.75°): the
+/// search policy stops the input there, where the cluster's Jacobian has
+/// lost rank, and the rates are reported singular, not as huge numbers.
+#[test]
+fn a_cluster_pulled_straight_is_reported_singular() {
+    let m = load("chain_4");
+    let interp = Interpreter::new(plan(&m));
+    let options = Options {
+        breaking: dofplan_runtime::BreakPolicy::Search,
+        ..Options::default()
+    };
+    let mut d = Driver::new(interp.clone(), options);
+    for theta in [5.0, 10.0, 12.0, 20.0] {
+        d.frame(&[theta]);
+    }
+    let at = d.inputs().to_vec();
+    assert!(at[0] > 12.0 && at[0] < 13.0, "stopped at {at:?}");
+    assert_eq!(
+        interp.rates(d.state(), &at, &[1.0], &[0.0]).err(),
+        Some(RateError::Singular)
+    );
+    dofplan_generated::with_plan!("chain_4", |compiled| {
+        let mut dc = Driver::new(compiled, options);
+        for theta in [5.0, 10.0, 12.0, 20.0] {
+            dc.frame(&[theta]);
+        }
+        let mut out = vec![Pose::<Jet2>::cst(Pose::IDENTITY); m.bodies.len()];
+        let r = compiled.rates_into(dc.state(), dc.inputs(), &[1.0], &[0.0], &mut out);
+        assert_eq!(r, Err(RateError::Singular));
+    })
+    .unwrap();
+}

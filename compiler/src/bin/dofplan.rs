@@ -430,14 +430,6 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
                     return Ok(ExitCode::FAILURE);
                 }
             };
-            if plan.clusters() > 0 {
-                error(
-                    &m.source.name,
-                    "the plan has a numeric cluster, whose rates `analyze` does not compute yet",
-                    "`dofplan simulate` gives its positions",
-                );
-                return Ok(ExitCode::FAILURE);
-            }
             analyze::analyze(m, plan, &sweep, rate, Form::of(json, csv), svg.as_deref(), out)
         }),
         Command::Assemble { file, write } => assemble(&file, write, out),
