@@ -244,7 +244,8 @@ fn rates(filter: &[String]) {
                 }
                 t.elapsed().as_secs_f64() * 1e9 / (reps * inputs.len()) as f64
             };
-            // A module without `rates` (a numeric cluster, a split plan).
+            // Every planar module has rates; one that cannot give them at
+            // the drawn pose (a break there) is left out.
             let has_rates = plan.rates_into(d.state(), d.inputs(), &r, &a, &mut out).is_ok();
             has_rates.then(|| {
                 let per = time(&mut d, &mut out, true, 1) * 1e-9;

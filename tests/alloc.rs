@@ -291,4 +291,27 @@ fn compiled_rates_allocate_nothing() {
             inputs.len()
         );
     }
+
+    // The split form's rates (a working copy of jets, a cluster's chunk).
+    macro_rules! split {
+        ($($name:ident),*) => {$(
+            let inputs = sweep_inputs(&load(stringify!($name)), None);
+            let plan = dofplan_generated::chunked::$name::Plan;
+            let mut state = plan.initial_state();
+            let mut out = vec![Pose::<Jet2>::cst(Pose::IDENTITY); state.poses.len()];
+            let (r, a) = ([30.0], [1.0]);
+            let mut ok = 0;
+            let count = allocations(|| {
+                for i in &inputs {
+                    let mut ctx = Ctx::new(Default::default(), false);
+                    let fused = plan.solve_rates_into(&mut state, i, &r, &a, &mut ctx, &mut out);
+                    let again = plan.rates_into(&state, i, &r, &a, &mut out);
+                    ok += usize::from(std::hint::black_box(fused).is_ok() && std::hint::black_box(again).is_ok());
+                }
+            });
+            assert_eq!(count, 0, "split {}", stringify!($name));
+            assert!(ok * 10 >= inputs.len() * 9, "split {}: rates on {ok} frames", stringify!($name));
+        )*};
+    }
+    split!(fourbar, stress_50, sixbar_b, chain_15);
 }

@@ -210,8 +210,9 @@ pub enum RateError {
     Singular,
     /// The frame does not assemble at these inputs.
     Break(Break),
-    /// The plan was split into functions (too large for one), whose rates
-    /// are not generated yet.
+    /// The plan was split into functions (too large for one) whose rates
+    /// are not generated. Generated planar plans have them in the split
+    /// form too and never give this.
     Split,
 }
 
@@ -227,7 +228,7 @@ impl std::fmt::Display for RateError {
             RateError::Cluster => write!(f, "rates of this numeric cluster are not computed"),
             RateError::Singular => write!(f, "singular: a dead point, where a rate is infinite"),
             RateError::Break(b) => write!(f, "step {} breaks ({})", b.step, b.kind.describe()),
-            RateError::Split => write!(f, "rates of plans split into functions are not generated yet"),
+            RateError::Split => write!(f, "rates of this plan split into functions are not generated"),
         }
     }
 }

@@ -584,7 +584,7 @@ impl Emitter<'_> {
         &self,
         steps: Vec<TokenStream>,
         chunks: Option<(Vec<chunk::Uses>, Vec<chunk::Chunk>)>,
-        rates: Option<TokenStream>,
+        rates: TokenStream,
     ) -> TokenStream {
         let plan = self.plan;
         let name = &plan.mechanism;
@@ -628,41 +628,25 @@ impl Emitter<'_> {
             Some((uses, chunks)) => self.chunked_solve(steps, uses, &chunks, &doc_solve),
         };
         let names = self.names();
-        let fused_impl = rates.is_some().then(|| {
-            quote! {
-                fn solve_rates_into(
-                    &self,
-                    s: &mut State,
-                    inputs: &[f64],
-                    rates: &[f64],
-                    accelerations: &[f64],
-                    ctx: &mut Ctx,
-                    out: &mut [Pose<Jet2>],
-                ) -> Result<(), RateError> {
-                    self::solve_rates(s, inputs, rates, accelerations, ctx).map(|r| out.copy_from_slice(&r))
-                }
+        let fused_impl = quote! {
+            fn solve_rates_into(
+                &self,
+                s: &mut State,
+                inputs: &[f64],
+                rates: &[f64],
+                accelerations: &[f64],
+                ctx: &mut Ctx,
+                out: &mut [Pose<Jet2>],
+            ) -> Result<(), RateError> {
+                self::solve_rates(s, inputs, rates, accelerations, ctx).map(|r| out.copy_from_slice(&r))
             }
-        });
-        let (rates_use, rates_impl) = if rates.is_some() {
-            (
-                quote!(
-                    use dofplan_runtime::real::{self, Jet2, RateError, Real};
-                    use dofplan_runtime::BranchPolicy;
-                ),
-                quote!(self::rates(s, inputs, rates, accelerations).map(|r| out.copy_from_slice(&r))),
-            )
-        } else {
-            // No `rates`: a plan split into functions.
-            (
-                quote!(
-                    use dofplan_runtime::real::{Jet2, RateError};
-                ),
-                quote!({
-                    let _ = (s, inputs, rates, accelerations, out);
-                    Err(RateError::Split)
-                }),
-            )
         };
+        let rates_use = quote!(
+            use dofplan_runtime::real::{self, Jet2, RateError, Real};
+            use dofplan_runtime::BranchPolicy;
+        );
+        let rates_impl =
+            quote!(self::rates(s, inputs, rates, accelerations).map(|r| out.copy_from_slice(&r)));
         quote! {
             use dofplan_runtime::planar::{self, Point, Pose, Rot};
             use dofplan_runtime::{Branch, Break, Ctx, Marker, Solver};
@@ -915,17 +899,20 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
         }
         (uses, chunks)
     });
-    // Rates of a plan in one function (rates of split plans are not
-    // generated yet).
-    let rates = chunks.is_none().then(|| {
-        e.jets = true;
-        let jet_steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
-        let rates = e.rates_fn();
-        let fused = e.solve_rates_fn(jet_steps);
-        e.jets = false;
-        quote!(#rates #fused)
-    });
-    let tokens = e.module(steps, chunks, rates);
+    // The steps again on jets: `solve_rates` in one function, or in the
+    // same chunks as `solve`.
+    e.jets = true;
+    let jet_steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
+    let fused = match &chunks {
+        None => e.solve_rates_fn(jet_steps),
+        Some((_, chunks)) => {
+            let uses = jet_steps.iter().map(chunk::Uses::of).collect();
+            e.chunked_solve(jet_steps, uses, chunks, "")
+        }
+    };
+    let rates = e.rates_fn();
+    e.jets = false;
+    let tokens = e.module(steps, chunks, quote!(#rates #fused));
     let file = syn::parse2::<syn::File>(tokens).expect("the emitter produces valid Rust");
     let pretty = prettyplease::unparse(&file);
     // Comments are not tokens: each step was marked by a macro call that is
