@@ -369,14 +369,11 @@ impl Emitter<'_> {
                     }
                 });
                 let nrows = index(rows.len());
-                // Every pose, current: a chunk starts at this step, so the
-                // working copy is up to date.
-                let all = if self.chunked {
-                    quote!(w.poses)
-                } else {
-                    let all = (0..self.plan.bodies.len()).map(|b| self.pose(b));
-                    quote!([#(#all),*])
-                };
+                // Every pose, current (in the split form too, from the
+                // chunk's locals: the bodies it writes are then read before
+                // they are written).
+                let all = (0..self.plan.bodies.len()).map(|b| self.pose(b));
+                let all = quote!([#(#all),*]);
                 let writes = params.iter().map(|p| {
                     let b = p.body();
                     let id = &self.pose_idents[b];
@@ -641,8 +638,15 @@ impl Emitter<'_> {
                 self::solve_rates(s, inputs, rates, accelerations, ctx).map(|r| out.copy_from_slice(&r))
             }
         };
+        // `Jet2::cst` needs the trait (a plan of large clusters alone, whose
+        // rates the runtime computes, has none).
+        let real = if rates.to_string().contains("Jet2 :: cst") {
+            quote!(Real)
+        } else {
+            quote!()
+        };
         let rates_use = quote!(
-            use dofplan_runtime::real::{self, Jet2, RateError, Real};
+            use dofplan_runtime::real::{self, Jet2, RateError, #real};
             use dofplan_runtime::BranchPolicy;
         );
         let rates_impl =
