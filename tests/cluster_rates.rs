@@ -285,3 +285,52 @@ fn a_cluster_pulled_straight_is_reported_singular() {
     })
     .unwrap();
 }
+
+/// sixbar_b is sixbar_a driven from another joint (tests/mixed.rs): its
+/// square cluster's rates, by the implicit function theorem, are the
+/// closed-form plan's rates of sixbar_a driven at the crank angle, rate
+/// and acceleration sixbar_b's jets give its crank (the chain rule), for
+/// every body, velocities and accelerations.
+#[test]
+fn sixbar_b_cluster_rates_are_sixbar_a_closed_form_rates() {
+    let (a, b) = (load("sixbar_a"), load("sixbar_b"));
+    let (pa, pb) = (plan(&a), plan(&b));
+    assert!(pb.clusters() > 0 && pa.clusters() == 0);
+    let (ia, ib) = (Interpreter::new(pa), Interpreter::new(pb));
+    let mut db = Driver::new(ib.clone(), Options::default());
+    let mut da = Driver::new(ia.clone(), Options::default());
+    let crank = b.bodies.iter().position(|x| x.name == "crank").unwrap();
+    let deg = 180.0 / std::f64::consts::PI;
+    let (rate, accel) = (30.0, -4.0);
+    let mut compared = 0;
+    for u in sweep_requests(b.sweep.as_ref().unwrap(), 1) {
+        assert_eq!(db.frame(&u), FrameStatus::Solved);
+        let jb = ib.rates(db.state(), &u, &[rate], &[accel]).unwrap();
+        let r = db.poses()[crank].rot;
+        let phi = r.s.atan2(r.c) * deg;
+        let (w, al) = omega_alpha(&jb[crank]);
+        assert_eq!(da.frame(&[phi]), FrameStatus::Solved);
+        let ja = ia.rates(da.state(), &[phi], &[w * deg], &[al * deg]).unwrap();
+        for (k, body) in b.bodies.iter().enumerate() {
+            let ka = a.bodies.iter().position(|x| x.name == body.name).unwrap();
+            let (x, y) = (&jb[k], &ja[ka]);
+            for (p, q) in [
+                (x.at[0], y.at[0]),
+                (x.at[1], y.at[1]),
+                (x.rot.c, y.rot.c),
+                (x.rot.s, y.rot.s),
+            ] {
+                for (s, t) in [(p.d, q.d), (p.dd, q.dd)] {
+                    assert!(
+                        (s - t).abs() <= 1e-9 * (1.0 + t.abs()),
+                        "θ = {}: {}: {s} (cluster) vs {t} (closed form)",
+                        u[0],
+                        body.name
+                    );
+                }
+            }
+        }
+        compared += 1;
+    }
+    assert!(compared > 20, "{compared}");
+}
