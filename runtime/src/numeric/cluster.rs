@@ -826,4 +826,82 @@ mod tests {
             }
         }
     }
+
+    /// A free body held to a moving one by two coincident points and a
+    /// parallel row, and a translated body (turning with the moving one)
+    /// held by one point and an in-line row: an over-constrained consistent
+    /// cluster whose solution is the moving body's pose, so its rates must
+    /// be the moving body's, velocity and acceleration.
+    #[test]
+    fn free_and_translated_bodies_move_with_what_holds_them() {
+        let mover = Pose {
+            at: [Jet2::new(0.3, 0.2, -0.1), Jet2::new(-0.2, 0.05, 0.4)],
+            rot: Rot::from_degrees_jet(Jet2::new(30.0, 10.0, -3.0)),
+        };
+        let mut poses = [Pose::<Jet2>::cst(Pose::IDENTITY); 4];
+        poses[1] = mover;
+        // Warm starts near the solution; the translated body's rotation is
+        // known (the mover's, with its rates).
+        let v = mover.value();
+        poses[2] = Pose::cst(Pose {
+            at: [v.at[0] + 0.01, v.at[1] - 0.02],
+            rot: Rot::from_degrees(31.0),
+        });
+        poses[3] = Pose {
+            at: [Jet2::cst(v.at[0] - 0.03), Jet2::cst(v.at[1] + 0.01)],
+            rot: mover.rot,
+        };
+        let params = [Param::Free { body: 2 }, Param::Translate { body: 3 }];
+        let rows = [
+            Row::Coincident {
+                a: 1,
+                la: [1.0, 0.0],
+                slide: None,
+                b: 2,
+                lb: [1.0, 0.0],
+            },
+            Row::Coincident {
+                a: 1,
+                la: [0.0, 1.0],
+                slide: None,
+                b: 2,
+                lb: [0.0, 1.0],
+            },
+            Row::Parallel {
+                a: 1,
+                b: 2,
+                input: None,
+            },
+            Row::Coincident {
+                a: 2,
+                la: [0.5, 0.5],
+                slide: None,
+                b: 3,
+                lb: [0.5, 0.5],
+            },
+            Row::InLine {
+                a: 1,
+                la: [0.0, 0.0],
+                dir: [1.0, 0.0],
+                b: 3,
+                lb: [2.0, 0.0],
+            },
+        ];
+        let mut newton = Newton::new(5, 8);
+        let mut ctx = Ctx::new(BranchPolicy::Keep, false);
+        solve_rates(&mut ctx, 0, &mut poses, &params, &rows, &[], 2.0, &mut newton).unwrap();
+        for b in [2, 3] {
+            let (p, q) = (poses[b], mover);
+            for (x, y) in [
+                (p.at[0], q.at[0]),
+                (p.at[1], q.at[1]),
+                (p.rot.c, q.rot.c),
+                (p.rot.s, q.rot.s),
+            ] {
+                assert!((x.v - y.v).abs() < 1e-10, "body {b}: {x:?} vs {y:?}");
+                assert!((x.d - y.d).abs() < 1e-9, "body {b}: {x:?} vs {y:?}");
+                assert!((x.dd - y.dd).abs() < 1e-9, "body {b}: {x:?} vs {y:?}");
+            }
+        }
+    }
 }
