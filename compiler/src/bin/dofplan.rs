@@ -179,7 +179,9 @@ enum Command {
     /// and --steps replacing its fields); its first input moves at --rate,
     /// the others in proportion. A frame at a dead point, where a rate is
     /// infinite, reports its rates as singular (null in JSON, empty in CSV),
-    /// never as a huge number. Planar plans without numeric clusters.
+    /// never as a huge number. Planar plans; a numeric cluster's rates come
+    /// from the implicit function theorem on its Jacobian (singular where
+    /// it loses rank).
     Analyze {
         /// Mechanism file.
         file: PathBuf,
