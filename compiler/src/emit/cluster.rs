@@ -328,8 +328,8 @@ impl Emitter<'_> {
     }
 
     /// The straight-line code of cluster step `id`: its Newton solve, then
-    /// the cluster bodies written at the solution; or, with `jacobian`, the
-    /// solution and the Jacobian there as the block's value `(x, j)`
+    /// the cluster bodies written at the solution; or, with `jacobian_out`,
+    /// the solution and the Jacobian there as the block's value `(x, j)`
     /// instead of the writes (the values half of its rates).
     pub(super) fn fixed_cluster_step(
         &self,
