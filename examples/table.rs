@@ -281,9 +281,6 @@ fn rates(filter: &[String]) {
     for name in names {
         let m = load(&name);
         let p = plan(&m);
-        if p.clusters() > 0 {
-            continue;
-        }
         let inputs = sweep_inputs(&m, None);
         let n = m.inputs.len();
         let (r, a) = (vec![30.0; n], vec![0.0; n]);
@@ -317,7 +314,8 @@ fn rates(filter: &[String]) {
                 }
                 t.elapsed().as_secs_f64() * 1e9 / (reps * inputs.len()) as f64
             };
-            // A module without `rates` (a numeric cluster, a split plan).
+            // Every planar module has rates; one that cannot give them at
+            // the drawn pose (a break there) is left out.
             let has_rates = plan.rates_into(d.state(), d.inputs(), &r, &a, &mut out).is_ok();
             has_rates.then(|| {
                 let per = time(&mut d, &mut out, true, 1) * 1e-9;

@@ -94,3 +94,84 @@ fn a_break_in_a_later_function_leaves_the_state_as_it_was() {
     assert!(err.step > 0, "the break is not in the first step: {err:?}");
     assert_eq!(s, before);
 }
+
+/// The split form has rates too: its `solve_rates`, the same chunks written
+/// on jets, gives the one-function form's frames and jets to the bit (the
+/// same operations in the same order), through numeric clusters too, and
+/// so does its `rates`; on a break both leave the state as it was.
+#[test]
+fn split_and_whole_rates_agree_to_the_bit() {
+    use dofplan_runtime::real::RateError;
+    let mut covered = Vec::new();
+    macro_rules! check {
+        ($($module:ident),* $(,)?) => {$({
+            use dofplan_generated::chunked::$module as split;
+            use dofplan_generated::$module as whole;
+            let module = stringify!($module);
+            let (_, m) = mechanisms().into_iter().find(|(n, _)| n == module).expect("a mechanism");
+            let requested = sweep_inputs(&m, None);
+            let n = m.inputs.len();
+            let rates: Vec<f64> = (0..n).map(|k| 20.0 - 3.0 * k as f64).collect();
+            let accels: Vec<f64> = (0..n).map(|k| 1.5 + k as f64).collect();
+            let (mut s1, mut s2) = (split::State::DRAWN, whole::State::DRAWN);
+            let mut solved = 0;
+            for (i, u) in requested.iter().enumerate() {
+                let before = s1;
+                let mut ctx = Ctx::new(BranchPolicy::Keep, false);
+                let a = split::solve_rates(&mut s1, u, &rates, &accels, &mut ctx);
+                if let Err(RateError::Break(_)) = a {
+                    assert_eq!(s1, before, "{module} frame {i}: a break leaves the state");
+                }
+                let mut ctx = Ctx::new(BranchPolicy::Keep, false);
+                let b = whole::solve_rates(&mut s2, u, &rates, &accels, &mut ctx);
+                assert_eq!(a, b, "{module} frame {i}");
+                assert_eq!(
+                    (s1.poses, s1.last, s1.branches),
+                    (s2.poses, s2.last, s2.branches),
+                    "{module} frame {i}"
+                );
+                assert_eq!(
+                    split::rates(&s1, u, &rates, &accels),
+                    whole::rates(&s2, u, &rates, &accels),
+                    "{module} frame {i}"
+                );
+                solved += usize::from(matches!(a, Ok(_) | Err(RateError::Singular)));
+            }
+            assert!(solved * 3 >= requested.len(), "{module}: {solved} frames");
+            covered.push(module.to_string());
+        })*};
+    }
+    check!(
+        chain_10,
+        chain_15,
+        chain_4,
+        chain_6,
+        chain_8,
+        duplex,
+        eightbar,
+        fourbar,
+        inverted_slider_crank,
+        jansen,
+        pantograph,
+        parallelogram,
+        peaucellier,
+        rocker_rocker,
+        sixbar_a,
+        sixbar_b,
+        slider_crank,
+        stress_10,
+        stress_20,
+        stress_30,
+        stress_40,
+        stress_50,
+        table,
+        tenbar,
+        trammel,
+        vlink,
+        sixbar_slotted,
+    );
+    let mut all: Vec<String> = mechanisms().into_iter().map(|(n, _)| n).collect();
+    all.sort();
+    covered.sort();
+    assert_eq!(covered, all, "every mechanism");
+}

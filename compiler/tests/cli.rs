@@ -964,6 +964,38 @@ fn check_json_reports_assembly_ranges_and_grashof_classes() {
 /// six columns a marker; a dead point's rates are null, not numbers; the
 /// plots are drawn.
 #[test]
+fn analyze_differentiates_through_numeric_clusters() {
+    // sixbar_b's cluster (four angles): its rates by the implicit function
+    // theorem, and its coupler's C moving as central differences of the
+    // positions `analyze` prints say (1° apart at 1 rad/s).
+    let o = dofplan(&["analyze", mechanism("sixbar_b").to_str().unwrap(), "--json"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let frames = v["frames"].as_array().unwrap();
+    assert!(frames.len() > 10);
+    let at = |f: &serde_json::Value, k: usize| f["markers"]["coupler.C"][k].as_f64().unwrap();
+    let (step, mut compared) = (
+        frames[1]["inputs"]["theta"].as_f64().unwrap() - frames[0]["inputs"]["theta"].as_f64().unwrap(),
+        0,
+    );
+    for i in 1..frames.len() - 1 {
+        if frames[i].get("singular").is_some() || frames[i]["velocity"].is_null() {
+            continue;
+        }
+        for k in 0..2 {
+            let central = (at(&frames[i + 1], k) - at(&frames[i - 1], k)) / (2.0 * step.to_radians());
+            let exact = frames[i]["velocity"]["coupler.C"][k].as_f64().unwrap();
+            assert!(
+                (central - exact).abs() < 1e-3 * (1.0 + exact.abs()),
+                "frame {i}: {central} vs {exact}"
+            );
+        }
+        compared += 1;
+    }
+    assert!(compared > 10, "{compared}");
+}
+
+#[test]
 fn analyze_reports_rates_transmission_and_dead_points() {
     let o = dofplan(&["analyze", mechanism("fourbar").to_str().unwrap(), "--json"]);
     assert!(o.status.success(), "{}", stderr(&o));

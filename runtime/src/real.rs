@@ -309,16 +309,18 @@ impl Real for Jet2 {
 /// Why a frame's rates were not computed.
 #[derive(Clone, Debug, PartialEq)]
 pub enum RateError {
-    /// The plan has a numeric cluster, whose rates (by the implicit
-    /// function theorem on its Jacobian) are not computed yet.
+    /// The plan has a numeric cluster whose rates are not computed. Planar
+    /// clusters have theirs (by the implicit function theorem on the
+    /// cluster's Jacobian) and never give this.
     Cluster,
     /// The frame is at a dead point: a rate is infinite there (two roots
     /// of a step meet), so it is reported as singular, not as a number.
     Singular,
     /// The frame does not assemble at these inputs.
     Break(Break),
-    /// The plan was split into functions (too large for one), whose rates
-    /// are not generated yet.
+    /// The plan was split into functions (too large for one) whose rates
+    /// are not generated. Generated planar plans have them in the split
+    /// form too and never give this.
     Split,
 }
 
@@ -331,10 +333,10 @@ impl From<Break> for RateError {
 impl std::fmt::Display for RateError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            RateError::Cluster => write!(f, "rates of numeric clusters are not computed yet"),
+            RateError::Cluster => write!(f, "rates of this numeric cluster are not computed"),
             RateError::Singular => write!(f, "singular: a dead point, where a rate is infinite"),
             RateError::Break(b) => write!(f, "step {} breaks ({})", b.step, b.kind.describe()),
-            RateError::Split => write!(f, "rates of plans split into functions are not generated yet"),
+            RateError::Split => write!(f, "rates of this plan split into functions are not generated"),
         }
     }
 }

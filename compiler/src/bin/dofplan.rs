@@ -179,7 +179,9 @@ enum Command {
     /// and --steps replacing its fields); its first input moves at --rate,
     /// the others in proportion. A frame at a dead point, where a rate is
     /// infinite, reports its rates as singular (null in JSON, empty in CSV),
-    /// never as a huge number. Planar plans without numeric clusters.
+    /// never as a huge number. Planar plans; a numeric cluster's rates come
+    /// from the implicit function theorem on its Jacobian (singular where
+    /// it loses rank).
     Analyze {
         /// Mechanism file.
         file: PathBuf,
@@ -430,14 +432,6 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
                     return Ok(ExitCode::FAILURE);
                 }
             };
-            if plan.clusters() > 0 {
-                error(
-                    &m.source.name,
-                    "the plan has a numeric cluster, whose rates `analyze` does not compute yet",
-                    "`dofplan simulate` gives its positions",
-                );
-                return Ok(ExitCode::FAILURE);
-            }
             analyze::analyze(m, plan, &sweep, rate, Form::of(json, csv), svg.as_deref(), out)
         }),
         Command::Assemble { file, write } => assemble(&file, write, out),

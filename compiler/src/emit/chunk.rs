@@ -118,7 +118,7 @@ pub(super) fn partition(kinds: &[&StepKind], weights: &[usize], limit: usize) ->
 
 impl Emitter<'_> {
     /// `solve` over a working copy of the state, calling one function per
-    /// chunk.
+    /// chunk; with `self.jets`, `solve_rates` (the same chunks on jets).
     /// `step_uses` are the [`Uses`] of each step's code `steps`.
     pub(super) fn chunked_solve(
         &self,
@@ -127,6 +127,7 @@ impl Emitter<'_> {
         chunks: &[Chunk],
         doc_solve: &str,
     ) -> TokenStream {
+        let jets = self.jets;
         let plan = self.plan;
         // What each chunk's steps use.
         let mut step_uses = step_uses.into_iter();
@@ -226,30 +227,55 @@ impl Emitter<'_> {
             let inputs = param("inputs", reads_inputs);
             let ctx = param("ctx", uses("ctx"));
             let (first, last) = (chunk.steps.start, chunk.steps.end - 1);
+            let (prefix, of) = if jets {
+                ("rates_", "solve_rates")
+            } else {
+                ("", "solve")
+            };
             let (f, doc) = if first == last {
                 (
-                    format_ident!("step_{}", first),
-                    format!(" Step {first} of [`solve`], on its working copy."),
+                    format_ident!("{}step_{}", prefix, first),
+                    format!(" Step {first} of [`{of}`], on its working copy."),
                 )
             } else {
                 (
-                    format_ident!("steps_{}_to_{}", first, last),
-                    format!(" Steps {first} to {last} of [`solve`], on its working copy."),
+                    format_ident!("{}steps_{}_to_{}", prefix, first, last),
+                    format!(" Steps {first} to {last} of [`{of}`], on its working copy."),
                 )
             };
-            functions.push(quote! {
-                #[doc = #doc]
-                #[inline(never)]
-                fn #f(#s: &State, w: &mut Working, #inputs: &[f64], #ctx: &mut Ctx) -> Result<(), Break> {
-                    #(#take)*
-                    #(#code)*
-                    #(#commit)*
-                    Ok(())
+            functions.push(if jets {
+                quote! {
+                    #[doc = #doc]
+                    #[inline(never)]
+                    fn #f(#s: &State, w: &mut JetWorking, #inputs: &[Jet2], #ctx: &mut Ctx) -> Result<(), RateError> {
+                        #(#take)*
+                        #(#code)*
+                        #(#commit)*
+                        Ok(())
+                    }
+                }
+            } else {
+                quote! {
+                    #[doc = #doc]
+                    #[inline(never)]
+                    fn #f(#s: &State, w: &mut Working, #inputs: &[f64], #ctx: &mut Ctx) -> Result<(), Break> {
+                        #(#take)*
+                        #(#code)*
+                        #(#commit)*
+                        Ok(())
+                    }
                 }
             });
-            calls.push(quote!(#f(s, &mut w, inputs, ctx)?;));
+            calls.push(if jets {
+                quote!(#f(s, &mut w, &inputs, ctx)?;)
+            } else {
+                quote!(#f(s, &mut w, inputs, ctx)?;)
+            });
         }
 
+        if jets {
+            return self.chunked_solve_rates(calls, functions, slots);
+        }
         let (nb, nk, nt) = (index(plan.bodies.len()), index(plan.branches.len()), index(slots));
         // Points handed on, if any chunk hands one on.
         let (temps_init, temps_field) = if slots == 0 {
@@ -282,6 +308,74 @@ impl Emitter<'_> {
             struct Working {
                 poses: [Pose; #nb],
                 last: [Point; #nk],
+                branches: [Branch; #nk],
+                #temps_field
+            }
+
+            #(#functions)*
+        }
+    }
+
+    /// `solve_rates` over a jet working copy of the state, calling the
+    /// chunks' jet functions: the frame committed as `solve` commits it,
+    /// its values exactly `solve`'s.
+    fn chunked_solve_rates(
+        &self,
+        calls: Vec<TokenStream>,
+        functions: Vec<TokenStream>,
+        slots: usize,
+    ) -> TokenStream {
+        let plan = self.plan;
+        let (nb, nk, nt, ni) = (
+            index(plan.bodies.len()),
+            index(plan.branches.len()),
+            index(slots),
+            index(plan.inputs.len()),
+        );
+        let (temps_init, temps_field) = if slots == 0 {
+            (quote!(), quote!())
+        } else {
+            (
+                quote!(temps: [planar::cst([0.0; 2]); #nt],),
+                quote!(temps: [[Jet2; 2]; #nt],),
+            )
+        };
+        quote! {
+            /// [`solve`] and [`rates`] in one pass: every body placed for
+            /// `inputs`, warm-started from `s`, and returned with its first
+            /// and second derivatives along `rates` and `accelerations` — the
+            /// steps run once, on [`Jet2`]s, whose values are exactly
+            /// `solve`'s. On a break `s` is left unchanged
+            /// ([`RateError::Break`]); at a dead point, where a rate is
+            /// infinite, the frame is committed (its positions are exact)
+            /// and the rates are [`RateError::Singular`].
+            pub fn solve_rates(
+                s: &mut State,
+                inputs: &[f64],
+                rates: &[f64],
+                accelerations: &[f64],
+                ctx: &mut Ctx,
+            ) -> Result<[Pose<Jet2>; #nb], RateError> {
+                let inputs: [Jet2; #ni] =
+                    core::array::from_fn(|k| Jet2::new(inputs[k], rates[k], accelerations[k]));
+                let mut w = JetWorking {
+                    poses: s.poses.map(Pose::<Jet2>::cst),
+                    last: s.last.map(planar::cst::<Jet2>),
+                    branches: s.branches,
+                    #temps_init
+                };
+                #(#calls)*
+                s.poses = w.poses.map(|p| p.value());
+                s.last = w.last.map(|p| [p[0].v, p[1].v]);
+                s.branches = w.branches;
+                real::checked(w.poses)
+            }
+
+            /// A frame's working copy of the state on jets, and the points a
+            /// chunk of steps hands to later ones.
+            struct JetWorking {
+                poses: [Pose<Jet2>; #nb],
+                last: [[Jet2; 2]; #nk],
                 branches: [Branch; #nk],
                 #temps_field
             }

@@ -13,6 +13,7 @@ use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
 use super::{index, lit, point_lit, Emitter};
+use crate::model::InputKind;
 use crate::plan::{ClusterParam, ClusterRow, DirRef};
 
 /// Clusters larger than this (unknowns or equations) are solved by the
@@ -126,15 +127,15 @@ impl Emitter<'_> {
         }
     }
 
-    /// The straight-line code of cluster step `id`.
-    pub(super) fn fixed_cluster_step(
+    /// The pieces of a cluster's straight-line code: on `f64`s, or on jets
+    /// (whose Jacobian and warm start are not used: the rates take the
+    /// values' Jacobian at the solution).
+    fn cluster_code(
         &self,
-        id: &TokenStream,
         params: &[ClusterParam],
         rows: &[ClusterRow],
-        (n, m): (usize, usize),
         pre: &mut Vec<TokenStream>,
-    ) -> TokenStream {
+    ) -> ClusterCode {
         let mut offsets = Vec::with_capacity(params.len());
         let mut o = 0;
         for p in params {
@@ -165,13 +166,13 @@ impl Emitter<'_> {
                 }
                 ClusterParam::Angle { pin, at, .. } => {
                     let at = self.point(at, pre);
-                    let pin = point_lit(*pin);
+                    let pin = self.plit(*pin);
                     warm.push(quote!(cluster::scaled_angle(#pose, SIZE)));
                     place.push((pose, quote!(cluster::pinned_pose(#x0, SIZE, #pin, #at))));
                 }
                 ClusterParam::Hinge { pin, parent, at, .. } => {
                     let parent = self.pose(*parent);
-                    let (pin, at) = (point_lit(*pin), point_lit(*at));
+                    let (pin, at) = (self.plit(*pin), self.plit(*at));
                     warm.push(quote!(cluster::scaled_angle(#pose, SIZE)));
                     place.push((
                         pose,
@@ -185,7 +186,7 @@ impl Emitter<'_> {
                     let id = format_ident!("{}", name);
                     match dir {
                         DirRef::Fixed(v) => {
-                            let v = point_lit(*v);
+                            let v = self.plit(*v);
                             pre.push(quote!(let #id = #v;));
                         }
                         DirRef::Body { .. } => {
@@ -220,13 +221,18 @@ impl Emitter<'_> {
                         Some((input, d)) => {
                             let name = format_ident!("slid_{}", k);
                             let u = &self.input_idents[input];
-                            let (lx, ly, dx, dy) = (lit(la[0]), lit(la[1]), lit(d[0]), lit(d[1]));
+                            let (lx, ly, dx, dy) = (
+                                self.slit(la[0]),
+                                self.slit(la[1]),
+                                self.slit(d[0]),
+                                self.slit(d[1]),
+                            );
                             pre.push(quote!(let #name = [#lx + #u * #dx, #ly + #u * #dy];));
                             (quote!(#name), Local::Slid(quote!(#name)))
                         }
-                        None => (point_lit(la), Local::Drawn(la)),
+                        None => (self.plit(la), Local::Drawn(la)),
                     };
-                    let lb_tokens = point_lit(lb);
+                    let lb_tokens = self.plit(lb);
                     residuals.push(quote! {
                         let p = #pa.world(#la_tokens);
                         let q = #pb.world(#lb_tokens);
@@ -250,10 +256,14 @@ impl Emitter<'_> {
                 }
                 ClusterRow::InLine { a, la, dir, b, lb } => {
                     let (pa, pb) = (self.pose(a), self.pose(b));
-                    let (la_t, lb_t, dir_t) = (point_lit(la), point_lit(lb), point_lit(dir));
+                    let (la_t, lb_t, dir_t) = (self.plit(la), self.plit(lb), self.plit(dir));
                     let (d, v) = (format_ident!("d_{}", row), format_ident!("v_{}", row));
                     let turns = layout.angle(a);
-                    let v_bind = if turns.is_some() { quote!(#v) } else { quote!(_) };
+                    let v_bind = if turns.is_some() && !self.jets {
+                        quote!(#v)
+                    } else {
+                        quote!(_)
+                    };
                     residuals.push(quote! {
                         let #d = #pa.world_dir(#dir_t);
                         let (residual, #v_bind) = cluster::in_line(#d, #pa.world(#la_t), #pb.world(#lb_t));
@@ -283,11 +293,12 @@ impl Emitter<'_> {
                             let u = &self.input_idents[u];
                             quote!(#u)
                         }
+                        None if self.jets => quote!(Rot::cst(Rot::IDENTITY)),
                         None => quote!(Rot::IDENTITY),
                     };
                     let slope = format_ident!("slope_{}", row);
                     let (ta, tb) = (layout.angle(a), layout.angle(b));
-                    let bind = if ta.is_some() || tb.is_some() {
+                    let bind = if (ta.is_some() || tb.is_some()) && !self.jets {
                         quote!(#slope)
                     } else {
                         quote!(_)
@@ -308,12 +319,54 @@ impl Emitter<'_> {
                 }
             }
         }
-        debug_assert_eq!(row, m);
+        ClusterCode {
+            warm,
+            place,
+            residuals,
+            jacobian,
+        }
+    }
 
+    /// The straight-line code of cluster step `id`: its Newton solve, then
+    /// the cluster bodies written at the solution; or, with `jacobian_out`,
+    /// the solution and the Jacobian there as the block's value `(x, j)`
+    /// instead of the writes (the values half of its rates).
+    pub(super) fn fixed_cluster_step(
+        &self,
+        id: &TokenStream,
+        params: &[ClusterParam],
+        rows: &[ClusterRow],
+        (n, m): (usize, usize),
+        pre: &mut Vec<TokenStream>,
+        jacobian_out: bool,
+    ) -> TokenStream {
+        let ClusterCode {
+            warm,
+            place,
+            residuals,
+            jacobian,
+        } = self.cluster_code(params, rows, pre);
         let trial = place.iter().map(|(pose, e)| quote!(let #pose = #e;));
-        let writes = place.iter().map(|(pose, e)| quote!(#pose = #e;));
         let size = lit(self.plan.size);
         let (n_lit, m_lit) = (index(n), index(m));
+        let tail = if jacobian_out {
+            quote! {
+                cluster::finish(ctx, #id, report)?;
+                // The Jacobian at the solution, for the rates.
+                let mut r = numeric::SVector::<f64, #m_lit>::zeros();
+                let mut j = numeric::SMatrix::<f64, #m_lit, #n_lit>::zeros();
+                numeric::Equations::eval(&mut system, &x, &mut r, Some(&mut j));
+                (x, j)
+            }
+        } else {
+            let writes = place.iter().map(|(pose, e)| quote!(#pose = #e;));
+            quote! {
+                // The poses at the solution (or, on a break, the least-squares
+                // point the stretch policy shows), by the same placements.
+                #(#writes)*
+                cluster::finish(ctx, #id, report)?;
+            }
+        };
         quote! {
             #(#pre)*
             const SIZE: f64 = #size;
@@ -327,12 +380,98 @@ impl Emitter<'_> {
             });
             let report = numeric::Newton::<numeric::Const<#m_lit>, numeric::Const<#n_lit>>::fixed()
                 .solve(&mut system, &mut x, &cluster::options(SIZE));
-            // The poses at the solution (or, on a break, the least-squares
-            // point the stretch policy shows), by the same placements.
-            #(#writes)*
-            cluster::finish(ctx, #id, report)?;
+            #tail
         }
     }
+
+    /// The straight-line code of cluster step `id` on jets (in
+    /// `solve_rates`): the values of what it hangs on handed to the
+    /// frame's own code of the step (so its positions are `solve`'s), then
+    /// the implicit function theorem with the Jacobian at the solution —
+    /// the residuals on jets with the unknowns held (their rate is
+    /// `∂F/∂upstream·rates`, so `q̇ = −J⁺·F'`), again with the unknowns
+    /// moving at `q̇` (all of `F''` but `J·q̈`, so `q̈ = −J⁺·F''`) — and the
+    /// cluster bodies placed on jets.
+    pub(super) fn fixed_cluster_rates(
+        &self,
+        id: &TokenStream,
+        params: &[ClusterParam],
+        rows: &[ClusterRow],
+        (n, m): (usize, usize),
+    ) -> TokenStream {
+        let values = Emitter {
+            jets: false,
+            ..self.clone()
+        };
+        let mut pre = Vec::new();
+        // (It writes `pre` out itself.)
+        let solve = values.fixed_cluster_step(id, params, rows, (n, m), &mut pre, true);
+        // The frame's locals the values' code reads, as values.
+        let uses = super::chunk::Uses::of(&solve);
+        let mut shadows = Vec::new();
+        for (b, body) in self.plan.bodies.iter().enumerate() {
+            let pose = &self.pose_idents[b];
+            if !body.fixed && uses.has(&pose.to_string()) {
+                shadows.push(quote!(let #pose = #pose.value();));
+            }
+        }
+        for t in &self.temp_idents {
+            if uses.has(&t.to_string()) {
+                shadows.push(quote!(let #t = [#t[0].v, #t[1].v];));
+            }
+        }
+        for (k, u) in self.input_idents.iter().enumerate() {
+            if uses.has(&u.to_string()) {
+                shadows.push(match self.plan.inputs[k].kind {
+                    InputKind::Angle => quote!(let #u = #u.value();),
+                    InputKind::Slide => quote!(let #u = #u.v;),
+                });
+            }
+        }
+
+        let mut pre = Vec::new();
+        let ClusterCode { place, residuals, .. } = self.cluster_code(params, rows, &mut pre);
+        let trial = place.iter().map(|(pose, e)| quote!(let #pose = #e;));
+        let writes = place.iter().map(|(pose, e)| quote!(#pose = #e;));
+        let size = lit(self.plan.size);
+        let (n_lit, m_lit) = (index(n), index(m));
+        quote! {
+            // The frame: the step's own code on the values.
+            let (x, jacobian) = {
+                #(#shadows)*
+                #solve
+            };
+            // Its rates, by the implicit function theorem.
+            #(#pre)*
+            const SIZE: f64 = #size;
+            let residuals = |x: [Jet2; #n_lit]| {
+                let mut r = [Jet2::cst(0.0); #m_lit];
+                #(#trial)*
+                #(#residuals)*
+                r
+            };
+            let implicit = numeric::Implicit::new(&jacobian);
+            let f = residuals(core::array::from_fn(|k| Jet2::cst(x[k])));
+            let q_dot = implicit.solve(&numeric::SVector::from_fn(|i, _| f[i].d));
+            let f = residuals(core::array::from_fn(|k| Jet2::new(x[k], q_dot[k], 0.0)));
+            let q_ddot = implicit.solve(&numeric::SVector::from_fn(|i, _| f[i].dd));
+            let x: [Jet2; #n_lit] = core::array::from_fn(|k| Jet2::new(x[k], q_dot[k], q_ddot[k]));
+            #(#writes)*
+        }
+    }
+}
+
+/// A cluster's straight-line code in pieces.
+struct ClusterCode {
+    /// The warm start, unknown by unknown.
+    warm: Vec<TokenStream>,
+    /// Each cluster body's pose local and its placement from the unknowns
+    /// `x`, in param order (a hinge's parent first).
+    place: Vec<(TokenStream, TokenStream)>,
+    /// The residuals into `r`.
+    residuals: Vec<TokenStream>,
+    /// The Jacobian's non-zero entries into `j`.
+    jacobian: Vec<TokenStream>,
 }
 
 /// The entries of a coincident row pair for one term, `+` for the first

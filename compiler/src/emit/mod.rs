@@ -70,6 +70,7 @@ fn index(i: usize) -> Literal {
     Literal::usize_unsuffixed(i)
 }
 
+#[derive(Clone)]
 struct Emitter<'p> {
     plan: &'p Plan,
     input_idents: Vec<Ident>,
@@ -312,8 +313,12 @@ impl Emitter<'_> {
             StepKind::Cluster { params, rows, .. }
                 if Self::fixed_cluster(step.kind.cluster_size().0, step.kind.cluster_size().1) =>
             {
-                let code =
-                    self.fixed_cluster_step(&quote!(#id), params, rows, step.kind.cluster_size(), &mut pre);
+                let size = step.kind.cluster_size();
+                let code = if self.jets {
+                    self.fixed_cluster_rates(&quote!(#id), params, rows, size)
+                } else {
+                    self.fixed_cluster_step(&quote!(#id), params, rows, size, &mut pre, false)
+                };
                 quote! {
                     #marker
                     {
@@ -332,6 +337,7 @@ impl Emitter<'_> {
                             ClusterParam::Free { .. } => quote!(cluster::Param::Free { body: #b }),
                             ClusterParam::Angle { pin, at, .. } => {
                                 let at = self.point(at, &mut pre);
+                                // The pin is local: constants either way.
                                 let pin = point_lit(*pin);
                                 quote!(cluster::Param::Angle { body: #b, pin: #pin, at: #at })
                             }
@@ -377,14 +383,11 @@ impl Emitter<'_> {
                     }
                 });
                 let nrows = index(rows.len());
-                // Every pose, current: a chunk starts at this step, so the
-                // working copy is up to date.
-                let all = if self.chunked {
-                    quote!(w.poses)
-                } else {
-                    let all = (0..self.plan.bodies.len()).map(|b| self.pose(b));
-                    quote!([#(#all),*])
-                };
+                // Every pose, current (in the split form too, from the
+                // chunk's locals: the bodies it writes are then read before
+                // they are written).
+                let all = (0..self.plan.bodies.len()).map(|b| self.pose(b));
+                let all = quote!([#(#all),*]);
                 let writes = params.iter().map(|p| {
                     let b = p.body();
                     let id = &self.pose_idents[b];
@@ -392,6 +395,13 @@ impl Emitter<'_> {
                     quote!(#id = all[#i];)
                 });
                 let (n, m, size) = (index(n), index(m), lit(self.plan.size));
+                // On jets: solved on the values as `solve` does, then
+                // differentiated by the implicit function theorem.
+                let solve = if self.jets {
+                    quote!(cluster::solve_rates(ctx, #id, &mut all, &params, &ROWS, &inputs, #size, &mut newton)?;)
+                } else {
+                    quote!(cluster::solve(ctx, #id, &mut all, &params, &ROWS, inputs, #size, &mut newton)?;)
+                };
                 quote! {
                     #marker
                     {
@@ -402,7 +412,7 @@ impl Emitter<'_> {
                         // Too large for fixed-size matrices: the runtime's
                         // dynamically sized solver (which allocates).
                         let mut newton = numeric::Newton::new(#n, #m);
-                        cluster::solve(ctx, #id, &mut all, &params, &ROWS, inputs, #size, &mut newton)?;
+                        #solve
                         #(#writes)*
                     }
                 }
@@ -586,7 +596,7 @@ impl Emitter<'_> {
         &self,
         steps: Vec<TokenStream>,
         chunks: Option<(Vec<chunk::Uses>, Vec<chunk::Chunk>)>,
-        rates: Option<TokenStream>,
+        rates: TokenStream,
         lanes: Option<TokenStream>,
     ) -> TokenStream {
         let plan = self.plan;
@@ -631,47 +641,33 @@ impl Emitter<'_> {
             Some((uses, chunks)) => self.chunked_solve(steps, uses, &chunks, &doc_solve),
         };
         let names = self.names();
-        let fused_impl = rates.is_some().then(|| {
-            quote! {
-                fn solve_rates_into(
-                    &self,
-                    s: &mut State,
-                    inputs: &[f64],
-                    rates: &[f64],
-                    accelerations: &[f64],
-                    ctx: &mut Ctx,
-                    out: &mut [Pose<Jet2>],
-                ) -> Result<(), RateError> {
-                    self::solve_rates(s, inputs, rates, accelerations, ctx).map(|r| out.copy_from_slice(&r))
-                }
+        let fused_impl = quote! {
+            fn solve_rates_into(
+                &self,
+                s: &mut State,
+                inputs: &[f64],
+                rates: &[f64],
+                accelerations: &[f64],
+                ctx: &mut Ctx,
+                out: &mut [Pose<Jet2>],
+            ) -> Result<(), RateError> {
+                self::solve_rates(s, inputs, rates, accelerations, ctx).map(|r| out.copy_from_slice(&r))
             }
-        });
-        let (rates_use, rates_impl) = if rates.is_some() {
-            (
-                quote!(
-                    use dofplan_runtime::real::{self, Jet2, RateError, Real};
-                    use dofplan_runtime::BranchPolicy;
-                ),
-                quote!(self::rates(s, inputs, rates, accelerations).map(|r| out.copy_from_slice(&r))),
-            )
-        } else {
-            // Why there is no `rates`: a numeric cluster, or a plan split
-            // into functions.
-            let why = if plan.clusters() > 0 {
-                quote!(RateError::Cluster)
-            } else {
-                quote!(RateError::Split)
-            };
-            (
-                quote!(
-                    use dofplan_runtime::real::{Jet2, RateError};
-                ),
-                quote!({
-                    let _ = (s, inputs, rates, accelerations, out);
-                    Err(#why)
-                }),
-            )
         };
+        // `Jet2::cst` and `Lanes::cst` need the trait (a plan of large clusters alone, whose
+        // rates the runtime computes, has none).
+        let lane_code = lanes.as_ref().map(|l| l.to_string()).unwrap_or_default();
+        let real = if rates.to_string().contains("Jet2 :: cst") || lane_code.contains("Lanes :: cst") {
+            quote!(Real)
+        } else {
+            quote!()
+        };
+        let rates_use = quote!(
+            use dofplan_runtime::real::{self, Jet2, RateError, #real};
+            use dofplan_runtime::BranchPolicy;
+        );
+        let rates_impl =
+            quote!(self::rates(s, inputs, rates, accelerations).map(|r| out.copy_from_slice(&r)));
         let (lanes_use, batch_impl) = if lanes.is_some() {
             (
                 quote!(
@@ -1064,17 +1060,19 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
         }
         (uses, chunks)
     });
-    // Rates of a plan without numeric clusters, in one function (their
-    // rates by the implicit function theorem, and rates of split plans,
-    // are not generated yet).
-    let rates = (chunks.is_none() && plan.clusters() == 0).then(|| {
-        e.jets = true;
-        let jet_steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
-        let rates = e.rates_fn();
-        let fused = e.solve_rates_fn(jet_steps);
-        e.jets = false;
-        quote!(#rates #fused)
-    });
+    // The steps again on jets: `solve_rates` in one function, or in the
+    // same chunks as `solve`.
+    e.jets = true;
+    let jet_steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
+    let fused = match &chunks {
+        None => e.solve_rates_fn(jet_steps),
+        Some((_, chunks)) => {
+            let uses = jet_steps.iter().map(chunk::Uses::of).collect();
+            e.chunked_solve(jet_steps, uses, chunks, "")
+        }
+    };
+    let rates = e.rates_fn();
+    e.jets = false;
     // The steps on lanes of frames, for `solve_batch`: only closed-form
     // plans, whose frames do not depend on each other (a cluster's Newton
     // solve starts from the last frame's pose).
@@ -1087,7 +1085,7 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
         e.jets = false;
         lanes
     });
-    let tokens = e.module(steps, chunks, rates, lanes);
+    let tokens = e.module(steps, chunks, quote!(#rates #fused), lanes);
     let file = syn::parse2::<syn::File>(tokens).expect("the emitter produces valid Rust");
     let pretty = prettyplease::unparse(&file);
     // Comments are not tokens: each step was marked by a macro call that is

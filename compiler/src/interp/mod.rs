@@ -126,6 +126,44 @@ impl Interpreter {
             DirRef::Body { body, local } => s.poses[*body].world_dir(cst(*local)),
         }
     }
+
+    /// A cluster's params for the runtime, where it is pinned and the
+    /// lines it slides on read from the frame.
+    fn cluster_params<T: Scalar>(
+        &self,
+        s: &Work<T>,
+        inputs: &[T],
+        params: &[ClusterParam],
+    ) -> Vec<cluster::Param<T>> {
+        params
+            .iter()
+            .map(|p| match p {
+                ClusterParam::Free { body } => cluster::Param::Free { body: *body },
+                ClusterParam::Angle { body, pin, at } => cluster::Param::Angle {
+                    body: *body,
+                    pin: *pin,
+                    at: self.point(s, inputs, at),
+                },
+                ClusterParam::Hinge {
+                    body,
+                    pin,
+                    parent,
+                    at,
+                    ..
+                } => cluster::Param::Hinge {
+                    body: *body,
+                    pin: *pin,
+                    parent: *parent,
+                    at: *at,
+                },
+                ClusterParam::Slide { body, dir } => cluster::Param::Slide {
+                    body: *body,
+                    dir: self.dir(s, dir),
+                },
+                ClusterParam::Translate { body } => cluster::Param::Translate { body: *body },
+            })
+            .collect()
+    }
 }
 
 impl Solver for Interpreter {
@@ -311,8 +349,9 @@ impl Interpreter {
 
 /// What the interpreter computes with: `f64` for frames, [`Jet2`] for
 /// their rates. Two steps differ: an angle input's rotation (with its
-/// rates), and a numeric cluster (solved by Newton for a frame; its rates
-/// are not computed yet, so [`Interpreter::rates`] refuses plans with one).
+/// rates), and a numeric cluster (solved by Newton for a frame; for its
+/// rates solved the same way on the values, then differentiated by the
+/// implicit function theorem).
 trait Scalar: Real {
     fn rot_from_degrees(degrees: Self) -> Rot<Self>;
     #[allow(clippy::too_many_arguments)]
@@ -343,34 +382,7 @@ impl Scalar for f64 {
         params: &[ClusterParam],
         rows: &[crate::plan::ClusterRow],
     ) -> Result<(), Break> {
-        let params: Vec<cluster::Param> = params
-            .iter()
-            .map(|p| match p {
-                ClusterParam::Free { body } => cluster::Param::Free { body: *body },
-                ClusterParam::Angle { body, pin, at } => cluster::Param::Angle {
-                    body: *body,
-                    pin: *pin,
-                    at: interp.point(s, inputs, at),
-                },
-                ClusterParam::Hinge {
-                    body,
-                    pin,
-                    parent,
-                    at,
-                    ..
-                } => cluster::Param::Hinge {
-                    body: *body,
-                    pin: *pin,
-                    parent: *parent,
-                    at: *at,
-                },
-                ClusterParam::Slide { body, dir } => cluster::Param::Slide {
-                    body: *body,
-                    dir: interp.dir(s, dir),
-                },
-                ClusterParam::Translate { body } => cluster::Param::Translate { body: *body },
-            })
-            .collect();
+        let params = interp.cluster_params(s, inputs, params);
         cluster::solve(
             ctx,
             id,
@@ -390,21 +402,28 @@ impl Scalar for Jet2 {
     }
 
     fn cluster(
-        _: &Interpreter,
-        _: &mut Work<Jet2>,
-        _: &[Jet2],
-        _: &mut Ctx,
+        interp: &Interpreter,
+        s: &mut Work<Jet2>,
+        inputs: &[Jet2],
+        ctx: &mut Ctx,
         id: u32,
         _: usize,
-        _: &[ClusterParam],
-        _: &[crate::plan::ClusterRow],
+        params: &[ClusterParam],
+        rows: &[crate::plan::ClusterRow],
     ) -> Result<(), Break> {
-        // Never reached: `rates` refuses a plan with a cluster first.
-        Err(Break {
-            step: id,
-            kind: dofplan_runtime::BreakKind::Inconsistent,
-            gap: f64::NAN,
-        })
+        let params = interp.cluster_params(s, inputs, params);
+        let (n, m) = cluster::size_of(&params, rows);
+        let mut newton = Newton::new(n, m);
+        cluster::solve_rates(
+            ctx,
+            id,
+            &mut s.poses,
+            &params,
+            rows,
+            inputs,
+            interp.plan.size,
+            &mut newton,
+        )
     }
 }
 
@@ -432,7 +451,9 @@ impl Interpreter {
     /// Every body's pose at the frame `state` was solved to (at `inputs`),
     /// with its first and second derivatives along the inputs' `rates` and
     /// `accelerations`: forward-mode differentiation through the plan, the
-    /// same steps run on [`Jet2`]s with the branches the frame took. With
+    /// same steps run on [`Jet2`]s with the branches the frame took (a
+    /// numeric cluster solved again on the values, its rates by the
+    /// implicit function theorem: [`cluster::solve_rates`]). With
     /// one input at rate 1 and acceleration 0 the derivatives are d/dθ and
     /// d²/dθ² (per degree for an angle); with real rates, velocities and
     /// accelerations.
@@ -443,9 +464,6 @@ impl Interpreter {
         rates: &[f64],
         accelerations: &[f64],
     ) -> Result<Vec<Pose<Jet2>>, RateError> {
-        if self.plan.clusters() > 0 {
-            return Err(RateError::Cluster);
-        }
         let mut w: Work<Jet2> = Work {
             poses: state.poses.iter().map(|p| Pose::cst(*p)).collect(),
             last: state.last.iter().map(|p| cst(*p)).collect(),

@@ -4,20 +4,30 @@
 //! Newton–Raphson. Both back ends call [`solve`]: the interpreter with the
 //! cluster read from the plan IR, generated code with it written out as
 //! constants.
+//!
+//! A solved cluster's rates follow from the implicit function theorem: its
+//! residuals `F(u, q) = 0` hold along the motion, so `J·q̇ = −∂F/∂u·u̇` and
+//! `J·q̈ = −(the rest of F's second derivative)`, both solved with the
+//! pseudo-inverse of the cluster's Jacobian `J` at the frame's solution
+//! ([`Implicit`]; [`solve_rates`] here, written out by generated code).
 
 use nalgebra::{DMatrix, DVector};
 
-use super::{Equations, Newton, NewtonOptions, NewtonOutcome, NewtonReport};
+use super::{Equations, Implicit, Newton, NewtonOptions, NewtonOutcome, NewtonReport};
 use crate::frame::{Break, BreakKind, Ctx, StepId};
-use crate::planar::{Point, Pose, Rot};
+use crate::planar::{cst, Point, Pose, Rot};
+use crate::real::{Jet2, Real};
 
 /// How a cluster body is parametrised (Kramer's DOF states, and the joint
 /// coordinates of a body hinged on another cluster body).
 ///
 /// Angles are absolute (the body's rotation from the ground), scaled by the
 /// mechanism's size so every unknown is a length.
+///
+/// Of `f64`s for a frame; of [`Jet2`]s (where a body is pinned and the
+/// direction it slides along, with their rates) for its rates.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Param {
+pub enum Param<T = f64> {
     /// Nothing known: translation and angle (3 unknowns).
     Free {
         /// The body.
@@ -30,7 +40,7 @@ pub enum Param {
         /// The pinned marker, local.
         pin: Point,
         /// Where it is pinned, world.
-        at: Point,
+        at: [T; 2],
     },
     /// Pinned by a revolute joint to a marker of an earlier cluster body:
     /// its angle only (1 unknown), the joint holding by construction.
@@ -51,7 +61,7 @@ pub enum Param {
         /// The body.
         body: usize,
         /// Unit world direction of the line.
-        dir: Point,
+        dir: [T; 2],
     },
     /// Rotation known: translation only (2 unknowns).
     Translate {
@@ -60,7 +70,7 @@ pub enum Param {
     },
 }
 
-impl Param {
+impl<T> Param<T> {
     /// Number of unknowns.
     pub const fn count(&self) -> usize {
         match self {
@@ -82,26 +92,57 @@ impl Param {
     }
 }
 
+impl Param<Jet2> {
+    /// The values alone.
+    pub fn value(&self) -> Param {
+        let v = |p: [Jet2; 2]| [p[0].v, p[1].v];
+        match *self {
+            Param::Free { body } => Param::Free { body },
+            Param::Angle { body, pin, at } => Param::Angle { body, pin, at: v(at) },
+            Param::Hinge {
+                body,
+                pin,
+                parent,
+                at,
+            } => Param::Hinge {
+                body,
+                pin,
+                parent,
+                at,
+            },
+            Param::Slide { body, dir } => Param::Slide { body, dir: v(dir) },
+            Param::Translate { body } => Param::Translate { body },
+        }
+    }
+}
+
 // The geometric primitives of a cluster, shared by the runtime `System`
 // below and the straight-line code the compiler writes for each cluster:
 // one implementation of each residual, placement and partial derivative.
+// The placements and residuals are generic over `Real`: on `f64`s for a
+// frame, on jets for its rates (the values then are the frame's exactly).
+
+/// The rotation at an angle unknown `size·angle`.
+#[inline]
+pub fn angle_rot<T: Real>(scaled_angle: T, size: f64) -> Rot<T> {
+    let (s, c) = (scaled_angle / T::cst(size)).sin_cos();
+    Rot { c, s }
+}
 
 /// The pose of a free body at unknowns `(x, y, size·angle)`.
 #[inline]
-pub fn free_pose(x: f64, y: f64, scaled_angle: f64, size: f64) -> Pose {
-    let (s, c) = (scaled_angle / size).sin_cos();
+pub fn free_pose<T: Real>(x: T, y: T, scaled_angle: T, size: f64) -> Pose<T> {
     Pose {
         at: [x, y],
-        rot: Rot { c, s },
+        rot: angle_rot(scaled_angle, size),
     }
 }
 
 /// The pose of a body turned to `size·angle` with its local `pin` at the
 /// world point `at` (a pinned or hinged body).
 #[inline]
-pub fn pinned_pose(scaled_angle: f64, size: f64, pin: Point, at: Point) -> Pose {
-    let (s, c) = (scaled_angle / size).sin_cos();
-    let rot = Rot { c, s };
+pub fn pinned_pose<T: Real>(scaled_angle: T, size: f64, pin: [T; 2], at: [T; 2]) -> Pose<T> {
+    let rot = angle_rot(scaled_angle, size);
     let w = rot.apply(pin);
     Pose {
         at: [at[0] - w[0], at[1] - w[1]],
@@ -112,7 +153,7 @@ pub fn pinned_pose(scaled_angle: f64, size: f64, pin: Point, at: Point) -> Pose 
 /// The pose of a body displaced by `u` along the unit world `dir` from
 /// `base`.
 #[inline]
-pub fn slide_pose(base: Pose, dir: Point, u: f64) -> Pose {
+pub fn slide_pose<T: Real>(base: Pose<T>, dir: [T; 2], u: T) -> Pose<T> {
     Pose {
         at: [base.at[0] + u * dir[0], base.at[1] + u * dir[1]],
         rot: base.rot,
@@ -121,7 +162,7 @@ pub fn slide_pose(base: Pose, dir: Point, u: f64) -> Pose {
 
 /// The pose of a body at translation `(x, y)` with `base`'s rotation.
 #[inline]
-pub fn translate_pose(base: Pose, x: f64, y: f64) -> Pose {
+pub fn translate_pose<T: Real>(base: Pose<T>, x: T, y: T) -> Pose<T> {
     Pose {
         at: [x, y],
         rot: base.rot,
@@ -145,7 +186,7 @@ pub fn turn(pose: Pose, v: Point, size: f64) -> Point {
 
 /// The z component of `a × b`.
 #[inline]
-pub fn cross(a: Point, b: Point) -> f64 {
+pub fn cross<T: Real>(a: [T; 2], b: [T; 2]) -> T {
     a[0] * b[1] - a[1] * b[0]
 }
 
@@ -153,7 +194,7 @@ pub fn cross(a: Point, b: Point) -> f64 {
 /// the unit world `d`: `d × (pb − pa)`; also `pb − pa`, for the derivative
 /// of the line's turn ([`line_turn`]).
 #[inline]
-pub fn in_line(d: Point, pa: Point, pb: Point) -> (f64, Point) {
+pub fn in_line<T: Real>(d: [T; 2], pa: [T; 2], pb: [T; 2]) -> (T, [T; 2]) {
     let v = [pb[0] - pa[0], pb[1] - pa[1]];
     (cross(d, v), v)
 }
@@ -168,9 +209,9 @@ pub fn line_turn(d: Point, v: Point, size: f64) -> f64 {
 /// The parallel residual `size·sin(rot_b − rot_a − rel)` and its
 /// derivative with respect to `b`'s angle unknown (minus that for `a`'s).
 #[inline]
-pub fn parallel(a: Rot, rel: Rot, b: Rot, size: f64) -> (f64, f64) {
+pub fn parallel<T: Real>(a: Rot<T>, rel: Rot<T>, b: Rot<T>, size: f64) -> (T, T) {
     let delta = a.then(rel).inverse().then(b);
-    (size * delta.s, delta.c)
+    (T::cst(size) * delta.s, delta.c)
 }
 
 /// One primitive equation of a cluster (the residual forms of pure Newton).
@@ -226,7 +267,7 @@ impl Row {
 }
 
 /// Unknown and equation counts of a cluster.
-pub fn size_of(params: &[Param], rows: &[Row]) -> (usize, usize) {
+pub fn size_of<T>(params: &[Param<T>], rows: &[Row]) -> (usize, usize) {
     (
         params.iter().map(Param::count).sum(),
         rows.iter().map(Row::count).sum(),
@@ -319,19 +360,7 @@ impl<'a> System<'a> {
     /// Places the cluster bodies at the unknowns `x` (in param order, so a
     /// hinge's parent is placed first).
     pub fn apply(&mut self, x: &DVector<f64>) {
-        for (k, p) in self.params.iter().enumerate() {
-            let o = self.offsets[k];
-            let base = self.base[k];
-            self.poses[p.body()] = match *p {
-                Param::Free { .. } => free_pose(x[o], x[o + 1], x[o + 2], self.size),
-                Param::Angle { pin, at, .. } => pinned_pose(x[o], self.size, pin, at),
-                Param::Hinge { pin, parent, at, .. } => {
-                    pinned_pose(x[o], self.size, pin, self.poses[parent].world(at))
-                }
-                Param::Slide { dir, .. } => slide_pose(base, dir, x[o]),
-                Param::Translate { .. } => translate_pose(base, x[o], x[o + 1]),
-            };
-        }
+        place(self.poses, &self.base, self.params, self.size, x.as_slice());
     }
 
     /// Calls `f(unknown, ∂p/∂unknown)` for every unknown the world point of
@@ -491,6 +520,118 @@ pub fn finish(ctx: &mut Ctx, step: StepId, report: NewtonReport) -> Result<(), B
         NewtonOutcome::NoSolution => ctx.fail(step, BreakKind::NoSolution, report.residual),
         NewtonOutcome::NotConverged => ctx.fail(step, BreakKind::NotConverged, report.residual),
     }
+}
+
+/// Places the cluster bodies of `poses` at the unknowns `x`, in param
+/// order (a hinge's parent first); `base` holds each param's body as it
+/// stood when the cluster started (the rotation of a sliding or translated
+/// body, the start of a slide).
+pub fn place<T: Real>(poses: &mut [Pose<T>], base: &[Pose<T>], params: &[Param<T>], size: f64, x: &[T]) {
+    let mut o = 0;
+    for (k, p) in params.iter().enumerate() {
+        poses[p.body()] = match *p {
+            Param::Free { .. } => free_pose(x[o], x[o + 1], x[o + 2], size),
+            Param::Angle { pin, at, .. } => pinned_pose(x[o], size, cst(pin), at),
+            Param::Hinge { pin, parent, at, .. } => {
+                pinned_pose(x[o], size, cst(pin), poses[parent].world(cst(at)))
+            }
+            Param::Slide { dir, .. } => slide_pose(base[k], dir, x[o]),
+            Param::Translate { .. } => translate_pose(base[k], x[o], x[o + 1]),
+        };
+        o += p.count();
+    }
+}
+
+/// The residuals of `rows` over `poses` (the cluster bodies placed), on
+/// jets: the rows of [`System`]'s residual, with the inputs' rates.
+pub fn jet_residuals(poses: &[Pose<Jet2>], rows: &[Row], inputs: &[Jet2], size: f64, r: &mut [Jet2]) {
+    let mut row = 0;
+    for eq in rows {
+        match *eq {
+            Row::Coincident { a, la, slide, b, lb } => {
+                let la = match slide {
+                    Some((input, d)) => {
+                        let u = inputs[input];
+                        [
+                            Jet2::cst(la[0]) + u * Jet2::cst(d[0]),
+                            Jet2::cst(la[1]) + u * Jet2::cst(d[1]),
+                        ]
+                    }
+                    None => cst(la),
+                };
+                let pa = poses[a].world(la);
+                let pb = poses[b].world(cst(lb));
+                r[row] = pa[0] - pb[0];
+                r[row + 1] = pa[1] - pb[1];
+                row += 2;
+            }
+            Row::InLine { a, la, dir, b, lb } => {
+                let d = poses[a].world_dir(cst(dir));
+                r[row] = in_line(d, poses[a].world(cst(la)), poses[b].world(cst(lb))).0;
+                row += 1;
+            }
+            Row::Parallel { a, b, input } => {
+                let rel = match input {
+                    Some(i) => Rot::from_degrees_jet(inputs[i]),
+                    None => Rot::cst(Rot::IDENTITY),
+                };
+                r[row] = parallel(poses[a].rot, rel, poses[b].rot, size).0;
+                row += 1;
+            }
+        }
+    }
+}
+
+/// [`solve`] with the rates: the cluster solved on the values exactly as
+/// [`solve`] solves it (the same Newton on the same numbers, so the
+/// positions are `solve`'s), then its unknowns' rates by the implicit
+/// function theorem ([`Implicit`]) from the rates of what it hangs on
+/// (`poses` before the step, `params`, `inputs`), and the cluster bodies
+/// placed on jets. A singular Jacobian at the solution gives infinite rates
+/// (reported singular by [`crate::real::checked`]), not huge numbers.
+#[allow(clippy::too_many_arguments)]
+pub fn solve_rates(
+    ctx: &mut Ctx,
+    step: StepId,
+    poses: &mut [Pose<Jet2>],
+    params: &[Param<Jet2>],
+    rows: &[Row],
+    inputs: &[Jet2],
+    size: f64,
+    newton: &mut Newton,
+) -> Result<(), Break> {
+    let (n, m) = size_of(params, rows);
+    let values: Vec<Param> = params.iter().map(Param::value).collect();
+    let input_values: Vec<f64> = inputs.iter().map(|u| u.v).collect();
+    let mut at: Vec<Pose> = poses.iter().map(Pose::value).collect();
+    let (x, jacobian) = {
+        let (mut system, mut x) = System::new(&mut at, &values, rows, &input_values, size);
+        let report = newton.solve(&mut system, &mut x, &options(size));
+        finish(ctx, step, report)?;
+        let (mut r, mut j) = (DVector::zeros(m), DMatrix::zeros(m, n));
+        system.eval(&x, &mut r, Some(&mut j));
+        (x, j)
+    };
+    let base: Vec<Pose<Jet2>> = params.iter().map(|p| poses[p.body()]).collect();
+    let implicit = Implicit::new(&jacobian);
+    let mut q: Vec<Jet2> = x.iter().map(|&v| Jet2::cst(v)).collect();
+    let mut f = vec![Jet2::cst(0.0); m];
+    // F with the unknowns held: its rate is ∂F/∂(upstream)·rates.
+    place(poses, &base, params, size, &q);
+    jet_residuals(poses, rows, inputs, size, &mut f);
+    let q_dot = implicit.solve(&DVector::from_iterator(m, f.iter().map(|r| r.d)));
+    // F with the unknowns moving at q̇: its second derivative is all but J·q̈.
+    for (q, d) in q.iter_mut().zip(q_dot.iter()) {
+        q.d = *d;
+    }
+    place(poses, &base, params, size, &q);
+    jet_residuals(poses, rows, inputs, size, &mut f);
+    let q_ddot = implicit.solve(&DVector::from_iterator(m, f.iter().map(|r| r.dd)));
+    for (q, dd) in q.iter_mut().zip(q_ddot.iter()) {
+        q.dd = *dd;
+    }
+    place(poses, &base, params, size, &q);
+    Ok(())
 }
 
 #[cfg(test)]
@@ -682,6 +823,84 @@ mod tests {
                     "∂r{row}/∂x{col}: analytic {} numeric {numeric}",
                     j[(row, col)]
                 );
+            }
+        }
+    }
+
+    /// A free body held to a moving one by two coincident points and a
+    /// parallel row, and a translated body (turning with the moving one)
+    /// held by one point and an in-line row: an over-constrained consistent
+    /// cluster whose solution is the moving body's pose, so its rates must
+    /// be the moving body's, velocity and acceleration.
+    #[test]
+    fn free_and_translated_bodies_move_with_what_holds_them() {
+        let mover = Pose {
+            at: [Jet2::new(0.3, 0.2, -0.1), Jet2::new(-0.2, 0.05, 0.4)],
+            rot: Rot::from_degrees_jet(Jet2::new(30.0, 10.0, -3.0)),
+        };
+        let mut poses = [Pose::<Jet2>::cst(Pose::IDENTITY); 4];
+        poses[1] = mover;
+        // Warm starts near the solution; the translated body's rotation is
+        // known (the mover's, with its rates).
+        let v = mover.value();
+        poses[2] = Pose::cst(Pose {
+            at: [v.at[0] + 0.01, v.at[1] - 0.02],
+            rot: Rot::from_degrees(31.0),
+        });
+        poses[3] = Pose {
+            at: [Jet2::cst(v.at[0] - 0.03), Jet2::cst(v.at[1] + 0.01)],
+            rot: mover.rot,
+        };
+        let params = [Param::Free { body: 2 }, Param::Translate { body: 3 }];
+        let rows = [
+            Row::Coincident {
+                a: 1,
+                la: [1.0, 0.0],
+                slide: None,
+                b: 2,
+                lb: [1.0, 0.0],
+            },
+            Row::Coincident {
+                a: 1,
+                la: [0.0, 1.0],
+                slide: None,
+                b: 2,
+                lb: [0.0, 1.0],
+            },
+            Row::Parallel {
+                a: 1,
+                b: 2,
+                input: None,
+            },
+            Row::Coincident {
+                a: 2,
+                la: [0.5, 0.5],
+                slide: None,
+                b: 3,
+                lb: [0.5, 0.5],
+            },
+            Row::InLine {
+                a: 1,
+                la: [0.0, 0.0],
+                dir: [1.0, 0.0],
+                b: 3,
+                lb: [2.0, 0.0],
+            },
+        ];
+        let mut newton = Newton::new(5, 8);
+        let mut ctx = Ctx::new(BranchPolicy::Keep, false);
+        solve_rates(&mut ctx, 0, &mut poses, &params, &rows, &[], 2.0, &mut newton).unwrap();
+        for b in [2, 3] {
+            let (p, q) = (poses[b], mover);
+            for (x, y) in [
+                (p.at[0], q.at[0]),
+                (p.at[1], q.at[1]),
+                (p.rot.c, q.rot.c),
+                (p.rot.s, q.rot.s),
+            ] {
+                assert!((x.v - y.v).abs() < 1e-10, "body {b}: {x:?} vs {y:?}");
+                assert!((x.d - y.d).abs() < 1e-9, "body {b}: {x:?} vs {y:?}");
+                assert!((x.dd - y.dd).abs() < 1e-9, "body {b}: {x:?} vs {y:?}");
             }
         }
     }

@@ -270,6 +270,123 @@ where
     }
 }
 
+/// Singular values at or below this share of the largest make a solved
+/// cluster's Jacobian singular for its rates ([`Implicit`]). A rate grows
+/// as the inverse of the smallest singular value, which near a dead point
+/// vanishes as the square root of the distance to it: this is the closed
+/// form's threshold for dead points (a squared half-chord of 1e-10 of the
+/// squared radii), rates within about 1e5 of their scale.
+pub const RATE_CUTOFF: f64 = 1e-5;
+
+/// A solved cluster's Jacobian `J` factorised for its rates by the
+/// implicit function theorem: [`solve`](Self::solve) gives `−J⁺·f`, the
+/// minimum-norm least-squares motion of the unknowns that cancels a
+/// residual rate `f` — the step the cluster's Newton takes, so an
+/// under-constrained cluster moves by least motion and an over-constrained
+/// consistent one by its independent rows. Of fixed size in generated code,
+/// where it allocates nothing.
+///
+/// A well-conditioned `J` (the Cholesky factor of its Gram matrix with a
+/// diagonal spanning at most 1e3, so `J` far from losing rank) is solved
+/// through that factor, `J⁺ = Jᵀ(JJᵀ)⁻¹` or `(JᵀJ)⁻¹Jᵀ` (as Newton's full
+/// rank steps); any other by the SVD. Where `J` has lost rank there (a
+/// singular value at or below [`RATE_CUTOFF`] of the largest: the cluster
+/// at a dead point, or an equation dependent on the others there only) the
+/// rates are infinite, which the plan reports as singular rather than as
+/// huge numbers.
+pub struct Implicit<R: DimMin<C>, C: Dim>
+where
+    DimMinimum<R, C>: DimSub<U1>,
+    DefaultAllocator: NewtonAllocator<R, C>,
+{
+    factor: Factor<R, C>,
+    /// The number of unknowns.
+    cols: C,
+}
+
+/// How [`Implicit`] solves.
+enum Factor<R: DimMin<C>, C: Dim>
+where
+    DimMinimum<R, C>: DimSub<U1>,
+    DefaultAllocator: NewtonAllocator<R, C>,
+{
+    /// A wide or square `J` and the Cholesky factor of `JJᵀ`.
+    Wide(OMatrix<f64, R, C>, nalgebra::Cholesky<f64, R>),
+    /// A tall `J` and the Cholesky factor of `JᵀJ`.
+    Tall(OMatrix<f64, R, C>, nalgebra::Cholesky<f64, C>),
+    /// The SVD and its absolute cut-off.
+    Svd(SVD<f64, R, C>, f64),
+    /// Rank lost.
+    Singular,
+}
+
+impl<R: DimMin<C>, C: Dim> Implicit<R, C>
+where
+    DimMinimum<R, C>: DimSub<U1>,
+    DefaultAllocator: NewtonAllocator<R, C>,
+{
+    /// The factorisation of `jacobian` (singular when it has lost rank).
+    pub fn new(jacobian: &OMatrix<f64, R, C>) -> Self {
+        let cols = C::from_usize(jacobian.ncols());
+        let (m, n) = jacobian.shape();
+        if m > 0 && n > 0 && jacobian.iter().all(|v| v.is_finite()) {
+            if m <= n {
+                if let Some(chol) = nalgebra::Cholesky::new(jacobian * jacobian.transpose()) {
+                    if clear(chol.l_dirty()) {
+                        let factor = Factor::Wide(jacobian.clone_owned(), chol);
+                        return Implicit { factor, cols };
+                    }
+                }
+            } else if let Some(chol) = nalgebra::Cholesky::new(jacobian.transpose() * jacobian) {
+                if clear(chol.l_dirty()) {
+                    let factor = Factor::Tall(jacobian.clone_owned(), chol);
+                    return Implicit { factor, cols };
+                }
+            }
+        }
+        let factor = match decompose(jacobian, true) {
+            Some(svd) => {
+                let eps = threshold(&svd.singular_values, RATE_CUTOFF);
+                let rank = svd.singular_values.iter().filter(|&&s| s > eps).count();
+                if rank == m.min(n) {
+                    Factor::Svd(svd, eps)
+                } else {
+                    Factor::Singular
+                }
+            }
+            None => Factor::Singular,
+        };
+        Implicit { factor, cols }
+    }
+
+    /// Whether the Jacobian has lost rank.
+    pub fn singular(&self) -> bool {
+        matches!(self.factor, Factor::Singular)
+    }
+
+    /// `−J⁺·f`; infinite when the Jacobian is singular.
+    pub fn solve(&self, f: &OVector<f64, R>) -> OVector<f64, C> {
+        let infinite = || OVector::from_element_generic(self.cols, U1, f64::INFINITY);
+        match &self.factor {
+            Factor::Wide(j, chol) => -(j.tr_mul(&chol.solve(f))),
+            Factor::Tall(j, chol) => -chol.solve(&j.tr_mul(f)),
+            Factor::Svd(svd, eps) => svd.solve(f, *eps).map_or_else(|_| infinite(), |x| -x),
+            Factor::Singular => infinite(),
+        }
+    }
+}
+
+/// Whether a Cholesky factor's diagonal spans at most 1e3: its matrix far
+/// from losing rank, solved through the factor ([`Implicit`]).
+fn clear<D: Dim>(l: &OMatrix<f64, D, D>) -> bool
+where
+    DefaultAllocator: Allocator<D, D>,
+{
+    let diag = (0..l.nrows()).map(|i| l[(i, i)].abs());
+    let (lo, hi) = diag.fold((f64::INFINITY, 0.0_f64), |(lo, hi), d| (lo.min(d), hi.max(d)));
+    lo > 1e-3 * hi
+}
+
 /// SVD of `matrix`, or `None` when it is empty, has a non-finite entry or
 /// the iteration fails to converge.
 ///

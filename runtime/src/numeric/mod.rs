@@ -39,7 +39,7 @@ pub mod priority;
 /// The fixed-size `nalgebra` types generated code names.
 pub use nalgebra::{Const, SMatrix, SVector};
 
-pub use linalg::{min_norm_step, null_space, pseudo_inverse, rank};
+pub use linalg::{min_norm_step, null_space, pseudo_inverse, rank, Implicit, RATE_CUTOFF};
 pub use newton::{
     fixed_system, Equations, FixedSystem, Newton, NewtonAllocator, NewtonOptions, NewtonOutcome, NewtonReport,
 };

@@ -765,3 +765,45 @@ fn numeric_min_norm_step_of_general_wide_and_tall_matrices() {
     assert!((&d - &expected).amax() < 1e-12, "{d:?} vs {expected:?}");
     assert_eq!(rank(&jd, 1e-10), 2);
 }
+
+/// The rates' linear solve, `−J⁺·f`, against the pseudo-inverse on wide,
+/// square and tall Jacobians, well conditioned (through the Cholesky
+/// factor) and not (through the SVD), and infinite where `J` has lost rank.
+#[test]
+fn implicit_rates_are_the_minimum_norm_least_squares_motion() {
+    let entry = |i: usize, j: usize| ((i * 7 + j * 13) % 11) as f64 - 5.0 + 0.3 * (i as f64) * (j as f64);
+    for (m, n) in [(2, 3), (4, 4), (5, 3), (2, 6)] {
+        for conditioning in [1.0, 1e-4] {
+            let mut j = DMatrix::from_fn(m, n, entry);
+            // Scale the last row (wide) or column (tall) down: a poorly
+            // conditioned Jacobian, not yet singular.
+            if m <= n {
+                j.row_mut(m - 1).scale_mut(conditioning);
+            } else {
+                j.column_mut(n - 1).scale_mut(conditioning);
+            }
+            // A consistent right-hand side for the tall case.
+            let f = if m > n {
+                &j * DVector::from_fn(n, |i, _| 1.0 + i as f64)
+            } else {
+                DVector::from_fn(m, |i, _| 0.5 - i as f64)
+            };
+            let expect = -(pseudo_inverse(&j, 1e-14) * &f);
+            let got = Implicit::new(&j).solve(&f);
+            assert!(
+                (&got - &expect).norm() <= 1e-9 * expect.norm(),
+                "{m}x{n} at {conditioning}: {got} vs {expect}"
+            );
+        }
+    }
+    // Rank lost: a row the sum of two others.
+    let mut j = DMatrix::from_fn(3, 4, entry);
+    let sum = j.row(0) + j.row(1);
+    j.row_mut(2).copy_from(&sum);
+    let implicit = Implicit::new(&j);
+    assert!(implicit.singular());
+    assert!(implicit
+        .solve(&DVector::from_element(3, 1.0))
+        .iter()
+        .all(|x| x.is_infinite()));
+}
