@@ -8,7 +8,8 @@
 //!
 //! `cargo run --release --example table` (add mechanism names to restrict;
 //! `spatial`, `planar`, `rates` or `batch` for one table). The batch table
-//! times a sweep of 20,000 frames through the driver, `solve_batch` and
+//! times each sweep through the driver and `solve_batch`, and the sweep
+//! repeated to 20,000 frames through `solve_batch` and
 //! `solve_batch_parallel`.
 //! Each figure is the median over repeated timed passes of the mechanism's
 //! sweep, driven frame by frame through `dofplan_runtime::Driver` exactly as
@@ -88,66 +89,79 @@ fn main() {
     }
 }
 
-/// The batch table: per compiled planar plan, a sweep frame by frame
-/// through the driver against `solve_batch` on one core (lanes of frames
-/// for closed-form plans) and `solve_batch_parallel` on every core, on
-/// the mechanism's sweep repeated to 20,000 frames (medians of
-/// alternating passes).
+/// The batch table: per compiled planar plan, its sweep (one pass, a few
+/// hundred frames, whose poses stay in the caches) frame by frame through
+/// the driver against `solve_batch` on one core (lanes of frames for
+/// closed-form plans); then the sweep repeated to 20,000 frames (poses
+/// written to main memory) through `solve_batch` and
+/// `solve_batch_parallel` on every core. Medians of alternating passes.
 fn batch(filter: &[String]) {
     use dofplan_runtime::batch::solve_batch_parallel;
     use dofplan_runtime::planar::Pose;
     use dofplan_runtime::{Batch, FrameStatus};
+    const LONG: usize = 20_000;
     let names: Vec<String> = bundled()
         .into_iter()
         .filter(|n| filter.is_empty() || filter.contains(n))
         .collect();
     println!();
     println!(
-        "| mechanism | plan steps | lanes | driver ns/frame | solve_batch ns/frame (one core) | speed-up | solve_batch_parallel ns/frame ({} cores) |",
+        "| mechanism | plan steps | lanes | sweep frames | driver ns/frame | solve_batch ns/frame (one core) | speed-up | {LONG} frames: solve_batch ns/frame | solve_batch_parallel ns/frame ({} cores) |",
         std::thread::available_parallelism().map_or(1, |n| n.get())
     );
-    println!("|---|---:|---|---:|---:|---:|---:|");
+    println!("|---|---:|---|---:|---:|---:|---:|---:|---:|");
     for name in names {
         let m = load(&name);
         let p = plan(&m);
         let sweep = sweep_inputs(&m, None);
-        let frames: usize = std::env::var("BATCH_FRAMES")
-            .ok()
-            .and_then(|v| v.parse().ok())
-            .unwrap_or(20_000);
-        let rows: Vec<Vec<f64>> = sweep.iter().cycle().take(frames).cloned().collect();
-        let flat: Vec<f64> = rows.iter().flatten().copied().collect();
-        let (c, b, par, lanes) = dofplan_generated::with_plan!(name.as_str(), |plan| {
+        let long: Vec<Vec<f64>> = sweep.iter().cycle().take(LONG).cloned().collect();
+        let flat = |rows: &[Vec<f64>]| -> Vec<f64> { rows.iter().flatten().copied().collect() };
+        let (short_in, long_in) = (flat(&sweep), flat(&long));
+        let row = dofplan_generated::with_plan!(name.as_str(), |plan| {
             let mut driver = Driver::new(plan, Options::default());
-            let mut out = vec![Pose::IDENTITY; frames * m.bodies.len()];
-            let mut status = vec![FrameStatus::Solved; frames];
-            let time = |f: &mut dyn FnMut()| {
+            let mut out = vec![Pose::IDENTITY; LONG * m.bodies.len()];
+            let mut status = vec![FrameStatus::Solved; LONG];
+            let short = sweep.len();
+            // Sweeps repeated to about 5 ms a pass.
+            let reps = (5e6 / (40.0 * (m.bodies.len() * short) as f64)).max(1.0) as usize;
+            let time = |frames: usize, reps: usize, f: &mut dyn FnMut()| {
                 let t = Instant::now();
-                f();
-                t.elapsed().as_secs_f64() * 1e9 / frames as f64
+                for _ in 0..reps {
+                    f();
+                }
+                t.elapsed().as_secs_f64() * 1e9 / (frames * reps) as f64
             };
-            let (mut c, mut b, mut par) = (Vec::new(), Vec::new(), Vec::new());
+            let mut v: [Vec<f64>; 4] = Default::default();
             for _ in 0..11 {
-                c.push(time(&mut || {
+                v[0].push(time(short, reps, &mut || {
                     driver.reset();
-                    for i in &rows {
+                    for i in &sweep {
                         black_box(driver.frame(black_box(i)));
                     }
                 }));
-                b.push(time(&mut || {
-                    plan.solve_batch(black_box(&flat), &mut out, &mut status)
+                v[1].push(time(short, reps, &mut || {
+                    plan.solve_batch(
+                        black_box(&short_in),
+                        &mut out[..short * m.bodies.len()],
+                        &mut status[..short],
+                    )
                 }));
-                par.push(time(&mut || {
-                    solve_batch_parallel(&plan, black_box(&flat), &mut out, &mut status)
+                v[2].push(time(LONG, 1, &mut || {
+                    plan.solve_batch(black_box(&long_in), &mut out, &mut status)
+                }));
+                v[3].push(time(LONG, 1, &mut || {
+                    solve_batch_parallel(&plan, black_box(&long_in), &mut out, &mut status)
                 }));
             }
-            (median(c), median(b), median(par), plan.independent())
+            (v.map(median), plan.independent())
         })
         .expect("compiled");
+        let ([c, b, long_b, par], lanes) = row;
         println!(
-            "| {name} | {} | {} | {c:.1} | {b:.1} | {:.2} | {par:.1} |",
+            "| {name} | {} | {} | {} | {c:.1} | {b:.1} | {:.2} | {long_b:.1} | {par:.1} |",
             p.steps.len(),
             if lanes { "yes" } else { "no (in order)" },
+            sweep.len(),
             c / b
         );
     }
