@@ -14,7 +14,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use serde_json::{json, Map, Value};
 
 use dofplan::analysis::grashof::{four_bars, Class as GrashofClass};
-use dofplan::analysis::ranges::{self, assembly_ranges};
+use dofplan::analysis::ranges::{self, assembly_ranges, InputRanges};
 use dofplan::analysis::rank::rank_mobility_with;
 use dofplan::analysis::{analyse_with, Analysis, Class, Mobility};
 use dofplan::assemble::assemble_file;
@@ -25,7 +25,7 @@ use dofplan::model::Model;
 #[path = "cli/spatial.rs"]
 mod spatial;
 use dofplan::interp::Interpreter;
-use dofplan::model::{InputKind, MarkerId, Mechanism, Sweep, MAX_STEPS};
+use dofplan::model::{Input, InputKind, MarkerId, Mechanism, Sweep, MAX_STEPS};
 use dofplan::numeric::drag::Drag;
 use dofplan::numeric::PureNewton;
 use dofplan::plan::{num, Plan};
@@ -442,8 +442,7 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
 /// The assembly ranges of `check`: per input, where the mechanism
 /// assembles with the others at 0, each end a break point with the step
 /// that breaks beyond it.
-fn write_ranges(m: &Mechanism, plan: &Plan, out: &mut dyn Write) -> io::Result<()> {
-    let ranges = assembly_ranges(m, plan);
+pub(crate) fn write_ranges(inputs: &[Input], ranges: &[InputRanges], out: &mut dyn Write) -> io::Result<()> {
     if ranges.is_empty() {
         return Ok(());
     }
@@ -451,8 +450,8 @@ fn write_ranges(m: &Mechanism, plan: &Plan, out: &mut dyn Write) -> io::Result<(
         out,
         "  assembly ranges (each input alone, the others at 0; break points to 1e-9):"
     )?;
-    for r in &ranges {
-        let input = &m.inputs[r.input];
+    for r in ranges {
+        let input = &inputs[r.input];
         let unit = match input.kind {
             InputKind::Angle => "°",
             InputKind::Slide => "",
@@ -481,13 +480,13 @@ fn write_ranges(m: &Mechanism, plan: &Plan, out: &mut dyn Write) -> io::Result<(
 }
 
 /// `"ranges"` of `check --json`: by input name, the intervals `[from, to]`.
-fn ranges_json(m: &Mechanism, plan: &Plan) -> Value {
+pub(crate) fn ranges_json(inputs: &[Input], ranges: &[InputRanges]) -> Value {
     Value::Object(
-        assembly_ranges(m, plan)
+        ranges
             .iter()
             .map(|r| {
                 let intervals: Vec<Value> = r.intervals.iter().map(|(a, b)| json!([a.at, b.at])).collect();
-                (m.inputs[r.input].name.clone(), json!(intervals))
+                (inputs[r.input].name.clone(), json!(intervals))
             })
             .collect(),
     )
@@ -567,7 +566,7 @@ fn check_json(
         "idle_freedoms": dofplan::analysis::rank::idle_freedoms(m),
         "plan": plan_json,
         "ranges": match plan {
-            Some(Ok(p)) => ranges_json(m, p),
+            Some(Ok(p)) => ranges_json(&m.inputs, &assembly_ranges(m, p)),
             _ => json!(null),
         },
         "grashof": four_bars(m).iter().map(|f| json!({
@@ -995,7 +994,7 @@ fn check_mechanism(
                     checks.join("; ")
                 )?;
             }
-            write_ranges(m, p, out)?;
+            write_ranges(&m.inputs, &assembly_ranges(m, p), out)?;
             ExitCode::SUCCESS
         }
         Err(e) => {

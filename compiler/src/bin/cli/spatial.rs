@@ -5,6 +5,7 @@ use std::io::{self, Write};
 use std::path::Path;
 use std::process::ExitCode;
 
+use dofplan::analysis::ranges::spatial_assembly_ranges;
 use dofplan::analysis::spatial::{analyse, count::count, fragments};
 use dofplan::interp::spatial::Interpreter3;
 use dofplan::model::spatial::Mechanism3;
@@ -20,6 +21,9 @@ use serde_json::{json, Map, Value};
 pub fn check(m: &Mechanism3, json_out: bool, out: &mut dyn Write) -> io::Result<ExitCode> {
     let c = count(m);
     let plan = analyse(m);
+    // Each input's assembly range, as planar `check` reports them (no
+    // Grashof classes: those are planar four-bar notions).
+    let ranges = plan.as_ref().ok().map(|p| spatial_assembly_ranges(m, p));
     if json_out {
         let (steps, cu, ce) = match &plan {
             Ok(p) => {
@@ -53,6 +57,10 @@ pub fn check(m: &Mechanism3, json_out: bool, out: &mut dyn Write) -> io::Result<
                     "idle": p.idle.iter().map(|(b, n, _)| json!({"body": p.bodies[*b], "freedoms": n})).collect::<Vec<_>>(),
                 }),
                 Err(e) => json!({"error": e.to_string()}),
+            },
+            "ranges": match &ranges {
+                Some(r) => super::ranges_json(&m.inputs, r),
+                None => json!(null),
             },
         });
         writeln!(
@@ -123,6 +131,9 @@ pub fn check(m: &Mechanism3, json_out: bool, out: &mut dyn Write) -> io::Result<
                     "  idle: {} keeps {n} freedom(s) at minimum motion ({why})",
                     p.bodies[*b]
                 )?;
+            }
+            if let Some(r) = &ranges {
+                super::write_ranges(&m.inputs, r, out)?;
             }
             Ok(ExitCode::SUCCESS)
         }
