@@ -14,6 +14,7 @@ use dofplan::plan::spatial::Plan3;
 use dofplan::render::spatial::{render_spatial, SpatialFrame};
 use dofplan::simulate::spatial::{marker_positions, residual};
 use dofplan::simulate::sweep_requests;
+use dofplan_runtime::spatial::{Pose3, Vec3};
 use dofplan_runtime::{Driver, FrameStatus, Options};
 use serde_json::{json, Map, Value};
 
@@ -313,26 +314,18 @@ fn frames(
                 writeln!(out, "{}", row.join(","))?;
             }
             Form3::Json => {
-                let mut mk = Map::new();
-                for (n, p) in names.iter().zip(&markers) {
-                    mk.insert(n.clone(), json!(p));
-                }
-                let mut bodies = Map::new();
-                for (b, pose) in m.bodies.iter().zip(poses) {
-                    bodies.insert(
-                        b.name.clone(),
-                        json!({"rotation": pose.rot.m, "position": pose.pos}),
-                    );
-                }
-                let frame = json!({
-                    "frame": i,
-                    "status": status.name(),
-                    "requested": requested,
-                    "inputs": input_names.iter().zip(driver.inputs()).map(|(n, v)| (n.clone(), json!(v))).collect::<Map<String, Value>>(),
-                    "markers": Value::Object(mk),
-                    "bodies": Value::Object(bodies),
-                    "residual": res,
-                });
+                let frame = frame_value(
+                    m,
+                    &names,
+                    input_names,
+                    i,
+                    status,
+                    &requested,
+                    driver.inputs(),
+                    poses,
+                    &markers,
+                    res,
+                );
                 let sep = if i + 1 < total { "," } else { "" };
                 writeln!(out, "  {frame}{sep}")?;
             }
@@ -378,4 +371,42 @@ fn frames(
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// One frame as `simulate --json` writes it: its number, status, the
+/// inputs requested and reached, every marker (by "body.marker", `names`),
+/// every body's rotation and position, and the largest joint residual.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn frame_value(
+    m: &Mechanism3,
+    names: &[String],
+    input_names: &[String],
+    i: usize,
+    status: FrameStatus,
+    requested: &[f64],
+    inputs: &[f64],
+    poses: &[Pose3],
+    markers: &[Vec3],
+    res: f64,
+) -> Value {
+    let mut mk = Map::new();
+    for (n, p) in names.iter().zip(markers) {
+        mk.insert(n.clone(), json!(p));
+    }
+    let mut bodies = Map::new();
+    for (b, pose) in m.bodies.iter().zip(poses) {
+        bodies.insert(
+            b.name.clone(),
+            json!({"rotation": pose.rot.m, "position": pose.pos}),
+        );
+    }
+    json!({
+        "frame": i,
+        "status": status.name(),
+        "requested": requested,
+        "inputs": input_names.iter().zip(inputs).map(|(n, v)| (n.clone(), json!(v))).collect::<Map<String, Value>>(),
+        "markers": Value::Object(mk),
+        "bodies": Value::Object(bodies),
+        "residual": res,
+    })
 }
