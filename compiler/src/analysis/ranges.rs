@@ -293,6 +293,27 @@ mod tests {
         assert!(lo.brk.is_some() && hi.brk.is_some());
     }
 
+    /// The spatial Scotch yoke (tests/fixtures/spatial/yoke.toml): the
+    /// rocker's pin C, at radius 1 about the z axis, stays in the slot
+    /// x = 0.6 + s, which meets the circle while |0.6 + s| ≤ 1: s from −1.6
+    /// to 0.4.
+    #[test]
+    fn a_spatial_yoke_slides_while_its_slot_meets_the_circle() {
+        let text = include_str!("../../../tests/fixtures/spatial/yoke.toml");
+        let crate::model::Model::Spatial(m) =
+            crate::model::load_any_str("yoke.toml", text, Format::Toml).unwrap()
+        else {
+            panic!("a spatial file")
+        };
+        let plan = crate::analysis::spatial::analyse(&m).unwrap();
+        let r = spatial_assembly_ranges(&m, &plan);
+        let [(lo, hi)] = r[0].intervals.as_slice() else {
+            panic!("one interval: {r:?}")
+        };
+        assert!(lo.brk.is_some() && hi.brk.is_some(), "{r:?}");
+        assert!((lo.at + 1.6).abs() < 1e-8 && (hi.at - 0.4).abs() < 1e-8, "{r:?}");
+    }
+
     #[test]
     fn a_trammel_slides_until_its_bar_cannot_reach() {
         let text = include_str!("../../../mechanisms/trammel.toml");
