@@ -12,11 +12,17 @@
 //! the plan breaks or the slide passes 1,000 sizes, and the break point is
 //! bisected the same way. An island narrower than the sampling step (1°,
 //! or the doubling step for slides) can be missed; the ends found are exact.
+//!
+//! The search only runs a [`Solver`], so planar plans ([`assembly_ranges`])
+//! and spatial ones ([`spatial_assembly_ranges`]) share it.
 
 use dofplan_runtime::{BranchPolicy, Break, Ctx, Solver};
 
-use crate::interp::{InterpState as State, Interpreter};
-use crate::model::{InputKind, Mechanism};
+use crate::interp::spatial::Interpreter3;
+use crate::interp::Interpreter;
+use crate::model::spatial::Mechanism3;
+use crate::model::{Input, InputKind, Mechanism};
+use crate::plan::spatial::Plan3;
 use crate::plan::Plan;
 
 /// Break points are found to this, in the input's unit.
@@ -57,18 +63,28 @@ impl InputRanges {
 
 /// The assembly ranges of every input of `m`, by running `plan`.
 pub fn assembly_ranges(m: &Mechanism, plan: &Plan) -> Vec<InputRanges> {
-    let interp = Interpreter::new(plan.clone());
-    let size = m.size();
-    (0..m.inputs.len())
-        .map(|i| match m.inputs[i].kind {
-            InputKind::Angle => angle_ranges(&interp, i, m.inputs.len()),
-            InputKind::Slide => slide_ranges(&interp, i, m.inputs.len(), size),
+    ranges_of(&Interpreter::new(plan.clone()), &m.inputs, m.size())
+}
+
+/// The assembly ranges of every input of the spatial mechanism `m`, by
+/// running `plan` (the same search as [`assembly_ranges`]).
+pub fn spatial_assembly_ranges(m: &Mechanism3, plan: &Plan3) -> Vec<InputRanges> {
+    ranges_of(&Interpreter3::new(plan.clone()), &m.inputs, m.size())
+}
+
+/// The assembly ranges of `inputs` (in plan order) run by `solver`, slides
+/// searched out to 1,000 times `size`.
+pub fn ranges_of<S: Solver>(solver: &S, inputs: &[Input], size: f64) -> Vec<InputRanges> {
+    (0..inputs.len())
+        .map(|i| match inputs[i].kind {
+            InputKind::Angle => angle_ranges(solver, i, inputs.len()),
+            InputKind::Slide => slide_ranges(solver, i, inputs.len(), size),
         })
         .collect()
 }
 
 /// Runs the plan at input `i` = `v` (the others 0) from `from`.
-fn run(interp: &Interpreter, from: &State, i: usize, n: usize, v: f64) -> Result<State, Break> {
+fn run<S: Solver>(interp: &S, from: &S::State, i: usize, n: usize, v: f64) -> Result<S::State, Break> {
     let mut inputs = vec![0.0; n];
     inputs[i] = v;
     let mut state = from.clone();
@@ -78,9 +94,9 @@ fn run(interp: &Interpreter, from: &State, i: usize, n: usize, v: f64) -> Result
 
 /// The last value from `ok` toward `bad` at which the plan assembles (to
 /// [`TOLERANCE`]), and the break just past it.
-fn bisect(
-    interp: &Interpreter,
-    from: &State,
+fn bisect<S: Solver>(
+    interp: &S,
+    from: &S::State,
     i: usize,
     n: usize,
     mut ok: f64,
@@ -110,8 +126,8 @@ fn bisect(
 /// Samples outward from 0 in one direction (`sign`) up to `limit` (its
 /// absolute value): the assembling runs met, each as (start, its break
 /// before or `None`, end, its break after or `None`).
-fn sweep_side(
-    interp: &Interpreter,
+fn sweep_side<S: Solver>(
+    interp: &S,
     i: usize,
     n: usize,
     sign: f64,
@@ -120,7 +136,7 @@ fn sweep_side(
 ) -> Vec<(End, End)> {
     let drawn = interp.initial_state();
     let mut runs = Vec::new();
-    let mut last_ok: Option<(f64, State)> = Some((0.0, drawn.clone()));
+    let mut last_ok: Option<(f64, S::State)> = Some((0.0, drawn.clone()));
     let mut start = End { at: 0.0, brk: None };
     for k in 1..=samples {
         let v = sign * limit * k as f64 / samples as f64;
@@ -158,7 +174,7 @@ fn sweep_side(
 }
 
 /// Over −180°..180°.
-fn angle_ranges(interp: &Interpreter, i: usize, n: usize) -> InputRanges {
+fn angle_ranges<S: Solver>(interp: &S, i: usize, n: usize) -> InputRanges {
     let samples = 180 * PER_DEGREE;
     let up = sweep_side(interp, i, n, 1.0, samples, 180.0);
     let down = sweep_side(interp, i, n, -1.0, samples, 180.0);
@@ -170,7 +186,7 @@ fn angle_ranges(interp: &Interpreter, i: usize, n: usize) -> InputRanges {
 }
 
 /// From 0 outward, doubling, to 1,000 sizes.
-fn slide_ranges(interp: &Interpreter, i: usize, n: usize, size: f64) -> InputRanges {
+fn slide_ranges<S: Solver>(interp: &S, i: usize, n: usize, size: f64) -> InputRanges {
     let limit = 1000.0 * size;
     let side = |sign: f64| -> End {
         let mut state = interp.initial_state();
@@ -275,6 +291,27 @@ mod tests {
             star - drawn
         );
         assert!(lo.brk.is_some() && hi.brk.is_some());
+    }
+
+    /// The spatial Scotch yoke (tests/fixtures/spatial/yoke.toml): the
+    /// rocker's pin C, at radius 1 about the z axis, stays in the slot
+    /// x = 0.6 + s, which meets the circle while |0.6 + s| ≤ 1: s from −1.6
+    /// to 0.4.
+    #[test]
+    fn a_spatial_yoke_slides_while_its_slot_meets_the_circle() {
+        let text = include_str!("../../../tests/fixtures/spatial/yoke.toml");
+        let crate::model::Model::Spatial(m) =
+            crate::model::load_any_str("yoke.toml", text, Format::Toml).unwrap()
+        else {
+            panic!("a spatial file")
+        };
+        let plan = crate::analysis::spatial::analyse(&m).unwrap();
+        let r = spatial_assembly_ranges(&m, &plan);
+        let [(lo, hi)] = r[0].intervals.as_slice() else {
+            panic!("one interval: {r:?}")
+        };
+        assert!(lo.brk.is_some() && hi.brk.is_some(), "{r:?}");
+        assert!((lo.at + 1.6).abs() < 1e-8 && (hi.at - 0.4).abs() < 1e-8, "{r:?}");
     }
 
     #[test]

@@ -14,7 +14,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use serde_json::{json, Map, Value};
 
 use dofplan::analysis::grashof::{four_bars, Class as GrashofClass};
-use dofplan::analysis::ranges::{self, assembly_ranges};
+use dofplan::analysis::ranges::{self, assembly_ranges, InputRanges};
 use dofplan::analysis::rank::rank_mobility_with;
 use dofplan::analysis::{analyse_with, Analysis, Class, Mobility};
 use dofplan::assemble::assemble_file;
@@ -25,7 +25,7 @@ use dofplan::model::Model;
 #[path = "cli/spatial.rs"]
 mod spatial;
 use dofplan::interp::Interpreter;
-use dofplan::model::{InputKind, MarkerId, Mechanism, Sweep, MAX_STEPS};
+use dofplan::model::{Input, InputKind, MarkerId, Mechanism, Sweep, MAX_STEPS};
 use dofplan::numeric::drag::Drag;
 use dofplan::numeric::PureNewton;
 use dofplan::plan::{num, Plan};
@@ -42,6 +42,8 @@ mod edit;
 
 #[path = "cli/analyze.rs"]
 mod analyze;
+#[path = "cli/analyze3.rs"]
+mod analyze3;
 
 /// Plan, explain and simulate mechanisms.
 #[derive(Parser)]
@@ -179,9 +181,12 @@ enum Command {
     /// and --steps replacing its fields); its first input moves at --rate,
     /// the others in proportion. A frame at a dead point, where a rate is
     /// infinite, reports its rates as singular (null in JSON, empty in CSV),
-    /// never as a huge number. Planar plans; a numeric cluster's rates come
-    /// from the implicit function theorem on its Jacobian (singular where
-    /// it loses rank).
+    /// never as a huge number. A planar numeric cluster's rates come from
+    /// the implicit function theorem on its Jacobian (singular where it
+    /// loses rank). Spatial files give 3-vectors (no transmission angle);
+    /// a spatial plan with a numeric cluster runs with its positions only,
+    /// its rates null ("unavailable" in JSON) as its rates are not computed
+    /// yet.
     Analyze {
         /// Mechanism file.
         file: PathBuf,
@@ -196,17 +201,23 @@ enum Command {
         /// (each body's "omega" and "alpha", radians per second and per
         /// second squared), "transmission" (each four-bar loop's angle in
         /// degrees) and "singular" at a dead point; "rates" at the top gives
-        /// each input's rate (degrees per second for angles).
+        /// each input's rate (degrees per second for angles). Spatial:
+        /// spatial simulate's frames with "velocity", "acceleration" and
+        /// "angular" ("omega", "alpha" vectors) added.
         #[arg(long, conflicts_with = "csv")]
         json: bool,
         /// CSV, one row per frame: frame, inputs, status, every marker's x, y,
         /// vx, vy, ax, ay, every body's omega and alpha, each loop's
-        /// transmission angle.
+        /// transmission angle. Spatial: frame, status, inputs, every
+        /// marker's x, y, z, vx, vy, vz, ax, ay, az, every body's omega and
+        /// alpha (x, y, z), the residual.
         #[arg(long)]
         csv: bool,
         /// Draw plots into this SVG file: the traced markers' paths, their
         /// position, velocity and acceleration against the input, and the
-        /// transmission angles with their extremes.
+        /// transmission angles with their extremes. Spatial: position,
+        /// speed and acceleration magnitude against the input (`simulate
+        /// --svg` draws the paths in space).
         #[arg(long, value_name = "OUT")]
         svg: Option<PathBuf>,
     },
@@ -442,8 +453,7 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
 /// The assembly ranges of `check`: per input, where the mechanism
 /// assembles with the others at 0, each end a break point with the step
 /// that breaks beyond it.
-fn write_ranges(m: &Mechanism, plan: &Plan, out: &mut dyn Write) -> io::Result<()> {
-    let ranges = assembly_ranges(m, plan);
+pub(crate) fn write_ranges(inputs: &[Input], ranges: &[InputRanges], out: &mut dyn Write) -> io::Result<()> {
     if ranges.is_empty() {
         return Ok(());
     }
@@ -451,8 +461,8 @@ fn write_ranges(m: &Mechanism, plan: &Plan, out: &mut dyn Write) -> io::Result<(
         out,
         "  assembly ranges (each input alone, the others at 0; break points to 1e-9):"
     )?;
-    for r in &ranges {
-        let input = &m.inputs[r.input];
+    for r in ranges {
+        let input = &inputs[r.input];
         let unit = match input.kind {
             InputKind::Angle => "°",
             InputKind::Slide => "",
@@ -481,13 +491,13 @@ fn write_ranges(m: &Mechanism, plan: &Plan, out: &mut dyn Write) -> io::Result<(
 }
 
 /// `"ranges"` of `check --json`: by input name, the intervals `[from, to]`.
-fn ranges_json(m: &Mechanism, plan: &Plan) -> Value {
+pub(crate) fn ranges_json(inputs: &[Input], ranges: &[InputRanges]) -> Value {
     Value::Object(
-        assembly_ranges(m, plan)
+        ranges
             .iter()
             .map(|r| {
                 let intervals: Vec<Value> = r.intervals.iter().map(|(a, b)| json!([a.at, b.at])).collect();
-                (m.inputs[r.input].name.clone(), json!(intervals))
+                (inputs[r.input].name.clone(), json!(intervals))
             })
             .collect(),
     )
@@ -567,7 +577,7 @@ fn check_json(
         "idle_freedoms": dofplan::analysis::rank::idle_freedoms(m),
         "plan": plan_json,
         "ranges": match plan {
-            Some(Ok(p)) => ranges_json(m, p),
+            Some(Ok(p)) => ranges_json(&m.inputs, &assembly_ranges(m, p)),
             _ => json!(null),
         },
         "grashof": four_bars(m).iter().map(|f| json!({
@@ -704,13 +714,36 @@ fn spatial_command(
                 out,
             )
         }
-        Command::Analyze { .. } => {
-            error(
-                &m.source.name,
-                "`analyze` computes the rates of planar plans only, for now",
-                "`dofplan simulate` gives a spatial sweep's positions",
-            );
-            Ok(ExitCode::FAILURE)
+        Command::Analyze {
+            sweep: sweep_args,
+            rate,
+            json,
+            csv,
+            svg,
+            ..
+        } => {
+            let sweep = match sweep_args.of(m) {
+                Ok(sweep) => sweep,
+                Err((message, help)) => {
+                    error(&m.source.name, &message, &help);
+                    return Ok(ExitCode::FAILURE);
+                }
+            };
+            let plan = match dofplan::analysis::spatial::analyse(m) {
+                Ok(p) => p,
+                Err(e) => {
+                    report(&format!("{}: error: {e}", m.source.name));
+                    return Ok(ExitCode::FAILURE);
+                }
+            };
+            let form = if json {
+                spatial::Form3::Json
+            } else if csv {
+                spatial::Form3::Csv
+            } else {
+                spatial::Form3::Text
+            };
+            analyze3::analyze(m, &plan, &sweep, rate, form, svg.as_deref(), out)
         }
         Command::Emit { .. } => match dofplan::analysis::spatial::analyse(m) {
             Ok(plan) => {
@@ -995,7 +1028,7 @@ fn check_mechanism(
                     checks.join("; ")
                 )?;
             }
-            write_ranges(m, p, out)?;
+            write_ranges(&m.inputs, &assembly_ranges(m, p), out)?;
             ExitCode::SUCCESS
         }
         Err(e) => {

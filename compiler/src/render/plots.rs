@@ -1,7 +1,9 @@
 //! Plots of a sweep's kinematics (`dofplan analyze --svg`), drawn with
 //! plotters' SVG backend: the traced markers' paths (coupler curves), their
 //! position, velocity and acceleration against the input, and each
-//! four-bar loop's transmission angle with its extremes marked.
+//! four-bar loop's transmission angle with its extremes marked; for a
+//! spatial sweep ([`draw_spatial`]), the traced markers' position, speed
+//! and acceleration magnitude against the input.
 //!
 //! Behind the `plots` feature: plotters is a dependency of the CLI, not of
 //! `build.rs` users.
@@ -201,22 +203,53 @@ fn against(
     traced: &[Traced],
     pick: &dyn Fn(&Sample) -> Option<(f64, f64)>,
 ) -> Result<(), String> {
-    let (x0, x1) = span(traced.iter().flat_map(|t| t.points.iter().map(|p| p.input)));
+    let names: Vec<&str> = traced.iter().map(|t| t.name).collect();
+    let series: Vec<Vec<Point>> = (traced.iter())
+        .map(|t| {
+            (t.points.iter())
+                .map(|p| (p.input, pick(p).map(|(a, b)| vec![a, b])))
+                .collect()
+        })
+        .collect();
+    components(area, caption, axis, &names, &series)
+}
+
+/// One frame of a series against the input: the input, and the
+/// components, `None` at a dead point.
+type Point = (f64, Option<Vec<f64>>);
+
+/// Components of each named series against the input, the first
+/// component thickest and each next one thinner; gaps where a point has
+/// nothing (dead points).
+fn components(
+    area: &Area,
+    caption: &str,
+    axis: &str,
+    names: &[&str],
+    series: &[Vec<Point>],
+) -> Result<(), String> {
+    let (x0, x1) = span(series.iter().flat_map(|s| s.iter().map(|p| p.0)));
     let (y0, y1) = span(
-        traced
+        series
             .iter()
-            .flat_map(|t| t.points.iter().filter_map(pick).flat_map(|(a, b)| [a, b])),
+            .flat_map(|s| s.iter().filter_map(|p| p.1.as_ref()).flatten().copied()),
     );
     let mut chart = chart(area, caption, 16, x0..x1, y0..y1, axis, None, 60)?;
-    for (k, t) in traced.iter().enumerate() {
+    for (k, (name, points)) in names.iter().zip(series).enumerate() {
         let colour = COLOURS[k % COLOURS.len()];
-        for (component, width) in [(0, 2), (1, 1)] {
+        let count = points
+            .iter()
+            .filter_map(|p| p.1.as_ref().map(Vec::len))
+            .max()
+            .unwrap_or(0);
+        for component in 0..count {
+            let width = (count - component) as u32 + u32::from(count == 1);
             // Runs between gaps, each its own line.
             let mut run: Vec<(f64, f64)> = Vec::new();
             let mut runs = Vec::new();
-            for p in t.points {
-                match pick(p) {
-                    Some(v) => run.push((p.input, if component == 0 { v.0 } else { v.1 })),
+            for (x, v) in points {
+                match v.as_ref().and_then(|v| v.get(component)) {
+                    Some(y) => run.push((*x, *y)),
                     None => runs.push(std::mem::take(&mut run)),
                 }
             }
@@ -226,7 +259,8 @@ fn against(
                     .draw_series(LineSeries::new(points, colour.stroke_width(width)))
                     .map_err(|e| e.to_string())?;
                 if r == 0 && component == 0 {
-                    series.label(t.name).legend(move |(x, y)| {
+                    let name = name.to_string();
+                    series.label(name).legend(move |(x, y)| {
                         PathElement::new(vec![(x, y), (x + 20, y)], colour.stroke_width(2))
                     });
                 }
@@ -234,6 +268,72 @@ fn against(
         }
     }
     legend(&mut chart)
+}
+
+/// One frame of a traced marker of a spatial sweep.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Sample3 {
+    /// The swept input's value.
+    pub input: f64,
+    /// The marker's position.
+    pub at: [f64; 3],
+    /// Its velocity and acceleration; `None` where they are not known (a
+    /// dead point, or a plan whose rates are not computed): a gap.
+    pub rates: Option<([f64; 3], [f64; 3])>,
+}
+
+/// A traced marker's series of a spatial sweep.
+pub struct Traced3<'a> {
+    /// "coupler.M".
+    pub name: &'a str,
+    /// One sample a frame.
+    pub points: &'a [Sample3],
+}
+
+/// The SVG text of a spatial sweep's plots: the traced markers' position
+/// (x, y, z), speed and acceleration magnitude against `axis` (the swept
+/// input, moving at `rate`). No path panel: `simulate --svg` draws the
+/// paths in space, in four views.
+pub fn draw_spatial(title: &str, axis: &str, rate: &str, traced: &[Traced3]) -> Result<String, String> {
+    if traced.is_empty() {
+        return Err("nothing to plot: the sweep traces no marker".into());
+    }
+    let names: Vec<&str> = traced.iter().map(|t| t.name).collect();
+    let of = |pick: &dyn Fn(&Sample3) -> Option<Vec<f64>>| -> Vec<Vec<Point>> {
+        (traced.iter())
+            .map(|t| t.points.iter().map(|p| (p.input, pick(p))).collect())
+            .collect()
+    };
+    let norm = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (WIDTH, PANEL * 3)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let areas = root.split_evenly((3, 1));
+        components(
+            &areas[0],
+            &format!("{title}: position of the traced markers (thick x, medium y, thin z)"),
+            axis,
+            &names,
+            &of(&|p| Some(p.at.to_vec())),
+        )?;
+        components(
+            &areas[1],
+            &format!("speed |v|, the input at {rate}"),
+            axis,
+            &names,
+            &of(&|p| p.rates.map(|(v, _)| vec![norm(v)])),
+        )?;
+        components(
+            &areas[2],
+            &format!("acceleration |a|, the input at {rate}"),
+            axis,
+            &names,
+            &of(&|p| p.rates.map(|(_, a)| vec![norm(a)])),
+        )?;
+        root.present().map_err(|e| e.to_string())?;
+    }
+    Ok(svg)
 }
 
 /// Transmission angles against the input, the extremes of each loop marked

@@ -7,7 +7,7 @@ use dofplan_runtime::planar::{Point, Pose};
 use dofplan_runtime::real::Jet2;
 
 use crate::analysis::grashof::FourBar;
-use crate::model::{InputKind, Mechanism, Sweep};
+use crate::model::{Input, InputKind, Mechanism, Sweep};
 
 /// One frame's rates.
 #[derive(Clone, Debug, PartialEq)]
@@ -53,13 +53,18 @@ pub fn motion(m: &Mechanism, jets: &[Pose<Jet2>]) -> Motion {
 /// (radians or length units per unit of time) and the others keep their
 /// proportions to it.
 pub fn sweep_rates(m: &Mechanism, sweep: &Sweep, rate: f64) -> Vec<f64> {
+    input_rates(&m.inputs, sweep, rate)
+}
+
+/// [`sweep_rates`] of a mechanism's `inputs`, planar or spatial.
+pub fn input_rates(inputs: &[Input], sweep: &Sweep, rate: f64) -> Vec<f64> {
     let primary = sweep.primary();
     let span = primary.to - primary.from;
-    let per_unit = match m.inputs[primary.input].kind {
+    let per_unit = match inputs[primary.input].kind {
         InputKind::Angle => rate.to_degrees(),
         InputKind::Slide => rate,
     };
-    let mut rates = vec![0.0; m.inputs.len()];
+    let mut rates = vec![0.0; inputs.len()];
     for s in &sweep.inputs {
         rates[s.input] = if span == 0.0 {
             if s.input == primary.input {

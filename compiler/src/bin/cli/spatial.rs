@@ -5,6 +5,7 @@ use std::io::{self, Write};
 use std::path::Path;
 use std::process::ExitCode;
 
+use dofplan::analysis::ranges::spatial_assembly_ranges;
 use dofplan::analysis::spatial::{analyse, count::count, fragments};
 use dofplan::interp::spatial::Interpreter3;
 use dofplan::model::spatial::Mechanism3;
@@ -13,6 +14,7 @@ use dofplan::plan::spatial::Plan3;
 use dofplan::render::spatial::{render_spatial, SpatialFrame};
 use dofplan::simulate::spatial::{marker_positions, residual};
 use dofplan::simulate::sweep_requests;
+use dofplan_runtime::spatial::{Pose3, Vec3};
 use dofplan_runtime::{Driver, FrameStatus, Options};
 use serde_json::{json, Map, Value};
 
@@ -20,6 +22,9 @@ use serde_json::{json, Map, Value};
 pub fn check(m: &Mechanism3, json_out: bool, out: &mut dyn Write) -> io::Result<ExitCode> {
     let c = count(m);
     let plan = analyse(m);
+    // Each input's assembly range, as planar `check` reports them (no
+    // Grashof classes: those are planar four-bar notions).
+    let ranges = plan.as_ref().ok().map(|p| spatial_assembly_ranges(m, p));
     if json_out {
         let (steps, cu, ce) = match &plan {
             Ok(p) => {
@@ -53,6 +58,10 @@ pub fn check(m: &Mechanism3, json_out: bool, out: &mut dyn Write) -> io::Result<
                     "idle": p.idle.iter().map(|(b, n, _)| json!({"body": p.bodies[*b], "freedoms": n})).collect::<Vec<_>>(),
                 }),
                 Err(e) => json!({"error": e.to_string()}),
+            },
+            "ranges": match &ranges {
+                Some(r) => super::ranges_json(&m.inputs, r),
+                None => json!(null),
             },
         });
         writeln!(
@@ -123,6 +132,9 @@ pub fn check(m: &Mechanism3, json_out: bool, out: &mut dyn Write) -> io::Result<
                     "  idle: {} keeps {n} freedom(s) at minimum motion ({why})",
                     p.bodies[*b]
                 )?;
+            }
+            if let Some(r) = &ranges {
+                super::write_ranges(&m.inputs, r, out)?;
             }
             Ok(ExitCode::SUCCESS)
         }
@@ -302,26 +314,18 @@ fn frames(
                 writeln!(out, "{}", row.join(","))?;
             }
             Form3::Json => {
-                let mut mk = Map::new();
-                for (n, p) in names.iter().zip(&markers) {
-                    mk.insert(n.clone(), json!(p));
-                }
-                let mut bodies = Map::new();
-                for (b, pose) in m.bodies.iter().zip(poses) {
-                    bodies.insert(
-                        b.name.clone(),
-                        json!({"rotation": pose.rot.m, "position": pose.pos}),
-                    );
-                }
-                let frame = json!({
-                    "frame": i,
-                    "status": status.name(),
-                    "requested": requested,
-                    "inputs": input_names.iter().zip(driver.inputs()).map(|(n, v)| (n.clone(), json!(v))).collect::<Map<String, Value>>(),
-                    "markers": Value::Object(mk),
-                    "bodies": Value::Object(bodies),
-                    "residual": res,
-                });
+                let frame = frame_value(
+                    m,
+                    &names,
+                    input_names,
+                    i,
+                    status,
+                    &requested,
+                    driver.inputs(),
+                    poses,
+                    &markers,
+                    res,
+                );
                 let sep = if i + 1 < total { "," } else { "" };
                 writeln!(out, "  {frame}{sep}")?;
             }
@@ -367,4 +371,42 @@ fn frames(
         }
     }
     Ok(ExitCode::SUCCESS)
+}
+
+/// One frame as `simulate --json` writes it: its number, status, the
+/// inputs requested and reached, every marker (by "body.marker", `names`),
+/// every body's rotation and position, and the largest joint residual.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn frame_value(
+    m: &Mechanism3,
+    names: &[String],
+    input_names: &[String],
+    i: usize,
+    status: FrameStatus,
+    requested: &[f64],
+    inputs: &[f64],
+    poses: &[Pose3],
+    markers: &[Vec3],
+    res: f64,
+) -> Value {
+    let mut mk = Map::new();
+    for (n, p) in names.iter().zip(markers) {
+        mk.insert(n.clone(), json!(p));
+    }
+    let mut bodies = Map::new();
+    for (b, pose) in m.bodies.iter().zip(poses) {
+        bodies.insert(
+            b.name.clone(),
+            json!({"rotation": pose.rot.m, "position": pose.pos}),
+        );
+    }
+    json!({
+        "frame": i,
+        "status": status.name(),
+        "requested": requested,
+        "inputs": input_names.iter().zip(inputs).map(|(n, v)| (n.clone(), json!(v))).collect::<Map<String, Value>>(),
+        "markers": Value::Object(mk),
+        "bodies": Value::Object(bodies),
+        "residual": res,
+    })
 }

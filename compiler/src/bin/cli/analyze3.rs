@@ -1,0 +1,296 @@
+//! `dofplan analyze` of a spatial (`dimension = 3`) file: the sweep with
+//! every marker's velocity and acceleration and every body's angular
+//! velocity and acceleration vectors — exact, by forward-mode
+//! differentiation through the plan ([`Interpreter3::rates`]) — printed as
+//! a summary, JSON or CSV (streamed frame by frame), and drawn as plots.
+//! The transmission angle is a planar four-bar notion and is not given.
+//!
+//! A plan whose rates are not computed (a numeric cluster, for now) still
+//! runs: its positions are written with the rates null (JSON) or empty
+//! (CSV) and the reason said once, as a dead point's are.
+
+use std::io::{self, Write};
+use std::path::Path;
+use std::process::ExitCode;
+
+use dofplan::interp::spatial::Interpreter3;
+use dofplan::model::spatial::Mechanism3;
+use dofplan::model::{InputKind, Sweep};
+use dofplan::plan::num;
+use dofplan::plan::spatial::Plan3;
+use dofplan::render::plots::{draw_spatial, Sample3, Traced3};
+use dofplan::simulate::kinematics::input_rates;
+use dofplan::simulate::spatial::{marker_positions, motion3, residual, Motion3};
+use dofplan::simulate::sweep_requests;
+use dofplan_runtime::real::RateError;
+use dofplan_runtime::{Driver, Options};
+use serde_json::{json, Map, Value};
+
+use super::spatial::{frame_value, Form3};
+
+/// A marker's velocity and acceleration.
+type Rates = ([f64; 3], [f64; 3]);
+
+/// Runs `analyze` on a spatial plan: the sweep with rates at `rate`
+/// (radians or length units per second for the sweep's first input), in
+/// `form`, with plots in `svg`.
+#[allow(clippy::too_many_arguments)]
+pub fn analyze(
+    m: &Mechanism3,
+    plan: &Plan3,
+    sweep: &Sweep,
+    rate: f64,
+    form: Form3,
+    svg: Option<&Path>,
+    out: &mut dyn Write,
+) -> io::Result<ExitCode> {
+    let interp = Interpreter3::new(plan.clone());
+    let mut driver = Driver::new(interp.clone(), Options::default());
+    let rates = input_rates(&m.inputs, sweep, rate);
+    let zero = vec![0.0; m.inputs.len()];
+    let names: Vec<String> = m.all_markers().map(|id| m.marker_name(id)).collect();
+    let input_names: Vec<String> = m.inputs.iter().map(|i| i.name.clone()).collect();
+    let primary = sweep.primary().input;
+    let traced: Vec<usize> = (sweep.trace.iter())
+        .filter_map(|t| m.all_markers().position(|id| id == *t))
+        .collect();
+    let mut samples: Vec<Vec<Sample3>> = vec![Vec::new(); traced.len()];
+    let (mut singular, mut broken) = (Vec::new(), 0usize);
+    // Why rates are missing other than at a dead point (said once).
+    let mut unavailable: Option<RateError> = None;
+    let total = sweep.steps;
+    match form {
+        Form3::Json => {
+            let rates_json: Map<String, Value> = (input_names.iter().zip(&rates))
+                .map(|(n, r)| (n.clone(), json!(r)))
+                .collect();
+            writeln!(
+                out,
+                "{{\"name\": {}, \"dimension\": 3, \"rates\": {}, \"frames\": [",
+                json!(m.name),
+                Value::Object(rates_json)
+            )?;
+        }
+        Form3::Csv => {
+            let mut head: Vec<String> = vec!["frame".into(), "status".into()];
+            head.extend(input_names.iter().cloned());
+            for n in &names {
+                for c in ["x", "y", "z", "vx", "vy", "vz", "ax", "ay", "az"] {
+                    head.push(format!("{n}.{c}"));
+                }
+            }
+            for b in &m.bodies {
+                for c in ["omega", "alpha"] {
+                    for k in ["x", "y", "z"] {
+                        head.push(format!("{}.{c}.{k}", b.name));
+                    }
+                }
+            }
+            head.push("residual".into());
+            writeln!(out, "{}", head.join(","))?;
+        }
+        Form3::Text => {}
+    }
+    let mut bar = crate::progress::FrameBar::new(Some(total));
+    for (i, requested) in sweep_requests(sweep, m.inputs.len()).enumerate() {
+        bar.tick(i);
+        let status = driver.frame(&requested);
+        if !status.is_solved() {
+            broken += 1;
+        }
+        let poses = driver.poses();
+        let reached = driver.inputs().to_vec();
+        let res = residual(m, poses, &reached);
+        let markers = marker_positions(m, poses);
+        let moving: Result<Motion3, RateError> = interp
+            .rates(driver.state(), &reached, &rates, &zero)
+            .map(|j| motion3(m, &j));
+        match &moving {
+            Err(RateError::Singular) => singular.push(i),
+            Err(e) if unavailable.is_none() => unavailable = Some(e.clone()),
+            _ => {}
+        }
+        for (s, &k) in samples.iter_mut().zip(&traced) {
+            s.push(Sample3 {
+                input: reached[primary],
+                at: markers[k],
+                rates: moving
+                    .as_ref()
+                    .ok()
+                    .map(|mo| (mo.velocity[k], mo.acceleration[k])),
+            });
+        }
+        match form {
+            Form3::Json => {
+                let mut o = frame_value(
+                    m,
+                    &names,
+                    &input_names,
+                    i,
+                    status,
+                    &requested,
+                    &reached,
+                    poses,
+                    &markers,
+                    res,
+                );
+                add_rates(&mut o, m, &names, &moving);
+                let sep = if i + 1 < total { "," } else { "" };
+                writeln!(out, "  {o}{sep}")?;
+            }
+            Form3::Csv => {
+                let mut row = vec![i.to_string(), status.name().to_string()];
+                row.extend(reached.iter().map(|v| format!("{v}")));
+                for (k, p) in markers.iter().enumerate() {
+                    row.extend(p.iter().map(|v| format!("{v}")));
+                    match &moving {
+                        Ok(mo) => row.extend(
+                            (mo.velocity[k].iter())
+                                .chain(&mo.acceleration[k])
+                                .map(|v| format!("{v}")),
+                        ),
+                        // No rate here: no number, not a huge one.
+                        Err(_) => row.extend(std::iter::repeat_n(String::new(), 6)),
+                    }
+                }
+                for b in 0..m.bodies.len() {
+                    match &moving {
+                        Ok(mo) => row.extend(mo.omega[b].iter().chain(&mo.alpha[b]).map(|v| format!("{v}"))),
+                        Err(_) => row.extend(std::iter::repeat_n(String::new(), 6)),
+                    }
+                }
+                row.push(format!("{res:e}"));
+                writeln!(out, "{}", row.join(","))?;
+            }
+            Form3::Text => {}
+        }
+    }
+    drop(bar);
+    if form == Form3::Json {
+        writeln!(out, "]}}")?;
+    }
+    let input = &m.inputs[primary];
+    if form == Form3::Text {
+        let unit = |k: InputKind| if k == InputKind::Angle { "°/s" } else { "/s" };
+        let shown: Vec<String> = (m.inputs.iter().zip(&rates))
+            .filter(|(_, r)| **r != 0.0)
+            .map(|(i, r)| format!("{} at {} {}", i.name, num(*r), unit(i.kind)))
+            .collect();
+        writeln!(out, "{}: {} frames, {}", m.name, total, shown.join(", "))?;
+        let at = |x: f64| {
+            let u = if input.kind == InputKind::Angle { "°" } else { "" };
+            format!("{} = {}{u}", input.name, num(x))
+        };
+        let norm = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+        for (s, &k) in samples.iter().zip(&traced) {
+            let largest = |f: &dyn Fn(&Rates) -> f64| {
+                (s.iter())
+                    .filter_map(|p| p.rates.as_ref().map(|r| (p.input, f(r))))
+                    .max_by(|a, b| a.1.total_cmp(&b.1))
+            };
+            if let (Some((xv, v)), Some((xa, a))) = (largest(&|r| norm(r.0)), largest(&|r| norm(r.1))) {
+                writeln!(
+                    out,
+                    "  {}: largest speed {} at {}, largest acceleration {} at {}",
+                    names[k],
+                    num(v),
+                    at(xv),
+                    num(a),
+                    at(xa)
+                )?;
+            }
+        }
+        if let Some(e) = &unavailable {
+            writeln!(
+                out,
+                "  rates unavailable for this plan ({e}): positions only (`dofplan simulate` gives them too)"
+            )?;
+        }
+        if !singular.is_empty() {
+            writeln!(
+                out,
+                "  {} frame(s) at a dead point (rates singular), the first frame {}",
+                singular.len(),
+                singular[0]
+            )?;
+        }
+        if broken > 0 {
+            writeln!(
+                out,
+                "  {broken} frame(s) did not assemble (the last pose kept; `dofplan simulate` says where it breaks)"
+            )?;
+        }
+    }
+    if let Some(path) = svg {
+        let views: Vec<Traced3> = (traced.iter().zip(&samples))
+            .map(|(&k, s)| Traced3 {
+                name: &names[k],
+                points: s,
+            })
+            .collect();
+        let (axis, rate_text) = match input.kind {
+            InputKind::Angle => (
+                format!("{} (degrees)", input.name),
+                format!("{} rad/s", num(rate)),
+            ),
+            InputKind::Slide => (
+                format!("{} (length)", input.name),
+                format!("{} units/s", num(rate)),
+            ),
+        };
+        match draw_spatial(&m.name, &axis, &rate_text, &views) {
+            Ok(text) => {
+                if let Err(e) = std::fs::write(path, text) {
+                    crate::report(&format!("{}: error: cannot write the plots: {e}", path.display()));
+                    return Ok(ExitCode::FAILURE);
+                }
+            }
+            Err(e) => {
+                crate::report(&format!("{}: error: cannot draw the plots: {e}", path.display()));
+                return Ok(ExitCode::FAILURE);
+            }
+        }
+        if form == Form3::Text {
+            writeln!(out, "wrote {}", path.display())?;
+        }
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The keys `analyze --json` adds to a spatial `simulate` frame:
+/// "velocity" and "acceleration" by "body.marker", "angular" with each
+/// body's "omega" and "alpha" vectors; where there are no rates, those
+/// null and "singular" (a dead point) or "unavailable" (the plan's rates
+/// are not computed) saying why.
+fn add_rates(o: &mut Value, m: &Mechanism3, names: &[String], moving: &Result<Motion3, RateError>) {
+    match moving {
+        Ok(mo) => {
+            let by_name = |v: &[[f64; 3]]| -> Value {
+                Value::Object(names.iter().zip(v).map(|(n, p)| (n.clone(), json!(p))).collect())
+            };
+            o["velocity"] = by_name(&mo.velocity);
+            o["acceleration"] = by_name(&mo.acceleration);
+            o["angular"] = Value::Object(
+                (m.bodies.iter().enumerate())
+                    .map(|(b, body)| {
+                        (
+                            body.name.clone(),
+                            json!({"omega": mo.omega[b], "alpha": mo.alpha[b]}),
+                        )
+                    })
+                    .collect(),
+            );
+        }
+        Err(e) => {
+            o["velocity"] = Value::Null;
+            o["acceleration"] = Value::Null;
+            o["angular"] = Value::Null;
+            let key = if matches!(e, RateError::Singular) {
+                "singular"
+            } else {
+                "unavailable"
+            };
+            o[key] = json!(e.to_string());
+        }
+    }
+}
