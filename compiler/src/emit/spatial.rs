@@ -325,7 +325,6 @@ impl Emitter3<'_> {
                 let checks: Vec<TokenStream> = rows.iter().map(|r| check(r, &id, b.jets)).collect();
                 quote!(#(#checks)*)
             }
-            StepKind3::Cluster(_) if b.jets => unreachable!("no rates are written for clusters"),
             StepKind3::Cluster(c) => self.cluster(&mut b, c, &id),
         };
         let pre = &b.pre;
@@ -1030,20 +1029,15 @@ impl Emitter3<'_> {
 
     /// `solve_rates` and `rates`, and whether they run steps on jets (so
     /// the module imports what they use). `jet_steps` are the steps written
-    /// on jets; none for a plan with a numeric cluster (its rates, by the
-    /// implicit function theorem, are not computed yet) or split into
-    /// functions (`split`), whose `solve_rates` solves the frame and
-    /// reports why there are no rates.
+    /// on jets (a numeric cluster's by the implicit function theorem); none
+    /// for a plan split into functions (`split`), whose `solve_rates`
+    /// solves the frame and reports why there are no rates.
     fn rates(&self, jet_steps: Option<Vec<TokenStream>>, split: bool) -> (TokenStream, bool) {
         let plan = self.plan;
         let nb = index(plan.bodies.len());
         let Some(steps) = jet_steps else {
-            let why = if plan.steps.iter().any(|s| matches!(s.kind, StepKind3::Cluster(_))) {
-                quote!(RateError::Cluster)
-            } else {
-                debug_assert!(split);
-                quote!(RateError::Split)
-            };
+            debug_assert!(split);
+            let why = quote!(RateError::Split);
             let code = quote! {
                 /// The frame at `inputs`, as [`solve`]; its rates are not
                 /// computed for this plan (the error says why).
@@ -1201,11 +1195,8 @@ pub fn emit_spatial_chunked(plan: &Plan3, chunk_weight: usize) -> String {
     let steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
     let weights: Vec<usize> = steps.iter().map(|s| Uses::of(s).weight).collect();
     let chunks = partition(&weights, chunk_weight);
-    // Rates of a plan without numeric clusters, in one function (rates of
-    // clusters, by the implicit function theorem, and of split plans are
-    // not generated yet).
-    let clusters = plan.steps.iter().any(|s| matches!(s.kind, StepKind3::Cluster(_)));
-    let jet_steps = (chunks.is_none() && !clusters).then(|| {
+    // Rates in one function (those of split plans are not generated yet).
+    let jet_steps = chunks.is_none().then(|| {
         e.jets.set(true);
         let jet_steps = (0..plan.steps.len()).map(|i| e.step(i)).collect();
         e.jets.set(false);
