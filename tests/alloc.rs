@@ -319,7 +319,7 @@ fn compiled_rates_allocate_nothing() {
 /// A compiled spatial frame's rates (`solve_rates` and `rates`) allocate
 /// nothing either, also where frames break, through numeric clusters (the
 /// Stewart platform's, the rps3 fixtures': fixed-size Newton and implicit
-/// function theorem), and where a plan has no rates (a split plan).
+/// function theorem), and in a split plan.
 #[test]
 fn compiled_spatial_rates_allocate_nothing() {
     use dofplan_runtime::real::Jet2;

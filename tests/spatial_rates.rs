@@ -296,12 +296,11 @@ fn bits(poses: &[Pose3]) -> Vec<u64> {
 /// `solve`'s positions, and the interpreter's rates from the frame before.
 /// (A numeric cluster is solved by fixed-size Newton in generated code and
 /// by the interpreter's own: their positions agree to rounding, 1e-12,
-/// not bit for bit, and its rates to 1e-10.) The largest chains, whose steps are split into
-/// functions, say why they have none.
+/// not bit for bit, and its rates to 1e-10.) The largest chains' steps are
+/// split into functions, their rates' too.
 #[test]
 fn compiled_spatial_rates_equal_interpreted_rates() {
     let mut compared = 0;
-    let mut without = Vec::new();
     for name in every_spatial() {
         let m = load_spatial(&name);
         let interp = Interpreter3::new(plan_spatial(&m));
@@ -324,7 +323,6 @@ fn compiled_spatial_rates_equal_interpreted_rates() {
             let mut out = vec![Pose3::<Jet2>::cst(Pose3::IDENTITY); m.bodies.len()];
             let mut fused_out = out.clone();
             let mut fused_state = Solver::initial_state(&compiled);
-            let mut why = None;
             let cluster = has_cluster(&m);
             for (k, u) in requests.iter().enumerate() {
                 let before = di.state().clone();
@@ -378,46 +376,67 @@ fn compiled_spatial_rates_equal_interpreted_rates() {
                         }
                         compared += 1;
                     }
-                    (Err(RateError::Split), Ok(_)) => {
-                        assert_eq!(fused, Err(RateError::Split));
-                        why = Some(RateError::Split);
-                    }
                     (Err(a), Err(b)) if a == b => {}
                     (c, i) => panic!("{name}: compiled {c:?}, interpreted {:?}", i.map(|_| ())),
                 }
             }
-            if let Some(why) = why {
-                without.push((name.clone(), why));
-            }
         })
         .expect("every bundled spatial mechanism is compiled");
     }
-    let split: Vec<&str> = without
-        .iter()
-        .filter(|(_, why)| *why == RateError::Split)
-        .map(|(n, _)| n.as_str())
-        .collect();
-    assert_eq!(split, ["spatial_stress_100", "spatial_stress_50"], "{without:?}");
-    assert_eq!(without.len(), split.len(), "{without:?}");
     assert!(compared > 1500, "{compared} frames compared");
 }
 
-/// The split form of every small spatial plan (`dofplan_generated::chunked`)
-/// reports [`RateError::Split`] for its rates and still solves its frames
-/// in `solve_rates`.
+/// The split form of every small spatial plan (`dofplan_generated::chunked`:
+/// two or three steps a function, a cluster's in one of its own) has the
+/// rates of the plan in one function, bit for bit, from `solve_rates` (and
+/// the same frames) and from `rates`, over each sweep and through its
+/// breaks (the sweep run on three times as far backwards).
 #[test]
-fn split_spatial_plans_say_why_they_have_no_rates() {
-    use dofplan_generated::chunked::cardan;
-    let mut s = cardan::State::DRAWN;
-    let mut ctx = Ctx::new(Default::default(), false);
-    assert_eq!(
-        cardan::solve_rates(&mut s, &[30.0], &[1.0], &[0.0], &mut ctx),
-        Err(RateError::Split)
+fn split_spatial_plans_have_the_rates_of_the_whole_plan() {
+    let mut compared = 0;
+    macro_rules! same {
+        ($($name:ident),*) => {$({
+            use dofplan_generated::chunked::$name as split;
+            use dofplan_generated::$name as whole;
+            let name = stringify!($name);
+            let m = load_spatial(name);
+            let n = m.inputs.len();
+            let rates: Vec<f64> = (0..n).map(|k| 10.0 + k as f64).collect();
+            let accels: Vec<f64> = (0..n).map(|k| 2.0 - k as f64).collect();
+            let mut sweep = m.sweep.clone().expect("a sweep");
+            let mut requests: Vec<Vec<f64>> = sweep_requests(&sweep, n).collect();
+            for s in &mut sweep.inputs {
+                (s.from, s.to) = (s.to, s.to - 4.0 * (s.to - s.from));
+            }
+            requests.extend(sweep_requests(&sweep, n));
+            let (mut a, mut b) = (split::State::DRAWN, whole::State::DRAWN);
+            for u in &requests {
+                let mut ctx = Ctx::new(Default::default(), false);
+                let x = split::solve_rates(&mut a, u, &rates, &accels, &mut ctx);
+                let mut ctx = Ctx::new(Default::default(), false);
+                let y = whole::solve_rates(&mut b, u, &rates, &accels, &mut ctx);
+                assert_eq!(x, y, "{name}");
+                assert_eq!((a.poses, a.temps, a.branches, a.angles), (b.poses, b.temps, b.branches, b.angles), "{name}");
+                let (x, y) = (split::rates(&a, u, &rates, &accels), whole::rates(&b, u, &rates, &accels));
+                assert_eq!(x, y, "{name}");
+                compared += usize::from(x.is_ok());
+            }
+        })*};
+    }
+    same!(
+        bennett,
+        cardan,
+        double_cardan,
+        excavator,
+        rssr,
+        sofa_bed,
+        spherical_fourbar,
+        stewart,
+        tilted_fourbar,
+        rps3,
+        rps3_mixed
     );
-    let mut again = cardan::State::DRAWN;
-    cardan::solve(&mut again, &[30.0], &mut ctx).unwrap();
-    assert_eq!(s, again);
-    assert_eq!(cardan::rates(&s, &[30.0], &[1.0], &[0.0]), Err(RateError::Split));
+    assert!(compared > 1000, "{compared} frames with rates compared");
 }
 
 /// The Stewart platform's legs are its inputs: leg i's length |Pᵢ − Bᵢ|
