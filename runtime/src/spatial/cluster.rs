@@ -306,19 +306,20 @@ mod tests {
                 let (p, m, z) = (f(h), f(-h), f(0.0));
                 let j = jet(Jet2::new(0.0, 1.0, 0.0));
                 let js: Vec<Jet2> = j.rot.m.iter().flatten().chain(&j.pos).copied().collect();
-                for k in 0..12 {
-                    assert_eq!(js[k].v.to_bits(), z[k].to_bits(), "kind {kind} [{k}]: value");
+                assert_eq!(js.len(), 12);
+                for (k, jet) in js.iter().enumerate() {
+                    assert_eq!(jet.v.to_bits(), z[k].to_bits(), "kind {kind} [{k}]: value");
                     let first = (p[k] - m[k]) / (2.0 * h);
                     let second = (p[k] - 2.0 * z[k] + m[k]) / (h * h);
                     assert!(
-                        (js[k].d - first).abs() < 1e-8,
+                        (jet.d - first).abs() < 1e-8,
                         "kind {kind} x0 {x0:?} [{k}]: {} vs {first}",
-                        js[k].d
+                        jet.d
                     );
                     assert!(
-                        (js[k].dd - second).abs() < 1e-5,
+                        (jet.dd - second).abs() < 1e-5,
                         "kind {kind} x0 {x0:?} [{k}]: {} vs {second}",
-                        js[k].dd
+                        jet.dd
                     );
                 }
             }
