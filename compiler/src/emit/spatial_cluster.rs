@@ -12,6 +12,13 @@
 //! or |a − b| − length); and, when Newton asks for the Jacobian, each
 //! unknown's twist (`cluster::columns`) gives its column: `RowKind::deriv`
 //! at the frames' rates, or u·velocity for a distance row.
+//!
+//! In `solve_rates` (a block on jets) the same solve runs on the values of
+//! the state and inputs, then the rows are written a second time, on jets,
+//! in a closure the implicit function theorem evaluates twice
+//! (`numeric::Implicit` at the Jacobian of the solution), and the cluster
+//! bodies are placed on jets by `cluster::moved_rates`
+//! (`Emitter3::cluster_rates`).
 
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::quote;
