@@ -24,7 +24,7 @@ use dofplan::interp::Interpreter;
 use dofplan::numeric::spatial::pure_newton;
 use dofplan::simulate::{sweep_inputs, sweep_requests};
 use dofplan_runtime::{Driver, Options, Solver};
-use dofplan_tests::{bundled, bundled_spatial, load, load_spatial, plan};
+use dofplan_tests::{bundled, bundled_spatial, load, load_spatial, plan, spatial_fixtures};
 
 /// Times one pass of `reps` sweeps, in ns per frame.
 fn pass<S: Solver>(driver: &mut Driver<S>, inputs: &[Vec<f64>], reps: usize) -> f64 {
@@ -172,6 +172,7 @@ fn spatial(filter: &[String]) {
     let names: Vec<String> = bundled_spatial()
         .into_iter()
         .filter(|n| filter.is_empty() || filter.contains(n))
+        .chain(spatial_fixtures().into_iter().filter(|n| filter.contains(n)))
         .collect();
     if names.is_empty() {
         return;
@@ -357,7 +358,8 @@ fn rates(filter: &[String]) {
 }
 
 /// The rates table's spatial rows: per compiled spatial plan with a
-/// generated `rates` (no numeric cluster, not split into functions), a
+/// generated `rates` (not split into functions; the spatial fixtures too
+/// when named, such as rps3's numeric cluster), a
 /// frame's cost with its velocities and accelerations against without
 /// (medians of alternating passes over the sweep, as above).
 fn spatial_rates(filter: &[String]) {
@@ -366,6 +368,7 @@ fn spatial_rates(filter: &[String]) {
     let names: Vec<String> = bundled_spatial()
         .into_iter()
         .filter(|n| filter.is_empty() || filter.contains(n))
+        .chain(spatial_fixtures().into_iter().filter(|n| filter.contains(n)))
         .collect();
     if names.is_empty() {
         return;
@@ -412,7 +415,7 @@ fn spatial_rates(filter: &[String]) {
                 }
                 t.elapsed().as_secs_f64() * 1e9 / (reps * inputs.len()) as f64
             };
-            // A module without rates (a numeric cluster, a split plan).
+            // A module without rates (a split plan).
             d.frame(&inputs[0]);
             let has_rates = plan.rates_into(d.state(), d.inputs(), &r, &a, &mut out).is_ok();
             has_rates.then(|| {

@@ -309,9 +309,10 @@ impl Real for Jet2 {
 /// Why a frame's rates were not computed.
 #[derive(Clone, Debug, PartialEq)]
 pub enum RateError {
-    /// The plan has a numeric cluster whose rates are not computed. Planar
-    /// clusters have theirs (by the implicit function theorem on the
-    /// cluster's Jacobian) and never give this.
+    /// The plan has a numeric cluster whose rates are not computed: only a
+    /// spatial drag's (a marker pinned, solved by task priority). Planar
+    /// and spatial plans' clusters have theirs (by the implicit function
+    /// theorem on the cluster's Jacobian) and never give this.
     Cluster,
     /// The frame is at a dead point: a rate is infinite there (two roots
     /// of a step meet), so it is reported as singular, not as a number.
@@ -319,8 +320,8 @@ pub enum RateError {
     /// The frame does not assemble at these inputs.
     Break(Break),
     /// The plan was split into functions (too large for one) whose rates
-    /// are not generated. Generated planar plans have them in the split
-    /// form too and never give this.
+    /// are not generated. Generated planar and spatial plans have them in
+    /// the split form too and never give this.
     Split,
 }
 

@@ -325,7 +325,6 @@ impl Emitter3<'_> {
                 let checks: Vec<TokenStream> = rows.iter().map(|r| check(r, &id, b.jets)).collect();
                 quote!(#(#checks)*)
             }
-            StepKind3::Cluster(_) if b.jets => unreachable!("no rates are written for clusters"),
             StepKind3::Cluster(c) => self.cluster(&mut b, c, &id),
         };
         let pre = &b.pre;
@@ -830,12 +829,12 @@ impl Emitter3<'_> {
         &self,
         steps: Vec<TokenStream>,
         chunks: Option<Vec<(usize, usize)>>,
-        jet_steps: Option<Vec<TokenStream>>,
+        jet_steps: Vec<TokenStream>,
     ) -> TokenStream {
         let plan = self.plan;
         let code = quote!(#(#steps)*);
         let u = Uses::of(&code);
-        let (rates, rates_use) = self.rates(jet_steps, chunks.is_some());
+        let rates = self.rates(jet_steps, chunks.as_deref());
         let name = &plan.name;
         let nb = index(plan.bodies.len());
         let nt = index(plan.temps.len());
@@ -865,12 +864,10 @@ impl Emitter3<'_> {
                 .map(|n| format_ident!("{}", n))
                 .collect()
         };
-        let spatial_self = if u.has("spatial") || rates_use {
-            quote!(self,)
-        } else {
-            quote!()
-        };
-        let mut imports = vec![quote!(use dofplan_runtime::spatial::{#spatial_self Pose3, Vec3};)];
+        // (The rates always use `spatial`.)
+        let mut imports = vec![quote!(
+            use dofplan_runtime::spatial::{self, Pose3, Vec3};
+        )];
         let rows = pick(&["FrameRate", "RowKind", "WorldFrame"]);
         if !rows.is_empty() {
             imports.push(quote!(use dofplan_runtime::spatial::rows::{#(#rows),*};));
@@ -889,18 +886,12 @@ impl Emitter3<'_> {
         }
         let kinds = pick(&["BreakKind"]);
         imports.push(quote!(use dofplan_runtime::{Branch, Break, #(#kinds,)* Ctx, Marker3, Solver};));
-        if rates_use {
-            imports.push(quote!(
-                use dofplan_runtime::real::{Jet2, RateError, Real};
-            ));
-            imports.push(quote!(
-                use dofplan_runtime::BranchPolicy;
-            ));
-        } else {
-            imports.push(quote!(
-                use dofplan_runtime::real::{Jet2, RateError};
-            ));
-        }
+        imports.push(quote!(
+            use dofplan_runtime::real::{Jet2, RateError, Real};
+        ));
+        imports.push(quote!(
+            use dofplan_runtime::BranchPolicy;
+        ));
 
         let doc_solve = format!(
             " Places every body for `inputs` ({}), warm-started from `s`. On a break `s` is left unchanged.",
@@ -1028,51 +1019,60 @@ impl Emitter3<'_> {
         }
     }
 
-    /// `solve_rates` and `rates`, and whether they run steps on jets (so
-    /// the module imports what they use). `jet_steps` are the steps written
-    /// on jets; none for a plan with a numeric cluster (its rates, by the
-    /// implicit function theorem, are not computed yet) or split into
-    /// functions (`split`), whose `solve_rates` solves the frame and
-    /// reports why there are no rates.
-    fn rates(&self, jet_steps: Option<Vec<TokenStream>>, split: bool) -> (TokenStream, bool) {
+    /// `solve_rates` and `rates`: the steps written on jets (`steps`; a
+    /// numeric cluster's by the implicit function theorem), run in one
+    /// function or, for a plan split into functions (`chunks`), in the
+    /// same chunks as `solve`'s.
+    fn rates(&self, steps: Vec<TokenStream>, chunks: Option<&[(usize, usize)]>) -> TokenStream {
         let plan = self.plan;
         let nb = index(plan.bodies.len());
-        let Some(steps) = jet_steps else {
-            let why = if plan.steps.iter().any(|s| matches!(s.kind, StepKind3::Cluster(_))) {
-                quote!(RateError::Cluster)
-            } else {
-                debug_assert!(split);
-                quote!(RateError::Split)
-            };
-            let code = quote! {
-                /// The frame at `inputs`, as [`solve`]; its rates are not
-                /// computed for this plan (the error says why).
-                pub fn solve_rates(
-                    s: &mut State,
-                    inputs: &[f64],
-                    rates: &[f64],
-                    accelerations: &[f64],
-                    ctx: &mut Ctx,
-                ) -> Result<[Pose3<Jet2>; #nb], RateError> {
-                    let _ = (rates, accelerations);
-                    solve(s, inputs, ctx)?;
-                    Err(#why)
+        // The steps in `run_jets` itself, or in functions of the chunks of
+        // `solve` that it calls.
+        let (body, functions) = match chunks {
+            None => (steps, Vec::new()),
+            Some(chunks) => {
+                let mut steps = steps.into_iter();
+                let (mut calls, mut functions) = (Vec::new(), Vec::new());
+                for &(first, last) in chunks {
+                    let code: Vec<TokenStream> = steps.by_ref().take(last - first + 1).collect();
+                    let u = Uses::of(&quote!(#(#code)*));
+                    let param = |name: &str| {
+                        if u.has(name) {
+                            format_ident!("{}", name)
+                        } else {
+                            format_ident!("_{}", name)
+                        }
+                    };
+                    let (inputs, values, ctx) = (param("inputs"), param("input_values"), param("ctx"));
+                    let (f, fdoc) = if first == last {
+                        (
+                            format_ident!("jets_step_{}", first + 1),
+                            format!(" Step {} of [`solve`] on jets, in place.", first + 1),
+                        )
+                    } else {
+                        (
+                            format_ident!("jets_steps_{}_to_{}", first + 1, last + 1),
+                            format!(
+                                " Steps {} to {} of [`solve`] on jets, in place.",
+                                first + 1,
+                                last + 1
+                            ),
+                        )
+                    };
+                    functions.push(quote! {
+                        #[doc = #fdoc]
+                        #[inline(never)]
+                        fn #f(w: &mut Jets, #inputs: &[Jet2], #values: &[f64], #ctx: &mut Ctx) -> Result<(), Break> {
+                            #(#code)*
+                            Ok(())
+                        }
+                    });
+                    calls.push(quote!(#f(w, inputs, input_values, ctx)?;));
                 }
-
-                /// The rates of a frame: not computed for this plan (the
-                /// error says why).
-                pub fn rates(
-                    s: &State,
-                    inputs: &[f64],
-                    rates: &[f64],
-                    accelerations: &[f64],
-                ) -> Result<[Pose3<Jet2>; #nb], RateError> {
-                    let _ = (s, inputs, rates, accelerations);
-                    Err(#why)
-                }
-            };
-            return (code, false);
+                (calls, functions)
+            }
         };
+        let steps = body;
         let (nt, nk, ni) = (
             index(plan.temps.len()),
             index(plan.branches.len()),
@@ -1134,6 +1134,8 @@ impl Emitter3<'_> {
                 Ok(())
             }
 
+            #(#functions)*
+
             /// Every body's pose at the frame `s` was solved to (at
             /// `inputs`) with its first and second derivatives along the
             /// inputs' `rates` and `accelerations` (per second, in the
@@ -1151,7 +1153,7 @@ impl Emitter3<'_> {
                 solve_rates(&mut again, inputs, rates, accelerations, &mut Ctx::new(BranchPolicy::Keep, false))
             }
         };
-        (code, true)
+        code
     }
 }
 
@@ -1201,16 +1203,10 @@ pub fn emit_spatial_chunked(plan: &Plan3, chunk_weight: usize) -> String {
     let steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
     let weights: Vec<usize> = steps.iter().map(|s| Uses::of(s).weight).collect();
     let chunks = partition(&weights, chunk_weight);
-    // Rates of a plan without numeric clusters, in one function (rates of
-    // clusters, by the implicit function theorem, and of split plans are
-    // not generated yet).
-    let clusters = plan.steps.iter().any(|s| matches!(s.kind, StepKind3::Cluster(_)));
-    let jet_steps = (chunks.is_none() && !clusters).then(|| {
-        e.jets.set(true);
-        let jet_steps = (0..plan.steps.len()).map(|i| e.step(i)).collect();
-        e.jets.set(false);
-        jet_steps
-    });
+    // The steps on jets, for the rates (in the same chunks as `solve`'s).
+    e.jets.set(true);
+    let jet_steps = (0..plan.steps.len()).map(|i| e.step(i)).collect();
+    e.jets.set(false);
     let tokens = e.module(steps, chunks, jet_steps);
     let file = syn::parse2::<syn::File>(tokens).expect("the emitter produces valid Rust");
     let pretty = prettyplease::unparse(&file);

@@ -12,6 +12,13 @@
 //! or |a − b| − length); and, when Newton asks for the Jacobian, each
 //! unknown's twist (`cluster::columns`) gives its column: `RowKind::deriv`
 //! at the frames' rates, or u·velocity for a distance row.
+//!
+//! In `solve_rates` (a block on jets) the same solve runs on the values of
+//! the state and inputs, then the rows are written a second time, on jets,
+//! in a closure the implicit function theorem evaluates twice
+//! (`numeric::Implicit` at the Jacobian of the solution), and the cluster
+//! bodies are placed on jets by `cluster::moved_rates`
+//! (`Emitter3::cluster_rates`).
 
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::quote;
@@ -53,10 +60,35 @@ fn unknowns_of(x: TokenStream, first: usize) -> TokenStream {
     }
 }
 
+/// A cluster's code in pieces, on `f64`s or (for its rates) on jets.
+struct Pieces {
+    members: Vec<Member>,
+    /// The rows into `r`, at the trial poses.
+    residuals: Vec<TokenStream>,
+    /// The Jacobian's entries into `j` (on `f64`s only).
+    jacobian: Vec<TokenStream>,
+    /// Which members' columns the Jacobian reads.
+    used_columns: Vec<bool>,
+    /// Whether it reads `zero`, a frame at rest.
+    zero_used: bool,
+}
+
 impl Emitter3<'_> {
-    /// The code of cluster step `id` inside its block `b`.
+    /// The code of cluster step `id` inside its block `b`: its Newton
+    /// solve, or (a block on jets, in `solve_rates`) the solve on the
+    /// values and the rates by the implicit function theorem.
     pub(super) fn cluster(&self, b: &mut Block, c: &Cluster3, id: &Literal) -> TokenStream {
-        let (n, m) = (c.unknowns(), c.equations());
+        if b.jets {
+            self.cluster_rates(b, c, id)
+        } else {
+            self.cluster_solve(b, c, id, false)
+        }
+    }
+
+    /// The pieces of a cluster's code, with the bindings they read pushed
+    /// onto `b` (on jets when `b` is).
+    fn pieces(&self, b: &mut Block, c: &Cluster3) -> Pieces {
+        let m = c.equations();
         for name in [
             "x", "r", "j", "c", "t", "d", "u", "v", "zero", "system", "report", "SIZE",
         ] {
@@ -222,7 +254,28 @@ impl Emitter3<'_> {
             }
         }
         debug_assert_eq!(row, m);
+        Pieces {
+            members,
+            residuals,
+            jacobian,
+            used_columns,
+            zero_used,
+        }
+    }
 
+    /// The Newton solve of cluster step `id` on `f64`s, then the cluster
+    /// bodies written at the solution; or, with `jacobian_out`, the
+    /// solution and the Jacobian there as the block's value `(x, j)`
+    /// instead of the writes (the values half of its rates).
+    fn cluster_solve(&self, b: &mut Block, c: &Cluster3, id: &Literal, jacobian_out: bool) -> TokenStream {
+        let (n, m) = (c.unknowns(), c.equations());
+        let Pieces {
+            members,
+            residuals,
+            jacobian,
+            used_columns,
+            zero_used,
+        } = self.pieces(b, c);
         let place = members.iter().map(|mb| {
             let (pose, base, u) = (&mb.pose, &mb.base, &mb.unknowns);
             let x = unknowns_of(quote!(x), mb.first);
@@ -242,17 +295,33 @@ impl Emitter3<'_> {
         } else {
             quote!()
         };
-        let writes = members.iter().map(|mb| {
-            let (base, u) = (&mb.base, &mb.unknowns);
-            let at = state_pose(mb.body);
-            let x = unknowns_of(quote!(x.as_slice()), mb.first);
-            quote!(#at = cluster::moved(&#base, &#u, #x);)
-        });
         let (n_lit, m_lit, size) = (index(n), index(m), lit(c.size));
         let start = self.note("The unknowns start at 0: every cluster body at its warm start.".into());
-        let end = self.note(
-            "The poses at the solution (or, on a break, at the least-squares point the stretch policy shows).".into(),
-        );
+        let tail = if jacobian_out {
+            quote! {
+                numeric::cluster::finish(ctx, #id, report)?;
+                // The Jacobian at the solution, for the rates.
+                let mut r = numeric::SVector::<f64, #m_lit>::zeros();
+                let mut j = numeric::SMatrix::<f64, #m_lit, #n_lit>::zeros();
+                numeric::Equations::eval(&mut system, &x, &mut r, Some(&mut j));
+                (x, j)
+            }
+        } else {
+            let writes = members.iter().map(|mb| {
+                let (base, u) = (&mb.base, &mb.unknowns);
+                let at = state_pose(mb.body);
+                let x = unknowns_of(quote!(x.as_slice()), mb.first);
+                quote!(#at = cluster::moved(&#base, &#u, #x);)
+            });
+            let end = self.note(
+                "The poses at the solution (or, on a break, at the least-squares point the stretch policy shows).".into(),
+            );
+            quote! {
+                #end
+                #(#writes)*
+                numeric::cluster::finish(ctx, #id, report)?;
+            }
+        };
         quote! {
             const SIZE: f64 = #size;
             #start
@@ -269,9 +338,89 @@ impl Emitter3<'_> {
             });
             let report = numeric::Newton::<numeric::Const<#m_lit>, numeric::Const<#n_lit>>::fixed()
                 .solve(&mut system, &mut x, &numeric::cluster::options(SIZE));
-            #end
+            #tail
+        }
+    }
+
+    /// Cluster step `id` on jets (in `solve_rates`), in its block `b`: the
+    /// frame's own code of the step on the values of the state and inputs
+    /// (so its positions are `solve`'s), giving the solution and the
+    /// Jacobian there; then the rates by the implicit function theorem —
+    /// the rows on jets with the unknowns held (their rate is
+    /// `∂F/∂upstream·rates`, so `ẋ = −J⁺·F′`), again with the unknowns
+    /// moving at `ẋ` (all of `F″` but `J·ẍ`, so `ẍ = −J⁺·F″`) — and the
+    /// cluster bodies placed on jets (`cluster::moved_rates`, whose values
+    /// are `cluster::moved`'s).
+    fn cluster_rates(&self, b: &mut Block, c: &Cluster3, id: &Literal) -> TokenStream {
+        let (n, m) = (c.unknowns(), c.equations());
+        let mut values = Block::new(self.plan);
+        let solve = self.cluster_solve(&mut values, c, id, true);
+        let pre = &values.pre;
+        let uses = super::chunk::Uses::of(&quote!(#(#pre)* #solve));
+        let inputs = if uses.has("inputs") {
+            quote!(let inputs = input_values;)
+        } else {
+            quote!()
+        };
+
+        for name in [
+            "x",
+            "r",
+            "f",
+            "q_dot",
+            "q_ddot",
+            "implicit",
+            "jacobian",
+            "residuals",
+        ] {
+            b.fresh(name);
+        }
+        let Pieces {
+            members, residuals, ..
+        } = self.pieces(b, c);
+        let place = members.iter().map(|mb| {
+            let (pose, base, u) = (&mb.pose, &mb.base, &mb.unknowns);
+            let x = unknowns_of(quote!(x), mb.first);
+            quote!(let #pose = cluster::moved_rates(&#base, &#u, #x);)
+        });
+        let writes = members.iter().map(|mb| {
+            let (base, u) = (&mb.base, &mb.unknowns);
+            let at = state_pose(mb.body);
+            let x = unknowns_of(quote!(x), mb.first);
+            quote!(#at = cluster::moved_rates(&#base, &#u, #x);)
+        });
+        let (n_lit, m_lit) = (index(n), index(m));
+        let frame = self.note("The frame: the step's own code on the values.".into());
+        let why = self.note("Its rates, by the implicit function theorem.".into());
+        quote! {
+            #frame
+            let (x, jacobian) = {
+                let w = State {
+                    poses: w.poses.map(|p| p.value()),
+                    temps: w.temps.map(spatial::value),
+                    branches: w.branches,
+                    angles: w.angles,
+                };
+                #inputs
+                #(#pre)*
+                #solve
+            };
+            #why
+            let residuals = |x: [Jet2; #n_lit]| {
+                let x = &x[..];
+                let mut r = [Jet2::cst(0.0); #m_lit];
+                #(#place)*
+                #(#residuals)*
+                r
+            };
+            let implicit = numeric::Implicit::new(&jacobian);
+            let f = residuals(core::array::from_fn(|k| Jet2::cst(x[k])));
+            let q_dot = implicit.solve(&numeric::SVector::from_fn(|i, _| f[i].d));
+            let f = residuals(core::array::from_fn(|k| Jet2::new(x[k], q_dot[k], 0.0)));
+            let q_ddot = implicit.solve(&numeric::SVector::from_fn(|i, _| f[i].dd));
+            let x: [Jet2; #n_lit] = core::array::from_fn(|k| Jet2::new(x[k], q_dot[k], q_ddot[k]));
+            let x = &x[..];
             #(#writes)*
-            numeric::cluster::finish(ctx, #id, report)?;
         }
     }
 }

@@ -150,8 +150,12 @@ impl Interpreter3 {
     /// same steps run on [`Jet2`]s with the branches the frame took (the
     /// spatial counterpart of
     /// [`Interpreter::rates`](crate::interp::Interpreter::rates)). A plan
-    /// with a numeric cluster gives [`RateError::Cluster`]; a dead point,
-    /// where a rate is infinite, [`RateError::Singular`].
+    /// numeric cluster is solved again on the values, its rates by the
+    /// implicit function theorem ([`spatial_cluster::solve_rates`]); a dead
+    /// point, where a rate is infinite, gives [`RateError::Singular`]. A
+    /// drag's plan (a marker pinned) gives [`RateError::Cluster`].
+    ///
+    /// [`spatial_cluster::solve_rates`]: crate::interp::spatial_cluster::solve_rates
     pub fn rates(
         &self,
         state: &State3,
@@ -159,12 +163,14 @@ impl Interpreter3 {
         rates: &[f64],
         accelerations: &[f64],
     ) -> Result<Vec<Pose3<Jet2>>, RateError> {
-        if self
-            .plan
-            .steps
-            .iter()
-            .any(|s| matches!(s.kind, StepKind3::Cluster(_)))
-        {
+        let pinned = self.plan.steps.iter().any(|s| match &s.kind {
+            StepKind3::Cluster(c) => c
+                .rows
+                .iter()
+                .any(|r| matches!(r, crate::plan::spatial::ClusterRow3::Pin { .. })),
+            _ => false,
+        });
+        if pinned {
             return Err(RateError::Cluster);
         }
         let mut poses: Vec<Pose3<Jet2>> = state.poses.iter().map(|p| Pose3::cst(*p)).collect();
@@ -175,13 +181,24 @@ impl Interpreter3 {
             .collect();
         // The frame's branches, kept: the rates are those of the root it took.
         let mut ctx = Ctx::new(BranchPolicy::Keep, false);
-        let mut w = Work {
-            poses: &mut poses,
-            temps: &mut temps,
-            branches: &mut branches,
-            angles: &mut angles,
-        };
-        self.steps(&mut w, &jets, inputs, &mut ctx, 0)?;
+        let mut from = 0;
+        loop {
+            let mut w = Work {
+                poses: &mut poses,
+                temps: &mut temps,
+                branches: &mut branches,
+                angles: &mut angles,
+            };
+            let Some(i) = self.steps(&mut w, &jets, inputs, &mut ctx, from)? else {
+                break;
+            };
+            let StepKind3::Cluster(c) = &self.plan.steps[i].kind else {
+                unreachable!("the steps stop at clusters only");
+            };
+            let id = (i + 1) as u32;
+            crate::interp::spatial_cluster::solve_rates(&mut poses, &temps, c, &jets, inputs, &mut ctx, id)?;
+            from = i + 1;
+        }
         for &b in &self.composed {
             poses[b].renormalize();
         }
@@ -250,7 +267,7 @@ pub(crate) fn dir(s: &State3, d: &D3, inputs: &[f64]) -> Vec3 {
 }
 
 /// A world direction (unit) at given poses and pseudo-markers.
-fn dir_at<T: Real>(poses: &[Pose3<T>], temps: &[Vec3<T>], d: &D3, inputs: &[T]) -> Vec3<T> {
+pub(crate) fn dir_at<T: Real>(poses: &[Pose3<T>], temps: &[Vec3<T>], d: &D3, inputs: &[T]) -> Vec3<T> {
     match d {
         D3::Fixed(v) => cst(*v),
         D3::Body { body, local } => poses[*body].dir(*local),

@@ -2,17 +2,19 @@
 //! as [`Equations`] over the bodies' reduced unknowns, evaluated by the
 //! runtime's [`cluster::moved`], [`cluster::columns`] and row functions and
 //! solved by the runtime's [`Newton`] — what generated code does with
-//! fixed sizes.
+//! fixed sizes. Its rates ([`solve_rates`]) follow by the implicit
+//! function theorem from the Jacobian at the solution.
 
 use dofplan_runtime::numeric::cluster::{finish, options};
-use dofplan_runtime::numeric::{Equations, Newton};
+use dofplan_runtime::numeric::{Equations, Implicit, Newton};
+use dofplan_runtime::real::{Jet2, Real};
 use dofplan_runtime::spatial::cluster::{self, Twist, Unknowns};
 use dofplan_runtime::spatial::rows::{FrameRate, WorldFrame};
-use dofplan_runtime::spatial::{dot, norm, sub, unit, Pose3, Vec3};
+use dofplan_runtime::spatial::{dot, norm, sub, unit, value, Pose3, Vec3};
 use dofplan_runtime::{Break, Ctx};
 use nalgebra::{DMatrix, DVector};
 
-use super::spatial::{dir, point, point_at, State3};
+use super::spatial::{dir_at, point_at, State3};
 use crate::plan::spatial::{Cluster3, ClusterRow3, Param3, P3};
 
 /// A row ready to evaluate: an equation's, or a distance from a constant
@@ -142,21 +144,34 @@ impl Equations for System<'_> {
     }
 }
 
-/// Solves a cluster in place, warm-started from the bodies' current poses.
-pub fn solve(s: &mut State3, c: &Cluster3, inputs: &[f64], ctx: &mut Ctx, step: u32) -> Result<(), Break> {
-    let mut members = Vec::new();
-    let mut member_of = vec![None; s.poses.len()];
-    let mut n = 0;
-    for p in &c.params {
-        let u = match p {
+/// The cluster's unknowns of each body, at `poses` and `temps` (of
+/// `f64`s for a frame, of jets for its rates).
+fn unknowns<T: Real>(poses: &[Pose3<T>], temps: &[Vec3<T>], c: &Cluster3, inputs: &[T]) -> Vec<Unknowns<T>> {
+    c.params
+        .iter()
+        .map(|p| match p {
             Param3::Free { .. } => Unknowns::Free,
-            Param3::Pivot { pivot, .. } => Unknowns::Pivot(point(s, pivot, inputs)),
-            Param3::Axis { pivot, axis, .. } => Unknowns::Axis(point(s, pivot, inputs), dir(s, axis, inputs)),
-        };
+            Param3::Pivot { pivot, .. } => Unknowns::Pivot(point_at(poses, temps, pivot, inputs)),
+            Param3::Axis { pivot, axis, .. } => Unknowns::Axis(
+                point_at(poses, temps, pivot, inputs),
+                dir_at(poses, temps, axis, inputs),
+            ),
+        })
+        .collect()
+}
+
+/// The cluster's system at the poses and pseudo-markers a frame reached
+/// before it (the warm start).
+fn system<'a>(poses: &[Pose3], temps: &[Vec3], c: &'a Cluster3, inputs: &'a [f64]) -> System<'a> {
+    let mut members = Vec::new();
+    let mut member_of = vec![None; poses.len()];
+    let mut n = 0;
+    for (p, u) in c.params.iter().zip(unknowns(poses, temps, c, inputs)) {
         member_of[p.body()] = Some(members.len());
         members.push((p.body(), u, n));
         n += u.count();
     }
+    let point = |p: &P3| point_at(poses, temps, p, inputs);
     let rows: Vec<Row> = c
         .rows
         .iter()
@@ -164,8 +179,8 @@ pub fn solve(s: &mut State3, c: &Cluster3, inputs: &[f64], ctx: &mut Ctx, step: 
             ClusterRow3::Equation(e) => Row::Frames(e),
             ClusterRow3::Distance { a, b, c: pc, d, .. } => Row::Distance {
                 a,
-                b: point(s, b, inputs),
-                len: norm(sub(point(s, d, inputs), point(s, pc, inputs))),
+                b: point(b),
+                len: norm(sub(point(d), point(pc))),
             },
             ClusterRow3::Pin { body, local, .. } => Row::Pin {
                 body: *body,
@@ -173,16 +188,22 @@ pub fn solve(s: &mut State3, c: &Cluster3, inputs: &[f64], ctx: &mut Ctx, step: 
             },
         })
         .collect();
-    let mut system = System {
-        poses: s.poses.clone(),
-        base: s.poses.clone(),
+    System {
+        poses: poses.to_vec(),
+        base: poses.to_vec(),
         members,
         member_of,
         rows,
         inputs,
         n,
         m: c.equations(),
-    };
+    }
+}
+
+/// Solves a cluster in place, warm-started from the bodies' current poses.
+pub fn solve(s: &mut State3, c: &Cluster3, inputs: &[f64], ctx: &mut Ctx, step: u32) -> Result<(), Break> {
+    let mut system = system(&s.poses, &s.temps, c, inputs);
+    let n = system.n;
     let mut x = DVector::zeros(n);
     if c.rows.iter().any(|r| matches!(r, ClusterRow3::Pin { .. })) {
         let result = drag(&mut system, &mut x, c.size, ctx, step);
@@ -194,6 +215,93 @@ pub fn solve(s: &mut State3, c: &Cluster3, inputs: &[f64], ctx: &mut Ctx, step: 
     system.place(x.as_slice());
     s.poses.copy_from_slice(&system.poses);
     finish(ctx, step, report)
+}
+
+/// [`solve`] with the rates, on the jets of a frame's rates: the cluster
+/// solved on the values exactly as [`solve`] solves it (so the positions
+/// are `solve`'s, bit for bit), then its unknowns' rates by the implicit
+/// function theorem — the rows on jets with the unknowns held give
+/// `ẋ = −J⁺·F′`, with them moving at `ẋ` they give `ẍ = −J⁺·F″`
+/// ([`Implicit`], singular where `J` has lost rank: infinite rates) — and
+/// the cluster bodies placed on jets ([`cluster::moved_rates`]). `jets` are
+/// the inputs with their rates, `inputs` their values. Not for a drag's
+/// cluster (pinned rows).
+pub fn solve_rates(
+    poses: &mut [Pose3<Jet2>],
+    temps: &[Vec3<Jet2>],
+    c: &Cluster3,
+    jets: &[Jet2],
+    inputs: &[f64],
+    ctx: &mut Ctx,
+    step: u32,
+) -> Result<(), Break> {
+    let values: Vec<Pose3> = poses.iter().map(Pose3::value).collect();
+    let temp_values: Vec<Vec3> = temps.iter().map(|t| value(*t)).collect();
+    let mut system = system(&values, &temp_values, c, inputs);
+    let (n, m) = (system.n, system.m);
+    let mut x = DVector::zeros(n);
+    let report = Newton::new(n, m).solve(&mut system, &mut x, &options(c.size));
+    finish(ctx, step, report)?;
+    let (mut r, mut j) = (DVector::zeros(m), DMatrix::zeros(m, n));
+    system.eval(&x, &mut r, Some(&mut j));
+    let implicit = Implicit::new(&j);
+
+    // The same rows on jets.
+    let units = unknowns(poses, temps, c, jets);
+    let base: Vec<Pose3<Jet2>> = poses.to_vec();
+    let point = |poses: &[Pose3<Jet2>], p: &P3| point_at(poses, temps, p, jets);
+    let ends: Vec<Option<(Vec3<Jet2>, Jet2)>> = c
+        .rows
+        .iter()
+        .map(|r| match r {
+            ClusterRow3::Distance { b, c: pc, d, .. } => {
+                Some((point(&base, b), norm(sub(point(&base, d), point(&base, pc)))))
+            }
+            _ => None,
+        })
+        .collect();
+    let place = |poses: &mut [Pose3<Jet2>], q: &[Jet2]| {
+        let mut k = 0;
+        for (p, u) in c.params.iter().zip(&units) {
+            poses[p.body()] = cluster::moved_rates(&base[p.body()], u, &q[k..]);
+            k += u.count();
+        }
+    };
+    let residuals = |poses: &mut [Pose3<Jet2>], q: &[Jet2]| -> Vec<Jet2> {
+        place(poses, q);
+        let mut f = Vec::with_capacity(m);
+        for (r, end) in c.rows.iter().zip(&ends) {
+            match r {
+                ClusterRow3::Equation(e) => {
+                    let f1 = WorldFrame::of(&poses[e.bodies[0]], e.at[0], e.z[0], e.x[0]);
+                    let f2 = WorldFrame::of(&poses[e.bodies[1]], e.at[1], e.z[1], e.x[1]);
+                    let v = e.kind.eval(&f1, &f2, jets);
+                    f.extend_from_slice(&v[..e.kind.rows()]);
+                }
+                ClusterRow3::Distance { a, .. } => {
+                    let (end, len) = end.expect("a distance row's end");
+                    f.push(norm(sub(point(poses, a), end)) - len);
+                }
+                ClusterRow3::Pin { .. } => unreachable!("no rates for a drag's cluster"),
+            }
+        }
+        f
+    };
+    let mut q: Vec<Jet2> = x.iter().map(|&v| Jet2::cst(v)).collect();
+    // F with the unknowns held: its rate is ∂F/∂(upstream)·rates.
+    let f = residuals(poses, &q);
+    let q_dot = implicit.solve(&DVector::from_iterator(m, f.iter().map(|r| r.d)));
+    for (q, d) in q.iter_mut().zip(q_dot.iter()) {
+        q.d = *d;
+    }
+    // F with the unknowns moving at ẋ: its second derivative is all but J·ẍ.
+    let f = residuals(poses, &q);
+    let q_ddot = implicit.solve(&DVector::from_iterator(m, f.iter().map(|r| r.dd)));
+    for (q, dd) in q.iter_mut().zip(q_ddot.iter()) {
+        q.dd = *dd;
+    }
+    place(poses, &q);
+    Ok(())
 }
 
 /// A drag's cluster by task priority: the joints' rows first (they must

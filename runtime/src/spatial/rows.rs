@@ -7,43 +7,44 @@
 //! reference axis.
 
 use super::{dot, sub, Vec3};
+use crate::real::Real;
 
 /// coincident: p2 − p1 (3 rows).
 #[inline]
-pub fn coincident(p1: Vec3, p2: Vec3) -> [f64; 3] {
+pub fn coincident<T: Real>(p1: Vec3<T>, p2: Vec3<T>) -> [T; 3] {
     sub(p2, p1)
 }
 
 /// in-line: the offset of p2 from the line (p1, z1) along x1 and y1 (2 rows).
 #[inline]
-pub fn in_line(p1: Vec3, x1: Vec3, y1: Vec3, p2: Vec3) -> [f64; 2] {
+pub fn in_line<T: Real>(p1: Vec3<T>, x1: Vec3<T>, y1: Vec3<T>, p2: Vec3<T>) -> [T; 2] {
     let d = sub(p2, p1);
     [dot(d, x1), dot(d, y1)]
 }
 
 /// in-plane: the height of p2 over the plane (p1, z1) (1 row).
 #[inline]
-pub fn in_plane(p1: Vec3, z1: Vec3, p2: Vec3) -> f64 {
+pub fn in_plane<T: Real>(p1: Vec3<T>, z1: Vec3<T>, p2: Vec3<T>) -> T {
     dot(sub(p2, p1), z1)
 }
 
 /// parallel-z: the components of z2 across z1 (2 rows). They vanish for z2 =
 /// ±z1; which sign holds is kept by the plan (the drawn one).
 #[inline]
-pub fn parallel_z(x1: Vec3, y1: Vec3, z2: Vec3) -> [f64; 2] {
+pub fn parallel_z<T: Real>(x1: Vec3<T>, y1: Vec3<T>, z2: Vec3<T>) -> [T; 2] {
     [dot(z2, x1), dot(z2, y1)]
 }
 
 /// offset-z: cos∠(z1, z2) − cos α (1 row).
 #[inline]
-pub fn offset_z(z1: Vec3, z2: Vec3, cos: f64) -> f64 {
+pub fn offset_z<T: Real>(z1: Vec3<T>, z2: Vec3<T>, cos: T) -> T {
     dot(z1, z2) - cos
 }
 
 /// The angle-about-z1 row of offset-x, helical and angle inputs:
 /// sin(∠(x1 → x2 about z1) − α), with α given by its cosine and sine.
 #[inline]
-pub fn twist(x1: Vec3, y1: Vec3, x2: Vec3, cos: f64, sin: f64) -> f64 {
+pub fn twist<T: Real>(x1: Vec3<T>, y1: Vec3<T>, x2: Vec3<T>, cos: T, sin: T) -> T {
     dot(x2, y1) * cos - dot(x2, x1) * sin
 }
 
@@ -55,7 +56,7 @@ pub fn angle_about(x1: Vec3, y1: Vec3, x2: Vec3) -> f64 {
 
 /// The axial distance (p2 − p1)·z1 of slide inputs and helical joints.
 #[inline]
-pub fn axial(p1: Vec3, z1: Vec3, p2: Vec3) -> f64 {
+pub fn axial<T: Real>(p1: Vec3<T>, z1: Vec3<T>, p2: Vec3<T>) -> T {
     dot(sub(p2, p1), z1)
 }
 
@@ -107,21 +108,22 @@ pub enum RowKind {
     },
 }
 
-/// A marker frame in world coordinates.
+/// A marker frame in world coordinates (of `f64`s, or of
+/// [`Jet2`](crate::real::Jet2)s carrying its rates).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct WorldFrame {
+pub struct WorldFrame<T = f64> {
     /// Its point.
-    pub at: Vec3,
+    pub at: Vec3<T>,
     /// Unit z.
-    pub z: Vec3,
+    pub z: Vec3<T>,
     /// Unit x.
-    pub x: Vec3,
+    pub x: Vec3<T>,
 }
 
-impl WorldFrame {
+impl<T: Real> WorldFrame<T> {
     /// The frame with local point and axes `at`, `z`, `x` carried by `pose`.
     #[inline]
-    pub fn of(pose: &super::Pose3, at: Vec3, z: Vec3, x: Vec3) -> WorldFrame {
+    pub fn of(pose: &super::Pose3<T>, at: Vec3, z: Vec3, x: Vec3) -> WorldFrame<T> {
         WorldFrame {
             at: pose.world(at),
             z: pose.dir(z),
@@ -131,7 +133,7 @@ impl WorldFrame {
 
     /// y = z × x.
     #[inline]
-    pub fn y(&self) -> Vec3 {
+    pub fn y(&self) -> Vec3<T> {
         super::cross(self.z, self.x)
     }
 }
@@ -154,40 +156,48 @@ impl RowKind {
         )
     }
 
-    /// The rows on two world frames (the first `rows()` entries are used).
+    /// The rows on two world frames (the first `rows()` entries are used),
+    /// on `f64`s or, for a cluster's rates, on jets.
     #[inline]
-    pub fn eval(&self, f1: &WorldFrame, f2: &WorldFrame, inputs: &[f64]) -> [f64; 3] {
+    pub fn eval<T: Real>(&self, f1: &WorldFrame<T>, f2: &WorldFrame<T>, inputs: &[T]) -> [T; 3] {
         let y1 = f1.y();
+        let zero = T::cst(0.0);
         match *self {
             RowKind::Coincident => coincident(f1.at, f2.at),
             RowKind::InLine => {
                 let [a, b] = in_line(f1.at, f1.x, y1, f2.at);
-                [a, b, 0.0]
+                [a, b, zero]
             }
-            RowKind::InPlane => [in_plane(f1.at, f1.z, f2.at), 0.0, 0.0],
+            RowKind::InPlane => [in_plane(f1.at, f1.z, f2.at), zero, zero],
             RowKind::ParallelZ => {
                 let [a, b] = parallel_z(f1.x, y1, f2.z);
-                [a, b, 0.0]
+                [a, b, zero]
             }
-            RowKind::OffsetZ { cos } => [offset_z(f1.z, f2.z, cos), 0.0, 0.0],
+            RowKind::OffsetZ { cos } => [offset_z(f1.z, f2.z, T::cst(cos)), zero, zero],
             RowKind::OffsetX { angle } => {
                 let [a, b] = parallel_z(f1.x, y1, f2.z);
                 let (s, c) = angle.sin_cos();
-                [a, b, twist(f1.x, y1, f2.x, c, s)]
+                [a, b, twist(f1.x, y1, f2.x, T::cst(c), T::cst(s))]
             }
             RowKind::Helical { angle, pitch, axial0 } => {
                 let [a, b] = parallel_z(f1.x, y1, f2.z);
-                let t = angle + core::f64::consts::TAU * (axial(f1.at, f1.z, f2.at) - axial0) / pitch;
+                // τ·(axial − axial0)/pitch, as `TAU * (..) / pitch`.
+                let t = T::cst(angle)
+                    + (axial(f1.at, f1.z, f2.at) - T::cst(axial0)).mul_f64(core::f64::consts::TAU)
+                        / T::cst(pitch);
                 let (s, c) = t.sin_cos();
                 [a, b, twist(f1.x, y1, f2.x, c, s)]
             }
             RowKind::Angle { angle, input } => {
-                let (s, c) = (angle + inputs[input].to_radians()).sin_cos();
-                [twist(f1.x, y1, f2.x, c, s), 0.0, 0.0]
+                // `to_radians` is the product by π/180.
+                let (s, c) = (T::cst(angle) + inputs[input].mul_f64(core::f64::consts::PI / 180.0)).sin_cos();
+                [twist(f1.x, y1, f2.x, c, s), zero, zero]
             }
-            RowKind::Slide { axial0, input } => {
-                [axial(f1.at, f1.z, f2.at) - axial0 - inputs[input], 0.0, 0.0]
-            }
+            RowKind::Slide { axial0, input } => [
+                axial(f1.at, f1.z, f2.at) - T::cst(axial0) - inputs[input],
+                zero,
+                zero,
+            ],
         }
     }
 
