@@ -99,14 +99,18 @@ fn batch(filter: &[String]) {
     use dofplan_runtime::batch::solve_batch_parallel;
     use dofplan_runtime::planar::Pose;
     use dofplan_runtime::{Batch, FrameStatus};
-    const LONG: usize = 20_000;
+    // `BATCH_LONG=N` for another length of the long run.
+    let long_frames: usize = std::env::var("BATCH_LONG")
+        .ok()
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(20_000);
     let names: Vec<String> = bundled()
         .into_iter()
         .filter(|n| filter.is_empty() || filter.contains(n))
         .collect();
     println!();
     println!(
-        "| mechanism | plan steps | lanes | sweep frames | driver ns/frame | solve_batch ns/frame (one core) | speed-up | {LONG} frames: solve_batch ns/frame | solve_batch_parallel ns/frame ({} cores) |",
+        "| mechanism | plan steps | lanes | sweep frames | driver ns/frame | solve_batch ns/frame (one core) | speed-up | {long_frames} frames: solve_batch ns/frame | solve_batch_parallel ns/frame ({} cores) |",
         std::thread::available_parallelism().map_or(1, |n| n.get())
     );
     println!("|---|---:|---|---:|---:|---:|---:|---:|---:|");
@@ -114,13 +118,13 @@ fn batch(filter: &[String]) {
         let m = load(&name);
         let p = plan(&m);
         let sweep = sweep_inputs(&m, None);
-        let long: Vec<Vec<f64>> = sweep.iter().cycle().take(LONG).cloned().collect();
+        let long: Vec<Vec<f64>> = sweep.iter().cycle().take(long_frames).cloned().collect();
         let flat = |rows: &[Vec<f64>]| -> Vec<f64> { rows.iter().flatten().copied().collect() };
         let (short_in, long_in) = (flat(&sweep), flat(&long));
         let row = dofplan_generated::with_plan!(name.as_str(), |plan| {
             let mut driver = Driver::new(plan, Options::default());
-            let mut out = vec![Pose::IDENTITY; LONG * m.bodies.len()];
-            let mut status = vec![FrameStatus::Solved; LONG];
+            let mut out = vec![Pose::IDENTITY; long_frames * m.bodies.len()];
+            let mut status = vec![FrameStatus::Solved; long_frames];
             let short = sweep.len();
             // Sweeps repeated to about 5 ms a pass.
             let reps = (5e6 / (40.0 * (m.bodies.len() * short) as f64)).max(1.0) as usize;
@@ -146,10 +150,10 @@ fn batch(filter: &[String]) {
                         &mut status[..short],
                     )
                 }));
-                v[2].push(time(LONG, 1, &mut || {
+                v[2].push(time(long_frames, 1, &mut || {
                     plan.solve_batch(black_box(&long_in), &mut out, &mut status)
                 }));
-                v[3].push(time(LONG, 1, &mut || {
+                v[3].push(time(long_frames, 1, &mut || {
                     solve_batch_parallel(&plan, black_box(&long_in), &mut out, &mut status)
                 }));
             }
