@@ -282,6 +282,58 @@ fn planar(filter: &[String]) {
     }
 }
 
+/// Medians over `inputs` (ns/frame) of a frame alone, a frame then its
+/// rates (`rates`, after the driver's frame), and both in one pass
+/// (`solve_rates`, frames by hand under keep-branch and limit, as the
+/// driver runs them), passes alternating; `None` when the plan gives no
+/// rates at the sweep's first frame.
+fn rate_costs<S: Solver + Copy, P>(
+    plan: S,
+    inputs: &[Vec<f64>],
+    mut out: Vec<P>,
+    rates: impl Fn(&S::State, &[f64], &mut [P]) -> bool,
+    solve_rates: impl Fn(&mut S::State, &[f64], &mut dofplan_runtime::Ctx, &mut [P]) -> bool,
+) -> Option<(f64, f64, f64)> {
+    let mut d = Driver::new(plan, Options::default());
+    let time = |d: &mut Driver<S>, out: &mut [P], with: bool, reps: usize| {
+        d.reset();
+        let t = Instant::now();
+        for _ in 0..reps {
+            for i in inputs {
+                black_box(d.frame(black_box(i)));
+                if with {
+                    black_box(rates(d.state(), d.inputs(), out));
+                }
+            }
+        }
+        t.elapsed().as_secs_f64() * 1e9 / (reps * inputs.len()) as f64
+    };
+    let fused = |out: &mut [P], reps: usize| {
+        let mut st = plan.initial_state();
+        let t = Instant::now();
+        for _ in 0..reps {
+            for i in inputs {
+                let mut ctx = dofplan_runtime::Ctx::new(Default::default(), false);
+                black_box(solve_rates(&mut st, black_box(i), &mut ctx, out));
+            }
+        }
+        t.elapsed().as_secs_f64() * 1e9 / (reps * inputs.len()) as f64
+    };
+    d.frame(&inputs[0]);
+    if !rates(d.state(), d.inputs(), &mut out) {
+        return None;
+    }
+    let per = time(&mut d, &mut out, true, 1) * 1e-9;
+    let reps = ((5e-3 / per) as usize / inputs.len()).max(1);
+    let (mut without, mut with, mut one) = (Vec::new(), Vec::new(), Vec::new());
+    for _ in 0..21 {
+        without.push(time(&mut d, &mut out, false, reps));
+        with.push(time(&mut d, &mut out, true, reps));
+        one.push(fused(&mut out, reps));
+    }
+    Some((median(without), median(with), median(one)))
+}
+
 /// The rates table: per compiled planar plan with a generated `rates`, a
 /// frame's cost with its velocities and accelerations against without
 /// (medians of alternating passes over the sweep, as above).
@@ -304,49 +356,13 @@ fn rates(filter: &[String]) {
         let n = m.inputs.len();
         let (r, a) = (vec![30.0; n], vec![0.0; n]);
         let row = dofplan_generated::with_plan!(name.as_str(), |plan| {
-            let mut out = vec![Pose::<Jet2>::cst(Pose::IDENTITY); m.bodies.len()];
-            let mut d = Driver::new(plan, Options::default());
-            let time = |d: &mut Driver<_>, out: &mut Vec<Pose<Jet2>>, with: bool, reps: usize| {
-                d.reset();
-                let t = Instant::now();
-                for _ in 0..reps {
-                    for i in &inputs {
-                        black_box(d.frame(black_box(i)));
-                        if with {
-                            let _ = black_box(plan.rates_into(d.state(), d.inputs(), &r, &a, out));
-                        }
-                    }
-                }
-                t.elapsed().as_secs_f64() * 1e9 / (reps * inputs.len()) as f64
-            };
-            // The one-pass form: frames by hand (keep-branch, limit), as the
-            // driver runs them.
-            let fused = |out: &mut Vec<Pose<Jet2>>, reps: usize| {
-                let mut st = dofplan_runtime::Solver::initial_state(&plan);
-                let t = Instant::now();
-                for _ in 0..reps {
-                    for i in &inputs {
-                        let mut ctx = dofplan_runtime::Ctx::new(Default::default(), false);
-                        let _ =
-                            black_box(plan.solve_rates_into(&mut st, black_box(i), &r, &a, &mut ctx, out));
-                    }
-                }
-                t.elapsed().as_secs_f64() * 1e9 / (reps * inputs.len()) as f64
-            };
-            // Every planar module has rates; one that cannot give them at
-            // the drawn pose (a break there) is left out.
-            let has_rates = plan.rates_into(d.state(), d.inputs(), &r, &a, &mut out).is_ok();
-            has_rates.then(|| {
-                let per = time(&mut d, &mut out, true, 1) * 1e-9;
-                let reps = ((5e-3 / per) as usize / inputs.len()).max(1);
-                let (mut without, mut with, mut one) = (Vec::new(), Vec::new(), Vec::new());
-                for _ in 0..21 {
-                    without.push(time(&mut d, &mut out, false, reps));
-                    with.push(time(&mut d, &mut out, true, reps));
-                    one.push(fused(&mut out, reps));
-                }
-                (median(without), median(with), median(one))
-            })
+            rate_costs(
+                plan,
+                &inputs,
+                vec![Pose::<Jet2>::cst(Pose::IDENTITY); m.bodies.len()],
+                |st, i, out| plan.rates_into(st, i, &r, &a, out).is_ok(),
+                |st, i, ctx, out| plan.solve_rates_into(st, i, &r, &a, ctx, out).is_ok(),
+            )
         })
         .expect("compiled");
         if let Some((c, w, f)) = row {
@@ -390,49 +406,13 @@ fn spatial_rates(filter: &[String]) {
         let n = m.inputs.len();
         let (r, a) = (vec![30.0; n], vec![0.0; n]);
         let row = dofplan_generated::with_spatial_plan!(name.as_str(), |plan| {
-            let mut out = vec![Pose3::<Jet2>::cst(Pose3::IDENTITY); m.bodies.len()];
-            let mut d = Driver::new(plan, Options::default());
-            let time = |d: &mut Driver<_>, out: &mut Vec<Pose3<Jet2>>, with: bool, reps: usize| {
-                d.reset();
-                let t = Instant::now();
-                for _ in 0..reps {
-                    for i in &inputs {
-                        black_box(d.frame(black_box(i)));
-                        if with {
-                            let _ = black_box(plan.rates_into(d.state(), d.inputs(), &r, &a, out));
-                        }
-                    }
-                }
-                t.elapsed().as_secs_f64() * 1e9 / (reps * inputs.len()) as f64
-            };
-            // The one-pass form: frames by hand (keep-branch, limit), as the
-            // driver runs them.
-            let fused = |out: &mut Vec<Pose3<Jet2>>, reps: usize| {
-                let mut st = dofplan_runtime::Solver::initial_state(&plan);
-                let t = Instant::now();
-                for _ in 0..reps {
-                    for i in &inputs {
-                        let mut ctx = dofplan_runtime::Ctx::new(Default::default(), false);
-                        let _ =
-                            black_box(plan.solve_rates_into(&mut st, black_box(i), &r, &a, &mut ctx, out));
-                    }
-                }
-                t.elapsed().as_secs_f64() * 1e9 / (reps * inputs.len()) as f64
-            };
-            // A module without rates (a split plan).
-            d.frame(&inputs[0]);
-            let has_rates = plan.rates_into(d.state(), d.inputs(), &r, &a, &mut out).is_ok();
-            has_rates.then(|| {
-                let per = time(&mut d, &mut out, true, 1) * 1e-9;
-                let reps = ((5e-3 / per) as usize / inputs.len()).max(1);
-                let (mut without, mut with, mut one) = (Vec::new(), Vec::new(), Vec::new());
-                for _ in 0..21 {
-                    without.push(time(&mut d, &mut out, false, reps));
-                    with.push(time(&mut d, &mut out, true, reps));
-                    one.push(fused(&mut out, reps));
-                }
-                (median(without), median(with), median(one))
-            })
+            rate_costs(
+                plan,
+                &inputs,
+                vec![Pose3::<Jet2>::cst(Pose3::IDENTITY); m.bodies.len()],
+                |st, i, out| plan.rates_into(st, i, &r, &a, out).is_ok(),
+                |st, i, ctx, out| plan.solve_rates_into(st, i, &r, &a, ctx, out).is_ok(),
+            )
         })
         .expect("compiled");
         match row {
