@@ -229,31 +229,19 @@ fn add_rates(
     loops: &[Vec<&str>],
     mus: &[f64],
 ) {
-    match moving {
-        Ok(mo) => {
-            let by_name = |v: &[[f64; 2]]| -> Value {
-                Value::Object(names.iter().zip(v).map(|(n, p)| (n.clone(), json!(p))).collect())
-            };
-            o["velocity"] = by_name(&mo.velocity);
-            o["acceleration"] = by_name(&mo.acceleration);
-            o["angular"] = Value::Object(
-                (m.bodies.iter().enumerate())
-                    .map(|(b, body)| {
-                        (
-                            body.name.clone(),
-                            json!({"omega": mo.omega[b], "alpha": mo.alpha[b]}),
-                        )
-                    })
-                    .collect(),
-            );
-        }
-        Err(e) => {
-            o["velocity"] = Value::Null;
-            o["acceleration"] = Value::Null;
-            o["angular"] = Value::Null;
-            o["singular"] = json!(e.to_string());
-        }
-    }
+    rate_keys(
+        o,
+        m.bodies.iter().map(|b| b.name.as_str()),
+        names,
+        moving.as_ref().map(|mo| {
+            (
+                &mo.velocity[..],
+                &mo.acceleration[..],
+                &mo.omega[..],
+                &mo.alpha[..],
+            )
+        }),
+    );
     if !loops.is_empty() {
         o["transmission"] = json!(loops
             .iter()
@@ -359,4 +347,47 @@ fn loop_views<'a>(
             angles: a,
         })
         .collect()
+}
+
+/// A frame's rates, by marker (velocity, acceleration) and by body
+/// (angular velocity, acceleration): planar or spatial.
+pub(super) type Rates<'r, P, W> = (&'r [P], &'r [P], &'r [W], &'r [W]);
+
+/// The keys `analyze --json` adds to a frame, planar or spatial:
+/// "velocity" and "acceleration" by "body.marker" (`names`), "angular"
+/// with each body's "omega" and "alpha"; where there are no rates, those
+/// null and "singular" (a dead point) or "unavailable" (rates the plan does
+/// not give) saying why.
+pub(super) fn rate_keys<'a, P: serde::Serialize, W: serde::Serialize>(
+    o: &mut Value,
+    bodies: impl Iterator<Item = &'a str>,
+    names: &[String],
+    moving: Result<Rates<'_, P, W>, &RateError>,
+) {
+    match moving {
+        Ok((velocity, acceleration, omega, alpha)) => {
+            let by_name = |v: &[P]| -> Value {
+                Value::Object(names.iter().zip(v).map(|(n, p)| (n.clone(), json!(p))).collect())
+            };
+            o["velocity"] = by_name(velocity);
+            o["acceleration"] = by_name(acceleration);
+            o["angular"] = Value::Object(
+                bodies
+                    .enumerate()
+                    .map(|(b, body)| (body.to_string(), json!({"omega": omega[b], "alpha": alpha[b]})))
+                    .collect(),
+            );
+        }
+        Err(e) => {
+            o["velocity"] = Value::Null;
+            o["acceleration"] = Value::Null;
+            o["angular"] = Value::Null;
+            let key = if matches!(e, RateError::Singular) {
+                "singular"
+            } else {
+                "unavailable"
+            };
+            o[key] = json!(e.to_string());
+        }
+    }
 }

@@ -134,7 +134,19 @@ pub fn analyze(
                     &markers,
                     res,
                 );
-                add_rates(&mut o, m, &names, &moving);
+                super::analyze::rate_keys(
+                    &mut o,
+                    m.bodies.iter().map(|b| b.name.as_str()),
+                    &names,
+                    moving.as_ref().map(|mo| {
+                        (
+                            &mo.velocity[..],
+                            &mo.acceleration[..],
+                            &mo.omega[..],
+                            &mo.alpha[..],
+                        )
+                    }),
+                );
                 let sep = if i + 1 < total { "," } else { "" };
                 writeln!(out, "  {o}{sep}")?;
             }
@@ -255,42 +267,4 @@ pub fn analyze(
         }
     }
     Ok(ExitCode::SUCCESS)
-}
-
-/// The keys `analyze --json` adds to a spatial `simulate` frame:
-/// "velocity" and "acceleration" by "body.marker", "angular" with each
-/// body's "omega" and "alpha" vectors; where there are no rates, those
-/// null and "singular" (a dead point) or "unavailable" (the plan's rates
-/// are not computed) saying why.
-fn add_rates(o: &mut Value, m: &Mechanism3, names: &[String], moving: &Result<Motion3, RateError>) {
-    match moving {
-        Ok(mo) => {
-            let by_name = |v: &[[f64; 3]]| -> Value {
-                Value::Object(names.iter().zip(v).map(|(n, p)| (n.clone(), json!(p))).collect())
-            };
-            o["velocity"] = by_name(&mo.velocity);
-            o["acceleration"] = by_name(&mo.acceleration);
-            o["angular"] = Value::Object(
-                (m.bodies.iter().enumerate())
-                    .map(|(b, body)| {
-                        (
-                            body.name.clone(),
-                            json!({"omega": mo.omega[b], "alpha": mo.alpha[b]}),
-                        )
-                    })
-                    .collect(),
-            );
-        }
-        Err(e) => {
-            o["velocity"] = Value::Null;
-            o["acceleration"] = Value::Null;
-            o["angular"] = Value::Null;
-            let key = if matches!(e, RateError::Singular) {
-                "singular"
-            } else {
-                "unavailable"
-            };
-            o[key] = json!(e.to_string());
-        }
-    }
 }
