@@ -132,7 +132,7 @@ fn rates_agree_with_central_differences_on_every_bundled_sweep() {
             let here = d.poses().to_vec();
             for id in m.all_markers() {
                 let local = m.marker(id).at;
-                let j = jets[id.body].world([Jet2::new(local[0], 0.0, 0.0), Jet2::new(local[1], 0.0, 0.0)]);
+                let j = jets[id.body].world(local);
                 let (pp, pm, p0) = (
                     plus[id.body].world(local),
                     minus[id.body].world(local),
@@ -217,7 +217,7 @@ fn a_slider_crank_piston_moves_as_its_closed_form_says() {
         let root_ddot = -(g_dot * g_dot + g * g_ddot) / root - root_dot * root_dot / root;
         let x_ddot = -r * phi.cos() * w * w + root_ddot;
         let jets = interp.rates(d.state(), &[theta], &[rate], &[0.0]).unwrap();
-        let p = jets[slider].world([Jet2::new(c_local[0], 0.0, 0.0), Jet2::new(c_local[1], 0.0, 0.0)]);
+        let p = jets[slider].world(c_local);
         assert!((p[0].v - x).abs() < 1e-12, "{theta}°: x {} vs {x}", p[0].v);
         assert!(
             (p[0].d - x_dot).abs() < 1e-9 * (1.0 + x_dot.abs()),

@@ -247,7 +247,7 @@ impl Emitter<'_> {
                 quote! {
                     #[doc = #doc]
                     #[inline(never)]
-                    fn #f(#s: &State, w: &mut JetWorking, #inputs: &[Jet2], #ctx: &mut Ctx) -> Result<(), RateError> {
+                    fn #f(#s: &State, w: &mut JetWorking<'_>, #inputs: &[Jet2], #ctx: &mut Ctx) -> Result<(), RateError> {
                         #(#take)*
                         #(#code)*
                         #(#commit)*
@@ -340,41 +340,35 @@ impl Emitter<'_> {
                 quote!(temps: [[Jet2; 2]; #nt],),
             )
         };
-        quote! {
-            /// [`solve`] and [`rates`] in one pass: every body placed for
-            /// `inputs`, warm-started from `s`, and returned with its first
-            /// and second derivatives along `rates` and `accelerations` — the
-            /// steps run once, on [`Jet2`]s, whose values are exactly
-            /// `solve`'s. On a break `s` is left unchanged
-            /// ([`RateError::Break`]); at a dead point, where a rate is
-            /// infinite, the frame is committed (its positions are exact)
-            /// and the rates are [`RateError::Singular`].
-            pub fn solve_rates(
-                s: &mut State,
-                inputs: &[f64],
-                rates: &[f64],
-                accelerations: &[f64],
-                ctx: &mut Ctx,
-            ) -> Result<[Pose<Jet2>; #nb], RateError> {
-                let inputs: [Jet2; #ni] =
-                    core::array::from_fn(|k| Jet2::new(inputs[k], rates[k], accelerations[k]));
-                let mut w = JetWorking {
-                    poses: s.poses.map(Pose::<Jet2>::cst),
-                    last: s.last.map(planar::cst::<Jet2>),
-                    branches: s.branches,
-                    #temps_init
-                };
-                #(#calls)*
-                s.poses = w.poses.map(|p| p.value());
-                s.last = w.last.map(|p| [p[0].v, p[1].v]);
-                s.branches = w.branches;
-                real::checked(w.poses)
+        // The chunks work on the poses in `out` itself.
+        let body = quote! {
+            let inputs: [Jet2; #ni] =
+                core::array::from_fn(|k| Jet2::new(inputs[k], rates[k], accelerations[k]));
+            for (o, p) in out.iter_mut().zip(&s.poses) {
+                *o = Pose::<Jet2>::cst(*p);
             }
+            let mut w = JetWorking {
+                poses: out,
+                last: s.last.map(planar::cst::<Jet2>),
+                branches: s.branches,
+                #temps_init
+            };
+            #(#calls)*
+            for (p, o) in s.poses.iter_mut().zip(w.poses.iter()) {
+                *p = o.value();
+            }
+            s.last = w.last.map(|p| [p[0].v, p[1].v]);
+            s.branches = w.branches;
+            real::checked(&*w.poses).map(|_| ())
+        };
+        let api = super::rates::rates_functions(&quote!(Pose), &nb, body);
+        quote! {
+            #api
 
             /// A frame's working copy of the state on jets, and the points a
             /// chunk of steps hands to later ones.
-            struct JetWorking {
-                poses: [Pose<Jet2>; #nb],
+            struct JetWorking<'a> {
+                poses: &'a mut [Pose<Jet2>; #nb],
                 last: [[Jet2; 2]; #nk],
                 branches: [Branch; #nk],
                 #temps_field

@@ -19,6 +19,7 @@ use quote::{format_ident, quote};
 mod chunk;
 mod cluster;
 mod names;
+mod rates;
 mod spatial;
 mod spatial_cluster;
 
@@ -143,7 +144,9 @@ impl Emitter<'_> {
             PointRef::Fixed { at, .. } => self.plit(*at),
             PointRef::Marker { body, local, name } => {
                 let id = format_ident!("{}", point_ident(name));
-                let (b, l) = (self.pose(*body), self.plit(*local));
+                // A marker's local position is a constant of its body: a
+                // plain number even on jets and lanes (`Pose::world`).
+                let (b, l) = (self.pose(*body), point_lit(*local));
                 prelude.push(quote!(let #id = #b.world(#l);));
                 quote!(#id)
             }
@@ -159,13 +162,16 @@ impl Emitter<'_> {
                 let b = self.pose(*body);
                 let u = &self.input_idents[*input];
                 let u = if *sign < 0.0 { quote!((-#u)) } else { quote!(#u) };
-                let (lx, ly, dx, dy) = (
-                    self.slit(local[0]),
-                    self.slit(local[1]),
-                    self.slit(dir[0]),
-                    self.slit(dir[1]),
-                );
-                prelude.push(quote!(let #id = #b.world([#lx + #u * #dx, #ly + #u * #dy]);));
+                let (lx, ly) = (self.slit(local[0]), self.slit(local[1]));
+                // The slide direction is a constant: on jets and lanes a
+                // multiplication by a plain number.
+                let (dx, dy) = (lit(dir[0]), lit(dir[1]));
+                let (ux, uy) = if self.jets {
+                    (quote!(#u.mul_f64(#dx)), quote!(#u.mul_f64(#dy)))
+                } else {
+                    (quote!(#u * #dx), quote!(#u * #dy))
+                };
+                prelude.push(quote!(let #id = #b.world_carried([#lx + #ux, #ly + #uy]);));
                 quote!(#id)
             }
             PointRef::Temp { id } => {
@@ -180,7 +186,7 @@ impl Emitter<'_> {
             DirRef::Fixed(v) => self.plit(*v),
             DirRef::Body { body, local } => {
                 let id = format_ident!("{}", name);
-                let (b, l) = (self.pose(*body), self.plit(*local));
+                let (b, l) = (self.pose(*body), point_lit(*local));
                 prelude.push(quote!(let #id = #b.world_dir(#l);));
                 quote!(#id)
             }
@@ -223,7 +229,7 @@ impl Emitter<'_> {
             }
             StepKind::Anchor { body, local, at } => {
                 let at = self.point(at, &mut pre);
-                let (b, l) = (self.pose(*body), self.plit(*local));
+                let (b, l) = (self.pose(*body), point_lit(*local));
                 quote! {
                     #marker
                     {
@@ -242,7 +248,7 @@ impl Emitter<'_> {
             } => {
                 let p_at = self.point(p_at, &mut pre);
                 let q_at = self.point(q_at, &mut pre);
-                let (b, p, q) = (self.pose(*body), self.plit(*p), self.plit(*q));
+                let (b, p, q) = (self.pose(*body), point_lit(*p), point_lit(*q));
                 let call = if *redundant {
                     quote!(planar::align_consistent(ctx, #id, &mut #b, #p, #p_at, #q, #q_at)?;)
                 } else {
@@ -641,19 +647,7 @@ impl Emitter<'_> {
             Some((uses, chunks)) => self.chunked_solve(steps, uses, &chunks, &doc_solve),
         };
         let names = self.names();
-        let fused_impl = quote! {
-            fn solve_rates_into(
-                &self,
-                s: &mut State,
-                inputs: &[f64],
-                rates: &[f64],
-                accelerations: &[f64],
-                ctx: &mut Ctx,
-                out: &mut [Pose<Jet2>],
-            ) -> Result<(), RateError> {
-                self::solve_rates(s, inputs, rates, accelerations, ctx).map(|r| out.copy_from_slice(&r))
-            }
-        };
+        let rate_methods = rates::rates_trait_methods(&quote!(Pose));
         // `Jet2::cst` and `Lanes::cst` need the trait (a plan of large clusters alone, whose
         // rates the runtime computes, has none).
         let lane_code = lanes.as_ref().map(|l| l.to_string()).unwrap_or_default();
@@ -666,8 +660,6 @@ impl Emitter<'_> {
             use dofplan_runtime::real::{self, Jet2, RateError, #real};
             use dofplan_runtime::BranchPolicy;
         );
-        let rates_impl =
-            quote!(self::rates(s, inputs, rates, accelerations).map(|r| out.copy_from_slice(&r)));
         let (lanes_use, batch_impl) = if lanes.is_some() {
             (
                 quote!(
@@ -769,18 +761,7 @@ impl Emitter<'_> {
             }
 
             impl dofplan_runtime::real::Rates for Plan {
-                fn rates_into(
-                    &self,
-                    s: &State,
-                    inputs: &[f64],
-                    rates: &[f64],
-                    accelerations: &[f64],
-                    out: &mut [Pose<Jet2>],
-                ) -> Result<(), RateError> {
-                    #rates_impl
-                }
-
-                #fused_impl
+                #rate_methods
             }
 
             #batch_impl
@@ -808,31 +789,6 @@ impl Emitter<'_> {
             .collect()
     }
 
-    /// `rates`: `solve_rates` on a copy of the frame, keeping its branches
-    /// (solving a frame's own inputs again from it gives the same roots,
-    /// so its rates are those of the roots it took).
-    fn rates_fn(&self) -> TokenStream {
-        let nb = index(self.plan.bodies.len());
-        quote! {
-            /// Every body's pose at the frame `s` was solved to (at
-            /// `inputs`) with its first and second derivatives along the
-            /// inputs' `rates` and `accelerations` (per second, in the
-            /// inputs' units: degrees for angles): the steps of [`solve`] run
-            /// again on [`Jet2`]s — forward-mode differentiation through the
-            /// plan — with the branches the frame took. A dead point, where
-            /// a rate is infinite, is [`RateError::Singular`].
-            pub fn rates(
-                s: &State,
-                inputs: &[f64],
-                rates: &[f64],
-                accelerations: &[f64],
-            ) -> Result<[Pose<Jet2>; #nb], RateError> {
-                let mut again = *s;
-                solve_rates(&mut again, inputs, rates, accelerations, &mut Ctx::new(BranchPolicy::Keep, false))
-            }
-        }
-    }
-
     /// `solve_rates`: a frame and its rates in one pass on jets (their
     /// values are `solve`'s, the same operations on the same numbers),
     /// committed to `s` as `solve` commits.
@@ -848,12 +804,12 @@ impl Emitter<'_> {
             quote!(s.poses[#i] = #id.value();)
         });
         let out = (0..plan.bodies.len()).map(|b| {
+            let i = index(b);
             if written.contains(&b) {
                 let id = &self.pose_idents[b];
-                quote!(#id)
+                quote!(out[#i] = #id;)
             } else {
-                let i = index(b);
-                quote!(Pose::<Jet2>::cst(s.poses[#i]))
+                quote!(out[#i] = Pose::<Jet2>::cst(s.poses[#i]);)
             }
         });
         let (take_branches, commit_branches) = if plan.branches.is_empty() {
@@ -866,34 +822,20 @@ impl Emitter<'_> {
         };
         let bind_inputs = (0..plan.inputs.len()).map(|k| self.bind_input(k));
         let (nb, ni) = (index(plan.bodies.len()), index(plan.inputs.len()));
-        quote! {
-            /// [`solve`] and [`rates`] in one pass: every body placed for
-            /// `inputs`, warm-started from `s`, and returned with its first
-            /// and second derivatives along `rates` and `accelerations` — the
-            /// steps run once, on [`Jet2`]s, whose values are exactly
-            /// `solve`'s. On a break `s` is left unchanged
-            /// ([`RateError::Break`]); at a dead point, where a rate is
-            /// infinite, the frame is committed (its positions are exact)
-            /// and the rates are [`RateError::Singular`].
-            pub fn solve_rates(
-                s: &mut State,
-                inputs: &[f64],
-                rates: &[f64],
-                accelerations: &[f64],
-                ctx: &mut Ctx,
-            ) -> Result<[Pose<Jet2>; #nb], RateError> {
-                let inputs: [Jet2; #ni] =
-                    core::array::from_fn(|k| Jet2::new(inputs[k], rates[k], accelerations[k]));
-                let _ = (&inputs, &ctx);
-                #(#take)*
-                #take_branches
-                #(#bind_inputs)*
-                #(#steps)*
-                #(#commit)*
-                #commit_branches
-                real::checked([#(#out),*])
-            }
-        }
+        let body = quote! {
+            let inputs: [Jet2; #ni] =
+                core::array::from_fn(|k| Jet2::new(inputs[k], rates[k], accelerations[k]));
+            let _ = (&inputs, &ctx);
+            #(#take)*
+            #take_branches
+            #(#bind_inputs)*
+            #(#steps)*
+            #(#commit)*
+            #commit_branches
+            #(#out)*
+            real::checked(&*out).map(|_| ())
+        };
+        rates::rates_functions(&quote!(Pose), &nb, body)
     }
 
     /// `solve_lanes`: [`LANES`](dofplan_runtime::lanes::LANES) frames at
@@ -1071,7 +1013,6 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
             e.chunked_solve(jet_steps, uses, chunks, "")
         }
     };
-    let rates = e.rates_fn();
     e.jets = false;
     // The steps on lanes of frames, for `solve_batch`: only closed-form
     // plans, whose frames do not depend on each other (a cluster's Newton
@@ -1085,7 +1026,7 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
         e.jets = false;
         lanes
     });
-    let tokens = e.module(steps, chunks, quote!(#rates #fused), lanes);
+    let tokens = e.module(steps, chunks, fused, lanes);
     let file = syn::parse2::<syn::File>(tokens).expect("the emitter produces valid Rust");
     let pretty = prettyplease::unparse(&file);
     // Comments are not tokens: each step was marked by a macro call that is

@@ -835,6 +835,7 @@ impl Emitter3<'_> {
         let code = quote!(#(#steps)*);
         let u = Uses::of(&code);
         let rates = self.rates(jet_steps, chunks.as_deref());
+        let rate_methods = super::rates::rates_trait_methods(&quote!(Pose3));
         let name = &plan.name;
         let nb = index(plan.bodies.len());
         let nt = index(plan.temps.len());
@@ -989,28 +990,7 @@ impl Emitter3<'_> {
             }
 
             impl dofplan_runtime::spatial::Rates3 for Plan {
-                fn rates_into(
-                    &self,
-                    s: &State,
-                    inputs: &[f64],
-                    rates: &[f64],
-                    accelerations: &[f64],
-                    out: &mut [Pose3<Jet2>],
-                ) -> Result<(), RateError> {
-                    self::rates(s, inputs, rates, accelerations).map(|r| out.copy_from_slice(&r))
-                }
-
-                fn solve_rates_into(
-                    &self,
-                    s: &mut State,
-                    inputs: &[f64],
-                    rates: &[f64],
-                    accelerations: &[f64],
-                    ctx: &mut Ctx,
-                    out: &mut [Pose3<Jet2>],
-                ) -> Result<(), RateError> {
-                    self::solve_rates(s, inputs, rates, accelerations, ctx).map(|r| out.copy_from_slice(&r))
-                }
+                #rate_methods
             }
 
             #solve
@@ -1062,7 +1042,7 @@ impl Emitter3<'_> {
                     functions.push(quote! {
                         #[doc = #fdoc]
                         #[inline(never)]
-                        fn #f(w: &mut Jets, #inputs: &[Jet2], #values: &[f64], #ctx: &mut Ctx) -> Result<(), Break> {
+                        fn #f(w: &mut Jets<'_>, #inputs: &[Jet2], #values: &[f64], #ctx: &mut Ctx) -> Result<(), Break> {
                             #(#code)*
                             Ok(())
                         }
@@ -1082,52 +1062,45 @@ impl Emitter3<'_> {
             let b = index(b);
             quote!(w.poses[#b].renormalize();)
         });
+        // The steps work on the poses in `out` itself.
+        let body = quote! {
+            let jets: [Jet2; #ni] =
+                core::array::from_fn(|k| Jet2::new(inputs[k], rates[k], accelerations[k]));
+            for (o, p) in out.iter_mut().zip(&s.poses) {
+                *o = Pose3::cst(*p);
+            }
+            let mut w = Jets {
+                poses: out,
+                temps: s.temps.map(spatial::cst),
+                branches: s.branches,
+                angles: s.angles,
+            };
+            run_jets(&mut w, &jets, inputs, ctx)?;
+            for (p, o) in s.poses.iter_mut().zip(w.poses.iter()) {
+                *p = o.value();
+            }
+            s.temps = w.temps.map(spatial::value);
+            s.branches = w.branches;
+            s.angles = w.angles;
+            spatial::checked3(&*w.poses).map(|_| ())
+        };
+        let api = super::rates::rates_functions(&quote!(Pose3), &nb, body);
         let code = quote! {
-            /// [`State`] on jets: what [`solve_rates`] works on.
-            #[derive(Clone, Copy)]
-            struct Jets {
-                poses: [Pose3<Jet2>; #nb],
+            /// [`State`] on jets: what [`solve_rates`] works on, its poses
+            /// in the caller's `out`.
+            struct Jets<'a> {
+                poses: &'a mut [Pose3<Jet2>; #nb],
                 temps: [Vec3<Jet2>; #nt],
                 branches: [Branch; #nk],
                 angles: [f64; #nk],
             }
 
-            /// [`solve`] and [`rates`] in one pass: every body placed for
-            /// `inputs`, warm-started from `s`, and returned with its first
-            /// and second derivatives along `rates` and `accelerations` (per
-            /// second, in the inputs' units: degrees for angles) — the steps
-            /// run once, on [`Jet2`]s, whose values are exactly `solve`'s.
-            /// On a break `s` is left unchanged ([`RateError::Break`]); at a
-            /// dead point, where a rate is infinite, the frame is committed
-            /// (its positions are exact) and the rates are
-            /// [`RateError::Singular`].
-            pub fn solve_rates(
-                s: &mut State,
-                inputs: &[f64],
-                rates: &[f64],
-                accelerations: &[f64],
-                ctx: &mut Ctx,
-            ) -> Result<[Pose3<Jet2>; #nb], RateError> {
-                let jets: [Jet2; #ni] =
-                    core::array::from_fn(|k| Jet2::new(inputs[k], rates[k], accelerations[k]));
-                let mut w = Jets {
-                    poses: s.poses.map(Pose3::cst),
-                    temps: s.temps.map(spatial::cst),
-                    branches: s.branches,
-                    angles: s.angles,
-                };
-                run_jets(&mut w, &jets, inputs, ctx)?;
-                s.poses = w.poses.map(|p| p.value());
-                s.temps = w.temps.map(spatial::value);
-                s.branches = w.branches;
-                s.angles = w.angles;
-                spatial::checked3(w.poses)
-            }
+            #api
 
             /// Every step of [`solve`] on jets, in place (checks on
             /// `input_values`).
             #[inline(always)]
-            fn run_jets(w: &mut Jets, inputs: &[Jet2], input_values: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+            fn run_jets(w: &mut Jets<'_>, inputs: &[Jet2], input_values: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
                 let _ = (&w, &inputs, &input_values, &ctx);
                 #(#steps)*
                 #(#moving)*
@@ -1135,23 +1108,6 @@ impl Emitter3<'_> {
             }
 
             #(#functions)*
-
-            /// Every body's pose at the frame `s` was solved to (at
-            /// `inputs`) with its first and second derivatives along the
-            /// inputs' `rates` and `accelerations` (per second, in the
-            /// inputs' units: degrees for angles): the steps of [`solve`]
-            /// run again on [`Jet2`]s — forward-mode differentiation through
-            /// the plan — with the branches the frame took. A dead point,
-            /// where a rate is infinite, is [`RateError::Singular`].
-            pub fn rates(
-                s: &State,
-                inputs: &[f64],
-                rates: &[f64],
-                accelerations: &[f64],
-            ) -> Result<[Pose3<Jet2>; #nb], RateError> {
-                let mut again = *s;
-                solve_rates(&mut again, inputs, rates, accelerations, &mut Ctx::new(BranchPolicy::Keep, false))
-            }
         };
         code
     }

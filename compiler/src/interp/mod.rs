@@ -103,7 +103,7 @@ impl Interpreter {
     fn point<T: Scalar>(&self, s: &Work<T>, inputs: &[T], p: &PointRef) -> [T; 2] {
         match p {
             PointRef::Fixed { at, .. } => cst(*at),
-            PointRef::Marker { body, local, .. } => s.poses[*body].world(cst(*local)),
+            PointRef::Marker { body, local, .. } => s.poses[*body].world(*local),
             PointRef::Slid {
                 body,
                 local,
@@ -114,7 +114,7 @@ impl Interpreter {
             } => {
                 let u = T::cst(*sign) * inputs[*input];
                 let (l, d) = (cst::<T>(*local), cst::<T>(*dir));
-                s.poses[*body].world([l[0] + u * d[0], l[1] + u * d[1]])
+                s.poses[*body].world_carried([l[0] + u * d[0], l[1] + u * d[1]])
             }
             PointRef::Temp { id } => s.temps[*id],
         }
@@ -123,7 +123,7 @@ impl Interpreter {
     fn dir<T: Scalar>(&self, s: &Work<T>, d: &DirRef) -> [T; 2] {
         match d {
             DirRef::Fixed(v) => cst(*v),
-            DirRef::Body { body, local } => s.poses[*body].world_dir(cst(*local)),
+            DirRef::Body { body, local } => s.poses[*body].world_dir(*local),
         }
     }
 
@@ -249,7 +249,7 @@ impl Interpreter {
                 }
                 StepKind::Anchor { body, local, at } => {
                     let at = self.point(s, inputs, at);
-                    planar::anchor(&mut s.poses[*body], cst(*local), at);
+                    planar::anchor(&mut s.poses[*body], *local, at);
                 }
                 StepKind::Align {
                     body,
@@ -261,7 +261,7 @@ impl Interpreter {
                 } => {
                     let p_at = self.point(s, inputs, p_at);
                     let q_at = self.point(s, inputs, q_at);
-                    let (p, q) = (cst(*p), cst(*q));
+                    let (p, q) = (*p, *q);
                     if *redundant {
                         planar::align_consistent(ctx, id, &mut s.poses[*body], p, p_at, q, q_at)?;
                     } else {

@@ -27,7 +27,7 @@ pub fn motion(m: &Mechanism, jets: &[Pose<Jet2>]) -> Motion {
     let (mut velocity, mut acceleration) = (Vec::new(), Vec::new());
     for id in m.all_markers() {
         let local = m.marker(id).at;
-        let p = jets[id.body].world([Jet2::new(local[0], 0.0, 0.0), Jet2::new(local[1], 0.0, 0.0)]);
+        let p = jets[id.body].world(local);
         velocity.push([p[0].d, p[1].d]);
         acceleration.push([p[0].dd, p[1].dd]);
     }

@@ -559,15 +559,15 @@ pub fn jet_residuals(poses: &[Pose<Jet2>], rows: &[Row], inputs: &[Jet2], size: 
                     }
                     None => cst(la),
                 };
-                let pa = poses[a].world(la);
-                let pb = poses[b].world(cst(lb));
+                let pa = poses[a].world_carried(la);
+                let pb = poses[b].world(lb);
                 r[row] = pa[0] - pb[0];
                 r[row + 1] = pa[1] - pb[1];
                 row += 2;
             }
             Row::InLine { a, la, dir, b, lb } => {
-                let d = poses[a].world_dir(cst(dir));
-                r[row] = in_line(d, poses[a].world(cst(la)), poses[b].world(cst(lb))).0;
+                let d = poses[a].world_dir(dir);
+                r[row] = in_line(d, poses[a].world(la), poses[b].world(lb)).0;
                 row += 1;
             }
             Row::Parallel { a, b, input } => {

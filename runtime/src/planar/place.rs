@@ -1,6 +1,6 @@
 //! Placing a body once its loci are met.
 
-use super::{cross, dot, sub, Pose, Rot};
+use super::{dot, sub, Point, Pose, Rot};
 use crate::frame::{Break, BreakKind, Ctx, StepId};
 use crate::real::{lanes_differ, Real};
 
@@ -22,8 +22,8 @@ pub fn set_rotation<T: Real>(pose: &mut Pose<T>, rot: Rot<T>) {
 /// Translates a body whose rotation is known so that its marker `local`
 /// lands on the world point `at`.
 #[inline(always)]
-pub fn anchor<T: Real>(pose: &mut Pose<T>, local: [T; 2], at: [T; 2]) {
-    let r = pose.rot.apply(local);
+pub fn anchor<T: Real>(pose: &mut Pose<T>, local: Point, at: [T; 2]) {
+    let r = pose.rot.apply_cst(local);
     pose.at = [at[0] - r[0], at[1] - r[1]];
 }
 
@@ -32,7 +32,10 @@ pub fn anchor<T: Real>(pose: &mut Pose<T>, local: [T; 2], at: [T; 2]) {
 /// agree, which the step that computed `q_at` guarantees unless it was
 /// stretched).
 #[inline(always)]
-pub fn align<T: Real>(pose: &mut Pose<T>, p: [T; 2], p_at: [T; 2], q: [T; 2], q_at: [T; 2]) {
+pub fn align<T: Real>(pose: &mut Pose<T>, p: Point, p_at: [T; 2], q: Point, q_at: [T; 2]) {
+    // The markers are constants of the body: their span and its length
+    // are plain numbers, which jets and lanes multiply by for a third of a
+    // product's cost.
     let dl = sub(q, p);
     let dw = sub(q_at, p_at);
     let l2 = dot(dl, dl);
@@ -45,16 +48,20 @@ pub fn align<T: Real>(pose: &mut Pose<T>, p: [T; 2], p_at: [T; 2], q: [T; 2], q_
     // previous frame's pose.
     // (|w2 − l2| ≤ tol as two comparisons, which lanes make side by side;
     // for finite numbers a − b ≤ 0 exactly when a ≤ b.)
-    let tol = T::cst(1e-12) * l2;
-    let dev = w2 - l2;
-    if l2.all(|v| v > 0.0) && (dev - tol).all(|v| v <= 0.0) && (dev + tol).all(|v| v >= 0.0) {
+    let tol = T::cst(1e-12 * l2);
+    let dev = w2 - T::cst(l2);
+    if l2 > 0.0 && (dev - tol).all(|v| v <= 0.0) && (dev + tol).all(|v| v >= 0.0) {
         let k = [dl[0] / l2, dl[1] / l2];
         pose.rot = Rot {
-            c: dot(k, dw),
-            s: cross(k, dw),
+            c: dw[0].mul_f64(k[0]) + dw[1].mul_f64(k[1]),
+            s: dw[1].mul_f64(k[0]) - dw[0].mul_f64(k[1]),
         };
     } else {
-        align_rotation_slow(pose, l2, w2, dot(dl, dw), cross(dl, dw));
+        let (c, s) = (
+            dw[0].mul_f64(dl[0]) + dw[1].mul_f64(dl[1]),
+            dw[1].mul_f64(dl[0]) - dw[0].mul_f64(dl[1]),
+        );
+        align_rotation_slow(pose, T::cst(l2), w2, c, s);
     }
     anchor(pose, p, p_at);
 }
@@ -69,16 +76,16 @@ pub fn align_consistent<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
     pose: &mut Pose<T>,
-    p: [T; 2],
+    p: Point,
     p_at: [T; 2],
-    q: [T; 2],
+    q: Point,
     q_at: [T; 2],
 ) -> Result<(), Break> {
     let dl = sub(q, p);
     let dw = sub(q_at, p_at);
     // The local span is the same in every lane (constants); the world
     // span is checked in each.
-    let l = dot(dl, dl).value().sqrt();
+    let l = dot(dl, dl).sqrt();
     let tol = 1e-9 * l.max(1.0);
     let w = dot(dw, dw).sqrt();
     if w.any(|w| (w - l).abs() > tol) {
