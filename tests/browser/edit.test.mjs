@@ -104,8 +104,19 @@ async function dragLatency(page, selector, moves, radius, eachFrame = null) {
   await page.mouse.move(cx, cy);
   await page.mouse.down();
   const before = await page.evaluate(() => window.__dofplan.latencies.length);
+  // Each wait below ends on one of the page's animation frames, so a move
+  // sent at once would reach the page at the same point of every frame and
+  // the figures would measure that phase, not the latency. A pause drawn
+  // uniformly over one 60 Hz frame (seeded, so runs are comparable) spreads
+  // the moves over the frame as a hand's are.
+  let seed = 12345;
+  const phase = () => {
+    seed = (seed * 1103515245 + 12345) % 2147483648;
+    return (seed / 2147483648) * (1000 / 60);
+  };
   for (let i = 1; i <= moves; i++) {
     const t = (2 * Math.PI * i) / 60;
+    await new Promise((r) => setTimeout(r, phase()));
     await page.mouse.move(cx + radius * Math.sin(t), cy - radius * (1 - Math.cos(t)));
     await page.waitForFunction((n) => window.__dofplan.latencies.length >= n, before + i);
     if (eachFrame) await eachFrame(i);
@@ -314,6 +325,55 @@ async function stress(browser) {
     child.kill();
   }
 }
+
+/** The floor of the painted figure: a page that does no work at all — it
+ * moves a dot to the pointer synchronously in the same `pointerrawupdate`
+ * handler and measures exactly as the editor does (event → DOM updated,
+ * event → the next animation frame after it). Whatever a page does, its
+ * pose cannot be painted before the browser's next frame; this says how
+ * much of the editor's figure is that frame clock. */
+async function baseline(browser) {
+  console.log("== baseline: a page that answers the pointer with no work at all");
+  const page = await browser.newPage({ viewport: { width: 1400, height: 860 } });
+  try {
+    // Served from a loopback address (answered by Playwright, nothing
+    // listens there), so that it is a secure context like the editor's page:
+    // Chromium gives `pointerrawupdate` only to those.
+    const url = "http://127.0.0.1:9/baseline";
+    await page.route(url, (route) => route.fulfill({ contentType: "text/html", body: BASELINE_PAGE }));
+    await page.goto(url);
+    check(
+      await page.evaluate(() => window.isSecureContext && "onpointerrawupdate" in window),
+      "the baseline page gets pointerrawupdate, as the editor does",
+    );
+    const lat = await dragLatency(page, "#dot", MOVES, 40);
+    check(lat.rendered.length === MOVES, `the baseline page measured ${lat.rendered.length} moves`);
+    report("baseline (no work, no server)", lat);
+    return lat;
+  } finally {
+    await page.close();
+  }
+}
+
+const BASELINE_PAGE = `<!doctype html><svg width="800" height="600" style="touch-action:none">
+      <circle id="dot" cx="400" cy="300" r="6"/></svg>
+      <script>
+        window.__dofplan = { latencies: [], domLatencies: [], serverMs: [], grabMs: 0, ready: true, busy: () => false };
+        const dot = document.getElementById("dot");
+        let down = false;
+        addEventListener("pointerdown", () => (down = true));
+        addEventListener("pointerup", () => (down = false));
+        addEventListener("pointerrawupdate", (e) => {
+          if (!down) return;
+          const t0 = Math.min(e.timeStamp, performance.now());
+          dot.setAttribute("cx", e.clientX);
+          dot.setAttribute("cy", e.clientY);
+          const p = window.__dofplan;
+          p.domLatencies.push(performance.now() - t0);
+          p.serverMs.push(0);
+          requestAnimationFrame(() => p.latencies.push(performance.now() - t0));
+        });
+      </script>`;
 
 async function openChain(browser) {
   console.log("== mechanisms/drag/open_chain_15.toml (no inputs, 15 free DOF)");
@@ -813,7 +873,7 @@ const browser = await chromium.launch({
 });
 const ONLY = process.env.ONLY ? process.env.ONLY.split(",") : null;
 try {
-  for (const scenario of [fourbar, openChain, pendulum, limits, sliderCrank, empty, construct, spatial, stress]) {
+  for (const scenario of [baseline, fourbar, openChain, pendulum, limits, sliderCrank, empty, construct, spatial, stress]) {
     if (!ONLY || ONLY.includes(scenario.name)) await scenario(browser);
   }
 } catch (e) {
