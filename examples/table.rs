@@ -135,6 +135,19 @@ fn batch(filter: &[String]) {
                 }
                 t.elapsed().as_secs_f64() * 1e9 / (frames * reps) as f64
             };
+            // Warm up first: on this VM, memory the process has just been
+            // given is slow to write for the first tens of milliseconds
+            // (the first passes over the long run's 32 MB took twice the
+            // later ones), which is not what a design study sees.
+            let warm = Instant::now();
+            while warm.elapsed().as_secs_f64() < 0.3 {
+                plan.solve_batch(
+                    &short_in,
+                    &mut out[..short * m.bodies.len()],
+                    &mut status[..short],
+                );
+                plan.solve_batch(&long_in, &mut out, &mut status);
+            }
             let mut v: [Vec<f64>; 4] = Default::default();
             for _ in 0..11 {
                 v[0].push(time(short, reps, &mut || {
@@ -153,6 +166,11 @@ fn batch(filter: &[String]) {
                 v[2].push(time(long_frames, 1, &mut || {
                     plan.solve_batch(black_box(&long_in), &mut out, &mut status)
                 }));
+            }
+            // The parallel runs after every one-core run: rayon's workers
+            // spin a while after their work, and on a machine whose cores
+            // share a physical core that slows the thread being timed.
+            for _ in 0..11 {
                 v[3].push(time(long_frames, 1, &mut || {
                     solve_batch_parallel(&plan, black_box(&long_in), &mut out, &mut status)
                 }));

@@ -121,20 +121,21 @@ pub fn in_order<S: Solver + ?Sized>(
 ///
 /// ```text
 /// for g in 0..lane_groups(..) {
-///     match solve_lanes(&group_inputs(inputs, g)) {
-///         Ok(poses) => put_group(&poses, g, out, status),
+///     match solve_lanes(&group_inputs(inputs, g), group_rows(out, g)) {
+///         Ok(()) => solved(status, g),
 ///         Err(_) => one_at_a_time(.., g * LANES..(g + 1) * LANES, ..),
 ///     }
 /// }
 /// finish(.., lane_groups * LANES, ..)
 /// ```
 ///
-/// — [`LANES`] frames at a time through its steps on [`Lanes`]; a group
-/// whose frames part ways at some step, and the frames left over, one at a
-/// time. The loop is written out in the generated module (not a function
-/// taking `solve_lanes` as an argument) so that a copy compiled for wider
-/// vector registers inlines the steps. This checks the buffers' lengths
-/// and returns the number of whole groups.
+/// — [`LANES`] frames at a time through its steps on [`Lanes`], each body's
+/// poses written to the group's rows ([`put_body`]) as soon as its last
+/// step has placed it; a group whose frames part ways at some step, and the
+/// frames left over, one at a time. The loop is written out in the
+/// generated module (not a function taking `solve_lanes` as an argument)
+/// so that a copy compiled for wider vector registers inlines the steps.
+/// This checks the buffers' lengths and returns the number of whole groups.
 #[inline(always)]
 pub fn lane_groups<S: Solver + ?Sized>(
     solver: &S,
@@ -160,26 +161,65 @@ pub fn group_inputs<const N: usize>(inputs: &[f64], g: usize) -> [Lanes; N] {
     group
 }
 
-/// Lane group `g`'s poses into its frames' rows of `out`, all solved.
+/// The rows of `out` that lane group `g` fills: one row of `B` poses for
+/// each of its [`LANES`] frames (a fixed-size array, so that the stores
+/// into it need no bounds checks).
 #[inline(always)]
-pub fn put_group<const B: usize>(
-    poses: &[Pose<Lanes>; B],
-    g: usize,
-    out: &mut [Pose],
-    status: &mut [FrameStatus],
-) {
+pub fn group_rows<const B: usize>(out: &mut [Pose], g: usize) -> &mut [[Pose; B]; LANES] {
     let rows = &mut out[g * LANES * B..(g + 1) * LANES * B];
-    for (l, row) in rows.chunks_exact_mut(B).enumerate() {
-        for (o, p) in row.iter_mut().zip(poses) {
-            *o = Pose {
-                at: [p.at[0].0[l], p.at[1].0[l]],
-                rot: Rot {
-                    c: p.rot.c.0[l],
-                    s: p.rot.s.0[l],
-                },
-            };
+    // SAFETY: `rows` is LANES·B poses in a row (the slicing checked it),
+    // which is the layout of `[[Pose; B]; LANES]`, and it is borrowed
+    // mutably for as long as the result.
+    unsafe { &mut *rows.as_mut_ptr().cast::<[[Pose; B]; LANES]>() }
+}
+
+/// Body `b`'s poses of a lane group into its frames' rows: lane `l` goes
+/// to `rows[l][b]`. Generated `solve_lanes` calls it right after the
+/// body's last step, so that these stores overlap the steps that follow
+/// rather than wait in a burst at the end of the group (on a long sweep
+/// each row goes out to main memory).
+#[inline(always)]
+pub fn put_body<const B: usize>(pose: &Pose<Lanes>, rows: &mut [[Pose; B]; LANES], b: usize) {
+    // Two frames at a time: (x, x'), (y, y') → (x, y), (x', y') is one
+    // unpack each (SSE2, every x86-64 CPU has it), not four lone stores
+    // per pose.
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_loadu_pd, _mm_storeu_pd, _mm_unpackhi_pd, _mm_unpacklo_pd};
+        for l in (0..LANES).step_by(2) {
+            let (first, second) = rows[l..l + 2].split_at_mut(1);
+            let (p0, p1) = (&mut first[0][b], &mut second[0][b]);
+            // SAFETY: each load reads lanes l and l + 1 of a `[f64; LANES]`
+            // (l + 1 < LANES, LANES even); each store writes two adjacent
+            // f64s of one `Pose`, `at` (an array) or `rot` (`#[repr(C)]`:
+            // c then s), through a pointer to the whole of it.
+            unsafe {
+                let x = _mm_loadu_pd(pose.at[0].0.as_ptr().add(l));
+                let y = _mm_loadu_pd(pose.at[1].0.as_ptr().add(l));
+                let c = _mm_loadu_pd(pose.rot.c.0.as_ptr().add(l));
+                let s = _mm_loadu_pd(pose.rot.s.0.as_ptr().add(l));
+                _mm_storeu_pd(p0.at.as_mut_ptr(), _mm_unpacklo_pd(x, y));
+                _mm_storeu_pd((&mut p0.rot as *mut Rot).cast(), _mm_unpacklo_pd(c, s));
+                _mm_storeu_pd(p1.at.as_mut_ptr(), _mm_unpackhi_pd(x, y));
+                _mm_storeu_pd((&mut p1.rot as *mut Rot).cast(), _mm_unpackhi_pd(c, s));
+            }
         }
     }
+    #[cfg(not(target_arch = "x86_64"))]
+    for (l, row) in rows.iter_mut().enumerate() {
+        row[b] = Pose {
+            at: [pose.at[0].0[l], pose.at[1].0[l]],
+            rot: Rot {
+                c: pose.rot.c.0[l],
+                s: pose.rot.s.0[l],
+            },
+        };
+    }
+}
+
+/// Lane group `g`'s frames are solved (its rows all written).
+#[inline(always)]
+pub fn solved(status: &mut [FrameStatus], g: usize) {
     status[g * LANES..(g + 1) * LANES].fill(FrameStatus::Solved);
 }
 

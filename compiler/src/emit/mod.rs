@@ -848,14 +848,29 @@ impl Emitter<'_> {
             let (id, i) = (&self.pose_idents[b], index(b));
             quote!(let mut #id = Pose::<Lanes>::cst(s.poses[#i]);)
         });
-        let out = (0..plan.bodies.len()).map(|b| {
+        // Each body goes to the rows right after the last step that places
+        // it; the bodies no step places (ground, idle ones), first.
+        let mut last_write = vec![None; plan.bodies.len()];
+        for (i, step) in plan.steps.iter().enumerate() {
+            for b in step.kind.writes() {
+                last_write[b] = Some(i);
+            }
+        }
+        let put = |b: usize| {
+            let i = index(b);
             if written.contains(&b) {
                 let id = &self.pose_idents[b];
-                quote!(#id)
+                quote!(dofplan_runtime::batch::put_body(&#id, rows, #i);)
             } else {
-                let i = index(b);
-                quote!(Pose::<Lanes>::cst(s.poses[#i]))
+                quote!(dofplan_runtime::batch::put_body(&Pose::<Lanes>::cst(s.poses[#i]), rows, #i);)
             }
+        };
+        let unplaced = (0..plan.bodies.len()).filter(|&b| !written.contains(&b)).map(put);
+        let steps = steps.into_iter().enumerate().map(|(i, step)| {
+            let puts = (0..plan.bodies.len())
+                .filter(|&b| written.contains(&b) && last_write[b] == Some(i))
+                .map(put);
+            quote!(#step #(#puts)*)
         });
         let take_branches = if plan.branches.is_empty() {
             quote!()
@@ -866,7 +881,9 @@ impl Emitter<'_> {
         let (nb, ni) = (index(plan.bodies.len()), index(plan.inputs.len()));
         quote! {
         /// [`solve`] of [`LANES`](dofplan_runtime::lanes::LANES) frames
-        /// side by side (lane `l` of every input is frame `l`'s), each
+        /// side by side (lane `l` of every input is frame `l`'s; frame
+        /// `l`'s poses go to `rows[l]`, each body's as soon as its last
+        /// step has placed it), each
         /// from the drawn pose under keep-branch: the frames of a
         /// closed-form plan do not depend on each other. A break in any
         /// frame, or frames that part ways at a step
@@ -874,15 +891,16 @@ impl Emitter<'_> {
         /// is an error for all of them: [`solve_batch`] then solves
         /// them one at a time.
         #[inline(always)]
-        pub fn solve_lanes(inputs: &[Lanes; #ni]) -> Result<[Pose<Lanes>; #nb], Break> {
+        pub fn solve_lanes(inputs: &[Lanes; #ni], rows: &mut [[Pose; #nb]; dofplan_runtime::lanes::LANES]) -> Result<(), Break> {
             let s = &State::DRAWN;
             let ctx = &mut Ctx::new(dofplan_runtime::BranchPolicy::Keep, false);
             let _ = (&inputs, &ctx);
+            #(#unplaced)*
             #(#take)*
             #take_branches
             #(#bind_inputs)*
             #(#steps)*
-            Ok([#(#out),*])
+            Ok(())
         }
 
         /// Every frame of `inputs` (one row of [`INPUTS`] values a
@@ -931,8 +949,11 @@ impl Emitter<'_> {
             use dofplan_runtime::batch;
             let groups = batch::lane_groups(&Plan, inputs, out, status);
             for g in 0..groups {
-                match solve_lanes(&batch::group_inputs(inputs, g)) {
-                    Ok(poses) => batch::put_group(&poses, g, out, status),
+                match solve_lanes(&batch::group_inputs(inputs, g), batch::group_rows(out, g)) {
+                    // A group that does not finish leaves its rows partly
+                    // written: solving its frames one at a time rewrites
+                    // them (and `finish` holds those that break).
+                    Ok(()) => batch::solved(status, g),
                     Err(_) => {
                         let lanes = dofplan_runtime::lanes::LANES;
                         batch::one_at_a_time(&Plan, g * lanes..(g + 1) * lanes, inputs, out, status)

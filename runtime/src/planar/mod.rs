@@ -21,8 +21,12 @@ pub type Point = [f64; 2];
 
 /// A rotation as its (cos, sin) pair: of `f64`s, or of [`Jet2`]s carrying
 /// the rotation's rates.
+///
+/// `#[repr(C)]`: `c` then `s`, which [`crate::batch::put_body`] stores as
+/// a pair.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[repr(C)]
 pub struct Rot<T = f64> {
     /// Cosine of the angle.
     pub c: T,
