@@ -44,6 +44,11 @@ impl Uses {
         u
     }
 
+    /// Whether the code names `ident`.
+    pub fn mentions(&self, ident: &str) -> bool {
+        self.idents.contains(ident)
+    }
+
     fn merge(&mut self, other: Uses) {
         self.idents.extend(other.idents);
         self.weight += other.weight;

@@ -844,10 +844,22 @@ impl Emitter<'_> {
     fn solve_lanes_fn(&self, steps: Vec<TokenStream>) -> TokenStream {
         let plan = self.plan;
         let written = self.written_bodies();
-        let take = written.iter().map(|&b| {
+        // Each placed body's lanes are declared just before the first step
+        // that names them, not all at the top: their lifetimes then overlap
+        // little, so the compiler can give them the same stack slots (a
+        // chain of 50 bodies otherwise keeps 12.8 KB of lanes alive, and
+        // its stack frame no longer fits the data cache beside the rows).
+        let uses: Vec<chunk::Uses> = steps.iter().map(chunk::Uses::of).collect();
+        let first_use: Vec<Option<usize>> = (0..plan.bodies.len())
+            .map(|b| {
+                let id = self.pose_idents[b].to_string();
+                uses.iter().position(|u| u.mentions(&id))
+            })
+            .collect();
+        let take = |b: usize| {
             let (id, i) = (&self.pose_idents[b], index(b));
             quote!(let mut #id = Pose::<Lanes>::cst(s.poses[#i]);)
-        });
+        };
         // Each body goes to the rows right after the last step that places
         // it; the bodies no step places (ground, idle ones), first.
         let mut last_write = vec![None; plan.bodies.len()];
@@ -867,15 +879,26 @@ impl Emitter<'_> {
         };
         let unplaced = (0..plan.bodies.len()).filter(|&b| !written.contains(&b)).map(put);
         let steps = steps.into_iter().enumerate().map(|(i, step)| {
+            let takes = written
+                .iter()
+                .filter(|&&b| first_use[b] == Some(i))
+                .map(|&b| take(b));
             let puts = (0..plan.bodies.len())
                 .filter(|&b| written.contains(&b) && last_write[b] == Some(i))
                 .map(put);
-            quote!(#step #(#puts)*)
+            quote!(#(#takes)* #step #(#puts)*)
         });
         let take_branches = if plan.branches.is_empty() {
             quote!()
         } else {
-            quote!(let mut last = s.last.map(planar::cst::<Lanes>); let mut branches = s.branches;)
+            // Written out rather than `s.last.map(..)`, which stays a call:
+            // lanes only write `last` (keep-branch), and stores into an
+            // array that nothing reads are then dropped.
+            let last = (0..plan.branches.len()).map(|k| {
+                let k = index(k);
+                quote!(planar::cst::<Lanes>(s.last[#k]))
+            });
+            quote!(let mut last = [#(#last),*]; let mut branches = s.branches;)
         };
         let bind_inputs = (0..plan.inputs.len()).map(|k| self.bind_input(k));
         let (nb, ni) = (index(plan.bodies.len()), index(plan.inputs.len()));
@@ -896,7 +919,6 @@ impl Emitter<'_> {
             let ctx = &mut Ctx::new(dofplan_runtime::BranchPolicy::Keep, false);
             let _ = (&inputs, &ctx);
             #(#unplaced)*
-            #(#take)*
             #take_branches
             #(#bind_inputs)*
             #(#steps)*
