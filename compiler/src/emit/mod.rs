@@ -789,16 +789,46 @@ impl Emitter<'_> {
             .collect()
     }
 
+    /// The steps with each placed body's working pose (on `real`: `Jet2`
+    /// or `Lanes`) declared just before the first step that names it, not
+    /// all at the top: their lifetimes then overlap little, so the compiler
+    /// can give them the same stack slots (a chain of 50 bodies otherwise
+    /// keeps 12.8 KB of lanes alive, and its stack frame no longer fits the
+    /// data cache). `after(i)` follows step `i`.
+    fn declared_late(
+        &self,
+        steps: Vec<TokenStream>,
+        real: TokenStream,
+        after: impl Fn(usize) -> TokenStream,
+    ) -> Vec<TokenStream> {
+        let written = self.written_bodies();
+        let uses: Vec<chunk::Uses> = steps.iter().map(chunk::Uses::of).collect();
+        let first_use = |b: usize| {
+            let id = self.pose_idents[b].to_string();
+            uses.iter().position(|u| u.mentions(&id))
+        };
+        let first: Vec<Option<usize>> = (0..self.plan.bodies.len()).map(first_use).collect();
+        steps
+            .into_iter()
+            .enumerate()
+            .map(|(i, step)| {
+                let takes = written.iter().filter(|&&b| first[b] == Some(i)).map(|&b| {
+                    let (id, k) = (&self.pose_idents[b], index(b));
+                    quote!(let mut #id = Pose::<#real>::cst(s.poses[#k]);)
+                });
+                let after = after(i);
+                quote!(#(#takes)* #step #after)
+            })
+            .collect()
+    }
+
     /// `solve_rates`: a frame and its rates in one pass on jets (their
     /// values are `solve`'s, the same operations on the same numbers),
     /// committed to `s` as `solve` commits.
     fn solve_rates_fn(&self, steps: Vec<TokenStream>) -> TokenStream {
         let plan = self.plan;
         let written = self.written_bodies();
-        let take = written.iter().map(|&b| {
-            let (id, i) = (&self.pose_idents[b], index(b));
-            quote!(let mut #id = Pose::<Jet2>::cst(s.poses[#i]);)
-        });
+        let steps = self.declared_late(steps, quote!(Jet2), |_| quote!());
         let commit = written.iter().map(|&b| {
             let (id, i) = (&self.pose_idents[b], index(b));
             quote!(s.poses[#i] = #id.value();)
@@ -815,9 +845,13 @@ impl Emitter<'_> {
         let (take_branches, commit_branches) = if plan.branches.is_empty() {
             (quote!(), quote!())
         } else {
+            // Slot by slot rather than `map`, which stays a call in a
+            // plan of a few steps, where it is a fifth of the frame.
+            let k = (0..plan.branches.len()).map(index);
+            let (k1, k2) = (k.clone(), k.clone());
             (
-                quote!(let mut last = s.last.map(planar::cst::<Jet2>); let mut branches = s.branches;),
-                quote!(s.last = last.map(|p| [p[0].v, p[1].v]); s.branches = branches;),
+                quote!(let mut last = [#(planar::cst::<Jet2>(s.last[#k1])),*]; let mut branches = s.branches;),
+                quote!(#(s.last[#k2] = [last[#k2][0].v, last[#k2][1].v];)* s.branches = branches;),
             )
         };
         let bind_inputs = (0..plan.inputs.len()).map(|k| self.bind_input(k));
@@ -826,7 +860,6 @@ impl Emitter<'_> {
             let inputs: [Jet2; #ni] =
                 core::array::from_fn(|k| Jet2::new(inputs[k], rates[k], accelerations[k]));
             let _ = (&inputs, &ctx);
-            #(#take)*
             #take_branches
             #(#bind_inputs)*
             #(#steps)*
@@ -844,22 +877,6 @@ impl Emitter<'_> {
     fn solve_lanes_fn(&self, steps: Vec<TokenStream>) -> TokenStream {
         let plan = self.plan;
         let written = self.written_bodies();
-        // Each placed body's lanes are declared just before the first step
-        // that names them, not all at the top: their lifetimes then overlap
-        // little, so the compiler can give them the same stack slots (a
-        // chain of 50 bodies otherwise keeps 12.8 KB of lanes alive, and
-        // its stack frame no longer fits the data cache beside the rows).
-        let uses: Vec<chunk::Uses> = steps.iter().map(chunk::Uses::of).collect();
-        let first_use: Vec<Option<usize>> = (0..plan.bodies.len())
-            .map(|b| {
-                let id = self.pose_idents[b].to_string();
-                uses.iter().position(|u| u.mentions(&id))
-            })
-            .collect();
-        let take = |b: usize| {
-            let (id, i) = (&self.pose_idents[b], index(b));
-            quote!(let mut #id = Pose::<Lanes>::cst(s.poses[#i]);)
-        };
         // Each body goes to the rows right after the last step that places
         // it; the bodies no step places (ground, idle ones), first.
         let mut last_write = vec![None; plan.bodies.len()];
@@ -878,15 +895,11 @@ impl Emitter<'_> {
             }
         };
         let unplaced = (0..plan.bodies.len()).filter(|&b| !written.contains(&b)).map(put);
-        let steps = steps.into_iter().enumerate().map(|(i, step)| {
-            let takes = written
-                .iter()
-                .filter(|&&b| first_use[b] == Some(i))
-                .map(|&b| take(b));
+        let steps = self.declared_late(steps, quote!(Lanes), |i| {
             let puts = (0..plan.bodies.len())
                 .filter(|&b| written.contains(&b) && last_write[b] == Some(i))
                 .map(put);
-            quote!(#(#takes)* #step #(#puts)*)
+            quote!(#(#puts)*)
         });
         let take_branches = if plan.branches.is_empty() {
             quote!()
@@ -894,11 +907,8 @@ impl Emitter<'_> {
             // Written out rather than `s.last.map(..)`, which stays a call:
             // lanes only write `last` (keep-branch), and stores into an
             // array that nothing reads are then dropped.
-            let last = (0..plan.branches.len()).map(|k| {
-                let k = index(k);
-                quote!(planar::cst::<Lanes>(s.last[#k]))
-            });
-            quote!(let mut last = [#(#last),*]; let mut branches = s.branches;)
+            let k = (0..plan.branches.len()).map(index);
+            quote!(let mut last = [#(planar::cst::<Lanes>(s.last[#k])),*]; let mut branches = s.branches;)
         };
         let bind_inputs = (0..plan.inputs.len()).map(|k| self.bind_input(k));
         let (nb, ni) = (index(plan.bodies.len()), index(plan.inputs.len()));
