@@ -774,19 +774,34 @@ impl Emitter<'_> {
         }
     }
 
+    /// For each body, the last step that writes it (`None`: no step does).
+    fn last_writes(&self) -> Vec<Option<usize>> {
+        let mut last = vec![None; self.plan.bodies.len()];
+        for (i, step) in self.plan.steps.iter().enumerate() {
+            for b in step.kind.writes() {
+                last[b] = Some(i);
+            }
+        }
+        last
+    }
+
     /// The mobile bodies some step writes: each is a named local during a
     /// frame, read from the state first and written back at the end.
     fn written_bodies(&self) -> Vec<usize> {
-        let plan = self.plan;
-        let mut is_written = vec![false; plan.bodies.len()];
-        for step in &plan.steps {
-            for b in step.kind.writes() {
-                is_written[b] = true;
-            }
-        }
-        (0..plan.bodies.len())
-            .filter(|&b| !plan.bodies[b].fixed && is_written[b])
+        let last = self.last_writes();
+        (0..self.plan.bodies.len())
+            .filter(|&b| !self.plan.bodies[b].fixed && last[b].is_some())
             .collect()
+    }
+
+    /// The state's last roots lifted to `real` (`Jet2` or `Lanes`), slot by
+    /// slot rather than by `s.last.map(..)`, which stays a call: in a plan
+    /// of a few steps that call is a fifth of a frame on jets, and on lanes
+    /// (which only write `last`, under keep-branch) the stores into an
+    /// array nothing reads are then dropped.
+    fn lifted_last(&self, real: TokenStream) -> TokenStream {
+        let k = (0..self.plan.branches.len()).map(index);
+        quote!([#(planar::cst::<#real>(s.last[#k])),*])
     }
 
     /// The steps with each placed body's working pose (on `real`: `Jet2`
@@ -801,18 +816,20 @@ impl Emitter<'_> {
         real: TokenStream,
         after: impl Fn(usize) -> TokenStream,
     ) -> Vec<TokenStream> {
-        let written = self.written_bodies();
         let uses: Vec<chunk::Uses> = steps.iter().map(chunk::Uses::of).collect();
-        let first_use = |b: usize| {
-            let id = self.pose_idents[b].to_string();
-            uses.iter().position(|u| u.mentions(&id))
-        };
-        let first: Vec<Option<usize>> = (0..self.plan.bodies.len()).map(first_use).collect();
+        let first_use: Vec<(usize, usize)> = self
+            .written_bodies()
+            .into_iter()
+            .filter_map(|b| {
+                let id = self.pose_idents[b].to_string();
+                uses.iter().position(|u| u.mentions(&id)).map(|i| (b, i))
+            })
+            .collect();
         steps
             .into_iter()
             .enumerate()
             .map(|(i, step)| {
-                let takes = written.iter().filter(|&&b| first[b] == Some(i)).map(|&b| {
+                let takes = first_use.iter().filter(|&&(_, f)| f == i).map(|&(b, _)| {
                     let (id, k) = (&self.pose_idents[b], index(b));
                     quote!(let mut #id = Pose::<#real>::cst(s.poses[#k]);)
                 });
@@ -845,13 +862,11 @@ impl Emitter<'_> {
         let (take_branches, commit_branches) = if plan.branches.is_empty() {
             (quote!(), quote!())
         } else {
-            // Slot by slot rather than `map`, which stays a call in a
-            // plan of a few steps, where it is a fifth of the frame.
+            let last = self.lifted_last(quote!(Jet2));
             let k = (0..plan.branches.len()).map(index);
-            let (k1, k2) = (k.clone(), k.clone());
             (
-                quote!(let mut last = [#(planar::cst::<Jet2>(s.last[#k1])),*]; let mut branches = s.branches;),
-                quote!(#(s.last[#k2] = [last[#k2][0].v, last[#k2][1].v];)* s.branches = branches;),
+                quote!(let mut last = #last; let mut branches = s.branches;),
+                quote!(#(s.last[#k] = [last[#k][0].v, last[#k][1].v];)* s.branches = branches;),
             )
         };
         let bind_inputs = (0..plan.inputs.len()).map(|k| self.bind_input(k));
@@ -879,12 +894,7 @@ impl Emitter<'_> {
         let written = self.written_bodies();
         // Each body goes to the rows right after the last step that places
         // it; the bodies no step places (ground, idle ones), first.
-        let mut last_write = vec![None; plan.bodies.len()];
-        for (i, step) in plan.steps.iter().enumerate() {
-            for b in step.kind.writes() {
-                last_write[b] = Some(i);
-            }
-        }
+        let last_write = self.last_writes();
         let put = |b: usize| {
             let i = index(b);
             if written.contains(&b) {
@@ -904,11 +914,8 @@ impl Emitter<'_> {
         let take_branches = if plan.branches.is_empty() {
             quote!()
         } else {
-            // Written out rather than `s.last.map(..)`, which stays a call:
-            // lanes only write `last` (keep-branch), and stores into an
-            // array that nothing reads are then dropped.
-            let k = (0..plan.branches.len()).map(index);
-            quote!(let mut last = [#(planar::cst::<Lanes>(s.last[#k])),*]; let mut branches = s.branches;)
+            let last = self.lifted_last(quote!(Lanes));
+            quote!(let mut last = #last; let mut branches = s.branches;)
         };
         let bind_inputs = (0..plan.inputs.len()).map(|k| self.bind_input(k));
         let (nb, ni) = (index(plan.bodies.len()), index(plan.inputs.len()));
