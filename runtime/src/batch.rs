@@ -173,15 +173,6 @@ pub fn group_rows<const B: usize>(out: &mut [Pose], g: usize) -> &mut [[Pose; B]
     unsafe { &mut *rows.as_mut_ptr().cast::<[[Pose; B]; LANES]>() }
 }
 
-/// The most bodies a frame's row may have for [`put_body`] to ask for the
-/// next group's rows ahead of its stores. Measured on the stress chains
-/// (`solve_batch` on 20,000 frames, one core, 2026-11-26): 10–20% faster
-/// from 10 to 40 bodies, where the rows go out to memory and the stores
-/// waited on them, and within 3% on sweeps that stay in cache; but 10–30%
-/// slower at 50 bodies (12.8 KB of rows a group), on sweeps too, for a
-/// reason not found. So it stops at 40.
-pub const PREFETCH_MAX_BODIES: usize = 40;
-
 /// Body `b`'s poses of a lane group into its frames' rows: lane `l` goes
 /// to `rows[l][b]`. Generated `solve_lanes` calls it right after the
 /// body's last step, so that these stores overlap the steps that follow
@@ -189,28 +180,22 @@ pub const PREFETCH_MAX_BODIES: usize = 40;
 /// each row goes out to main memory).
 #[inline(always)]
 pub fn put_body<const B: usize>(pose: &Pose<Lanes>, rows: &mut [[Pose; B]; LANES], b: usize) {
+    // The stores stay here, between the steps before and after, with the
+    // steps' own loads and stores on their side. Left free, the compiler
+    // moves memory operations across this point, and its order ran the
+    // stress chains 10–30% slower: stress_50 164–169 against 114–122
+    // ns/frame on its sweep and 183–187 against 134–152 on 20,000 frames,
+    // the same code otherwise (a prefetch of the next group's rows, tried
+    // first, won back part of it on the shorter chains only, and nothing
+    // more once this fence was in). Which of the compiler's moves cost was
+    // not pinned down. A fence for the compiler only: no instruction.
+    core::sync::atomic::compiler_fence(core::sync::atomic::Ordering::SeqCst);
     // Two frames at a time: (x, x'), (y, y') → (x, y), (x', y') is one
     // unpack each (SSE2, every x86-64 CPU has it), not four lone stores
     // per pose.
     #[cfg(target_arch = "x86_64")]
     {
-        use std::arch::x86_64::{
-            _mm_loadu_pd, _mm_prefetch, _mm_storeu_pd, _mm_unpackhi_pd, _mm_unpacklo_pd, _MM_HINT_T0,
-        };
-        if B <= PREFETCH_MAX_BODIES {
-            // The next group's rows follow this group's in `out`. Asking
-            // for this body's lines of them now brings them in while the
-            // rest of this group and the next group's first steps run,
-            // instead of stalling put_body there. A hint only: it never
-            // faults, so past the last group it is harmless.
-            let next = (rows as *const [[Pose; B]; LANES])
-                .cast::<Pose>()
-                .wrapping_add(LANES * B + b);
-            for l in 0..LANES {
-                // SAFETY: a prefetch reads nothing and cannot fault.
-                unsafe { _mm_prefetch::<_MM_HINT_T0>(next.wrapping_add(l * B).cast()) };
-            }
-        }
+        use std::arch::x86_64::{_mm_loadu_pd, _mm_storeu_pd, _mm_unpackhi_pd, _mm_unpacklo_pd};
         for l in (0..LANES).step_by(2) {
             let (first, second) = rows[l..l + 2].split_at_mut(1);
             let (p0, p1) = (&mut first[0][b], &mut second[0][b]);
