@@ -88,6 +88,13 @@ pub trait Real:
     fn sin_cos(self) -> (Self, Self);
     /// `self·k` for a constant `k` (for `f64`, the same product).
     fn mul_f64(self, k: f64) -> Self;
+    /// Zero when the rates are exactly zero (always, for numbers without
+    /// rates): a product by a factor without rates can then skip the
+    /// terms that would multiply them.
+    #[inline(always)]
+    fn rate_bits(self) -> u64 {
+        0
+    }
     /// The rotation by `self` degrees as a (cos, sin) pair, its value from
     /// [`Rot::from_degrees`](crate::planar::Rot::from_degrees).
     fn degrees_rot(self) -> crate::planar::Rot<Self>;
@@ -182,6 +189,15 @@ impl Jet2 {
     pub fn finite(self) -> bool {
         self.d.is_finite() && self.dd.is_finite()
     }
+
+    /// Zero when the derivatives are finite, nonzero when one is infinite
+    /// or NaN (`x·0` is ±0 for a finite `x` and NaN otherwise; the sign is
+    /// shifted out). The checks of whole frames OR these together: no
+    /// branch a value, so they vectorise.
+    #[inline(always)]
+    pub fn nonfinite_bits(self) -> u64 {
+        ((self.d * 0.0).to_bits() | (self.dd * 0.0).to_bits()) << 1
+    }
 }
 
 impl Add for Jet2 {
@@ -226,9 +242,13 @@ impl Div for Jet2 {
     /// q = a/b: q' = (a' − q b')/b, q'' = (a'' − 2q' b' − q b'')/b.
     #[inline(always)]
     fn div(self, o: Jet2) -> Jet2 {
+        // The value is the plain quotient (bit for bit the `f64` run's);
+        // the derivatives multiply by the reciprocal, which divides
+        // alongside it rather than in a chain of three divisions after it.
         let q = self.v / o.v;
-        let d = (self.d - q * o.d) / o.v;
-        let dd = (self.dd - 2.0 * d * o.d - q * o.dd) / o.v;
+        let inv = 1.0 / o.v;
+        let d = (self.d - q * o.d) * inv;
+        let dd = (self.dd - 2.0 * d * o.d - q * o.dd) * inv;
         Jet2::new(q, d, dd)
     }
 }
@@ -257,8 +277,10 @@ impl Real for Jet2 {
             };
             return Jet2::new(0.0, d, dd);
         }
-        let d = self.d / (2.0 * r);
-        Jet2::new(r, d, (self.dd - 2.0 * d * d) / (2.0 * r))
+        // One division for both derivatives.
+        let inv = 0.5 / r;
+        let d = self.d * inv;
+        Jet2::new(r, d, (self.dd - 2.0 * d * d) * inv)
     }
     fn sqrt_dead(self, dead: f64) -> Jet2 {
         if self.v <= dead {
@@ -299,6 +321,11 @@ impl Real for Jet2 {
     #[inline(always)]
     fn mul_f64(self, k: f64) -> Jet2 {
         Jet2::new(self.v * k, self.d * k, self.dd * k)
+    }
+    /// The bits of both rates, their signs shifted out (−0 is zero too).
+    #[inline(always)]
+    fn rate_bits(self) -> u64 {
+        (self.d.to_bits() | self.dd.to_bits()) << 1
     }
     #[inline(always)]
     fn degrees_rot(self) -> crate::planar::Rot<Jet2> {
@@ -393,6 +420,30 @@ pub fn checked<P: AsRef<[Pose<Jet2>]>>(poses: P) -> Result<P, RateError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The branch-free checks agree with `is_finite` and `== 0` on every
+    /// kind of number a rate can be, signed zeros included.
+    #[test]
+    fn rate_bits_classify_as_the_plain_tests() {
+        let xs = [
+            0.0,
+            -0.0,
+            1.5,
+            -2e300,
+            5e-324,
+            f64::MAX,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        for &d in &xs {
+            for &dd in &xs {
+                let j = Jet2::new(1.0, d, dd);
+                assert_eq!(j.nonfinite_bits() == 0, j.finite(), "finite ({d}, {dd})");
+                assert_eq!(j.rate_bits() == 0, d == 0.0 && dd == 0.0, "still ({d}, {dd})");
+            }
+        }
+    }
 
     /// x(t) = 2 + 3t + t²/2 ⇒ against the derivatives of x², x/(1 + t)
     /// and √x written out by hand at t = 0.

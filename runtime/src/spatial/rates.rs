@@ -44,7 +44,7 @@ pub trait Rates3: Solver<Pose = Pose3> {
 /// `poses` if every rate in them is finite, else [`RateError::Singular`]
 /// (a dead point): what a run of the spatial steps on jets returns.
 pub fn checked3<P: AsRef<[Pose3<Jet2>]>>(poses: P) -> Result<P, RateError> {
-    if poses.as_ref().iter().all(Pose3::finite) {
+    if poses.as_ref().iter().fold(0, |bits, p| bits | p.nonfinite_bits()) == 0 {
         Ok(poses)
     } else {
         Err(RateError::Singular)

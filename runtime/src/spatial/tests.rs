@@ -1435,3 +1435,28 @@ fn hinge_sets_the_pose_a_turn_about_the_line_reaches() {
     );
     assert_eq!(p, before);
 }
+
+/// A jet rotation times one without rates (a body no step has turned yet
+/// this frame) takes the short product; it gives the jets of the full
+/// product, written out here on `Jet2`s entry by entry.
+#[test]
+fn product_by_a_still_rotation_is_the_full_jet_product() {
+    use crate::real::Jet2;
+    let t = Jet2::new(0.3, 0.7, -1.1);
+    let (s, c) = t.sin_cos();
+    let turning = Rot3::about_axis(cst([0.0, 0.6, 0.8]), c, s);
+    let still: Rot3<Jet2> = Rot3::cst(Rot3::about_axis([1.0, 0.0, 0.0], 0.2_f64.cos(), 0.2_f64.sin()));
+    let short = turning.mul(&still);
+    let (a, b) = (&turning.m, &still.m);
+    for i in 0..3 {
+        for j in 0..3 {
+            let full = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
+            assert_eq!(short.m[i][j], full, "[{i}][{j}]");
+        }
+    }
+    // And a rotation with rates on the right takes the full product.
+    let both = still.mul(&turning);
+    let full =
+        still.m[1][0] * turning.m[0][2] + still.m[1][1] * turning.m[1][2] + still.m[1][2] * turning.m[2][2];
+    assert_eq!(both.m[1][2], full);
+}
