@@ -503,22 +503,38 @@ fn act(b: &mut Block, body: usize, action: &Action3, id: &Literal) -> TokenStrea
 
 /// `(centre, normal, radius)` of a circle locus, bound as `c<k>`, `n<k>`,
 /// `r<k>`.
+///
+/// A circle of constants (a fixed hinge's) is the runtime's
+/// `circle_about` evaluated here, once, rather than every frame: the same
+/// function on the same numbers, so the same bits as the interpreter's.
 fn circle(b: &mut Block, pivot: &P3, axis: &D3, at: &P3, k: &str) -> (Ident, Ident, Ident) {
     let sep = if k.is_empty() { "" } else { "_" };
-    let (p, a, x) = (b.point(pivot), b.dir(axis, &format!("axis{sep}{k}")), b.point(at));
     let (c, n, r) = (
         b.fresh(&format!("c{k}")),
         b.fresh(&format!("n{k}")),
         b.fresh(&format!("r{k}")),
     );
+    if let (P3::Fixed(p), D3::Fixed(a), P3::Fixed(x)) = (pivot, axis, at) {
+        let (cv, nv, rv) = dofplan_runtime::spatial::circle_about(*p, *a, *x);
+        let (cv, nv, rv) = (b.vlit(cv), b.vlit(nv), b.slit(rv));
+        b.pre.push(quote!(let (#c, #n, #r) = (#cv, #nv, #rv);));
+        return (c, n, r);
+    }
+    let (p, a, x) = (b.point(pivot), b.dir(axis, &format!("axis{sep}{k}")), b.point(at));
     b.pre
         .push(quote!(let (#c, #n, #r) = spatial::circle_about(#p, #a, #x);));
     (c, n, r)
 }
 
-/// `(centre, radius)` of a sphere locus, bound as `cs`, `rs`.
+/// `(centre, radius)` of a sphere locus, bound as `cs`, `rs`; the radius
+/// between two constant points evaluated here, as a constant circle's.
 fn sphere(b: &mut Block, centre: &P3, a: &P3, bb: &P3) -> (TokenStream, TokenStream) {
     let cs = b.point(centre);
+    if let (P3::Fixed(pa), P3::Fixed(pb)) = (a, bb) {
+        use dofplan_runtime::spatial::{norm, sub};
+        let rs = b.slit(norm(sub(*pb, *pa)));
+        return (cs, b.bind("rs", rs));
+    }
     let (pa, pb) = (b.point(a), b.point(bb));
     let rs = b.bind("rs", quote!(spatial::norm(spatial::sub(#pb, #pa))));
     (cs, rs)
