@@ -97,6 +97,12 @@ pub fn cross<T: Real>(a: Vec3<T>, b: Vec3<T>) -> Vec3<T> {
     ]
 }
 
+/// Zero when no entry of `a` has rates ([`Real::rate_bits`]).
+#[inline(always)]
+pub fn rate_bits<T: Real>(a: Vec3<T>) -> u64 {
+    a[0].rate_bits() | a[1].rate_bits() | a[2].rate_bits()
+}
+
 /// The squared length `|a|²`.
 #[inline(always)]
 pub fn norm2<T: Real>(a: Vec3<T>) -> T {

@@ -1,7 +1,7 @@
 //! Placing a body once its loci are met: rotations about a point or an axis
 //! and translations, each applied to the body's current pose.
 
-use super::{cross, cst, dot, norm2, reject, sub, Pose3, Rot3, Vec3};
+use super::{cross, cst, dot, norm2, rate_bits, reject, sub, Pose3, Rot3, Vec3};
 use crate::real::Real;
 
 /// A perpendicular shorter than this fraction of its point's distance from
@@ -17,10 +17,11 @@ const ON_AXIS: f64 = 1e-12;
 pub fn rotate_about_point<T: Real>(pose: &mut Pose3<T>, pivot: Vec3<T>, from: Vec3<T>, to: Vec3<T>) {
     // Already aligned (to rounding): the common case of a body whose
     // direction a previous frame set, at no cost. On jets the pose keeps
-    // its value and takes the rates of the turn (which need not vanish).
+    // its value and takes the rates of the turn (which need not vanish),
+    // unless neither direction has rates: then the turn has none either.
     let k = cross(from, to);
     if dot(from, to).value() > 0.0 && norm2(k).value() <= 1e-30 * norm2(from).value() * norm2(to).value() {
-        if T::JETS {
+        if T::JETS && rate_bits(from) | rate_bits(to) != 0 {
             let before = *pose;
             pose.rotate_about(pivot, &Rot3::minimal(from, to));
             *pose = pose.with_values(&before);

@@ -1460,3 +1460,27 @@ fn product_by_a_still_rotation_is_the_full_jet_product() {
         still.m[1][0] * turning.m[0][2] + still.m[1][1] * turning.m[1][2] + still.m[1][2] * turning.m[2][2];
     assert_eq!(both.m[1][2], full);
 }
+
+/// An aligned turn between directions without rates leaves a jet pose as
+/// it was, rates included; with rates on one direction the pose takes the
+/// turn's rates (about the pivot), its values unchanged.
+#[test]
+fn aligned_turn_without_rates_leaves_the_pose() {
+    use crate::real::Jet2;
+    let t = Jet2::new(0.4, 1.3, 0.2);
+    let (s, c) = t.sin_cos();
+    let mut pose = Pose3::<Jet2>::cst(Pose3::IDENTITY);
+    pose.rotate_about(
+        cst([1.0, 2.0, 0.0]),
+        &Rot3::about_axis(cst([0.0, 0.0, 1.0]), c, s),
+    );
+    let before = pose;
+    let (pivot, dir) = (pose.world([0.5, 0.0, 0.0]), cst([0.0, 0.6, 0.8]));
+    place::rotate_about_point(&mut pose, pivot, dir, scale(dir, Jet2::cst(2.0)));
+    assert_eq!(pose, before);
+    // The same directions, the target now tilting: values kept, rates not.
+    let tilting = [Jet2::cst(0.0), Jet2::new(0.6, 0.0, 0.0), Jet2::new(0.8, 0.5, 0.0)];
+    place::rotate_about_point(&mut pose, pivot, dir, tilting);
+    assert_eq!(pose.value(), before.value());
+    assert_ne!(pose, before);
+}
