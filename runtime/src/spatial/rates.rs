@@ -283,8 +283,32 @@ mod tests {
         x
     }
 
+    /// A body no step has turned yet (its directions without rates) turned
+    /// onto a moving point: the minimal rotation from a still direction,
+    /// composed with a still rotation.
+    fn turning_from_still<T: Real>(t: T) -> Vec<T> {
+        let mut pose = Pose3::cst(Pose3 {
+            rot: Rot3::about_axis([0.0, 0.6, 0.8], 0.8, 0.6),
+            pos: [0.1, 0.2, 0.3],
+        });
+        let pivot = pose.world([1.0, 0.0, 0.0]);
+        let from = sub(pose.world([0.0, 2.0, 0.0]), pivot);
+        rotate_about_point(
+            &mut pose,
+            pivot,
+            from,
+            moving(t, [0.3, 1.0, -0.2], [0.5, -0.4, 0.1]),
+        );
+        pose_entries(&pose)
+    }
+
     #[test]
     fn jets_through_the_spatial_steps_are_their_derivatives() {
+        agrees(
+            "turning from still",
+            turning_from_still::<f64>,
+            turning_from_still::<Jet2>,
+        );
         agrees("skew circles", skew::<f64>, skew::<Jet2>);
         agrees("coplanar circles", coplanar::<f64>, coplanar::<Jet2>);
         agrees("sphere and circle", sphere::<f64>, sphere::<Jet2>);

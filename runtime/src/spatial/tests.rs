@@ -1448,10 +1448,10 @@ fn product_by_a_still_rotation_is_the_full_jet_product() {
     let still: Rot3<Jet2> = Rot3::cst(Rot3::about_axis([1.0, 0.0, 0.0], 0.2_f64.cos(), 0.2_f64.sin()));
     let short = turning.mul(&still);
     let (a, b) = (&turning.m, &still.m);
-    for i in 0..3 {
-        for j in 0..3 {
-            let full = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
-            assert_eq!(short.m[i][j], full, "[{i}][{j}]");
+    for (i, row) in a.iter().enumerate() {
+        for (j, x) in short.m[i].iter().enumerate() {
+            let full = row[0] * b[0][j] + row[1] * b[1][j] + row[2] * b[2][j];
+            assert_eq!(*x, full, "[{i}][{j}]");
         }
     }
     // And a rotation with rates on the right takes the full product.
