@@ -335,11 +335,10 @@ impl<T: Real> Rot3<T> {
         // jets (to the sign of a zero) at half the multiplications. Its
         // first turn in a frame is the common case of every body placed
         // by turning.
-        if T::JETS && b.iter().flatten().fold(0, |bits, x| bits | x.rate_bits()) == 0 {
+        if T::JETS && rate_bits(b[0]) | rate_bits(b[1]) | rate_bits(b[2]) == 0 {
             for (i, row) in m.iter_mut().enumerate() {
                 for (j, x) in row.iter_mut().enumerate() {
-                    let (b0, b1, b2) = (b[0][j].value(), b[1][j].value(), b[2][j].value());
-                    *x = a[i][0].mul_f64(b0) + a[i][1].mul_f64(b1) + a[i][2].mul_f64(b2);
+                    *x = dot_cst([0, 1, 2].map(|k| b[k][j].value()), a[i]);
                 }
             }
             return Rot3 { m };
