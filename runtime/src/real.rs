@@ -25,6 +25,7 @@ pub trait Real:
     + Mul<Output = Self>
     + Div<Output = Self>
     + Neg<Output = Self>
+    + Factor<Self>
 {
     /// A constant (derivatives 0).
     fn cst(x: f64) -> Self;
@@ -88,6 +89,13 @@ pub trait Real:
     fn sin_cos(self) -> (Self, Self);
     /// `self·k` for a constant `k` (for `f64`, the same product).
     fn mul_f64(self, k: f64) -> Self;
+    /// `1/self`: the quotient of a constant, whose zero derivatives jets
+    /// need not carry through a division (the value is the plain `1.0 /
+    /// self`).
+    #[inline(always)]
+    fn recip(self) -> Self {
+        Self::cst(1.0) / self
+    }
     /// Zero when the rates are exactly zero (always, for numbers without
     /// rates): a product by a factor without rates can then skip the
     /// terms that would multiply them.
@@ -118,6 +126,50 @@ pub fn lanes_break(step: crate::frame::StepId) -> Break {
         step,
         kind: crate::frame::BreakKind::LanesDiffer,
         gap: f64::NAN,
+    }
+}
+
+/// A factor of a step's products: a number of the step's own kind, or a
+/// plain constant (a fixed direction of the plan), which jets and lanes
+/// multiply by at a third of a product's cost and with the same values
+/// (`f64` products commute exactly).
+pub trait Factor<T>: Copy {
+    /// `x·self`.
+    fn times(self, x: T) -> T;
+    /// `self` as a number of the step's kind (a constant: derivatives 0).
+    fn lift(self) -> T;
+}
+
+impl<T: Real> Factor<T> for f64 {
+    #[inline(always)]
+    fn times(self, x: T) -> T {
+        x.mul_f64(self)
+    }
+    #[inline(always)]
+    fn lift(self) -> T {
+        T::cst(self)
+    }
+}
+
+impl Factor<Jet2> for Jet2 {
+    #[inline(always)]
+    fn times(self, x: Jet2) -> Jet2 {
+        x * self
+    }
+    #[inline(always)]
+    fn lift(self) -> Jet2 {
+        self
+    }
+}
+
+impl Factor<crate::lanes::Lanes> for crate::lanes::Lanes {
+    #[inline(always)]
+    fn times(self, x: crate::lanes::Lanes) -> crate::lanes::Lanes {
+        x * self
+    }
+    #[inline(always)]
+    fn lift(self) -> crate::lanes::Lanes {
+        self
     }
 }
 
@@ -323,6 +375,13 @@ impl Real for Jet2 {
     #[inline(always)]
     fn mul_f64(self, k: f64) -> Jet2 {
         Jet2::new(self.v * k, self.d * k, self.dd * k)
+    }
+    /// q = 1/b: q' = −q·b'/b, q'' = −(2q'b' + q·b'')/b, with 1/b = q.
+    #[inline(always)]
+    fn recip(self) -> Jet2 {
+        let q = 1.0 / self.v;
+        let d = -(q * self.d) * q;
+        Jet2::new(q, d, -(2.0 * d * self.d + q * self.dd) * q)
     }
     /// The bits of both rates, their signs shifted out (−0 is zero too).
     #[inline(always)]

@@ -171,7 +171,14 @@ impl Emitter<'_> {
                 } else {
                     (quote!(#u * #dx), quote!(#u * #dy))
                 };
-                prelude.push(quote!(let #id = #b.world_carried([#lx + #ux, #ly + #uy]);));
+                // On a fixed body (at its drawn pose, the identity, as
+                // `PointRef::Fixed` takes it) the carried point is the world
+                // point: no rotation to multiply by.
+                if self.plan.bodies[*body].fixed {
+                    prelude.push(quote!(let #id = [#lx + #ux, #ly + #uy];));
+                } else {
+                    prelude.push(quote!(let #id = #b.world_carried([#lx + #ux, #ly + #uy]);));
+                }
                 quote!(#id)
             }
             PointRef::Temp { id } => {
@@ -292,7 +299,12 @@ impl Emitter<'_> {
                 let t = &self.temp_idents[*out];
                 let c = self.point(c, &mut pre);
                 let p = self.point(&line.through, &mut pre);
-                let d = self.dir(&line.dir, "line_dir", &mut pre);
+                // A fixed direction stays a pair of plain numbers: the
+                // step multiplies by it at a third of a jet product's cost.
+                let d = match &line.dir {
+                    DirRef::Fixed(v) => point_lit(*v),
+                    body => self.dir(body, "line_dir", &mut pre),
+                };
                 let (r, k) = (self.slit(*r), index(*branch));
                 quote! {
                     #marker

@@ -114,7 +114,14 @@ impl Interpreter {
             } => {
                 let u = T::cst(*sign) * inputs[*input];
                 let (l, d) = (cst::<T>(*local), cst::<T>(*dir));
-                s.poses[*body].world_carried([l[0] + u * d[0], l[1] + u * d[1]])
+                let carried = [l[0] + u * d[0], l[1] + u * d[1]];
+                // A fixed body is at its drawn pose (as `PointRef::Fixed`
+                // takes it): the carried point is the world point.
+                if self.plan.bodies[*body].fixed {
+                    carried
+                } else {
+                    s.poses[*body].world_carried(carried)
+                }
             }
             PointRef::Temp { id } => s.temps[*id],
         }
@@ -298,17 +305,16 @@ impl Interpreter {
                 } => {
                     let c = self.point(s, inputs, c);
                     let p = self.point(s, inputs, &line.through);
-                    let d = self.dir(s, &line.dir);
-                    s.temps[*out] = planar::circle_line(
-                        ctx,
-                        id,
-                        c,
-                        T::cst(*r),
-                        p,
-                        d,
-                        &mut s.branches[*branch],
-                        &mut s.last[*branch],
-                    )?;
+                    let (r, k) = (T::cst(*r), *branch);
+                    let (branch, last) = (&mut s.branches[k], &mut s.last[k]);
+                    // As the emitted code: a fixed direction as plain numbers.
+                    s.temps[*out] = match &line.dir {
+                        DirRef::Fixed(d) => planar::circle_line(ctx, id, c, r, p, *d, branch, last),
+                        DirRef::Body { body, local } => {
+                            let d = s.poses[*body].world_dir(*local);
+                            planar::circle_line(ctx, id, c, r, p, d, branch, last)
+                        }
+                    }?;
                 }
                 StepKind::LineLine { out, a, b } => {
                     let p1 = self.point(s, inputs, &a.through);

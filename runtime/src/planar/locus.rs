@@ -8,7 +8,7 @@
 
 use super::{add, cross, dist2, dot, perp, scale, sub, Rot};
 use crate::frame::{Branch, BranchPolicy, Break, BreakKind, Ctx, StepId};
-use crate::real::{lanes_break, lanes_differ, Real};
+use crate::real::{lanes_break, lanes_differ, Factor, Real};
 
 /// Squared half-chords smaller than this (relative to the squared radii)
 /// count as tangency rather than a miss: round-off at a tangent pose must
@@ -67,7 +67,6 @@ pub fn circle_circle<T: Real>(
     last: &mut [T; 2],
 ) -> Result<[T; 2], Break> {
     nearest_on_lanes::<T>(ctx, step)?;
-    let half = T::cst(0.5);
     let d_vec = sub(c2, c1);
     let d2 = dot(d_vec, d_vec);
     if d2.any(|v| v == 0.0) {
@@ -92,11 +91,11 @@ pub fn circle_circle<T: Real>(
     // (of (h·d)²) do not wait for each other.
     // (h·d)² factored as ((r1 + r2)² − d²)(d² − (r1 − r2)²)/4: no
     // cancellation near tangency, and a shorter chain of operations.
-    let k = half * (r1 * r1 - r2 * r2 + d2);
+    let k = (r1 * r1 - r2 * r2 + d2).mul_f64(0.5);
     let sum = r1 + r2;
     let diff = r1 - r2;
-    let hd2 = T::cst(0.25) * ((sum * sum - d2) * (d2 - diff * diff));
-    let inv_d2 = T::cst(1.0) / d2;
+    let hd2 = ((sum * sum - d2) * (d2 - diff * diff)).mul_f64(0.25);
+    let inv_d2 = d2.recip();
     let hd = if hd2.all(|v| v >= 0.0) {
         hd2.sqrt_dead(DEAD_FOR_RATES * (r1 * r1 + r2 * r2).value() * d2.value())
     } else if T::LANES {
@@ -129,7 +128,7 @@ pub fn circle_circle<T: Real>(
         } else {
             add(c2, scale(u, r2))
         };
-        let x = scale(add(on1, on2), half);
+        let x = scale(add(on1, on2), T::cst(0.5));
         *last = x;
         return Ok(x);
     };
@@ -148,12 +147,16 @@ pub fn circle_line<T: Real>(
     c: [T; 2],
     r: T,
     p: [T; 2],
-    dir: [T; 2],
+    dir: [impl Factor<T>; 2],
     branch: &mut Branch,
     last: &mut [T; 2],
 ) -> Result<[T; 2], Break> {
     nearest_on_lanes::<T>(ctx, step)?;
-    let foot = add(p, scale(dir, dot(sub(c, p), dir)));
+    // The direction is often a constant of the plan (a slide on the
+    // ground): `Factor` multiplies by it as a plain number then.
+    let along = |k: T| [dir[0].times(k), dir[1].times(k)];
+    let cp = sub(c, p);
+    let foot = add(p, along(dir[0].times(cp[0]) + dir[1].times(cp[1])));
     let off2 = dist2(c, foot);
     let h2 = r * r - off2;
     let h = if h2.all(|v| v >= 0.0) {
@@ -173,7 +176,7 @@ pub fn circle_line<T: Real>(
         *last = x;
         return Ok(x);
     };
-    Ok(pick(ctx, foot, scale(dir, h), branch, last))
+    Ok(pick(ctx, foot, along(h), branch, last))
 }
 
 /// The point common to the line through `p1` along `d1` and the line through
