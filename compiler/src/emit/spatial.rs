@@ -507,7 +507,16 @@ fn act(b: &mut Block, body: usize, action: &Action3, id: &Literal) -> TokenStrea
 /// A circle of constants (a fixed hinge's) is the runtime's
 /// `circle_about` evaluated here, once, rather than every frame: the same
 /// function on the same numbers, so the same bits as the interpreter's.
-fn circle(b: &mut Block, pivot: &P3, axis: &D3, at: &P3, k: &str) -> (Ident, Ident, Ident) {
+/// Its normal is then plain numbers when `plain_normal` (the step takes it
+/// as a `Factor`).
+fn circle(
+    b: &mut Block,
+    pivot: &P3,
+    axis: &D3,
+    at: &P3,
+    k: &str,
+    plain_normal: bool,
+) -> (Ident, Ident, Ident) {
     let sep = if k.is_empty() { "" } else { "_" };
     let (c, n, r) = (
         b.fresh(&format!("c{k}")),
@@ -516,7 +525,10 @@ fn circle(b: &mut Block, pivot: &P3, axis: &D3, at: &P3, k: &str) -> (Ident, Ide
     );
     if let (P3::Fixed(p), D3::Fixed(a), P3::Fixed(x)) = (pivot, axis, at) {
         let (cv, nv, rv) = dofplan_runtime::spatial::circle_about(*p, *a, *x);
-        let (cv, nv, rv) = (b.vlit(cv), b.vlit(nv), b.slit(rv));
+        // A step that takes its normal as a `Factor` multiplies by a
+        // constant one as plain numbers (a third of a jet product).
+        let nv = if plain_normal { vec_lit(nv) } else { b.vlit(nv) };
+        let (cv, rv) = (b.vlit(cv), b.slit(rv));
         b.pre.push(quote!(let (#c, #n, #r) = (#cv, #nv, #rv);));
         return (c, n, r);
     }
@@ -569,14 +581,14 @@ fn intersect(
             axis: a2,
             at: x2,
         }] => {
-            let (c1, n1, r1) = circle(b, pivot, axis, at, "1");
-            let (c2, n2, r2) = circle(b, p2, a2, x2, "2");
+            let (c1, n1, r1) = circle(b, pivot, axis, at, "1", false);
+            let (c2, n2, r2) = circle(b, p2, a2, x2, "2", false);
             quote!(spatial::circle_circle(ctx, #id, #c1, #n1, #r1, #c2, #n2, #r2, #tol, #br, #last)?)
         }
         [Locus3::Sphere { centre, a, b: pb }, Locus3::Circle { pivot, axis, at: x }]
         | [Locus3::Circle { pivot, axis, at: x }, Locus3::Sphere { centre, a, b: pb }] => {
             let (cs, rs) = sphere(b, centre, a, pb);
-            let (c, n, r) = circle(b, pivot, axis, x, "");
+            let (c, n, r) = circle(b, pivot, axis, x, "", true);
             quote!(spatial::sphere_circle(ctx, #id, #cs, #rs, #c, #n, #r, #br, #last)?)
         }
         [Locus3::Line { at, dir }, Locus3::Sphere { centre, a, b: pb }]
@@ -587,7 +599,7 @@ fn intersect(
         }
         [Locus3::Line { at, dir }, Locus3::Circle { pivot, axis, at: x }]
         | [Locus3::Circle { pivot, axis, at: x }, Locus3::Line { at, dir }] => {
-            let (c, n, r) = circle(b, pivot, axis, x, "");
+            let (c, n, r) = circle(b, pivot, axis, x, "", false);
             let (p, d) = (b.point(at), b.dir(dir, "line_dir"));
             quote!(spatial::line_circle(ctx, #id, #p, #d, #c, #n, #r, #tol, #br, #last)?)
         }

@@ -12,9 +12,12 @@
 //! Radii are non-negative; normals, axes and line directions are unit
 //! vectors (the compiler normalises them once, at plan time).
 
-use super::{add, cross, cst, dot, norm, norm2, perpendicular, reject, scale, sub, unit, value, Vec3};
+use super::{
+    add, cross, cross_by, cst, dot, dot_by, norm, norm2, perpendicular, reject, scale, scale_by, sub, unit,
+    value, Vec3,
+};
 use crate::frame::{Branch, BranchPolicy, Break, BreakKind, Ctx, StepId};
-use crate::real::Real;
+use crate::real::{Factor, Real};
 
 /// Squared half-chords smaller than this (relative to the squared radii)
 /// count as tangency rather than a miss: round-off at a tangent pose must
@@ -126,7 +129,7 @@ enum Pair<T> {
 /// The points at distance `r1` from `c1` and `r2` from `c2` in the plane of
 /// unit normal `n` through both centres: the planar dyad.
 #[inline]
-fn coplanar_pair<T: Real>(c1: Vec3<T>, r1: T, c2: Vec3<T>, r2: T, n: Vec3<T>) -> Pair<T> {
+fn coplanar_pair<T: Real>(c1: Vec3<T>, r1: T, c2: Vec3<T>, r2: T, n: [impl Factor<T>; 3]) -> Pair<T> {
     let d_vec = sub(c2, c1);
     let d2 = norm2(d_vec);
     if d2.value() == 0.0 {
@@ -136,11 +139,11 @@ fn coplanar_pair<T: Real>(c1: Vec3<T>, r1: T, c2: Vec3<T>, r2: T, n: Vec3<T>) ->
     // is c1 + k/d²·(c2 − c1) and the half-chord (h·d)/d²·|c2 − c1|, where
     // (h·d)² = ((r1 + r2)² − d²)(d² − (r1 − r2)²)/4 is factored so that it
     // does not cancel near tangency.
-    let k = T::cst(0.5) * (r1 * r1 - r2 * r2 + d2);
+    let k = (r1 * r1 - r2 * r2 + d2).mul_f64(0.5);
     let sum = r1 + r2;
     let diff = r1 - r2;
-    let hd2 = T::cst(0.25) * ((sum * sum - d2) * (d2 - diff * diff));
-    let inv_d2 = T::cst(1.0) / d2;
+    let hd2 = ((sum * sum - d2) * (d2 - diff * diff)).mul_f64(0.25);
+    let inv_d2 = d2.recip();
     let radii2 = (r1 * r1 + r2 * r2).value();
     let hd = if hd2.value() >= 0.0 {
         hd2.sqrt_dead(DEAD_FOR_RATES * radii2 * d2.value())
@@ -151,7 +154,7 @@ fn coplanar_pair<T: Real>(c1: Vec3<T>, r1: T, c2: Vec3<T>, r2: T, n: Vec3<T>) ->
     };
     Pair::Meet {
         base: add(c1, scale(d_vec, k * inv_d2)),
-        off: scale(cross(n, d_vec), hd * inv_d2),
+        off: scale(cross_by(n, d_vec), hd * inv_d2),
     }
 }
 
@@ -271,7 +274,7 @@ fn candidates<T: Real>(
     // halfway to circle 2's plane so that a small offset between the planes
     // is shared by both circles.
     let z = dot(sub(c2, c1), n1);
-    let lift = scale(n1, T::cst(0.5) * z);
+    let lift = scale(n1, z.mul_f64(0.5));
     let mut concentric = false;
     let points = match coplanar_pair(c1, r1, sub(c2, scale(n1, z)), r2, n1) {
         Pair::Meet { base, off } => [add(add(base, off), lift), add(sub(base, off), lift)],
@@ -480,13 +483,15 @@ pub fn sphere_circle<T: Real>(
     cs: Vec3<T>,
     rs: T,
     c: Vec3<T>,
-    n: Vec3<T>,
+    n: [impl Factor<T>; 3],
     r: T,
     branch: &mut Branch,
     last: &mut Vec3<T>,
 ) -> Result<Vec3<T>, Break> {
-    let s = dot(sub(cs, c), n);
-    let cp = sub(cs, scale(n, s));
+    // The normal is a constant of the plan when the circle is (a fixed
+    // hinge's): `Factor` multiplies by it as plain numbers then.
+    let s = dot_by(sub(cs, c), n);
+    let cp = sub(cs, scale_by(n, s));
     // |s|, its sign taken on the value.
     let s_abs = if s.value() < 0.0 { -s } else { s };
     let rho2 = (rs - s_abs) * (rs + s_abs);
@@ -503,7 +508,7 @@ pub fn sphere_circle<T: Real>(
             return Ok(pick(ctx, base, off, branch, last));
         }
     }
-    sphere_circle_miss(ctx, step, cs, rs, c, n, r, s, cp, last)
+    sphere_circle_miss(ctx, step, cs, rs, c, n.map(Factor::lift), r, s, cp, last)
 }
 
 /// [`sphere_circle`] when the sphere misses the circle: the distances from
@@ -752,7 +757,7 @@ pub fn plane_circle<T: Real>(
         *last = x;
         return Ok(x);
     };
-    let inv_t2 = T::cst(1.0) / t2;
+    let inv_t2 = t2.recip();
     let base = sub(c, scale(w, zc * inv_t2));
     Ok(pick(ctx, base, scale(t, h * inv_t2), branch, last))
 }
@@ -801,7 +806,7 @@ pub fn cone_cone<T: Real>(
     } else {
         return cone_cone_apart(ctx, step, w1, cos1, cos2, c, m, m2, last);
     };
-    let inv_m2 = T::cst(1.0) / m2;
+    let inv_m2 = m2.recip();
     let base = scale(add(scale(w1, xp), scale(w2, yp)), inv_m2);
     Ok(pick(ctx, base, scale(m, root * inv_m2), branch, last))
 }

@@ -57,7 +57,7 @@ pub use place::{
 pub use rates::{checked3, Rates3};
 pub use turn::{tilt, twist_correction};
 
-use crate::real::{Jet2, Real};
+use crate::real::{Factor, Jet2, Real};
 
 /// A point or a vector in space (of `f64`s, or of [`Jet2`]s carrying its
 /// rates).
@@ -101,17 +101,37 @@ pub fn cross<T: Real>(a: Vec3<T>, b: Vec3<T>) -> Vec3<T> {
 /// same values.
 #[inline(always)]
 pub fn dot_cst<T: Real>(a: Vec3, b: Vec3<T>) -> T {
-    b[0].mul_f64(a[0]) + b[1].mul_f64(a[1]) + b[2].mul_f64(a[2])
+    dot_by(b, a)
 }
 
 /// `a × b` for a constant `a`, as [`dot_cst`] is [`dot`].
 #[inline(always)]
 pub fn cross_cst<T: Real>(a: Vec3, b: Vec3<T>) -> Vec3<T> {
+    cross_by(a, b)
+}
+
+/// `a·n` for a [`Factor`] `n` (a constant of the plan, such as a fixed
+/// circle's normal, or a number of the step's kind): the same products as
+/// [`dot`], on `a`'s side.
+#[inline(always)]
+pub fn dot_by<T: Real>(a: Vec3<T>, n: [impl Factor<T>; 3]) -> T {
+    n[0].times(a[0]) + n[1].times(a[1]) + n[2].times(a[2])
+}
+
+/// `n × b` for a [`Factor`] `n`, as [`dot_by`] is [`dot`].
+#[inline(always)]
+pub fn cross_by<T: Real>(n: [impl Factor<T>; 3], b: Vec3<T>) -> Vec3<T> {
     [
-        b[2].mul_f64(a[1]) - b[1].mul_f64(a[2]),
-        b[0].mul_f64(a[2]) - b[2].mul_f64(a[0]),
-        b[1].mul_f64(a[0]) - b[0].mul_f64(a[1]),
+        n[1].times(b[2]) - n[2].times(b[1]),
+        n[2].times(b[0]) - n[0].times(b[2]),
+        n[0].times(b[1]) - n[1].times(b[0]),
     ]
+}
+
+/// `n·k` for a [`Factor`] `n`, as [`dot_by`] is [`dot`].
+#[inline(always)]
+pub fn scale_by<T: Real>(n: [impl Factor<T>; 3], k: T) -> Vec3<T> {
+    [n[0].times(k), n[1].times(k), n[2].times(k)]
 }
 
 /// Zero when no entry of `a` has rates ([`Real::rate_bits`]).
@@ -155,6 +175,13 @@ pub fn unit<T: Real>(a: Vec3<T>) -> Vec3<T> {
 #[inline(always)]
 pub fn reject<T: Real>(v: Vec3<T>, axis: Vec3<T>) -> Vec3<T> {
     sub(v, scale(axis, dot(v, axis)))
+}
+
+/// [`reject`] by a [`Factor`] axis (a constant of the plan, or a number of
+/// the step's kind): the same products, on `v`'s side.
+#[inline(always)]
+pub fn reject_by<T: Real>(v: Vec3<T>, axis: [impl Factor<T>; 3]) -> Vec3<T> {
+    sub(v, scale_by(axis, dot_by(v, axis)))
 }
 
 /// Constants as a point of `T`s.
@@ -361,18 +388,20 @@ impl<T: Real> Rot3<T> {
     /// whose cosine and sine are `cos` and `sin` (a unit pair), by Rodrigues'
     /// formula `R = cos·I + sin·[axis]× + (1 − cos)·axis·axisᵀ`.
     ///
-    /// `(1, 0)` gives exactly the identity.
+    /// `(1, 0)` gives exactly the identity. The axis is a [`Factor`]: a
+    /// fixed hinge's is plain numbers, which jets multiply by at a third of
+    /// a product's cost (the same values).
     #[inline(always)]
-    pub fn about_axis(axis: Vec3<T>, cos: T, sin: T) -> Rot3<T> {
+    pub fn about_axis(axis: [impl Factor<T>; 3], cos: T, sin: T) -> Rot3<T> {
         let [x, y, z] = axis;
         let v = versine(cos, sin);
-        let (vx, vy, vz) = (v * x, v * y, v * z);
-        let (sx, sy, sz) = (sin * x, sin * y, sin * z);
+        let (vx, vy, vz) = (x.times(v), y.times(v), z.times(v));
+        let (sx, sy, sz) = (x.times(sin), y.times(sin), z.times(sin));
         Rot3 {
             m: [
-                [cos + vx * x, vx * y - sz, vx * z + sy],
-                [vx * y + sz, cos + vy * y, vy * z - sx],
-                [vx * z - sy, vy * z + sx, cos + vz * z],
+                [cos + x.times(vx), y.times(vx) - sz, z.times(vx) + sy],
+                [y.times(vx) + sz, cos + y.times(vy), z.times(vy) - sx],
+                [z.times(vx) - sy, z.times(vy) + sx, cos + z.times(vz)],
             ],
         }
     }
@@ -687,13 +716,22 @@ impl Pose3 {
 /// written as `vers·(at⊥) − sin·(axis × at) + slide·axis` (with `at⊥` the
 /// part of `at` perpendicular to the axis) rather than `at − R·at`, which
 /// would lose digits for small angles far from the origin.
+///
+/// The line (`axis`, `at`) is numbers of the frame's kind, or plain numbers
+/// (a fixed hinge's): then only the products by the turn carry rates.
 #[inline(always)]
-pub fn joint_pose<T: Real>(axis: Vec3<T>, at: Vec3<T>, cos: T, sin: T, slide: T) -> Pose3<T> {
+pub fn joint_pose<T: Real, F: Real + Factor<T>>(
+    axis: [F; 3],
+    at: [F; 3],
+    cos: T,
+    sin: T,
+    slide: T,
+) -> Pose3<T> {
     let rot = Rot3::about_axis(axis, cos, sin);
     let vers = versine(cos, sin);
     let pos = add(
-        sub(scale(reject(at, axis), vers), scale(cross(axis, at), sin)),
-        scale(axis, slide),
+        sub(scale_by(reject(at, axis), vers), scale_by(cross(axis, at), sin)),
+        scale_by(axis, slide),
     );
     Pose3 { rot, pos }
 }

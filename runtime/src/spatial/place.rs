@@ -1,8 +1,8 @@
 //! Placing a body once its loci are met: rotations about a point or an axis
 //! and translations, each applied to the body's current pose.
 
-use super::{cross, cst, dot, norm2, rate_bits, reject, sub, Pose3, Rot3, Vec3};
-use crate::real::Real;
+use super::{cross, cross_by, cst, dot, dot_by, norm2, rate_bits, reject, reject_by, sub, Pose3, Rot3, Vec3};
+use crate::real::{Factor, Real};
 
 /// A perpendicular shorter than this fraction of its point's distance from
 /// the pivot is rounding, not a direction: the point counts as on the axis.
@@ -82,9 +82,17 @@ pub fn rotate_about_axis_dir<T: Real>(
 /// component of `from_dir` across the axis to that of `to_dir`; none when
 /// either is (to rounding) along the axis.
 #[inline(always)]
-fn axis_turn<T: Real>(axis: Vec3<T>, from_dir: Vec3<T>, to_dir: Vec3<T>) -> Option<(T, T)> {
+///
+/// The axis and `from_dir` are numbers of the frame's kind, or plain
+/// numbers (a fixed hinge's line and a body's direction as drawn): then only
+/// the products by `to_dir` carry rates.
+fn axis_turn<T: Real, F: Real + Factor<T>>(
+    axis: [F; 3],
+    from_dir: [F; 3],
+    to_dir: Vec3<T>,
+) -> Option<(T, T)> {
     let u = reject(from_dir, axis);
-    let v = reject(to_dir, axis);
+    let v = reject_by(to_dir, axis);
     let (u2, v2) = (norm2(u).value(), norm2(v).value());
     if u2 <= ON_AXIS * ON_AXIS * norm2(from_dir).value() || v2 <= ON_AXIS * ON_AXIS * norm2(to_dir).value() {
         return None;
@@ -92,8 +100,8 @@ fn axis_turn<T: Real>(axis: Vec3<T>, from_dir: Vec3<T>, to_dir: Vec3<T>) -> Opti
     // cos and sin of the angle scaled by |u||v|: no trigonometry, one square
     // root to normalise (the pair's own length, so it is a unit pair even if
     // `axis` is a little off unit length).
-    let c = dot(u, v);
-    let s = dot(cross(u, v), axis);
+    let c = dot_by(v, u);
+    let s = dot_by(cross_by(u, v), axis);
     let n = (c * c + s * s).sqrt();
     (n.value() > 0.0).then(|| (c / n, s / n))
 }
@@ -108,7 +116,7 @@ fn axis_turn<T: Real>(axis: Vec3<T>, from_dir: Vec3<T>, to_dir: Vec3<T>) -> Opti
 /// never drifts from orthonormal.
 #[inline(always)]
 pub fn hinge<T: Real>(pose: &mut Pose3<T>, pivot: Vec3, axis: Vec3, cos: T, sin: T) {
-    *pose = super::joint_pose(cst(axis), cst(pivot), cos, sin, T::cst(0.0));
+    *pose = super::joint_pose(axis, pivot, cos, sin, T::cst(0.0));
 }
 
 /// [`hinge`] by `degrees` (right-handed about `axis`), the cosine and sine
@@ -135,7 +143,7 @@ pub fn hinge_onto<T: Real>(pose: &mut Pose3<T>, pivot: Vec3, axis: Vec3, from: V
 /// along the line the body keeps its pose.
 #[inline(always)]
 pub fn hinge_dir<T: Real>(pose: &mut Pose3<T>, pivot: Vec3, axis: Vec3, from_dir: Vec3, to_dir: Vec3<T>) {
-    if let Some((c, s)) = axis_turn(cst(axis), cst(from_dir), to_dir) {
+    if let Some((c, s)) = axis_turn(axis, from_dir, to_dir) {
         hinge(pose, pivot, axis, c, s);
     }
 }

@@ -1444,7 +1444,7 @@ fn product_by_a_still_rotation_is_the_full_jet_product() {
     use crate::real::Jet2;
     let t = Jet2::new(0.3, 0.7, -1.1);
     let (s, c) = t.sin_cos();
-    let turning = Rot3::about_axis(cst([0.0, 0.6, 0.8]), c, s);
+    let turning = Rot3::about_axis(cst::<Jet2>([0.0, 0.6, 0.8]), c, s);
     let still: Rot3<Jet2> = Rot3::cst(Rot3::about_axis([1.0, 0.0, 0.0], 0.2_f64.cos(), 0.2_f64.sin()));
     let short = turning.mul(&still);
     let (a, b) = (&turning.m, &still.m);
@@ -1472,7 +1472,7 @@ fn aligned_turn_without_rates_leaves_the_pose() {
     let mut pose = Pose3::<Jet2>::cst(Pose3::IDENTITY);
     pose.rotate_about(
         cst([1.0, 2.0, 0.0]),
-        &Rot3::about_axis(cst([0.0, 0.0, 1.0]), c, s),
+        &Rot3::about_axis(cst::<Jet2>([0.0, 0.0, 1.0]), c, s),
     );
     let before = pose;
     let (pivot, dir) = (pose.world([0.5, 0.0, 0.0]), cst([0.0, 0.6, 0.8]));
