@@ -77,7 +77,7 @@ pub fn circle_circle<T: Real>(
         let toward = sub(*last, c1);
         let n = dot(toward, toward).sqrt();
         let u = if n.value() > 0.0 {
-            scale(toward, T::cst(1.0) / n)
+            scale(toward, n.recip())
         } else {
             [T::cst(1.0), T::cst(0.0)]
         };
@@ -110,7 +110,7 @@ pub fn circle_circle<T: Real>(
         // Apart (d > r1 + r2) or nested (d < |r1 - r2|): the closest pair of
         // points lies on the centre line; stretching takes their midpoint.
         let d = d2.sqrt();
-        let u = scale(d_vec, T::cst(1.0) / d);
+        let u = scale(d_vec, d.recip());
         let (dv, r1v, r2v) = (d.value(), r1.value(), r2.value());
         let gap = if dv > r1v + r2v {
             dv - r1v - r2v
@@ -251,7 +251,7 @@ pub fn turn_line_through<T: Real>(
     } else {
         (one_less - T::cst(one_less.value())).sqrt()
     };
-    let eu = scale(e_vec, T::cst(1.0) / e);
+    let eu = scale(e_vec, e.recip());
     // World direction of the line for each root: eu turned by ±alpha.
     let line_dir = |cos: T| -> Rot<T> {
         let w = [eu[0] * cos - eu[1] * sin_a, eu[0] * sin_a + eu[1] * cos];

@@ -164,7 +164,7 @@ fn coplanar_pair<T: Real>(c1: Vec3<T>, r1: T, c2: Vec3<T>, r2: T, n: [impl Facto
 #[inline(never)]
 fn coplanar_apart<T: Real>(c1: Vec3<T>, r1: T, c2: Vec3<T>, r2: T, d_vec: Vec3<T>, d2: T) -> Pair<T> {
     let d = d2.sqrt();
-    let u = scale(d_vec, T::cst(1.0) / d);
+    let u = scale(d_vec, d.recip());
     let (dv, r1v, r2v) = (d.value(), r1.value(), r2.value());
     let apart = dv > r1v + r2v;
     let on1 = if apart || r1v >= r2v {
@@ -319,7 +319,7 @@ fn skew_candidates<T: Real>(
     let (c1v, n1v, r1v, c2v, n2v, r2v) = (value(c1), value(n1), r1.value(), value(c2), value(n2), r2.value());
     let miss =
         |x: Vec3<T>| circle_distance(value(x), c1v, n1v, r1v) + circle_distance(value(x), c2v, n2v, r2v);
-    let t = scale(m, T::cst(1.0) / m2.sqrt());
+    let t = scale(m, m2.sqrt().recip());
     // p0, the point of ℓ nearest c1: c1 moved within plane 1 (along
     // m × n1 = n2 − (n1·n2)·n1) until it reaches plane 2. |m|² stands for
     // 1 − (n1·n2)², which would cancel for nearly parallel planes.
@@ -373,7 +373,7 @@ fn skew_candidates<T: Real>(
             let tau = if (w1 + w2).value() > 0.0 {
                 (w1 * tau1 + w2 * taus[i]) / (w1 + w2)
             } else {
-                T::cst(0.5) * (tau1 + taus[i])
+                (tau1 + taus[i]).mul_f64(0.5)
             };
             let x = at(tau);
             let e = miss(x);
@@ -549,7 +549,7 @@ fn sphere_circle_miss<T: Real>(
     let near_side = rs - near <= far - rs;
     ctx.fail(step, BreakKind::CirclesApart, gap)?;
     let u = if ev > 0.0 {
-        scale(e_vec, T::cst(1.0) / e)
+        scale(e_vec, e.recip())
     } else {
         in_plane_toward(c, n, *last)
     };
@@ -675,7 +675,7 @@ pub fn line_circle<T: Real>(
     if z.value().abs() > tol {
         ctx.fail(step, BreakKind::LineMissesCircle, z.value().abs())?;
         // Halfway down to the circle's plane, above the in-plane roots.
-        base = sub(foot, scale(n, T::cst(0.5) * z));
+        base = sub(foot, scale(n, z.mul_f64(0.5)));
     }
     Ok(pick(ctx, base, scale(d, h), branch, last))
 }
@@ -698,7 +698,7 @@ pub fn line_plane<T: Real>(
     let z = dot(sub(q, p), n);
     if dn.value().abs() <= PARALLEL {
         ctx.fail(step, BreakKind::ParallelLines, z.value().abs())?;
-        return Ok(add(p, scale(n, T::cst(0.5) * z)));
+        return Ok(add(p, scale(n, z.mul_f64(0.5))));
     }
     Ok(add(p, scale(d, z / dn)))
 }
@@ -733,7 +733,7 @@ pub fn plane_circle<T: Real>(
     if t2.value() <= PARALLEL * PARALLEL {
         ctx.fail(step, BreakKind::ParallelLines, zc.value().abs())?;
         let on_circle = add(c, scale(in_plane_toward(c, n, *last), r));
-        let x = sub(on_circle, scale(nq, T::cst(0.5) * dot(sub(on_circle, q), nq)));
+        let x = sub(on_circle, scale(nq, dot(sub(on_circle, q), nq).mul_f64(0.5)));
         *last = x;
         return Ok(x);
     }
@@ -753,7 +753,7 @@ pub fn plane_circle<T: Real>(
         ctx.fail(step, BreakKind::LineMissesCircle, zc_abs.value() - rwv)?;
         let toward = scale(w, (r / t2.sqrt()).mul_f64(-zc.value().signum()));
         let on_circle = add(c, toward);
-        let x = sub(on_circle, scale(nq, T::cst(0.5) * dot(sub(on_circle, q), nq)));
+        let x = sub(on_circle, scale(nq, dot(sub(on_circle, q), nq).mul_f64(0.5)));
         *last = x;
         return Ok(x);
     };
@@ -850,13 +850,13 @@ fn cone_cone_apart<T: Real>(
             // wrap(a, b) on the value, with the rates of a − b.
             let d = (T::cst(a) - b).with_value(wrap(a, b.value()));
             if d.value().abs() < best.0 {
-                best = (d.value().abs(), b + T::cst(0.5) * d);
+                best = (d.value().abs(), b + d.mul_f64(0.5));
             }
         }
     }
     ctx.fail(step, BreakKind::CirclesApart, best.0)?;
     // The unit vector of the axes' plane perpendicular to w1, toward w2.
-    let u = scale(cross(m, w1), T::cst(1.0) / mn);
+    let u = scale(cross(m, w1), mn.recip());
     let (s, co) = best.1.sin_cos();
     let x = add(scale(w1, co), scale(u, s));
     *last = x;
@@ -936,7 +936,7 @@ pub fn rotation_to_condition<T: Real>(
     if s2.value() < 0.0 && ccv.abs() - rv > TANGENT_TOLERANCE * size {
         ctx.fail(step, BreakKind::LineCannotReach, ccv.abs() - rv)?;
         let (co, si) = if rv > TANGENT_TOLERANCE * size {
-            let k = (T::cst(1.0) / r).mul_f64(ccv.signum());
+            let k = r.recip().mul_f64(ccv.signum());
             (a * k, b * k)
         } else {
             (T::cst(1.0), T::cst(0.0))

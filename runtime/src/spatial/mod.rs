@@ -164,7 +164,7 @@ pub fn dist<T: Real>(a: Vec3<T>, b: Vec3<T>) -> T {
 pub fn unit<T: Real>(a: Vec3<T>) -> Vec3<T> {
     let n = norm(a);
     if n.value() > 0.0 {
-        scale(a, T::cst(1.0) / n)
+        scale(a, n.recip())
     } else {
         a
     }
@@ -219,12 +219,18 @@ pub fn perpendicular<T: Real>(v: Vec3<T>) -> Vec3<T> {
 /// `1 − cos` computed without cancellation for small angles: `sin²/(1 + cos)`
 /// when `cos > 0` (equal when `cos² + sin² = 1`). At the zero angle it is
 /// exactly 0, so a rotation by (1, 0) is exactly the identity.
+///
+/// On jets the rates are `1 − cos`'s whatever the value's form: exactly
+/// minus the cosine's, so a turn about an axis leaves the axis's own
+/// direction with rates of exactly zero (`cos + vers` has none), as it
+/// should — a later step can then tell that nothing turns it.
 #[inline(always)]
 fn versine<T: Real>(cos: T, sin: T) -> T {
+    let vers = T::cst(1.0) - cos;
     if cos.value() > 0.0 {
-        sin * sin / (T::cst(1.0) + cos)
+        vers.with_value((sin * sin / (T::cst(1.0) + cos)).value())
     } else {
-        T::cst(1.0) - cos
+        vers
     }
 }
 
@@ -416,8 +422,8 @@ impl<T: Real> Rot3<T> {
     #[inline(always)]
     fn from_quaternion(w: T, x: T, y: T, z: T) -> Rot3<T> {
         let (ww, xx, yy, zz) = (w * w, x * x, y * y, z * z);
-        let k = T::cst(1.0) / (ww + xx + yy + zz);
-        let t = T::cst(2.0) * k;
+        let k = (ww + xx + yy + zz).recip();
+        let t = k.mul_f64(2.0);
         let (xy, xz, yz) = (x * y, x * z, y * z);
         let (wx, wy, wz) = (w * x, w * y, w * z);
         Rot3 {
@@ -472,14 +478,14 @@ impl<T: Real> Rot3<T> {
         let ab = (fa * fb).sqrt();
         let c = from_dot_to / ab;
         if c.value() > -0.5 {
-            let k = scale(from_cross_to, T::cst(1.0) / ab);
+            let k = scale(from_cross_to, ab.recip());
             // Within rounding of parallel: exactly the identity, rather
             // than a turn by rounding noise.
             let parallel = norm2(k).value() <= 64e-32;
             if parallel && !T::JETS {
                 return Rot3::cst(Rot3::IDENTITY);
             }
-            let f = T::cst(1.0) / (T::cst(1.0) + c);
+            let f = (T::cst(1.0) + c).recip();
             let [x, y, z] = k;
             let (fx, fy, fz) = (f * x, f * y, f * z);
             let r = Rot3 {
@@ -503,7 +509,7 @@ impl<T: Real> Rot3<T> {
         // (|h|² − (|â| − |b̂|)²)/2: |h|²/2 is that to O(ε²) without the
         // cancellation of 1 + â·b̂ near opposite directions (where an error
         // of ε in |â| would be an error of ε/|h|² in the angle).
-        let w = T::cst(0.5) * norm2(h);
+        let w = norm2(h).mul_f64(0.5);
         let v = cross(a, h);
         // |h| ≈ 2 cos(θ/2): below 1e-15 h is the rounding of normalising two
         // opposite directions and carries no axis.
@@ -540,7 +546,7 @@ impl<T: Real> Rot3<T> {
                     let f = if k == c { T::cst(3.0) - e[k][c] } else { -e[k][c] };
                     v = v + m[r][k] * f;
                 }
-                *entry = T::cst(0.5) * v;
+                *entry = v.mul_f64(0.5);
             }
         }
         Rot3 { m: out }

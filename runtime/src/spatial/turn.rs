@@ -45,7 +45,7 @@ pub fn tilt<T: Real>(pose: &mut Pose3<T>, pivot: Vec3<T>, from: Vec3<T>, to: Vec
     let k = cross(from, to);
     let s = norm(k);
     let axis = if s.value() > 1e-12 {
-        scale(k, T::cst(1.0) / s)
+        scale(k, s.recip())
     } else {
         perpendicular(from)
     };
