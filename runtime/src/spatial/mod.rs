@@ -289,8 +289,14 @@ impl Rot3 {
 
 impl Rot3<Jet2> {
     /// The values alone.
+    #[inline(always)]
     pub fn value(&self) -> Rot3 {
-        Rot3 { m: self.m.map(value) }
+        // Indexed, not `map`: plans call this for every body every frame,
+        // and the generated code inlines it only as plain reads.
+        let m = &self.m;
+        Rot3 {
+            m: [value(m[0]), value(m[1]), value(m[2])],
+        }
     }
 }
 
@@ -581,6 +587,7 @@ impl Pose3 {
 
 impl Pose3<Jet2> {
     /// The values alone.
+    #[inline(always)]
     pub fn value(&self) -> Pose3 {
         Pose3 {
             rot: self.rot.value(),
