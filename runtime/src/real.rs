@@ -522,4 +522,37 @@ mod tests {
         assert!((r.dd - (1.0 / (2.0 * s2) - 9.0 / (4.0 * 2f64.powf(1.5)))).abs() < 1e-15);
         assert!(!Jet2::new(0.0, 1.0, 0.0).sqrt().finite());
     }
+
+    /// `recip` is the quotient of one: the same value bit for bit, and the
+    /// derivatives of 1/x(t) written out by hand (−x'/x², 2x'²/x³ − x''/x²).
+    #[test]
+    fn recip_is_one_over_the_jet() {
+        for x in [
+            Jet2::new(2.0, 3.0, 1.0),
+            Jet2::new(-0.37, 0.25, -4.0),
+            Jet2::new(1e-3, -7.0, 0.5),
+        ] {
+            let r = x.recip();
+            assert_eq!(r.v.to_bits(), (1.0 / x.v).to_bits());
+            let d = -x.d / (x.v * x.v);
+            let dd = 2.0 * x.d * x.d / (x.v * x.v * x.v) - x.dd / (x.v * x.v);
+            assert!((r.d - d).abs() <= 1e-14 * d.abs(), "{r:?}");
+            assert!((r.dd - dd).abs() <= 1e-14 * dd.abs(), "{r:?}");
+            let q = Jet2::cst(1.0) / x;
+            assert!((r.d - q.d).abs() <= 1e-14 * q.d.abs() && (r.dd - q.dd).abs() <= 1e-14 * q.dd.abs());
+        }
+    }
+
+    /// A plain factor multiplies a jet as a constant jet does: the same
+    /// value bit for bit and the same rates (to the sign of a zero).
+    #[test]
+    fn a_plain_factor_is_a_constant_jet() {
+        let x = Jet2::new(1.7, -0.4, 2.5);
+        for k in [0.6, -3.25, 0.0] {
+            let (plain, jet) = (k.times(x), Jet2::cst(k).times(x));
+            assert_eq!(plain.v.to_bits(), jet.v.to_bits());
+            assert!(plain.d == jet.d && plain.dd == jet.dd);
+            assert_eq!(Factor::<Jet2>::lift(k), Jet2::cst(k));
+        }
+    }
 }

@@ -340,6 +340,35 @@ mod tests {
         assert!((x[0] - 4.0).abs() < 1e-12 && (x[1] - 3.0).abs() < 1e-12);
     }
 
+    /// A fixed direction given as plain numbers (as compiled plans pass a
+    /// slide on the ground) gives the jet direction's point: the same values
+    /// bit for bit, the same rates to rounding.
+    #[test]
+    fn circle_line_takes_a_plain_direction() {
+        use crate::real::Jet2;
+        let t = Jet2::new(0.3, 1.0, 0.0);
+        let c = [Jet2::cst(0.5) + t, Jet2::cst(0.2) + t * t];
+        let p = [Jet2::cst(-4.0), Jet2::cst(-3.0)];
+        let d = [0.6, 0.8];
+        let run = |dir: &dyn Fn() -> [Jet2; 2], plain: bool| {
+            let (mut last, mut b) = ([Jet2::cst(0.0); 2], Branch::Plus);
+            if plain {
+                circle_line(&mut ctx(), 0, c, Jet2::cst(5.0), p, d, &mut b, &mut last).unwrap()
+            } else {
+                circle_line(&mut ctx(), 0, c, Jet2::cst(5.0), p, dir(), &mut b, &mut last).unwrap()
+            }
+        };
+        let (plain, jets) = (run(&|| d.map(Jet2::cst), true), run(&|| d.map(Jet2::cst), false));
+        for k in 0..2 {
+            assert_eq!(plain[k].v.to_bits(), jets[k].v.to_bits());
+            assert!((plain[k].d - jets[k].d).abs() <= 1e-14 && (plain[k].dd - jets[k].dd).abs() <= 1e-13);
+        }
+        // And on the circle with it, rates included: (x − c)·(x − c) = 25.
+        let e = [plain[0] - c[0], plain[1] - c[1]];
+        let r2 = e[0] * e[0] + e[1] * e[1];
+        assert!((r2.v - 25.0).abs() < 1e-12 && r2.d.abs() < 1e-12 && r2.dd.abs() < 1e-11);
+    }
+
     #[test]
     fn lines_meet() {
         let x = line_line(&mut ctx(), 0, [0.0, 1.0], [1.0, 0.0], [2.0, 0.0], [0.0, 1.0]).unwrap();

@@ -221,9 +221,10 @@ pub fn perpendicular<T: Real>(v: Vec3<T>) -> Vec3<T> {
 /// exactly 0, so a rotation by (1, 0) is exactly the identity.
 ///
 /// On jets the rates are `1 − cos`'s whatever the value's form: exactly
-/// minus the cosine's, so a turn about an axis leaves the axis's own
-/// direction with rates of exactly zero (`cos + vers` has none), as it
-/// should — a later step can then tell that nothing turns it.
+/// minus the cosine's, so `cos + vers` has none and a turn about an axis
+/// along a coordinate axis leaves that axis's direction with rates of
+/// exactly zero, as it should — a later step can then tell that nothing
+/// turns it (for other axes the products leave rounding's worth).
 #[inline(always)]
 fn versine<T: Real>(cos: T, sin: T) -> T {
     let vers = T::cst(1.0) - cos;

@@ -1484,3 +1484,82 @@ fn aligned_turn_without_rates_leaves_the_pose() {
     assert_eq!(pose.value(), before.value());
     assert_ne!(pose, before);
 }
+
+/// A hinge on a fixed line (its axis as plain numbers) turned by an angle
+/// with rates leaves the axis's own direction without rates: exactly zero
+/// for an axis along a coordinate axis (the versine's rates are minus the
+/// cosine's, and the other products are by 0 and 1), so a later step sees
+/// it still; rounding's worth for any other axis. A direction across the
+/// axis turns at the angle's rate.
+#[test]
+fn a_hinge_leaves_its_axis_without_rates() {
+    use crate::real::Jet2;
+    for (axis, exact) in [
+        ([0.0, 0.0, 1.0], true),
+        ([0.0, 1.0, 0.0], true),
+        (unit([0.3, -0.2, 0.9]), false),
+    ] {
+        let mut pose = Pose3::<Jet2>::cst(Pose3::IDENTITY);
+        for t in [0.1_f64, 0.9, 2.5, -1.2] {
+            place::hinge_degrees(
+                &mut pose,
+                [1.0, 2.0, 0.5],
+                axis,
+                Jet2::new(t.to_degrees(), 40.0, -3.0),
+            );
+            let along = pose.dir(axis);
+            if exact {
+                assert_eq!(rate_bits(along), 0, "{along:?}");
+            } else {
+                assert!(
+                    along.iter().all(|x| x.d.abs() < 1e-15 && x.dd.abs() < 1e-15),
+                    "{along:?}"
+                );
+            }
+            let v = reject([1.0, 1.0, 0.0], axis);
+            let across = pose.dir(v);
+            let speed = across.iter().map(|x| x.d * x.d).sum::<f64>().sqrt();
+            assert!((speed - 40f64.to_radians() * norm(v)).abs() < 1e-12, "{speed}");
+        }
+    }
+}
+
+/// sphere_circle with the circle's normal as plain numbers (a fixed hinge's,
+/// as compiled plans pass it) gives the jet normal's root: the same values
+/// bit for bit, the same rates to rounding.
+#[test]
+fn sphere_circle_takes_a_plain_normal() {
+    use crate::real::Jet2;
+    let t = Jet2::new(0.4, 1.0, 0.3);
+    let cs = [Jet2::cst(0.5) + t, Jet2::cst(0.2), t * t];
+    let (c, n, r) = ([1.0, 0.5, 0.2], unit([0.2, -0.1, 1.0]), 1.5);
+    let run = |plain: bool| {
+        let (mut last, mut b) = (cst([2.0, 0.5, 0.2]), Branch::Plus);
+        let rs = Jet2::cst(1.8);
+        if plain {
+            locus::sphere_circle(&mut keep(), 0, cs, rs, cst(c), n, Jet2::cst(r), &mut b, &mut last)
+        } else {
+            locus::sphere_circle(
+                &mut keep(),
+                0,
+                cs,
+                rs,
+                cst(c),
+                cst::<Jet2>(n),
+                Jet2::cst(r),
+                &mut b,
+                &mut last,
+            )
+        }
+        .unwrap()
+    };
+    let (plain, jets) = (run(true), run(false));
+    for k in 0..3 {
+        assert_eq!(plain[k].v.to_bits(), jets[k].v.to_bits());
+        assert!((plain[k].d - jets[k].d).abs() <= 1e-13 && (plain[k].dd - jets[k].dd).abs() <= 1e-12);
+    }
+    // On the sphere, rates included.
+    let e = sub(plain, cs);
+    let d2 = dot(e, e);
+    assert!((d2.v - 1.8 * 1.8).abs() < 1e-12 && d2.d.abs() < 1e-12 && d2.dd.abs() < 1e-11);
+}
