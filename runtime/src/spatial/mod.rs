@@ -66,34 +66,34 @@ pub type Vec3<T = f64> = [T; 3];
 /// `a + b`.
 #[inline(always)]
 pub fn add<T: Real>(a: Vec3<T>, b: Vec3<T>) -> Vec3<T> {
-    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+    [a[0].vadd(b[0]), a[1].vadd(b[1]), a[2].vadd(b[2])]
 }
 
 /// `a − b`.
 #[inline(always)]
 pub fn sub<T: Real>(a: Vec3<T>, b: Vec3<T>) -> Vec3<T> {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+    [a[0].vsub(b[0]), a[1].vsub(b[1]), a[2].vsub(b[2])]
 }
 
 /// `a·k`.
 #[inline(always)]
 pub fn scale<T: Real>(a: Vec3<T>, k: T) -> Vec3<T> {
-    [a[0] * k, a[1] * k, a[2] * k]
+    [a[0].vmul(k), a[1].vmul(k), a[2].vmul(k)]
 }
 
 /// The dot product `a·b`.
 #[inline(always)]
 pub fn dot<T: Real>(a: Vec3<T>, b: Vec3<T>) -> T {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+    a[0].vmul(b[0]).vadd(a[1].vmul(b[1])).vadd(a[2].vmul(b[2]))
 }
 
 /// The cross product `a × b` (right-handed).
 #[inline(always)]
 pub fn cross<T: Real>(a: Vec3<T>, b: Vec3<T>) -> Vec3<T> {
     [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
+        a[1].vmul(b[2]).vsub(a[2].vmul(b[1])),
+        a[2].vmul(b[0]).vsub(a[0].vmul(b[2])),
+        a[0].vmul(b[1]).vsub(a[1].vmul(b[0])),
     ]
 }
 
@@ -115,16 +115,16 @@ pub fn cross_cst<T: Real>(a: Vec3, b: Vec3<T>) -> Vec3<T> {
 /// [`dot`], on `a`'s side.
 #[inline(always)]
 pub fn dot_by<T: Real>(a: Vec3<T>, n: [impl Factor<T>; 3]) -> T {
-    n[0].times(a[0]) + n[1].times(a[1]) + n[2].times(a[2])
+    n[0].times(a[0]).vadd(n[1].times(a[1])).vadd(n[2].times(a[2]))
 }
 
 /// `n × b` for a [`Factor`] `n`, as [`dot_by`] is [`dot`].
 #[inline(always)]
 pub fn cross_by<T: Real>(n: [impl Factor<T>; 3], b: Vec3<T>) -> Vec3<T> {
     [
-        n[1].times(b[2]) - n[2].times(b[1]),
-        n[2].times(b[0]) - n[0].times(b[2]),
-        n[0].times(b[1]) - n[1].times(b[0]),
+        n[1].times(b[2]).vsub(n[2].times(b[1])),
+        n[2].times(b[0]).vsub(n[0].times(b[2])),
+        n[0].times(b[1]).vsub(n[1].times(b[0])),
     ]
 }
 
@@ -325,11 +325,13 @@ impl<T: Real> Rot3<T> {
     #[inline(always)]
     pub fn apply(&self, v: Vec3<T>) -> Vec3<T> {
         let m = &self.m;
-        [
-            m[0][0] * v[0] + m[0][1] * v[1] + m[0][2] * v[2],
-            m[1][0] * v[0] + m[1][1] * v[1] + m[1][2] * v[2],
-            m[2][0] * v[0] + m[2][1] * v[1] + m[2][2] * v[2],
-        ]
+        let r = |i: usize| {
+            m[i][0]
+                .vmul(v[0])
+                .vadd(m[i][1].vmul(v[1]))
+                .vadd(m[i][2].vmul(v[2]))
+        };
+        [r(0), r(1), r(2)]
     }
 
     /// Rotates a constant vector: `m·v` (the same products as
@@ -337,7 +339,12 @@ impl<T: Real> Rot3<T> {
     #[inline(always)]
     pub fn apply_cst(&self, v: Vec3) -> Vec3<T> {
         let m = &self.m;
-        let r = |i: usize| m[i][0].mul_f64(v[0]) + m[i][1].mul_f64(v[1]) + m[i][2].mul_f64(v[2]);
+        let r = |i: usize| {
+            m[i][0]
+                .vmul_f64(v[0])
+                .vadd(m[i][1].vmul_f64(v[1]))
+                .vadd(m[i][2].vmul_f64(v[2]))
+        };
         [r(0), r(1), r(2)]
     }
 
@@ -345,11 +352,13 @@ impl<T: Real> Rot3<T> {
     #[inline(always)]
     pub fn apply_inverse(&self, v: Vec3<T>) -> Vec3<T> {
         let m = &self.m;
-        [
-            m[0][0] * v[0] + m[1][0] * v[1] + m[2][0] * v[2],
-            m[0][1] * v[0] + m[1][1] * v[1] + m[2][1] * v[2],
-            m[0][2] * v[0] + m[1][2] * v[1] + m[2][2] * v[2],
-        ]
+        let r = |j: usize| {
+            m[0][j]
+                .vmul(v[0])
+                .vadd(m[1][j].vmul(v[1]))
+                .vadd(m[2][j].vmul(v[2]))
+        };
+        [r(0), r(1), r(2)]
     }
 
     /// The transpose, which is the inverse of a rotation.
@@ -385,7 +394,10 @@ impl<T: Real> Rot3<T> {
         }
         for (i, row) in m.iter_mut().enumerate() {
             for (j, x) in row.iter_mut().enumerate() {
-                *x = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
+                *x = a[i][0]
+                    .vmul(b[0][j])
+                    .vadd(a[i][1].vmul(b[1][j]))
+                    .vadd(a[i][2].vmul(b[2][j]));
             }
         }
         Rot3 { m }
