@@ -190,7 +190,7 @@ impl Factor<Jet2> for Jet2 {
 impl Factor<crate::lanes::Lanes> for crate::lanes::Lanes {
     #[inline(always)]
     fn times(self, x: crate::lanes::Lanes) -> crate::lanes::Lanes {
-        x * self
+        x.vmul(self)
     }
     #[inline(always)]
     fn lift(self) -> crate::lanes::Lanes {
@@ -589,32 +589,33 @@ mod jet_rates {
     }
 
     #[cfg(not(all(target_arch = "x86_64", not(debug_assertions))))]
-    #[inline(always)]
-    pub fn add(a: Jet2, b: Jet2) -> Jet2 {
-        Jet2::new(a.v + b.v, a.d + b.d, a.dd + b.dd)
-    }
+    pub use lane_by_lane::{add, mul, mul_f64, sub};
 
+    /// Jet2's own operators.
     #[cfg(not(all(target_arch = "x86_64", not(debug_assertions))))]
-    #[inline(always)]
-    pub fn sub(a: Jet2, b: Jet2) -> Jet2 {
-        Jet2::new(a.v - b.v, a.d - b.d, a.dd - b.dd)
-    }
+    mod lane_by_lane {
+        use super::Jet2;
+        use crate::real::Real;
 
-    /// (ab)' = a'b + ab', (ab)'' = a''b + 2a'b' + ab''.
-    #[cfg(not(all(target_arch = "x86_64", not(debug_assertions))))]
-    #[inline(always)]
-    pub fn mul(a: Jet2, b: Jet2) -> Jet2 {
-        Jet2::new(
-            a.v * b.v,
-            a.d * b.v + a.v * b.d,
-            a.dd * b.v + 2.0 * a.d * b.d + a.v * b.dd,
-        )
-    }
+        #[inline(always)]
+        pub fn add(a: Jet2, b: Jet2) -> Jet2 {
+            a + b
+        }
 
-    #[cfg(not(all(target_arch = "x86_64", not(debug_assertions))))]
-    #[inline(always)]
-    pub fn mul_f64(a: Jet2, k: f64) -> Jet2 {
-        Jet2::new(a.v * k, a.d * k, a.dd * k)
+        #[inline(always)]
+        pub fn sub(a: Jet2, b: Jet2) -> Jet2 {
+            a - b
+        }
+
+        #[inline(always)]
+        pub fn mul(a: Jet2, b: Jet2) -> Jet2 {
+            a * b
+        }
+
+        #[inline(always)]
+        pub fn mul_f64(a: Jet2, k: f64) -> Jet2 {
+            a.mul_f64(k)
+        }
     }
 }
 

@@ -325,13 +325,7 @@ impl<T: Real> Rot3<T> {
     #[inline(always)]
     pub fn apply(&self, v: Vec3<T>) -> Vec3<T> {
         let m = &self.m;
-        let r = |i: usize| {
-            m[i][0]
-                .vmul(v[0])
-                .vadd(m[i][1].vmul(v[1]))
-                .vadd(m[i][2].vmul(v[2]))
-        };
-        [r(0), r(1), r(2)]
+        [dot(m[0], v), dot(m[1], v), dot(m[2], v)]
     }
 
     /// Rotates a constant vector: `m·v` (the same products as
@@ -339,26 +333,14 @@ impl<T: Real> Rot3<T> {
     #[inline(always)]
     pub fn apply_cst(&self, v: Vec3) -> Vec3<T> {
         let m = &self.m;
-        let r = |i: usize| {
-            m[i][0]
-                .vmul_f64(v[0])
-                .vadd(m[i][1].vmul_f64(v[1]))
-                .vadd(m[i][2].vmul_f64(v[2]))
-        };
-        [r(0), r(1), r(2)]
+        [dot_by(m[0], v), dot_by(m[1], v), dot_by(m[2], v)]
     }
 
     /// Rotates a vector by the inverse rotation: `mᵀ·v`.
     #[inline(always)]
     pub fn apply_inverse(&self, v: Vec3<T>) -> Vec3<T> {
-        let m = &self.m;
-        let r = |j: usize| {
-            m[0][j]
-                .vmul(v[0])
-                .vadd(m[1][j].vmul(v[1]))
-                .vadd(m[2][j].vmul(v[2]))
-        };
-        [r(0), r(1), r(2)]
+        let m = &self.transpose().m;
+        [dot(m[0], v), dot(m[1], v), dot(m[2], v)]
     }
 
     /// The transpose, which is the inverse of a rotation.
@@ -394,10 +376,7 @@ impl<T: Real> Rot3<T> {
         }
         for (i, row) in m.iter_mut().enumerate() {
             for (j, x) in row.iter_mut().enumerate() {
-                *x = a[i][0]
-                    .vmul(b[0][j])
-                    .vadd(a[i][1].vmul(b[1][j]))
-                    .vadd(a[i][2].vmul(b[2][j]));
+                *x = dot(a[i], [b[0][j], b[1][j], b[2][j]]);
             }
         }
         Rot3 { m }
