@@ -8,8 +8,11 @@ use dofplan::model::{load_file, Mechanism};
 use dofplan::plan::Plan;
 
 pub mod fuzzing;
-pub mod stress;
 pub mod user_crate;
+
+/// The generators and plane arithmetic live in `dofplan-gen`, a crate with
+/// no dependencies, so `cargo run -p dofplan-gen` builds in seconds.
+pub use dofplan_gen::{stress, vec2};
 
 /// The bundled mechanisms folder.
 pub fn mechanisms_dir() -> PathBuf {
@@ -105,63 +108,4 @@ pub fn all_options() -> Vec<dofplan_runtime::Options> {
         }
     }
     out
-}
-
-/// Plane vector arithmetic for the tests' own closed forms: written here,
-/// independently of the runtime, so the tests do not check the runtime
-/// against itself.
-pub mod vec2 {
-    /// A point or vector.
-    pub type P = [f64; 2];
-
-    /// `a − b`.
-    pub fn sub(a: P, b: P) -> P {
-        [a[0] - b[0], a[1] - b[1]]
-    }
-
-    /// `a + b`.
-    pub fn add(a: P, b: P) -> P {
-        [a[0] + b[0], a[1] + b[1]]
-    }
-
-    /// `k·a`.
-    pub fn scale(a: P, k: f64) -> P {
-        [a[0] * k, a[1] * k]
-    }
-
-    /// Dot product.
-    pub fn dot(a: P, b: P) -> f64 {
-        a[0] * b[0] + a[1] * b[1]
-    }
-
-    /// z of the cross product.
-    pub fn cross(a: P, b: P) -> f64 {
-        a[0] * b[1] - a[1] * b[0]
-    }
-
-    /// Length.
-    pub fn norm(a: P) -> f64 {
-        a[0].hypot(a[1])
-    }
-
-    /// Distance.
-    pub fn dist(a: P, b: P) -> f64 {
-        norm(sub(a, b))
-    }
-
-    /// `a` scaled to unit length.
-    pub fn unit(a: P) -> P {
-        scale(a, 1.0 / norm(a))
-    }
-
-    /// `a` turned a quarter turn counter-clockwise.
-    pub fn perp(a: P) -> P {
-        [-a[1], a[0]]
-    }
-
-    /// `v` turned by `angle` radians counter-clockwise.
-    pub fn rotate(v: P, angle: f64) -> P {
-        let (s, c) = angle.sin_cos();
-        [c * v[0] - s * v[1], s * v[0] + c * v[1]]
-    }
 }

@@ -1,0 +1,39 @@
+//! `dofplan-gen` as a user runs it: the file it writes is the library's,
+//! and a bad argument gets the usage, not a panic.
+
+use std::process::Command;
+
+fn gen(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_dofplan-gen"))
+        .args(args)
+        .output()
+        .expect("dofplan-gen runs")
+}
+
+#[test]
+fn stress_chain_writes_the_librarys_file() {
+    let o = gen(&["stress-chain", "3"]);
+    assert!(o.status.success());
+    assert_eq!(
+        String::from_utf8(o.stdout).unwrap(),
+        dofplan_gen::stress::stress_chain(3)
+    );
+}
+
+#[test]
+fn bad_arguments_get_the_usage() {
+    for args in [
+        &["stress-chain", "0"][..],
+        &["stress-chain", "x"],
+        &["chain"],
+        &[],
+    ] {
+        let o = gen(args);
+        assert!(!o.status.success(), "{args:?}");
+        let err = String::from_utf8(o.stderr).unwrap();
+        assert!(
+            err.contains("usage: dofplan-gen stress-chain LOOPS"),
+            "{args:?}: {err}"
+        );
+    }
+}
