@@ -589,10 +589,11 @@ fn the_summary_gives_each_break_as_a_frame_range() {
     let broke = "    step 2 broke (the circles do not meet, gap up to ";
     assert_eq!(lines.len(), 6, "{out}");
     assert_eq!(lines[0], "rocker_rocker: 361 frames, theta from -180 to 180");
+    // The sweep starts out of reach: nothing to hold before it enters.
     assert_eq!(
         lines[1],
         format!(
-            "  frames 0–{} (theta -180 … {}): limited, held at theta 0",
+            "  frames 0–{} (theta -180 … {}): not reachable (no pose yet)",
             first_solved - 1,
             first_solved as f64 - 181.0
         )
@@ -615,31 +616,38 @@ fn the_summary_gives_each_break_as_a_frame_range() {
     assert_eq!(
         lines[5],
         format!(
-            "361 frames: {solved} solved, {} limited, 0 searched, 0 stretched",
-            361 - solved
+            "361 frames: {solved} solved, {} limited, 0 searched, 0 stretched, {first_solved} not reachable",
+            360 - last_solved
         )
     );
 
-    // Under search, each range says the break point it found.
-    let o = dofplan(&["simulate", file.to_str().unwrap(), "--policy", "search"]);
-    assert!(o.status.success(), "{}", stderr(&o));
-    let out = stdout(&o);
-    let found: Vec<f64> = out
-        .lines()
-        .filter_map(|l| l.split_once(": searched, break point theta "))
-        .map(|(_, v)| v.parse().unwrap())
-        .collect();
-    assert_eq!(found.len(), 2, "{out}");
-    assert!(
-        (found[0] - lo).abs() < 1e-8,
-        "{} found, {lo} closed form",
-        found[0]
-    );
-    assert!(
-        (found[1] - hi).abs() < 1e-8,
-        "{} found, {hi} closed form",
-        found[1]
-    );
+    // Under search, each range says the break point it found, once: from
+    // the drawn pose up past θ_hi, and down past θ_lo.
+    for (to, end) in [("180", hi), ("-180", lo)] {
+        let o = dofplan(&[
+            "simulate",
+            file.to_str().unwrap(),
+            "--policy",
+            "search",
+            "--from",
+            "0",
+            "--to",
+            to,
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        let out = stdout(&o);
+        let found: Vec<f64> = out
+            .lines()
+            .filter_map(|l| l.split_once(": searched, break point theta "))
+            .map(|(_, v)| v.parse().expect("one break point, not a range"))
+            .collect();
+        assert_eq!(found.len(), 1, "{out}");
+        assert!(
+            (found[0] - end).abs() < 1e-8,
+            "{} found, {end} closed form",
+            found[0]
+        );
+    }
 }
 
 // ------------------------------------------------------------- the poses

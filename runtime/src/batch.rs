@@ -13,10 +13,13 @@
 //!
 //! A frame that does not assemble gets [`FrameStatus::Limited`] with the
 //! step that broke, and the poses of the last frame that did (the drawn
-//! pose before the first), as the driver's limit policy keeps them.
+//! pose before the first), as the driver's limit policy keeps them. Past a
+//! limit the frames depend on each other again (the mechanism stays on the
+//! circuit it left until the input comes back into its interval, see
+//! [`Driver`]): [`settle`] drives those frames in order, with a driver.
 
-use crate::drive::Solver;
-use crate::frame::{BranchPolicy, Ctx, FrameStatus};
+use crate::drive::{Driver, Solver};
+use crate::frame::{BranchPolicy, Ctx, FrameStatus, Options};
 use crate::lanes::{Lanes, LANES};
 use crate::planar::{Pose, Rot};
 
@@ -26,6 +29,17 @@ pub trait Batch: Solver {
     /// that they may be solved in any order, in lanes or on several cores.
     fn independent(&self) -> bool {
         false
+    }
+
+    /// For a plan whose frames are [`independent`](Batch::independent):
+    /// solves each frame of the batch on its own, from the drawn pose, with
+    /// no hold past a limit ([`settle`] applies those afterwards). Any other
+    /// plan solves them as [`Batch::solve_batch`] does.
+    ///
+    /// # Panics
+    /// If `inputs` or `out` is not `status.len()` frames long.
+    fn solve_frames(&self, inputs: &[f64], out: &mut [Self::Pose], status: &mut [FrameStatus]) {
+        in_order(self, inputs, out, status)
     }
 
     /// Solves one frame per entry of `status`: frame `k`'s inputs are
@@ -59,17 +73,41 @@ fn shape<S: Solver + ?Sized>(solver: &S, inputs: &[f64], out: &[S::Pose], frames
     (n, b)
 }
 
-/// Frame `k` of a limited run keeps the poses of the frame before it (the
-/// drawn pose for the first): the driver's limit policy, applied after the
-/// frames were solved out of order.
-fn hold_limited<P: Copy>(drawn: &[P], out: &mut [P], status: &[FrameStatus]) {
-    let b = drawn.len();
-    for (k, st) in status.iter().enumerate() {
-        if matches!(st, FrameStatus::Limited { .. }) {
-            if k == 0 {
-                out[..b].copy_from_slice(drawn);
-            } else {
-                out.copy_within((k - 1) * b..k * b, k * b);
+/// Frames solved each on its own ([`Batch::solve_frames`]) made the
+/// driver's: from each frame that breaks, the frames are driven in order by
+/// a [`Driver`] placed at the pose before it (the drawn pose before the
+/// first frame), until the driver is no longer held past a limit. A limited
+/// frame then holds the pose before it, and a frame that assembles only on
+/// another circuit is held too. The frames of an independent plan between
+/// the holds are the driver's already, to the bit.
+pub fn settle<S: Solver + ?Sized>(
+    solver: &S,
+    inputs: &[f64],
+    out: &mut [S::Pose],
+    status: &mut [FrameStatus],
+) {
+    let (n, b) = shape(solver, inputs, out, status.len());
+    let mut k = 0;
+    while k < status.len() {
+        if status[k].is_solved() {
+            k += 1;
+            continue;
+        }
+        let mut driver = Driver::new(solver, Options::default());
+        if k > 0 {
+            let before = &inputs[(k - 1) * n..k * n];
+            let mut state = solver.initial_state();
+            let mut ctx = Ctx::new(BranchPolicy::Keep, false);
+            if solver.solve(&mut state, before, &mut ctx).is_ok() {
+                driver.place(&state, before);
+            }
+        }
+        loop {
+            status[k] = driver.frame(&inputs[k * n..(k + 1) * n]);
+            out[k * b..(k + 1) * b].copy_from_slice(driver.poses());
+            k += 1;
+            if driver.held().is_none() || k == status.len() {
+                break;
             }
         }
     }
@@ -94,8 +132,8 @@ fn one<S: Solver + ?Sized>(
     }
 }
 
-/// [`Batch::solve_batch`] frame after frame, each warm-started from the
-/// last that assembled: exactly a driver's run.
+/// [`Batch::solve_batch`] frame after frame by a [`Driver`], each frame
+/// warm-started from the last that assembled: exactly a driver's run.
 pub fn in_order<S: Solver + ?Sized>(
     solver: &S,
     inputs: &[f64],
@@ -103,17 +141,11 @@ pub fn in_order<S: Solver + ?Sized>(
     status: &mut [FrameStatus],
 ) {
     let (n, b) = shape(solver, inputs, out, status.len());
-    let mut state = solver.initial_state();
-    let drawn: Vec<S::Pose> = S::poses(&state).to_vec();
+    let mut driver = Driver::new(solver, Options::default());
     for (k, st) in status.iter_mut().enumerate() {
-        *st = one(
-            solver,
-            &mut state,
-            &inputs[k * n..(k + 1) * n],
-            &mut out[k * b..(k + 1) * b],
-        );
+        *st = driver.frame(&inputs[k * n..(k + 1) * n]);
+        out[k * b..(k + 1) * b].copy_from_slice(driver.poses());
     }
-    hold_limited(&drawn, out, status);
 }
 
 /// The lane groups of a batch for a compiled closed-form plan, which runs
@@ -259,7 +291,7 @@ pub fn one_at_a_time<S: Solver + ?Sized>(
 }
 
 /// The frames from `first` on, left over after the lane groups, one at a
-/// time; then every limited frame holds the poses of the frame before it.
+/// time (holds past limits are [`settle`]'s).
 #[inline(never)]
 pub fn finish<S: Solver + ?Sized>(
     solver: &S,
@@ -269,8 +301,6 @@ pub fn finish<S: Solver + ?Sized>(
     status: &mut [FrameStatus],
 ) {
     one_at_a_time(solver, first..status.len(), inputs, out, status);
-    let drawn: Vec<S::Pose> = S::poses(&solver.initial_state()).to_vec();
-    hold_limited(&drawn, out, status);
 }
 
 /// [`Batch::solve_batch`] on every core: a plan whose frames are
@@ -295,9 +325,7 @@ where
         .par_chunks(BLOCK * n)
         .zip(out.par_chunks_mut(BLOCK * b))
         .zip(status.par_chunks_mut(BLOCK))
-        .for_each(|((i, o), s)| solver.solve_batch(i, o, s));
-    // A block that starts limited held the drawn pose; hold the last
-    // frame of the block before it instead.
-    let drawn: Vec<S::Pose> = S::poses(&solver.initial_state()).to_vec();
-    hold_limited(&drawn, out, status);
+        .for_each(|((i, o), s)| solver.solve_frames(i, o, s));
+    // The holds past limits run across the blocks, in order.
+    settle(solver, inputs, out, status);
 }

@@ -66,6 +66,21 @@ pub enum BreakPolicy {
     Stretch,
 }
 
+/// Where a run of frames starts from.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub enum StartPolicy {
+    /// The drawn pose is the first pose: a frame that cannot be met from it
+    /// holds it, as any later frame holds the last pose (an editor, a drag).
+    #[default]
+    Drawn,
+    /// The frames are a sweep of their own, and the drawn pose is not one of
+    /// them: until a frame assembles on the drawn pose's circuit, frames are
+    /// [`FrameStatus::Unreached`] (there is no pose of the sweep to hold
+    /// yet); the first that does starts the motion there.
+    Sweep,
+}
+
 /// Move-time options of a frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Options {
@@ -76,6 +91,8 @@ pub struct Options {
     /// Search stops when the bracket around the break point is this narrow
     /// in every input (degrees or length units).
     pub search_tolerance: f64,
+    /// Where the frames start from.
+    pub start: StartPolicy,
 }
 
 impl Default for Options {
@@ -84,6 +101,7 @@ impl Default for Options {
             branch: BranchPolicy::Keep,
             breaking: BreakPolicy::Limit,
             search_tolerance: 1e-9,
+            start: StartPolicy::Drawn,
         }
     }
 }
@@ -94,6 +112,10 @@ impl Default for Options {
 pub enum BreakKind {
     /// Two circles are too far apart or one lies inside the other.
     CirclesApart,
+    /// Two circles coincide (same centre, same radius), as the links of a
+    /// parallelogram do at its change point: every point of the circle
+    /// closes the loop, so the position is not determined there.
+    CirclesCoincide,
     /// A line misses a circle.
     LineMissesCircle,
     /// Two lines are parallel.
@@ -113,6 +135,12 @@ pub enum BreakKind {
     /// one at a time, so this never reaches a caller of
     /// [`Batch::solve_batch`](crate::batch::Batch::solve_batch).
     LanesDiffer,
+    /// The input assembles here, but only on another circuit than the one
+    /// the mechanism is on: it left its assembly interval at a limit, and
+    /// could only get here by being taken apart. The pose stays held until
+    /// the input comes back into the interval it left. The break's step and
+    /// gap are those of the limit it passed.
+    OtherCircuit,
 }
 
 impl BreakKind {
@@ -120,6 +148,9 @@ impl BreakKind {
     pub fn describe(self) -> &'static str {
         match self {
             BreakKind::CirclesApart => "the circles do not meet",
+            BreakKind::CirclesCoincide => {
+                "the circles coincide: every point of them closes the loop, so the position is not determined here"
+            }
             BreakKind::LineMissesCircle => "the line misses the circle",
             BreakKind::ParallelLines => "the lines are parallel",
             BreakKind::LineCannotReach => "the line cannot reach the point",
@@ -128,6 +159,9 @@ impl BreakKind {
             BreakKind::Inconsistent => "a redundant joint does not hold (over-constrained and inconsistent)",
             BreakKind::LanesDiffer => {
                 "frames solved together took different paths (solved one at a time instead)"
+            }
+            BreakKind::OtherCircuit => {
+                "past a limit: the input assembles here only on another circuit, which the mechanism cannot reach without being taken apart"
             }
         }
     }
@@ -166,6 +200,14 @@ pub enum FrameStatus {
         /// 0 = stayed at the last valid input, 1 = reached the request.
         reached: f64,
     },
+    /// The frame is not reachable: the run has no pose yet (it started out
+    /// of the mechanism's reach under [`StartPolicy::Sweep`], and no frame
+    /// has assembled since). The poses are the drawn ones, which are not a
+    /// pose of the run.
+    Unreached {
+        /// Why the frame cannot be met.
+        brk: Break,
+    },
     /// The input was applied but steps were relaxed.
     Stretched {
         /// The first relaxed step.
@@ -176,17 +218,29 @@ pub enum FrameStatus {
 }
 
 impl FrameStatus {
+    /// The break of a frame that did not meet its input (limited, searched
+    /// or unreached).
+    pub fn brk(&self) -> Option<Break> {
+        match *self {
+            FrameStatus::Limited { brk }
+            | FrameStatus::Searched { brk, .. }
+            | FrameStatus::Unreached { brk } => Some(brk),
+            FrameStatus::Solved | FrameStatus::Stretched { .. } => None,
+        }
+    }
+
     /// True when the requested input was met exactly.
     pub fn is_solved(&self) -> bool {
         matches!(self, FrameStatus::Solved)
     }
 
-    /// A one-word name: solved, limited, searched or stretched.
+    /// A one-word name: solved, limited, searched, unreached or stretched.
     pub fn name(&self) -> &'static str {
         match self {
             FrameStatus::Solved => "solved",
             FrameStatus::Limited { .. } => "limited",
             FrameStatus::Searched { .. } => "searched",
+            FrameStatus::Unreached { .. } => "unreached",
             FrameStatus::Stretched { .. } => "stretched",
         }
     }
@@ -201,6 +255,8 @@ pub struct Ctx {
     pub stretch: bool,
     /// The first step relaxed in this execution and the largest gap so far.
     pub stretched: Option<(StepId, f64)>,
+    /// Why the first relaxed step could not be met.
+    pub stretched_kind: Option<BreakKind>,
     /// The report of the numeric solve of this execution, if there was one.
     pub numeric: Option<crate::numeric::NewtonReport>,
 }
@@ -212,6 +268,7 @@ impl Ctx {
             branch,
             stretch,
             stretched: None,
+            stretched_kind: None,
             numeric: None,
         }
     }
@@ -221,6 +278,7 @@ impl Ctx {
     #[inline]
     pub fn fail(&mut self, step: StepId, kind: BreakKind, gap: f64) -> Result<(), Break> {
         if self.stretch {
+            self.stretched_kind.get_or_insert(kind);
             self.stretched = Some(match self.stretched {
                 None => (step, gap),
                 Some((first, worst)) => (first, worst.max(gap)),

@@ -36,7 +36,9 @@ pub mod spatial;
 
 pub use batch::Batch;
 pub use drive::{Animate, Driver, Solver};
-pub use frame::{Branch, BranchPolicy, Break, BreakKind, BreakPolicy, Ctx, FrameStatus, Options, StepId};
+pub use frame::{
+    Branch, BranchPolicy, Break, BreakKind, BreakPolicy, Ctx, FrameStatus, Options, StartPolicy, StepId,
+};
 pub use marker::{Marker, Marker3};
 pub use numeric::{Equations, Newton, NewtonOptions, NewtonOutcome, NewtonReport};
 pub use planar::{Point, Pose, Rot};

@@ -32,7 +32,9 @@ use dofplan::plan::{num, Plan};
 use dofplan::render::{render, SvgOptions};
 use dofplan::simulate::{frames, marker_positions, sweep_requests, Frame};
 use dofplan_runtime::planar::Pose;
-use dofplan_runtime::{Animate, BranchPolicy, BreakPolicy, Driver, FrameStatus, Options};
+use dofplan_runtime::{
+    Animate, BranchPolicy, BreakKind, BreakPolicy, Driver, FrameStatus, Options, StartPolicy,
+};
 
 #[path = "dofplan/progress.rs"]
 mod progress;
@@ -146,8 +148,11 @@ enum Command {
         ///   "reached"  the input values of the pose shown (after a break:
         ///              the last valid values, or the break point under
         ///              search);
-        ///   "status"   "solved", "limited", "searched" or "stretched";
-        ///   "break"    when limited or searched: step, explanation,
+        ///   "status"   "solved", "limited", "searched", "stretched" or
+        ///              "unreached" (the sweep started out of reach and
+        ///              has no pose yet: "reached", "markers" and
+        ///              "bodies" are null);
+        ///   "break"    when limited, searched or unreached: step, explanation,
         ///              reason, gap (and "reached", the fraction of the way
         ///              to the request, under search);
         ///   "stretch"  when stretched: step, explanation, residual;
@@ -423,6 +428,9 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
                     BranchArg::Keep => BranchPolicy::Keep,
                     BranchArg::Nearest => BranchPolicy::Nearest,
                 },
+                // A sweep's frames: one that starts out of reach has no
+                // pose to hold until the input enters the range.
+                start: StartPolicy::Sweep,
                 ..Options::default()
             };
             let form = Form::of(json, csv);
@@ -665,6 +673,9 @@ fn spatial_command(
                     BranchArg::Keep => BranchPolicy::Keep,
                     BranchArg::Nearest => BranchPolicy::Nearest,
                 },
+                // A sweep's frames: one that starts out of reach has no
+                // pose to hold until the input enters the range.
+                start: StartPolicy::Sweep,
                 ..Options::default()
             };
             let form = if json {
@@ -1495,10 +1506,20 @@ fn frame_json(r: &Report, f: &Frame) -> Value {
     };
     let mut o = Map::new();
     o.insert("inputs".into(), named(&f.requested));
-    o.insert("reached".into(), named(&f.inputs));
+    // A frame the sweep has not reached has no pose: null, not the drawing.
+    let unreached = matches!(f.status, FrameStatus::Unreached { .. });
+    o.insert(
+        "reached".into(),
+        if unreached { Value::Null } else { named(&f.inputs) },
+    );
     o.insert("status".into(), json!(f.status.name()));
     if let Some((k, v)) = status_json(r, &f.status) {
         o.insert(k.into(), v);
+    }
+    if unreached {
+        o.insert("markers".into(), Value::Null);
+        o.insert("bodies".into(), Value::Null);
+        return Value::Object(o);
     }
     if let Some(n) = &f.numeric {
         o.insert(
@@ -1559,7 +1580,7 @@ fn status_json(r: &Report, status: &FrameStatus) -> Option<(&'static str, Value)
     };
     match status {
         FrameStatus::Solved => None,
-        FrameStatus::Limited { brk: b } => Some(("break", brk(b))),
+        FrameStatus::Limited { brk: b } | FrameStatus::Unreached { brk: b } => Some(("break", brk(b))),
         FrameStatus::Searched { brk: b, reached } => Some(("break", {
             let mut v = brk(b);
             v["reached"] = json!(reached);
@@ -1600,6 +1621,12 @@ impl FrameWriter for CsvFrames<'_, '_> {
         let mut row = vec![index.to_string()];
         row.extend(f.requested.iter().map(|v| v.to_string()));
         row.push(f.status.name().to_string());
+        if matches!(f.status, FrameStatus::Unreached { .. }) {
+            // No pose: empty cells, not the drawing's numbers.
+            let cells = 2 * self.r.m.all_markers().count() + 3 * f.poses.len();
+            row.extend(std::iter::repeat_n(String::new(), cells));
+            return writeln!(out, "{}", row.join(","));
+        }
         for (_, p) in marker_positions(self.r.m, &f.poses) {
             row.push(p[0].to_string());
             row.push(p[1].to_string());
@@ -1622,8 +1649,8 @@ impl FrameWriter for CsvFrames<'_, '_> {
 /// counts. Holds one run, never the frames.
 struct Summary<'r, 'a> {
     r: &'r Report<'a>,
-    /// Frames by status: solved, limited, searched, stretched.
-    counts: [usize; 4],
+    /// Frames by status: solved, limited, searched, stretched, unreached.
+    counts: [usize; 5],
     run: Option<Run>,
 }
 
@@ -1641,15 +1668,15 @@ struct Run {
     worst: f64,
 }
 
-/// What makes frames break alike, and how much: the status, the step, and
-/// the gap or residual.
-fn break_of(status: &FrameStatus) -> Option<(&'static str, u32, f64)> {
+/// What makes frames break alike, and how much: the status, the step and
+/// why (a limit, or another circuit past it), and the gap or residual.
+fn break_of(status: &FrameStatus) -> Option<((&'static str, u32, Option<BreakKind>), f64)> {
     match status {
         FrameStatus::Solved => None,
-        FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. } => {
-            Some((status.name(), brk.step, brk.gap))
+        FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. } | FrameStatus::Unreached { brk } => {
+            Some(((status.name(), brk.step, Some(brk.kind)), brk.gap))
         }
-        FrameStatus::Stretched { step, residual } => Some((status.name(), *step, *residual)),
+        FrameStatus::Stretched { step, residual } => Some(((status.name(), *step, None), *residual)),
     }
 }
 
@@ -1657,7 +1684,7 @@ impl<'r, 'a> Summary<'r, 'a> {
     fn new(r: &'r Report<'a>) -> Self {
         Summary {
             r,
-            counts: [0; 4],
+            counts: [0; 5],
             run: None,
         }
     }
@@ -1688,19 +1715,32 @@ impl<'r, 'a> Summary<'r, 'a> {
         );
         let at = if a == b { a } else { format!("{a} … {b}") };
         let (name, detail) = match &run.status {
-            FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. } => (
+            FrameStatus::Limited { brk }
+            | FrameStatus::Searched { brk, .. }
+            | FrameStatus::Unreached { brk } => (
                 match run.status {
                     FrameStatus::Limited { .. } => format!("limited, held at {} {at}", r.value_name),
+                    FrameStatus::Unreached { .. } => "not reachable (no pose yet)".to_string(),
                     _ => format!("searched, break point {} {at}", r.value_name),
                 },
-                format!(
-                    "step {} broke ({}, gap {}{}): {}",
-                    brk.step,
-                    brk.kind.describe(),
-                    if run.first == run.last { "" } else { "up to " },
-                    num(run.worst),
-                    (r.explain)(brk.step)
-                ),
+                if brk.kind == BreakKind::OtherCircuit {
+                    // The step and gap are the limit's, not this frame's.
+                    format!(
+                        "{}; the limit was step {}: {}",
+                        brk.kind.describe(),
+                        brk.step,
+                        (r.explain)(brk.step)
+                    )
+                } else {
+                    format!(
+                        "step {} broke ({}, gap {}{}): {}",
+                        brk.step,
+                        brk.kind.describe(),
+                        if run.first == run.last { "" } else { "up to " },
+                        num(run.worst),
+                        (r.explain)(brk.step)
+                    )
+                },
             ),
             FrameStatus::Stretched { step, .. } => (
                 "stretched".to_string(),
@@ -1728,12 +1768,11 @@ impl FrameWriter for Summary<'_, '_> {
             FrameStatus::Limited { .. } => 1,
             FrameStatus::Searched { .. } => 2,
             FrameStatus::Stretched { .. } => 3,
+            FrameStatus::Unreached { .. } => 4,
         }] += 1;
         let this = break_of(&f.status);
         let alike = match (&self.run, this) {
-            (Some(run), Some((name, step, _))) => {
-                break_of(&run.status).is_some_and(|(n, s, _)| (n, s) == (name, step))
-            }
+            (Some(run), Some((key, _))) => break_of(&run.status).is_some_and(|(k, _)| k == key),
             _ => false,
         };
         if alike {
@@ -1741,11 +1780,11 @@ impl FrameWriter for Summary<'_, '_> {
             run.last = index;
             run.requested.1.clone_from(&f.requested);
             run.reached.1.clone_from(&f.inputs);
-            run.worst = run.worst.max(this.map_or(0.0, |t| t.2));
+            run.worst = run.worst.max(this.map_or(0.0, |t| t.1));
             return Ok(());
         }
         self.close(out)?;
-        if let Some((_, _, worst)) = this {
+        if let Some((_, worst)) = this {
             self.run = Some(Run {
                 first: index,
                 last: index,
@@ -1760,10 +1799,16 @@ impl FrameWriter for Summary<'_, '_> {
 
     fn end(&mut self, out: &mut dyn Write) -> io::Result<()> {
         self.close(out)?;
-        let [solved, limited, searched, stretched] = self.counts;
+        let [solved, limited, searched, stretched, unreached] = self.counts;
+        // Unreached frames only occur in sweeps that start out of reach.
+        let unreached = if unreached > 0 {
+            format!(", {unreached} not reachable")
+        } else {
+            String::new()
+        };
         writeln!(
             out,
-            "{} frames: {solved} solved, {limited} limited, {searched} searched, {stretched} stretched",
+            "{} frames: {solved} solved, {limited} limited, {searched} searched, {stretched} stretched{unreached}",
             self.counts.iter().sum::<usize>()
         )
     }

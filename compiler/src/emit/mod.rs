@@ -689,6 +689,10 @@ impl Emitter<'_> {
                         fn solve_batch(&self, inputs: &[f64], out: &mut [Pose], status: &mut [dofplan_runtime::FrameStatus]) {
                             self::solve_batch(inputs, out, status)
                         }
+
+                        fn solve_frames(&self, inputs: &[f64], out: &mut [Pose], status: &mut [dofplan_runtime::FrameStatus]) {
+                            self::solve_frames(inputs, out, status)
+                        }
                     }
                 },
             )
@@ -964,6 +968,17 @@ impl Emitter<'_> {
         /// # Panics
         /// If `inputs` or `out` is not `status.len()` rows long.
         pub fn solve_batch(inputs: &[f64], out: &mut [Pose], status: &mut [dofplan_runtime::FrameStatus]) {
+            solve_frames(inputs, out, status);
+            dofplan_runtime::batch::settle(&Plan, inputs, out, status)
+        }
+
+        /// Every frame of `inputs` on its own, from the drawn pose, as
+        /// [`solve_batch`] solves them before the holds past limits
+        /// (`dofplan_runtime::batch::settle`).
+        ///
+        /// # Panics
+        /// If `inputs` or `out` is not `status.len()` rows long.
+        pub fn solve_frames(inputs: &[f64], out: &mut [Pose], status: &mut [dofplan_runtime::FrameStatus]) {
             #[cfg(target_arch = "x86_64")]
             if std::arch::is_x86_feature_detected!("avx2") {
                 // SAFETY: this CPU has AVX2, checked just above.
@@ -972,8 +987,8 @@ impl Emitter<'_> {
             solve_batch_baseline(inputs, out, status)
         }
 
-        /// [`solve_batch`] for any CPU. Its own function, as the AVX2
-        /// one is, so that `solve_batch` does not hold a frame of lane
+        /// [`solve_frames`] for any CPU. Its own function, as the AVX2
+        /// one is, so that `solve_frames` does not hold a frame of lane
         /// temporaries on the stack beside the one it calls (unoptimised
         /// builds give every temporary a slot of its own).
         #[inline(never)]
@@ -981,7 +996,7 @@ impl Emitter<'_> {
             batch_in_lanes(inputs, out, status)
         }
 
-        /// [`solve_batch`] compiled for AVX2: a lane group in two
+        /// [`solve_frames`] compiled for AVX2: a lane group in two
         /// registers instead of four. The same operations in the same
         /// order (no fused multiply-add), so the same numbers.
         ///
@@ -1003,7 +1018,7 @@ impl Emitter<'_> {
                 match solve_lanes(&batch::group_inputs(inputs, g), batch::group_rows(out, g)) {
                     // A group that does not finish leaves its rows partly
                     // written: solving its frames one at a time rewrites
-                    // them (and `finish` holds those that break).
+                    // them (and `settle` holds those that break).
                     Ok(()) => batch::solved(status, g),
                     Err(_) => {
                         let lanes = dofplan_runtime::lanes::LANES;

@@ -43,7 +43,8 @@ impl Reach {
             FrameStatus::Solved => Reach::Solved,
             FrameStatus::Stretched { .. } => Reach::Stretched,
             FrameStatus::Searched { .. } => Reach::Searched,
-            FrameStatus::Limited { .. } => Reach::Limited,
+            // Unreached: no pose of the run yet, nothing to draw either.
+            FrameStatus::Limited { .. } | FrameStatus::Unreached { .. } => Reach::Limited,
         }
     }
 

@@ -73,7 +73,16 @@ pub fn circle_circle<T: Real>(
         // Concentric circles: no isolated intersection. Stretching puts the
         // point on the first circle, on the side of the last frame.
         lanes_differ::<T>(step)?;
-        ctx.fail(step, BreakKind::CirclesApart, (r1 - r2).value().abs())?;
+        // Equal radii too (within round-off): the circles coincide, and
+        // every point of them would do (a parallelogram at its change
+        // point), which is not the same news as circles apart.
+        let apart = (r1 - r2).value().abs();
+        let kind = if apart <= 1e-12 * (r1.value().abs() + r2.value().abs()) {
+            BreakKind::CirclesCoincide
+        } else {
+            BreakKind::CirclesApart
+        };
+        ctx.fail(step, kind, apart)?;
         let toward = sub(*last, c1);
         let n = dot(toward, toward).sqrt();
         let u = if n.value() > 0.0 {
@@ -296,6 +305,19 @@ mod tests {
         let mut b = Branch::Minus;
         let x = circle_circle(&mut ctx(), 0, [0.0, 0.0], 5.0, [8.0, 0.0], 5.0, &mut b, &mut last).unwrap();
         assert!((x[1] + 3.0).abs() < 1e-12);
+    }
+
+    #[test]
+    fn coincident_circles_are_named_as_such_not_apart() {
+        let mut last = [0.0; 2];
+        let mut b = Branch::Plus;
+        let e =
+            circle_circle(&mut ctx(), 3, [1.0, 2.0], 2.0, [1.0, 2.0], 2.0, &mut b, &mut last).unwrap_err();
+        assert_eq!((e.step, e.kind, e.gap), (3, BreakKind::CirclesCoincide, 0.0));
+        // Concentric with different radii: apart by their difference.
+        let e =
+            circle_circle(&mut ctx(), 3, [1.0, 2.0], 2.0, [1.0, 2.0], 0.5, &mut b, &mut last).unwrap_err();
+        assert_eq!((e.kind, e.gap), (BreakKind::CirclesApart, 1.5));
     }
 
     #[test]

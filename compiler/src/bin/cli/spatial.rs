@@ -269,7 +269,7 @@ fn frames(
         head.push("residual".into());
         writeln!(out, "{}", head.join(","))?;
     }
-    let mut counts = [0usize; 4];
+    let mut counts = [0usize; 5];
     let mut worst: f64 = 0.0;
     let mut broken = Vec::new();
     if form == Form3::Json {
@@ -291,6 +291,7 @@ fn frames(
             FrameStatus::Limited { .. } => 1,
             FrameStatus::Searched { .. } => 2,
             FrameStatus::Stretched { .. } => 3,
+            FrameStatus::Unreached { .. } => 4,
         }] += 1;
         if !status.is_solved() {
             broken.push(i);
@@ -358,10 +359,15 @@ fn frames(
         Form3::Json => writeln!(out, "]}}")?,
         Form3::Csv => {}
         Form3::Text => {
-            let [solved, limited, searched, stretched] = counts;
+            let [solved, limited, searched, stretched, unreached] = counts;
+            let unreached = if unreached > 0 {
+                format!(", {unreached} not reachable")
+            } else {
+                String::new()
+            };
             writeln!(
                 out,
-                "{}: {total} frames: {solved} solved, {limited} limited, {searched} searched, {stretched} stretched; \
+                "{}: {total} frames: {solved} solved, {limited} limited, {searched} searched, {stretched} stretched{unreached}; \
                  largest joint residual {worst:.2e}",
                 m.name
             )?;

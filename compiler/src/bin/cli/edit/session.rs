@@ -391,7 +391,7 @@ impl Session {
         };
         let detail = match status {
             FrameStatus::Solved => Value::Null,
-            FrameStatus::Limited { brk: b } => brk(b),
+            FrameStatus::Limited { brk: b } | FrameStatus::Unreached { brk: b } => brk(b),
             FrameStatus::Searched { brk: b, reached } => {
                 let mut v = brk(b);
                 v["reached"] = json!(reached);
@@ -420,7 +420,9 @@ impl Session {
 fn step_of(status: &FrameStatus) -> Option<u32> {
     match status {
         FrameStatus::Solved => None,
-        FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. } => Some(brk.step),
+        FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. } | FrameStatus::Unreached { brk } => {
+            Some(brk.step)
+        }
         FrameStatus::Stretched { step, .. } => Some(*step),
     }
 }

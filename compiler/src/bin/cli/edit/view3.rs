@@ -232,7 +232,9 @@ impl Session3 {
         };
         let detail = match status {
             FrameStatus::Solved => Value::Null,
-            FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. } => json!({
+            FrameStatus::Limited { brk }
+            | FrameStatus::Searched { brk, .. }
+            | FrameStatus::Unreached { brk } => json!({
                 "step": brk.step,
                 "explanation": format!("step {} of `dofplan plan`", brk.step),
                 "reason": brk.kind.describe(),
