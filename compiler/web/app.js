@@ -863,7 +863,7 @@ function showNumeric(editable) {
       options.push(`${body.markers[a].name}–${body.markers[b].name}`);
     }
   }
-  if (list.dataset.body !== body.name || list.options.length !== options.length) {
+  if (list.dataset.link !== body.name || list.options.length !== options.length) {
     list.replaceChildren(
       ...options.map((o) => {
         const option = document.createElement("option");
@@ -871,7 +871,7 @@ function showNumeric(editable) {
         return option;
       }),
     );
-    list.dataset.body = body.name;
+    list.dataset.link = body.name;
   }
   if (options.includes(chosen)) list.value = chosen;
   if (document.activeElement !== $("length")) $("length").value = fmt(pairLength().length);

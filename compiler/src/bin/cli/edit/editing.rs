@@ -727,7 +727,7 @@ mod tests {
         );
         assert!(d.get("broken").is_none());
         assert_eq!(w.planar().unwrap().mechanism.bodies.len(), 2);
-        w.handle(edits(r#"{"type":"save","id":4}"#), &vec![Pose::IDENTITY; 2])
+        w.handle(edits(r#"{"type":"save","id":4}"#), &[Pose::IDENTITY; 2])
             .unwrap();
         assert_eq!(std::fs::read_to_string(&path).unwrap(), PENDULUM);
         let _ = std::fs::remove_dir_all(&dir);
