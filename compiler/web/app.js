@@ -29,6 +29,7 @@ let userView = false; // zoomed or panned by the user: never refitted on its own
 let values = []; // slider values, one per input
 let grabbed = null; // {body, world} while dragging
 let documentFor = null; // the type of request the last document answered
+let shownFile = null; // the file the Open list last showed as the open one
 // The drawing's elements, found once (a frame of a 50-body chain would
 // otherwise spend its time in selector lookups).
 let parts = { markers: [], shapes: [], ground: [], joints: [], bodies: new Map() };
@@ -1141,7 +1142,10 @@ function showEditing() {
     list.appendChild(o);
   }
   list.disabled = e.files.length === 0;
-  if (e.files.includes(chosen)) list.value = chosen;
+  // The choice made stays; else the file open now is shown chosen.
+  if (e.files.includes(chosen) && chosen !== shownFile) list.value = chosen;
+  else if (e.files.includes(doc.file)) list.value = doc.file;
+  shownFile = doc.file;
   // A spatial page is a view of its file alone: another file is opened
   // by starting the editor with it.
   $("open").disabled = e.files.length === 0 || is3d();

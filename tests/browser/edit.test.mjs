@@ -149,6 +149,10 @@ function report(name, lat) {
   if (process.env.HIST) console.log(JSON.stringify(lat.rendered.map((x) => Math.round(x * 10) / 10)));
 }
 
+// Every editor page opened, with what it was opened on: none may log a
+// failed request or an error in its console while its editor runs.
+const PAGES = [];
+
 async function openEditor(browser, file, cwd = ROOT, viewport = { width: 1400, height: 860 }) {
   const { child, url } = await startEditor(file, cwd);
   const page = await browser.newPage({ viewport });
@@ -156,6 +160,7 @@ async function openEditor(browser, file, cwd = ROOT, viewport = { width: 1400, h
   // What a person would see in the browser's console: failed requests (a
   // 404 for /favicon.ico, say) and errors.
   page.problems = [];
+  PAGES.push([file ?? "a new document", page]);
   page.on("response", (r) => {
     if (r.status() >= 400) page.problems.push(`${r.status()} ${new URL(r.url()).pathname}`);
   });
@@ -326,6 +331,34 @@ async function broken(browser) {
   } finally {
     child.kill();
     rmSync(dir, { recursive: true, force: true });
+  }
+}
+
+async function numericRefused(browser) {
+  console.log("== mechanisms/slider_crank.toml: typed coordinates that would open a joint are refused with check's message");
+  const { child, page } = await openEditor(browser, "mechanisms/slider_crank.toml");
+  try {
+    await page.keyboard.press("e");
+    const s0 = (await markers(page))["slider.S"];
+    const [x, y] = await page.evaluate((p) => window.__dofplan.toPage(p), s0);
+    // Shift+click on the pin: the marker there (the slider's block, S).
+    await page.keyboard.down("Shift");
+    await page.mouse.click(x, y);
+    await page.keyboard.up("Shift");
+    const sel = await page.evaluate(() => window.__dofplan.selection());
+    check(sel && sel.name === "slider.S", `Shift+click selects slider.S (${JSON.stringify(sel)})`);
+    const before = await snapshot(page);
+    await page.fill("#marker-y", "1");
+    await page.press("#marker-y", "Enter");
+    const s = await statusOf(page);
+    check(
+      s.kind === "error" && s.text.includes("mechanisms/slider_crank.toml:") && s.text.includes("`S`"),
+      `slider.S typed off its slot's line is refused with check's message (${s.text.split("\n")[0]})`,
+    );
+    check(JSON.stringify(await snapshot(page)) === JSON.stringify(before), "and nothing changes");
+    await page.screenshot({ path: join(SHOTS, "numeric-refused.png") });
+  } finally {
+    child.kill();
   }
 }
 
@@ -1243,9 +1276,11 @@ const browser = await chromium.launch({
 });
 const ONLY = process.env.ONLY ? process.env.ONLY.split(",") : null;
 try {
-  for (const scenario of [baseline, fourbar, openChain, pendulum, limits, sliderCrank, empty, construct, files, broken, newFile, aids, spatial, stress]) {
+  for (const scenario of [baseline, fourbar, openChain, pendulum, limits, sliderCrank, empty, construct, files, broken, newFile, aids, numericRefused, spatial, stress]) {
     if (!ONLY || ONLY.includes(scenario.name)) await scenario(browser);
   }
+  const problems = PAGES.flatMap(([file, page]) => page.problems.map((p) => `${file}: ${p}`));
+  check(problems.length === 0, `no page had a failed request (no favicon 404) or a console error (${problems.join("; ") || "none"})`);
 } catch (e) {
   check(false, `the test ran to the end (${e.stack ?? e})`);
 } finally {

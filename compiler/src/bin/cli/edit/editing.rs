@@ -734,6 +734,52 @@ mod tests {
     }
 
     #[test]
+    fn a_spatial_file_that_does_not_load_is_fixed_as_text_and_saved_to_be_viewed() {
+        let dir = temp_dir("broken-spatial");
+        let good = std::fs::read_to_string(
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("../mechanisms/spatial/rssr.toml"),
+        )
+        .unwrap();
+        let typo = good.replace("kind = \"spherical\"", "kind = \"sferical\"");
+        assert_ne!(typo, good);
+        let path = dir.join("rssr.toml");
+        std::fs::write(&path, &typo).unwrap();
+        let mut w = Workspace::open(Some(&path), dir.clone()).unwrap();
+        assert!(w.describe()["broken"]["message"]
+            .as_str()
+            .unwrap()
+            .contains("sferical"));
+        let none = [Pose::IDENTITY];
+        let s = w
+            .handle(
+                Request::Text {
+                    id: 1,
+                    text: good.clone(),
+                },
+                &none,
+            )
+            .unwrap();
+        assert!(s.contains("loads now") && s.contains("dofplan edit"), "{s}");
+        // Shown, not edited, by this server: still text, saved as typed.
+        let d = w.describe();
+        assert_eq!(d["editing"]["editable"], false);
+        assert!(
+            d["broken"]["message"].as_str().unwrap().contains("spatial"),
+            "{d}"
+        );
+        w.handle(edits(r#"{"type":"save","id":2}"#), &none).unwrap();
+        assert_eq!(std::fs::read_to_string(&path).unwrap(), good);
+        assert!(
+            Workspace::open(Some(&path), dir.clone())
+                .unwrap()
+                .planar()
+                .is_none(),
+            "now a 3D view"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
     fn a_file_that_does_not_load_opened_from_the_list_is_shown_to_be_fixed() {
         let dir = temp_dir("broken-open");
         std::fs::create_dir_all(dir.join("sub")).unwrap();
