@@ -28,6 +28,8 @@ let view = { s: 1, ox: 0, oy: 0 };
 let userView = false; // zoomed or panned by the user: never refitted on its own
 let values = []; // slider values, one per input
 let grabbed = null; // {body, world} while dragging
+let documentFor = null; // the type of request the last document answered
+let shownFile = null; // the file the Open list last showed as the open one
 // The drawing's elements, found once (a frame of a 50-body chain would
 // otherwise spend its time in selector lookups).
 let parts = { markers: [], shapes: [], ground: [], joints: [], bodies: new Map() };
@@ -84,6 +86,9 @@ function receive(message) {
     // A document after the first one is an edit of the one on screen,
     // which keeps its view; an opened file is framed afresh.
     const refit = !doc || (answered && answered.message.type === "open");
+    // A document answers the request in flight (its frame, next, carries
+    // the id): a text the user typed is kept unless that text was applied.
+    documentFor = inFlight ? inFlight.message.type : null;
     setDocument(message);
     if (refit) fitView();
     else renderTraces();
@@ -92,6 +97,7 @@ function receive(message) {
   } else if (message.type === "error") {
     probe.errors.push(message.message);
     showStatus("error", message.message);
+    if (answered && answered.message.type === "text") showFileErrors(message.message, placesIn(message.message));
     if (answered && answered.message.type === "open" && /unsaved changes/.test(message.message)) {
       // Asked again, the same file is opened and the changes dropped.
       openDiscard = answered.message.name;
@@ -135,6 +141,15 @@ function setDocument(d) {
   buildInputs();
   buildDrawing();
   showEditing();
+  showFile();
+  showSweep();
+  document.title = `${d.file}${d.editing && d.editing.dirty ? " (unsaved)" : ""} — dofplan edit`;
+  if (d.broken) {
+    // Nothing to draw: the file's text and what is wrong with it are.
+    openTab("file");
+    $("hint").textContent = "The file does not load, so there is nothing to draw: fix its text in the File tab and Apply.";
+    showStatus("error", `${d.file} does not load: fix it in the File tab (its errors are marked there), then Apply.`);
+  } else if (!is3d()) $("hint").textContent = HINTS[mode];
 }
 
 // The drawn position and direction of marker `i`.
@@ -273,10 +288,24 @@ function buildDrawing() {
     const rect = el("rect", { class: "ground-hatch", width: 32, height: 10 }, g);
     parts.ground.push({ rect, line: el("line", { class: "ground-base" }, g), i });
   }
+  // A spatial ground: a mark (the planar pivot's triangle and hatching)
+  // under each of its markers, as the CLI's views draw it.
+  parts.marks = [];
+  if (is3d()) {
+    markerIndex.forEach((m, i) => {
+      if (!doc.bodies[m.body].fixed) return;
+      const g = el("g", { class: "ground-mark", "data-ground": m.key }, $("ground"));
+      el("polygon", { points: "0,0 -7,12 7,12" }, g);
+      el("path", { d: "M-11 12H11M-3.5 12L-8 17M1.5 12L-3 17M6.5 12L2 17M11.5 12L7 17" }, g);
+      parts.marks.push({ g, i });
+    });
+  }
   for (const j of doc.joints) {
     const g = el("g", { class: `joint ${j.kind}`, "data-joint": j.name }, $("joints"));
     const [a, b] = j.markers.map((k) => index.get(k));
-    const part = { joint: j, a, b };
+    const part = { joint: j, a, b, k: parts.joints.length };
+    // A spatial joint's axis, through its pin (drawn when the frame has it).
+    if (is3d()) part.axis = el("line", { class: "joint-axis", visibility: "hidden" }, g);
     if (j.kind !== "prismatic" || is3d()) {
       // A pin; in 3D every kind is drawn as one, named by its class.
       part.circle = el("circle", { r: 6 }, g);
@@ -296,6 +325,56 @@ function buildDrawing() {
 }
 
 // ---- view -----------------------------------------------------------------
+
+// The grid: off until toggled (G). When on, it is drawn under the
+// mechanism and every point placed by the pointer (a body's points, a new
+// marker, a marker dropped off every other marker) snaps to it.
+let gridOn = false;
+
+// The grid's spacing in world units: 1, 2 or 5 times a power of ten, the
+// smallest at least 24 pixels apart at this zoom.
+function gridStep() {
+  const want = 24 / view.s;
+  const power = 10 ** Math.floor(Math.log10(want));
+  for (const k of [1, 2, 5, 10]) if (k * power >= want) return k * power;
+  return 10 * power;
+}
+
+// `p` on the nearest grid point when the grid is on (the numbers rounded
+// to the grid's decimals, so 0.30000000000000004 is written 0.3).
+function snapped(p) {
+  if (!gridOn || is3d()) return p;
+  const step = gridStep();
+  const decimals = Math.max(0, -Math.floor(Math.log10(step)) + 1);
+  return p.map((v) => Number((Math.round(v / step) * step).toFixed(decimals)));
+}
+
+function drawGrid() {
+  const g = $("grid");
+  g.replaceChildren();
+  if (!gridOn || !doc || is3d()) return;
+  const rect = canvas.getBoundingClientRect();
+  const step = gridStep();
+  const [x0, x1] = [(0 - view.ox) / view.s, (rect.width - view.ox) / view.s];
+  const [y0, y1] = [(view.oy - rect.height) / view.s, view.oy / view.s];
+  const line = (k, vertical) => {
+    const v = k * step;
+    const major = k % 5 === 0;
+    const cls = k === 0 ? "axis-line" : major ? "major" : "";
+    if (vertical) el("line", { class: cls, x1: sx(v).toFixed(1), x2: sx(v).toFixed(1), y1: 0, y2: rect.height }, g);
+    else el("line", { class: cls, y1: sy(v).toFixed(1), y2: sy(v).toFixed(1), x1: 0, x2: rect.width }, g);
+  };
+  for (let k = Math.ceil(x0 / step); k <= Math.floor(x1 / step); k++) line(k, true);
+  for (let k = Math.ceil(y0 / step); k <= Math.floor(y1 / step); k++) line(k, false);
+  g.dataset.step = String(step);
+}
+
+function setGrid(on) {
+  gridOn = on;
+  $("grid-toggle").setAttribute("aria-pressed", String(on));
+  drawGrid();
+}
+$("grid-toggle").addEventListener("click", () => setGrid(!gridOn));
 
 function fitView() {
   if (!doc) return;
@@ -351,7 +430,33 @@ function renderTraces() {
       .join("");
     canvas.querySelector(`path[data-trace="${CSS.escape(key)}"]`).setAttribute("d", d);
   }
+  drawGrid();
+  drawFloor();
   draw();
+}
+
+// The floor of a spatial view: a grid on the plane under the lowest point
+// the sweep reaches, over the box it stays in, so depth reads at a glance.
+function drawFloor() {
+  const g = $("floor");
+  g.replaceChildren();
+  if (!doc || !is3d()) return;
+  const [x0, y0, z0, x1, y1] = doc.bounds;
+  if (![x0, y0, z0, x1, y1].every(Number.isFinite)) return;
+  const size = doc.size || Math.max(x1 - x0, y1 - y0, 1);
+  const want = size / 6;
+  const power = 10 ** Math.floor(Math.log10(want));
+  const step = [1, 2, 5, 10].map((k) => k * power).find((v) => v >= want);
+  const [a0, a1] = [Math.floor((x0 - 0.25 * size) / step), Math.ceil((x1 + 0.25 * size) / step)];
+  const [b0, b1] = [Math.floor((y0 - 0.25 * size) / step), Math.ceil((y1 + 0.25 * size) / step)];
+  const line = (p, q) => {
+    const [[px, py], [qx, qy]] = [toScreen(p), toScreen(q)];
+    el("line", { class: "floor-line", x1: px.toFixed(1), y1: py.toFixed(1), x2: qx.toFixed(1), y2: qy.toFixed(1) }, g);
+  };
+  for (let a = a0; a <= a1; a++) line([a * step, b0 * step, z0], [a * step, b1 * step, z0]);
+  for (let b = b0; b <= b1; b++) line([a0 * step, b * step, z0], [a1 * step, b * step, z0]);
+  g.dataset.step = String(step);
+  g.dataset.z = String(z0);
 }
 
 function inView(points) {
@@ -403,12 +508,16 @@ function setFrame(frame, answered) {
     });
   }
   showValues(frame.inputs);
+  // The selected marker's coordinates and link's lengths follow the pose.
+  if (selection && selection.kind !== "joint") showNumeric(Boolean(doc.editing && doc.editing.editable));
   // A pose that has left the view is brought back into it, but never
   // while dragging: the view would slide under the pointer.
   if (!grabbed && !userView && !inView(frame.markers)) fitView();
   draw();
-  if (frame.edited !== undefined) showStatus("edited", frame.edited);
-  else showFrameStatus(frame);
+  // A file that does not load has no motion to report: its status is
+  // what is wrong with it (or what its fix so far did).
+  if (frame.edited !== undefined) showStatus(doc.broken ? "error" : "edited", frame.edited);
+  else if (!doc.broken) showFrameStatus(frame);
   probe.frames++;
   if (answered && answered.message.type === "grab") probe.grabMs = frame.server_ms;
   if (answered && answered.message.type === "drag") {
@@ -465,8 +574,21 @@ function draw() {
     rect.setAttribute("y", (y + 7).toFixed(2));
     for (const [k, v] of Object.entries({ x1: x - 18, x2: x + 18, y1: y + 7, y2: y + 7 })) line.setAttribute(k, v.toFixed(2));
   }
-  for (const { joint, a, b, label, circle, rect, line } of parts.joints) {
+  for (const { g, i } of parts.marks || []) {
+    g.setAttribute("transform", `translate(${screen[i][0].toFixed(2)} ${screen[i][1].toFixed(2)})`);
+  }
+  for (const { joint, a, b, k, label, circle, rect, line, axis } of parts.joints) {
     const [x, y] = screen[b];
+    if (axis) {
+      const dir = pose.axes && pose.axes[k];
+      axis.setAttribute("visibility", dir ? "visible" : "hidden");
+      if (dir) {
+        const r = 0.18 * (doc.size || 1);
+        const at = world[b];
+        const [p, q] = [-r, r].map((t) => toScreen([at[0] + t * dir[0], at[1] + t * dir[1], at[2] + t * dir[2]]));
+        for (const [name, v] of Object.entries({ x1: p[0], y1: p[1], x2: q[0], y2: q[1] })) axis.setAttribute(name, v.toFixed(2));
+      }
+    }
     if (label) {
       label.setAttribute("x", (x + 9).toFixed(2));
       label.setAttribute("y", (y - 9).toFixed(2));
@@ -622,18 +744,20 @@ function sendEdits(edits) {
   enqueue({ type: "edit", edits }, performance.now());
 }
 
+const HINTS = {
+  move: "Drag any moving body with the mouse; the sliders drive the inputs.",
+  edit: "Click a joint, marker or body to select it. Drag a marker to move it; drop it on another body's marker to join them.",
+  body: "Click two or more points (on a marker to join there); Enter or double-click finishes, Escape cancels.",
+  marker: "Click on a body to add a marker to it, or off every body to add one to the ground.",
+};
+
 function setMode(next) {
   mode = next;
   sketch = [];
   moving = null;
   for (const b of document.querySelectorAll("#modes button")) b.classList.toggle("active", b.dataset.mode === mode);
   canvas.dataset.mode = mode;
-  $("hint").textContent = {
-    move: "Drag any moving body with the mouse; the sliders drive the inputs.",
-    edit: "Click a joint, marker or body to select it. Drag a marker to move it; drop it on another body's marker to join them.",
-    body: "Click two or more points (on a marker to join there); Enter or double-click finishes, Escape cancels.",
-    marker: "Click on a body to add a marker to it, or off every body to add one to the ground.",
-  }[mode];
+  $("hint").textContent = HINTS[mode];
   draw();
 }
 
@@ -709,7 +833,284 @@ function markSelection() {
   }
   $("make-input").disabled = !editable || !joint || driven;
   $("delete").disabled = !editable || !selection;
+  showNumeric(editable);
+  const marker = selection && selection.kind === "marker" ? selection.name : null;
+  const traced = Boolean(marker && doc.sweep && (doc.sweep.trace || []).includes(marker));
+  $("trace").disabled = !editable || !marker || !doc.sweep;
+  $("trace").setAttribute("aria-pressed", String(traced));
+  $("trace").title = doc && doc.sweep ? "Trace the selected marker over the sweep, or stop tracing it (T)" : "Set a sweep first (the Sweep box beside the drawing)";
+  drawLengths();
 }
+
+// Numeric entry: the selected marker's coordinates, or a length of the
+// selected link, as the pose on screen has them (a field being typed in
+// is left alone).
+function showNumeric(editable) {
+  const marker = editable && pose && selection && selection.kind === "marker" ? markerIndex.findIndex((m) => m.key === selection.name) : -1;
+  $("marker-box").hidden = marker < 0;
+  if (marker >= 0) {
+    const [x, y] = pose.markers[marker];
+    if (document.activeElement !== $("marker-x")) $("marker-x").value = fmt(x);
+    if (document.activeElement !== $("marker-y")) $("marker-y").value = fmt(y);
+  }
+  const body = editable && pose && selection && selection.kind === "body" ? doc.bodies.find((b) => b.name === selection.name) : null;
+  $("length-box").hidden = !body || body.markers.length < 2;
+  if (!body || body.markers.length < 2) return;
+  const list = $("length-pair");
+  const chosen = list.value;
+  const options = [];
+  for (let a = 0; a < body.markers.length; a++) {
+    for (let b = a + 1; b < body.markers.length && options.length < 28; b++) {
+      options.push(`${body.markers[a].name}–${body.markers[b].name}`);
+    }
+  }
+  if (list.dataset.link !== body.name || list.options.length !== options.length) {
+    list.replaceChildren(
+      ...options.map((o) => {
+        const option = document.createElement("option");
+        option.value = option.textContent = o;
+        return option;
+      }),
+    );
+    list.dataset.link = body.name;
+  }
+  if (options.includes(chosen)) list.value = chosen;
+  if (document.activeElement !== $("length")) $("length").value = fmt(pairLength().length);
+}
+
+// The selected link's chosen pair: their keys, positions and distance.
+function pairLength() {
+  const [a, b] = $("length-pair").value.split("–").map((m) => `${selection.name}.${m}`);
+  const [pa, pb] = [a, b].map((key) => pose.markers[markerIndex.findIndex((m) => m.key === key)]);
+  return { a, b, pa, pb, length: Math.hypot(pb[0] - pa[0], pb[1] - pa[1]) };
+}
+
+function moveSelectedMarker() {
+  if (!selection || selection.kind !== "marker") return;
+  const [x, y] = [Number($("marker-x").value), Number($("marker-y").value)];
+  if ($("marker-x").value.trim() === "" || $("marker-y").value.trim() === "" || !Number.isFinite(x) || !Number.isFinite(y)) {
+    showStatus("error", "a marker's coordinates are two numbers");
+    return;
+  }
+  sendEdits([{ op: "move_marker", marker: selection.name, to: [x, y] }]);
+}
+for (const id of ["marker-x", "marker-y"]) {
+  $(id).addEventListener("keydown", (e) => {
+    if (e.key === "Enter") moveSelectedMarker();
+  });
+}
+
+// A typed length moves the pair's second marker along the line from the
+// first (with what is pinned to it, as a drag of it would).
+function setLength() {
+  if (!selection || selection.kind !== "body") return;
+  const want = Number($("length").value);
+  if ($("length").value.trim() === "" || !Number.isFinite(want) || want <= 0) {
+    showStatus("error", "a length is a number above 0");
+    return;
+  }
+  const { b, pa, pb, length } = pairLength();
+  const [ux, uy] = length > 1e-12 ? [(pb[0] - pa[0]) / length, (pb[1] - pa[1]) / length] : [1, 0];
+  sendEdits([{ op: "move_marker", marker: b, to: [pa[0] + want * ux, pa[1] + want * uy] }]);
+}
+$("length").addEventListener("keydown", (e) => {
+  if (e.key === "Enter") setLength();
+});
+$("length-pair").addEventListener("change", () => {
+  $("length").value = fmt(pairLength().length);
+  drawLengths();
+});
+
+function toggleTrace() {
+  if (!selection || selection.kind !== "marker" || !doc.editing.editable) return;
+  if (!doc.sweep) {
+    showStatus("error", "the file has no sweep to trace a marker over: set one in the Sweep box first");
+    return;
+  }
+  const on = !(doc.sweep.trace || []).includes(selection.name);
+  sendEdits([{ op: "trace", marker: selection.name, on }]);
+}
+$("trace").addEventListener("click", toggleTrace);
+
+// ---- the sweep editor -------------------------------------------------------
+
+function showSweep() {
+  const s = doc.sweep;
+  const editable = Boolean(doc.editing && doc.editing.editable);
+  const first = s && s.inputs[0];
+  const name = (k) => (doc.inputs[k] ? doc.inputs[k].name : `#${k}`);
+  $("sweep-summary").textContent = s
+    ? `Sweep: ${s.inputs.map((w) => `${name(w.input)} ${fmt(w.from)} → ${fmt(w.to)}`).join(", ")}, ${s.steps} steps`
+    : doc.inputs.length
+      ? "Sweep: none (set one to play the motion and trace markers)"
+      : "Sweep: none (mark a joint as an input first)";
+  const list = $("sweep-input");
+  const chosen = list.value;
+  list.replaceChildren(
+    ...doc.inputs.map((input) => {
+      const o = document.createElement("option");
+      o.value = o.textContent = input.name;
+      return o;
+    }),
+  );
+  if (first) list.value = name(first.input);
+  else if (doc.inputs.some((i) => i.name === chosen)) list.value = chosen;
+  const input = doc.inputs.find((i) => i.name === list.value);
+  const typing = (id) => document.activeElement === $(id);
+  if (!typing("sweep-from")) $("sweep-from").value = first ? fmt(first.from) : input && input.kind === "slide" ? fmt(-doc.size) : "0";
+  if (!typing("sweep-to")) $("sweep-to").value = first ? fmt(first.to) : input && input.kind === "slide" ? fmt(doc.size) : "360";
+  if (!typing("sweep-steps")) $("sweep-steps").value = s ? String(s.steps) : input && input.kind === "slide" ? "101" : "361";
+  for (const id of ["sweep-input", "sweep-from", "sweep-to", "sweep-steps", "sweep-set"]) $(id).disabled = !editable || !doc.inputs.length;
+  $("sweep-delete").disabled = !editable || !s;
+  const traced = $("traced");
+  traced.replaceChildren();
+  if (s) {
+    const label = document.createElement("span");
+    label.textContent = (s.trace || []).length ? "traced:" : "no marker traced (select one, then Trace or T)";
+    traced.appendChild(label);
+    for (const key of s.trace || []) {
+      const chip = document.createElement("span");
+      chip.className = "chip";
+      chip.dataset.traced = key;
+      chip.textContent = key;
+      const remove = document.createElement("button");
+      remove.type = "button";
+      remove.textContent = "×";
+      remove.title = `stop tracing ${key}`;
+      remove.disabled = !editable;
+      remove.addEventListener("click", () => sendEdits([{ op: "trace", marker: key, on: false }]));
+      chip.appendChild(remove);
+      traced.appendChild(chip);
+    }
+  }
+}
+
+function setSweep() {
+  const [from, to, steps] = ["sweep-from", "sweep-to", "sweep-steps"].map((id) => Number($(id).value));
+  if (![from, to, steps].every(Number.isFinite) || !Number.isInteger(steps) || steps < 0) {
+    showStatus("error", "a sweep is two numbers (from, to) and a whole number of steps");
+    return;
+  }
+  sendEdits([{ op: "set_sweep", input: $("sweep-input").value, from, to, steps }]);
+}
+$("sweep-set").addEventListener("click", setSweep);
+for (const id of ["sweep-from", "sweep-to", "sweep-steps"]) {
+  $(id).addEventListener("keydown", (e) => {
+    if (e.key === "Enter") setSweep();
+  });
+}
+$("sweep-delete").addEventListener("click", () => sendEdits([{ op: "delete_sweep" }]));
+
+// ---- the File tab: the file's text, and a file that does not load -----------
+
+let textTyped = false; // the text area holds typing not applied yet
+
+function showFile() {
+  const area = $("file-text");
+  const text = doc.editing ? doc.editing.text : null;
+  area.disabled = text === null || text === undefined;
+  $("file-apply").disabled = area.disabled;
+  $("file-revert").disabled = area.disabled;
+  if (area.disabled) {
+    area.value = "";
+    $("file-note").textContent = doc.editing && doc.editing.why ? `shown, not edited: ${doc.editing.why}` : "";
+  } else if (!textTyped || documentFor === "text" || documentFor === "open") {
+    area.value = text;
+    textTyped = false;
+    $("file-note").textContent = "";
+  } else {
+    $("file-note").textContent = "the document changed since you typed here: Revert shows it";
+  }
+  if (doc.broken) showFileErrors(doc.broken.message, doc.broken.errors);
+  else showFileErrors(null, []);
+}
+
+// The errors above the text, each place a button that selects it in the
+// text; the gutter marks their lines.
+let errorLines = new Set();
+function showFileErrors(message, errors) {
+  const box = $("file-errors");
+  box.hidden = !message;
+  box.replaceChildren();
+  errorLines = new Set();
+  if (message) {
+    for (const e of errors) {
+      const go = document.createElement("button");
+      go.type = "button";
+      go.className = "goto";
+      go.dataset.line = e.line;
+      go.textContent = `line ${e.line}, column ${e.column}`;
+      go.title = e.message;
+      go.addEventListener("click", () => selectInText(e));
+      box.appendChild(go);
+      for (let l = e.line; l <= Math.max(e.line, e.end_line); l++) errorLines.add(l);
+    }
+    const pre = document.createElement("div");
+    pre.textContent = message;
+    box.appendChild(pre);
+  }
+  renderGutter();
+}
+
+// The places a refusal's message points at (`file:line:column`).
+function placesIn(message) {
+  const places = [];
+  for (const m of message.matchAll(/:(\d+):(\d+)/g)) {
+    const [line, column] = [Number(m[1]), Number(m[2])];
+    if (!places.some((p) => p.line === line && p.column === column)) places.push({ line, column, end_line: line, end_column: column + 1, message: "" });
+  }
+  return places;
+}
+
+function renderGutter() {
+  const lines = $("file-text").value.split("\n").length;
+  const gutter = $("file-gutter");
+  gutter.replaceChildren();
+  for (let l = 1; l <= lines; l++) {
+    const span = document.createElement("span");
+    span.textContent = String(l);
+    if (errorLines.has(l)) span.className = "error-line";
+    gutter.append(span, "\n");
+  }
+  gutter.scrollTop = $("file-text").scrollTop;
+}
+
+// Selects an error's place in the text and scrolls to it.
+function selectInText(e) {
+  const area = $("file-text");
+  const lines = area.value.split("\n");
+  const offset = (line, column) => lines.slice(0, line - 1).reduce((n, l) => n + l.length + 1, 0) + column - 1;
+  const start = offset(e.line, e.column);
+  const end = Math.max(start + 1, offset(e.end_line, e.end_column));
+  area.focus();
+  area.setSelectionRange(start, Math.min(end, area.value.length));
+  area.scrollTop = Math.max(0, (e.line - 3) * 16);
+  $("file-gutter").scrollTop = area.scrollTop;
+}
+
+function applyText() {
+  if ($("file-text").disabled) return;
+  enqueue({ type: "text", text: $("file-text").value }, performance.now());
+}
+$("file-apply").addEventListener("click", applyText);
+$("file-revert").addEventListener("click", () => {
+  textTyped = false;
+  documentFor = "text";
+  showFile();
+});
+$("file-text").addEventListener("input", () => {
+  textTyped = true;
+  renderGutter();
+});
+$("file-text").addEventListener("scroll", () => {
+  $("file-gutter").scrollTop = $("file-text").scrollTop;
+});
+$("file-text").addEventListener("keydown", (e) => {
+  if (e.key === "Enter" && (e.ctrlKey || e.metaKey)) {
+    e.preventDefault();
+    applyText();
+  }
+});
 
 // The editing controls as the document allows them.
 function showEditing() {
@@ -741,10 +1142,16 @@ function showEditing() {
     list.appendChild(o);
   }
   list.disabled = e.files.length === 0;
-  if (e.files.includes(chosen)) list.value = chosen;
+  // The choice made stays; else the file open now is shown chosen.
+  if (e.files.includes(chosen) && chosen !== shownFile) list.value = chosen;
+  else if (e.files.includes(doc.file)) list.value = doc.file;
+  shownFile = doc.file;
   // A spatial page is a view of its file alone: another file is opened
   // by starting the editor with it.
   $("open").disabled = e.files.length === 0 || is3d();
+  // The grid is the drawing plane's: a spatial view has its floor instead.
+  $("grid-toggle").disabled = is3d();
+  if (is3d() && gridOn) setGrid(false);
   list.disabled ||= is3d();
   markSelection();
 }
@@ -855,11 +1262,11 @@ canvas.addEventListener("pointerdown", (event) => {
   const at = toWorld(event);
   if (mode === "body") {
     const near = markerNear(p);
-    sketch.push(near ? { at: pose.markers[near.i].slice(), key: near.key } : { at, key: null });
+    sketch.push(near ? { at: pose.markers[near.i].slice(), key: near.key } : { at: snapped(at), key: null });
     draw();
   } else if (mode === "marker") {
     const body = bodyUnder(event) ?? doc.bodies.find((b) => b.fixed).name;
-    sendEdits([{ op: "add_marker", body, at }]);
+    sendEdits([{ op: "add_marker", body, at: snapped(at) }]);
   } else if (mode === "edit") {
     const near = markerNear(p);
     const joint = jointNear(p);
@@ -898,17 +1305,47 @@ canvas.addEventListener("pointermove", (event) => {
     return;
   }
   if (mode === "body") {
-    hover = toWorld(event);
+    const near = pose && markerNear(screenOf(event));
+    hover = near ? pose.markers[near.i].slice() : snapped(toWorld(event));
     drawPreview();
   } else if (moving) {
     const p = screenOf(event);
     moving.moved ||= Math.hypot(p[0] - moving.from[0], p[1] - moving.from[1]) > 3;
     const target = markerNear(p, moving.body);
     moving.target = target ? target.key : null;
-    moving.at = target ? pose.markers[target.i].slice() : toWorld(event);
+    moving.at = target ? pose.markers[target.i].slice() : snapped(toWorld(event));
     drawPreview();
   }
+  showPointer(event);
 });
+canvas.addEventListener("pointerleave", () => {
+  $("pointer").textContent = "";
+});
+
+// The pointer's world coordinates (where a click would put a point: on the
+// grid when it is on), and while drawing or dragging a marker, the length
+// being drawn.
+function showPointer(event) {
+  if (!doc || is3d()) {
+    $("pointer").textContent = "";
+    return;
+  }
+  let at = snapped(toWorld(event));
+  if (mode === "body" && hover) at = hover;
+  if (moving && moving.moved) at = moving.at;
+  let text = `x ${fmt(at[0])}  y ${fmt(at[1])}`;
+  if (mode === "body" && sketch.length) {
+    const last = sketch[sketch.length - 1].at;
+    text += `  length ${fmt(Math.hypot(at[0] - last[0], at[1] - last[1]))}`;
+  }
+  $("pointer").textContent = text;
+}
+
+// A length or coordinate as the page shows it: at most 4 decimals.
+function fmt(v) {
+  const r = Number(v.toFixed(4));
+  return Object.is(r, -0) ? "0" : String(r);
+}
 
 function endPointer() {
   orbiting = null;
@@ -965,6 +1402,42 @@ function drawPreview() {
     const [x1, y1] = moving.at;
     el("line", { class: "move-line", x1: sx(x0), y1: sy(y0), x2: sx(x1), y2: sy(y1) }, g);
     el("circle", { class: moving.target ? "move-ghost snapped" : "move-ghost", r: moving.target ? 7 : 4.5, cx: sx(x1), cy: sy(y1) }, g);
+  }
+  drawLengths();
+}
+
+// Lengths written along what is being drawn or dragged, and along the
+// selected link's sides: the body being drawn (each segment, to the
+// pointer too), a dragged marker's distances to its body's other markers,
+// a selected link's (its outline's sides).
+function drawLengths() {
+  const g = $("lengths");
+  g.replaceChildren();
+  if (!doc || !pose || is3d()) return;
+  const pairs = [];
+  if (mode === "body" && sketch.length) {
+    const points = sketch.map((p) => p.at);
+    if (hover) points.push(hover);
+    for (let k = 1; k < points.length; k++) pairs.push([points[k - 1], points[k]]);
+  } else if (moving && moving.moved) {
+    const i = markerIndex.findIndex((m) => m.key === moving.key);
+    markerIndex.forEach((m, j) => {
+      if (j !== i && m.body === moving.body && !doc.bodies[m.body].fixed) pairs.push([pose.markers[j], moving.at]);
+    });
+  } else if (selection && selection.kind === "body") {
+    const bi = doc.bodies.findIndex((b) => b.name === selection.name);
+    const outline = hulls[bi] || [];
+    const sides = outline.length === 2 ? [[outline[0], outline[1]]] : outline.map((a, k) => [a, outline[(k + 1) % outline.length]]);
+    for (const [a, b] of sides) pairs.push([pose.markers[a], pose.markers[b]]);
+  }
+  for (const [a, b] of pairs) {
+    const length = Math.hypot(b[0] - a[0], b[1] - a[1]);
+    if (length < 1e-12) continue;
+    // Beside the side's middle, on its left as drawn.
+    const [mx, my] = [sx((a[0] + b[0]) / 2), sy((a[1] + b[1]) / 2)];
+    const [nx, ny] = [-(b[1] - a[1]) / length, -(b[0] - a[0]) / length];
+    const label = el("text", { class: "length-label", x: (mx + 12 * nx - 14).toFixed(1), y: (my + 12 * ny + 4).toFixed(1) }, g);
+    label.textContent = fmt(length);
   }
 }
 
@@ -1039,6 +1512,8 @@ document.addEventListener("keydown", (event) => {
   else if (key === "p") toggleJoint("prismatic");
   else if (key === "i") makeInput();
   else if (key === "f") fitView();
+  else if (key === "g") setGrid(!gridOn);
+  else if (key === "t") toggleTrace();
   else if (!(doc && doc.editing.editable) && key !== "m") return;
   else if (key === "m") setMode("move");
   else if (key === "e") setMode("edit");
@@ -1054,11 +1529,13 @@ document.addEventListener("keyup", (event) => {
 
 // ---- panels ------------------------------------------------------------------------
 
+function openTab(name) {
+  for (const t of document.querySelectorAll("#tabs button")) t.classList.toggle("active", t.dataset.tab === name);
+  for (const p of document.querySelectorAll(".panel")) p.hidden = p.dataset.panel !== name;
+  if (name === "file") renderGutter();
+}
 for (const tab of document.querySelectorAll("#tabs button")) {
-  tab.addEventListener("click", () => {
-    for (const t of document.querySelectorAll("#tabs button")) t.classList.toggle("active", t === tab);
-    for (const p of document.querySelectorAll(".panel")) p.hidden = p.dataset.panel !== tab.dataset.tab;
-  });
+  tab.addEventListener("click", () => openTab(tab.dataset.tab));
 }
 
 $("policy").addEventListener("change", () => {
@@ -1079,6 +1556,8 @@ probe.toPage = (p) => {
   return [rect.left + x, rect.top + y];
 };
 probe.camera = () => ({ ...camera });
+probe.gridStep = () => (gridOn ? gridStep() : null);
+probe.project = (p) => toScreen(p);
 
 new ResizeObserver(() => {
   if (userView) renderTraces();

@@ -11,7 +11,7 @@
 // first failed check, after printing what failed.
 
 import { spawn, execFileSync } from "node:child_process";
-import { existsSync, mkdirSync, mkdtempSync, readFileSync, rmSync } from "node:fs";
+import { existsSync, mkdirSync, mkdtempSync, readdirSync, readFileSync, rmSync, writeFileSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { createInterface } from "node:readline";
 import { dirname, join, resolve } from "node:path";
@@ -149,13 +149,392 @@ function report(name, lat) {
   if (process.env.HIST) console.log(JSON.stringify(lat.rendered.map((x) => Math.round(x * 10) / 10)));
 }
 
-async function openEditor(browser, file, cwd = ROOT) {
+// Every editor page opened, with what it was opened on: none may log a
+// failed request or an error in its console while its editor runs.
+const PAGES = [];
+
+async function openEditor(browser, file, cwd = ROOT, viewport = { width: 1400, height: 860 }) {
   const { child, url } = await startEditor(file, cwd);
-  const page = await browser.newPage({ viewport: { width: 1400, height: 860 } });
+  const page = await browser.newPage({ viewport });
   page.on("pageerror", (e) => check(false, `no script error on the page (${e.message})`));
+  // What a person would see in the browser's console: failed requests (a
+  // 404 for /favicon.ico, say) and errors.
+  page.problems = [];
+  PAGES.push([file ?? "a new document", page]);
+  page.on("response", (r) => {
+    if (r.status() >= 400) page.problems.push(`${r.status()} ${new URL(r.url()).pathname}`);
+  });
+  page.on("requestfailed", (r) => page.problems.push(`failed ${r.url()}`));
+  page.on("console", (m) => {
+    if (m.type() === "error") page.problems.push(`console: ${m.text()}`);
+  });
   await page.goto(url);
   await settled(page);
   return { child, page, url };
+}
+
+/** Every `.toml` file under `dir` (relative, with "/"), not in target/ or
+ * hidden folders: to compare the Open list with. */
+function tomlFiles(dir, prefix = "") {
+  const out = [];
+  for (const e of readdirSync(join(dir, prefix), { withFileTypes: true })) {
+    if (e.name.startsWith(".") || e.name === "target" || e.name === "node_modules") continue;
+    const rel = prefix ? `${prefix}/${e.name}` : e.name;
+    if (e.isDirectory()) out.push(...tomlFiles(dir, rel));
+    else if (e.isFile() && e.name.endsWith(".toml")) out.push(rel);
+  }
+  return out;
+}
+
+/** The status box after the page's last request is answered. */
+async function statusOf(page) {
+  await settled(page);
+  return page.$eval("#status", (e) => ({ kind: e.dataset.status, text: e.textContent }));
+}
+
+/** Whether an element's content fits its box sideways (wrapped, or
+ * scrolled within itself), and its box is within the viewport. */
+async function fits(page, selector) {
+  return page.$eval(selector, (e) => {
+    const r = e.getBoundingClientRect();
+    return {
+      wraps: e.scrollWidth <= e.clientWidth + 1,
+      inside: r.right <= window.innerWidth + 0.5 && r.bottom <= window.innerHeight + 0.5 && r.top >= 0,
+      scrolls: e.scrollHeight <= e.clientHeight + 1 || ["auto", "scroll"].includes(getComputedStyle(e).overflowY),
+      mono: getComputedStyle(e).fontFamily.includes("mono"),
+    };
+  });
+}
+
+async function files(browser) {
+  console.log("== the editor started at the repository's root: Open lists the mechanisms in its folders");
+  const { child, page } = await openEditor(browser, null);
+  try {
+    const listed = await page.$$eval("#open-file option", (os) => os.map((o) => o.value));
+    const mechanisms = tomlFiles(ROOT).filter((f) => f.startsWith("mechanisms/"));
+    check(
+      mechanisms.length > 10 && mechanisms.every((f) => listed.includes(f)),
+      `every .toml of mechanisms/ and its folders is listed (${mechanisms.length}; missing: ${mechanisms.filter((f) => !listed.includes(f)).join(", ") || "none"})`,
+    );
+    check(listed.includes("mechanisms/spatial/rssr.toml"), "a file two folders down is listed (mechanisms/spatial/rssr.toml)");
+    const others = listed.filter((f) => f.endsWith("Cargo.toml") || f === "rustfmt.toml" || f.startsWith("target/") || f.includes("/."));
+    check(others.length === 0, `no Cargo.toml, rustfmt.toml, target/ or hidden file is listed (${others.join(", ") || "none"}; ${listed.length} listed)`);
+    // A person picks one and presses Open.
+    await page.selectOption("#open-file", "mechanisms/fourbar.toml");
+    await page.click("#open");
+    const s = await statusOf(page);
+    const bodies = await page.$$eval("g[data-body]", (els) => els.map((e) => e.dataset.body));
+    check(
+      s.text === "opened mechanisms/fourbar.toml" && bodies.join() === "ground,crank,coupler,rocker",
+      `Open reads a file of a folder (${s.text}; ${bodies})`,
+    );
+    const title = await page.title();
+    check(title.startsWith("mechanisms/fourbar.toml"), `the page's title names the file (${title})`);
+    check((await page.$eval('[data-panel="check"]', (e) => e.textContent)) === dofplan("check", "mechanisms/fourbar.toml"), "its Check panel is `dofplan check` run at the root");
+    await page.screenshot({ path: join(SHOTS, "files-open-list.png") });
+    check(page.problems.length === 0, `no failed request or console error, favicon included (${page.problems.join("; ") || "none"})`);
+  } finally {
+    child.kill();
+  }
+}
+
+// fourbar with a typo in one joint's marker and a misspelt kind: two
+// errors with places in the text.
+const TYPO = readFileSync(join(ROOT, "mechanisms/fourbar.toml"), "utf8")
+  .replace('markers = ["crank.B", "coupler.B"]', 'markers = ["crank.B", "coupler.Q"]')
+  .replace('[joints.D]\nkind = "revolute"', '[joints.D]\nkind = "revolut"');
+
+async function broken(browser) {
+  console.log("== `dofplan edit typo.toml`: a file that does not load opens with its errors, and is fixed in the page");
+  const dir = mkdtempSync(join(tmpdir(), "dofplan-edit-"));
+  writeFileSync(join(dir, "typo.toml"), TYPO);
+  const { child, page } = await openEditor(browser, "typo.toml", dir);
+  try {
+    const expected = (() => {
+      try {
+        execFileSync(BIN, ["check", "typo.toml"], { cwd: dir, encoding: "utf8", stdio: "pipe" });
+        return "";
+      } catch (e) {
+        return e.stderr;
+      }
+    })();
+    check(expected.includes("coupler.Q"), "`dofplan check typo.toml` refuses it (the test's premise)");
+    const tab = await page.$eval("#tabs button.active", (b) => b.dataset.tab);
+    const shown = await page.$eval("#file-errors", (e) => (e.hidden ? "" : e.textContent));
+    const text = await page.$eval("#file-text", (e) => e.value);
+    check(tab === "file" && text === TYPO, `the page opens on the File tab with the file's text (${tab})`);
+    check(shown.includes("coupler.Q") && shown.includes("revolut"), "its errors are shown above the text");
+    check((await page.$eval('[data-panel="check"]', (e) => e.textContent)).trim() === expected.trim(), "the Check panel is `dofplan check`'s report");
+    const qLine = TYPO.split("\n").findIndex((l) => l.includes("coupler.Q")) + 1;
+    const marked = await page.$$eval("#file-gutter .error-line", (els) => els.map((e) => Number(e.textContent)));
+    check(marked.includes(qLine), `the gutter marks the error's line ${qLine} (${marked})`);
+    const gotos = await page.$$eval("#file-errors .goto", (bs) => bs.map((b) => b.textContent));
+    check(gotos.length >= 2, `a button per error's place (${gotos.join("; ")})`);
+    const s0 = await statusOf(page);
+    check(s0.kind === "error" && s0.text.includes("does not load"), `the status says it does not load (${s0.text})`);
+    check((await page.locator("g[data-body]").count()) === 0, "nothing is drawn");
+    let f = await fits(page, "#file-errors");
+    check(f.wraps && f.inside && f.scrolls && f.mono, `the errors fit their panel: wrapped, in view, scrollable, monospace (${JSON.stringify(f)})`);
+    f = await fits(page, "#tabs");
+    check(f.inside, "the tabs stay on screen");
+    await page.screenshot({ path: join(SHOTS, "broken-opened.png") });
+
+    // The first error's button selects its place; typing the fix there.
+    await page.click(`#file-errors .goto[data-line="${qLine}"]`);
+    const selected = await page.$eval("#file-text", (e) => e.value.slice(e.selectionStart, e.selectionEnd));
+    check(selected.includes("coupler.Q"), `the button selects the error's place in the text (${JSON.stringify(selected)})`);
+    await page.keyboard.type('"coupler.B"');
+    // Applied with one error left: the other's message, still not drawn.
+    await page.click("#file-apply");
+    let s = await statusOf(page);
+    const left = await page.$eval("#file-errors", (e) => e.textContent);
+    check(s.text.includes("still does not load (1 error)") && left.includes("revolut") && !left.includes("coupler.Q"), `Apply with one error left shows only that one (${s.text})`);
+    // The second: select the misspelt kind and retype it, then Ctrl+Enter.
+    const kLine = TYPO.split("\n").findIndex((l) => l.includes('"revolut"')) + 1;
+    await page.click(`#file-errors .goto[data-line="${kLine}"]`);
+    await page.keyboard.type('"revolute"');
+    await page.keyboard.press("Control+Enter");
+    s = await statusOf(page);
+    const bodies = await page.$$eval("g[data-body]", (els) => els.map((e) => e.dataset.body));
+    check(bodies.join() === "ground,crank,coupler,rocker" && s.text.includes("loads now"), `fixed: the four-bar is drawn and editable (${s.text})`);
+    check((await page.$eval("#file-errors", (e) => e.hidden)) && (await page.$eval("#file", (e) => e.textContent)) === "typo.toml (unsaved)", "the errors are gone; the fix is not saved yet");
+    check((await page.title()).startsWith("typo.toml (unsaved)"), `the title says so (${await page.title()})`);
+    await page.screenshot({ path: join(SHOTS, "broken-fixed.png") });
+    await page.keyboard.press("Escape");
+    await page.locator("#canvas").click({ position: { x: 5, y: 300 } });
+    await page.keyboard.press("Control+s");
+    s = await statusOf(page);
+    const fixed = TYPO.replace("coupler.Q", "coupler.B").replace('"revolut"', '"revolute"');
+    check(readFileSync(join(dir, "typo.toml"), "utf8") === fixed, `Ctrl+S writes the fixed text (${s.text})`);
+    const report = execFileSync(BIN, ["check", "typo.toml"], { cwd: dir, encoding: "utf8" });
+    check(report.includes("= 1"), "`dofplan check typo.toml` accepts it now");
+
+    // A text with many errors, applied to the valid document: refused,
+    // and its long message fits the status box without pushing the tabs
+    // off the screen.
+    await page.click('#tabs button[data-tab="file"]');
+    const many = fixed.replaceAll('kind = "revolute"', 'kind = "hinge-of-a-very-long-name-that-does-not-exist-anywhere-in-the-format"');
+    await page.$eval("#file-text", (e, t) => {
+      e.value = t;
+      e.dispatchEvent(new Event("input", { bubbles: true }));
+    }, many);
+    await page.click("#file-apply");
+    s = await statusOf(page);
+    check(s.kind === "error" && (s.text.match(/error/g) || []).length >= 4, `a text with four errors is refused with check's message (${s.text.split("\n")[0]})`);
+    f = await fits(page, "#status");
+    check(f.wraps && f.inside && f.scrolls && f.mono, `the long message fits its box: wrapped, in view, scrollable, monospace (${JSON.stringify(f)})`);
+    f = await fits(page, "#tabs");
+    check(f.inside, "and the tabs stay on screen");
+    check((await page.locator("g[data-body]").count()) === 4, "the drawing is as it was");
+    await page.screenshot({ path: join(SHOTS, "broken-long-refusal.png") });
+    check(page.problems.length === 0, `no failed request or console error (${page.problems.join("; ") || "none"})`);
+  } finally {
+    child.kill();
+    rmSync(dir, { recursive: true, force: true });
+  }
+}
+
+async function numericRefused(browser) {
+  console.log("== mechanisms/slider_crank.toml: typed coordinates that would open a joint are refused with check's message");
+  const { child, page } = await openEditor(browser, "mechanisms/slider_crank.toml");
+  try {
+    await page.keyboard.press("e");
+    const s0 = (await markers(page))["slider.S"];
+    const [x, y] = await page.evaluate((p) => window.__dofplan.toPage(p), s0);
+    // Shift+click on the pin: the marker there (the slider's block, S).
+    await page.keyboard.down("Shift");
+    await page.mouse.click(x, y);
+    await page.keyboard.up("Shift");
+    const sel = await page.evaluate(() => window.__dofplan.selection());
+    check(sel && sel.name === "slider.S", `Shift+click selects slider.S (${JSON.stringify(sel)})`);
+    const before = await snapshot(page);
+    await page.fill("#marker-y", "1");
+    await page.press("#marker-y", "Enter");
+    const s = await statusOf(page);
+    check(
+      s.kind === "error" && s.text.includes("mechanisms/slider_crank.toml:") && s.text.includes("`S`"),
+      `slider.S typed off its slot's line is refused with check's message (${s.text.split("\n")[0]})`,
+    );
+    check(JSON.stringify(await snapshot(page)) === JSON.stringify(before), "and nothing changes");
+    await page.screenshot({ path: join(SHOTS, "numeric-refused.png") });
+  } finally {
+    child.kill();
+  }
+}
+
+async function newFile(browser) {
+  console.log("== `dofplan edit new.toml` for a file that does not exist: a new document saved under that name");
+  const dir = mkdtempSync(join(tmpdir(), "dofplan-edit-"));
+  const { child, page } = await openEditor(browser, "new.toml", dir);
+  try {
+    const file = await page.$eval("#file", (e) => e.textContent);
+    const name = await page.$eval("#name", (e) => e.textContent);
+    check(file === "new.toml (unsaved)" && name === "new" && !existsSync(join(dir, "new.toml")), `a new document named after the file (${name}; ${file}); nothing written yet`);
+    const pageOf = (p) => page.evaluate((q) => window.__dofplan.toPage(q), p);
+    await page.keyboard.press("n");
+    const [x, y] = await pageOf([2, 0]);
+    await page.mouse.click(x, y);
+    await statusOf(page);
+    await page.keyboard.press("Control+s");
+    let s = await statusOf(page);
+    const written = existsSync(join(dir, "new.toml")) ? readFileSync(join(dir, "new.toml"), "utf8") : "";
+    check(s.text === "saved new.toml" && written.startsWith('name = "new"'), `Ctrl+S writes new.toml, no name asked (${s.text})`);
+    const report = execFileSync(BIN, ["check", "new.toml"], { cwd: dir, encoding: "utf8" });
+    check(report.startsWith("new (new.toml)"), `\`dofplan check new.toml\` reads it (${report.split("\n")[0]})`);
+    // Save as: the file, the mechanism's name and the title follow.
+    await page.fill("#save-name", "pivots");
+    await page.press("#save-name", "Enter");
+    s = await statusOf(page);
+    const shown = await page.evaluate(() => [document.querySelector("#name").textContent, document.querySelector("#file").textContent, document.title]);
+    check(
+      s.text === "saved pivots.toml (the mechanism is called pivots now)" && shown[0] === "pivots" && shown[1] === "pivots.toml" && shown[2].startsWith("pivots.toml"),
+      `Save as: the page's name follows (${shown.join(" | ")}; ${s.text})`,
+    );
+    check(readFileSync(join(dir, "pivots.toml"), "utf8").startsWith('name = "pivots"'), "and the file's name = \"pivots\"");
+    await page.screenshot({ path: join(SHOTS, "new-file-saved-as.png") });
+  } finally {
+    child.kill();
+    rmSync(dir, { recursive: true, force: true });
+  }
+}
+
+async function aids(browser) {
+  console.log("== construction aids: grid and snapping, the pointer's coordinates, lengths, numeric entry, the sweep and traces");
+  const dir = mkdtempSync(join(tmpdir(), "dofplan-edit-"));
+  const { child, page } = await openEditor(browser, null, dir);
+  try {
+    const pageOf = (p) => page.evaluate((q) => window.__dofplan.toPage(q), p);
+    const at = async (key) => (await markers(page))[key];
+    const moveTo = async (p) => {
+      const [x, y] = await pageOf(p);
+      await page.mouse.move(x, y);
+    };
+    const click = async (p) => {
+      const [x, y] = await pageOf(p);
+      await page.mouse.click(x, y);
+    };
+    // G shows the grid; points placed by the pointer snap to it.
+    await page.keyboard.press("g");
+    const step = await page.evaluate(() => window.__dofplan.gridStep());
+    const lines = await page.locator("#grid line").count();
+    check(step > 0 && lines > 10 && (await page.getAttribute("#grid-toggle", "aria-pressed")) === "true", `G: a grid of step ${step} (${lines} lines)`);
+    await page.keyboard.press("n");
+    await click([2 + 0.3 * step, -0.3 * step]);
+    let s = await statusOf(page);
+    const a = await at("ground.A");
+    check(a[0] === 2 && a[1] === 0, `a click 0.3 steps off (2, 0) puts ground.A exactly on it: (${a}) (${s.text})`);
+    // The pointer's coordinates, on the grid.
+    await moveTo([1 + 0.2 * step, 1 - 0.2 * step]);
+    let readout = await page.$eval("#pointer", (e) => e.textContent);
+    check(readout === "x 1  y 1", `the pointer's coordinates are shown, snapped (${JSON.stringify(readout)})`);
+    await page.screenshot({ path: join(SHOTS, "aids-grid.png") });
+
+    // Drawing a link: its length is shown while drawing.
+    await page.keyboard.press("b");
+    await click(await at("ground.O"));
+    await moveTo([3 + 0.2 * step, 0.1 * step]);
+    readout = await page.$eval("#pointer", (e) => e.textContent);
+    let labels = await page.$$eval("#lengths text", (ts) => ts.map((t) => t.textContent));
+    check(readout === "x 3  y 0  length 3" && labels.includes("3"), `while drawing, the segment's length: ${JSON.stringify(readout)}, labels ${labels}`);
+    await page.screenshot({ path: join(SHOTS, "aids-drawing-length.png") });
+    await click([3, 0]);
+    await page.keyboard.press("Enter");
+    s = await statusOf(page);
+    check((await at("link1.B")).join() === "3,0", `link1 drawn from ground.O to (3, 0) (${s.text})`);
+
+    // Edit mode: a click on the link selects it; its length is shown and
+    // typed.
+    await page.keyboard.press("e");
+    await click([1.5, 0]);
+    labels = await page.$$eval("#lengths text", (ts) => ts.map((t) => t.textContent));
+    const box = await page.$eval("#length-box", (e) => !e.hidden);
+    check(box && labels.includes("3") && (await page.inputValue("#length")) === "3", `a selected link shows its length (${labels}; field ${await page.inputValue("#length")})`);
+    await page.fill("#length", "1.5");
+    await page.press("#length", "Enter");
+    s = await statusOf(page);
+    let b = await at("link1.B");
+    check(Math.abs(b[0] - 1.5) < 1e-12 && Math.abs(b[1]) < 1e-12, `typing 1.5 makes link1 1.5 long: link1.B at (${b}) (${s.text})`);
+    // A marker dragged: its distance to the link's other marker is shown.
+    const [bx, by] = await pageOf(b);
+    const [tx, ty] = await pageOf([2, 2]);
+    await page.mouse.move(bx, by);
+    await page.mouse.down();
+    for (let i = 1; i <= 8; i++) await page.mouse.move(bx + ((tx - bx) * i) / 8, by + ((ty - by) * i) / 8);
+    labels = await page.$$eval("#lengths text", (ts) => ts.map((t) => t.textContent));
+    check(labels.includes(String(Number(Math.hypot(2, 2).toFixed(4)))), `while dragging a marker, its distance to the link's other marker (${labels})`);
+    await page.screenshot({ path: join(SHOTS, "aids-dragging-length.png") });
+    await page.mouse.up();
+    s = await statusOf(page);
+    b = await at("link1.B");
+    check(b[0] === 2 && b[1] === 2, `dropped on the grid point (2, 2): (${b}) (${s.text})`);
+    // The marker selected: its coordinates typed.
+    await click(b);
+    const sel = await page.evaluate(() => window.__dofplan.selection());
+    check(sel && sel.kind === "marker" && sel.name === "link1.B" && (await page.inputValue("#marker-x")) === "2", `a click on link1.B selects it; x and y fields show (${await page.inputValue("#marker-x")}, ${await page.inputValue("#marker-y")})`);
+    await page.fill("#marker-x", "0.6");
+    await page.fill("#marker-y", "-0.8");
+    await page.press("#marker-y", "Enter");
+    s = await statusOf(page);
+    b = await at("link1.B");
+    check(b[0] === 0.6 && b[1] === -0.8, `typed coordinates move link1.B to (0.6, -0.8): (${b}) (${s.text})`);
+
+    // The pin made an input; a sweep set from the page (a wrong one
+    // refused with check's message), a marker traced, the sweep played.
+    await click([0, 0]);
+    await page.keyboard.press("i");
+    await statusOf(page);
+    check((await page.locator('input[data-input="theta"]').count()) === 1, "the pin is the input theta");
+    check(await page.$eval("#play", (e) => e.disabled), "no sweep yet: Play is disabled");
+    await page.click("#sweep-summary");
+    check(await page.$eval("#sweep-editor", (e) => e.open), "the Sweep box opens");
+    await page.fill("#sweep-steps", "0");
+    await page.click("#sweep-set");
+    s = await statusOf(page);
+    check(s.kind === "error" && s.text.includes("sweep.steps") && s.text.includes("untitled.toml:"), `0 steps is refused with check's message (${s.text.split("\n")[0]})`);
+    await page.fill("#sweep-from", "0");
+    await page.fill("#sweep-to", "360");
+    await page.fill("#sweep-steps", "37");
+    await page.press("#sweep-steps", "Enter");
+    s = await statusOf(page);
+    const summary = await page.$eval("#sweep-summary", (e) => e.textContent);
+    check(summary === "Sweep: theta 0 → 360, 37 steps" && !(await page.$eval("#play", (e) => e.disabled)), `the sweep is set; Play is enabled (${summary}; ${s.text})`);
+    await click(await at("link1.B"));
+    await page.keyboard.press("t");
+    s = await statusOf(page);
+    const chips = await page.$$eval("#traced .chip", (cs) => cs.map((c) => c.dataset.traced));
+    const trace = (await documentOf(page)).traces["link1.B"] || [];
+    // Every point of the trace is 1 from the pin (|(0.6, -0.8)| = 1).
+    const off = Math.max(...trace.map((p) => Math.abs(Math.hypot(p[0], p[1]) - 1)));
+    check(chips.join() === "link1.B" && trace.length === 37 && off < 1e-9, `T traces link1.B: 37 points on the unit circle about the pin (largest error ${off.toExponential(2)}; ${s.text})`);
+    check((await page.locator('path[data-trace="link1.B"]').getAttribute("d")).length > 100, "its trace is drawn");
+    const frames = await page.evaluate(() => window.__dofplan.frames);
+    await page.click("#play");
+    await page.waitForFunction((n) => window.__dofplan.frames >= n + 20, frames);
+    await page.click("#play");
+    await settled(page);
+    check(true, "the sweep built in the page plays");
+    await page.screenshot({ path: join(SHOTS, "aids-sweep-traced.png") });
+    await page.fill("#save-name", "crank");
+    await page.click("#save-as");
+    s = await statusOf(page);
+    const sim = JSON.parse(execFileSync(BIN, ["simulate", "crank.toml", "--json"], { cwd: dir, encoding: "utf8" }));
+    // The file is drawn at the pose on screen (wherever the playback
+    // paused): frame 9 of 37 over 0–360° is frame 0 turned by 90°.
+    const [p0, p9] = [sim.frames[0].markers["link1.B"], sim.frames[9].markers["link1.B"]];
+    const turned = Math.hypot(p9[0] + p0[1], p9[1] - p0[0]);
+    check(sim.frames.length === 37 && turned < 1e-9 && Math.abs(Math.hypot(...p0) - 1) < 1e-9, `saved: \`dofplan simulate crank.toml\` runs its 37 frames, frame 9 a quarter turn on (${turned.toExponential(2)}; ${s.text})`);
+    // Untraced from its chip's ×.
+    await page.click('#traced .chip[data-traced="link1.B"] button');
+    s = await statusOf(page);
+    check((await page.locator("#traced .chip").count()) === 0 && (await page.locator("path[data-trace]").count()) === 0, `the chip's × stops tracing (${s.text})`);
+    // G again: no grid, no snapping.
+    await page.keyboard.press("g");
+    check((await page.locator("#grid line").count()) === 0, "G again hides the grid");
+    check(page.problems.length === 0, `no failed request or console error (${page.problems.join("; ") || "none"})`);
+  } finally {
+    child.kill();
+    rmSync(dir, { recursive: true, force: true });
+  }
 }
 
 async function fourbar(browser) {
@@ -709,12 +1088,12 @@ async function construct(browser) {
     await page.fill("#save-name", "../x");
     await page.click("#save-as");
     s = await status();
-    check(s.kind === "error" && s.text.includes("not a plain file name") && !existsSync(join(dir, "../x.toml")), `"../x" is refused (${s.text})`);
+    check(s.kind === "error" && s.text.includes("not a file name inside") && !existsSync(join(dir, "../x.toml")), `"../x" is refused (${s.text})`);
     await page.fill("#save-name", "built");
     await page.click("#save-as");
     s = await status();
     const saved = join(dir, "built.toml");
-    check(existsSync(saved) && s.text === "saved built.toml", `saved as built.toml in the editor's directory (${s.text})`);
+    check(existsSync(saved) && s.text === "saved built.toml (the mechanism is called built now)", `saved as built.toml in the editor's directory (${s.text})`);
     const run = (...args) => execFileSync(BIN, args, { cwd: dir, encoding: "utf8" });
     const report = run("check", "built.toml");
     const valid = report.includes("= 1") && report.includes("closed form");
@@ -809,6 +1188,30 @@ async function spatial(browser) {
     for (const [k, p] of Object.entries(simulated)) off = Math.max(off, Math.hypot(...p.map((v, c) => v - at[k][c])));
     check(off < 1e-9, `slider at 40°: markers as \`dofplan simulate\` at 40° (largest difference ${off.toExponential(2)})`);
 
+    // As the CLI's views: a ground mark under each ground marker, each
+    // revolute joint's axis (none for a ball joint), a floor grid.
+    const marks = await page.$$eval(".ground-mark", (gs) => gs.map((g) => g.dataset.ground));
+    check(marks.join() === "ground.A,ground.D", `a ground mark under each ground marker (${marks})`);
+    const axes = await page.$$eval("[data-joint]", (gs) =>
+      gs.map((g) => {
+        const l = g.querySelector("line.joint-axis");
+        return [g.dataset.joint, l.getAttribute("visibility"), ...["x1", "y1", "x2", "y2"].map((a) => Number(l.getAttribute(a)))];
+      }),
+    );
+    const shownAxes = axes.filter((a) => a[1] === "visible").map((a) => a[0]);
+    check(shownAxes.join() === "A,D", `the revolute joints' axes are drawn, not the ball joints' (${shownAxes})`);
+    // Joint D's axis is the ground's: (1, 0, 1) from ground.D, whatever the
+    // slider; on the page, along the projection of that line.
+    const d = simulated["ground.D"];
+    const [p0, p1] = await page.evaluate(([q, r]) => [window.__dofplan.project(q), window.__dofplan.project(r)], [d, [d[0] + 1, d[1], d[2] + 1]]);
+    const [, , ax1, ay1, ax2, ay2] = axes.find((a) => a[0] === "D");
+    const cross = ((ax2 - ax1) * (p1[1] - p0[1]) - (ay2 - ay1) * (p1[0] - p0[0])) / (Math.hypot(ax2 - ax1, ay2 - ay1) * Math.hypot(p1[0] - p0[0], p1[1] - p0[1]));
+    const mid = Math.hypot((ax1 + ax2) / 2 - p0[0], (ay1 + ay2) / 2 - p0[1]);
+    check(Math.abs(cross) < 1e-3 && mid < 0.05, `joint D's axis is drawn through ground.D along (1, 0, 1) (sine ${cross.toExponential(2)}, centre ${mid.toFixed(3)} px off)`);
+    const floor = await page.$eval("#floor", (g) => ({ lines: g.querySelectorAll("line").length, z: Number(g.dataset.z) }));
+    const lowest = Math.min(...doc.traces ? Object.values(doc.traces).flat().map((p) => p[2]) : [], ...Object.values(simulated).map((p) => p[2]), 0);
+    check(floor.lines > 4 && floor.z <= lowest + 1e-12, `a floor grid under the lowest point (${floor.lines} lines at z = ${floor.z})`);
+
     // Dragging the view orbits it: the world positions stay, the drawing turns.
     const before = await page.evaluate(() => window.__dofplan.camera());
     const [px, py] = await page.evaluate((p) => window.__dofplan.toPage(p), simulated["coupler.C"]);
@@ -873,9 +1276,11 @@ const browser = await chromium.launch({
 });
 const ONLY = process.env.ONLY ? process.env.ONLY.split(",") : null;
 try {
-  for (const scenario of [baseline, fourbar, openChain, pendulum, limits, sliderCrank, empty, construct, spatial, stress]) {
+  for (const scenario of [baseline, fourbar, openChain, pendulum, limits, sliderCrank, empty, construct, files, broken, newFile, aids, numericRefused, spatial, stress]) {
     if (!ONLY || ONLY.includes(scenario.name)) await scenario(browser);
   }
+  const problems = PAGES.flatMap(([file, page]) => page.problems.map((p) => `${file}: ${p}`));
+  check(problems.length === 0, `no page had a failed request (no favicon 404) or a console error (${problems.join("; ") || "none"})`);
 } catch (e) {
   check(false, `the test ran to the end (${e.stack ?? e})`);
 } finally {

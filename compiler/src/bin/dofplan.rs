@@ -233,8 +233,10 @@ enum Command {
     /// access token, as the first line of standard output; every request
     /// needs the token. Stop it with Ctrl+C.
     Edit {
-        /// Mechanism file (planar); without it, an empty document (ground
-        /// only).
+        /// Mechanism file (planar; a spatial one is shown read-only);
+        /// without it, an empty document (ground only). A file that does
+        /// not exist yet is a new document saved under that name; one that
+        /// does not load opens with its errors, to be fixed in the page.
         file: Option<PathBuf>,
         /// The port to listen on (default: a free one).
         #[arg(long)]

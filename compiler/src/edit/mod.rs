@@ -90,6 +90,14 @@ impl Editor {
         Editor::new(file_name, EMPTY).expect("the empty document is valid")
     }
 
+    /// A new document called `name` (the ground alone, as [`EMPTY`]): a
+    /// file named on the command line that does not exist yet.
+    pub fn new_named(file_name: &str, name: &str) -> Result<Editor, EditError> {
+        let mut doc: DocumentMut = EMPTY.parse().expect("the empty document parses");
+        doc.insert("name", toml_edit::value(name));
+        Editor::new(file_name, &doc.to_string())
+    }
+
     /// The mechanism as the file now draws it.
     pub fn mechanism(&self) -> &Mechanism {
         &self.mechanism
@@ -141,6 +149,29 @@ impl Editor {
         }
         self.commit(doc)?;
         Ok(summaries)
+    }
+
+    /// Replaces the whole text (typed in the editor's File tab), or refuses
+    /// it with check's message and changes nothing. One undoable edit.
+    pub fn set_text(&mut self, text: &str) -> Result<String, EditError> {
+        let doc: DocumentMut = text
+            .parse()
+            .map_err(|_| EditError::Invalid(invalid(&self.file_name, text)))?;
+        if doc.to_string() == self.doc.to_string() {
+            return Err(EditError::Refused(
+                "the text is as it was: nothing to change".into(),
+            ));
+        }
+        self.commit(doc)?;
+        Ok(format!(
+            "the file's text replaced ({} lines)",
+            text.lines().count()
+        ))
+    }
+
+    /// The name diagnostics give the file.
+    pub fn file_name(&self) -> &str {
+        &self.file_name
     }
 
     /// Calls the file `file_name` in diagnostics from now on (after it is

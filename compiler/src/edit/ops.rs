@@ -104,6 +104,34 @@ pub enum Edit {
         /// The joint.
         joint: String,
     },
+    /// Renames the mechanism (the file's top-level `name`).
+    Rename {
+        /// The new name.
+        name: String,
+    },
+    /// Sets the sweep: `input` moved from `from` to `to` in `steps` frames
+    /// (both ends included). A sweep the file has keeps its traced markers
+    /// and its comments; one that moves several inputs together
+    /// (`sweep.inputs`) is refused, not silently narrowed to one.
+    SetSweep {
+        /// The input swept.
+        input: String,
+        /// Its first value (degrees for an angle).
+        from: f64,
+        /// Its last value.
+        to: f64,
+        /// Frames, both ends included.
+        steps: u64,
+    },
+    /// Deletes the sweep (with its traced markers).
+    DeleteSweep,
+    /// Traces a marker over the sweep (`on`), or stops tracing it.
+    Trace {
+        /// The marker.
+        marker: String,
+        /// Traced or not.
+        on: bool,
+    },
 }
 
 fn refused(why: String) -> EditError {
@@ -231,6 +259,21 @@ pub(super) fn apply(doc: &mut DocumentMut, m: &Mechanism, edit: &Edit) -> Result
             markers_of(doc, &body.name)?.remove(&body.markers[id.marker].name);
             Ok(summary_of_deletion(&format!("marker {marker}"), &removed))
         }
+        Edit::Rename { name } => {
+            if name.trim().is_empty() {
+                return Err(refused("a mechanism's name cannot be empty".into()));
+            }
+            doc.insert("name", toml_edit::value(name.as_str()));
+            Ok(format!("renamed the mechanism {name}"))
+        }
+        Edit::SetSweep { .. } => set_sweep(doc, m, edit),
+        Edit::DeleteSweep => {
+            if doc.remove("sweep").is_none() {
+                return Err(refused("the file has no sweep".into()));
+            }
+            Ok("deleted the sweep".into())
+        }
+        Edit::Trace { marker, on } => trace(doc, m, marker, *on),
         Edit::DeleteBody { body } => {
             let b = body_index(m, body)?;
             if m.bodies[b].fixed && m.bodies.iter().filter(|x| x.fixed).count() == 1 {
@@ -244,6 +287,85 @@ pub(super) fn apply(doc: &mut DocumentMut, m: &Mechanism, edit: &Edit) -> Result
             }
             section(doc, "bodies")?.remove(body);
             Ok(summary_of_deletion(&format!("body {body}"), &removed))
+        }
+    }
+}
+
+/// The sweep's table, if the file has one.
+fn sweep_of(doc: &mut DocumentMut) -> Option<&mut dyn TableLike> {
+    doc.get_mut("sweep").and_then(Item::as_table_like_mut)
+}
+
+fn set_sweep(doc: &mut DocumentMut, m: &Mechanism, edit: &Edit) -> Result<String, EditError> {
+    let Edit::SetSweep {
+        input,
+        from,
+        to,
+        steps,
+    } = edit
+    else {
+        unreachable!("set_sweep is given a SetSweep")
+    };
+    if !m.inputs.iter().any(|i| &i.name == input) {
+        return Err(refused(format!("there is no input named {input}")));
+    }
+    if ![from, to].iter().all(|v| v.is_finite()) {
+        return Err(refused(format!(
+            "the sweep's range {from} to {to} is not two numbers"
+        )));
+    }
+    let steps = i64::try_from(*steps).unwrap_or(i64::MAX);
+    let fresh = doc.get("sweep").is_none();
+    let sweep = match sweep_of(doc) {
+        Some(s) => s,
+        None => {
+            doc.insert("sweep", Item::Table(Table::new()));
+            sweep_of(doc).ok_or_else(|| refused("`sweep` in the file is not a table".into()))?
+        }
+    };
+    if sweep.contains_key("inputs") {
+        return Err(refused(
+            "the sweep moves several inputs together (sweep.inputs): edit it in the File tab".into(),
+        ));
+    }
+    sweep.insert("input", toml_edit::value(input.as_str()));
+    sweep.insert("from", toml_edit::value(*from));
+    sweep.insert("to", toml_edit::value(*to));
+    sweep.insert("steps", toml_edit::value(steps));
+    Ok(format!(
+        "{} the sweep: {input} from {} to {} in {steps} steps",
+        if fresh { "added" } else { "set" },
+        crate::plan::num(*from),
+        crate::plan::num(*to)
+    ))
+}
+
+fn trace(doc: &mut DocumentMut, m: &Mechanism, marker: &str, on: bool) -> Result<String, EditError> {
+    let id = marker_id(m, marker)?;
+    let name = m.marker_name(id);
+    let Some(sweep) = sweep_of(doc) else {
+        return Err(refused(format!(
+            "the file has no sweep to trace {name} over: set one first"
+        )));
+    };
+    if !sweep.contains_key("trace") {
+        sweep.insert("trace", toml_edit::value(Array::new()));
+    }
+    let list = sweep
+        .get_mut("trace")
+        .and_then(Item::as_array_mut)
+        .ok_or_else(|| refused("`sweep.trace` in the file is not an array".into()))?;
+    let has = list.iter().any(|v| v.as_str() == Some(name.as_str()));
+    match (on, has) {
+        (true, true) => Err(refused(format!("{name} is traced already"))),
+        (false, false) => Err(refused(format!("{name} is not traced"))),
+        (true, false) => {
+            list.push(name.as_str());
+            Ok(format!("tracing {name} over the sweep"))
+        }
+        (false, true) => {
+            list.retain(|v| v.as_str() != Some(name.as_str()));
+            Ok(format!("no longer tracing {name}"))
         }
     }
 }

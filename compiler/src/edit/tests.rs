@@ -291,3 +291,120 @@ fn a_renamed_file_is_named_so_in_diagnostics() {
         "{err}"
     );
 }
+
+#[test]
+fn the_sweep_and_its_traces_are_set_from_edits_and_load_as_written() {
+    // The four-bar without its sweep: a mechanism built by mouse has none.
+    let text = FOURBAR.split("[sweep]").next().unwrap();
+    let mut e = Editor::new("f.toml", text).unwrap();
+    assert!(e.mechanism().sweep.is_none());
+    let refused = edit(&mut e, r#"{"op": "trace", "marker": "coupler.P", "on": true}"#);
+    assert!(
+        matches!(&refused, Err(EditError::Refused(w)) if w.contains("no sweep")),
+        "{refused:?}"
+    );
+    let s = edit(
+        &mut e,
+        r#"{"op": "set_sweep", "input": "theta", "from": -30, "to": 90, "steps": 13}"#,
+    )
+    .unwrap();
+    assert_eq!(s, "added the sweep: theta from -30 to 90 in 13 steps");
+    let sweep = e.mechanism().sweep.clone().expect("a sweep");
+    assert_eq!((sweep.steps, sweep.inputs.len()), (13, 1));
+    assert_eq!((sweep.primary().from, sweep.primary().to), (-30.0, 90.0));
+    assert_eq!(sweep.value(1), -20.0, "13 frames from -30 to 90 are 10° apart");
+    edit(&mut e, r#"{"op": "trace", "marker": "coupler.P", "on": true}"#).unwrap();
+    edit(&mut e, r#"{"op": "trace", "marker": "rocker.C", "on": true}"#).unwrap();
+    let again = edit(&mut e, r#"{"op": "trace", "marker": "rocker.C", "on": true}"#);
+    assert!(matches!(again, Err(EditError::Refused(_))), "{again:?}");
+    let names: Vec<String> = e
+        .mechanism()
+        .sweep
+        .as_ref()
+        .unwrap()
+        .trace
+        .iter()
+        .map(|&id| e.mechanism().marker_name(id))
+        .collect();
+    assert_eq!(names, ["coupler.P", "rocker.C"]);
+    // Setting the range again keeps the traces; the text says it plainly.
+    edit(
+        &mut e,
+        r#"{"op": "set_sweep", "input": "theta", "from": 0, "to": 360, "steps": 361}"#,
+    )
+    .unwrap();
+    let written = e.text();
+    assert!(
+        written.contains("[sweep]\ninput = \"theta\"\nfrom = 0.0\nto = 360.0\nsteps = 361\ntrace = [\"coupler.P\", \"rocker.C\"]"),
+        "{written}"
+    );
+    edit(&mut e, r#"{"op": "trace", "marker": "rocker.C", "on": false}"#).unwrap();
+    assert_eq!(e.mechanism().sweep.as_ref().unwrap().trace.len(), 1);
+    // No frames is not a sweep: check's message, nothing changed.
+    let before = e.text();
+    let zero = edit(
+        &mut e,
+        r#"{"op": "set_sweep", "input": "theta", "from": 0, "to": 1, "steps": 0}"#,
+    );
+    assert!(
+        matches!(&zero, Err(EditError::Invalid(w)) if w.contains("sweep.steps")),
+        "{zero:?}"
+    );
+    let unknown = edit(
+        &mut e,
+        r#"{"op": "set_sweep", "input": "phi", "from": 0, "to": 1, "steps": 2}"#,
+    );
+    assert!(matches!(unknown, Err(EditError::Refused(_))), "{unknown:?}");
+    assert_eq!(e.text(), before);
+    edit(&mut e, r#"{"op": "delete_sweep"}"#).unwrap();
+    assert!(e.mechanism().sweep.is_none() && !e.text().contains("[sweep]"));
+}
+
+#[test]
+fn a_sweep_of_several_inputs_is_not_narrowed_to_one() {
+    let text = "name = \"two\"\n[bodies.ground]\nfixed = true\nmarkers = { O = [0, 0], D = [3, 0] }\n\
+        [bodies.a]\nmarkers = { A = [0, 0], B = [1, 0] }\n[bodies.b]\nmarkers = { A = [3, 0], B = [4, 0] }\n\
+        [joints.J1]\nkind = \"revolute\"\nmarkers = [\"ground.O\", \"a.A\"]\n\
+        [joints.J2]\nkind = \"revolute\"\nmarkers = [\"ground.D\", \"b.A\"]\n\
+        [inputs.p]\nkind = \"angle\"\njoint = \"J1\"\n[inputs.q]\nkind = \"angle\"\njoint = \"J2\"\n\
+        [sweep]\nsteps = 3\ninputs = { p = [0, 90], q = [0, -90] }\n";
+    let mut e = Editor::new("two.toml", text).unwrap();
+    let r = edit(
+        &mut e,
+        r#"{"op": "set_sweep", "input": "p", "from": 0, "to": 10, "steps": 2}"#,
+    );
+    assert!(
+        matches!(&r, Err(EditError::Refused(w)) if w.contains("several inputs")),
+        "{r:?}"
+    );
+    assert_eq!(e.text(), text);
+}
+
+#[test]
+fn the_whole_text_is_replaced_checked_and_undone() {
+    let mut e = Editor::new("fourbar.toml", FOURBAR).unwrap();
+    let renamed = FOURBAR.replace("name = \"fourbar\"", "name = \"typed\"");
+    let s = e.set_text(&renamed).unwrap();
+    assert!(s.starts_with("the file's text replaced"), "{s}");
+    assert_eq!(e.mechanism().name, "typed");
+    // A typo: check's message with its place, nothing changed.
+    let typo = renamed.replace("[bodies.crank]", "[bodies.crank");
+    let why = e.set_text(&typo).unwrap_err().to_string();
+    assert!(why.contains("fourbar.toml:"), "{why}");
+    assert_eq!(e.text(), renamed);
+    assert!(e.undo());
+    assert_eq!(e.text(), FOURBAR);
+    let same = e.set_text(FOURBAR);
+    assert!(matches!(same, Err(EditError::Refused(_))), "{same:?}");
+}
+
+#[test]
+fn a_new_named_document_is_called_after_its_file() {
+    let e = Editor::new_named("new.toml", "new").unwrap();
+    assert_eq!(e.mechanism().name, "new");
+    assert_eq!(e.mechanism().bodies.len(), 1);
+    let mut e = Editor::new("n.toml", &e.text()).unwrap();
+    edit(&mut e, r#"{"op": "rename", "name": "other"}"#).unwrap();
+    assert!(e.text().starts_with("name = \"other\""), "{}", e.text());
+    assert!(edit(&mut e, r#"{"op": "rename", "name": " "}"#).is_err());
+}

@@ -7,10 +7,9 @@ use std::path::{Path, PathBuf};
 use serde_json::{json, Value};
 
 use dofplan::analysis::analyse;
-use dofplan::edit::EMPTY;
 use dofplan::emit::emit;
 use dofplan::interp::Interpreter;
-use dofplan::model::{load_any, load_str, Format, InputKind, JointKind, Mechanism, Model};
+use dofplan::model::{InputKind, JointKind, Mechanism};
 use dofplan::plan::Plan;
 use dofplan::simulate::{frames, marker_at, sweep_requests};
 use dofplan_runtime::{BreakPolicy, Driver, Options};
@@ -35,8 +34,13 @@ pub struct Document {
 
 impl Document {
     /// Reads `path`, or starts an empty document. An error is the text to
-    /// print: the file's diagnostics, as `dofplan check` prints them.
+    /// print: the file's diagnostics, as `dofplan check` prints them. (The
+    /// server opens files through its workspace, which also opens a file
+    /// that does not load; the tests start sessions from files directly.)
+    #[cfg(test)]
     pub fn open(path: Option<&Path>) -> Result<Document, String> {
+        use dofplan::edit::EMPTY;
+        use dofplan::model::{load_any, load_str, Format, Model};
         let mechanism = match path {
             None => load_str(UNTITLED, EMPTY, Format::Toml).map_err(|e| e.render(false))?,
             Some(path) => match load_any(path) {
@@ -115,7 +119,12 @@ impl Document {
             .collect();
         let size = m.size();
         let joint_names: Vec<&str> = m.joints.iter().map(|j| j.name.as_str()).collect();
-        let (inputs, sweep) = inputs_and_sweep(&m.inputs, &joint_names, m.sweep.as_ref(), size);
+        let (inputs, mut sweep) = inputs_and_sweep(&m.inputs, &joint_names, m.sweep.as_ref(), size);
+        // The traced markers by name, for the page's sweep editor (the
+        // traces themselves need a plan; the list does not).
+        if let (Some(sweep), Some(s)) = (sweep.as_mut(), m.sweep.as_ref()) {
+            sweep["trace"] = json!(s.trace.iter().map(|&id| m.marker_name(id)).collect::<Vec<_>>());
+        }
         let plan_text = self.plan.as_ref().map(|p| p.explain_all()).map_err(Clone::clone);
         let (traces, bounds) = self.traces();
         json!({

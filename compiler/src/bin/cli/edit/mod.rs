@@ -109,10 +109,20 @@ pub fn run(file: Option<&Path>, port: Option<u16>, open: bool, out: &mut dyn Wri
     let url = format!("http://127.0.0.1:{port}/?token={token}");
     writeln!(out, "{url}")?;
     out.flush()?;
+    let shown = description["file"].as_str().unwrap_or("a new document");
     crate::report(&format!(
-        "dofplan edit: serving {} at the address above (127.0.0.1 only); Ctrl+C stops",
-        description["file"].as_str().unwrap_or("a new document")
+        "dofplan edit: serving {shown} at the address above (127.0.0.1 only); Ctrl+C stops"
     ));
+    if let Some(message) = description["broken"]["message"].as_str() {
+        // Said here too: a terminal is where `check` would have said it.
+        crate::report(&format!(
+            "dofplan edit: {shown} does not load; the page shows its text with these errors, to be fixed there:\n{message}"
+        ));
+    } else if file.is_some_and(|f| !f.exists()) {
+        crate::report(&format!(
+            "dofplan edit: {shown} does not exist yet: a new document, written there when saved"
+        ));
+    }
     if open {
         open_browser(&url);
     }

@@ -12,7 +12,7 @@ use serde_json::{json, Value};
 use dofplan::analysis::spatial::analyse;
 use dofplan::emit::emit_spatial;
 use dofplan::interp::spatial::Interpreter3;
-use dofplan::model::spatial::Mechanism3;
+use dofplan::model::spatial::{JointKind3, Mechanism3};
 use dofplan::plan::spatial::Plan3;
 use dofplan::simulate::spatial::marker_positions;
 use dofplan::simulate::sweep_requests;
@@ -221,6 +221,28 @@ impl Session3 {
         self.frame(id, &status)
     }
 
+    /// Each joint's axis in the pose on screen, as the CLI's views draw
+    /// it: `[x, y, z]`, the world direction of its first marker's z axis
+    /// (`null` for a ball joint, which has none, or a marker without axes).
+    fn axes(&self) -> Vec<Value> {
+        let m = &self.doc.mechanism;
+        (m.joints.iter())
+            .map(|j| {
+                let id = j.markers[0];
+                let z = m.marker(id).axes.map(|a| a.z);
+                let dir = match (z, &self.driver) {
+                    (Some(_), _) if matches!(j.kind, JointKind3::Spherical) => None,
+                    (Some(z), Some(d)) => d.poses().get(id.body).map(|p| p.dir(z)),
+                    (z, _) => z,
+                };
+                match dir {
+                    Some(d) if d.iter().all(|v| v.is_finite()) => json!(d),
+                    _ => Value::Null,
+                }
+            })
+            .collect()
+    }
+
     fn frame(&self, id: u64, status: &FrameStatus) -> Value {
         let m = &self.doc.mechanism;
         let (markers, inputs) = match &self.driver {
@@ -251,6 +273,7 @@ impl Session3 {
             "type": "frame",
             "id": id,
             "markers": markers,
+            "axes": self.axes(),
             "poses": [],
             "inputs": inputs,
             "status": status.name(),
