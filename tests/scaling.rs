@@ -111,7 +111,7 @@ fn the_cli_tests_chain_is_the_generators() {
     .expect("kept in compiler/tests/data");
     assert!(
         kept == stress_chain(200),
-        "regenerate it: cargo run --example stress_chain -- 200"
+        "regenerate it: cargo run -p dofplan-gen -- stress-chain 200 > compiler/tests/data/stress_loops_200.toml"
     );
 }
 

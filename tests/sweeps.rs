@@ -28,6 +28,7 @@ fn every_bundled_mechanism_is_compiled() {
     expected.push("open_chain_15_drag_link_15_e".to_string());
     // ... and the test fixtures.
     expected.push("sixbar_slotted".to_string());
+    expected.push("slider_driven".to_string());
     expected.sort();
     let mut compiled: Vec<String> = dofplan_generated::MECHANISMS
         .iter()

@@ -94,6 +94,8 @@ pub struct Driver<S: Solver> {
     /// While held: how far apart in input the frames were when the limit was
     /// passed, the resolution at which a way back is checked.
     pace: f64,
+    /// Inputs to lend to a search along a way back.
+    spare: Option<S::Inputs>,
 }
 
 /// The most plan executions a check of a way back takes. Each is one frame's
@@ -146,6 +148,7 @@ impl<S: Solver> Driver<S> {
             anchor: state.clone(),
             anchor_inputs: last.clone(),
             fail: last.clone(),
+            spare: Some(last.clone()),
             state,
             last,
             solver,
@@ -365,23 +368,32 @@ impl<S: Solver> Driver<S> {
     /// fractions `t0` (assembled, pose in `trial`) and `t1` of the way from
     /// the anchor to `requested`: moves to the break point between them.
     fn search_on_way(&mut self, requested: &[f64], brk: Break, t0: f64, t1: f64) -> FrameStatus {
-        let from = self.anchor_inputs.clone();
+        // The driver's own spare buffer, lent out for the search: no
+        // allocation on this path either.
+        let mut edge = self
+            .spare
+            .take()
+            .expect("the spare inputs are back after each use");
+        for (((l, e), a), r) in self
+            .last
+            .as_mut()
+            .iter_mut()
+            .zip(edge.as_mut())
+            .zip(self.anchor_inputs.as_ref())
+            .zip(requested)
+        {
+            *l = a + t0 * (r - a);
+            *e = a + t1 * (r - a);
+        }
         std::mem::swap(&mut self.state, &mut self.trial);
-        let along = |t: f64, out: &mut [f64]| {
-            for ((o, a), r) in out.iter_mut().zip(from.as_ref()).zip(requested) {
-                *o = a + t * (r - a);
-            }
-        };
-        along(t0, self.last.as_mut());
-        let mut fail = from.clone();
-        along(t1, fail.as_mut());
         let pace = self.pace;
-        let (status, far) = self.search(fail.as_ref(), brk);
+        let (status, far) = self.search(edge.as_ref(), brk);
         let reached = match status {
             FrameStatus::Searched { reached, .. } => t0 + reached * (t1 - t0),
             _ => t0,
         };
-        self.hold_at(brk, fail.as_ref(), far, pace);
+        self.hold_at(brk, edge.as_ref(), far, pace);
+        self.spare = Some(edge);
         FrameStatus::Searched { brk, reached }
     }
 
