@@ -19,6 +19,7 @@ use dofplan::analysis::rank::rank_mobility_with;
 use dofplan::analysis::{analyse_with, Analysis, Class, Mobility};
 use dofplan::assemble::assemble_file;
 use dofplan::emit::emit;
+use dofplan::format::number;
 use dofplan::model::spatial::Mechanism3;
 use dofplan::model::Model;
 
@@ -1598,16 +1599,16 @@ impl FrameWriter for CsvFrames<'_, '_> {
 
     fn frame(&mut self, out: &mut dyn Write, index: usize, f: &Frame) -> io::Result<()> {
         let mut row = vec![index.to_string()];
-        row.extend(f.requested.iter().map(|v| v.to_string()));
+        row.extend(f.requested.iter().map(|v| number(*v)));
         row.push(f.status.name().to_string());
         for (_, p) in marker_positions(self.r.m, &f.poses) {
-            row.push(p[0].to_string());
-            row.push(p[1].to_string());
+            row.push(number(p[0]));
+            row.push(number(p[1]));
         }
         for p in &f.poses {
-            row.push(angle(p).to_string());
-            row.push(p.at[0].to_string());
-            row.push(p.at[1].to_string());
+            row.push(number(angle(p)));
+            row.push(number(p.at[0]));
+            row.push(number(p.at[1]));
         }
         writeln!(out, "{}", row.join(","))
     }

@@ -7,6 +7,11 @@ use super::{ClusterParam, DirRef, Line, Plan, PointRef, Rel, StepKind};
 
 /// A number for people: at most 4 decimals, trailing zeros dropped.
 pub fn num(x: f64) -> String {
+    if x.abs() >= 1e16 {
+        // Four decimals of 1e308 would be 309 digits: the shortest
+        // round-trip form with an exponent instead ("1e+308").
+        return crate::format::number(x);
+    }
     let s = format!("{x:.4}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
     if s == "-0" {

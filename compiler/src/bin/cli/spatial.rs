@@ -7,6 +7,7 @@ use std::process::ExitCode;
 
 use dofplan::analysis::ranges::spatial_assembly_ranges;
 use dofplan::analysis::spatial::{analyse, count::count, fragments};
+use dofplan::format::number;
 use dofplan::interp::spatial::Interpreter3;
 use dofplan::model::spatial::Mechanism3;
 use dofplan::model::Sweep;
@@ -306,11 +307,11 @@ fn frames(
         match form {
             Form3::Csv => {
                 let mut row = vec![i.to_string(), status.name().to_string()];
-                row.extend(driver.inputs().iter().map(|v| format!("{v}")));
+                row.extend(driver.inputs().iter().map(|v| number(*v)));
                 for p in &markers {
-                    row.extend(p.iter().map(|v| format!("{v}")));
+                    row.extend(p.iter().map(|v| number(*v)));
                 }
-                row.push(format!("{res:e}"));
+                row.push(number(res));
                 writeln!(out, "{}", row.join(","))?;
             }
             Form3::Json => {
