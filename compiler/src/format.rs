@@ -8,9 +8,10 @@
 //! written with an exponent. [`number`] is exactly the text `serde_json`
 //! writes for the same number, so a value reads the same in CSV and JSON.
 //!
-//! Text meant for people (summaries, plan explanations) rounds to four
-//! decimals ([`crate::plan::num`]), and also switches to the exponent form
-//! beyond 1e16, where four decimals would print hundreds of digits.
+//! Text meant for people (summaries, plan explanations) rounds to a fixed
+//! number of decimals ([`rounded`]: four in [`crate::plan::num`], nine for
+//! break points), and switches to the exponent form from 1e16 on, where
+//! decimals would print hundreds of digits (`--to 1e308`).
 
 /// `x` as its shortest round-trip decimal, in JSON's layout: `0.5`,
 /// `-180.0`, `1e+308`, `-1.2722218725854064e-14`; `NaN`, `inf` and `-inf`
@@ -24,9 +25,40 @@ pub fn number(x: f64) -> String {
     }
 }
 
+/// `x` for people: rounded to `decimals`, trailing zeros dropped, `-0`
+/// printed `0`; from 1e16 on, [`number`]'s exponent form (`1e+308`), as
+/// decimals there are noise and the digits before them hundreds.
+pub fn rounded(x: f64, decimals: usize) -> String {
+    if x.abs() >= 1e16 {
+        return number(x);
+    }
+    let s = format!("{x:.decimals$}");
+    let s = if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.')
+    } else {
+        &s
+    };
+    if s == "-0" {
+        "0".to_string()
+    } else {
+        s.to_string()
+    }
+}
+
 #[cfg(test)]
 mod tests {
-    use super::number;
+    use super::{number, rounded};
+
+    #[test]
+    fn rounded_numbers_are_short() {
+        assert_eq!(rounded(57.29577951308232, 4), "57.2958");
+        assert_eq!(rounded(-1.2722218725854064e-14, 4), "0");
+        assert_eq!(rounded(-180.0, 4), "-180");
+        assert_eq!(rounded(1e308, 4), "1e+308");
+        assert_eq!(rounded(-1e16, 9), "-1e+16");
+        assert_eq!(rounded(9.9e15, 0), "9900000000000000");
+        assert_eq!(rounded(f64::NAN, 4), "NaN");
+    }
 
     #[test]
     fn numbers_are_shortest_round_trip_and_never_long() {

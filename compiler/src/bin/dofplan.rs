@@ -1383,13 +1383,7 @@ impl Form {
 /// decimals, the precision a break point is searched to. Requested values
 /// are written with [`num`]'s 4.
 fn precise(x: f64) -> String {
-    let s = format!("{x:.9}");
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" {
-        "0".to_string()
-    } else {
-        s.to_string()
-    }
+    dofplan::format::rounded(x, 9)
 }
 
 /// Writes the frames as they come, in `form`, keeping them only when an SVG

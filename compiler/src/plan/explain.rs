@@ -7,18 +7,7 @@ use super::{ClusterParam, DirRef, Line, Plan, PointRef, Rel, StepKind};
 
 /// A number for people: at most 4 decimals, trailing zeros dropped.
 pub fn num(x: f64) -> String {
-    if x.abs() >= 1e16 {
-        // Four decimals of 1e308 would be 309 digits: the shortest
-        // round-trip form with an exponent instead ("1e+308").
-        return crate::format::number(x);
-    }
-    let s = format!("{x:.4}");
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" {
-        "0".to_string()
-    } else {
-        s.to_string()
-    }
+    crate::format::rounded(x, 4)
 }
 
 fn pair(p: [f64; 2]) -> String {
