@@ -312,12 +312,13 @@ pub(super) fn outlines(m: &Mechanism, poses: &[Pose], view: &View) -> Vec<[Point
 
 /// How one pose is drawn.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct PoseStyle {
+pub(super) struct PoseStyle<'a> {
     /// The opaque pose, with the traced markers and the joint names.
     pub highlighted: bool,
-    /// The frame did not meet its input exactly: every body stitched with
-    /// a white dashed line along its outline (or its bar).
-    pub stretched: bool,
+    /// By body: pulled apart by a stretched frame (one of its joints
+    /// open), stitched with a white dashed line along its outline (or its
+    /// bar). Empty or all false: nothing stretched.
+    pub stretched: &'a [bool],
 }
 
 /// One pose of the mobile bodies: their shapes, slide lines on mobile
@@ -333,7 +334,11 @@ pub(super) fn draw_pose(
     style: PoseStyle,
 ) -> Group {
     let k = detail.k;
-    let class = if style.stretched { "pose stretched" } else { "pose" };
+    let class = if style.stretched.contains(&true) {
+        "pose stretched"
+    } else {
+        "pose"
+    };
     let mut g = Group::new().set("class", class);
     for s in slides {
         let a = m.joints[s.joint].markers[0];
@@ -354,6 +359,7 @@ pub(super) fn draw_pose(
             continue;
         }
         let colour = body_colour(m, b);
+        let stitched = style.stretched.get(b).copied().unwrap_or(false);
         let ps: Vec<Point> = (0..body.markers.len())
             .filter_map(|i| world(m, poses, MarkerId { body: b, marker: i }))
             .map(|p| view.px(p))
@@ -395,7 +401,7 @@ pub(super) fn draw_pose(
                     .set("stroke", colour)
                     .set("stroke-width", num(w)),
             );
-            if style.stretched {
+            if stitched {
                 g = g.add(stitch(Polygon::new().set("points", points(&quad)), detail));
             }
         } else if h.len() >= 3 {
@@ -409,7 +415,7 @@ pub(super) fn draw_pose(
                     .set("stroke-width", num(w))
                     .set("stroke-linejoin", "round"),
             );
-            if style.stretched {
+            if stitched {
                 g = g.add(stitch(Polygon::new().set("points", points(&h)), detail));
             }
         } else {
@@ -423,7 +429,7 @@ pub(super) fn draw_pose(
                     .set("stroke-width", num(w))
                     .set("stroke-linecap", "round"),
             );
-            if style.stretched {
+            if stitched {
                 g = g.add(stitch(Polyline::new().set("points", points(&h)), detail));
             }
         }

@@ -654,13 +654,17 @@ fn a_drag_picture_shows_the_target_and_its_path() {
 fn stretched_frames_are_dashed_and_in_the_legend() {
     // Hand-made: the four-bar's sweep with its middle frames marked
     // stretched (the runtime sets that status when it relaxes a step).
+    // The rocker is pulled off its joints (C and D) in those frames, so the
+    // rocker and the coupler are stitched, not the crank.
     let m = load(FOURBAR);
+    let rocker = m.bodies.iter().position(|b| b.name == "rocker").unwrap();
     let mut frames = simulate(&m, 37, BreakPolicy::Limit);
     for f in &mut frames[10..20] {
         f.status = FrameStatus::Stretched {
             step: 2,
             residual: 0.0567,
         };
+        f.poses[rocker].at[0] += 0.0567;
     }
     let els = parse(&render(&m, &frames, &trace_of(&m), &SvgOptions::default()));
     // Solved 0..=9, stretched 9..=20 (its segments touch a stretched
@@ -674,17 +678,65 @@ fn stretched_frames_are_dashed_and_in_the_legend() {
     let stretched = with_class(&els, "trace stretched")[0];
     assert!(!stretched.attr("stroke-dasharray").is_empty());
     // Picked poses at frames 0, 7, 14, 22, 29 (36 repeats 0): the one at
-    // frame 14 is stretched, each of its three mobile bodies stitched.
+    // frame 14 is stretched, its two bodies off their joints stitched.
     let poses = with_class(&els, "pose stretched");
     assert_eq!(poses.len(), 1);
     let stitches: Vec<&El> = els
         .iter()
         .filter(|e| e.inside("pose stretched") && e.class() == "stitch")
         .collect();
-    assert_eq!(stitches.len(), 3);
+    assert_eq!(stitches.len(), 2);
     assert!(stitches.iter().all(|e| e.attr("stroke-dasharray") == "4 3"));
-    assert_eq!(with_class(&els, "stitch").len(), 3);
+    assert_eq!(with_class(&els, "stitch").len(), 2);
     assert!(texts(&els).contains(&"stretched (residual up to 0.0567)"));
+    let colours: Vec<&str> = stitches
+        .iter()
+        .map(|e| {
+            // The stitch follows its body's outline, drawn just before it.
+            let i = els.iter().position(|x| std::ptr::eq(x, *e)).unwrap();
+            els[i - 1].attr("stroke")
+        })
+        .collect();
+    let crank = m.bodies.iter().position(|b| b.name == "crank").unwrap();
+    assert!(
+        !colours.contains(&mechanism::body_colour(&m, crank)),
+        "{colours:?}"
+    );
+    assert!(
+        colours.contains(&mechanism::body_colour(&m, rocker)),
+        "{colours:?}"
+    );
+}
+
+/// A stretched frame whose joints all hold (the input, or a drag's target,
+/// missed) stitches no body: its trace is dashed and the legend says the
+/// joints hold.
+#[test]
+fn stretched_frames_with_joints_holding_stitch_no_body() {
+    let m = load(FOURBAR);
+    let mut frames = simulate(&m, 37, BreakPolicy::Limit);
+    for f in &mut frames[10..20] {
+        f.status = FrameStatus::Stretched {
+            step: 2,
+            residual: 0.0567,
+        };
+    }
+    let els = parse(&render(&m, &frames, &trace_of(&m), &SvgOptions::default()));
+    assert_eq!(with_class(&els, "trace stretched").len(), 1);
+    assert!(with_class(&els, "pose stretched").is_empty());
+    assert!(with_class(&els, "stitch").is_empty());
+    assert!(texts(&els).contains(&"input missed by up to 0.0567 (the joints hold)"));
+    // A drag of coupler.P out of reach: the joints hold in every frame.
+    let targets: Vec<[f64; 2]> = (0..frames.len())
+        .map(|i| [3.0 + i as f64, 3.5 + i as f64])
+        .collect();
+    let options = SvgOptions {
+        targets,
+        ..SvgOptions::default()
+    };
+    let els = parse(&render(&m, &frames, &trace_of(&m), &options));
+    assert!(with_class(&els, "stitch").is_empty());
+    assert!(texts(&els).contains(&"out of reach: up to 0.0567 short of the target (the joints hold)"));
 }
 
 #[test]
