@@ -50,7 +50,8 @@ use crate::simulate::Frame;
 use caption::{dedupe_identical, pick_poses, titles};
 use legend::{Entry, Key, Layout};
 use mechanism::{
-    body_colour, draw_ground, draw_pose, outlines, slide_ranges, valid, world, Detail, PoseStyle,
+    body_colour, draw_ground, draw_pose, hulls, outlines, pin_labels, slide_ranges, valid, world, Detail,
+    PoseStyle,
 };
 use style::{num, trace_colour, INK};
 use trace::Reach;
@@ -350,10 +351,24 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
     } else {
         Vec::new()
     };
+    let bodies: Vec<Vec<Point>> = if ink.is_empty() {
+        Vec::new()
+    } else {
+        pose_sets
+            .iter()
+            .flat_map(|poses| hulls(m, poses, &view))
+            .collect()
+    };
     for t in &traces {
         ink.extend(trace::segments(t, 1000));
     }
-    doc = doc.add(trace::labels(&traces, &view, centre, &arrow_boxes, &ink));
+    // Pin labels first (they have few places to go), then the trace labels
+    // off them, the pins and the arrows.
+    let mut taken = arrow_boxes;
+    if let (Some(&first), true) = (order.first(), detail.names) {
+        doc = doc.add(pin_labels(m, pose_sets[first], &view, &bodies, &ink, &mut taken));
+    }
+    doc = doc.add(trace::labels(&traces, &view, centre, &taken, &ink));
 
     // Title, scale bar and legend.
     doc = doc.add(

@@ -772,3 +772,56 @@ fn numbers_are_short() {
     assert_eq!(num(10.50), "10.5");
     assert_eq!(num(f64::NAN), "0");
 }
+
+/// A text's box on the page, from its anchor, baseline and size.
+fn text_box(e: &El, size: f64) -> trace::Rect {
+    let w = style::text_width(&e.text, size);
+    let (x, y) = (e.f("x"), e.f("y"));
+    let left = if e.attr("text-anchor") == "end" { x - w } else { x };
+    [left, y - 0.8 * size, left + w, y + 0.2 * size]
+}
+
+/// Pin labels sit off the links where there is room (the rocker-rocker,
+/// one pose: every pin has a free corner), and no two labels — pins' or
+/// traces' — overlap.
+#[test]
+fn pin_and_trace_labels_keep_off_links_and_each_other() {
+    for (text, steps) in [(ROCKER_ROCKER, 151), (FOURBAR, 37), (SLIDER_CRANK, 37)] {
+        let m = load(text);
+        let frames = simulate(&m, steps, BreakPolicy::Limit);
+        let options = SvgOptions {
+            poses: 1,
+            ..SvgOptions::default()
+        };
+        let els = parse(&render(&m, &frames, &trace_of(&m), &options));
+        let pins = with_class(&els, "pin-label");
+        assert!(!pins.is_empty(), "{}", m.name);
+        let traces = with_class(&els, "trace-label");
+        let boxes: Vec<trace::Rect> = (pins.iter().map(|e| text_box(e, 11.0)))
+            .chain(traces.iter().map(|e| text_box(e, 12.0)))
+            .collect();
+        for (i, a) in boxes.iter().enumerate() {
+            for b in &boxes[i + 1..] {
+                assert!(!trace::overlaps(a, b), "{}: {a:?} and {b:?} overlap", m.name);
+            }
+        }
+        // The bars of the one pose drawn.
+        let bars: Vec<Vec<Point>> = (els.iter())
+            .filter(|e| e.name == "polyline" && e.inside("pose") && e.attr("stroke-linecap") == "round")
+            .map(El::points)
+            .collect();
+        assert!(!bars.is_empty());
+        for (e, r) in pins.iter().zip(&boxes) {
+            for bar in &bars {
+                for s in bar.windows(2) {
+                    assert!(
+                        !trace::crosses(r, s[0], s[1]),
+                        "{}: pin label {:?} lies on a link",
+                        m.name,
+                        e.text
+                    );
+                }
+            }
+        }
+    }
+}
