@@ -1220,3 +1220,59 @@ fn analyze_plots_cap_their_legends() {
     assert!(text.len() < 300_000, "{} bytes", text.len());
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `plan` and `simulate` print planar and spatial files in one layout: the
+/// plan's header and its steps numbered from 0; the sweep's header, the
+/// step that broke (the number `plan` lists it under, with its
+/// explanation), and the counts.
+#[test]
+fn planar_and_spatial_summaries_share_one_layout() {
+    let spatial = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/rssr_reach.toml");
+    let spatial = spatial.to_str().unwrap();
+    let fourbar = mechanism("fourbar");
+    for (file, steps) in [(fourbar.to_str().unwrap(), 5), (spatial, 5)] {
+        let out = stdout(&dofplan(&["plan", file]));
+        let lines: Vec<&str> = out.lines().collect();
+        assert!(lines[0].starts_with("plan for "), "{out}");
+        assert!(
+            lines[0].contains(&format!("): {steps} steps, 1 branch, inputs: theta (angle)")),
+            "{out}"
+        );
+        for (i, line) in lines[1..=steps].iter().enumerate() {
+            assert!(line.starts_with(&format!("{i:>4}  ")), "{out}");
+        }
+    }
+    // The spatial sweep breaks at its sphere–circle step, listed as step 2.
+    let plan = stdout(&dofplan(&["plan", spatial]));
+    let step2 = plan.lines().nth(3).unwrap();
+    assert!(
+        step2.starts_with("   2  rocker.C: sphere of coupler ∩ circle of rocker"),
+        "{plan}"
+    );
+    let text = step2.trim_start_matches("   2  ");
+    let text = &text[..text.find("  [").unwrap()];
+    let out = stdout(&dofplan(&["simulate", spatial, "--to", "120"]));
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines[0], "rssr_reach: 121 frames, theta from -60 to 120", "{out}");
+    assert_eq!(lines[1], "  frame 95: limited", "{out}");
+    assert_eq!(
+        lines[2],
+        format!("    step 2 broke (the circles do not meet): {text}"),
+        "{out}"
+    );
+    assert!(
+        lines[3].starts_with(
+            "121 frames: 95 solved, 26 limited, 0 searched, 0 stretched; largest joint residual "
+        ),
+        "{out}"
+    );
+    let planar = stdout(&dofplan(&["simulate", fourbar.to_str().unwrap()]));
+    assert!(
+        planar.starts_with("fourbar: 361 frames, theta from 0 to 360\n"),
+        "{planar}"
+    );
+    assert!(
+        planar.ends_with("361 frames: 361 solved, 0 limited, 0 searched, 0 stretched\n"),
+        "{planar}"
+    );
+}

@@ -454,7 +454,13 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
 /// The assembly ranges of `check`: per input, where the mechanism
 /// assembles with the others at 0, each end a break point with the step
 /// that breaks beyond it.
-pub(crate) fn write_ranges(inputs: &[Input], ranges: &[InputRanges], out: &mut dyn Write) -> io::Result<()> {
+/// `shown` gives the number `dofplan plan` lists a break's step under.
+pub(crate) fn write_ranges(
+    inputs: &[Input],
+    ranges: &[InputRanges],
+    shown: &dyn Fn(u32) -> usize,
+    out: &mut dyn Write,
+) -> io::Result<()> {
     if ranges.is_empty() {
         return Ok(());
     }
@@ -476,7 +482,7 @@ pub(crate) fn write_ranges(inputs: &[Input], ranges: &[InputRanges], out: &mut d
             Some(b) => format!(
                 "{}{unit} (step {} breaks beyond: {})",
                 precise(e.at),
-                b.step,
+                shown(b.step),
                 b.kind.describe()
             ),
             None => format!("{}{unit} (end of the range searched)", precise(e.at)),
@@ -1029,7 +1035,7 @@ fn check_mechanism(
                     checks.join("; ")
                 )?;
             }
-            write_ranges(&m.inputs, &assembly_ranges(m, p), out)?;
+            write_ranges(&m.inputs, &assembly_ranges(m, p), &|id| id as usize, out)?;
             ExitCode::SUCCESS
         }
         Err(e) => {

@@ -419,8 +419,8 @@ fn legend(out: &mut String, page: &Page, entries: &[(Key, String)]) {
             Key::None => left,
         };
         // Characters that fit before the page's edge (no font metrics:
-        // an average sans-serif glyph is about 0.56 of the font size).
-        let room = ((left + LEGEND_W as f64 - 14.0 - text_x) / (LEGEND_FONT * 0.56)) as usize;
+        // an average sans-serif glyph is about 0.52 of the font size).
+        let room = ((left + LEGEND_W as f64 - 14.0 - text_x) / (LEGEND_FONT * 0.52)) as usize;
         let shown: String = if text.chars().count() > room {
             text.chars().take(room.saturating_sub(1)).chain(['…']).collect()
         } else {
@@ -785,7 +785,7 @@ mod tests {
         let numbers: Vec<f64> = (curves.iter())
             .flat_map(|c| {
                 attribute(c, "d")
-                    .split(|c: char| c == 'M' || c == 'L' || c == ' ')
+                    .split(['M', 'L', ' '])
                     .filter(|s| !s.is_empty())
                     .map(|s| s.parse::<f64>().unwrap())
                     .collect::<Vec<_>>()
