@@ -16,12 +16,14 @@
 //! - [`assemble`]: moves the markers of a roughly drawn file to where its
 //!   joints close (`dofplan assemble`).
 //! - [`render`]: the SVG picture of a sweep or a drag.
+//! - [`format`]: how numbers are printed, the same in every output.
 
 pub mod analysis;
 pub mod assemble;
 pub mod build;
 pub mod edit;
 pub mod emit;
+pub mod format;
 pub mod interp;
 pub mod model;
 pub mod numeric;

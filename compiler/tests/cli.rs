@@ -1080,3 +1080,207 @@ fn analyze_reports_rates_transmission_and_dead_points() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// Numbers are written the same way in every output: CSV prints each as
+/// JSON does (shortest round-trip, with an exponent outside 1e-5..1e16),
+/// so round-off of zero at the drawn frame is written as it is but short
+/// (Jansen's link_c turned by −6.4e-15° at the drawn frame, not 30
+/// digits); text rounds, and a huge input is written with an exponent
+/// rather than 309 digits.
+#[test]
+fn numbers_are_short_and_the_same_in_csv_and_json() {
+    let jansen = mechanism("jansen");
+    let csv = stdout(&dofplan(&[
+        "simulate",
+        jansen.to_str().unwrap(),
+        "--csv",
+        "--steps",
+        "2",
+    ]));
+    let head: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let row: Vec<&str> = csv.lines().nth(1).unwrap().split(',').collect();
+    for (h, v) in head.iter().zip(&row) {
+        assert!(v.len() <= 24, "{h} = {v}");
+    }
+    // The JSON text itself (parsing it again would round differently):
+    // the first frame's line, each marker's `"name":[x,y]`.
+    let json = stdout(&dofplan(&[
+        "simulate",
+        jansen.to_str().unwrap(),
+        "--json",
+        "--steps",
+        "2",
+    ]));
+    let frame = json.lines().find(|l| l.contains("\"markers\"")).unwrap();
+    let mut compared = 0;
+    for (h, v) in head.iter().zip(&row) {
+        let Some((name, axis)) = h.rsplit_once('.') else {
+            continue;
+        };
+        let k = match axis {
+            "x" => 0,
+            "y" => 1,
+            _ => continue,
+        };
+        let key = format!("\"{name}\":[");
+        if let Some(at) = frame.find(&key) {
+            let pair = &frame[at + key.len()..];
+            let pair = &pair[..pair.find(']').unwrap()];
+            assert_eq!(*v, pair.split(',').nth(k).unwrap(), "{h}");
+            compared += 1;
+        }
+    }
+    assert!(compared > 20, "{compared}");
+    let e = head.iter().position(|h| *h == "link_c.angle").unwrap();
+    assert!(row[e].contains("e-"), "{}", row[e]);
+    assert!(row[e].parse::<f64>().unwrap().abs() < 1e-12);
+    // Text: an input of 1e308 in the headers of simulate and analyze.
+    for cmd in ["simulate", "analyze"] {
+        let o = dofplan(&[
+            cmd,
+            mechanism("fourbar").to_str().unwrap(),
+            "--to",
+            "1e308",
+            "--steps",
+            "3",
+        ]);
+        let out = stdout(&o);
+        assert!(out.lines().all(|l| l.len() < 200), "{out}");
+        assert!(out.contains("1e+308"), "{out}");
+        assert!(!out.contains("NaN") && !out.contains("inf"), "{out}");
+    }
+}
+
+/// `analyze`'s summary: the rate in the input's units (degrees per second
+/// for an angle, with the radians `--rate` takes; length units for a
+/// slide); at `--rate 0` a header that says nothing moves; a marker whose
+/// speed does not change is said to have it throughout, not at an
+/// arbitrary frame; loops listed 12 at most, as `check` lists them.
+#[test]
+fn analyze_summaries_say_what_moves_and_how() {
+    let run = |args: &[&str]| {
+        let o = dofplan(args);
+        assert!(o.status.success(), "{}", stderr(&o));
+        stdout(&o)
+    };
+    let fourbar = mechanism("fourbar");
+    let out = run(&["analyze", fourbar.to_str().unwrap()]);
+    assert!(
+        out.starts_with("fourbar: 361 frames, theta at 57.2958°/s (1 rad/s)\n"),
+        "{out}"
+    );
+    let out = run(&["analyze", fourbar.to_str().unwrap(), "--rate", "0"]);
+    let first = out.lines().next().unwrap();
+    assert_eq!(
+        first,
+        "fourbar: 361 frames, every input at rest (rate 0): every speed and acceleration is 0"
+    );
+    assert!(
+        out.contains("coupler.P: speed 0 throughout, acceleration 0 throughout"),
+        "{out}"
+    );
+    let out = run(&["analyze", mechanism("trammel").to_str().unwrap(), "--rate", "2"]);
+    assert!(
+        out.lines().next().unwrap().ends_with(", s at 2 length units/s"),
+        "{out}"
+    );
+    // The crank pin of the slider-crank turns at 1 rad/s on a unit circle:
+    // speed and acceleration 1 in every frame.
+    let out = run(&["analyze", mechanism("slider_crank").to_str().unwrap()]);
+    assert!(
+        out.contains("crank.B: speed 1 throughout, acceleration 1 throughout"),
+        "{out}"
+    );
+    let chain = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/stress_loops_200.toml");
+    let out = run(&["analyze", chain.to_str().unwrap(), "--steps", "5"]);
+    let loops = out
+        .lines()
+        .filter(|l| l.starts_with("  transmission angle of "))
+        .count();
+    assert_eq!(loops, 12, "{out}");
+    assert!(
+        out.contains("  … and 188 more four-bar loops (`dofplan analyze --json` or `--csv` gives them all)"),
+        "{out}"
+    );
+}
+
+/// `analyze --svg` of 200 loops: twelve curves and legend entries a panel
+/// and one line counting the rest, not 200; the file stays small.
+#[test]
+fn analyze_plots_cap_their_legends() {
+    let dir = std::env::temp_dir().join(format!("dofplan-analyze-cap-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let svg = dir.join("plots.svg");
+    let chain = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/stress_loops_200.toml");
+    let o = dofplan(&[
+        "analyze",
+        chain.to_str().unwrap(),
+        "--steps",
+        "37",
+        "--svg",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(text.contains("… 188 more loops not drawn"));
+    // One traced marker in four panels, twelve loops in the last.
+    assert_eq!(text.matches("class=\"legend-entry\"").count(), 4 + 13);
+    assert!(text.len() < 300_000, "{} bytes", text.len());
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// `plan` and `simulate` print planar and spatial files in one layout: the
+/// plan's header and its steps numbered from 0; the sweep's header, the
+/// step that broke (the number `plan` lists it under, with its
+/// explanation), and the counts.
+#[test]
+fn planar_and_spatial_summaries_share_one_layout() {
+    let spatial = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data/rssr_reach.toml");
+    let spatial = spatial.to_str().unwrap();
+    let fourbar = mechanism("fourbar");
+    for (file, steps) in [(fourbar.to_str().unwrap(), 5), (spatial, 5)] {
+        let out = stdout(&dofplan(&["plan", file]));
+        let lines: Vec<&str> = out.lines().collect();
+        assert!(lines[0].starts_with("plan for "), "{out}");
+        assert!(
+            lines[0].contains(&format!("): {steps} steps, 1 branch, inputs: theta (angle)")),
+            "{out}"
+        );
+        for (i, line) in lines[1..=steps].iter().enumerate() {
+            assert!(line.starts_with(&format!("{i:>4}  ")), "{out}");
+        }
+    }
+    // The spatial sweep breaks at its sphere–circle step, listed as step 2.
+    let plan = stdout(&dofplan(&["plan", spatial]));
+    let step2 = plan.lines().nth(3).unwrap();
+    assert!(
+        step2.starts_with("   2  rocker.C: sphere of coupler ∩ circle of rocker"),
+        "{plan}"
+    );
+    let text = step2.trim_start_matches("   2  ");
+    let text = &text[..text.find("  [").unwrap()];
+    let out = stdout(&dofplan(&["simulate", spatial, "--to", "120"]));
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines[0], "rssr_reach: 121 frames, theta from -60 to 120", "{out}");
+    assert_eq!(lines[1], "  frame 95: limited", "{out}");
+    assert_eq!(
+        lines[2],
+        format!("    step 2 broke (the circles do not meet): {text}"),
+        "{out}"
+    );
+    assert!(
+        lines[3].starts_with(
+            "121 frames: 95 solved, 26 limited, 0 searched, 0 stretched; largest joint residual "
+        ),
+        "{out}"
+    );
+    let planar = stdout(&dofplan(&["simulate", fourbar.to_str().unwrap()]));
+    assert!(
+        planar.starts_with("fourbar: 361 frames, theta from 0 to 360\n"),
+        "{planar}"
+    );
+    assert!(
+        planar.ends_with("361 frames: 361 solved, 0 limited, 0 searched, 0 stretched\n"),
+        "{planar}"
+    );
+}

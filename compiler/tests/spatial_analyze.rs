@@ -287,12 +287,13 @@ fn spatial_analyze_gives_the_cardan_velocity_ratio() {
         }
     }
     // The summary names the traced markers' largest speed: shaft2.tip, at
-    // 0.5 from its axis, at most 0.5 / cos β.
+    // 0.5 from its axis, at most 0.5 / cos β; shaft1.tip, 0.5 from the
+    // input shaft's axis turning at 1 rad/s, has speed 0.5 throughout.
     let o = dofplan(&["analyze", path(&spatial("cardan"))]);
     assert!(o.status.success(), "{}", stderr(&o));
     let out = stdout(&o);
     assert!(
-        out.starts_with("cardan: 361 frames, theta at 57.2958 °/s\n"),
+        out.starts_with("cardan: 361 frames, theta at 57.2958°/s (1 rad/s)\n"),
         "{out}"
     );
     assert!(
@@ -300,7 +301,7 @@ fn spatial_analyze_gives_the_cardan_velocity_ratio() {
         "{out}"
     );
     assert!(
-        out.contains("  shaft1.tip: largest speed 0.5 at theta = "),
+        out.contains("  shaft1.tip: speed 0.5 throughout, acceleration 0.5 throughout\n"),
         "{out}"
     );
 }

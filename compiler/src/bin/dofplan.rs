@@ -19,6 +19,7 @@ use dofplan::analysis::rank::rank_mobility_with;
 use dofplan::analysis::{analyse_with, Analysis, Class, Mobility};
 use dofplan::assemble::assemble_file;
 use dofplan::emit::emit;
+use dofplan::format::number;
 use dofplan::model::spatial::Mechanism3;
 use dofplan::model::Model;
 
@@ -463,7 +464,13 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
 /// The assembly ranges of `check`: per input, where the mechanism
 /// assembles with the others at 0, each end a break point with the step
 /// that breaks beyond it.
-pub(crate) fn write_ranges(inputs: &[Input], ranges: &[InputRanges], out: &mut dyn Write) -> io::Result<()> {
+/// `shown` gives the number `dofplan plan` lists a break's step under.
+pub(crate) fn write_ranges(
+    inputs: &[Input],
+    ranges: &[InputRanges],
+    shown: &dyn Fn(u32) -> usize,
+    out: &mut dyn Write,
+) -> io::Result<()> {
     if ranges.is_empty() {
         return Ok(());
     }
@@ -485,7 +492,7 @@ pub(crate) fn write_ranges(inputs: &[Input], ranges: &[InputRanges], out: &mut d
             Some(b) => format!(
                 "{}{unit} (step {} breaks beyond: {})",
                 precise(e.at),
-                b.step,
+                shown(b.step),
                 b.kind.describe()
             ),
             None => format!("{}{unit} (end of the range searched)", precise(e.at)),
@@ -1041,7 +1048,7 @@ fn check_mechanism(
                     checks.join("; ")
                 )?;
             }
-            write_ranges(&m.inputs, &assembly_ranges(m, p), out)?;
+            write_ranges(&m.inputs, &assembly_ranges(m, p), &|id| id as usize, out)?;
             ExitCode::SUCCESS
         }
         Err(e) => {
@@ -1395,13 +1402,7 @@ impl Form {
 /// decimals, the precision a break point is searched to. Requested values
 /// are written with [`num`]'s 4.
 fn precise(x: f64) -> String {
-    let s = format!("{x:.9}");
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" {
-        "0".to_string()
-    } else {
-        s.to_string()
-    }
+    dofplan::format::rounded(x, 9)
 }
 
 /// Writes the frames as they come, in `form`, keeping them only when an SVG
@@ -1621,7 +1622,7 @@ impl FrameWriter for CsvFrames<'_, '_> {
 
     fn frame(&mut self, out: &mut dyn Write, index: usize, f: &Frame) -> io::Result<()> {
         let mut row = vec![index.to_string()];
-        row.extend(f.requested.iter().map(|v| v.to_string()));
+        row.extend(f.requested.iter().map(|v| number(*v)));
         row.push(f.status.name().to_string());
         if matches!(f.status, FrameStatus::Unreached { .. }) {
             // No pose: empty cells, not the drawing's numbers.
@@ -1630,13 +1631,13 @@ impl FrameWriter for CsvFrames<'_, '_> {
             return writeln!(out, "{}", row.join(","));
         }
         for (_, p) in marker_positions(self.r.m, &f.poses) {
-            row.push(p[0].to_string());
-            row.push(p[1].to_string());
+            row.push(number(p[0]));
+            row.push(number(p[1]));
         }
         for p in &f.poses {
-            row.push(angle(p).to_string());
-            row.push(p.at[0].to_string());
-            row.push(p.at[1].to_string());
+            row.push(number(angle(p)));
+            row.push(number(p.at[0]));
+            row.push(number(p.at[1]));
         }
         writeln!(out, "{}", row.join(","))
     }

@@ -1217,7 +1217,7 @@ pub fn emit_spatial_chunked(plan: &Plan3, chunk_weight: usize) -> String {
             } else {
                 format!("  [{}]", step.serves.join(", "))
             };
-            out.push_str(&format!("{indent}// {}: {}{serves}\n", i + 1, step.text));
+            out.push_str(&format!("{indent}// {i}: {}{serves}\n", step.text));
         } else if let Some(rest) = trimmed.strip_prefix("__dofplan_note!(") {
             let i: usize = rest.trim_end_matches(");").parse().expect("note marker");
             out.push_str(&format!("{indent}// {}\n", notes[i]));

@@ -1,19 +1,11 @@
 //! One-line explanations of steps, as TLA printed them: what is placed,
 //! from which loci, on which branch.
 
-use std::fmt::Write;
-
 use super::{ClusterParam, DirRef, Line, Plan, PointRef, Rel, StepKind};
 
 /// A number for people: at most 4 decimals, trailing zeros dropped.
 pub fn num(x: f64) -> String {
-    let s = format!("{x:.4}");
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" {
-        "0".to_string()
-    } else {
-        s.to_string()
-    }
+    crate::format::rounded(x, 4)
 }
 
 fn pair(p: [f64; 2]) -> String {
@@ -275,34 +267,47 @@ impl Plan {
     /// The whole plan, one numbered line per step, as `dofplan plan` prints
     /// it.
     pub fn explain_all(&self) -> String {
-        let mut out = String::new();
-        let inputs: Vec<String> = self
-            .inputs
-            .iter()
-            .map(|i| format!("{} ({})", i.name, i.kind.name()))
-            .collect();
-        let _ = writeln!(
-            out,
-            "plan for {} ({}): {} steps, {} branch{}, inputs: {}",
-            self.mechanism,
-            self.source,
+        let mut out = header(
+            &self.mechanism,
+            &self.source,
             self.steps.len(),
             self.branches.len(),
-            if self.branches.len() == 1 { "" } else { "es" },
-            if inputs.is_empty() {
-                "none".to_string()
-            } else {
-                inputs.join(", ")
-            }
+            self.inputs.iter().map(|i| (i.name.as_str(), i.kind)),
         );
         for (i, (step, line)) in self.steps.iter().zip(self.explanations()).enumerate() {
-            let serves = if step.serves.is_empty() {
-                String::new()
-            } else {
-                format!("  [{}]", step.serves.join(", "))
-            };
-            let _ = writeln!(out, "{i:>4}  {line}{serves}");
+            out.push_str(&step_line(i, &line, &step.serves));
         }
         out
+    }
+}
+
+/// The first line of `dofplan plan`, planar or spatial: the mechanism, its
+/// file, the counts of steps and branches, and the inputs with their kinds.
+pub(crate) fn header<'a>(
+    mechanism: &str,
+    source: &str,
+    steps: usize,
+    branches: usize,
+    inputs: impl Iterator<Item = (&'a str, super::InputKind)>,
+) -> String {
+    let inputs: Vec<String> = inputs.map(|(n, k)| format!("{n} ({})", k.name())).collect();
+    format!(
+        "plan for {mechanism} ({source}): {steps} steps, {branches} branch{}, inputs: {}\n",
+        if branches == 1 { "" } else { "es" },
+        if inputs.is_empty() {
+            "none".to_string()
+        } else {
+            inputs.join(", ")
+        }
+    )
+}
+
+/// One line of `dofplan plan`, planar or spatial: the step's number (from
+/// 0), its explanation and what it serves.
+pub(crate) fn step_line(i: usize, text: &str, serves: &[String]) -> String {
+    if serves.is_empty() {
+        format!("{i:>4}  {text}\n")
+    } else {
+        format!("{i:>4}  {text}  [{}]\n", serves.join(", "))
     }
 }

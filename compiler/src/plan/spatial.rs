@@ -596,23 +596,38 @@ impl Plan3 {
         })
     }
 
-    /// The plan as `dofplan plan` prints it: one numbered line a step.
+    /// The plan as `dofplan plan` prints it, in the planar plan's layout:
+    /// a header, then one line a step numbered from 0 (the number its
+    /// explanations cite; a break's runtime id is one more, see
+    /// [`step_number`]), then the idle freedoms.
     pub fn explain_all(&self) -> String {
-        let mut out = String::new();
+        let mut out = super::explain::header(
+            &self.name,
+            &self.source,
+            self.steps.len(),
+            self.branches.len(),
+            self.inputs
+                .iter()
+                .map(String::as_str)
+                .zip(self.input_kinds.iter().copied()),
+        );
         for (i, s) in self.steps.iter().enumerate() {
-            out.push_str(&format!("{:>3}  {}", i + 1, s.text));
-            if !s.serves.is_empty() {
-                out.push_str(&format!("   [{}]", s.serves.join(", ")));
-            }
-            out.push('\n');
+            out.push_str(&super::explain::step_line(i, &s.text, &s.serves));
         }
         for (b, dof, why) in &self.idle {
             out.push_str(&format!(
-                "     idle: {} keeps {dof} freedom{} at minimum motion ({why})\n",
+                "      idle: {} keeps {dof} freedom{} at minimum motion ({why})\n",
                 self.bodies[*b],
                 if *dof == 1 { "" } else { "s" }
             ));
         }
         out
     }
+}
+
+/// The number `dofplan plan` shows for the spatial step whose runtime id is
+/// `id` (a break's `step`, a stretch's step): the steps run with ids from
+/// 1, and are listed and cited from 0, as planar steps are.
+pub fn step_number(id: u32) -> usize {
+    (id as usize).saturating_sub(1)
 }

@@ -24,6 +24,9 @@ pub(super) enum Key {
     /// Stretched frames: a stitched box (their traces are dashed, their
     /// poses stitched).
     Stretched,
+    /// Stretched frames whose joints all hold (an input or a drag target
+    /// missed): a dashed line, as their traces are drawn.
+    Dashed,
     /// Searched frames: a ring.
     Searched,
     /// The drag target and its path.
@@ -158,6 +161,7 @@ pub(super) fn draw(entries: &[Entry], layout: &Layout, left: f64, top: f64) -> G
                             .set("stroke-dasharray", STITCH_DASH),
                     ),
             ),
+            Key::Dashed => g.add(super::style::dashed(hline(GREY, 2.0), 2.0, true)),
             Key::Searched => g.add(
                 Circle::new()
                     .set("cx", num(x + 11.0))

@@ -4,7 +4,8 @@
 use dofplan_runtime::planar::{Point, Pose};
 use svg::node::element::{Circle, Group, Path, Polygon, Polyline, Text};
 
-use super::style::{line, num, points, BODY_COLOURS, GREY, GROUND_COLOUR, INK};
+use super::style::{line, num, points, text_width, BODY_COLOURS, GREY, GROUND_COLOUR, INK};
+use super::trace::{crosses, overlaps, Rect};
 use super::view::{finite, BBox, View};
 use crate::model::{Body, JointKind, MarkerId, Mechanism};
 
@@ -292,15 +293,7 @@ pub(super) const STITCH_DASH: &str = "4 3";
 /// off.
 pub(super) fn outlines(m: &Mechanism, poses: &[Pose], view: &View) -> Vec<[Point; 2]> {
     let mut out = Vec::new();
-    for (b, body) in m.bodies.iter().enumerate() {
-        if body.fixed {
-            continue;
-        }
-        let ps: Vec<Point> = (0..body.markers.len())
-            .filter_map(|i| world(m, poses, MarkerId { body: b, marker: i }))
-            .map(|p| view.px(p))
-            .collect();
-        let h = hull(ps);
+    for h in hulls(m, poses, view) {
         match h.len() {
             0 | 1 => {}
             2 => out.push([h[0], h[1]]),
@@ -310,14 +303,31 @@ pub(super) fn outlines(m: &Mechanism, poses: &[Pose], view: &View) -> Vec<[Point
     out
 }
 
+/// The mobile bodies at `poses` as page polygons (the hulls of their
+/// markers: a bar has two corners).
+pub(super) fn hulls(m: &Mechanism, poses: &[Pose], view: &View) -> Vec<Vec<Point>> {
+    (m.bodies.iter().enumerate())
+        .filter(|(_, body)| !body.fixed)
+        .map(|(b, body)| {
+            hull(
+                (0..body.markers.len())
+                    .filter_map(|i| world(m, poses, MarkerId { body: b, marker: i }))
+                    .map(|p| view.px(p))
+                    .collect(),
+            )
+        })
+        .collect()
+}
+
 /// How one pose is drawn.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct PoseStyle {
+pub(super) struct PoseStyle<'a> {
     /// The opaque pose, with the traced markers and the joint names.
     pub highlighted: bool,
-    /// The frame did not meet its input exactly: every body stitched with
-    /// a white dashed line along its outline (or its bar).
-    pub stretched: bool,
+    /// By body: pulled apart by a stretched frame (one of its joints
+    /// open), stitched with a white dashed line along its outline (or its
+    /// bar). Empty or all false: nothing stretched.
+    pub stretched: &'a [bool],
 }
 
 /// One pose of the mobile bodies: their shapes, slide lines on mobile
@@ -333,7 +343,11 @@ pub(super) fn draw_pose(
     style: PoseStyle,
 ) -> Group {
     let k = detail.k;
-    let class = if style.stretched { "pose stretched" } else { "pose" };
+    let class = if style.stretched.contains(&true) {
+        "pose stretched"
+    } else {
+        "pose"
+    };
     let mut g = Group::new().set("class", class);
     for s in slides {
         let a = m.joints[s.joint].markers[0];
@@ -354,6 +368,7 @@ pub(super) fn draw_pose(
             continue;
         }
         let colour = body_colour(m, b);
+        let stitched = style.stretched.get(b).copied().unwrap_or(false);
         let ps: Vec<Point> = (0..body.markers.len())
             .filter_map(|i| world(m, poses, MarkerId { body: b, marker: i }))
             .map(|p| view.px(p))
@@ -395,7 +410,7 @@ pub(super) fn draw_pose(
                     .set("stroke", colour)
                     .set("stroke-width", num(w)),
             );
-            if style.stretched {
+            if stitched {
                 g = g.add(stitch(Polygon::new().set("points", points(&quad)), detail));
             }
         } else if h.len() >= 3 {
@@ -409,7 +424,7 @@ pub(super) fn draw_pose(
                     .set("stroke-width", num(w))
                     .set("stroke-linejoin", "round"),
             );
-            if style.stretched {
+            if stitched {
                 g = g.add(stitch(Polygon::new().set("points", points(&h)), detail));
             }
         } else {
@@ -423,7 +438,7 @@ pub(super) fn draw_pose(
                     .set("stroke-width", num(w))
                     .set("stroke-linecap", "round"),
             );
-            if style.stretched {
+            if stitched {
                 g = g.add(stitch(Polyline::new().set("points", points(&h)), detail));
             }
         }
@@ -463,9 +478,6 @@ pub(super) fn draw_pose(
                 );
             }
         }
-        if detail.names {
-            g = g.add(joint_names(m, poses, view));
-        }
     }
     g
 }
@@ -486,9 +498,22 @@ fn stitch<N: svg::Node>(mut node: N, detail: Detail) -> N {
     node
 }
 
-/// The joint names beside their pins; joints on one spot share a label
-/// ("O1, A1").
-fn joint_names(m: &Mechanism, poses: &[Pose], view: &View) -> Group {
+/// The joint names beside their pins at `poses` (joints on one spot share
+/// a label, "O1, A1"), each at the one of ten places around its pin that
+/// stays inside the plot, off the other labels and the `taken` boxes
+/// (arrows, pins), and covers least of the drawing: the `ink` segments it
+/// crosses (outlines and traces; a bar counts its width) and the `bodies`
+/// polygons it lies in. With no such place, above right. Each label's box
+/// is added to `taken`. White-haloed, as the trace labels, so a label
+/// that must lie on a body still reads.
+pub(super) fn pin_labels(
+    m: &Mechanism,
+    poses: &[Pose],
+    view: &View,
+    bodies: &[Vec<Point>],
+    ink: &[[Point; 2]],
+    taken: &mut Vec<Rect>,
+) -> Group {
     let mut spots: Vec<(Point, String)> = Vec::new();
     for j in &m.joints {
         let Some(p) = world(m, poses, j.markers[0]) else {
@@ -506,15 +531,93 @@ fn joint_names(m: &Mechanism, poses: &[Pose], view: &View) -> Group {
             None => spots.push((q, j.name.clone())),
         }
     }
-    let mut labels = Group::new().set("font-size", 11).set("fill", "#333333");
+    // Every pin is an obstacle to every label.
+    taken.extend(
+        spots
+            .iter()
+            .map(|(q, _)| [q[0] - 5.0, q[1] - 5.0, q[0] + 5.0, q[1] + 5.0]),
+    );
+    let mut labels = Group::new()
+        .set("class", "pin-labels")
+        .set("font-size", PIN_FONT)
+        .set("fill", "#333333")
+        .set("stroke", "#ffffff")
+        .set("stroke-width", 2.5)
+        .set("stroke-linejoin", "round")
+        .set("paint-order", "stroke");
     for (q, names) in spots {
+        let w = text_width(&names, PIN_FONT);
+        // (dx, baseline dy, anchored at its start): above right first,
+        // then the other corners, the sides, and the same farther out.
+        let places = [
+            (6.0, -6.0, true),
+            (-6.0, -6.0, false),
+            (6.0, 14.0, true),
+            (-6.0, 14.0, false),
+            (8.0, 4.0, true),
+            (-8.0, 4.0, false),
+            (14.0, -12.0, true),
+            (-14.0, -12.0, false),
+            (14.0, 20.0, true),
+            (-14.0, 20.0, false),
+        ];
+        let boxed = |&(dx, dy, start): &(f64, f64, bool)| {
+            let x = q[0] + dx;
+            let left = if start { x } else { x - w };
+            (
+                x,
+                q[1] + dy,
+                start,
+                [left, q[1] + dy - 9.0, left + w, q[1] + dy + 2.0],
+            )
+        };
+        let inside = |r: &Rect| view.contains([r[0], r[1]]) && view.contains([r[2], r[3]]);
+        let free = |r: &Rect| inside(r) && !taken.iter().any(|t| overlaps(t, r));
+        // How much of the drawing a place covers: the lines it crosses (a
+        // bar is drawn up to 3 px either side of its segment) and the
+        // bodies it lies in.
+        let covered = |r: &Rect| {
+            let wide = [r[0] - 3.0, r[1] - 3.0, r[2] + 3.0, r[3] + 3.0];
+            let centre = [0.5 * (r[0] + r[2]), 0.5 * (r[1] + r[3])];
+            ink.iter().filter(|s| crosses(&wide, s[0], s[1])).count()
+                + (bodies.iter())
+                    .filter(|b| b.len() >= 3 && in_polygon(centre, b))
+                    .count()
+        };
+        // The free place covering least (the first of equals); else above
+        // right.
+        let (x, y, start, rect) = (places.iter().map(boxed))
+            .filter(|(_, _, _, r)| free(r))
+            .min_by_key(|(_, _, _, r)| covered(r))
+            .unwrap_or_else(|| boxed(&places[0]));
+        taken.push(rect);
         labels = labels.add(
             Text::new(names)
-                .set("x", num(q[0] + 6.0))
-                .set("y", num(q[1] - 6.0)),
+                .set("class", "pin-label")
+                .set("x", num(x))
+                .set("y", num(y))
+                .set("text-anchor", if start { "start" } else { "end" }),
         );
     }
     labels
+}
+
+/// The font size of pin labels.
+const PIN_FONT: f64 = 11.0;
+
+/// Whether `p` is inside the polygon `poly` (even–odd rule).
+fn in_polygon(p: Point, poly: &[Point]) -> bool {
+    let mut inside = false;
+    for i in 0..poly.len() {
+        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+        if (a[1] > p[1]) != (b[1] > p[1]) {
+            let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
+            if p[0] < x {
+                inside = !inside;
+            }
+        }
+    }
+    inside
 }
 
 /// The long axis of a slider block on the page: along the line of a

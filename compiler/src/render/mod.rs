@@ -50,7 +50,8 @@ use crate::simulate::Frame;
 use caption::{dedupe_identical, pick_poses, titles};
 use legend::{Entry, Key, Layout};
 use mechanism::{
-    body_colour, draw_ground, draw_pose, outlines, slide_ranges, valid, world, Detail, PoseStyle,
+    body_colour, draw_ground, draw_pose, hulls, outlines, pin_labels, slide_ranges, valid, world, Detail,
+    PoseStyle,
 };
 use style::{num, trace_colour, INK};
 use trace::Reach;
@@ -134,11 +135,17 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
     };
     let mut picked_frames: Vec<usize> = picked.clone();
     dedupe_identical(m, &mut pose_sets, &mut picked_frames, size);
-    let stretched_set = |k: usize| {
-        picked_frames
-            .get(k)
-            .is_some_and(|&i| matches!(frames[i].status, FrameStatus::Stretched { .. }))
-    };
+    // Per drawn pose, the bodies a stretched frame pulled apart (those of
+    // its open joints); none when the frame is not stretched, or when its
+    // joints hold and only the input or the drag target was missed.
+    let open_sets: Vec<Vec<bool>> = (0..pose_sets.len())
+        .map(|k| match picked_frames.get(k) {
+            Some(&i) if matches!(frames[i].status, FrameStatus::Stretched { .. }) => {
+                open_bodies(m, &frames[i].poses)
+            }
+            _ => vec![false; m.bodies.len()],
+        })
+        .collect();
     // Opaque first, then fainter and fainter: along the sweep, or back from
     // the end of a drag.
     let order: Vec<usize> = if drag {
@@ -198,17 +205,37 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
             label: format!("trace {}", t.name),
         })
         .collect();
-    let worst_stretch = frames
-        .iter()
+    let stretched: Vec<&Frame> = (frames.iter())
+        .filter(|f| matches!(f.status, FrameStatus::Stretched { .. }))
+        .collect();
+    let worst_stretch = (stretched.iter())
         .filter_map(|f| match f.status {
             FrameStatus::Stretched { residual, .. } => Some(residual),
             _ => None,
         })
         .fold(None, |acc: Option<f64>, r| Some(acc.map_or(r, |a| a.max(r))));
     if let Some(r) = worst_stretch {
-        entries.push(Entry {
-            key: Key::Stretched,
-            label: format!("stretched (residual up to {})", short(r)),
+        // Stitched bodies only where joints were pulled apart; a stretch
+        // whose joints all hold missed only its input or its target.
+        let opened = (stretched.iter()).any(|f| open_bodies(m, &f.poses).contains(&true));
+        entries.push(if opened {
+            Entry {
+                key: Key::Stretched,
+                label: format!("stretched (residual up to {})", short(r)),
+            }
+        } else if drag {
+            Entry {
+                key: Key::Dashed,
+                label: format!(
+                    "out of reach: up to {} short of the target (the joints hold)",
+                    short(r)
+                ),
+            }
+        } else {
+            Entry {
+                key: Key::Dashed,
+                label: format!("input missed by up to {} (the joints hold)", short(r)),
+            }
         });
     }
     if traces.iter().any(|t| !t.searched.is_empty()) {
@@ -276,7 +303,7 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
             };
             let style = PoseStyle {
                 highlighted: false,
-                stretched: stretched_set(k),
+                stretched: &open_sets[k],
             };
             let g =
                 draw_pose(m, pose_sets[k], &slides, &view, detail, &[], style).set("opacity", num(opacity));
@@ -289,7 +316,7 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
     if let Some(&first) = order.first() {
         let style = PoseStyle {
             highlighted: true,
-            stretched: stretched_set(first),
+            stretched: &open_sets[first],
         };
         doc = doc.add(draw_pose(
             m,
@@ -324,10 +351,24 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
     } else {
         Vec::new()
     };
+    let bodies: Vec<Vec<Point>> = if ink.is_empty() {
+        Vec::new()
+    } else {
+        pose_sets
+            .iter()
+            .flat_map(|poses| hulls(m, poses, &view))
+            .collect()
+    };
     for t in &traces {
         ink.extend(trace::segments(t, 1000));
     }
-    doc = doc.add(trace::labels(&traces, &view, centre, &arrow_boxes, &ink));
+    // Pin labels first (they have few places to go), then the trace labels
+    // off them, the pins and the arrows.
+    let mut taken = arrow_boxes;
+    if let (Some(&first), true) = (order.first(), detail.names) {
+        doc = doc.add(pin_labels(m, pose_sets[first], &view, &bodies, &ink, &mut taken));
+    }
+    doc = doc.add(trace::labels(&traces, &view, centre, &taken, &ink));
 
     // Title, scale bar and legend.
     doc = doc.add(
@@ -350,6 +391,39 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
     }
     doc = doc.add(legend::draw(&entries, &layout, PAD, legend_top));
     doc.to_string()
+}
+
+/// A joint or constraint open by more than this, relative to the
+/// mechanism's size, was pulled apart (a solved frame's are round-off).
+const OPEN: f64 = 1e-6;
+
+/// Which bodies of `poses` a joint or constraint pulls apart (open by more
+/// than [`OPEN`] of the mechanism's size): the mark of a stretched frame
+/// goes on them only. Inputs are not counted: a drag's frames carry its
+/// target, not the inputs, and a missed input opens no joint.
+fn open_bodies(m: &Mechanism, poses: &[Pose]) -> Vec<bool> {
+    let mut open = vec![false; m.bodies.len()];
+    if poses.len() != m.bodies.len() {
+        return open;
+    }
+    let tolerance = OPEN * m.size();
+    let at_rest = vec![0.0; m.inputs.len()];
+    for r in crate::simulate::residuals(m, poses, &at_rest) {
+        if r.value <= tolerance {
+            continue;
+        }
+        let markers = if let Some(name) = r.name.strip_prefix("joint ") {
+            m.joints.iter().find(|j| j.name == name).map(|j| j.markers)
+        } else if let Some(name) = r.name.strip_prefix("constraint ") {
+            m.constraints.iter().find(|c| c.name == name).map(|c| c.markers)
+        } else {
+            None
+        };
+        for id in markers.into_iter().flatten() {
+            open[id.body] = true;
+        }
+    }
+    open
 }
 
 /// A residual in three significant figures at most ("0.0567", "2.1e-7").

@@ -320,10 +320,27 @@ pub fn render_spatial(m: &Mechanism3, frames: &[SpatialFrame]) -> String {
             .collect()
     };
     dedupe(m, &mut sets);
-    let stretched = |i: usize| {
-        frames
-            .get(i)
-            .is_some_and(|f| matches!(f.status, FrameStatus::Stretched { .. }))
+    // Per frame drawn, the bodies it pulled apart (those of its open
+    // joints and constraints): a stretched frame whose joints hold (a
+    // drag's target out of reach) stitches none.
+    let opened: Vec<(usize, Vec<bool>)> = (sets.iter())
+        .map(|&(i, poses)| {
+            let stretched = frames
+                .get(i)
+                .is_some_and(|f| matches!(f.status, FrameStatus::Stretched { .. }));
+            let open = if stretched {
+                open_bodies(m, poses)
+            } else {
+                vec![false; m.bodies.len()]
+            };
+            (i, open)
+        })
+        .collect();
+    let stretched = |i: usize| -> &[bool] {
+        opened
+            .iter()
+            .find(|(k, _)| *k == i)
+            .map_or(&[][..], |(_, open)| &open[..])
     };
 
     // The box of everything drawn, in each view's plane.
@@ -432,9 +449,19 @@ fn legend_entries(
         })
         .fold(None, |acc: Option<f64>, r| Some(acc.map_or(r, |a: f64| a.max(r))));
     if let Some(r) = worst_stretch {
-        entries.push(Entry {
-            key: Key::Stretched,
-            label: format!("stretched (residual up to {})", super::short(r)),
+        let opened = (frames.iter())
+            .filter(|f| matches!(f.status, FrameStatus::Stretched { .. }))
+            .any(|f| open_bodies(m, &f.poses).contains(&true));
+        entries.push(if opened {
+            Entry {
+                key: Key::Stretched,
+                label: format!("stretched (residual up to {})", super::short(r)),
+            }
+        } else {
+            Entry {
+                key: Key::Dashed,
+                label: format!("stretched: missed by up to {} (the joints hold)", super::short(r)),
+            }
         });
     }
     // Searched frames leave a mark only where a traced marker is finite.
@@ -586,12 +613,12 @@ fn hatch_pattern() -> Pattern {
 
 /// One view: its frame and heading, the ground, the faint poses, the
 /// traces, the opaque pose, the labels, the axes and the scale bar.
-fn draw_view(
+fn draw_view<'a>(
     m: &Mechanism3,
     cell: &Cell,
     all: &[(&[Pose3], Reach)],
     sets: &[(usize, &[Pose3])],
-    stretched: &dyn Fn(usize) -> bool,
+    stretched: &dyn Fn(usize) -> &'a [bool],
     traced: &[MarkerId],
     detail: Detail,
 ) -> Group {
@@ -648,7 +675,7 @@ fn draw_view(
             draw_bodies(m, poses, proj, view, detail, true, stretched(i))
                 .set(
                     "class",
-                    if stretched(i) {
+                    if stretched(i).contains(&true) {
                         "pose ghost stretched"
                     } else {
                         "pose ghost"
@@ -679,7 +706,7 @@ fn draw_view(
     // The opaque pose, its joints and traced markers.
     let pose = draw_bodies(m, first, proj, view, detail, false, stretched(first_frame)).set(
         "class",
-        if stretched(first_frame) {
+        if stretched(first_frame).contains(&true) {
             "pose stretched"
         } else {
             "pose"
@@ -927,7 +954,7 @@ fn draw_bodies(
     view: &View,
     detail: Detail,
     ghost: bool,
-    stretched: bool,
+    stretched: &[bool],
 ) -> Group {
     let page = |p: Vec3| view.px(proj.project(p));
     let mut order: Vec<(f64, usize)> = m
@@ -981,6 +1008,7 @@ fn draw_bodies(
     }
     for (_, b) in order {
         let colour = colour_of(&m.bodies, b);
+        let stretched = stretched.get(b).copied().unwrap_or(false);
         let ps = body_points(m, poses, b, &page);
         let mut bg = Group::new()
             .set("class", "body")
@@ -1356,4 +1384,28 @@ fn joint_names(
         );
     }
     (g, placed)
+}
+
+/// Which bodies of `poses` a joint or constraint pulls apart: a row open
+/// by more than 1e-6 of the mechanism's size (lengths) or 1e-6 (sines of
+/// angles). Inputs are not counted (a missed input opens no joint).
+fn open_bodies(m: &Mechanism3, poses: &[Pose3]) -> Vec<bool> {
+    let mut open = vec![false; m.bodies.len()];
+    if poses.len() != m.bodies.len() {
+        return open;
+    }
+    let size = m.size();
+    let at_rest = vec![0.0; m.inputs.len()];
+    for e in crate::analysis::spatial::equations::equations(m) {
+        if e.origin.starts_with("input ") {
+            continue;
+        }
+        let tolerance = if e.linear() { 1e-6 * size } else { 1e-6 };
+        if e.gap(poses, &at_rest) > tolerance {
+            for b in e.bodies {
+                open[b] = true;
+            }
+        }
+    }
+    open
 }

@@ -654,13 +654,17 @@ fn a_drag_picture_shows_the_target_and_its_path() {
 fn stretched_frames_are_dashed_and_in_the_legend() {
     // Hand-made: the four-bar's sweep with its middle frames marked
     // stretched (the runtime sets that status when it relaxes a step).
+    // The rocker is pulled off its joints (C and D) in those frames, so the
+    // rocker and the coupler are stitched, not the crank.
     let m = load(FOURBAR);
+    let rocker = m.bodies.iter().position(|b| b.name == "rocker").unwrap();
     let mut frames = simulate(&m, 37, BreakPolicy::Limit);
     for f in &mut frames[10..20] {
         f.status = FrameStatus::Stretched {
             step: 2,
             residual: 0.0567,
         };
+        f.poses[rocker].at[0] += 0.0567;
     }
     let els = parse(&render(&m, &frames, &trace_of(&m), &SvgOptions::default()));
     // Solved 0..=9, stretched 9..=20 (its segments touch a stretched
@@ -674,17 +678,65 @@ fn stretched_frames_are_dashed_and_in_the_legend() {
     let stretched = with_class(&els, "trace stretched")[0];
     assert!(!stretched.attr("stroke-dasharray").is_empty());
     // Picked poses at frames 0, 7, 14, 22, 29 (36 repeats 0): the one at
-    // frame 14 is stretched, each of its three mobile bodies stitched.
+    // frame 14 is stretched, its two bodies off their joints stitched.
     let poses = with_class(&els, "pose stretched");
     assert_eq!(poses.len(), 1);
     let stitches: Vec<&El> = els
         .iter()
         .filter(|e| e.inside("pose stretched") && e.class() == "stitch")
         .collect();
-    assert_eq!(stitches.len(), 3);
+    assert_eq!(stitches.len(), 2);
     assert!(stitches.iter().all(|e| e.attr("stroke-dasharray") == "4 3"));
-    assert_eq!(with_class(&els, "stitch").len(), 3);
+    assert_eq!(with_class(&els, "stitch").len(), 2);
     assert!(texts(&els).contains(&"stretched (residual up to 0.0567)"));
+    let colours: Vec<&str> = stitches
+        .iter()
+        .map(|e| {
+            // The stitch follows its body's outline, drawn just before it.
+            let i = els.iter().position(|x| std::ptr::eq(x, *e)).unwrap();
+            els[i - 1].attr("stroke")
+        })
+        .collect();
+    let crank = m.bodies.iter().position(|b| b.name == "crank").unwrap();
+    assert!(
+        !colours.contains(&mechanism::body_colour(&m, crank)),
+        "{colours:?}"
+    );
+    assert!(
+        colours.contains(&mechanism::body_colour(&m, rocker)),
+        "{colours:?}"
+    );
+}
+
+/// A stretched frame whose joints all hold (the input, or a drag's target,
+/// missed) stitches no body: its trace is dashed and the legend says the
+/// joints hold.
+#[test]
+fn stretched_frames_with_joints_holding_stitch_no_body() {
+    let m = load(FOURBAR);
+    let mut frames = simulate(&m, 37, BreakPolicy::Limit);
+    for f in &mut frames[10..20] {
+        f.status = FrameStatus::Stretched {
+            step: 2,
+            residual: 0.0567,
+        };
+    }
+    let els = parse(&render(&m, &frames, &trace_of(&m), &SvgOptions::default()));
+    assert_eq!(with_class(&els, "trace stretched").len(), 1);
+    assert!(with_class(&els, "pose stretched").is_empty());
+    assert!(with_class(&els, "stitch").is_empty());
+    assert!(texts(&els).contains(&"input missed by up to 0.0567 (the joints hold)"));
+    // A drag of coupler.P out of reach: the joints hold in every frame.
+    let targets: Vec<[f64; 2]> = (0..frames.len())
+        .map(|i| [3.0 + i as f64, 3.5 + i as f64])
+        .collect();
+    let options = SvgOptions {
+        targets,
+        ..SvgOptions::default()
+    };
+    let els = parse(&render(&m, &frames, &trace_of(&m), &options));
+    assert!(with_class(&els, "stitch").is_empty());
+    assert!(texts(&els).contains(&"out of reach: up to 0.0567 short of the target (the joints hold)"));
 }
 
 #[test]
@@ -719,4 +771,57 @@ fn numbers_are_short() {
     assert_eq!(num(2.345678), "2.35");
     assert_eq!(num(10.50), "10.5");
     assert_eq!(num(f64::NAN), "0");
+}
+
+/// A text's box on the page, from its anchor, baseline and size.
+fn text_box(e: &El, size: f64) -> trace::Rect {
+    let w = style::text_width(&e.text, size);
+    let (x, y) = (e.f("x"), e.f("y"));
+    let left = if e.attr("text-anchor") == "end" { x - w } else { x };
+    [left, y - 0.8 * size, left + w, y + 0.2 * size]
+}
+
+/// Pin labels sit off the links where there is room (the rocker-rocker,
+/// one pose: every pin has a free corner), and no two labels — pins' or
+/// traces' — overlap.
+#[test]
+fn pin_and_trace_labels_keep_off_links_and_each_other() {
+    for (text, steps) in [(ROCKER_ROCKER, 151), (FOURBAR, 37), (SLIDER_CRANK, 37)] {
+        let m = load(text);
+        let frames = simulate(&m, steps, BreakPolicy::Limit);
+        let options = SvgOptions {
+            poses: 1,
+            ..SvgOptions::default()
+        };
+        let els = parse(&render(&m, &frames, &trace_of(&m), &options));
+        let pins = with_class(&els, "pin-label");
+        assert!(!pins.is_empty(), "{}", m.name);
+        let traces = with_class(&els, "trace-label");
+        let boxes: Vec<trace::Rect> = (pins.iter().map(|e| text_box(e, 11.0)))
+            .chain(traces.iter().map(|e| text_box(e, 12.0)))
+            .collect();
+        for (i, a) in boxes.iter().enumerate() {
+            for b in &boxes[i + 1..] {
+                assert!(!trace::overlaps(a, b), "{}: {a:?} and {b:?} overlap", m.name);
+            }
+        }
+        // The bars of the one pose drawn.
+        let bars: Vec<Vec<Point>> = (els.iter())
+            .filter(|e| e.name == "polyline" && e.inside("pose") && e.attr("stroke-linecap") == "round")
+            .map(El::points)
+            .collect();
+        assert!(!bars.is_empty());
+        for (e, r) in pins.iter().zip(&boxes) {
+            for bar in &bars {
+                for s in bar.windows(2) {
+                    assert!(
+                        !trace::crosses(r, s[0], s[1]),
+                        "{}: pin label {:?} lies on a link",
+                        m.name,
+                        e.text
+                    );
+                }
+            }
+        }
+    }
 }

@@ -321,7 +321,7 @@ pub(super) fn arrow_head(a: &Arrow, half_len: f64, half_width: f64) -> Polygon {
 /// A box on the page: left, top, right, bottom.
 pub(super) type Rect = [f64; 4];
 
-fn overlaps(a: &Rect, b: &Rect) -> bool {
+pub(super) fn overlaps(a: &Rect, b: &Rect) -> bool {
     a[0] < b[2] && b[0] < a[2] && a[1] < b[3] && b[1] < a[3]
 }
 

@@ -59,7 +59,11 @@ pub fn sweep_rates(m: &Mechanism, sweep: &Sweep, rate: f64) -> Vec<f64> {
 /// [`sweep_rates`] of a mechanism's `inputs`, planar or spatial.
 pub fn input_rates(inputs: &[Input], sweep: &Sweep, rate: f64) -> Vec<f64> {
     let primary = sweep.primary();
-    let span = primary.to - primary.from;
+    // Halves, so that a sweep over most of the f64 range (`--from -1e308
+    // --to 1e308`) has a finite span; the ratio below is divided first for
+    // the same reason.
+    let half_span = |s: &crate::model::Swept| 0.5 * s.to - 0.5 * s.from;
+    let span = half_span(primary);
     let per_unit = match inputs[primary.input].kind {
         InputKind::Angle => rate.to_degrees(),
         InputKind::Slide => rate,
@@ -73,7 +77,7 @@ pub fn input_rates(inputs: &[Input], sweep: &Sweep, rate: f64) -> Vec<f64> {
                 0.0
             }
         } else {
-            per_unit * (s.to - s.from) / span.abs()
+            per_unit * (half_span(s) / span.abs())
         };
     }
     rates
@@ -132,5 +136,23 @@ mod tests {
             .acos()
             .to_degrees();
         assert!((transmission_angle(&m, f, &poses) - want).abs() < 1e-12);
+    }
+
+    /// The rate of a sweep's input is the rate asked for, even over a span
+    /// near the largest f64 (the span's difference would overflow).
+    #[test]
+    fn input_rates_survive_huge_spans() {
+        let m = load_str(
+            "f.toml",
+            include_str!("../../../mechanisms/fourbar.toml"),
+            Format::Toml,
+        )
+        .unwrap();
+        for (from, to) in [(0.0, 360.0), (0.0, 1e308), (-1e308, 1e308), (1e308, -1e308)] {
+            let sweep = crate::model::Sweep::single(0, from, to, 3, Vec::new());
+            let rates = input_rates(&m.inputs, &sweep, 1.0);
+            let want = if to > from { 1.0_f64 } else { -1.0 }.to_degrees();
+            assert!((rates[0] - want).abs() < 1e-12, "{from}..{to}: {rates:?}");
+        }
     }
 }

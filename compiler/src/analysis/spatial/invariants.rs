@@ -102,13 +102,13 @@ pub(super) fn place_hinged(plan: &mut Plan3, size: f64) {
     if hinged.iter().all(Option::is_none) {
         return;
     }
-    // Step ids are 1-based, as explanations cite them.
-    let mut new_id = vec![0; plan.steps.len() + 1];
+    // Each kept step's new number (from 0, as explanations cite them).
+    let mut new_id = vec![None; plan.steps.len()];
     let mut next = 0;
     for (i, d) in dropped.iter().enumerate() {
         if !d {
+            new_id[i] = Some(next);
             next += 1;
-            new_id[i + 1] = next;
         }
     }
     let steps = std::mem::take(&mut plan.steps);
@@ -280,7 +280,7 @@ fn point(v: Vec3) -> String {
 }
 
 /// `text` with every "step N" citing its new number.
-fn renumber(text: &str, new_id: &[usize]) -> String {
+fn renumber(text: &str, new_id: &[Option<usize>]) -> String {
     let mut out = String::with_capacity(text.len());
     let mut rest = text;
     while let Some(i) = rest.find("step ") {
@@ -289,8 +289,8 @@ fn renumber(text: &str, new_id: &[usize]) -> String {
         let digits = tail.bytes().take_while(u8::is_ascii_digit).count();
         let boundary = i == 0 || !rest.as_bytes()[i - 1].is_ascii_alphanumeric();
         match tail[..digits].parse::<usize>() {
-            Ok(n) if boundary && n < new_id.len() && new_id[n] > 0 => {
-                out.push_str(&new_id[n].to_string());
+            Ok(n) if boundary && new_id.get(n).copied().flatten().is_some() => {
+                out.push_str(&new_id[n].expect("kept").to_string());
             }
             _ => out.push_str(&tail[..digits]),
         }
@@ -515,7 +515,7 @@ mod tests {
     #[test]
     fn renumber_cites_the_new_step_numbers() {
         // Steps 1 and 2 dropped: 3 → 1, 4 → 2.
-        let ids = [0, 0, 0, 1, 2];
+        let ids = [Some(0), None, None, Some(1), Some(2)];
         assert_eq!(
             renumber(
                 "rocker: turn onto step 4 (rocker.C), not step 2x or mystep 3",

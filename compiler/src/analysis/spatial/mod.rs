@@ -91,7 +91,7 @@ pub fn analyse(m: &Mechanism3) -> Result<Plan3, PlanError3> {
     interp.run(&mut state, &inputs, &mut ctx).map_err(|b| {
         PlanError3::Drawn(format!(
             "step {} breaks at input 0 ({})",
-            b.step,
+            crate::plan::spatial::step_number(b.step),
             b.kind.describe()
         ))
     })?;

@@ -827,7 +827,7 @@ impl Planner<'_> {
                         from: qp.clone(),
                         to: P3::Temp(t),
                     },
-                    format!("{name}: slide its pivot to step {}", self.steps.len()),
+                    format!("{name}: slide its pivot to step {}", self.steps.len() - 1),
                     serves,
                 );
                 self.act(
@@ -899,7 +899,7 @@ impl Planner<'_> {
                         },
                         format!(
                             "{name}: turn about its axis taking {mname} onto step {}",
-                            self.steps.len()
+                            self.steps.len() - 1
                         ),
                         serves,
                     );
@@ -914,7 +914,7 @@ impl Planner<'_> {
                         },
                         format!(
                             "{name}: rotate about its pivot taking {mname} onto step {}",
-                            self.steps.len()
+                            self.steps.len() - 1
                         ),
                         serves,
                     );
@@ -1154,7 +1154,7 @@ impl Planner<'_> {
         self.steps
             .iter()
             .position(|s| matches!(s.kind, StepKind3::Intersect { temp, .. } if temp == t))
-            .map_or(0, |i| i + 1)
+            .unwrap_or(0)
     }
 
     /// The locus of body point `local` of `b` (or of the point it is on a
@@ -1346,7 +1346,7 @@ impl Planner<'_> {
                 },
                 format!(
                     "{name}: turn about its axis onto the direction of step {}",
-                    self.steps.len() - (b != b1) as usize
+                    self.steps.len() - 1 - (b != b1) as usize
                 ),
                 &serves,
             );

@@ -9,13 +9,14 @@ use std::path::Path;
 use std::process::ExitCode;
 
 use dofplan::analysis::grashof::{four_bars, FourBar};
+use dofplan::format::number;
 use dofplan::interp::{Interpreter, RateError};
-use dofplan::model::{InputKind, Mechanism, Sweep};
+use dofplan::model::{Input, InputKind, Mechanism, Sweep};
 use dofplan::plan::{num, Plan};
 use dofplan::render::plots::Sample;
 use dofplan::simulate::kinematics::{motion, sweep_rates, transmission_angle, Motion};
 use dofplan::simulate::{sweep_requests, Frame};
-use dofplan_runtime::{Driver, Options};
+use dofplan_runtime::{Driver, FrameStatus, Options};
 use serde_json::{json, Map, Value};
 
 use crate::{frame_json, sweep_report, Form, SolverArg};
@@ -111,7 +112,19 @@ pub fn analyze(
             .map(|f| transmission_angle(m, f, &frame.poses))
             .collect();
         let x = frame.inputs[primary];
+        // A frame held at an earlier pose (the limit policy) repeats a
+        // point from elsewhere in the sweep: a gap in the plots, not a line
+        // back to it.
+        let held = matches!(frame.status, FrameStatus::Limited { .. });
         for (s, &k) in series.iter_mut().zip(&traced) {
+            if held {
+                s.points.push(Sample {
+                    input: x,
+                    at: [f64::NAN; 2],
+                    rates: None,
+                });
+                continue;
+            }
             let id = m.all_markers().nth(k).expect("a traced marker");
             let p = frame.poses[id.body].world(m.marker(id).at);
             let r = moving
@@ -125,7 +138,7 @@ pub fn analyze(
             });
         }
         for (a, mu) in angles.iter_mut().zip(&mus) {
-            a.push((x, *mu));
+            a.push((x, if held { f64::NAN } else { *mu }));
         }
         match form {
             Form::Json => {
@@ -136,15 +149,15 @@ pub fn analyze(
             }
             Form::Csv => {
                 let mut row = vec![i.to_string()];
-                row.extend(frame.requested.iter().map(|v| format!("{v}")));
+                row.extend(frame.requested.iter().map(|v| number(*v)));
                 row.push(frame.status.name().to_string());
                 for (k, id) in m.all_markers().enumerate() {
                     let p = frame.poses[id.body].world(m.marker(id).at);
-                    row.extend(p.iter().map(|v| format!("{v}")));
+                    row.extend(p.iter().map(|v| number(*v)));
                     match &moving {
                         Ok(mo) => {
                             let (v, a) = (mo.velocity[k], mo.acceleration[k]);
-                            row.extend([v[0], v[1], a[0], a[1]].iter().map(|v| format!("{v}")));
+                            row.extend([v[0], v[1], a[0], a[1]].iter().map(|v| number(*v)));
                         }
                         // A dead point: no number, not a huge one.
                         Err(_) => row.extend(std::iter::repeat_n(String::new(), 4)),
@@ -152,11 +165,11 @@ pub fn analyze(
                 }
                 for b in 0..m.bodies.len() {
                     match &moving {
-                        Ok(mo) => row.extend([format!("{}", mo.omega[b]), format!("{}", mo.alpha[b])]),
+                        Ok(mo) => row.extend([number(mo.omega[b]), number(mo.alpha[b])]),
                         Err(_) => row.extend([String::new(), String::new()]),
                     }
                 }
-                row.extend(mus.iter().map(|v| format!("{v}")));
+                row.extend(mus.iter().map(|v| number(*v)));
                 writeln!(out, "{}", row.join(","))?;
             }
             Form::Text => {}
@@ -181,19 +194,11 @@ pub fn analyze(
     }
     if let Some(path) = svg {
         let input = &m.inputs[primary];
-        let unit = match input.kind {
-            InputKind::Angle => "°",
-            InputKind::Slide => "",
+        let axis = match input.kind {
+            InputKind::Angle => format!("{} (degrees)", input.name),
+            InputKind::Slide => format!("{} (length)", input.name),
         };
-        let axis = format!(
-            "{} ({})",
-            input.name,
-            if unit.is_empty() { "length" } else { "degrees" }
-        );
-        let rate_text = match input.kind {
-            InputKind::Angle => format!("{} rad/s", num(rate)),
-            InputKind::Slide => format!("{} units/s", num(rate)),
-        };
+        let rate_text = rate_text(input.kind, rates[primary]);
         let text = dofplan::render::plots::draw(
             &m.name,
             &axis,
@@ -252,7 +257,8 @@ fn add_rates(
 }
 
 /// The text summary: the rates used, each traced marker's largest speed
-/// and acceleration and where, each loop's transmission angle range.
+/// and acceleration and where, each loop's transmission angle range (the
+/// first [`LISTED_LOOPS`], as `check` lists them).
 #[allow(clippy::too_many_arguments)]
 fn summary(
     m: &Mechanism,
@@ -266,42 +272,23 @@ fn summary(
     out: &mut dyn Write,
 ) -> io::Result<()> {
     let primary = &m.inputs[sweep.primary().input];
-    let unit = |k: InputKind| if k == InputKind::Angle { "°/s" } else { "/s" };
-    let rates: Vec<String> = (m.inputs.iter().zip(rates))
-        .filter(|(_, r)| **r != 0.0)
-        .map(|(i, r)| format!("{} at {} {}", i.name, num(*r), unit(i.kind)))
-        .collect();
-    writeln!(out, "{}: {} frames, {}", m.name, sweep.steps, rates.join(", "))?;
-    let at = |x: f64| {
-        let u = if primary.kind == InputKind::Angle {
-            "°"
-        } else {
-            ""
-        };
-        format!("{} = {}{u}", primary.name, num(x))
-    };
+    writeln!(out, "{}", header(&m.name, sweep.steps, &m.inputs, rates))?;
+    let at = |x: f64| at_input(primary, x);
     for s in series {
-        let speed = (s.points.iter())
-            .filter_map(|p| p.rates.map(|(v, _)| (p.input, v[0].hypot(v[1]))))
-            .max_by(|a, b| a.1.total_cmp(&b.1));
-        let accel = (s.points.iter())
-            .filter_map(|p| p.rates.map(|(_, a)| (p.input, a[0].hypot(a[1]))))
-            .max_by(|a, b| a.1.total_cmp(&b.1));
-        if let (Some((xv, v)), Some((xa, a))) = (speed, accel) {
-            writeln!(
-                out,
-                "  {}: largest speed {} at {}, largest acceleration {} at {}",
-                s.name,
-                num(v),
-                at(xv),
-                num(a),
-                at(xa)
-            )?;
+        let points: Vec<(f64, f64, f64)> = (s.points.iter())
+            .filter_map(|p| {
+                p.rates
+                    .map(|(v, a)| (p.input, v[0].hypot(v[1]), a[0].hypot(a[1])))
+            })
+            .collect();
+        if let Some(line) = extremes(&s.name, &points, &at) {
+            writeln!(out, "{line}")?;
         }
     }
-    for ((_, name), a) in loops.iter().zip(loop_names).zip(angles) {
-        let lo = a.iter().min_by(|p, q| p.1.total_cmp(&q.1));
-        let hi = a.iter().max_by(|p, q| p.1.total_cmp(&q.1));
+    for ((_, name), a) in loops.iter().zip(loop_names).zip(angles).take(LISTED_LOOPS) {
+        let finite = || a.iter().filter(|p| p.1.is_finite());
+        let lo = finite().min_by(|p, q| p.1.total_cmp(&q.1));
+        let hi = finite().max_by(|p, q| p.1.total_cmp(&q.1));
         if let (Some(lo), Some(hi)) = (lo, hi) {
             writeln!(
                 out,
@@ -314,6 +301,13 @@ fn summary(
             )?;
         }
     }
+    if loops.len() > LISTED_LOOPS {
+        writeln!(
+            out,
+            "  … and {} more four-bar loops (`dofplan analyze --json` or `--csv` gives them all)",
+            loops.len() - LISTED_LOOPS
+        )?;
+    }
     if !singular.is_empty() {
         writeln!(
             out,
@@ -323,6 +317,67 @@ fn summary(
         )?;
     }
     Ok(())
+}
+
+/// The summary lists this many four-bar loops at most, as `check` does.
+const LISTED_LOOPS: usize = 12;
+
+/// An input's rate as summaries and plots print it: an angle's in degrees
+/// per second with radians per second after it (what `--rate` takes), a
+/// slide's in length units per second. `per_second` is in the input's own
+/// units (degrees for an angle).
+pub(super) fn rate_text(kind: InputKind, per_second: f64) -> String {
+    match kind {
+        InputKind::Angle => format!("{}°/s ({} rad/s)", num(per_second), num(per_second.to_radians())),
+        InputKind::Slide => format!("{} length units/s", num(per_second)),
+    }
+}
+
+/// The summary's first line: the mechanism, the frames and each moving
+/// input's rate, or, when every rate is zero (`--rate 0`), that nothing
+/// moves.
+pub(super) fn header(name: &str, frames: usize, inputs: &[Input], rates: &[f64]) -> String {
+    let moving: Vec<String> = (inputs.iter().zip(rates))
+        .filter(|(_, r)| **r != 0.0)
+        .map(|(i, r)| format!("{} at {}", i.name, rate_text(i.kind, *r)))
+        .collect();
+    if moving.is_empty() {
+        format!("{name}: {frames} frames, every input at rest (rate 0): every speed and acceleration is 0")
+    } else {
+        format!("{name}: {frames} frames, {}", moving.join(", "))
+    }
+}
+
+/// "theta = 45°", "s = 0.5": where on the sweep a value was found.
+pub(super) fn at_input(input: &Input, x: f64) -> String {
+    let unit = if input.kind == InputKind::Angle { "°" } else { "" };
+    format!("{} = {}{unit}", input.name, num(x))
+}
+
+/// Two values agree to this relative tolerance: a speed that varies less
+/// over the sweep is constant (its largest value is round-off, found
+/// anywhere).
+const SAME: f64 = 1e-9;
+
+/// A traced marker's summary line from its frames' (input, speed,
+/// acceleration): for each, the largest value and the first input where
+/// it is reached, or, when it does not change over the sweep, its value
+/// "throughout". `None` when no frame has rates.
+pub(super) fn extremes(name: &str, points: &[(f64, f64, f64)], at: &dyn Fn(f64) -> String) -> Option<String> {
+    let describe = |what: &str, value: &dyn Fn(&(f64, f64, f64)) -> f64| -> Option<String> {
+        let values = || points.iter().map(value).filter(|v| v.is_finite());
+        let hi = values().fold(None, |m: Option<f64>, v| Some(m.map_or(v, |m| m.max(v))))?;
+        let lo = values().fold(hi, f64::min);
+        let tolerance = SAME * hi.abs().max(1.0);
+        if hi - lo <= tolerance {
+            return Some(format!("{what} {} throughout", num(hi)));
+        }
+        let first = points.iter().find(|p| value(p) >= hi - tolerance)?;
+        Some(format!("largest {what} {} at {}", num(hi), at(first.0)))
+    };
+    let speed = describe("speed", &|p| p.1)?;
+    let accel = describe("acceleration", &|p| p.2)?;
+    Some(format!("  {name}: {speed}, {accel}"))
 }
 
 fn series_view(series: &[Series]) -> Vec<dofplan::render::plots::Traced<'_>> {

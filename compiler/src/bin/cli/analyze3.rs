@@ -13,10 +13,10 @@ use std::io::{self, Write};
 use std::path::Path;
 use std::process::ExitCode;
 
+use dofplan::format::number;
 use dofplan::interp::spatial::Interpreter3;
 use dofplan::model::spatial::Mechanism3;
 use dofplan::model::{InputKind, Sweep};
-use dofplan::plan::num;
 use dofplan::plan::spatial::Plan3;
 use dofplan::render::plots::{draw_spatial, Sample3, Traced3};
 use dofplan::simulate::kinematics::input_rates;
@@ -26,10 +26,8 @@ use dofplan_runtime::real::RateError;
 use dofplan_runtime::{Driver, Options};
 use serde_json::{json, Map, Value};
 
+use super::analyze::{at_input, extremes, header, rate_text};
 use super::spatial::{frame_value, Form3};
-
-/// A marker's velocity and acceleration.
-type Rates = ([f64; 3], [f64; 3]);
 
 /// Runs `analyze` on a spatial plan: the sweep with rates at `rate`
 /// (radians or length units per second for the sweep's first input), in
@@ -152,14 +150,14 @@ pub fn analyze(
             }
             Form3::Csv => {
                 let mut row = vec![i.to_string(), status.name().to_string()];
-                row.extend(reached.iter().map(|v| format!("{v}")));
+                row.extend(reached.iter().map(|v| number(*v)));
                 for (k, p) in markers.iter().enumerate() {
-                    row.extend(p.iter().map(|v| format!("{v}")));
+                    row.extend(p.iter().map(|v| number(*v)));
                     match &moving {
                         Ok(mo) => row.extend(
                             (mo.velocity[k].iter())
                                 .chain(&mo.acceleration[k])
-                                .map(|v| format!("{v}")),
+                                .map(|v| number(*v)),
                         ),
                         // No rate here: no number, not a huge one.
                         Err(_) => row.extend(std::iter::repeat_n(String::new(), 6)),
@@ -167,7 +165,7 @@ pub fn analyze(
                 }
                 for b in 0..m.bodies.len() {
                     match &moving {
-                        Ok(mo) => row.extend(mo.omega[b].iter().chain(&mo.alpha[b]).map(|v| format!("{v}"))),
+                        Ok(mo) => row.extend(mo.omega[b].iter().chain(&mo.alpha[b]).map(|v| number(*v))),
                         Err(_) => row.extend(std::iter::repeat_n(String::new(), 6)),
                     }
                 }
@@ -183,33 +181,15 @@ pub fn analyze(
     }
     let input = &m.inputs[primary];
     if form == Form3::Text {
-        let unit = |k: InputKind| if k == InputKind::Angle { "°/s" } else { "/s" };
-        let shown: Vec<String> = (m.inputs.iter().zip(&rates))
-            .filter(|(_, r)| **r != 0.0)
-            .map(|(i, r)| format!("{} at {} {}", i.name, num(*r), unit(i.kind)))
-            .collect();
-        writeln!(out, "{}: {} frames, {}", m.name, total, shown.join(", "))?;
-        let at = |x: f64| {
-            let u = if input.kind == InputKind::Angle { "°" } else { "" };
-            format!("{} = {}{u}", input.name, num(x))
-        };
+        writeln!(out, "{}", header(&m.name, total, &m.inputs, &rates))?;
+        let at = |x: f64| at_input(input, x);
         let norm = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
         for (s, &k) in samples.iter().zip(&traced) {
-            let largest = |f: &dyn Fn(&Rates) -> f64| {
-                (s.iter())
-                    .filter_map(|p| p.rates.as_ref().map(|r| (p.input, f(r))))
-                    .max_by(|a, b| a.1.total_cmp(&b.1))
-            };
-            if let (Some((xv, v)), Some((xa, a))) = (largest(&|r| norm(r.0)), largest(&|r| norm(r.1))) {
-                writeln!(
-                    out,
-                    "  {}: largest speed {} at {}, largest acceleration {} at {}",
-                    names[k],
-                    num(v),
-                    at(xv),
-                    num(a),
-                    at(xa)
-                )?;
+            let points: Vec<(f64, f64, f64)> = (s.iter())
+                .filter_map(|p| p.rates.map(|(v, a)| (p.input, norm(v), norm(a))))
+                .collect();
+            if let Some(line) = extremes(&names[k], &points, &at) {
+                writeln!(out, "{line}")?;
             }
         }
         if let Some(e) = &unavailable {
@@ -240,16 +220,11 @@ pub fn analyze(
                 points: s,
             })
             .collect();
-        let (axis, rate_text) = match input.kind {
-            InputKind::Angle => (
-                format!("{} (degrees)", input.name),
-                format!("{} rad/s", num(rate)),
-            ),
-            InputKind::Slide => (
-                format!("{} (length)", input.name),
-                format!("{} units/s", num(rate)),
-            ),
+        let axis = match input.kind {
+            InputKind::Angle => format!("{} (degrees)", input.name),
+            InputKind::Slide => format!("{} (length)", input.name),
         };
+        let rate_text = rate_text(input.kind, rates[primary]);
         match draw_spatial(&m.name, &axis, &rate_text, &views) {
             Ok(text) => {
                 if let Err(e) = std::fs::write(path, text) {

@@ -7,10 +7,12 @@ use std::process::ExitCode;
 
 use dofplan::analysis::ranges::spatial_assembly_ranges;
 use dofplan::analysis::spatial::{analyse, count::count, fragments};
+use dofplan::format::number;
+use dofplan::format::rounded;
 use dofplan::interp::spatial::Interpreter3;
 use dofplan::model::spatial::Mechanism3;
 use dofplan::model::Sweep;
-use dofplan::plan::spatial::Plan3;
+use dofplan::plan::spatial::{step_number, Plan3};
 use dofplan::render::spatial::{render_spatial, SpatialFrame};
 use dofplan::simulate::spatial::{marker_positions, residual};
 use dofplan::simulate::sweep_requests;
@@ -134,7 +136,7 @@ pub fn check(m: &Mechanism3, json_out: bool, out: &mut dyn Write) -> io::Result<
                 )?;
             }
             if let Some(r) = &ranges {
-                super::write_ranges(&m.inputs, r, out)?;
+                super::write_ranges(&m.inputs, r, &|id| step_number(id), out)?;
             }
             Ok(ExitCode::SUCCESS)
         }
@@ -189,7 +191,30 @@ pub fn simulate(
     let mut drawn = m.clone();
     drawn.sweep = Some(sweep.clone());
     let svg = svg.map(|p| (p, &drawn));
-    frames(m, plan, &names, requests, sweep.steps, options, form, svg, out)
+    // The planar summary's title.
+    let ranges: Vec<String> = (sweep.inputs.iter())
+        .map(|s| {
+            format!(
+                "{} from {} to {}",
+                m.inputs[s.input].name,
+                rounded(s.from, 9),
+                rounded(s.to, 9)
+            )
+        })
+        .collect();
+    let title = format!("{}: {} frames, {}", m.name, sweep.steps, ranges.join(", "));
+    frames(
+        m,
+        plan,
+        &names,
+        requests,
+        sweep.steps,
+        options,
+        form,
+        svg,
+        &title,
+        out,
+    )
 }
 
 /// `dofplan drag` of a spatial file: the marker pinned to targets evenly
@@ -239,7 +264,21 @@ pub fn drag(
     let mut drawn = free.clone();
     drawn.sweep = Some(Sweep::single(0, 0.0, 0.0, n, vec![id]));
     let svg = svg.map(|p| (p, &drawn));
-    frames(&free, &plan, &names, requests, n, options, form, svg, out)
+    let point = |p: [f64; 3]| {
+        format!(
+            "({}, {}, {})",
+            rounded(p[0], 9),
+            rounded(p[1], 9),
+            rounded(p[2], 9)
+        )
+    };
+    let title = format!(
+        "{}: {n} frames, drag of {marker} from {} to {}",
+        m.name,
+        point(from),
+        point(to)
+    );
+    frames(&free, &plan, &names, requests, n, options, form, svg, &title, out)
 }
 
 /// Drives `plan` through `requests` and writes each frame as it comes.
@@ -253,9 +292,13 @@ fn frames(
     options: Options,
     form: Form3,
     svg: Option<(&Path, &Mechanism3)>,
+    title: &str,
     out: &mut dyn Write,
 ) -> io::Result<ExitCode> {
     let mut driver = Driver::new(Interpreter3::new(plan.clone()), options);
+    if form == Form3::Text {
+        writeln!(out, "{title}")?;
+    }
     let mut kept: Vec<SpatialFrame> = Vec::new();
     let names: Vec<String> = m.all_markers().map(|id| m.marker_name(id)).collect();
     if form == Form3::Csv {
@@ -307,11 +350,11 @@ fn frames(
         match form {
             Form3::Csv => {
                 let mut row = vec![i.to_string(), status.name().to_string()];
-                row.extend(driver.inputs().iter().map(|v| format!("{v}")));
+                row.extend(driver.inputs().iter().map(|v| number(*v)));
                 for p in &markers {
-                    row.extend(p.iter().map(|v| format!("{v}")));
+                    row.extend(p.iter().map(|v| number(*v)));
                 }
-                row.push(format!("{res:e}"));
+                row.push(number(res));
                 writeln!(out, "{}", row.join(","))?;
             }
             Form3::Json => {
@@ -336,14 +379,13 @@ fn frames(
             (form, status)
         {
             if broken.len() == 1 {
+                let step = step_number(brk.step);
                 writeln!(
                     out,
-                    "  frame {i}: broke at step {} ({}), {}",
-                    brk.step,
+                    "  frame {i}: {}\n    step {step} broke ({}): {}",
+                    status.name(),
                     brk.kind.describe(),
-                    plan.steps
-                        .get(brk.step as usize - 1)
-                        .map_or("", |s| s.text.as_str())
+                    plan.steps.get(step).map_or("", |s| s.text.as_str())
                 )?;
             }
         }
@@ -367,9 +409,8 @@ fn frames(
             };
             writeln!(
                 out,
-                "{}: {total} frames: {solved} solved, {limited} limited, {searched} searched, {stretched} stretched{unreached}; \
-                 largest joint residual {worst:.2e}",
-                m.name
+                "{total} frames: {solved} solved, {limited} limited, {searched} searched, {stretched} stretched{unreached}; \
+                 largest joint residual {worst:.2e}"
             )?;
             if let Some((path, _)) = svg {
                 writeln!(out, "wrote {}", path.display())?;

@@ -584,3 +584,50 @@ fn render_spatial_draws_every_bundled_file() {
         }
     }
 }
+
+/// A stretched frame marks only the bodies whose joints it pulled apart:
+/// with every joint holding (a drag's target out of reach) no body is
+/// dashed and the legend says the joints hold; with the rocker moved off
+/// its joints, the rocker and the coupler (its joint C) are, the crank
+/// not.
+#[test]
+fn render_spatial_marks_only_what_is_stretched() {
+    let m = load_steps(RSSR, 37);
+    let mut frames = sweep(&m);
+    for f in &mut frames {
+        f.status = FrameStatus::Stretched {
+            step: 3,
+            residual: 0.25,
+        };
+    }
+    let els = parse(&render_spatial(&m, &frames));
+    assert!(
+        els.iter()
+            .all(|e| !e.class().contains("stretched") || e.class().starts_with("trace")),
+        "no pose marked stretched"
+    );
+    assert!(texts(&els).contains(&"stretched: missed by up to 0.25 (the joints hold)"));
+    let rocker = m.bodies.iter().position(|b| b.name == "rocker").unwrap();
+    for f in &mut frames {
+        f.poses[rocker].pos[2] += 0.25;
+    }
+    let els = parse(&render_spatial(&m, &frames));
+    assert!(texts(&els).contains(&"stretched (residual up to 0.25)"));
+    let dashed: Vec<&str> = (els.iter())
+        .filter(|e| {
+            e.inside("pose stretched") && !e.attr("stroke-dasharray").is_empty() && e.class() != "slide"
+        })
+        .map(|e| {
+            // The body group it is drawn in.
+            e.within
+                .iter()
+                .rev()
+                .find(|c| *c == "body")
+                .map_or("", |_| e.attr("stroke"))
+        })
+        .collect();
+    assert!(!dashed.is_empty());
+    let crank = m.bodies.iter().position(|b| b.name == "crank").unwrap();
+    assert!(!dashed.contains(&colour_of(&m.bodies, crank)), "{dashed:?}");
+    assert!(dashed.contains(&colour_of(&m.bodies, rocker)), "{dashed:?}");
+}

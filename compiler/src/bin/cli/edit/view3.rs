@@ -13,7 +13,7 @@ use dofplan::analysis::spatial::analyse;
 use dofplan::emit::emit_spatial;
 use dofplan::interp::spatial::Interpreter3;
 use dofplan::model::spatial::{JointKind3, Mechanism3};
-use dofplan::plan::spatial::Plan3;
+use dofplan::plan::spatial::{step_number, Plan3};
 use dofplan::simulate::spatial::marker_positions;
 use dofplan::simulate::sweep_requests;
 use dofplan_runtime::spatial::Vec3;
@@ -257,14 +257,14 @@ impl Session3 {
             FrameStatus::Limited { brk }
             | FrameStatus::Searched { brk, .. }
             | FrameStatus::Unreached { brk } => json!({
-                "step": brk.step,
-                "explanation": format!("step {} of `dofplan plan`", brk.step),
+                "step": step_number(brk.step),
+                "explanation": format!("step {} of `dofplan plan`", step_number(brk.step)),
                 "reason": brk.kind.describe(),
                 "gap": brk.gap,
             }),
             FrameStatus::Stretched { step, residual } => json!({
-                "step": step,
-                "explanation": format!("step {step} of `dofplan plan`"),
+                "step": step_number(*step),
+                "explanation": format!("step {} of `dofplan plan`", step_number(*step)),
                 "reason": "out of reach",
                 "residual": residual,
             }),
