@@ -405,3 +405,47 @@ fn a_change_point_is_not_a_limit() {
         }
     }
 }
+
+/// A two-input arm (`tests/fixtures/fivebar_arm.toml`, a five-bar) with both
+/// inputs driven together: past its reach at t = 30° it is held, and the
+/// half turn on where it would assemble again (|BD| = 2 + 2 sin t ≤ 3,
+/// computed here) is another circuit. The way is a line in the plane of the
+/// two inputs.
+#[test]
+fn a_two_input_arm_driven_past_its_reach_stays_held() {
+    let m = fixture("fivebar_arm");
+    let requests = dofplan::simulate::sweep_inputs(&m, None);
+    let assembles = |t: f64| 2.0 + 2.0 * t.to_radians().sin() <= 3.0;
+    let t_of = |r: &[f64]| r[0];
+    assert!(requests.iter().all(|r| r[1] == -r[0]), "the inputs move together");
+    let again = requests
+        .iter()
+        .filter(|r| t_of(r) > 30.0 && assembles(t_of(r)))
+        .count();
+    assert!(again > 200, "{again} frames would assemble on another circuit");
+    for policy in POLICIES {
+        for (backend, mut d) in drivers("fivebar_arm", &m, options(policy)) {
+            for r in &requests {
+                let t = t_of(r);
+                let status = d.frame(r);
+                let what = format!("{backend} {policy:?}: t {t}");
+                assert_eq!(met(&status), t <= 30.0, "{what}: {status:?}");
+                if met(&status) {
+                    let res = max_relative_residual(&m, d.poses(), d.inputs());
+                    assert!(res <= 1e-9, "{what}: residual {res:e}");
+                } else if policy == BreakPolicy::Limit && assembles(t) {
+                    let brk = status.brk().expect("held");
+                    // At t = 270° the pins meet and the two arms' circles
+                    // coincide: said so, and held all the same.
+                    let want = if t == 270.0 {
+                        BreakKind::CirclesCoincide
+                    } else {
+                        BreakKind::OtherCircuit
+                    };
+                    assert_eq!(brk.kind, want, "{what}");
+                    assert_eq!(d.inputs(), &[30.0, -30.0], "{what}: held at the last frame");
+                }
+            }
+        }
+    }
+}
