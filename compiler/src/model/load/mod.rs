@@ -197,6 +197,15 @@ pub struct Drawn3 {
 }
 
 impl Drawn3 {
+    /// How many joints and constraints do not hold in the drawn pose (a
+    /// joint may have an error for each of its primitives).
+    pub fn open_count(&self) -> usize {
+        let mut origins: Vec<&str> = self.opened.iter().map(|o| o.origin.as_str()).collect();
+        origins.sort_unstable();
+        origins.dedup();
+        origins.len()
+    }
+
     /// The mechanism if every joint holds in the drawn pose; otherwise the
     /// errors [`load_any_str`] gives: the open joints, each with what the
     /// least-squares assembly says (where it closes, or the joints in
