@@ -256,7 +256,12 @@ pub fn assemble_str(file_name: &str, text: &str, format: Format) -> Result<Assem
             body: body.name.clone(),
             marker: marker.name.clone(),
             at: (!stays).then(|| to.to_vec()),
-            dirs: (marker.dir.filter(|_| !stays).map(|d| ("dir", pose.world_dir(d).to_vec()))).into_iter().collect(),
+            dirs: (marker
+                .dir
+                .filter(|_| !stays)
+                .map(|d| ("dir", pose.world_dir(d).to_vec())))
+            .into_iter()
+            .collect(),
             keep_length: false,
             size,
         });
@@ -416,12 +421,7 @@ impl Edit {
 /// [`WRITTEN_PRECISION`] of the size, a direction's of its length (scaled
 /// to the length written first when `keep_length`). `None` for a number
 /// that stays.
-fn renumber(
-    old: &[(f64, bool)],
-    new: &[f64],
-    dir: bool,
-    edit: &Edit,
-) -> Result<Vec<Option<String>>, String> {
+fn renumber(old: &[(f64, bool)], new: &[f64], dir: bool, edit: &Edit) -> Result<Vec<Option<String>>, String> {
     if old.len() != new.len() {
         return Err(format!("a point has {} numbers, not {}", old.len(), new.len()));
     }

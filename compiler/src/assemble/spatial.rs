@@ -13,13 +13,12 @@ use std::path::Path;
 
 use dofplan_runtime::spatial::{norm, sub, Pose3, Vec3};
 
-use super::{
-    plain, rewrite_json, rewrite_toml, same_where_joined, short, undecided, Edit, UNCHANGED_SHARE,
-};
+use super::{plain, rewrite_json, rewrite_toml, same_where_joined, short, undecided, Edit, UNCHANGED_SHARE};
 use crate::analysis::spatial::conflict::{self, Assembly3};
 use crate::model::spatial::{Mechanism3, Primitive};
 use crate::model::{
-    load_any_str, load_str_drawn3, Format, Location, MarkerId, Model, ModelError, Note, SourceFile, DRAWN_TOLERANCE,
+    load_any_str, load_str_drawn3, Format, Location, MarkerId, Model, ModelError, Note, SourceFile,
+    DRAWN_TOLERANCE,
 };
 
 /// Where one marker of a spatial file goes.
@@ -87,7 +86,14 @@ impl Assembled3 {
             self.moves.len(),
             super::length(most)
         );
-        let point = |p: Vec3| format!("[{}, {}, {}]", short(p[0], size), short(p[1], size), short(p[2], size));
+        let point = |p: Vec3| {
+            format!(
+                "[{}, {}, {}]",
+                short(p[0], size),
+                short(p[1], size),
+                short(p[2], size)
+            )
+        };
         let rows: Vec<[String; 4]> = self
             .moves
             .iter()
@@ -96,7 +102,12 @@ impl Assembled3 {
                 if !mv.changed {
                     return [name, point(mv.from), "unchanged".into(), String::new()];
                 }
-                let mut distance = super::length(mv.distance);
+                // A marker on its body's axis of turn moves by rounding only.
+                let mut distance = if mv.distance <= super::WRITTEN_PRECISION * size {
+                    "0".to_string()
+                } else {
+                    super::length(mv.distance)
+                };
                 if m.marker(mv.marker).axes.is_some() && mv.turn.abs() > 0.0 {
                     distance.push_str(&format!(", axes turned {:.3}°", mv.turn));
                 }
@@ -173,7 +184,10 @@ pub fn assemble_str3(file_name: &str, text: &str, format: Format) -> Result<Asse
             // in conflict named.
             let file = m.source.clone();
             return Err(drawn.assembled().err().unwrap_or_else(|| ModelError {
-                diagnostics: vec![plain(file, "the joints cannot all close near the drawn pose".into())],
+                diagnostics: vec![plain(
+                    file,
+                    "the joints cannot all close near the drawn pose".into(),
+                )],
             }));
         }
         Assembly3::Undecided => return Err(undecided(&drawn.open)),
@@ -231,7 +245,11 @@ pub fn assemble_str3(file_name: &str, text: &str, format: Format) -> Result<Asse
             marker: id,
             from: marker.at,
             to,
-            distance: if stays { moved(id) } else { norm(sub(to, marker.at)) },
+            distance: if stays {
+                moved(id)
+            } else {
+                norm(sub(to, marker.at))
+            },
             turn: if stays { 0.0 } else { angle(&pose).to_degrees() },
             changed: false,
         });

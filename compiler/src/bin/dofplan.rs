@@ -246,7 +246,9 @@ enum Command {
     /// each marker moved (standard error). Each mobile body moves rigidly:
     /// its markers keep their distances and angles, so draw every body with
     /// its true shape, roughly in place. Fixed bodies never move; inputs are
-    /// free while assembling, so a crank may turn a little. The assembly
+    /// free while assembling, so a crank may turn a little (in a spatial
+    /// file they are held at their drawn values unless the joints cannot
+    /// close so, and written axes turn with their bodies). The assembly
     /// starts from the drawn pose, so it is the nearest one, in the assembly
     /// mode drawn. Joints that cannot all close are an error naming them.
     Assemble {

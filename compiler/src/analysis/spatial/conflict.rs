@@ -353,17 +353,22 @@ pub(crate) fn review(m: &Mechanism3, open: &[Open], diags: &mut [Diagnostic]) {
                 .map(|(o, g)| format!("{o} open by {g:.1e}"))
                 .collect();
             let subject = if names.len() == 1 {
-                format!("{} is in conflict with the rest of the mechanism", names[0])
+                format!(
+                    "{} is in conflict with the rest of the mechanism: no pose near the drawn one closes it",
+                    names[0]
+                )
             } else {
-                format!("{} are in conflict", list(&names))
+                format!(
+                    "{} are in conflict: no pose near the drawn one closes them all",
+                    list(&names)
+                )
             };
             for o in open {
                 add(
                     o.diagnostic,
                     &format!(
-                        "{subject}: no pose near the drawn one closes them all (least-squares gap {gap:.1e}; at \
-                         that pose {}); a redundant joint must be exactly consistent: redraw it so every joint \
-                         holds, or remove one of these joints",
+                        "{subject} (least-squares gap {gap:.1e}; at that pose {}); a redundant joint must be \
+                         exactly consistent: redraw it so every joint holds, or remove one of these joints",
                         gaps.join(", ")
                     ),
                 );
