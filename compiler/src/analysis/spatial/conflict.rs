@@ -144,6 +144,8 @@ fn least_squares(m: &Mechanism3, decides: bool) -> Assembly3 {
             .collect(),
         size,
     };
+    // Every body is free: six unknowns each, its rotation vector first
+    // (`cluster::moved`), then its translation.
     let arc: Vec<f64> = (0..cluster.unknowns())
         .map(|k| if k % 6 < 3 { 1.0 / size } else { 1.0 })
         .collect();
