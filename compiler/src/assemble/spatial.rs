@@ -52,7 +52,7 @@ pub struct Assembled3 {
     /// How many joints and constraints did not hold as drawn.
     pub opened: usize,
     /// Whether the inputs stayed at their drawn values (false: the joints
-    /// close only with them free).
+    /// close only with them free, or the mechanism has none).
     pub inputs_held: bool,
 }
 
@@ -173,7 +173,7 @@ pub fn assemble_str3(file_name: &str, text: &str, format: Format) -> Result<Asse
         }
     };
     if opened == 0 {
-        return Ok(unmoved(true));
+        return Ok(unmoved(!m.inputs.is_empty()));
     }
     let (poses, inputs_held) = match conflict::assemble(m) {
         Assembly3::Closes {

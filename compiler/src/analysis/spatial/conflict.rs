@@ -48,7 +48,7 @@ pub enum Assembly3 {
         /// How far the marker that moves most is from where it is drawn.
         moved: f64,
         /// Whether the inputs stayed at 0 (their drawn values); false when
-        /// the joints close only with the inputs free.
+        /// the joints close only with the inputs free, or there are none.
         inputs_held: bool,
     },
     /// A least-squares point with a gap (the inputs released): no pose
