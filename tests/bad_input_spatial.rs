@@ -311,7 +311,9 @@ fn a_sweep_has_one_form() {
 
 #[test]
 fn an_open_joint_is_told_from_joints_in_conflict() {
-    // rod.C drawn 0.01 off slider.C: the mechanism closes nearby.
+    // rod.C drawn 0.01 off slider.C: the mechanism closes nearby, the
+    // crank held as drawn, so C slides to 1 + |BC| = 1 + √16.0001 =
+    // 5.0000125 on the slider's axis.
     let off = with(
         "markers.C = [5, 0, 0]\n[bodies.slider]",
         "markers.C = [5, 0.01, 0]\n[bodies.slider]",
@@ -321,7 +323,8 @@ fn an_open_joint_is_told_from_joints_in_conflict() {
         "[joints.C]",
         &[
             "joint `C` does not hold in the drawn pose",
-            "the mechanism does assemble with joint C closed",
+            "the mechanism does assemble with joint C closed at [5.000012, 0, 0]",
+            "rod.C moves from [5, 0.01, 0] to [5.000012, 0, 0]",
             "only the drawing is off",
         ],
     );
@@ -334,8 +337,8 @@ fn an_open_joint_is_told_from_joints_in_conflict() {
         "[constraints.K]",
         &[
             "constraint `K` does not hold in the drawn pose",
-            "the joints cannot all close near the drawing",
-            "constraint K (open by",
+            "joint A, constraint K are in conflict: no pose near the drawn one closes them all",
+            "constraint K open by",
         ],
     );
 }

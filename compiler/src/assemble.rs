@@ -15,6 +15,9 @@
 //!
 //! Joints that cannot all close (an inconsistent redundant link) are the
 //! loader's conflict error, naming them.
+//!
+//! Spatial files are assembled by [`spatial`] with the same rules, on the
+//! spatial loader's assembly.
 
 use std::path::Path;
 
@@ -26,6 +29,9 @@ use crate::model::{
     SourceFile, DRAWN_TOLERANCE,
 };
 use crate::plan::num;
+
+pub mod spatial;
+pub use spatial::{assemble_file3, assemble_str3, Assembled3, Move3};
 
 /// Numbers are written with the fewest decimals that keep them within this
 /// (relative to the mechanism's size, or to a direction's length) of the
@@ -112,28 +118,34 @@ impl Assembled {
                 [name, point(mv.from), point(mv.to), distance]
             })
             .collect();
-        let header = ["marker", "from", "to", "moved"].map(String::from);
-        let mut width = [0; 3];
-        for row in std::iter::once(&header).chain(&rows) {
-            for k in 0..3 {
-                width[k] = width[k].max(row[k].chars().count());
-            }
-        }
-        for row in std::iter::once(&header).chain(&rows) {
-            let line = format!(
-                "  {:w0$}  {:w1$}  {:w2$}  {}",
-                row[0],
-                row[1],
-                row[2],
-                row[3],
-                w0 = width[0],
-                w1 = width[1],
-                w2 = width[2]
-            );
-            out.push_str(line.trim_end());
-            out.push('\n');
-        }
+        table(&mut out, &rows);
         out
+    }
+}
+
+/// Appends the table of moves (marker, from, to, moved), its columns
+/// aligned.
+fn table(out: &mut String, rows: &[[String; 4]]) {
+    let header = ["marker", "from", "to", "moved"].map(String::from);
+    let mut width = [0; 3];
+    for row in std::iter::once(&header).chain(rows) {
+        for k in 0..3 {
+            width[k] = width[k].max(row[k].chars().count());
+        }
+    }
+    for row in std::iter::once(&header).chain(rows) {
+        let line = format!(
+            "  {:w0$}  {:w1$}  {:w2$}  {}",
+            row[0],
+            row[1],
+            row[2],
+            row[3],
+            w0 = width[0],
+            w1 = width[1],
+            w2 = width[2]
+        );
+        out.push_str(line.trim_end());
+        out.push('\n');
     }
 }
 
@@ -233,7 +245,7 @@ pub fn assemble_str(file_name: &str, text: &str, format: Format) -> Result<Assem
             }
         })
         .collect();
-    same_where_joined(m, &ids, &stays, &mut to);
+    same_where_joined(m.coincident_pairs(), &ids, &stays, &mut to);
     let mut moves = Vec::new();
     let mut edits = Vec::new();
     for (&id, &to) in ids.iter().zip(&to) {
@@ -243,8 +255,14 @@ pub fn assemble_str(file_name: &str, text: &str, format: Format) -> Result<Assem
         edits.push(Edit {
             body: body.name.clone(),
             marker: marker.name.clone(),
-            at: (!stays).then_some(to),
-            dir: marker.dir.filter(|_| !stays).map(|d| pose.world_dir(d)),
+            at: (!stays).then(|| to.to_vec()),
+            dirs: (marker
+                .dir
+                .filter(|_| !stays)
+                .map(|d| ("dir", pose.world_dir(d).to_vec())))
+            .into_iter()
+            .collect(),
+            keep_length: false,
             size,
         });
         moves.push(Move {
@@ -296,12 +314,17 @@ pub fn assemble_str(file_name: &str, text: &str, format: Format) -> Result<Assem
     })
 }
 
-/// Markers that a revolute joint or a coincident constraint joins are
-/// written with the very same numbers (each moved one takes the position
+/// Markers that a revolute joint or a coincident constraint joins (in
+/// space, every joint with a coincident primitive) are written with the very same numbers (each moved one takes the position
 /// of one marker of its group: a marker left as written if there is one),
 /// so the written file holds them exactly rather than to the assembly's
 /// last digits. The move is within the assembly's residual.
-fn same_where_joined(m: &Mechanism, ids: &[MarkerId], stays: &[bool], to: &mut [Point]) {
+fn same_where_joined<P: Copy>(
+    pairs: impl Iterator<Item = [MarkerId; 2]>,
+    ids: &[MarkerId],
+    stays: &[bool],
+    to: &mut [P],
+) {
     let index = |id: MarkerId| ids.iter().position(|&x| x == id);
     let mut group: Vec<usize> = (0..ids.len()).collect();
     fn root(group: &mut [usize], mut i: usize) -> usize {
@@ -311,7 +334,7 @@ fn same_where_joined(m: &Mechanism, ids: &[MarkerId], stays: &[bool], to: &mut [
         }
         i
     }
-    for [a, b] in m.coincident_pairs() {
+    for [a, b] in pairs {
         let (Some(a), Some(b)) = (index(a), index(b)) else {
             continue;
         };
@@ -371,27 +394,53 @@ fn plain(file: SourceFile, message: String) -> Diagnostic {
     }
 }
 
-/// New numbers for one marker: its position and its direction (`None`:
-/// leave as written).
+/// New numbers for one marker: its position (`None`: leave as written) and
+/// its directions by key (`dir` in the plane; `z` and `x` in space), each
+/// rewritten only where the file writes that key.
 struct Edit {
     body: String,
     marker: String,
-    at: Option<Point>,
-    dir: Option<Point>,
+    at: Option<Vec<f64>>,
+    dirs: Vec<(&'static str, Vec<f64>)>,
+    /// Whether a direction keeps the length it is written with (only its
+    /// direction turns): spatial axes, which the file need not give as unit
+    /// vectors.
+    keep_length: bool,
     size: f64,
 }
 
 impl Edit {
-    /// The new value of coordinate `k` of `at` (or of `dir`), and within
-    /// what it must be written.
-    fn value(&self, dir: bool, k: usize) -> Option<(f64, f64)> {
-        if dir {
-            let d = self.dir?;
-            Some((d[k], WRITTEN_PRECISION * d[0].hypot(d[1])))
-        } else {
-            Some((self.at?[k], WRITTEN_PRECISION * self.size))
-        }
+    /// Whether it changes nothing.
+    fn is_empty(&self) -> bool {
+        self.at.is_none() && self.dirs.is_empty()
     }
+}
+
+/// The replacement texts of the numbers `old` (each with whether it is
+/// written as a float) for the new values `new`: a point's within
+/// [`WRITTEN_PRECISION`] of the size, a direction's of its length (scaled
+/// to the length written first when `keep_length`). `None` for a number
+/// that stays.
+fn renumber(old: &[(f64, bool)], new: &[f64], dir: bool, edit: &Edit) -> Result<Vec<Option<String>>, String> {
+    if old.len() != new.len() {
+        return Err(format!("a point has {} numbers, not {}", old.len(), new.len()));
+    }
+    let length = |v: &mut dyn Iterator<Item = f64>| v.map(|c| c * c).sum::<f64>().sqrt();
+    let scale = if dir && edit.keep_length {
+        length(&mut old.iter().map(|o| o.0)) / length(&mut new.iter().copied())
+    } else {
+        1.0
+    };
+    let eps = if dir {
+        WRITTEN_PRECISION * scale * length(&mut new.iter().copied())
+    } else {
+        WRITTEN_PRECISION * edit.size
+    };
+    Ok(old
+        .iter()
+        .zip(new)
+        .map(|(&(o, float), &n)| replacement(o, float, n * scale, eps))
+        .collect())
 }
 
 /// A distance for the report: 4 decimals, or two significant digits below
@@ -444,31 +493,30 @@ fn rewrite_toml(text: &str, edits: &[Edit]) -> Result<(String, Vec<bool>), Strin
     use toml_edit::{DocumentMut, Item, Value};
     let mut doc: DocumentMut = text.parse().map_err(|e: toml_edit::TomlError| e.to_string())?;
     let mut changed = Vec::with_capacity(edits.len());
-    /// Rewrites the numbers of an `[x, y]` item.
-    fn pair(item: &mut Item, edit: &Edit, dir: bool) -> Result<bool, String> {
+    /// Rewrites the numbers of an `[x, y]` or `[x, y, z]` item.
+    fn numbers(item: &mut Item, new: &[f64], dir: bool, edit: &Edit) -> Result<bool, String> {
         let array = item.as_array_mut().ok_or("a point is not an array")?;
+        let old = array
+            .iter()
+            .map(|v| match v {
+                Value::Integer(i) => Ok((*i.value() as f64, false)),
+                Value::Float(f) => Ok((*f.value(), true)),
+                _ => Err("a coordinate is not a number".to_string()),
+            })
+            .collect::<Result<Vec<_>, _>>()?;
         let mut any = false;
-        for k in 0..2 {
-            let Some((new, eps)) = edit.value(dir, k) else {
-                return Ok(false);
-            };
-            let v = array.get_mut(k).ok_or("a point has fewer than 2 numbers")?;
-            let (old, float) = match v {
-                Value::Integer(i) => (*i.value() as f64, false),
-                Value::Float(f) => (*f.value(), true),
-                _ => return Err("a coordinate is not a number".into()),
-            };
-            if let Some(s) = replacement(old, float, new, eps) {
-                let mut written: Value = s.parse().map_err(|e: toml_edit::TomlError| e.to_string())?;
-                *written.decor_mut() = v.decor().clone();
-                *v = written;
-                any = true;
-            }
+        for (k, s) in renumber(&old, new, dir, edit)?.into_iter().enumerate() {
+            let Some(s) = s else { continue };
+            let v = array.get_mut(k).ok_or("a point lost a number")?;
+            let mut written: Value = s.parse().map_err(|e: toml_edit::TomlError| e.to_string())?;
+            *written.decor_mut() = v.decor().clone();
+            *v = written;
+            any = true;
         }
         Ok(any)
     }
     for edit in edits {
-        if edit.at.is_none() && edit.dir.is_none() {
+        if edit.is_empty() {
             changed.push(false);
             continue;
         }
@@ -484,15 +532,22 @@ fn rewrite_toml(text: &str, edits: &[Edit]) -> Result<(String, Vec<bool>), Strin
             .and_then(|t| t.get_mut(&edit.marker))
             .ok_or_else(missing)?;
         let done = if item.is_array() {
-            pair(item, edit, false)?
+            match &edit.at {
+                Some(at) => numbers(item, at, false, edit)?,
+                None => false,
+            }
         } else {
             let fields = item.as_table_like_mut().ok_or_else(missing)?;
-            let at = pair(fields.get_mut("at").ok_or_else(missing)?, edit, false)?;
-            let dir = match fields.get_mut("dir") {
-                Some(d) => pair(d, edit, true)?,
+            let mut any = match &edit.at {
+                Some(at) => numbers(fields.get_mut("at").ok_or_else(missing)?, at, false, edit)?,
                 None => false,
             };
-            at || dir
+            for (key, v) in &edit.dirs {
+                if let Some(d) = fields.get_mut(key) {
+                    any |= numbers(d, v, true, edit)?;
+                }
+            }
+            any
         };
         changed.push(done);
     }
@@ -505,24 +560,22 @@ fn rewrite_json(text: &str, edits: &[Edit]) -> Result<(String, Vec<bool>), Strin
     use serde_json::Value;
     let mut doc: Value = serde_json::from_str(text).map_err(|e| e.to_string())?;
     let mut changed = Vec::with_capacity(edits.len());
-    fn pair(v: &mut Value, edit: &Edit, dir: bool) -> Result<bool, String> {
+    fn numbers(v: &mut Value, new: &[f64], dir: bool, edit: &Edit) -> Result<bool, String> {
         let array = v.as_array_mut().ok_or("a point is not an array")?;
+        let old = array
+            .iter()
+            .map(|n| Ok((n.as_f64().ok_or("a coordinate is not a number")?, n.is_f64())))
+            .collect::<Result<Vec<_>, String>>()?;
         let mut any = false;
-        for k in 0..2 {
-            let Some((new, eps)) = edit.value(dir, k) else {
-                return Ok(false);
-            };
-            let n = array.get_mut(k).ok_or("a point has fewer than 2 numbers")?;
-            let old = n.as_f64().ok_or("a coordinate is not a number")?;
-            if let Some(s) = replacement(old, n.is_f64(), new, eps) {
-                *n = serde_json::from_str(&s).map_err(|e| e.to_string())?;
-                any = true;
-            }
+        for (k, s) in renumber(&old, new, dir, edit)?.into_iter().enumerate() {
+            let Some(s) = s else { continue };
+            array[k] = serde_json::from_str(&s).map_err(|e| e.to_string())?;
+            any = true;
         }
         Ok(any)
     }
     for edit in edits {
-        if edit.at.is_none() && edit.dir.is_none() {
+        if edit.is_empty() {
             changed.push(false);
             continue;
         }
@@ -534,14 +587,21 @@ fn rewrite_json(text: &str, edits: &[Edit]) -> Result<(String, Vec<bool>), Strin
             .and_then(|ms| ms.get_mut(&edit.marker))
             .ok_or_else(missing)?;
         let done = if item.is_array() {
-            pair(item, edit, false)?
+            match &edit.at {
+                Some(at) => numbers(item, at, false, edit)?,
+                None => false,
+            }
         } else {
-            let at = pair(item.get_mut("at").ok_or_else(missing)?, edit, false)?;
-            let dir = match item.get_mut("dir") {
-                Some(d) => pair(d, edit, true)?,
+            let mut any = match &edit.at {
+                Some(at) => numbers(item.get_mut("at").ok_or_else(missing)?, at, false, edit)?,
                 None => false,
             };
-            at || dir
+            for (key, v) in &edit.dirs {
+                if let Some(d) = item.get_mut(*key) {
+                    any |= numbers(d, v, true, edit)?;
+                }
+            }
+            any
         };
         changed.push(done);
     }

@@ -32,7 +32,7 @@ use crate::model::{ConstraintKind, Diagnostic, JointKind, Location, Mechanism, N
 
 /// Newton iterations the assembly may take: far more than a frame's 50, as
 /// the drawn pose can be a poor start and this runs once per file.
-const MAX_ITERATIONS: u32 = 200;
+pub(crate) const MAX_ITERATIONS: u32 = 200;
 
 /// A joint or constraint is in the conflict when its gap at the
 /// least-squares point is above both
@@ -46,7 +46,7 @@ const MAX_ITERATIONS: u32 = 200;
 ///   4e-4 of the gap where the plain Newton solve stops on the V-link).
 ///   Joints over which the conflict is spread take shares of order one
 ///   (1/2 to 1 on the table of fig. 14b), so 1e-3 separates the two.
-const CONFLICT_SHARE: f64 = 1e-3;
+pub(crate) const CONFLICT_SHARE: f64 = 1e-3;
 
 /// Mobile bodies up to which the loader assembles a file whose joints do
 /// not all hold ([`review`]): the dense assembly takes about 0.5 s of CPU
@@ -175,7 +175,7 @@ pub fn assemble(m: &Mechanism) -> Assembly {
 /// conflict (at the least-squares point itself its σᵢ is 0), and so is the
 /// part outside the range. At a least-squares point the returned part is
 /// the residual itself.
-fn split(j: &DMatrix<f64>, r: &DVector<f64>, size: f64) -> Option<(DVector<f64>, Option<f64>)> {
+pub(crate) fn split(j: &DMatrix<f64>, r: &DVector<f64>, size: f64) -> Option<(DVector<f64>, Option<f64>)> {
     let mut settled = r.clone();
     if j.ncols() == 0 || j.nrows() == 0 {
         return Some((settled, None));
@@ -342,7 +342,7 @@ pub(crate) fn review(
 
 /// "joints E, F, B" when all are joints (or all constraints), else the
 /// origins as they are.
-fn list(origins: &[String]) -> String {
+pub(crate) fn list(origins: &[String]) -> String {
     for (kind, plural) in [("joint ", "joints "), ("constraint ", "constraints ")] {
         if origins.iter().all(|o| o.starts_with(kind)) {
             let names: Vec<&str> = origins.iter().map(|o| &o[kind.len()..]).collect();
@@ -368,7 +368,7 @@ fn closing_point(m: &Mechanism, origin: &str, poses: &[Pose]) -> Option<[f64; 2]
 }
 
 /// A coordinate to six decimals, without trailing zeros.
-fn short(v: f64) -> String {
+pub(crate) fn short(v: f64) -> String {
     let s = format!("{v:.6}");
     let s = s.trim_end_matches('0').trim_end_matches('.');
     if s == "-0" {

@@ -17,7 +17,7 @@ use dofplan::analysis::grashof::{four_bars, Class as GrashofClass};
 use dofplan::analysis::ranges::{self, assembly_ranges, InputRanges};
 use dofplan::analysis::rank::rank_mobility_with;
 use dofplan::analysis::{analyse_with, Analysis, Class, Mobility};
-use dofplan::assemble::assemble_file;
+use dofplan::assemble::{assemble_file, assemble_file3};
 use dofplan::emit::emit;
 use dofplan::format::number;
 use dofplan::model::spatial::Mechanism3;
@@ -254,7 +254,9 @@ enum Command {
     /// each marker moved (standard error). Each mobile body moves rigidly:
     /// its markers keep their distances and angles, so draw every body with
     /// its true shape, roughly in place. Fixed bodies never move; inputs are
-    /// free while assembling, so a crank may turn a little. The assembly
+    /// free while assembling, so a crank may turn a little (in a spatial
+    /// file they are held at their drawn values unless the joints cannot
+    /// close so, and written axes turn with their bodies). The assembly
     /// starts from the drawn pose, so it is the nearest one, in the assembly
     /// mode drawn. Joints that cannot all close are an error naming them.
     Assemble {
@@ -624,9 +626,10 @@ fn spatial_file(command: &Command) -> Option<Result<Mechanism3, ()>> {
         | Command::Emit { file }
         | Command::Simulate { file, .. }
         | Command::Analyze { file, .. }
-        | Command::Drag { file, .. }
-        | Command::Assemble { file, .. } => file,
-        Command::Fragments | Command::Edit { .. } => return None,
+        | Command::Drag { file, .. } => file,
+        // A spatial drawing with open joints is what it assembles: it
+        // loads the file itself (`assemble`).
+        Command::Fragments | Command::Edit { .. } | Command::Assemble { .. } => return None,
     };
     if !dofplan::model::is_spatial_file(file) {
         return None;
@@ -775,14 +778,8 @@ fn spatial_command(
                 Ok(ExitCode::FAILURE)
             }
         },
-        Command::Assemble { .. } => {
-            error(
-                &m.source.name,
-                "this command does not take spatial (dimension = 3) files yet",
-                "check, plan and simulate do: `dofplan simulate FILE --json`",
-            );
-            Ok(ExitCode::FAILURE)
-        }
+        // Never a spatial file here (`spatial_file` leaves it to `assemble`).
+        Command::Assemble { file, write } => assemble(&file, write, out),
         Command::Fragments => spatial::fragments(out),
         // Never a spatial file here (`spatial_file` leaves it to the editor).
         Command::Edit { file, port, open } => edit::run(file.as_deref(), port, open, out),
@@ -792,7 +789,13 @@ fn spatial_command(
 /// `dofplan assemble`: the table of moves goes to standard error when the
 /// file goes to standard output, so the output can be redirected to a file.
 fn assemble(file: &Path, write: bool, out: &mut dyn Write) -> io::Result<ExitCode> {
-    let done = match assemble_file(file) {
+    // (the table of moves, the text, whether nothing moved)
+    let done = if dofplan::model::is_spatial_file(file) {
+        assemble_file3(file).map(|d| (d.report(), d.unchanged(), d.text))
+    } else {
+        assemble_file(file).map(|d| (d.report(), d.unchanged(), d.text))
+    };
+    let (table, unchanged, text) = match done {
         Ok(done) => done,
         Err(e) => {
             report(&e.render(colour()));
@@ -800,15 +803,15 @@ fn assemble(file: &Path, write: bool, out: &mut dyn Write) -> io::Result<ExitCod
         }
     };
     if !write {
-        report(&done.report());
-        write!(out, "{}", done.text)?;
+        report(&table);
+        write!(out, "{text}")?;
         return Ok(ExitCode::SUCCESS);
     }
-    write!(out, "{}", done.report())?;
-    if done.unchanged() {
+    write!(out, "{table}")?;
+    if unchanged {
         return Ok(ExitCode::SUCCESS);
     }
-    if let Err(e) = std::fs::write(file, &done.text) {
+    if let Err(e) = std::fs::write(file, &text) {
         report(&format!("{}: error: cannot write the file: {e}", file.display()));
         return Ok(ExitCode::FAILURE);
     }

@@ -25,9 +25,13 @@ enum Row<'c> {
     Pin { body: usize, local: Vec3 },
 }
 
-struct System<'a> {
+/// A cluster's rows as Newton's [`Equations`] over its bodies' unknowns,
+/// warm-started from the poses it was made at. The loader's least-squares
+/// assembly of a spatial drawing solves one too
+/// (`analysis::spatial::conflict`), so its residuals are a plan's.
+pub(crate) struct System<'a> {
     /// The state's poses: every body not in the cluster stays as it is.
-    poses: Vec<Pose3>,
+    pub(crate) poses: Vec<Pose3>,
     base: Vec<Pose3>,
     /// Per cluster body: (body, unknowns, first column).
     members: Vec<(usize, Unknowns, usize)>,
@@ -40,7 +44,8 @@ struct System<'a> {
 }
 
 impl System<'_> {
-    fn place(&mut self, x: &[f64]) {
+    /// Moves the cluster bodies of `poses` to the unknowns `x`.
+    pub(crate) fn place(&mut self, x: &[f64]) {
         for &(b, u, k) in &self.members {
             self.poses[b] = cluster::moved(&self.base[b], &u, &x[k..]);
         }
@@ -162,7 +167,7 @@ fn unknowns<T: Real>(poses: &[Pose3<T>], temps: &[Vec3<T>], c: &Cluster3, inputs
 
 /// The cluster's system at the poses and pseudo-markers a frame reached
 /// before it (the warm start).
-fn system<'a>(poses: &[Pose3], temps: &[Vec3], c: &'a Cluster3, inputs: &'a [f64]) -> System<'a> {
+pub(crate) fn system<'a>(poses: &[Pose3], temps: &[Vec3], c: &'a Cluster3, inputs: &'a [f64]) -> System<'a> {
     let mut members = Vec::new();
     let mut member_of = vec![None; poses.len()];
     let mut n = 0;

@@ -11,8 +11,8 @@ use dofplan_runtime::Point;
 
 pub use error::{Diagnostic, Location, ModelError, Note, SourceFile};
 pub use load::{
-    is_spatial_file, load_any, load_any_str, load_file, load_str, load_str_drawn, Drawn, Format, Model,
-    DRAWN_TOLERANCE, MAX_STEPS,
+    is_spatial_file, load_any, load_any_str, load_file, load_str, load_str_drawn, load_str_drawn3, Drawn,
+    Drawn3, Format, Model, DRAWN_TOLERANCE, MAX_STEPS,
 };
 
 /// A validated mechanism.

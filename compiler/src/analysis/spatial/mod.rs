@@ -2,7 +2,7 @@
 //! the plan-fragment table, the planner, and counting (mobility, rank,
 //! redundancy, idle freedoms).
 
-pub(crate) mod conflict;
+pub mod conflict;
 pub mod count;
 pub mod equations;
 pub mod fragments;

@@ -177,15 +177,74 @@ pub fn load_any_str(file_name: &str, text: &str, format: Format) -> Result<Model
     if !spatial {
         return load_str(file_name, text, format).map(Model::Planar);
     }
-    let mut v = Validator::new(file);
-    match v.mechanism3(&root) {
-        Some(m) if v.diags.is_empty() => Ok(Model::Spatial(m)),
-        // Only joints open in the drawn pose: the least-squares assembly
-        // says whether the drawing is only off or the joints conflict.
-        Some(m) if v.diags.len() == v.open.len() => {
-            crate::analysis::spatial::conflict::review(&m, &v.open, &mut v.diags);
-            Err(ModelError { diagnostics: v.diags })
+    drawn3(file, &root)?.assembled().map(Model::Spatial)
+}
+
+/// A spatial mechanism whose only errors, if any, are joints and
+/// constraints that do not hold in the drawn pose: what `dofplan assemble`
+/// starts from (the spatial [`Drawn`]). With open joints it is not a valid
+/// model: only the assembly (`analysis::spatial::conflict::assemble`) may
+/// use it; everything else takes [`Drawn3::assembled`].
+#[derive(Clone, Debug)]
+pub struct Drawn3 {
+    /// The mechanism, every joint and constraint included, open ones too.
+    pub mechanism: Mechanism3,
+    /// The "does not hold in the drawn pose" errors, in file order; empty
+    /// when every joint holds.
+    pub open: Vec<Diagnostic>,
+    /// Which joint or constraint each error is about.
+    opened: Vec<Open>,
+}
+
+impl Drawn3 {
+    /// How many joints and constraints do not hold in the drawn pose (a
+    /// joint may have an error for each of its primitives).
+    pub fn open_count(&self) -> usize {
+        let mut origins: Vec<&str> = self.opened.iter().map(|o| o.origin.as_str()).collect();
+        origins.sort_unstable();
+        origins.dedup();
+        origins.len()
+    }
+
+    /// The mechanism if every joint holds in the drawn pose; otherwise the
+    /// errors [`load_any_str`] gives: the open joints, each with what the
+    /// least-squares assembly says (where it closes, or the joints in
+    /// conflict).
+    pub fn assembled(self) -> Result<Mechanism3, ModelError> {
+        let Drawn3 {
+            mechanism,
+            mut open,
+            opened,
+        } = self;
+        if open.is_empty() {
+            return Ok(mechanism);
         }
+        crate::analysis::spatial::conflict::review(&mechanism, &opened, &mut open);
+        Err(ModelError { diagnostics: open })
+    }
+}
+
+/// Validates a spatial mechanism given as text like [`load_any_str`], but
+/// returns it even when joints or constraints do not hold in the drawn pose
+/// (with those errors). Every other error is still an error, and so is a
+/// planar file.
+pub fn load_str_drawn3(file_name: &str, text: &str, format: Format) -> Result<Drawn3, ModelError> {
+    let (file, root) = parse(file_name, text, format)?;
+    drawn3(file, &root)
+}
+
+/// The spatial validation of a parsed file, open joints allowed.
+fn drawn3(file: SourceFile, root: &Node) -> Result<Drawn3, ModelError> {
+    let mut v = Validator::new(file);
+    match v.mechanism3(root) {
+        // Only joints open in the drawn pose (or none): the least-squares
+        // assembly says whether the drawing is only off or the joints
+        // conflict (`Drawn3::assembled`).
+        Some(m) if v.diags.len() == v.open.len() => Ok(Drawn3 {
+            mechanism: m,
+            open: v.diags,
+            opened: v.open,
+        }),
         _ => Err(ModelError { diagnostics: v.diags }),
     }
 }

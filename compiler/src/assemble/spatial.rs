@@ -1,0 +1,310 @@
+//! `dofplan assemble` for spatial files (`dimension = 3`): the planar
+//! assembler's rules in space. The assembly is the loader's own
+//! ([`crate::analysis::spatial::conflict::assemble`]): every moving body
+//! moves rigidly (a rotation and a translation, so its markers keep their
+//! distances and its axes their angles), ground never moves, the inputs
+//! stay at their drawn values unless the joints close only with them free,
+//! and Newton's minimum-norm steps from the drawing keep the assembly mode
+//! drawn. A moved marker's point is rewritten, and so are the `z` and `x`
+//! it writes (turned with its body, each keeping the length it is written
+//! with); nothing else in the file changes.
+
+use std::path::Path;
+
+use dofplan_runtime::spatial::{norm, sub, Pose3, Vec3};
+
+use super::{plain, rewrite_json, rewrite_toml, same_where_joined, short, undecided, Edit, UNCHANGED_SHARE};
+use crate::analysis::spatial::conflict::{self, Assembly3};
+use crate::model::spatial::{Mechanism3, Primitive};
+use crate::model::{
+    load_any_str, load_str_drawn3, Format, Location, MarkerId, Model, ModelError, Note, SourceFile,
+    DRAWN_TOLERANCE,
+};
+
+/// Where one marker of a spatial file goes.
+#[derive(Clone, Debug)]
+pub struct Move3 {
+    /// The marker.
+    pub marker: MarkerId,
+    /// Its position as drawn.
+    pub from: Vec3,
+    /// Its position in the assembly (as drawn when its body stays).
+    pub to: Vec3,
+    /// `|to − from|`.
+    pub distance: f64,
+    /// The angle its body turns, in degrees (about whatever axis).
+    pub turn: f64,
+    /// Whether the file's text for this marker changed (its point, or its
+    /// axes turned with its body).
+    pub changed: bool,
+}
+
+/// The result of assembling a spatial file.
+#[derive(Clone, Debug)]
+pub struct Assembled3 {
+    /// The mechanism as drawn (joints open).
+    pub mechanism: Mechanism3,
+    /// Every marker, body by body, in file order.
+    pub moves: Vec<Move3>,
+    /// The file with the assembled coordinates (the text as given when
+    /// nothing moved).
+    pub text: String,
+    /// How many joints and constraints did not hold as drawn.
+    pub opened: usize,
+    /// Whether the inputs stayed at their drawn values (false: the joints
+    /// close only with them free, or the mechanism has none).
+    pub inputs_held: bool,
+}
+
+impl Assembled3 {
+    /// Whether the file was assembled already (every joint held as drawn).
+    pub fn unchanged(&self) -> bool {
+        self.moves.iter().all(|m| !m.changed)
+    }
+
+    /// The table of moves: one line per marker, `body.marker`, from, to and
+    /// how far it moved ("unchanged" when its text is kept).
+    pub fn report(&self) -> String {
+        let m = &self.mechanism;
+        if self.unchanged() {
+            return format!("{}: already assembled, nothing moved\n", m.name);
+        }
+        let size = m.size();
+        let moved: Vec<&Move3> = self.moves.iter().filter(|mv| mv.changed).collect();
+        let most = moved.iter().map(|mv| mv.distance).fold(0.0, f64::max);
+        let inputs = match (m.inputs.is_empty(), self.inputs_held) {
+            (true, _) => "",
+            (false, true) => ", inputs at their drawn values",
+            (false, false) => ", inputs free (held at their drawn values the joints do not close)",
+        };
+        let mut out = format!(
+            "{}: {} open joint(s) closed; {} of {} markers moved (most {}), each body rigidly, fixed bodies \
+             staying put{inputs}\n",
+            m.name,
+            self.opened,
+            moved.len(),
+            self.moves.len(),
+            super::length(most)
+        );
+        let point = |p: Vec3| {
+            format!(
+                "[{}, {}, {}]",
+                short(p[0], size),
+                short(p[1], size),
+                short(p[2], size)
+            )
+        };
+        let rows: Vec<[String; 4]> = self
+            .moves
+            .iter()
+            .map(|mv| {
+                let name = m.marker_name(mv.marker);
+                if !mv.changed {
+                    return [name, point(mv.from), "unchanged".into(), String::new()];
+                }
+                // A marker on its body's axis of turn moves by rounding only.
+                let mut distance = if mv.distance <= super::WRITTEN_PRECISION * size {
+                    "0".to_string()
+                } else {
+                    super::length(mv.distance)
+                };
+                if m.marker(mv.marker).axes.is_some() && mv.turn.abs() > 0.0 {
+                    distance.push_str(&format!(", axes turned {:.3}°", mv.turn));
+                }
+                [name, point(mv.from), point(mv.to), distance]
+            })
+            .collect();
+        super::table(&mut out, &rows);
+        out
+    }
+}
+
+/// Assembles a spatial mechanism file: see [`assemble_str3`].
+pub fn assemble_file3(path: &Path) -> Result<Assembled3, ModelError> {
+    let text = std::fs::read_to_string(path).map_err(|e| ModelError {
+        diagnostics: vec![plain(
+            SourceFile {
+                name: path.display().to_string(),
+                text: "".into(),
+            },
+            format!("cannot read the file: {e}"),
+        )],
+    })?;
+    assemble_str3(&path.display().to_string(), &text, Format::of_path(path))
+}
+
+/// The angle of a rotation, in radians.
+fn angle(p: &Pose3) -> f64 {
+    let m = &p.rot.m;
+    let axis = [m[2][1] - m[1][2], m[0][2] - m[2][0], m[1][0] - m[0][1]];
+    norm(axis).atan2(m[0][0] + m[1][1] + m[2][2] - 1.0)
+}
+
+/// Assembles a spatial mechanism given as text: loads it (joints that do
+/// not hold in the drawn pose are allowed, any other error is returned),
+/// runs the least-squares assembly from the drawn pose, and rewrites the
+/// text with every marker where the joints close.
+///
+/// Errors: the loader's (syntax, names...); the loader's errors naming the
+/// joints in conflict when they cannot all close near the drawn pose; an
+/// error when the assembly cannot tell.
+pub fn assemble_str3(file_name: &str, text: &str, format: Format) -> Result<Assembled3, ModelError> {
+    let drawn = load_str_drawn3(file_name, text, format)?;
+    let m = &drawn.mechanism;
+    let opened = drawn.open_count();
+    let unmoved = |inputs_held| {
+        let moves = m
+            .all_markers()
+            .map(|id| Move3 {
+                marker: id,
+                from: m.marker(id).at,
+                to: m.marker(id).at,
+                distance: 0.0,
+                turn: 0.0,
+                changed: false,
+            })
+            .collect();
+        Assembled3 {
+            mechanism: m.clone(),
+            moves,
+            text: text.to_string(),
+            opened,
+            inputs_held,
+        }
+    };
+    if opened == 0 {
+        return Ok(unmoved(!m.inputs.is_empty()));
+    }
+    let (poses, inputs_held) = match conflict::assemble(m) {
+        Assembly3::Closes {
+            poses, inputs_held, ..
+        } => (poses, inputs_held),
+        Assembly3::Conflict { .. } => {
+            // The loader's own diagnostics: each open joint with the joints
+            // in conflict named.
+            let file = m.source.clone();
+            return Err(drawn.assembled().err().unwrap_or_else(|| ModelError {
+                diagnostics: vec![plain(
+                    file,
+                    "the joints cannot all close near the drawn pose".into(),
+                )],
+            }));
+        }
+        Assembly3::Undecided => return Err(undecided(&drawn.open)),
+    };
+    let size = m.size();
+    let kept = UNCHANGED_SHARE * DRAWN_TOLERANCE * size;
+    let ids: Vec<MarkerId> = m.all_markers().collect();
+    let moved = |id: MarkerId| {
+        let at = m.marker(id).at;
+        norm(sub(poses[id.body].world(at), at))
+    };
+    // A body is left as written when the assembly moves it less than
+    // `kept` (fixed bodies always are); the others move rigidly.
+    let stays: Vec<bool> = m
+        .bodies
+        .iter()
+        .enumerate()
+        .map(|(b, body)| {
+            body.fixed
+                || (ids.iter().filter(|id| id.body == b).all(|&id| moved(id) <= kept)
+                    && angle(&poses[b]) * size <= kept)
+        })
+        .collect();
+    let mut to: Vec<Vec3> = ids
+        .iter()
+        .map(|&id| {
+            let at = m.marker(id).at;
+            if stays[id.body] {
+                at
+            } else {
+                poses[id.body].world(at)
+            }
+        })
+        .collect();
+    same_where_joined(coincident_pairs(m), &ids, &stays, &mut to);
+    let mut moves = Vec::new();
+    let mut edits = Vec::new();
+    for (&id, &to) in ids.iter().zip(&to) {
+        let (body, marker) = (&m.bodies[id.body], m.marker(id));
+        let pose = poses[id.body];
+        let stays = stays[id.body];
+        let dirs = match marker.axes.filter(|_| !stays) {
+            Some(axes) => vec![("z", pose.dir(axes.z).to_vec()), ("x", pose.dir(axes.x).to_vec())],
+            None => vec![],
+        };
+        edits.push(Edit {
+            body: body.name.clone(),
+            marker: marker.name.clone(),
+            at: (!stays).then(|| to.to_vec()),
+            dirs,
+            keep_length: true,
+            size,
+        });
+        moves.push(Move3 {
+            marker: id,
+            from: marker.at,
+            to,
+            distance: if stays {
+                moved(id)
+            } else {
+                norm(sub(to, marker.at))
+            },
+            turn: if stays { 0.0 } else { angle(&pose).to_degrees() },
+            changed: false,
+        });
+    }
+    let (rewritten, changed) = match format {
+        Format::Toml => rewrite_toml(text, &edits),
+        Format::Json => rewrite_json(text, &edits),
+    }
+    .map_err(|e| ModelError {
+        diagnostics: vec![plain(m.source.clone(), format!("cannot rewrite the file: {e}"))],
+    })?;
+    for (mv, c) in moves.iter_mut().zip(changed) {
+        mv.changed = c;
+    }
+    // The rewritten file must hold every joint: a safety net, so a file is
+    // never written back worse than it was.
+    match load_any_str(file_name, &rewritten, format) {
+        Ok(Model::Spatial(_)) => {}
+        Ok(Model::Planar(_)) => unreachable!("a spatial file stays spatial: only numbers change"),
+        Err(e) => {
+            let mut d = plain(
+                m.source.clone(),
+                "the assembled coordinates do not load back (a bug in `dofplan assemble`): the file is left as \
+                 it is"
+                    .into(),
+            );
+            d.notes = e
+                .diagnostics
+                .iter()
+                .map(|d| Note {
+                    location: Location::File,
+                    message: d.message.clone(),
+                })
+                .collect();
+            return Err(ModelError { diagnostics: vec![d] });
+        }
+    }
+    Ok(Assembled3 {
+        mechanism: drawn.mechanism,
+        moves,
+        text: rewritten,
+        opened,
+        inputs_held,
+    })
+}
+
+/// The marker pairs a coincident primitive joins (revolute, spherical,
+/// universal and fixed joints; coincident constraints): written with the
+/// very same numbers.
+fn coincident_pairs(m: &Mechanism3) -> impl Iterator<Item = [MarkerId; 2]> + '_ {
+    let joints = (m.joints.iter())
+        .filter(|j| j.kind.primitives().contains(&Primitive::Coincident))
+        .map(|j| j.markers);
+    let constraints = (m.constraints.iter())
+        .filter(|c| c.kind == Primitive::Coincident)
+        .map(|c| c.markers);
+    joints.chain(constraints)
+}
