@@ -91,6 +91,12 @@ pub struct Driver<S: Solver> {
     /// assemble (the first request that broke, or the far end of the
     /// search's bracket).
     fail: S::Inputs,
+    /// While held: a second point known not to assemble, where a way back
+    /// was last seen to leave the interval (the far side of it, for a single
+    /// input), so that later requests past it need no new way.
+    fail_back: S::Inputs,
+    /// Whether `fail_back` holds such a point.
+    has_back: bool,
     /// While held: how far apart in input the frames were when the limit was
     /// passed, the resolution at which a way back is checked.
     pace: f64,
@@ -148,6 +154,8 @@ impl<S: Solver> Driver<S> {
             anchor: state.clone(),
             anchor_inputs: last.clone(),
             fail: last.clone(),
+            fail_back: last.clone(),
+            has_back: false,
             spare: Some(last.clone()),
             state,
             last,
@@ -209,6 +217,7 @@ impl<S: Solver> Driver<S> {
         self.last = self.solver.initial_inputs();
         self.placed = self.options.start == StartPolicy::Drawn;
         self.held = None;
+        self.has_back = false;
     }
 
     /// Starts at `state`, a pose the plan gives at `inputs` (a frame it
@@ -218,6 +227,7 @@ impl<S: Solver> Driver<S> {
         self.last.as_mut().copy_from_slice(inputs);
         self.placed = true;
         self.held = None;
+        self.has_back = false;
     }
 
     /// Moves to `inputs` (one value per input, in plan order).
@@ -312,6 +322,7 @@ impl<S: Solver> Driver<S> {
         self.anchor.clone_from(&self.state);
         self.anchor_inputs.clone_from(&self.last);
         self.fail.as_mut().copy_from_slice(fail);
+        self.has_back = false;
         self.held = Some(brk);
         self.pace = pace;
     }
@@ -337,6 +348,7 @@ impl<S: Solver> Driver<S> {
             self.last.as_mut().copy_from_slice(requested);
             self.placed = true;
             self.held = None;
+            self.has_back = false;
             return FrameStatus::Solved;
         }
         // Not reachable: why, as this frame's own break where it has one.
@@ -443,8 +455,11 @@ impl<S: Solver> Driver<S> {
     /// `t0` (whose pose is left in `trial`) and `t1` of it, or `None` when
     /// it goes through a point known not to assemble.
     fn way_back(&mut self, requested: &[f64]) -> Result<(), Option<(f64, f64)>> {
-        if self.held.is_some() && past(self.anchor_inputs.as_ref(), self.fail.as_ref(), requested) {
-            return Err(None);
+        let a = self.anchor_inputs.as_ref();
+        if (self.held.is_some() && past(a, self.fail.as_ref(), requested))
+            || (self.has_back && past(a, self.fail_back.as_ref(), requested))
+        {
+            return Err(None); // through a point known not to assemble
         }
         let dist = span(self.anchor_inputs.as_ref(), requested);
         let steps = if self.held.is_some() && self.pace > 0.0 {
@@ -473,7 +488,13 @@ impl<S: Solver> Driver<S> {
             match result {
                 Ok(()) => good = t,
                 Err(brk) if k < steps && passable(&brk) => {}
-                Err(_) => return Err(Some((good, t))),
+                Err(_) => {
+                    // Remembered: a later request past this point on the
+                    // same line from the anchor is refused without a way.
+                    self.fail_back.clone_from(&self.probe);
+                    self.has_back = true;
+                    return Err(Some((good, t)));
+                }
             }
         }
         Ok(())
