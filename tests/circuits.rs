@@ -449,3 +449,63 @@ fn a_two_input_arm_driven_past_its_reach_stays_held() {
         }
     }
 }
+
+/// A plan that counts its executions.
+struct Counting<S> {
+    inner: S,
+    runs: std::cell::Cell<usize>,
+}
+
+impl<S: Solver> Solver for Counting<S> {
+    type Pose = S::Pose;
+    type State = S::State;
+    type Inputs = S::Inputs;
+    fn initial_state(&self) -> S::State {
+        self.inner.initial_state()
+    }
+    fn initial_inputs(&self) -> S::Inputs {
+        self.inner.initial_inputs()
+    }
+    fn poses(state: &S::State) -> &[S::Pose] {
+        S::poses(state)
+    }
+    fn solve(
+        &self,
+        state: &mut S::State,
+        inputs: &[f64],
+        ctx: &mut Ctx,
+    ) -> Result<(), dofplan_runtime::Break> {
+        self.runs.set(self.runs.get() + 1);
+        self.inner.solve(state, inputs, ctx)
+    }
+}
+
+/// The checks a hold makes cost a bounded number of plan runs: the
+/// rocker-rocker's sweep (−180° … 180°, out of reach at both ends) driven
+/// ten times over, each time back from θ = 180° to −180° in one frame, runs
+/// the plan at most twice a frame plus one way of at most 64 runs each
+/// time the input comes back into the interval.
+#[test]
+fn holds_cost_a_bounded_number_of_plan_runs() {
+    let m = load("rocker_rocker");
+    let sweep: Vec<f64> = (0..=360).map(|k| -180.0 + f64::from(k)).collect();
+    for policy in [BreakPolicy::Limit, BreakPolicy::Stretch] {
+        let solver = Counting {
+            inner: Interpreter::new(plan(&m)),
+            runs: std::cell::Cell::new(0),
+        };
+        let mut d = Driver::new(solver, options(policy));
+        let mut frames = 0;
+        for _ in 0..10 {
+            for &theta in &sweep {
+                d.frame(&[theta]);
+                frames += 1;
+            }
+        }
+        let runs = d.solver().runs.get();
+        assert!(
+            runs <= 2 * frames + 10 * 64,
+            "{policy:?}: {runs} plan runs for {frames} frames"
+        );
+    }
+}
