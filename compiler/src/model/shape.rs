@@ -130,6 +130,43 @@ enum Frame {
 
 /// The first array of a TOML text longer than the format allows.
 pub fn check_toml(text: &str) -> Option<TooLong> {
+    walk_toml(text, &mut |_, _| false)
+}
+
+/// Whether a TOML text says `dimension = 3` at its top level, read off its
+/// tokens (up to that key) rather than parsed.
+pub fn toml_says_spatial(text: &str) -> bool {
+    let mut spatial = false;
+    walk_toml(text, &mut |path, at| {
+        let is_dimension = matches!(path, [key] if key == "dimension");
+        if is_dimension {
+            // The value is the rest of its line (a comment aside).
+            let rest = &text[at..];
+            let value = rest[..rest.find(['\n', '#']).unwrap_or(rest.len())].trim();
+            spatial = toml_integer(value) == Some(3);
+        }
+        is_dimension
+    });
+    spatial
+}
+
+/// A TOML integer's value (`+3`, `0x3`, `1_000`), or `None` for anything
+/// else.
+fn toml_integer(value: &str) -> Option<i64> {
+    let digits = value.strip_prefix('+').unwrap_or(value).replace('_', "");
+    let (radix, digits) = match digits.get(..2) {
+        Some("0x") => (16, &digits[2..]),
+        Some("0o") => (8, &digits[2..]),
+        Some("0b") => (2, &digits[2..]),
+        _ => (10, &digits[..]),
+    };
+    i64::from_str_radix(digits, radix).ok()
+}
+
+/// Walks a TOML text's arrays (see the module's doc), calling `scalar`
+/// with the key path and offset of each value at the top level that is not
+/// an array or a table; it returns whether to stop.
+fn walk_toml(text: &str, scalar: &mut dyn FnMut(&[String], usize) -> bool) -> Option<TooLong> {
     use toml_parser::lexer::TokenKind as T;
 
     let source = toml_parser::Source::new(text);
@@ -212,7 +249,7 @@ pub fn check_toml(text: &str) -> Option<TooLong> {
                         // An array's values are under its own path, marked
                         // as such.
                         path.truncate(open.depth);
-                        if let Err(e) = open.value(&path, span) {
+                        if let Err(e) = open.value(&path, span.clone()) {
                             return Some(e);
                         }
                         if matches!(token.kind(), T::LeftSquareBracket | T::LeftCurlyBracket) {
@@ -226,6 +263,7 @@ pub fn check_toml(text: &str) -> Option<TooLong> {
                         frames.push(Frame::Table { depth: path.len() });
                         in_key = true;
                     }
+                    _ if frames.is_empty() && scalar(&path, span.start) => return None,
                     _ => {}
                 }
             }
@@ -238,6 +276,27 @@ pub fn check_toml(text: &str) -> Option<TooLong> {
 
 /// The first array of a JSON text longer than the format allows.
 pub fn check_json(text: &str) -> Option<TooLong> {
+    walk_json(text, &mut |_, _| false)
+}
+
+/// Whether a JSON text says `"dimension": 3` at its top level, read off
+/// its text (up to that key) rather than parsed.
+pub fn json_says_spatial(text: &str) -> bool {
+    let mut spatial = false;
+    walk_json(text, &mut |path, value| {
+        let is_dimension = matches!(path, [key] if key == "dimension");
+        if is_dimension {
+            spatial = value == "3";
+        }
+        is_dimension
+    });
+    spatial
+}
+
+/// Walks a JSON text's arrays (see the module's doc), calling `scalar`
+/// with the key path and text of each value of the top-level object that
+/// is not an array or an object; it returns whether to stop.
+fn walk_json(text: &str, scalar: &mut dyn FnMut(&[String], &str) -> bool) -> Option<TooLong> {
     let bytes = text.as_bytes();
     let mut path: Vec<String> = Vec::new();
     let mut frames: Vec<Frame> = Vec::new();
@@ -335,6 +394,9 @@ pub fn check_json(text: &str) -> Option<TooLong> {
             b'{' => {
                 frames.push(Frame::Table { depth: path.len() });
                 in_key = true;
+            }
+            _ if matches!(frames[..], [Frame::Table { .. }]) && scalar(&path, &text[start..i]) => {
+                return None
             }
             _ => {}
         }
@@ -455,6 +517,55 @@ mod tests {
         assert!(refused(r#"{"x": ["a, \"b, c, d", "[1,2,3,4]"]}"#, true).is_none());
         // A date with a space is one value.
         assert!(refused("x = [1979-05-27 07:32:00Z, 1, 2]", false).is_none());
+    }
+
+    #[test]
+    fn the_dimension_is_read_off_the_tokens() {
+        for (text, spatial) in [
+            ("dimension = 3\n", true),
+            ("name = \"x\" # [a]\ndimension = +3 # three\n[bodies.b]\n", true),
+            ("dimension = 0x3", true),
+            ("x = [\n  1,\n]\ndimension = 3", true),
+            ("dimension = 3.0\n", false),
+            ("dimension = 3e0\n", false),
+            ("dimension = 2\n", false),
+            ("dimension = \"3\"\n", false),
+            ("[a]\ndimension = 3\n", false),
+            ("a.dimension = 3\n", false),
+            ("a = { dimension = 3 }\n", false),
+            ("s = \"\"\"\ndimension = 3\n\"\"\"\n", false),
+        ] {
+            assert_eq!(toml_says_spatial(text), spatial, "{text}");
+        }
+        for (text, spatial) in [
+            (r#"{"dimension": 3}"#, true),
+            (r#"{"name": "x", "bodies": {"a": [1]}, "dimension": 3}"#, true),
+            (r#"{"dimension": 3.0}"#, false),
+            (r#"{"dimension": "3"}"#, false),
+            (r#"{"a": {"dimension": 3}}"#, false),
+            (r#"[{"dimension": 3}]"#, false),
+        ] {
+            assert_eq!(json_says_spatial(text), spatial, "{text}");
+        }
+        // Every bundled file: as its parse says.
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../mechanisms");
+        for dir in [root.clone(), root.join("spatial")] {
+            for entry in std::fs::read_dir(&dir).unwrap() {
+                let path = entry.unwrap().path();
+                if path.extension().and_then(|e| e.to_str()) != Some("toml") {
+                    continue;
+                }
+                let text = std::fs::read_to_string(&path).unwrap();
+                let parsed = crate::model::source::parse_toml(&text).unwrap();
+                let crate::model::source::NodeKind::Table(top) = parsed.kind else {
+                    panic!()
+                };
+                let three = top.iter().any(|(k, v)| {
+                    k.name == "dimension" && matches!(v.kind, crate::model::source::NodeKind::Int(3))
+                });
+                assert_eq!(toml_says_spatial(&text), three, "{}", path.display());
+            }
+        }
     }
 
     #[test]

@@ -32,6 +32,10 @@ pub const DRAWN_TOLERANCE: f64 = 1e-9;
 /// set no limit.
 pub const MAX_FILE_BYTES: u64 = 256 << 20;
 
+/// A syntax error on a line longer than this (bytes) asks whether the
+/// file is the right one.
+const LONG_LINE: usize = 100_000;
+
 /// The most values a sweep may have.
 pub const MAX_STEPS: i64 = 1_000_000;
 
@@ -183,8 +187,10 @@ impl Model {
     }
 }
 
-/// Whether a file says `dimension = 3` at its top level (it is parsed, not
-/// validated; a file that cannot be read or parsed is not).
+/// Whether a file says `dimension = 3` at its top level (read off its
+/// tokens up to that key, not validated: a file that cannot be read is not
+/// spatial; one that says so but is wrong elsewhere is, and loading it
+/// reports what is wrong).
 pub fn is_spatial_file(path: &Path) -> bool {
     // A file too large to load is not read here either: loading it says
     // why.
@@ -194,11 +200,13 @@ pub fn is_spatial_file(path: &Path) -> bool {
     let Ok(text) = std::fs::read_to_string(path) else {
         return false;
     };
-    let Ok((_, root)) = parse("", &text, Format::of_path(path)) else {
-        return false;
-    };
-    matches!(&root.kind, NodeKind::Table(top)
-        if matches!(Validator::get(top, "dimension").map(|d| &d.kind), Some(NodeKind::Int(3))))
+    // Read off the tokens up to the key, not parsed: the loader that
+    // follows parses the file (and reports what is wrong with it), so a
+    // large file is parsed once, not twice.
+    match Format::of_path(path) {
+        Format::Toml => shape::toml_says_spatial(&text),
+        Format::Json => shape::json_says_spatial(&text),
+    }
 }
 
 /// Reads and validates a mechanism file of either dimension.
@@ -342,6 +350,25 @@ fn parse(file_name: &str, text: &str, format: Format) -> Result<(SourceFile, Nod
             if e.message.trim() == "duplicate key" {
                 message = format!("{message} `{key}`");
                 help = Some("a name may be defined only once in a table: rename or merge the two".into());
+            }
+        }
+        // On a line of megabytes, the error is likely the file itself: a
+        // mechanism is written a few entries a line.
+        if let Some(at) = e
+            .span
+            .as_ref()
+            .map(|s| s.start.min(text.len()))
+            .filter(|_| help.is_none())
+        {
+            let start = text[..at].rfind('\n').map_or(0, |i| i + 1);
+            let end = text[at..].find('\n').map_or(text.len(), |i| at + i);
+            if end - start > LONG_LINE {
+                let line = text[..at].matches('\n').count() + 1;
+                help = Some(format!(
+                    "line {line} is {} bytes long: is this the right file? \
+                     A mechanism file is written a few entries a line (see mechanisms/fourbar.toml)",
+                    end - start
+                ));
             }
         }
         ModelError {

@@ -1,0 +1,179 @@
+//! Huge files get a short error, early: a 50 MB file on one line is not
+//! echoed whole, an array longer than the format allows is refused at its
+//! first value too many (before a parser builds it), and a file over the
+//! size limit is refused unread.
+//!
+//! Every file is written by the test into a temporary directory; positions
+//! are computed from the text written, independently of the loader.
+
+use std::path::{Path, PathBuf};
+
+use dofplan::model::{load_any, ModelError, MAX_FILE_BYTES};
+
+/// 50 MB: the size the limits are for.
+const HUGE: usize = 50_000_000;
+
+/// An error's rendering stays within this many bytes, whatever the file.
+const SHORT: usize = 2_000;
+
+/// A fresh directory for one test.
+fn scratch(test: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("dofplan-huge-{test}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Writes `text` to `dir/name` and loads it, which must fail.
+fn refused(dir: &Path, name: &str, text: &str) -> (PathBuf, ModelError) {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    let e = load_any(&path).expect_err("a bad file");
+    (path, e)
+}
+
+/// 1-based line and column (in characters) of byte `offset` of `text`.
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset];
+    let line_start = before.rfind('\n').map_or(0, |i| i + 1);
+    (
+        before.matches('\n').count() + 1,
+        before[line_start..].chars().count() + 1,
+    )
+}
+
+/// The rendered error is short, starts at `file:line:col` and has a help.
+fn assert_short(e: &ModelError, position: &str, needles: &[&str]) {
+    assert_eq!(e.diagnostics.len(), 1, "{e}");
+    for colour in [false, true] {
+        let shown = e.render(colour);
+        assert!(
+            shown.len() < SHORT,
+            "{} bytes:\n{}",
+            shown.len(),
+            &shown[..shown.len().min(SHORT)]
+        );
+        assert!(shown.contains(position), "no {position} in:\n{shown}");
+    }
+    let shown = e.render(false);
+    for n in needles {
+        assert!(shown.contains(n), "no {n:?} in:\n{shown}");
+    }
+    let plain = e.to_string();
+    assert!(plain.len() < SHORT && plain.starts_with(position), "{plain}");
+}
+
+/// The bundled four-bar with `extra` written after the ground's marker A's
+/// two coordinates.
+fn fourbar_with(extra: &str) -> String {
+    let text = std::fs::read_to_string(dofplan_tests::mechanisms_dir().join("fourbar.toml")).unwrap();
+    let at = "A = [0, 0], D = [4, 0]";
+    assert!(text.contains(at));
+    text.replacen(at, &format!("A = [0, 0{extra}], D = [4, 0]"), 1)
+}
+
+#[test]
+fn a_50_mb_line_is_shown_as_a_window_around_the_error() {
+    let dir = scratch("line");
+    // A key that never gets its `=`: the error is at the end of the line.
+    let text = "x".repeat(HUGE);
+    let (path, e) = refused(&dir, "one_line.toml", &text);
+    let file = path.display().to_string();
+    let help = format!("help: line 1 is {HUGE} bytes long: is this the right file?");
+    assert_short(&e, &format!("{file}:1:{}", HUGE + 1), &["TOML syntax error", "...", &help]);
+    // A string that never ends: the error is where it starts.
+    let text = format!("name = \"{}", "a".repeat(HUGE));
+    let (path, e) = refused(&dir, "unterminated.toml", &text);
+    let help = format!("help: line 1 is {} bytes long", text.len());
+    assert_short(&e, &format!("{}:1:", path.display()), &["TOML syntax error", &help]);
+    // JSON: a string that never ends.
+    let text = format!("{{\"name\": \"{}", "a".repeat(HUGE));
+    let (path, e) = refused(&dir, "one_line.json", &text);
+    let help = format!("help: line 1 is {} bytes long", text.len());
+    assert_short(&e, &format!("{}:1:", path.display()), &["JSON syntax error", &help]);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_50_mb_line_with_an_error_in_its_middle_points_at_it() {
+    let dir = scratch("middle");
+    // A 25 MB string, then something that is not TOML, then another: the
+    // error is at the `@`, mid-line.
+    let half = "é".repeat(HUGE / 4);
+    let text = format!("t = \"{half}\" @ \"{half}\"\n");
+    let at = text.find('@').unwrap();
+    let (line, col) = line_col(&text, at);
+    let (path, e) = refused(&dir, "middle.toml", &text);
+    let position = format!("{}:{line}:{col}", path.display());
+    let help = format!("help: line 1 is {} bytes long", text.len() - 1);
+    assert_short(&e, &position, &["TOML syntax error", &help]);
+    // The source line shown is cut on both sides, and the caret is under
+    // the `@`.
+    let shown = e.render(false);
+    let source = shown.lines().find(|l| l.starts_with("1 │")).expect("the line");
+    assert!(
+        source.starts_with("1 │ ...") && source.ends_with("..."),
+        "{shown}"
+    );
+    let caret = shown.lines().find(|l| l.contains('^')).expect("a caret");
+    let column = caret.chars().position(|c| c == '^').unwrap();
+    assert_eq!(source.chars().nth(column), Some('@'), "{shown}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_50_mb_coordinate_array_is_refused_at_its_fourth_value() {
+    let dir = scratch("array");
+    let values = ", 0.5".repeat(HUGE / 5);
+    let text = fourbar_with(&values);
+    // The fourth coordinate: the second 0.5.
+    let fourth = text.find("0.5, 0.5").unwrap() + 5;
+    let (line, col) = line_col(&text, fourth);
+    let (path, e) = refused(&dir, "array.toml", &text);
+    assert_short(
+        &e,
+        &format!("{}:{line}:{col}", path.display()),
+        &[
+            "marker `ground.A` has more than 3 coordinates",
+            "help: a point is [x, y], or [x, y, z]",
+        ],
+    );
+    // The same as JSON.
+    let text = format!(
+        "{{\"name\": \"fourbar\",\n \"bodies\": {{\"ground\": {{\"fixed\": true, \"markers\": {{\"A\": [0, 0{values}]}}}}}}}}\n"
+    );
+    let fourth = text.find("0.5, 0.5").unwrap() + 5;
+    let (line, col) = line_col(&text, fourth);
+    let (path, e) = refused(&dir, "array.json", &text);
+    assert_short(
+        &e,
+        &format!("{}:{line}:{col}", path.display()),
+        &["marker `ground.A` has more than 3 coordinates"],
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_file_over_the_limit_is_refused_unread() {
+    let dir = scratch("limit");
+    let path = dir.join("huge.toml");
+    // Sparse: no disk is written, and the loader reads none of it.
+    let f = std::fs::File::create(&path).unwrap();
+    f.set_len(MAX_FILE_BYTES + 1).unwrap();
+    let e = load_any(&path).expect_err("too large");
+    let file = path.display().to_string();
+    assert_short(
+        &e,
+        &file,
+        &[
+            &format!(
+                "the file is {} bytes (256 MiB), more than the 256 MiB",
+                MAX_FILE_BYTES + 1
+            ),
+            "help: is this the right file?",
+            "dofplan::model::load_any_str",
+        ],
+    );
+    assert!(!dofplan::model::is_spatial_file(&path));
+    let _ = std::fs::remove_dir_all(&dir);
+}
