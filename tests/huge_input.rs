@@ -3,15 +3,14 @@
 //! first value too many (before a parser builds it), and a file over the
 //! size limit is refused unread.
 //!
-//! Every file is written by the test into a temporary directory; positions
-//! are computed from the text written, independently of the loader.
+//! The files (`dofplan_tests::huge`) are written by the test into a
+//! temporary directory; positions are computed from the text written,
+//! independently of the loader.
 
 use std::path::{Path, PathBuf};
 
 use dofplan::model::{load_any, ModelError, MAX_FILE_BYTES};
-
-/// 50 MB: the size the limits are for.
-const HUGE: usize = 50_000_000;
+use dofplan_tests::huge::{self, HUGE};
 
 /// An error's rendering stays within this many bytes, whatever the file.
 const SHORT: usize = 2_000;
@@ -25,11 +24,11 @@ fn scratch(test: &str) -> PathBuf {
 }
 
 /// Writes `text` to `dir/name` and loads it, which must fail.
-fn refused(dir: &Path, name: &str, text: &str) -> (PathBuf, ModelError) {
+fn refused(dir: &Path, name: &str, text: &str) -> (String, ModelError) {
     let path = dir.join(name);
     std::fs::write(&path, text).unwrap();
     let e = load_any(&path).expect_err("a bad file");
-    (path, e)
+    (path.display().to_string(), e)
 }
 
 /// 1-based line and column (in characters) of byte `offset` of `text`.
@@ -42,17 +41,14 @@ fn line_col(text: &str, offset: usize) -> (usize, usize) {
     )
 }
 
-/// The rendered error is short, starts at `file:line:col` and has a help.
+/// One error, rendered short (with and without colour), at `position`,
+/// with `needles` in it.
 fn assert_short(e: &ModelError, position: &str, needles: &[&str]) {
     assert_eq!(e.diagnostics.len(), 1, "{e}");
     for colour in [false, true] {
         let shown = e.render(colour);
-        assert!(
-            shown.len() < SHORT,
-            "{} bytes:\n{}",
-            shown.len(),
-            &shown[..shown.len().min(SHORT)]
-        );
+        let head: String = shown.chars().take(SHORT).collect();
+        assert!(shown.len() < SHORT, "{} bytes:\n{head}", shown.len());
         assert!(shown.contains(position), "no {position} in:\n{shown}");
     }
     let shown = e.render(false);
@@ -63,50 +59,37 @@ fn assert_short(e: &ModelError, position: &str, needles: &[&str]) {
     assert!(plain.len() < SHORT && plain.starts_with(position), "{plain}");
 }
 
-/// The bundled four-bar with `extra` written after the ground's marker A's
-/// two coordinates.
-fn fourbar_with(extra: &str) -> String {
-    let text = std::fs::read_to_string(dofplan_tests::mechanisms_dir().join("fourbar.toml")).unwrap();
-    let at = "A = [0, 0], D = [4, 0]";
-    assert!(text.contains(at));
-    text.replacen(at, &format!("A = [0, 0{extra}], D = [4, 0]"), 1)
-}
-
 #[test]
 fn a_50_mb_line_is_shown_as_a_window_around_the_error() {
     let dir = scratch("line");
     // A key that never gets its `=`: the error is at the end of the line.
-    let text = "x".repeat(HUGE);
-    let (path, e) = refused(&dir, "one_line.toml", &text);
-    let file = path.display().to_string();
+    let (file, e) = refused(&dir, "one_line.toml", &huge::one_line());
     let help = format!("help: line 1 is {HUGE} bytes long: is this the right file?");
-    assert_short(&e, &format!("{file}:1:{}", HUGE + 1), &["TOML syntax error", "...", &help]);
-    // A string that never ends: the error is where it starts.
-    let text = format!("name = \"{}", "a".repeat(HUGE));
-    let (path, e) = refused(&dir, "unterminated.toml", &text);
-    let help = format!("help: line 1 is {} bytes long", text.len());
-    assert_short(&e, &format!("{}:1:", path.display()), &["TOML syntax error", &help]);
-    // JSON: a string that never ends.
-    let text = format!("{{\"name\": \"{}", "a".repeat(HUGE));
-    let (path, e) = refused(&dir, "one_line.json", &text);
-    let help = format!("help: line 1 is {} bytes long", text.len());
-    assert_short(&e, &format!("{}:1:", path.display()), &["JSON syntax error", &help]);
+    assert_short(
+        &e,
+        &format!("{file}:1:{}", HUGE + 1),
+        &["TOML syntax error", "1 │ ...xxx", &help],
+    );
+    // A string, or a JSON string, that never ends.
+    for (name, text, syntax) in [
+        ("unterminated.toml", huge::unterminated(), "TOML syntax error"),
+        ("one_line.json", huge::one_line_json(), "JSON syntax error"),
+    ] {
+        let (file, e) = refused(&dir, name, &text);
+        let help = format!("help: line 1 is {} bytes long", text.len());
+        assert_short(&e, &format!("{file}:1:"), &[syntax, "1 │ ...aaa", &help]);
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn a_50_mb_line_with_an_error_in_its_middle_points_at_it() {
     let dir = scratch("middle");
-    // A 25 MB string, then something that is not TOML, then another: the
-    // error is at the `@`, mid-line.
-    let half = "é".repeat(HUGE / 4);
-    let text = format!("t = \"{half}\" @ \"{half}\"\n");
-    let at = text.find('@').unwrap();
-    let (line, col) = line_col(&text, at);
-    let (path, e) = refused(&dir, "middle.toml", &text);
-    let position = format!("{}:{line}:{col}", path.display());
+    let text = huge::middle();
+    let (line, col) = line_col(&text, text.find('@').unwrap());
+    let (file, e) = refused(&dir, "middle.toml", &text);
     let help = format!("help: line 1 is {} bytes long", text.len() - 1);
-    assert_short(&e, &position, &["TOML syntax error", &help]);
+    assert_short(&e, &format!("{file}:{line}:{col}"), &["TOML syntax error", &help]);
     // The source line shown is cut on both sides, and the caret is under
     // the `@`.
     let shown = e.render(false);
@@ -124,32 +107,20 @@ fn a_50_mb_line_with_an_error_in_its_middle_points_at_it() {
 #[test]
 fn a_50_mb_coordinate_array_is_refused_at_its_fourth_value() {
     let dir = scratch("array");
-    let values = ", 0.5".repeat(HUGE / 5);
-    let text = fourbar_with(&values);
-    // The fourth coordinate: the second 0.5.
-    let fourth = text.find("0.5, 0.5").unwrap() + 5;
-    let (line, col) = line_col(&text, fourth);
-    let (path, e) = refused(&dir, "array.toml", &text);
-    assert_short(
-        &e,
-        &format!("{}:{line}:{col}", path.display()),
-        &[
-            "marker `ground.A` has more than 3 coordinates",
-            "help: a point is [x, y], or [x, y, z]",
-        ],
-    );
-    // The same as JSON.
-    let text = format!(
-        "{{\"name\": \"fourbar\",\n \"bodies\": {{\"ground\": {{\"fixed\": true, \"markers\": {{\"A\": [0, 0{values}]}}}}}}}}\n"
-    );
-    let fourth = text.find("0.5, 0.5").unwrap() + 5;
-    let (line, col) = line_col(&text, fourth);
-    let (path, e) = refused(&dir, "array.json", &text);
-    assert_short(
-        &e,
-        &format!("{}:{line}:{col}", path.display()),
-        &["marker `ground.A` has more than 3 coordinates"],
-    );
+    for (name, text) in [("array.toml", huge::array()), ("array.json", huge::array_json())] {
+        // The fourth coordinate: the second 0.5 after the two zeros.
+        let fourth = text.find("[0, 0, 0.5, 0.5").unwrap() + "[0, 0, 0.5, ".len();
+        let (line, col) = line_col(&text, fourth);
+        let (file, e) = refused(&dir, name, &text);
+        assert_short(
+            &e,
+            &format!("{file}:{line}:{col}"),
+            &[
+                "marker `ground.A` has more than 3 coordinates",
+                "help: a point is [x, y], or [x, y, z]",
+            ],
+        );
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -176,4 +147,12 @@ fn a_file_over_the_limit_is_refused_unread() {
     );
     assert!(!dofplan::model::is_spatial_file(&path));
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_files_are_50_mb() {
+    for (name, text) in huge::FILES {
+        let len = text().len();
+        assert!((HUGE..HUGE + 2_000).contains(&len), "{name}: {len} bytes");
+    }
 }
