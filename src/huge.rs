@@ -6,8 +6,11 @@
 /// The size the files are made to (bytes, about).
 pub const HUGE: usize = 50_000_000;
 
-/// The files' names, each with the function that writes its text.
-pub const FILES: [(&str, fn() -> String); 6] = [
+/// A file's name, and the function that writes its text.
+pub type File = (&'static str, fn() -> String);
+
+/// The files.
+pub const FILES: [File; 6] = [
     ("one_line.toml", one_line),
     ("unterminated.toml", unterminated),
     ("middle.toml", middle),

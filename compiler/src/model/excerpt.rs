@@ -398,7 +398,8 @@ mod tests {
         let values: Vec<String> = (0..20_000).map(|i| i.to_string()).collect();
         let text = format!("# c\nx = [{}]\ny = 1\n", values.join(", "));
         let at = text.find(" 5000,").unwrap() + 1;
-        let out = excerpt(&text, &[at..at + 4]);
+        let label = at..at + 4;
+        let out = excerpt(&text, std::slice::from_ref(&label));
         // Line and column as in the file; the line cut on both sides.
         let col = text[..at].len() - text.find('x').unwrap() + 1;
         assert!(out.contains(&format!("f.toml:2:{col}")), "{out}");
@@ -422,7 +423,7 @@ mod tests {
         let spans = [0..text.len(), 3..8];
         let out = excerpt(&text, &spans);
         assert!(out.len() < 2_000, "{out}");
-        assert!(out.contains(&"f.toml:1:1"), "{out}");
+        assert!(out.contains("f.toml:1:1"), "{out}");
         // the last line shown is the file's last (empty) line
         assert!(out.contains(&format!("{} │", 100_003)), "{out}");
     }

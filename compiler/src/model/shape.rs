@@ -194,15 +194,15 @@ fn walk_toml(text: &str, scalar: &mut dyn FnMut(&[String], usize) -> bool) -> Op
         );
         match token.kind() {
             T::Whitespace | T::Comment => {}
-            T::Newline => {
-                if frames.is_empty() {
-                    // A new line at the top level: a key or a header next,
-                    // in the current table.
-                    in_key = true;
-                    in_header = false;
-                    path.truncate(key_base);
-                }
+            // A new line at the top level: a key or a header next, in the
+            // current table. (Inside an array or an inline table, a new
+            // line is white space.)
+            T::Newline if frames.is_empty() => {
+                in_key = true;
+                in_header = false;
+                path.truncate(key_base);
             }
+            T::Newline => {}
             T::Eof => break,
             T::LeftSquareBracket if frames.is_empty() && in_key => {
                 // A table header (`[[` for an array of tables): its keys
@@ -218,7 +218,7 @@ fn walk_toml(text: &str, scalar: &mut dyn FnMut(&[String], usize) -> bool) -> Op
             T::Dot if in_key => {}
             T::Atom | T::BasicString | T::LiteralString if in_key => {
                 let mut key = String::new();
-                if let Some(raw) = source.get(&token) {
+                if let Some(raw) = source.get(token) {
                     raw.decode_key(&mut key, &mut ());
                 }
                 path.push(key);
