@@ -360,10 +360,14 @@ fn parse(file_name: &str, text: &str, format: Format) -> Result<(SourceFile, Nod
             .map(|s| s.start.min(text.len()))
             .filter(|_| help.is_none())
         {
-            let start = text[..at].rfind('\n').map_or(0, |i| i + 1);
-            let end = text[at..].find('\n').map_or(text.len(), |i| at + i);
+            let (before, after) = text.as_bytes().split_at(at);
+            let start = before.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+            let end = after
+                .iter()
+                .position(|&b| b == b'\n')
+                .map_or(text.len(), |i| at + i);
             if end - start > LONG_LINE {
-                let line = text[..at].matches('\n').count() + 1;
+                let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
                 help = Some(format!(
                     "line {line} is {} bytes long: is this the right file? \
                      A mechanism file is written a few entries a line (see mechanisms/fourbar.toml)",
