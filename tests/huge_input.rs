@@ -156,3 +156,23 @@ fn the_files_are_50_mb() {
         assert!((HUGE..HUGE + 2_000).contains(&len), "{name}: {len} bytes");
     }
 }
+
+#[test]
+fn a_file_with_hundreds_of_errors_shows_the_first_hundred_and_counts_the_rest() {
+    // The bundled four-bar with 250 unknown keys after its name: 250
+    // errors.
+    let text = std::fs::read_to_string(dofplan_tests::mechanisms_dir().join("fourbar.toml")).unwrap();
+    let keys: String = (0..250).map(|i| format!("unknown_{i} = 1\n")).collect();
+    let text = text.replacen("name = \"fourbar\"\n", &format!("name = \"fourbar\"\n{keys}"), 1);
+    let e =
+        dofplan::model::load_str("many.toml", &text, dofplan::model::Format::Toml).expect_err("unknown keys");
+    assert_eq!(e.diagnostics.len(), 250, "{e}");
+    let shown = e.render(false);
+    let errors: Vec<&str> = shown.lines().filter(|l| l.starts_with("error")).collect();
+    assert_eq!(errors.len(), 101, "{shown}");
+    assert!(errors[99].contains("unknown key `unknown_99`"), "{}", errors[99]);
+    assert_eq!(
+        errors[100],
+        "error: 150 more errors in many.toml, not shown: fix the 100 above and check again"
+    );
+}

@@ -170,16 +170,33 @@ pub struct ModelError {
     pub diagnostics: Vec<Diagnostic>,
 }
 
+/// The most diagnostics [`ModelError::render`] shows; it counts the rest.
+pub const MAX_RENDERED: usize = 100;
+
 impl ModelError {
-    /// Every diagnostic rendered as [`Diagnostic::render`] does, one after
-    /// the other with a blank line between, and no newline at the end.
+    /// The diagnostics rendered as [`Diagnostic::render`] does, one after
+    /// the other with a blank line between, and no newline at the end: the
+    /// first [`MAX_RENDERED`], then how many more there are. (Each one
+    /// reads the file up to its position: a large file with errors
+    /// everywhere would take minutes to show them all, and no one reads
+    /// past the first hundred.)
     pub fn render(&self, colour: bool) -> String {
-        self.diagnostics
+        let mut shown: Vec<String> = self
+            .diagnostics
             .iter()
+            .take(MAX_RENDERED)
             // A snippet ends in a blank line, a one-line form in nothing.
             .map(|d| d.render(colour).trim_end().to_string())
-            .collect::<Vec<_>>()
-            .join("\n\n")
+            .collect();
+        let more = self.diagnostics.len().saturating_sub(MAX_RENDERED);
+        if more > 0 {
+            shown.push(format!(
+                "error: {more} more error{} in {}, not shown: fix the {MAX_RENDERED} above and check again",
+                if more == 1 { "" } else { "s" },
+                self.diagnostics[0].file.name
+            ));
+        }
+        shown.join("\n\n")
     }
 }
 
