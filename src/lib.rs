@@ -8,6 +8,7 @@ use dofplan::model::{load_file, Mechanism};
 use dofplan::plan::Plan;
 
 pub mod fuzzing;
+pub mod huge;
 pub mod user_crate;
 
 /// The generators and plane arithmetic live in `dofplan-gen`, a crate with

@@ -469,6 +469,42 @@ fn empty_and_binary_files_say_what_they_are() {
     assert!(!stderr(&e).contains("check the path"), "{}", stderr(&e));
 }
 
+/// 50 MB files get a short error from every command that reads a file: the
+/// one line shown as a window around the error, an array refused at its
+/// first value too many (tests/huge_input.rs tries every form).
+#[test]
+fn a_50_mb_file_gets_a_short_error() {
+    let dir = scratch("huge");
+    let line = dir.join("one_line.toml");
+    std::fs::write(&line, "x".repeat(50_000_000)).unwrap();
+    let array = dir.join("array.toml");
+    let fourbar = std::fs::read_to_string(mechanism("fourbar")).unwrap();
+    let many = fourbar.replacen(
+        "A = [0, 0]",
+        &format!("A = [0, 0{}]", ", 0.5".repeat(10_000_000)),
+        1,
+    );
+    std::fs::write(&array, many).unwrap();
+    let runs = [
+        (
+            dofplan(&["check", line.to_str().unwrap()]),
+            format!("{}:1:50000001", line.display()),
+        ),
+        (
+            dofplan(&["simulate", array.to_str().unwrap()]),
+            format!("{}:14:29", array.display()),
+        ),
+    ];
+    let _ = std::fs::remove_dir_all(dir);
+    for (o, position) in runs {
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(1), "{e}");
+        assert!(e.len() < 2_000, "{} bytes", e.len());
+        assert!(e.contains(&position) && e.contains("help: "), "{e}");
+        assert!(o.stdout.is_empty(), "{}", stdout(&o));
+    }
+}
+
 // ------------------------------------------------------------ the sweep
 
 /// The four-bar without its `[sweep]`.

@@ -5,6 +5,7 @@
 use std::fmt;
 use std::sync::Arc;
 
+use super::excerpt::Excerpt;
 use super::source::Span;
 
 /// The text of a mechanism file, kept so errors can point into it.
@@ -94,19 +95,33 @@ impl Diagnostic {
     /// and renders as its one-line [`Display`](fmt::Display) form.
     pub fn render(&self, colour: bool) -> String {
         use codespan_reporting::diagnostic::{Diagnostic as Snippet, Label};
-        use codespan_reporting::files::SimpleFile;
         use codespan_reporting::term::{self, termcolor};
 
         let Location::Span(span) = &self.location else {
             return self.to_string();
         };
-        let file = SimpleFile::new(self.file.name.as_str(), &*self.file.text);
-        let mut labels = vec![Label::primary((), span.clone())];
+        let config = term::Config::default();
+        let text = &*self.file.text;
+        let mut spans = vec![span.clone()];
+        spans.extend(self.notes.iter().filter_map(|n| match &n.location {
+            Location::Span(s) => Some(s.clone()),
+            _ => None,
+        }));
+        // Only the lines shown, long ones cut to a window: the file may be
+        // one 50 MB line.
+        let file = Excerpt::new(
+            self.file.name.as_str(),
+            text,
+            &spans,
+            config.start_context_lines,
+            config.end_context_lines,
+        );
+        let mut labels = vec![Label::primary((), file.map(span, text))];
         let mut notes = Vec::new();
         for n in &self.notes {
             match &n.location {
                 Location::Span(s) => {
-                    labels.push(Label::secondary((), s.clone()).with_message(n.message.clone()))
+                    labels.push(Label::secondary((), file.map(s, text)).with_message(n.message.clone()))
                 }
                 // A note elsewhere still reaches the user, as text.
                 other => notes.push(format!("note: {}: {}", self.position(other), n.message)),
@@ -119,7 +134,6 @@ impl Diagnostic {
             .with_message(self.message.clone())
             .with_labels(labels)
             .with_notes(notes);
-        let config = term::Config::default();
         let rendered = if colour {
             let mut buffer = termcolor::Buffer::ansi();
             term::emit_to_write_style(&mut buffer, &config, &file, &snippet)
@@ -156,16 +170,33 @@ pub struct ModelError {
     pub diagnostics: Vec<Diagnostic>,
 }
 
+/// The most diagnostics [`ModelError::render`] shows; it counts the rest.
+pub const MAX_RENDERED: usize = 100;
+
 impl ModelError {
-    /// Every diagnostic rendered as [`Diagnostic::render`] does, one after
-    /// the other with a blank line between, and no newline at the end.
+    /// The diagnostics rendered as [`Diagnostic::render`] does, one after
+    /// the other with a blank line between, and no newline at the end: the
+    /// first [`MAX_RENDERED`], then how many more there are. (Each one
+    /// reads the file up to its position: a large file with errors
+    /// everywhere would take minutes to show them all, and no one reads
+    /// past the first hundred.)
     pub fn render(&self, colour: bool) -> String {
-        self.diagnostics
+        let mut shown: Vec<String> = self
+            .diagnostics
             .iter()
+            .take(MAX_RENDERED)
             // A snippet ends in a blank line, a one-line form in nothing.
             .map(|d| d.render(colour).trim_end().to_string())
-            .collect::<Vec<_>>()
-            .join("\n\n")
+            .collect();
+        let more = self.diagnostics.len().saturating_sub(MAX_RENDERED);
+        if more > 0 {
+            shown.push(format!(
+                "error: {more} more error{} in {}, not shown: fix the {MAX_RENDERED} above and check again",
+                if more == 1 { "" } else { "s" },
+                self.diagnostics[0].file.name
+            ));
+        }
+        shown.join("\n\n")
     }
 }
 

@@ -3,7 +3,9 @@
 //! (analysis, back ends) never re-check user input.
 
 mod error;
+mod excerpt;
 mod load;
+mod shape;
 pub mod source;
 pub mod spatial;
 
@@ -12,7 +14,7 @@ use dofplan_runtime::Point;
 pub use error::{Diagnostic, Location, ModelError, Note, SourceFile};
 pub use load::{
     is_spatial_file, load_any, load_any_str, load_file, load_str, load_str_drawn, load_str_drawn3, Drawn,
-    Drawn3, Format, Model, DRAWN_TOLERANCE, MAX_STEPS,
+    Drawn3, Format, Model, DRAWN_TOLERANCE, MAX_FILE_BYTES, MAX_STEPS,
 };
 
 /// A validated mechanism.

@@ -11,6 +11,7 @@ use std::sync::Arc;
 use dofplan_runtime::Point;
 
 use super::error::{Diagnostic, Location, ModelError, Note, SourceFile};
+use super::shape;
 use super::source::{parse_json, parse_toml, Key, Node, NodeKind};
 mod spatial;
 
@@ -24,6 +25,16 @@ use crate::analysis::conflict::{self, Open};
 /// Joints must hold in the drawn pose to this, relative to the mechanism's
 /// size.
 pub const DRAWN_TOLERANCE: f64 = 1e-9;
+
+/// The largest mechanism file [`load_file`] and [`load_any`] read, in
+/// bytes (256 MiB): about five times a chain of 90,000 four-bar loops
+/// (53 MB). A larger file is refused before it is read; the `_str` loaders
+/// set no limit.
+pub const MAX_FILE_BYTES: u64 = 256 << 20;
+
+/// A syntax error on a line longer than this (bytes) asks whether the
+/// file is the right one.
+const LONG_LINE: usize = 100_000;
 
 /// The most values a sweep may have.
 pub const MAX_STEPS: i64 = 1_000_000;
@@ -77,13 +88,46 @@ fn read_text(path: &Path, name: &str) -> Result<String, ModelError> {
             help: Some(help.into()),
         }],
     };
-    let bytes = std::fs::read(path).map_err(|e| {
+    let cannot_read = |e: std::io::Error| {
         unread(
             Location::File,
             format!("cannot read the file: {e}"),
             "check the path; mechanism files are TOML (or JSON with a .json extension)",
         )
-    })?;
+    };
+    // The size is checked before reading (and while reading, for what
+    // tells no size: a pipe), so a file of gigabytes is refused at once.
+    let too_big = |size: Option<u64>| {
+        let limit = MAX_FILE_BYTES >> 20;
+        unread(
+            Location::File,
+            match size {
+                Some(size) => format!(
+                    "the file is {size} bytes ({} MiB), more than the {limit} MiB a mechanism file may have",
+                    size >> 20
+                ),
+                None => format!("the file is longer than the {limit} MiB a mechanism file may have"),
+            },
+            "is this the right file? Mechanisms are far smaller: a chain of 90,000 four-bar loops \
+             (180,002 bodies) is 53 MB. To load a larger file anyway, read it yourself and pass its \
+             text to `dofplan::model::load_any_str`, which sets no limit",
+        )
+    };
+    let mut reader = std::fs::File::open(path).map_err(cannot_read)?;
+    if let Ok(size) = reader.metadata().map(|m| m.len()) {
+        if size > MAX_FILE_BYTES {
+            return Err(too_big(Some(size)));
+        }
+    }
+    let mut bytes = Vec::new();
+    std::io::Read::read_to_end(
+        &mut std::io::Read::take(&mut reader, MAX_FILE_BYTES + 1),
+        &mut bytes,
+    )
+    .map_err(cannot_read)?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(too_big(None));
+    }
     // Read as bytes first: a file that is there but is not text (a binary,
     // an image, UTF-16) is told apart from a wrong path. A NUL byte is
     // valid UTF-8 but text in neither TOML nor JSON: binaries are full of
@@ -143,17 +187,26 @@ impl Model {
     }
 }
 
-/// Whether a file says `dimension = 3` at its top level (it is parsed, not
-/// validated; a file that cannot be read or parsed is not).
+/// Whether a file says `dimension = 3` at its top level (read off its
+/// tokens up to that key, not validated: a file that cannot be read is not
+/// spatial; one that says so but is wrong elsewhere is, and loading it
+/// reports what is wrong).
 pub fn is_spatial_file(path: &Path) -> bool {
+    // A file too large to load is not read here either: loading it says
+    // why.
+    if std::fs::metadata(path).is_ok_and(|m| m.len() > MAX_FILE_BYTES) {
+        return false;
+    }
     let Ok(text) = std::fs::read_to_string(path) else {
         return false;
     };
-    let Ok((_, root)) = parse("", &text, Format::of_path(path)) else {
-        return false;
-    };
-    matches!(&root.kind, NodeKind::Table(top)
-        if matches!(Validator::get(top, "dimension").map(|d| &d.kind), Some(NodeKind::Int(3))))
+    // Read off the tokens up to the key, not parsed: the loader that
+    // follows parses the file (and reports what is wrong with it), so a
+    // large file is parsed once, not twice.
+    match Format::of_path(path) {
+        Format::Toml => shape::toml_says_spatial(&text),
+        Format::Json => shape::json_says_spatial(&text),
+    }
 }
 
 /// Reads and validates a mechanism file of either dimension.
@@ -316,6 +369,23 @@ fn parse(file_name: &str, text: &str, format: Format) -> Result<(SourceFile, Nod
             }],
         });
     }
+    // Arrays longer than the format allows are refused before a parser
+    // builds them (see `shape`).
+    let too_long = match format {
+        Format::Toml => shape::check_toml(text),
+        Format::Json => shape::check_json(text),
+    };
+    if let Some(t) = too_long {
+        return Err(ModelError {
+            diagnostics: vec![Diagnostic {
+                file,
+                location: Location::Span(t.span),
+                message: t.message,
+                notes: vec![],
+                help: Some(t.help),
+            }],
+        });
+    }
     let parsed = match format {
         Format::Toml => parse_toml(text),
         Format::Json => parse_json(text),
@@ -339,6 +409,29 @@ fn parse(file_name: &str, text: &str, format: Format) -> Result<(SourceFile, Nod
             if e.message.trim() == "duplicate key" {
                 message = format!("{message} `{key}`");
                 help = Some("a name may be defined only once in a table: rename or merge the two".into());
+            }
+        }
+        // On a line of megabytes, the error is likely the file itself: a
+        // mechanism is written a few entries a line.
+        if let Some(at) = e
+            .span
+            .as_ref()
+            .map(|s| s.start.min(text.len()))
+            .filter(|_| help.is_none())
+        {
+            let (before, after) = text.as_bytes().split_at(at);
+            let start = before.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1);
+            let end = after
+                .iter()
+                .position(|&b| b == b'\n')
+                .map_or(text.len(), |i| at + i);
+            if end - start > LONG_LINE {
+                let line = before.iter().filter(|&&b| b == b'\n').count() + 1;
+                help = Some(format!(
+                    "line {line} is {} bytes long: is this the right file? \
+                     A mechanism file is written a few entries a line (see mechanisms/fourbar.toml)",
+                    end - start
+                ));
             }
         }
         ModelError {
