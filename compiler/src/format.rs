@@ -45,6 +45,19 @@ pub fn rounded(x: f64, decimals: usize) -> String {
     }
 }
 
+/// A count with thousands separators: 1990 → "1,990" (legends, summaries).
+pub fn thousands(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::{number, rounded};

@@ -1674,9 +1674,13 @@ struct Run {
     worst: f64,
 }
 
-/// What makes frames break alike, and how much: the status, the step and
-/// why (a limit, or another circuit past it), and the gap or residual.
-fn break_of(status: &FrameStatus) -> Option<((&'static str, u32, Option<BreakKind>), f64)> {
+/// What makes frames break alike: the status, the step, and why (a limit,
+/// or another circuit past it; none for a stretch).
+type BreakKey = (&'static str, u32, Option<BreakKind>);
+
+/// What makes frames break alike, and how much: its key, and the gap or
+/// residual.
+fn break_of(status: &FrameStatus) -> Option<(BreakKey, f64)> {
     match status {
         FrameStatus::Solved => None,
         FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. } | FrameStatus::Unreached { brk } => {

@@ -7,6 +7,7 @@ use svg::node::element::{Circle, Group, Line, Path, Rectangle, Text};
 use super::mechanism::STITCH_DASH;
 use super::spatial::{symbol, HATCH_ID};
 use super::style::{num, text_width, GREY, GROUND_COLOUR, INK, TARGET_COLOUR};
+use crate::format::thousands;
 use crate::model::spatial::JointKind3;
 
 /// At most this many entries are listed; the rest are counted in one more
@@ -76,19 +77,6 @@ pub(super) fn cap_at(mut entries: Vec<Entry>, most: usize) -> Vec<Entry> {
         label: format!("\u{2026} and {} more {what}", thousands(hidden.len())),
     });
     entries
-}
-
-/// 1990 → "1,990".
-fn thousands(n: usize) -> String {
-    let digits = n.to_string();
-    let mut out = String::new();
-    for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i) % 3 == 0 {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
 }
 
 /// The legend's grid: entries read down the columns.

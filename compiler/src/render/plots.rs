@@ -22,6 +22,8 @@
 
 use std::fmt::Write as _;
 
+use crate::format::thousands;
+
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -455,19 +457,6 @@ fn series_entries(names: &[&str], what: &str) -> Vec<(Key, String)> {
         ));
     }
     entries
-}
-
-/// 4988 → "4,988".
-fn thousands(n: usize) -> String {
-    let digits = n.to_string();
-    let mut out = String::new();
-    for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i) % 3 == 0 {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
 }
 
 /// The traced markers' paths in the plane, at one scale on both axes.

@@ -132,7 +132,7 @@ impl FrameBar {
     pub fn tick(&mut self, done: usize) {
         // Checking the clock every frame would cost more than a small
         // frame: every 64th.
-        if !self.possible || done % 64 != 0 {
+        if !self.possible || !done.is_multiple_of(64) {
             return;
         }
         if self.shown.is_none() && self.start.elapsed() >= Self::AFTER {
