@@ -8,12 +8,11 @@ use dofplan::model::{load_file, Mechanism};
 use dofplan::plan::Plan;
 
 pub mod fuzzing;
-pub mod huge;
 pub mod user_crate;
 
 /// The generators and plane arithmetic live in `dofplan-gen`, a crate with
 /// no dependencies, so `cargo run -p dofplan-gen` builds in seconds.
-pub use dofplan_gen::{stress, vec2};
+pub use dofplan_gen::{huge, stress, vec2};
 
 /// The bundled mechanisms folder.
 pub fn mechanisms_dir() -> PathBuf {

@@ -3,5 +3,6 @@
 //! heavier crates to build (`cargo run -p dofplan-gen`). The tests, examples
 //! and benchmarks use the same functions through `dofplan_tests`.
 
+pub mod huge;
 pub mod stress;
 pub mod vec2;

@@ -1,14 +1,17 @@
 //! `dofplan-gen`: writes generated mechanism files to standard output.
 //!
 //! `cargo run --release -p dofplan-gen -- stress-chain 2000 > chain.toml`
-//! builds this crate alone (no dependencies) in seconds.
+//! builds this crate alone (no dependencies) in seconds; `… -- huge DIR`
+//! writes the huge-input tests' 50 MB files into DIR.
 
 use std::io::Write;
 use std::process::ExitCode;
 
 const USAGE: &str = "usage: dofplan-gen stress-chain LOOPS   (LOOPS a whole number, at least 1)
   Writes a stress chain of LOOPS four-bar loops (Brunkhart's Stress-n pattern,
-  every loop after the first a parallelogram) as a mechanism file.";
+  every loop after the first a parallelogram) as a mechanism file.
+       dofplan-gen huge DIR
+  Writes the huge-input tests' 50 MB files into DIR (made if missing).";
 
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
@@ -32,6 +35,7 @@ fn main() -> ExitCode {
                 ExitCode::FAILURE
             }
         },
+        ["huge", dir] => write_huge(std::path::Path::new(dir)),
         ["--help"] | ["-h"] => {
             println!("{USAGE}");
             ExitCode::SUCCESS
@@ -41,4 +45,21 @@ fn main() -> ExitCode {
             ExitCode::FAILURE
         }
     }
+}
+
+/// The huge-input files into `dir`, their paths on standard output.
+fn write_huge(dir: &std::path::Path) -> ExitCode {
+    if let Err(e) = std::fs::create_dir_all(dir) {
+        eprintln!("dofplan-gen: cannot create {}: {e}", dir.display());
+        return ExitCode::FAILURE;
+    }
+    for (name, text) in dofplan_gen::huge::FILES {
+        let path = dir.join(name);
+        if let Err(e) = std::fs::write(&path, text()) {
+            eprintln!("dofplan-gen: cannot write {}: {e}", path.display());
+            return ExitCode::FAILURE;
+        }
+        println!("{}", path.display());
+    }
+    ExitCode::SUCCESS
 }

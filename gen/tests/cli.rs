@@ -37,3 +37,17 @@ fn bad_arguments_get_the_usage() {
         );
     }
 }
+
+#[test]
+fn huge_writes_the_files_it_lists() {
+    let dir = std::env::temp_dir().join(format!("dofplan-gen-huge-{}", std::process::id()));
+    let o = gen(&["huge", dir.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let listed = String::from_utf8(o.stdout).unwrap();
+    assert_eq!(listed.lines().count(), dofplan_gen::huge::FILES.len());
+    for (name, text) in dofplan_gen::huge::FILES {
+        let written = std::fs::read_to_string(dir.join(name)).unwrap();
+        assert!(written == text(), "{name}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

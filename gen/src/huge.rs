@@ -1,7 +1,8 @@
 //! Files of 50 MB that a mechanism loader must answer quickly and briefly:
 //! one line of 50 MB, and a marker with 10 million coordinates. The
-//! huge-input tests load them (`tests/huge_input.rs`); `cargo run --example
-//! huge_inputs -- DIR` writes them for measuring `dofplan check` on them.
+//! huge-input tests load them (`tests/huge_input.rs`); `cargo run --release
+//! -p dofplan-gen -- huge DIR` writes them for measuring `dofplan check` on
+//! them.
 
 /// The size the files are made to (bytes, about).
 pub const HUGE: usize = 50_000_000;
@@ -50,7 +51,8 @@ fn coordinates() -> String {
 /// The bundled four-bar with 10 million more coordinates for marker
 /// `ground.A` (line 14).
 pub fn array() -> String {
-    let text = std::fs::read_to_string(crate::mechanisms_dir().join("fourbar.toml")).expect("fourbar.toml");
+    // The bundled file, built in: the generator runs from any folder.
+    let text = include_str!("../../mechanisms/fourbar.toml");
     let at = "A = [0, 0], D = [4, 0]";
     assert!(text.contains(at), "fourbar.toml's ground has {at}");
     text.replacen(at, &format!("A = [0, 0{}], D = [4, 0]", coordinates()), 1)
