@@ -13,6 +13,8 @@
 //! Spatial plans get a module of the same shape from [`emit_spatial`]
 //! (`spatial.rs`, clusters in `spatial_cluster.rs`).
 
+use std::fmt::Write;
+
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 
@@ -610,13 +612,11 @@ impl Emitter<'_> {
         }
     }
 
-    fn module(
-        &self,
-        steps: Vec<TokenStream>,
-        chunks: Option<(Vec<chunk::Uses>, Vec<chunk::Chunk>)>,
-        rates: TokenStream,
-        lanes: Option<TokenStream>,
-    ) -> TokenStream {
+    /// The module up to `solve`: imports, names, `State`, the constants and
+    /// `Plan` with its trait impls. `real`: whether the steps on jets or
+    /// lanes lift constants (`Jet2::cst`, `Lanes::cst`, which need the
+    /// `Real` trait); `lanes`: whether `solve_batch` runs in lanes.
+    fn prefix(&self, real: bool, lanes: bool) -> TokenStream {
         let plan = self.plan;
         let name = &plan.mechanism;
         let nb = index(plan.bodies.len());
@@ -642,37 +642,16 @@ impl Emitter<'_> {
         } else {
             quote!()
         };
-        let doc_solve =
-            format!(
-            "Places every body for `inputs` ({}), warm-started from `s`. On a break `s` is left unchanged.",
-            if plan.inputs.is_empty() {
-                "none".to_string()
-            } else {
-                plan.inputs.iter().map(|i| format!("{} in {}", i.name, match i.kind {
-                    InputKind::Angle => "degrees",
-                    InputKind::Slide => "length units",
-                })).collect::<Vec<_>>().join(", ")
-            }
-        );
-        let solve = match chunks {
-            None => self.single_solve(steps, &doc_solve),
-            Some((uses, chunks)) => self.chunked_solve(steps, uses, &chunks, &doc_solve),
-        };
         let names = self.names();
         let rate_methods = rates::rates_trait_methods(&quote!(Pose));
         // `Jet2::cst` and `Lanes::cst` need the trait (a plan of large clusters alone, whose
         // rates the runtime computes, has none).
-        let lane_code = lanes.as_ref().map(|l| l.to_string()).unwrap_or_default();
-        let real = if rates.to_string().contains("Jet2 :: cst") || lane_code.contains("Lanes :: cst") {
-            quote!(Real)
-        } else {
-            quote!()
-        };
+        let real = if real { quote!(Real) } else { quote!() };
         let rates_use = quote!(
             use dofplan_runtime::real::{self, Jet2, RateError, #real};
             use dofplan_runtime::BranchPolicy;
         );
-        let (lanes_use, batch_impl) = if lanes.is_some() {
+        let (lanes_use, batch_impl) = if lanes {
             (
                 quote!(
                     use dofplan_runtime::lanes::Lanes;
@@ -777,13 +756,33 @@ impl Emitter<'_> {
             }
 
             #batch_impl
-
-            #solve
-
-            #rates
-
-            #lanes
         }
+    }
+
+    /// The doc comment of `solve`.
+    fn doc_solve(&self) -> String {
+        let plan = self.plan;
+        format!(
+            "Places every body for `inputs` ({}), warm-started from `s`. On a break `s` is left unchanged.",
+            if plan.inputs.is_empty() {
+                "none".to_string()
+            } else {
+                plan.inputs
+                    .iter()
+                    .map(|i| {
+                        format!(
+                            "{} in {}",
+                            i.name,
+                            match i.kind {
+                                InputKind::Angle => "degrees",
+                                InputKind::Slide => "length units",
+                            }
+                        )
+                    })
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            }
+        )
     }
 
     /// For each body, the last step that writes it (`None`: no step does).
@@ -1059,74 +1058,118 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
         jets: false,
         lanes: false,
     };
-    let mut steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
+    // Each step's code is made to be measured and then dropped: a large
+    // plan's steps are made again, chunk by chunk, as they are written.
     let kinds: Vec<&StepKind> = plan.steps.iter().map(|s| &s.kind).collect();
-    let mut uses: Vec<chunk::Uses> = steps.iter().map(chunk::Uses::of).collect();
+    let mut uses: Vec<chunk::Uses> = (0..plan.steps.len())
+        .map(|i| chunk::Uses::of(&e.step(i)))
+        .collect();
     let weights: Vec<usize> = uses.iter().map(|u| u.weight).collect();
     let chunks = chunk::partition(&kinds, &weights, chunk_weight);
-    let chunks = chunks.map(|chunks| {
-        e.chunked = true;
-        for (i, kind) in kinds.iter().enumerate() {
-            if chunk::starts_chunk(kind) {
-                steps[i] = e.step(i);
-                uses[i] = chunk::Uses::of(&steps[i]);
+    let mut sink = Sink::new(plan);
+    let doc_solve = e.doc_solve();
+    match chunks {
+        None => {
+            let steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
+            // The steps again on jets, in one function.
+            e.jets = true;
+            let jet_steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
+            let fused = e.solve_rates_fn(jet_steps);
+            e.jets = false;
+            // The steps on lanes of frames, for `solve_batch`: only
+            // closed-form plans, whose frames do not depend on each other
+            // (a cluster's Newton solve starts from the last frame's pose).
+            let lanes = (plan.clusters() == 0).then(|| {
+                e.jets = true;
+                e.lanes = true;
+                let lane_steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
+                let lanes = e.solve_lanes_fn(lane_steps);
+                e.lanes = false;
+                e.jets = false;
+                lanes
+            });
+            let lane_code = lanes.as_ref().map(|l| l.to_string()).unwrap_or_default();
+            let real = fused.to_string().contains("Jet2 :: cst") || lane_code.contains("Lanes :: cst");
+            sink.push(e.prefix(real, lanes.is_some()));
+            sink.push(e.single_solve(steps, &doc_solve));
+            sink.push(fused);
+            if let Some(lanes) = lanes {
+                sink.push(lanes);
             }
         }
-        (uses, chunks)
-    });
-    // The steps again on jets: `solve_rates` in one function, or in the
-    // same chunks as `solve`.
-    e.jets = true;
-    let jet_steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
-    let fused = match &chunks {
-        None => e.solve_rates_fn(jet_steps),
-        Some((_, chunks)) => {
-            let uses = jet_steps.iter().map(chunk::Uses::of).collect();
-            e.chunked_solve(jet_steps, uses, chunks, "")
-        }
-    };
-    e.jets = false;
-    // The steps on lanes of frames, for `solve_batch`: only closed-form
-    // plans, whose frames do not depend on each other (a cluster's Newton
-    // solve starts from the last frame's pose).
-    let lanes = (chunks.is_none() && plan.clusters() == 0).then(|| {
-        e.jets = true;
-        e.lanes = true;
-        let lane_steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
-        let lanes = e.solve_lanes_fn(lane_steps);
-        e.lanes = false;
-        e.jets = false;
-        lanes
-    });
-    let tokens = e.module(steps, chunks, fused, lanes);
-    let file = syn::parse2::<syn::File>(tokens).expect("the emitter produces valid Rust");
-    let pretty = prettyplease::unparse(&file);
-    // Comments are not tokens: each step was marked by a macro call that is
-    // replaced here by the step's explanation.
-    let mut out = format!(
-        "// @generated by dofplan from {} — do not edit.\n// Compiled plan of mechanism `{}`: {} steps, {} branch slots.\n// Regenerate with `dofplan emit {}` or by rebuilding the crate that compiles it.\n\n",
-        plan.source,
-        plan.mechanism,
-        plan.steps.len(),
-        plan.branches.len(),
-        plan.source
-    );
-    for line in pretty.lines() {
-        let trimmed = line.trim_start();
-        if let Some(rest) = trimmed.strip_prefix("__dofplan_step!(") {
-            let indent = &line[..line.len() - trimmed.len()];
-            let i: usize = rest.trim_end_matches(");").parse().expect("step marker");
-            let step = &plan.steps[i];
-            let serves = if step.serves.is_empty() {
-                String::new()
-            } else {
-                format!("  [{}]", step.serves.join(", "))
-            };
-            out.push_str(&format!("{indent}// {i}: {}{serves}\n", plan.explain(i)));
-        } else {
-            out.push_str(line);
-            out.push('\n');
+        Some(chunks) => {
+            e.chunked = true;
+            for (i, kind) in kinds.iter().enumerate() {
+                if chunk::starts_chunk(kind) {
+                    uses[i] = chunk::Uses::of(&e.step(i));
+                }
+            }
+            // The steps on jets, in the same chunks as `solve`: measured
+            // here, made again as their functions are written.
+            e.jets = true;
+            let mut real = false;
+            let jet_uses: Vec<chunk::Uses> = (0..plan.steps.len())
+                .map(|i| {
+                    let code = e.step(i);
+                    real |= code.to_string().contains("Jet2 :: cst");
+                    chunk::Uses::of(&code)
+                })
+                .collect();
+            e.jets = false;
+            sink.push(e.prefix(real, false));
+            e.chunked_solve(uses, &chunks, &doc_solve, &mut sink);
+            e.jets = true;
+            e.chunked_solve(jet_uses, &chunks, "", &mut sink);
         }
     }
-    out
+    sink.out
+}
+
+/// The generated module's text, written item by item: each item is parsed
+/// by `syn` and laid out by `prettyplease` as soon as it is made, so that
+/// only one item's tokens and syntax tree are held at a time.
+struct Sink<'p> {
+    plan: &'p Plan,
+    out: String,
+}
+
+impl<'p> Sink<'p> {
+    /// The module's header comment.
+    fn new(plan: &'p Plan) -> Sink<'p> {
+        let out = format!(
+            "// @generated by dofplan from {} — do not edit.\n// Compiled plan of mechanism `{}`: {} steps, {} branch slots.\n// Regenerate with `dofplan emit {}` or by rebuilding the crate that compiles it.\n\n",
+            plan.source,
+            plan.mechanism,
+            plan.steps.len(),
+            plan.branches.len(),
+            plan.source
+        );
+        Sink { plan, out }
+    }
+
+    /// Appends the items of `tokens`, laid out.
+    fn push(&mut self, tokens: TokenStream) {
+        let file = syn::parse2::<syn::File>(tokens).expect("the emitter produces valid Rust");
+        let pretty = prettyplease::unparse(&file);
+        drop(file);
+        // Comments are not tokens: each step was marked by a macro call
+        // that is replaced here by the step's explanation.
+        for line in pretty.lines() {
+            let trimmed = line.trim_start();
+            if let Some(rest) = trimmed.strip_prefix("__dofplan_step!(") {
+                let indent = &line[..line.len() - trimmed.len()];
+                let i: usize = rest.trim_end_matches(");").parse().expect("step marker");
+                let step = &self.plan.steps[i];
+                let serves = if step.serves.is_empty() {
+                    String::new()
+                } else {
+                    format!("  [{}]", step.serves.join(", "))
+                };
+                let _ = writeln!(self.out, "{indent}// {i}: {}{serves}", self.plan.explain(i));
+            } else {
+                self.out.push_str(line);
+                self.out.push('\n');
+            }
+        }
+    }
 }
