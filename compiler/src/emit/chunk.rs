@@ -17,7 +17,7 @@
 //! a working copy (its caller's `out`). A plan of at most
 //! [`CHUNK_WEIGHT`] keeps the one-function form.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::ops::Range;
 
 use proc_macro2::{TokenStream, TokenTree};
@@ -167,15 +167,36 @@ impl Emitter<'_> {
             }
         }
         let used_in = |c: usize, ident: &str| uses[c].has(ident);
+        // The bodies and points each chunk names, found from its own
+        // identifiers (never by a scan of every body per chunk, which made
+        // emitting quadratic in the plan's length).
+        let pose_of: HashMap<String, usize> = (0..plan.bodies.len())
+            .filter(|&b| !plan.bodies[b].fixed)
+            .map(|b| (self.pose_idents[b].to_string(), b))
+            .collect();
+        let temp_of: HashMap<String, usize> = (self.temp_idents.iter().enumerate())
+            .map(|(t, id)| (id.to_string(), t))
+            .collect();
+        let named = |c: usize, of: &HashMap<String, usize>| -> Vec<usize> {
+            let mut found: Vec<usize> = uses[c]
+                .idents
+                .iter()
+                .filter_map(|id| of.get(id).copied())
+                .collect();
+            found.sort_unstable();
+            found
+        };
+        let mut last_use = vec![0; plan.temps.len()];
+        for c in 0..chunks.len() {
+            for t in named(c, &temp_of) {
+                last_use[t] = c;
+            }
+        }
         // The points a later chunk reads get a slot in `Working::temps`.
         let mut slot = vec![None; plan.temps.len()];
         let mut slots = 0;
         for (t, &c) in defined_in.iter().enumerate() {
-            if c == usize::MAX {
-                continue;
-            }
-            let name = self.temp_idents[t].to_string();
-            if (c + 1..chunks.len()).any(|later| used_in(later, &name)) {
+            if c != usize::MAX && last_use[t] > c {
                 slot[t] = Some(index(slots));
                 slots += 1;
             }
@@ -222,37 +243,34 @@ impl Emitter<'_> {
         for (c, chunk) in chunks.iter().enumerate() {
             let code: Vec<TokenStream> = chunk.steps.clone().map(|i| self.step(i)).collect();
             let uses = |ident: &str| used_in(c, ident);
-            let mut written = vec![false; plan.bodies.len()];
-            for i in chunk.steps.clone() {
-                for b in plan.steps[i].kind.writes() {
-                    written[b] = true;
-                }
-            }
+            let written: HashSet<usize> = chunk
+                .steps
+                .clone()
+                .flat_map(|i| plan.steps[i].kind.writes())
+                .collect();
             let mut take = Vec::new();
             let mut commit = Vec::new();
             let mut state_used = false;
-            for (b, body) in plan.bodies.iter().enumerate() {
+            for b in named(c, &pose_of) {
                 let id = &self.pose_idents[b];
-                if body.fixed || !uses(&id.to_string()) {
-                    continue;
-                }
                 let i = index(b);
                 // On values the chunks work in place on the state; on jets,
                 // on the working poses (the caller's `out`).
                 let poses = if jets { quote!(w.poses) } else { quote!(s.poses) };
                 state_used = true;
-                if written[b] {
+                if written.contains(&b) {
                     take.push(quote!(let mut #id = #poses[#i];));
                     commit.push(quote!(#poses[#i] = #id;));
                 } else {
                     take.push(quote!(let #id = #poses[#i];));
                 }
             }
-            for (t, id) in self.temp_idents.iter().enumerate() {
+            for t in named(c, &temp_of) {
                 let Some(k) = &slot[t] else { continue };
+                let id = &self.temp_idents[t];
                 if defined_in[t] == c {
                     commit.push(quote!(w.temps[#k] = #id;));
-                } else if defined_in[t] < c && uses(&id.to_string()) {
+                } else if defined_in[t] < c {
                     take.push(quote!(let #id = w.temps[#k];));
                 }
             }
