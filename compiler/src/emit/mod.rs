@@ -1130,6 +1130,9 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
 /// only one item's tokens and syntax tree are held at a time.
 struct Sink<'p> {
     plan: &'p Plan,
+    /// Each step's explanation, made once: `Plan::explain` alone looks up
+    /// the steps a step reads by scanning the plan.
+    explanations: Vec<String>,
     out: String,
 }
 
@@ -1144,7 +1147,11 @@ impl<'p> Sink<'p> {
             plan.branches.len(),
             plan.source
         );
-        Sink { plan, out }
+        Sink {
+            plan,
+            explanations: plan.explanations(),
+            out,
+        }
     }
 
     /// Appends the items of `tokens`, laid out.
@@ -1165,7 +1172,7 @@ impl<'p> Sink<'p> {
                 } else {
                     format!("  [{}]", step.serves.join(", "))
                 };
-                let _ = writeln!(self.out, "{indent}// {i}: {}{serves}", self.plan.explain(i));
+                let _ = writeln!(self.out, "{indent}// {i}: {}{serves}", self.explanations[i]);
             } else {
                 self.out.push_str(line);
                 self.out.push('\n');
