@@ -465,22 +465,18 @@ impl Emitter<'_> {
     }
 
     /// The constants naming each body and marker, and the state's marker
-    /// reader.
-    fn names(&self) -> TokenStream {
+    /// reader, into `sink`; the two modules of constants a batch of
+    /// constants at a time (a chain of 20,000 loops has 120,000 markers).
+    fn names(&self, sink: &mut Sink<'_>) {
         let plan = self.plan;
         let body_names = names::constants(plan.bodies.iter().map(|b| b.name.as_str()));
-        let bodies = plan
-            .bodies
-            .iter()
-            .zip(&body_names)
-            .enumerate()
-            .map(|(i, (b, c))| {
-                let (doc, c, i) = (format!(" `{}`", b.name), format_ident!("{}", c), index(i));
-                quote! {
-                    #[doc = #doc]
-                    pub const #c: usize = #i;
-                }
-            });
+        let bodies = (plan.bodies.iter().zip(&body_names).enumerate()).map(|(i, (b, c))| {
+            let (doc, c, i) = (format!(" `{}`", b.name), format_ident!("{}", c), index(i));
+            quote! {
+                #[doc = #doc]
+                pub const #c: usize = #i;
+            }
+        });
         let all_markers: Vec<(usize, String, [f64; 2])> = plan
             .bodies
             .iter()
@@ -507,22 +503,27 @@ impl Emitter<'_> {
                 use dofplan_runtime::Marker;
             )
         };
-        quote! {
-            /// Each body's index in [`BODIES`] and [`State::poses`], by name:
-            /// upper-cased, other characters than ASCII letters and digits
-            /// made `_`, and `_2`, `_3`, … after a name an earlier body took.
-            pub mod body {
-                #(#bodies)*
-            }
-
-            /// Each marker's body and local coordinates (its drawn position),
-            /// named `BODY_MARKER` by the rule of `body`; read one with
-            /// `State::marker` or `Marker::world`.
-            pub mod marker {
-                #use_marker
-                #(#markers)*
-            }
-
+        sink.push_module(
+            quote! {
+                /// Each body's index in [`BODIES`] and [`State::poses`], by name:
+                /// upper-cased, other characters than ASCII letters and digits
+                /// made `_`, and `_2`, `_3`, … after a name an earlier body took.
+                pub mod body
+            },
+            quote!(),
+            bodies,
+        );
+        sink.push_module(
+            quote! {
+                /// Each marker's body and local coordinates (its drawn position),
+                /// named `BODY_MARKER` by the rule of `body`; read one with
+                /// `State::marker` or `Marker::world`.
+                pub mod marker
+            },
+            use_marker,
+            markers,
+        );
+        sink.push(quote! {
             impl State {
                 /// The world position of marker `m` (a constant of
                 /// [`marker`]) in this state.
@@ -531,7 +532,7 @@ impl Emitter<'_> {
                     m.world(&self.poses)
                 }
             }
-        }
+        });
     }
 
     /// Whether any step can break the frame (needs `ctx` and returns early).
@@ -616,7 +617,7 @@ impl Emitter<'_> {
     /// `Plan` with its trait impls. `real`: whether the steps on jets or
     /// lanes lift constants (`Jet2::cst`, `Lanes::cst`, which need the
     /// `Real` trait); `lanes`: whether `solve_batch` runs in lanes.
-    fn prefix(&self, real: bool, lanes: bool) -> TokenStream {
+    fn prefix(&self, real: bool, lanes: bool, sink: &mut Sink<'_>) {
         let plan = self.plan;
         let name = &plan.mechanism;
         let nb = index(plan.bodies.len());
@@ -642,7 +643,6 @@ impl Emitter<'_> {
         } else {
             quote!()
         };
-        let names = self.names();
         let rate_methods = rates::rates_trait_methods(&quote!(Pose));
         // `Jet2::cst` and `Lanes::cst` need the trait (a plan of large clusters alone, whose
         // rates the runtime computes, has none).
@@ -680,7 +680,7 @@ impl Emitter<'_> {
                 },
             )
         };
-        quote! {
+        sink.push(quote! {
             use dofplan_runtime::planar::{self, Point, Pose, Rot};
             use dofplan_runtime::{Branch, Break, Ctx, Marker, Solver};
             #numeric_use
@@ -723,7 +723,9 @@ impl Emitter<'_> {
                 };
             }
 
-            #names
+        });
+        self.names(sink);
+        sink.push(quote! {
 
             /// The compiled plan, for [`dofplan_runtime::Driver`].
             #[derive(Clone, Copy, Debug, Default)]
@@ -756,7 +758,7 @@ impl Emitter<'_> {
             }
 
             #batch_impl
-        }
+        });
     }
 
     /// The doc comment of `solve`.
@@ -1090,7 +1092,7 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
             });
             let lane_code = lanes.as_ref().map(|l| l.to_string()).unwrap_or_default();
             let real = fused.to_string().contains("Jet2 :: cst") || lane_code.contains("Lanes :: cst");
-            sink.push(e.prefix(real, lanes.is_some()));
+            e.prefix(real, lanes.is_some(), &mut sink);
             sink.push(e.single_solve(steps, &doc_solve));
             sink.push(fused);
             if let Some(lanes) = lanes {
@@ -1116,7 +1118,7 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
                 })
                 .collect();
             e.jets = false;
-            sink.push(e.prefix(real, false));
+            e.prefix(real, false, &mut sink);
             e.chunked_solve(uses, &chunks, &doc_solve, &mut sink);
             e.jets = true;
             e.chunked_solve(jet_uses, &chunks, "", &mut sink);
@@ -1124,6 +1126,9 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
     }
     sink.out
 }
+
+/// Constants of `body` and `marker` laid out at a time.
+const NAMES_BATCH: usize = 1000;
 
 /// The generated module's text, written item by item: each item is parsed
 /// by `syn` and laid out by `prettyplease` as soon as it is made, so that
@@ -1154,11 +1159,47 @@ impl<'p> Sink<'p> {
         }
     }
 
+    /// Appends the module `head { first items }` (`head`: its attributes,
+    /// visibility and name), laid out as one item would be, but parsed
+    /// and laid out [`NAMES_BATCH`] items at a time.
+    fn push_module(
+        &mut self,
+        head: TokenStream,
+        first: TokenStream,
+        items: impl Iterator<Item = TokenStream>,
+    ) {
+        let mut items = items.peekable();
+        let batch: Vec<TokenStream> = items.by_ref().take(NAMES_BATCH).collect();
+        if items.peek().is_none() {
+            return self.push(quote!(#head { #first #(#batch)* }));
+        }
+        // The module's first lines, up to its closing brace; then each
+        // further batch in a stand-in module, which lays its items out at
+        // the same depth, without that module's first and last lines.
+        let text = Self::lay_out(quote!(#head { #first #(#batch)* }));
+        self.out
+            .push_str(text.strip_suffix("}\n").expect("a module ends with its brace"));
+        while items.peek().is_some() {
+            let batch = items.by_ref().take(NAMES_BATCH);
+            let text = Self::lay_out(quote!(mod batch { #(#batch)* }));
+            let inner = text
+                .strip_prefix("mod batch {\n")
+                .and_then(|t| t.strip_suffix("}\n"))
+                .expect("a module of items");
+            self.out.push_str(inner);
+        }
+        self.out.push_str("}\n");
+    }
+
+    /// The items of `tokens` laid out by prettyplease.
+    fn lay_out(tokens: TokenStream) -> String {
+        let file = syn::parse2::<syn::File>(tokens).expect("the emitter produces valid Rust");
+        prettyplease::unparse(&file)
+    }
+
     /// Appends the items of `tokens`, laid out.
     fn push(&mut self, tokens: TokenStream) {
-        let file = syn::parse2::<syn::File>(tokens).expect("the emitter produces valid Rust");
-        let pretty = prettyplease::unparse(&file);
-        drop(file);
+        let pretty = Self::lay_out(tokens);
         // Comments are not tokens: each step was marked by a macro call
         // that is replaced here by the step's explanation.
         for line in pretty.lines() {
