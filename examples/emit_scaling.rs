@@ -66,14 +66,22 @@ fn main() {
             emit_cpu.push(cpu() - c);
             steps = plan.steps.len();
         }
-        // Functions start at column 0 with `fn` or `pub fn` and end at `}`.
+        // Functions (at the top level, or alone in a chunk's module) start
+        // with `fn`, `pub fn` or `pub(super) fn` and end at the `}` of
+        // their indentation.
         let (mut largest, mut start) = (0, None);
         for (i, line) in source.lines().enumerate() {
-            if line.starts_with("fn ") || line.starts_with("pub fn ") {
-                start = Some(i);
-            } else if line == "}" {
-                if let Some(s) = start.take() {
+            let body = line.trim_start();
+            let indent = line.len() - body.len();
+            if ["fn ", "pub fn ", "pub(super) fn "]
+                .iter()
+                .any(|f| body.starts_with(f))
+            {
+                start = Some((i, indent));
+            } else if body == "}" {
+                if let Some((s, _)) = start.filter(|&(_, at)| at == indent) {
                     largest = largest.max(i - s + 1);
+                    start = None;
                 }
             }
         }

@@ -8,7 +8,11 @@
 //! - analyse: Grübler's count, the planner and the branch choice;
 //! - rank: the Jacobian-rank cross-check of `check`;
 //! - `plan`: load + analyse + the explained plan (what `dofplan plan` does);
-//! - `check`: load + analyse + rank (the library work of `dofplan check`);
+//! - ranges: the assembly ranges of `check` (the plan run over each input's
+//!   range);
+//! - four-bars: the four-bar loops and their Grashof class of `check`;
+//! - `check`: load + analyse + rank + ranges + four-bars (the library work
+//!   of `dofplan check`);
 //! - `emit`: load + analyse + the generated module (`dofplan emit`);
 //! - simulate: one interpreted frame of the sweep (warm start,
 //!   keep-branch), as `dofplan simulate` runs it.
@@ -22,6 +26,8 @@
 use std::hint::black_box;
 
 use dofplan::analysis::analyse;
+use dofplan::analysis::grashof::four_bars;
+use dofplan::analysis::ranges::assembly_ranges;
 use dofplan::analysis::rank::rank_mobility;
 use dofplan::emit::emit;
 use dofplan::interp::Interpreter;
@@ -107,14 +113,15 @@ fn main() {
         }
     };
     println!(
-        "| loops | bodies | joints | steps | load ms | analyse ms | rank ms | `plan` ms | `check` ms | `emit` ms | \
-         simulate µs/frame |"
+        "| loops | bodies | joints | steps | load ms | analyse ms | rank ms | ranges ms | four-bars ms | `plan` ms | \
+         `check` ms | `emit` ms | simulate µs/frame |"
     );
-    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for n in loops {
         let text = stress_chain(n);
         let m = load(&text);
-        let steps = analyse(&m).plan.expect("a stress chain plans").steps.len();
+        let plan = analyse(&m).plan.expect("a stress chain plans");
+        let steps = plan.steps.len();
         let t_load = median(|| {
             black_box(load(&text));
         });
@@ -124,6 +131,12 @@ fn main() {
         let t_rank = median(|| {
             black_box(rank_mobility(&m));
         });
+        let t_ranges = median(|| {
+            black_box(assembly_ranges(&m, &plan));
+        });
+        let t_four_bars = median(|| {
+            black_box(four_bars(&m));
+        });
         let t_plan = median(|| {
             let m = load(&text);
             let p = analyse(&m).plan.expect("plans");
@@ -131,8 +144,10 @@ fn main() {
         });
         let t_check = median(|| {
             let m = load(&text);
-            black_box(analyse(&m));
+            let p = analyse(&m).plan.expect("plans");
             black_box(rank_mobility(&m));
+            black_box(assembly_ranges(&m, &p));
+            black_box(four_bars(&m));
         });
         let t_emit = median(|| {
             let m = load(&text);
@@ -143,12 +158,14 @@ fn main() {
         let frames = (20_000 / n).clamp(8, 361);
         let t_frame = us_per_frame(&m, frames);
         println!(
-            "| {n} | {} | {} | {steps} | {} | {} | {} | {} | {} | {} | {t_frame:.1} |",
+            "| {n} | {} | {} | {steps} | {} | {} | {} | {} | {} | {} | {} | {} | {t_frame:.1} |",
             m.bodies.len(),
             m.joints.len(),
             ms(t_load),
             ms(t_analyse),
             ms(t_rank),
+            ms(t_ranges),
+            ms(t_four_bars),
             ms(t_plan),
             ms(t_check),
             ms(t_emit),

@@ -1,9 +1,10 @@
 //! Plan time scales with the mechanism: on stress chains of hundreds of
-//! loops the planner's and the rank's work (counted, not timed) grows
-//! linearly, and the rank cross-check still finds exactly what Grübler's
+//! loops the work of every stage of `check` — the planner's, the rank's,
+//! the four-bar search's (counted, not timed) — grows linearly, and the rank cross-check still finds exactly what Grübler's
 //! count says — or, with a redundant link hung mid-chain, that link.
 
 use dofplan::analysis::analyse;
+use dofplan::analysis::grashof::four_bars_counted;
 use dofplan::analysis::rank::rank_mobility;
 use dofplan::model::{load_str, Format, Mechanism};
 use dofplan_tests::stress::stress_chain;
@@ -12,19 +13,27 @@ fn chain(loops: usize) -> Mechanism {
     load_str("chain.toml", &stress_chain(loops), Format::Toml).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// (planner candidate checks, rank eliminations) on a chain.
-fn work(loops: usize) -> (usize, usize) {
+/// (planner candidate checks, rank eliminations, four-bar search steps)
+/// on a chain, and its number of four-bar loops.
+fn work(loops: usize) -> ([usize; 3], usize) {
     let m = chain(loops);
-    (analyse(&m).planner_checks, rank_mobility(&m).eliminations)
+    let (bars, search) = four_bars_counted(&m);
+    (
+        [analyse(&m).planner_checks, rank_mobility(&m).eliminations, search],
+        bars.len(),
+    )
 }
 
 #[test]
-fn planner_and_rank_work_grow_linearly_with_the_chain() {
-    let (w100, w200, w400) = (work(100), work(200), work(400));
-    for (what, a, b, c) in [
-        ("planner checks", w100.0, w200.0, w400.0),
-        ("rank eliminations", w100.1, w200.1, w400.1),
-    ] {
+fn every_stage_of_checks_work_grows_linearly_with_the_chain() {
+    let ((w100, n100), (w200, n200), (w400, n400)) = (work(100), work(200), work(400));
+    // Each loop of the chain is one four-bar, whatever the search does.
+    assert_eq!((n100, n200, n400), (100, 200, 400));
+    for (k, what) in ["planner checks", "rank eliminations", "four-bar search steps"]
+        .into_iter()
+        .enumerate()
+    {
+        let (a, b, c) = (w100[k], w200[k], w400[k]);
         // Every loop after the first costs the same: the work is affine in
         // the number of loops, exactly (a quadratic part would make the
         // second difference grow).

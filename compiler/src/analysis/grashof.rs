@@ -12,7 +12,7 @@
 //! a triple rocker) is a double-rocker too, and s + l = p + q a change
 //! point (it can fold flat).
 
-use crate::model::{JointKind, MarkerId, Mechanism};
+use crate::model::{JointKind, Mechanism};
 
 /// A four-bar loop's class.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -60,50 +60,91 @@ pub struct FourBar {
 /// Every four-bar loop of `m`, in a deterministic order (by their joints'
 /// file order).
 pub fn four_bars(m: &Mechanism) -> Vec<FourBar> {
+    four_bars_counted(m).0
+}
+
+/// [`four_bars`] and the work its search did: the paths of two joints it
+/// walked plus the pairs of them it compared. On a mechanism whose bodies
+/// each carry a bounded number of joints, except for the ground (a chain,
+/// a tree of loops), that work grows linearly with the joints; the tests
+/// count it.
+///
+/// Each loop is found once, from its highest body in an order by number of
+/// joints (then by file order): from that body `v`, every path v–u–w
+/// through two lower bodies is filed under its end `w`, and two paths to
+/// one `w` through different bodies `u` close a loop. A body with many
+/// joints (the ground) is highest, so the paths never fan out from it
+/// twice: the search is the classic degree-ordered one for 4-cycles
+/// (Chiba and Nishizeki 1985), O(J·a) for J joints and a graph of
+/// arboricity a, where pairing every two neighbours of the ground was
+/// quadratic in a long chain.
+pub fn four_bars_counted(m: &Mechanism) -> (Vec<FourBar>, usize) {
     // Every fixed body is the one ground node.
     let ground = m.bodies.iter().position(|b| b.fixed);
     let node = |b: usize| if m.bodies[b].fixed { ground.unwrap_or(b) } else { b };
-    let revolute: Vec<(usize, [MarkerId; 2])> = (m.joints.iter().enumerate())
-        .filter(|(_, j)| j.kind == JointKind::Revolute)
-        .map(|(k, j)| (k, j.markers))
-        .collect();
-    let mut adjacent: Vec<Vec<(usize, usize)>> = vec![Vec::new(); m.bodies.len()];
-    for &(k, [a, b]) in &revolute {
+    let n = m.bodies.len();
+    let mut adjacent: Vec<Vec<(usize, usize)>> = vec![Vec::new(); n];
+    for (k, j) in m.joints.iter().enumerate() {
+        if j.kind != JointKind::Revolute {
+            continue;
+        }
+        let [a, b] = j.markers;
         let (na, nb) = (node(a.body), node(b.body));
         if na != nb {
             adjacent[na].push((nb, k));
             adjacent[nb].push((na, k));
         }
     }
+    // rank[b]: b's place in the order by (number of joints, file order).
+    let mut order: Vec<usize> = (0..n).collect();
+    order.sort_by_key(|&b| (adjacent[b].len(), b));
+    let mut rank = vec![0; n];
+    for (r, &b) in order.iter().enumerate() {
+        rank[b] = r;
+    }
     let size = m.size();
-    let mut seen = std::collections::BTreeSet::new();
+    let mut work = 0;
     let mut out = Vec::new();
-    for a in 0..m.bodies.len() {
-        for (x, &(b, j1)) in adjacent[a].iter().enumerate() {
-            for &(c, j2) in &adjacent[a][x + 1..] {
-                if b == c || j1 == j2 {
+    // paths[w]: the paths v –j1– u –j2– w from the current v, as (u, j1, j2).
+    let mut paths: Vec<Vec<(usize, usize, usize)>> = vec![Vec::new(); n];
+    let mut ends = Vec::new();
+    for v in 0..n {
+        for &(u, j1) in &adjacent[v] {
+            if rank[u] >= rank[v] {
+                continue;
+            }
+            for &(w, j2) in &adjacent[u] {
+                // w == v only by a second joint between u and v: rank[v]
+                // is not below itself.
+                if rank[w] >= rank[v] {
                     continue;
                 }
-                for &(d, j3) in &adjacent[b] {
-                    if [a, b, c].contains(&d) || j3 == j1 || j3 == j2 {
+                work += 1;
+                if paths[w].is_empty() {
+                    ends.push(w);
+                }
+                paths[w].push((u, j1, j2));
+            }
+        }
+        for w in ends.drain(..) {
+            let through = std::mem::take(&mut paths[w]);
+            for (x, &(u1, ja, jb)) in through.iter().enumerate() {
+                for &(u2, jd, jc) in &through[x + 1..] {
+                    work += 1;
+                    if u1 == u2 {
                         continue;
                     }
-                    for &(e, j4) in &adjacent[c] {
-                        if e != d || [j1, j2, j3].contains(&j4) {
-                            continue;
-                        }
-                        let mut key = [j1, j2, j3, j4];
-                        key.sort_unstable();
-                        if !seen.insert(key) {
-                            continue;
-                        }
-                        // Around the loop: a –j1– b –j3– d –j4– c –j2– a.
-                        if let Some(f) = loop_of(m, [a, b, d, c], [j1, j3, j4, j2], &node, size) {
-                            out.push(f);
-                        }
+                    // Around the loop: v –ja– u1 –jb– w –jc– u2 –jd– v,
+                    // four bodies and four joints, all different.
+                    let (b, j) = canonical([v, u1, w, u2], [ja, jb, jc, jd]);
+                    if let Some(f) = loop_of(m, b, j, &node, size) {
+                        out.push(f);
                     }
                 }
             }
+            // Keep the allocation for the next v.
+            paths[w] = through;
+            paths[w].clear();
         }
     }
     out.sort_by_key(|f| {
@@ -111,7 +152,30 @@ pub fn four_bars(m: &Mechanism) -> Vec<FourBar> {
         k.sort_unstable();
         k
     });
-    out
+    (out, work)
+}
+
+/// The loop of bodies `b` and joints `j` (`j[k]` between `b[k]` and
+/// `b[k + 1]`) walked from its first body in file order, leaving it by the
+/// earlier of its two joints: one way of writing each loop, so that which
+/// link [`loop_of`] lists after the frame does not depend on how the search
+/// met the loop.
+fn canonical(b: [usize; 4], j: [usize; 4]) -> ([usize; 4], [usize; 4]) {
+    let first = (0..4).min_by_key(|&k| b[k]).expect("four bodies");
+    // The two joints at b[first]: j[first] forward, j[first - 1] back.
+    let back = (first + 3) % 4;
+    if j[first] < j[back] {
+        (
+            std::array::from_fn(|k| b[(first + k) % 4]),
+            std::array::from_fn(|k| j[(first + k) % 4]),
+        )
+    } else {
+        // Walk backward: bodies first, first−1, …; joints back, back−1, ….
+        (
+            std::array::from_fn(|k| b[(first + 4 - k) % 4]),
+            std::array::from_fn(|k| j[(back + 4 - k) % 4]),
+        )
+    }
 }
 
 /// The four-bar of bodies `b` around joints `j` (`j[k]` between `b[k]` and
@@ -187,6 +251,121 @@ mod tests {
                 )
             })
             .collect()
+    }
+
+    /// The search this module used to make, kept as the reference: every
+    /// two joints of a body `a` to bodies b and c, then every body d
+    /// joined to both. Quadratic in the joints of the busiest body, and
+    /// obviously complete.
+    fn four_bars_by_pairs(m: &Mechanism) -> Vec<FourBar> {
+        let ground = m.bodies.iter().position(|b| b.fixed);
+        let node = |b: usize| if m.bodies[b].fixed { ground.unwrap_or(b) } else { b };
+        let mut adjacent: Vec<Vec<(usize, usize)>> = vec![Vec::new(); m.bodies.len()];
+        for (k, j) in m.joints.iter().enumerate() {
+            let [a, b] = j.markers;
+            let (na, nb) = (node(a.body), node(b.body));
+            if j.kind == JointKind::Revolute && na != nb {
+                adjacent[na].push((nb, k));
+                adjacent[nb].push((na, k));
+            }
+        }
+        let mut seen = std::collections::BTreeSet::new();
+        let mut out = Vec::new();
+        for a in 0..m.bodies.len() {
+            for (x, &(b, j1)) in adjacent[a].iter().enumerate() {
+                for &(c, j2) in &adjacent[a][x + 1..] {
+                    if b == c {
+                        continue;
+                    }
+                    for &(d, j3) in &adjacent[b] {
+                        if [a, b, c].contains(&d) {
+                            continue;
+                        }
+                        for &(e, j4) in &adjacent[c] {
+                            let mut key = [j1, j2, j3, j4];
+                            key.sort_unstable();
+                            if e != d || !seen.insert(key) {
+                                continue;
+                            }
+                            let f = loop_of(m, [a, b, d, c], [j1, j3, j4, j2], &node, m.size());
+                            out.extend(f);
+                        }
+                    }
+                }
+            }
+        }
+        out.sort_by_key(|f| {
+            let mut k = f.joints;
+            k.sort_unstable();
+            k
+        });
+        out
+    }
+
+    #[test]
+    fn every_bundled_mechanism_has_the_loops_of_the_pairwise_search() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../mechanisms");
+        let mut files = 0;
+        for entry in std::fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "toml") {
+                let text = std::fs::read_to_string(&path).unwrap();
+                let Ok(m) = load_str("m.toml", &text, Format::Toml) else {
+                    continue;
+                };
+                assert_eq!(four_bars(&m), four_bars_by_pairs(&m), "{}", path.display());
+                files += 1;
+            }
+        }
+        assert!(files >= 20, "{files} bundled planar files read");
+    }
+
+    /// Random multigraphs: bodies (some fixed), revolute joints between
+    /// random pairs (some doubled, some on two fixed bodies), drawn open
+    /// (the search does not look at whether joints hold).
+    #[test]
+    fn random_graphs_have_the_loops_of_the_pairwise_search() {
+        let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+        let mut next = |n: u64| {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            seed % n
+        };
+        let mut loops = 0;
+        for case in 0..60 {
+            let bodies = 4 + next(9) as usize;
+            let joints = bodies + next(2 * bodies as u64) as usize;
+            let mut markers = vec![vec!["M = [0.5, 0.25]".to_string()]; bodies];
+            let mut text = format!("name = \"g{case}\"\n");
+            let mut joint_text = String::new();
+            for k in 0..joints {
+                let a = next(bodies as u64) as usize;
+                let b = (a + 1 + next(bodies as u64 - 1) as usize) % bodies;
+                for (body, d) in [(a, 0), (b, 1)] {
+                    let (x, y) = (next(1000) as f64 / 100.0, next(1000) as f64 / 100.0 + d as f64);
+                    markers[body].push(format!("J{k} = [{x:?}, {y:?}]"));
+                }
+                joint_text += &format!(
+                    "[joints.J{k}]\nkind = \"revolute\"\nmarkers = [\"b{a}.J{k}\", \"b{b}.J{k}\"]\n"
+                );
+            }
+            for (b, list) in markers.iter().enumerate() {
+                let fixed = b == 0 || (b == 3 && case % 3 == 0);
+                text += &format!(
+                    "[bodies.b{b}]\nfixed = {fixed}\nmarkers = {{ {} }}\n",
+                    list.join(", ")
+                );
+            }
+            text += &joint_text;
+            let m = crate::model::load_str_drawn("g.toml", &text, Format::Toml)
+                .unwrap_or_else(|e| panic!("{e}\n{text}"))
+                .mechanism;
+            let want = four_bars_by_pairs(&m);
+            loops += want.len();
+            assert_eq!(four_bars(&m), want, "{text}");
+        }
+        assert!(loops > 100, "{loops} loops over the cases");
     }
 
     #[test]

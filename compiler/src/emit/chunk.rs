@@ -2,24 +2,28 @@
 //! function of a few thousand steps in a debug build, and optimising one
 //! takes time and memory superlinear in its size. So a plan whose steps
 //! weigh more than [`CHUNK_WEIGHT`] tokens is split into runs of steps of
-//! at most that weight (a larger step stays whole), each a function
-//! `steps_<first>_to_<last>` that `solve` calls in order.
+//! at most that weight (a larger step stays whole), each the function
+//! `run` of a module `steps_<first>_to_<last>`, which `solve` calls in
+//! order. The modules matter: rustc makes one LLVM unit of a module's
+//! functions (in debug builds always, in release builds before merging
+//! units down to 16), and the unit's size sets rustc's peak memory.
 //!
-//! `solve` copies the state into a `Working` struct and commits it only
-//! when every chunk succeeded, so a break still leaves the state as it
-//! was. A chunk reads the poses it uses from the working copy into the
-//! same named locals as the one-function form (so each step's code is the
-//! same in both forms), and writes back the ones it wrote; a point a later
-//! chunk uses is handed on in `Working::temps`. A plan of at most
+//! The chunks work in place on the state, and `solve` puts back a copy of
+//! it on a break, so a break still leaves the state as it was. A chunk
+//! reads the poses it uses from the state into the same named locals as
+//! the one-function form (so each step's code is the same in both forms),
+//! and writes back the ones it wrote; a point a later chunk uses is handed
+//! on in `Working::temps`. `solve_rates` runs the same chunks on jets over
+//! a working copy (its caller's `out`). A plan of at most
 //! [`CHUNK_WEIGHT`] keeps the one-function form.
 
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 use std::ops::Range;
 
 use proc_macro2::{TokenStream, TokenTree};
 use quote::{format_ident, quote};
 
-use super::{index, Emitter};
+use super::{index, Emitter, Sink};
 use crate::plan::StepKind;
 
 /// The most tokens of step code one generated function holds (a single
@@ -124,18 +128,22 @@ pub(super) fn partition(kinds: &[&StepKind], weights: &[usize], limit: usize) ->
 impl Emitter<'_> {
     /// `solve` over a working copy of the state, calling one function per
     /// chunk; with `self.jets`, `solve_rates` (the same chunks on jets).
-    /// `step_uses` are the [`Uses`] of each step's code `steps`.
+    /// `uses` are the [`Uses`] of each step's code. The items go to `sink`
+    /// one at a time, each chunk's steps made again just before their
+    /// function is written: the module is never held whole, as tokens or
+    /// as a syntax tree, so emitting takes memory in proportion to one
+    /// chunk rather than to the plan.
     pub(super) fn chunked_solve(
         &self,
-        steps: Vec<TokenStream>,
-        step_uses: Vec<Uses>,
+        uses: Vec<Uses>,
         chunks: &[Chunk],
         doc_solve: &str,
-    ) -> TokenStream {
+        sink: &mut Sink<'_>,
+    ) {
         let jets = self.jets;
         let plan = self.plan;
         // What each chunk's steps use.
-        let mut step_uses = step_uses.into_iter();
+        let mut step_uses = uses.into_iter();
         let uses: Vec<Uses> = chunks
             .iter()
             .map(|chunk| {
@@ -159,52 +167,110 @@ impl Emitter<'_> {
             }
         }
         let used_in = |c: usize, ident: &str| uses[c].has(ident);
+        // The bodies and points each chunk names, found from its own
+        // identifiers (never by a scan of every body per chunk, which made
+        // emitting quadratic in the plan's length).
+        let pose_of: HashMap<String, usize> = (0..plan.bodies.len())
+            .filter(|&b| !plan.bodies[b].fixed)
+            .map(|b| (self.pose_idents[b].to_string(), b))
+            .collect();
+        let temp_of: HashMap<String, usize> = (self.temp_idents.iter().enumerate())
+            .map(|(t, id)| (id.to_string(), t))
+            .collect();
+        let named = |c: usize, of: &HashMap<String, usize>| -> Vec<usize> {
+            let mut found: Vec<usize> = uses[c]
+                .idents
+                .iter()
+                .filter_map(|id| of.get(id).copied())
+                .collect();
+            found.sort_unstable();
+            found
+        };
+        let mut last_use = vec![0; plan.temps.len()];
+        for c in 0..chunks.len() {
+            for t in named(c, &temp_of) {
+                last_use[t] = c;
+            }
+        }
         // The points a later chunk reads get a slot in `Working::temps`.
         let mut slot = vec![None; plan.temps.len()];
         let mut slots = 0;
         for (t, &c) in defined_in.iter().enumerate() {
-            if c == usize::MAX {
-                continue;
-            }
-            let name = self.temp_idents[t].to_string();
-            if (c + 1..chunks.len()).any(|later| used_in(later, &name)) {
+            if c != usize::MAX && last_use[t] > c {
                 slot[t] = Some(index(slots));
                 slots += 1;
             }
         }
-
-        let mut functions = Vec::new();
-        let mut calls = Vec::new();
-        let mut steps = steps.into_iter();
-        for (c, chunk) in chunks.iter().enumerate() {
-            let code: Vec<TokenStream> = steps.by_ref().take(chunk.steps.len()).collect();
-            let uses = |ident: &str| used_in(c, ident);
-            let mut written = vec![false; plan.bodies.len()];
-            for i in chunk.steps.clone() {
-                for b in plan.steps[i].kind.writes() {
-                    written[b] = true;
+        let (prefix, of) = if jets {
+            ("rates_", "solve_rates")
+        } else {
+            ("", "solve")
+        };
+        // Each chunk's function name and doc comment.
+        let names: Vec<(proc_macro2::Ident, String)> = chunks
+            .iter()
+            .map(|chunk| {
+                let (first, last) = (chunk.steps.start, chunk.steps.end - 1);
+                if first == last {
+                    (
+                        format_ident!("{}step_{}", prefix, first),
+                        format!(" Step {first} of [`{of}`], on its working copy."),
+                    )
+                } else {
+                    (
+                        format_ident!("{}steps_{}_to_{}", prefix, first, last),
+                        format!(" Steps {first} to {last} of [`{of}`], on its working copy."),
+                    )
                 }
-            }
+            })
+            .collect();
+        let calls: Vec<TokenStream> = names
+            .iter()
+            .map(|(f, _)| {
+                if jets {
+                    quote!(#f::run(s, &mut w, &inputs, ctx)?;)
+                } else {
+                    quote!(#f::run(s, &mut w, inputs, ctx)?;)
+                }
+            })
+            .collect();
+        if jets {
+            sink.push(self.chunked_solve_rates(calls, slots));
+        } else {
+            sink.push(self.chunked_solve_head(calls, slots, doc_solve));
+        }
+
+        for (c, chunk) in chunks.iter().enumerate() {
+            let code: Vec<TokenStream> = chunk.steps.clone().map(|i| self.step(i)).collect();
+            let uses = |ident: &str| used_in(c, ident);
+            let written: HashSet<usize> = chunk
+                .steps
+                .clone()
+                .flat_map(|i| plan.steps[i].kind.writes())
+                .collect();
             let mut take = Vec::new();
             let mut commit = Vec::new();
-            for (b, body) in plan.bodies.iter().enumerate() {
+            let mut state_used = false;
+            for b in named(c, &pose_of) {
                 let id = &self.pose_idents[b];
-                if body.fixed || !uses(&id.to_string()) {
-                    continue;
-                }
                 let i = index(b);
-                if written[b] {
-                    take.push(quote!(let mut #id = w.poses[#i];));
-                    commit.push(quote!(w.poses[#i] = #id;));
+                // On values the chunks work in place on the state; on jets,
+                // on the working poses (the caller's `out`).
+                let poses = if jets { quote!(w.poses) } else { quote!(s.poses) };
+                state_used = true;
+                if written.contains(&b) {
+                    take.push(quote!(let mut #id = #poses[#i];));
+                    commit.push(quote!(#poses[#i] = #id;));
                 } else {
-                    take.push(quote!(let #id = w.poses[#i];));
+                    take.push(quote!(let #id = #poses[#i];));
                 }
             }
-            for (t, id) in self.temp_idents.iter().enumerate() {
+            for t in named(c, &temp_of) {
                 let Some(k) = &slot[t] else { continue };
+                let id = &self.temp_idents[t];
                 if defined_in[t] == c {
                     commit.push(quote!(w.temps[#k] = #id;));
-                } else if defined_in[t] < c && uses(&id.to_string()) {
+                } else if defined_in[t] < c {
                     take.push(quote!(let #id = w.temps[#k];));
                 }
             }
@@ -218,7 +284,12 @@ impl Emitter<'_> {
             for field in ["branches", "last"] {
                 if uses(field) {
                     let f = format_ident!("{}", field);
-                    take.insert(0, quote!(let #f = &mut w.#f;));
+                    if jets {
+                        take.insert(0, quote!(let #f = &mut w.#f;));
+                    } else {
+                        take.insert(0, quote!(let #f = &mut s.#f;));
+                        state_used = true;
+                    }
                 }
             }
             let param = |name: &str, used: bool| {
@@ -228,60 +299,56 @@ impl Emitter<'_> {
                     format_ident!("_{}", name)
                 }
             };
-            let s = param("s", uses("s"));
+            let s = param("s", uses("s") || (state_used && !jets));
+            let w = param(
+                "w",
+                jets || uses("w") || commit.iter().chain(&take).any(|t| Uses::of(t).has("w")),
+            );
             let inputs = param("inputs", reads_inputs);
             let ctx = param("ctx", uses("ctx"));
-            let (first, last) = (chunk.steps.start, chunk.steps.end - 1);
-            let (prefix, of) = if jets {
-                ("rates_", "solve_rates")
-            } else {
-                ("", "solve")
-            };
-            let (f, doc) = if first == last {
-                (
-                    format_ident!("{}step_{}", prefix, first),
-                    format!(" Step {first} of [`{of}`], on its working copy."),
-                )
-            } else {
-                (
-                    format_ident!("{}steps_{}_to_{}", prefix, first, last),
-                    format!(" Steps {first} to {last} of [`{of}`], on its working copy."),
-                )
-            };
-            functions.push(if jets {
+            let (f, doc) = &names[c];
+            // Each chunk is a module of its own: rustc hands a module's
+            // functions to LLVM as one unit (always, in a debug build), and
+            // one unit holding every chunk of a 2,000-loop chain took 5 GB.
+            sink.push(if jets {
                 quote! {
                     #[doc = #doc]
-                    #[inline(never)]
-                    fn #f(#s: &State, w: &mut JetWorking<'_>, #inputs: &[Jet2], #ctx: &mut Ctx) -> Result<(), RateError> {
-                        #(#take)*
-                        #(#code)*
-                        #(#commit)*
-                        Ok(())
-                    }
-                }
-            } else {
-                quote! {
-                    #[doc = #doc]
-                    #[inline(never)]
-                    fn #f(#s: &State, w: &mut Working, #inputs: &[f64], #ctx: &mut Ctx) -> Result<(), Break> {
-                        #(#take)*
-                        #(#code)*
-                        #(#commit)*
-                        Ok(())
-                    }
-                }
-            });
-            calls.push(if jets {
-                quote!(#f(s, &mut w, &inputs, ctx)?;)
-            } else {
-                quote!(#f(s, &mut w, inputs, ctx)?;)
-            });
-        }
+                    mod #f {
+                        use super::*;
 
-        if jets {
-            return self.chunked_solve_rates(calls, functions, slots);
+                        #[inline(never)]
+                        pub(super) fn run(#s: &State, #w: &mut JetWorking<'_>, #inputs: &[Jet2], #ctx: &mut Ctx) -> Result<(), RateError> {
+                            #(#take)*
+                            #(#code)*
+                            #(#commit)*
+                            Ok(())
+                        }
+                    }
+                }
+            } else {
+                quote! {
+                    #[doc = #doc]
+                    mod #f {
+                        use super::*;
+
+                        #[inline(never)]
+                        pub(super) fn run(#s: &mut State, #w: &mut Working, #inputs: &[f64], #ctx: &mut Ctx) -> Result<(), Break> {
+                            #(#take)*
+                            #(#code)*
+                            #(#commit)*
+                            Ok(())
+                        }
+                    }
+                }
+            });
         }
-        let (nb, nk, nt) = (index(plan.bodies.len()), index(plan.branches.len()), index(slots));
+    }
+
+    /// `solve` of the split form, which calls the chunks (`calls`) in place
+    /// on the state, and the `Working` struct of the `slots` points chunks
+    /// hand on.
+    fn chunked_solve_head(&self, calls: Vec<TokenStream>, slots: usize, doc_solve: &str) -> TokenStream {
+        let nt = index(slots);
         // Points handed on, if any chunk hands one on.
         let (temps_init, temps_field) = if slots == 0 {
             (quote!(), quote!())
@@ -292,44 +359,39 @@ impl Emitter<'_> {
             #[doc = #doc_solve]
             #[inline]
             pub fn solve(s: &mut State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
-                // The steps run in order on a working copy, committed at the
-                // end: a break (an early return) leaves `s` as it was, so no
-                // caller has to copy the state per frame to roll back.
-                let mut w = Working {
-                    poses: s.poses,
-                    last: s.last,
-                    branches: s.branches,
-                    #temps_init
-                };
+                // The chunks place the bodies in `s` itself, and a break (an
+                // early return) puts this copy back: `s` is left as it was,
+                // so no caller has to copy the state per frame to roll back.
+                // One copy of the state a frame: a working copy committed at
+                // the end was two, and made the split form slower than the
+                // interpreter.
+                let was = *s;
+                let result = run_chunks(s, inputs, ctx);
+                if result.is_err() {
+                    *s = was;
+                }
+                result
+            }
+
+            /// The chunks of steps in order, in place on `s`.
+            #[inline]
+            fn run_chunks(s: &mut State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+                let mut w = Working { #temps_init };
                 #(#calls)*
-                s.poses = w.poses;
-                s.last = w.last;
-                s.branches = w.branches;
                 Ok(())
             }
 
-            /// A frame's working copy of the state, and the points a chunk
-            /// of steps hands to later ones.
+            /// The points a chunk of steps hands to later ones.
             struct Working {
-                poses: [Pose; #nb],
-                last: [Point; #nk],
-                branches: [Branch; #nk],
                 #temps_field
             }
-
-            #(#functions)*
         }
     }
 
     /// `solve_rates` over a jet working copy of the state, calling the
     /// chunks' jet functions: the frame committed as `solve` commits it,
     /// its values exactly `solve`'s.
-    fn chunked_solve_rates(
-        &self,
-        calls: Vec<TokenStream>,
-        functions: Vec<TokenStream>,
-        slots: usize,
-    ) -> TokenStream {
+    fn chunked_solve_rates(&self, calls: Vec<TokenStream>, slots: usize) -> TokenStream {
         let plan = self.plan;
         let (nb, nk, nt, ni) = (
             index(plan.bodies.len()),
@@ -378,8 +440,6 @@ impl Emitter<'_> {
                 branches: [Branch; #nk],
                 #temps_field
             }
-
-            #(#functions)*
         }
     }
 }

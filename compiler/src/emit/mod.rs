@@ -13,6 +13,8 @@
 //! Spatial plans get a module of the same shape from [`emit_spatial`]
 //! (`spatial.rs`, clusters in `spatial_cluster.rs`).
 
+use std::fmt::Write;
+
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 
@@ -463,22 +465,18 @@ impl Emitter<'_> {
     }
 
     /// The constants naming each body and marker, and the state's marker
-    /// reader.
-    fn names(&self) -> TokenStream {
+    /// reader, into `sink`; the two modules of constants a batch of
+    /// constants at a time (a chain of 20,000 loops has 120,000 markers).
+    fn names(&self, sink: &mut Sink<'_>) {
         let plan = self.plan;
         let body_names = names::constants(plan.bodies.iter().map(|b| b.name.as_str()));
-        let bodies = plan
-            .bodies
-            .iter()
-            .zip(&body_names)
-            .enumerate()
-            .map(|(i, (b, c))| {
-                let (doc, c, i) = (format!(" `{}`", b.name), format_ident!("{}", c), index(i));
-                quote! {
-                    #[doc = #doc]
-                    pub const #c: usize = #i;
-                }
-            });
+        let bodies = (plan.bodies.iter().zip(&body_names).enumerate()).map(|(i, (b, c))| {
+            let (doc, c, i) = (format!(" `{}`", b.name), format_ident!("{}", c), index(i));
+            quote! {
+                #[doc = #doc]
+                pub const #c: usize = #i;
+            }
+        });
         let all_markers: Vec<(usize, String, [f64; 2])> = plan
             .bodies
             .iter()
@@ -505,22 +503,27 @@ impl Emitter<'_> {
                 use dofplan_runtime::Marker;
             )
         };
-        quote! {
-            /// Each body's index in [`BODIES`] and [`State::poses`], by name:
-            /// upper-cased, other characters than ASCII letters and digits
-            /// made `_`, and `_2`, `_3`, … after a name an earlier body took.
-            pub mod body {
-                #(#bodies)*
-            }
-
-            /// Each marker's body and local coordinates (its drawn position),
-            /// named `BODY_MARKER` by the rule of `body`; read one with
-            /// `State::marker` or `Marker::world`.
-            pub mod marker {
-                #use_marker
-                #(#markers)*
-            }
-
+        sink.push_module(
+            quote! {
+                /// Each body's index in [`BODIES`] and [`State::poses`], by name:
+                /// upper-cased, other characters than ASCII letters and digits
+                /// made `_`, and `_2`, `_3`, … after a name an earlier body took.
+                pub mod body
+            },
+            quote!(),
+            bodies,
+        );
+        sink.push_module(
+            quote! {
+                /// Each marker's body and local coordinates (its drawn position),
+                /// named `BODY_MARKER` by the rule of `body`; read one with
+                /// `State::marker` or `Marker::world`.
+                pub mod marker
+            },
+            use_marker,
+            markers,
+        );
+        sink.push(quote! {
             impl State {
                 /// The world position of marker `m` (a constant of
                 /// [`marker`]) in this state.
@@ -529,7 +532,7 @@ impl Emitter<'_> {
                     m.world(&self.poses)
                 }
             }
-        }
+        });
     }
 
     /// Whether any step can break the frame (needs `ctx` and returns early).
@@ -610,13 +613,11 @@ impl Emitter<'_> {
         }
     }
 
-    fn module(
-        &self,
-        steps: Vec<TokenStream>,
-        chunks: Option<(Vec<chunk::Uses>, Vec<chunk::Chunk>)>,
-        rates: TokenStream,
-        lanes: Option<TokenStream>,
-    ) -> TokenStream {
+    /// The module up to `solve`: imports, names, `State`, the constants and
+    /// `Plan` with its trait impls. `real`: whether the steps on jets or
+    /// lanes lift constants (`Jet2::cst`, `Lanes::cst`, which need the
+    /// `Real` trait); `lanes`: whether `solve_batch` runs in lanes.
+    fn prefix(&self, real: bool, lanes: bool, sink: &mut Sink<'_>) {
         let plan = self.plan;
         let name = &plan.mechanism;
         let nb = index(plan.bodies.len());
@@ -642,37 +643,15 @@ impl Emitter<'_> {
         } else {
             quote!()
         };
-        let doc_solve =
-            format!(
-            "Places every body for `inputs` ({}), warm-started from `s`. On a break `s` is left unchanged.",
-            if plan.inputs.is_empty() {
-                "none".to_string()
-            } else {
-                plan.inputs.iter().map(|i| format!("{} in {}", i.name, match i.kind {
-                    InputKind::Angle => "degrees",
-                    InputKind::Slide => "length units",
-                })).collect::<Vec<_>>().join(", ")
-            }
-        );
-        let solve = match chunks {
-            None => self.single_solve(steps, &doc_solve),
-            Some((uses, chunks)) => self.chunked_solve(steps, uses, &chunks, &doc_solve),
-        };
-        let names = self.names();
         let rate_methods = rates::rates_trait_methods(&quote!(Pose));
         // `Jet2::cst` and `Lanes::cst` need the trait (a plan of large clusters alone, whose
         // rates the runtime computes, has none).
-        let lane_code = lanes.as_ref().map(|l| l.to_string()).unwrap_or_default();
-        let real = if rates.to_string().contains("Jet2 :: cst") || lane_code.contains("Lanes :: cst") {
-            quote!(Real)
-        } else {
-            quote!()
-        };
+        let real = if real { quote!(Real) } else { quote!() };
         let rates_use = quote!(
             use dofplan_runtime::real::{self, Jet2, RateError, #real};
             use dofplan_runtime::BranchPolicy;
         );
-        let (lanes_use, batch_impl) = if lanes.is_some() {
+        let (lanes_use, batch_impl) = if lanes {
             (
                 quote!(
                     use dofplan_runtime::lanes::Lanes;
@@ -705,7 +684,7 @@ impl Emitter<'_> {
                 },
             )
         };
-        quote! {
+        sink.push(quote! {
             use dofplan_runtime::planar::{self, Point, Pose, Rot};
             use dofplan_runtime::{Branch, Break, Ctx, Marker, Solver};
             #numeric_use
@@ -748,7 +727,9 @@ impl Emitter<'_> {
                 };
             }
 
-            #names
+        });
+        self.names(sink);
+        sink.push(quote! {
 
             /// The compiled plan, for [`dofplan_runtime::Driver`].
             #[derive(Clone, Copy, Debug, Default)]
@@ -781,13 +762,33 @@ impl Emitter<'_> {
             }
 
             #batch_impl
+        });
+    }
 
-            #solve
-
-            #rates
-
-            #lanes
-        }
+    /// The doc comment of `solve`.
+    fn doc_solve(&self) -> String {
+        let plan = self.plan;
+        format!(
+            "Places every body for `inputs` ({}), warm-started from `s`. On a break `s` is left unchanged.",
+            if plan.inputs.is_empty() {
+                "none".to_string()
+            } else {
+                plan.inputs
+                    .iter()
+                    .map(|i| {
+                        format!(
+                            "{} in {}",
+                            i.name,
+                            match i.kind {
+                                InputKind::Angle => "degrees",
+                                InputKind::Slide => "length units",
+                            }
+                        )
+                    })
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            }
+        )
     }
 
     /// For each body, the last step that writes it (`None`: no step does).
@@ -1074,74 +1075,164 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
         jets: false,
         lanes: false,
     };
-    let mut steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
+    // Each step's code is made to be measured and then dropped: a large
+    // plan's steps are made again, chunk by chunk, as they are written.
     let kinds: Vec<&StepKind> = plan.steps.iter().map(|s| &s.kind).collect();
-    let mut uses: Vec<chunk::Uses> = steps.iter().map(chunk::Uses::of).collect();
+    let mut uses: Vec<chunk::Uses> = (0..plan.steps.len())
+        .map(|i| chunk::Uses::of(&e.step(i)))
+        .collect();
     let weights: Vec<usize> = uses.iter().map(|u| u.weight).collect();
     let chunks = chunk::partition(&kinds, &weights, chunk_weight);
-    let chunks = chunks.map(|chunks| {
-        e.chunked = true;
-        for (i, kind) in kinds.iter().enumerate() {
-            if chunk::starts_chunk(kind) {
-                steps[i] = e.step(i);
-                uses[i] = chunk::Uses::of(&steps[i]);
+    let mut sink = Sink::new(plan);
+    let doc_solve = e.doc_solve();
+    match chunks {
+        None => {
+            let steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
+            // The steps again on jets, in one function.
+            e.jets = true;
+            let jet_steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
+            let fused = e.solve_rates_fn(jet_steps);
+            e.jets = false;
+            // The steps on lanes of frames, for `solve_batch`: only
+            // closed-form plans, whose frames do not depend on each other
+            // (a cluster's Newton solve starts from the last frame's pose).
+            let lanes = (plan.clusters() == 0).then(|| {
+                e.jets = true;
+                e.lanes = true;
+                let lane_steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
+                let lanes = e.solve_lanes_fn(lane_steps);
+                e.lanes = false;
+                e.jets = false;
+                lanes
+            });
+            let lane_code = lanes.as_ref().map(|l| l.to_string()).unwrap_or_default();
+            let real = fused.to_string().contains("Jet2 :: cst") || lane_code.contains("Lanes :: cst");
+            e.prefix(real, lanes.is_some(), &mut sink);
+            sink.push(e.single_solve(steps, &doc_solve));
+            sink.push(fused);
+            if let Some(lanes) = lanes {
+                sink.push(lanes);
             }
         }
-        (uses, chunks)
-    });
-    // The steps again on jets: `solve_rates` in one function, or in the
-    // same chunks as `solve`.
-    e.jets = true;
-    let jet_steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
-    let fused = match &chunks {
-        None => e.solve_rates_fn(jet_steps),
-        Some((_, chunks)) => {
-            let uses = jet_steps.iter().map(chunk::Uses::of).collect();
-            e.chunked_solve(jet_steps, uses, chunks, "")
-        }
-    };
-    e.jets = false;
-    // The steps on lanes of frames, for `solve_batch`: only closed-form
-    // plans, whose frames do not depend on each other (a cluster's Newton
-    // solve starts from the last frame's pose).
-    let lanes = (chunks.is_none() && plan.clusters() == 0).then(|| {
-        e.jets = true;
-        e.lanes = true;
-        let lane_steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
-        let lanes = e.solve_lanes_fn(lane_steps);
-        e.lanes = false;
-        e.jets = false;
-        lanes
-    });
-    let tokens = e.module(steps, chunks, fused, lanes);
-    let file = syn::parse2::<syn::File>(tokens).expect("the emitter produces valid Rust");
-    let pretty = prettyplease::unparse(&file);
-    // Comments are not tokens: each step was marked by a macro call that is
-    // replaced here by the step's explanation.
-    let mut out = format!(
-        "// @generated by dofplan from {} — do not edit.\n// Compiled plan of mechanism `{}`: {} steps, {} branch slots.\n// Regenerate with `dofplan emit {}` or by rebuilding the crate that compiles it.\n\n",
-        plan.source,
-        plan.mechanism,
-        plan.steps.len(),
-        plan.branches.len(),
-        plan.source
-    );
-    for line in pretty.lines() {
-        let trimmed = line.trim_start();
-        if let Some(rest) = trimmed.strip_prefix("__dofplan_step!(") {
-            let indent = &line[..line.len() - trimmed.len()];
-            let i: usize = rest.trim_end_matches(");").parse().expect("step marker");
-            let step = &plan.steps[i];
-            let serves = if step.serves.is_empty() {
-                String::new()
-            } else {
-                format!("  [{}]", step.serves.join(", "))
-            };
-            out.push_str(&format!("{indent}// {i}: {}{serves}\n", plan.explain(i)));
-        } else {
-            out.push_str(line);
-            out.push('\n');
+        Some(chunks) => {
+            e.chunked = true;
+            for (i, kind) in kinds.iter().enumerate() {
+                if chunk::starts_chunk(kind) {
+                    uses[i] = chunk::Uses::of(&e.step(i));
+                }
+            }
+            // The steps on jets, in the same chunks as `solve`: measured
+            // here, made again as their functions are written.
+            e.jets = true;
+            let mut real = false;
+            let jet_uses: Vec<chunk::Uses> = (0..plan.steps.len())
+                .map(|i| {
+                    let code = e.step(i);
+                    real |= code.to_string().contains("Jet2 :: cst");
+                    chunk::Uses::of(&code)
+                })
+                .collect();
+            e.jets = false;
+            e.prefix(real, false, &mut sink);
+            e.chunked_solve(uses, &chunks, &doc_solve, &mut sink);
+            e.jets = true;
+            e.chunked_solve(jet_uses, &chunks, "", &mut sink);
         }
     }
-    out
+    sink.out
+}
+
+/// Constants of `body` and `marker` laid out at a time.
+const NAMES_BATCH: usize = 1000;
+
+/// The generated module's text, written item by item: each item is parsed
+/// by `syn` and laid out by `prettyplease` as soon as it is made, so that
+/// only one item's tokens and syntax tree are held at a time.
+struct Sink<'p> {
+    plan: &'p Plan,
+    /// Each step's explanation, made once: `Plan::explain` alone looks up
+    /// the steps a step reads by scanning the plan.
+    explanations: Vec<String>,
+    out: String,
+}
+
+impl<'p> Sink<'p> {
+    /// The module's header comment.
+    fn new(plan: &'p Plan) -> Sink<'p> {
+        let out = format!(
+            "// @generated by dofplan from {} — do not edit.\n// Compiled plan of mechanism `{}`: {} steps, {} branch slots.\n// Regenerate with `dofplan emit {}` or by rebuilding the crate that compiles it.\n\n",
+            plan.source,
+            plan.mechanism,
+            plan.steps.len(),
+            plan.branches.len(),
+            plan.source
+        );
+        Sink {
+            plan,
+            explanations: plan.explanations(),
+            out,
+        }
+    }
+
+    /// Appends the module `head { first items }` (`head`: its attributes,
+    /// visibility and name), laid out as one item would be, but parsed
+    /// and laid out [`NAMES_BATCH`] items at a time.
+    fn push_module(
+        &mut self,
+        head: TokenStream,
+        first: TokenStream,
+        items: impl Iterator<Item = TokenStream>,
+    ) {
+        let mut items = items.peekable();
+        let batch: Vec<TokenStream> = items.by_ref().take(NAMES_BATCH).collect();
+        if items.peek().is_none() {
+            return self.push(quote!(#head { #first #(#batch)* }));
+        }
+        // The module's first lines, up to its closing brace; then each
+        // further batch in a stand-in module, which lays its items out at
+        // the same depth, without that module's first and last lines.
+        let text = Self::lay_out(quote!(#head { #first #(#batch)* }));
+        self.out
+            .push_str(text.strip_suffix("}\n").expect("a module ends with its brace"));
+        while items.peek().is_some() {
+            let batch = items.by_ref().take(NAMES_BATCH);
+            let text = Self::lay_out(quote!(mod batch { #(#batch)* }));
+            let inner = text
+                .strip_prefix("mod batch {\n")
+                .and_then(|t| t.strip_suffix("}\n"))
+                .expect("a module of items");
+            self.out.push_str(inner);
+        }
+        self.out.push_str("}\n");
+    }
+
+    /// The items of `tokens` laid out by prettyplease.
+    fn lay_out(tokens: TokenStream) -> String {
+        let file = syn::parse2::<syn::File>(tokens).expect("the emitter produces valid Rust");
+        prettyplease::unparse(&file)
+    }
+
+    /// Appends the items of `tokens`, laid out.
+    fn push(&mut self, tokens: TokenStream) {
+        let pretty = Self::lay_out(tokens);
+        // Comments are not tokens: each step was marked by a macro call
+        // that is replaced here by the step's explanation.
+        for line in pretty.lines() {
+            let trimmed = line.trim_start();
+            if let Some(rest) = trimmed.strip_prefix("__dofplan_step!(") {
+                let indent = &line[..line.len() - trimmed.len()];
+                let i: usize = rest.trim_end_matches(");").parse().expect("step marker");
+                let step = &self.plan.steps[i];
+                let serves = if step.serves.is_empty() {
+                    String::new()
+                } else {
+                    format!("  [{}]", step.serves.join(", "))
+                };
+                let _ = writeln!(self.out, "{indent}// {i}: {}{serves}", self.explanations[i]);
+            } else {
+                self.out.push_str(line);
+                self.out.push('\n');
+            }
+        }
+    }
 }
