@@ -4,7 +4,7 @@ of the one rustc run that compiles a user crate whose build.rs compiles a
 mechanism file with `dofplan::build` (the README's build.rs), in a debug or
 release build.
 
-    cargo run --example stress_chain -- 2000 > /tmp/chain_2000.toml
+    cargo run --release -p dofplan-gen -- stress-chain 2000 > /tmp/chain_2000.toml
     tools/build_cost.py /tmp/chain_2000.toml            # debug
     tools/build_cost.py /tmp/chain_2000.toml --release
 
