@@ -1298,10 +1298,15 @@ fn planar_and_spatial_summaries_share_one_layout() {
     let out = stdout(&dofplan(&["simulate", spatial, "--to", "120"]));
     let lines: Vec<&str> = out.lines().collect();
     assert_eq!(lines[0], "rssr_reach: 121 frames, theta from -60 to 120", "{out}");
-    assert_eq!(lines[1], "  frame 95: limited", "{out}");
+    // A run of frames that broke alike, as the planar summary gives it:
+    // the frame range, where the pose is held, and the step with its gap.
     assert_eq!(
-        lines[2],
-        format!("    step 2 broke (the circles do not meet): {text}"),
+        lines[1], "  frames 95–120 (theta 82.5 … 120): limited, held at theta 81",
+        "{out}"
+    );
+    assert!(
+        lines[2].starts_with("    step 2 broke (the circles do not meet, gap up to ")
+            && lines[2].ends_with(&format!("): {text}")),
         "{out}"
     );
     assert!(

@@ -25,6 +25,8 @@ use dofplan::model::Model;
 
 #[path = "cli/spatial.rs"]
 mod spatial;
+#[path = "cli/summary.rs"]
+mod summary;
 use dofplan::interp::Interpreter;
 use dofplan::model::{Input, InputKind, MarkerId, Mechanism, Sweep, MAX_STEPS};
 use dofplan::numeric::drag::Drag;
@@ -33,9 +35,8 @@ use dofplan::plan::{num, Plan};
 use dofplan::render::{render, SvgOptions};
 use dofplan::simulate::{frames, marker_positions, sweep_requests, Frame};
 use dofplan_runtime::planar::Pose;
-use dofplan_runtime::{
-    Animate, BranchPolicy, BreakKind, BreakPolicy, Driver, FrameStatus, Options, StartPolicy,
-};
+use dofplan_runtime::{Animate, BranchPolicy, BreakPolicy, Driver, FrameStatus, Options, StartPolicy};
+use summary::{Describe, Explain, Summary};
 
 #[path = "dofplan/progress.rs"]
 mod progress;
@@ -1358,10 +1359,6 @@ fn drag(
     output(&report, frames(&mut driver, targets), form, svg, out)
 }
 
-/// Writes a frame's driven value from its inputs, each number with the
-/// given format.
-type Describe<'a> = dyn Fn(&[f64], fn(f64) -> String) -> String + 'a;
-
 /// What the output of a run of frames needs besides the frames: how to
 /// name the inputs, how to explain a step, which markers to trace.
 struct Report<'a> {
@@ -1417,10 +1414,16 @@ fn output(
     svg: Option<&Path>,
     out: &mut dyn Write,
 ) -> io::Result<ExitCode> {
+    // Steps of a planar plan are shown by their own index.
+    let explain = |step: u32| (step as usize, (r.explain)(step));
+    let explain: &Explain = &explain;
     let mut writer: Box<dyn FrameWriter + '_> = match form {
         Form::Json => Box::new(JsonFrames { r, count: 0 }),
         Form::Csv => Box::new(CsvFrames { r }),
-        Form::Text => Box::new(Summary::new(r)),
+        Form::Text => Box::new(TextFrames {
+            title: &r.title,
+            summary: Summary::new(&r.value_name, &*r.value, explain),
+        }),
     };
     writer.begin(out)?;
     let mut kept = Vec::new();
@@ -1650,177 +1653,25 @@ impl FrameWriter for CsvFrames<'_, '_> {
     }
 }
 
-/// The text summary: the title, then every run of frames that broke alike
-/// (same status, same step) as a frame range as soon as it ends, then the
-/// counts. Holds one run, never the frames.
-struct Summary<'r, 'a> {
-    r: &'r Report<'a>,
-    /// Frames by status: solved, limited, searched, stretched, unreached.
-    counts: [usize; 5],
-    run: Option<Run>,
+/// The text summary of a planar run (`cli/summary.rs`): the title, the
+/// runs of frames that broke alike, the counts.
+struct TextFrames<'r> {
+    title: &'r str,
+    summary: Summary<'r>,
 }
 
-/// Consecutive frames that broke alike.
-struct Run {
-    first: usize,
-    last: usize,
-    /// The first frame's status.
-    status: FrameStatus,
-    /// The requested inputs of the first and last frames.
-    requested: (Vec<f64>, Vec<f64>),
-    /// The reached inputs of the first and last frames.
-    reached: (Vec<f64>, Vec<f64>),
-    /// The largest gap (a break) or residual (a stretch).
-    worst: f64,
-}
-
-/// What makes frames break alike: the status, the step, and why (a limit,
-/// or another circuit past it; none for a stretch).
-type BreakKey = (&'static str, u32, Option<BreakKind>);
-
-/// What makes frames break alike, and how much: its key, and the gap or
-/// residual.
-fn break_of(status: &FrameStatus) -> Option<(BreakKey, f64)> {
-    match status {
-        FrameStatus::Solved => None,
-        FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. } | FrameStatus::Unreached { brk } => {
-            Some(((status.name(), brk.step, Some(brk.kind)), brk.gap))
-        }
-        FrameStatus::Stretched { step, residual } => Some(((status.name(), *step, None), *residual)),
-    }
-}
-
-impl<'r, 'a> Summary<'r, 'a> {
-    fn new(r: &'r Report<'a>) -> Self {
-        Summary {
-            r,
-            counts: [0; 5],
-            run: None,
-        }
-    }
-
-    /// Writes the run that has just ended.
-    fn close(&mut self, out: &mut dyn Write) -> io::Result<()> {
-        let Some(run) = self.run.take() else {
-            return Ok(());
-        };
-        let r = self.r;
-        let (first, last) = (&run.requested.0, &run.requested.1);
-        let frames = if run.first == run.last {
-            format!("frame {} ({} {})", run.first, r.value_name, (r.value)(first, num))
-        } else {
-            format!(
-                "frames {}–{} ({} {} … {})",
-                run.first,
-                run.last,
-                r.value_name,
-                (r.value)(first, num),
-                (r.value)(last, num)
-            )
-        };
-        // Where the pose is: to the precision a break point is found to.
-        let (a, b) = (
-            (r.value)(&run.reached.0, precise),
-            (r.value)(&run.reached.1, precise),
-        );
-        let at = if a == b { a } else { format!("{a} … {b}") };
-        let (name, detail) = match &run.status {
-            FrameStatus::Limited { brk }
-            | FrameStatus::Searched { brk, .. }
-            | FrameStatus::Unreached { brk } => (
-                match run.status {
-                    FrameStatus::Limited { .. } => format!("limited, held at {} {at}", r.value_name),
-                    FrameStatus::Unreached { .. } => "not reachable (no pose yet)".to_string(),
-                    _ => format!("searched, break point {} {at}", r.value_name),
-                },
-                if brk.kind == BreakKind::OtherCircuit {
-                    // The step and gap are the limit's, not this frame's.
-                    format!(
-                        "{}; the limit was step {}: {}",
-                        brk.kind.describe(),
-                        brk.step,
-                        (r.explain)(brk.step)
-                    )
-                } else {
-                    format!(
-                        "step {} broke ({}, gap {}{}): {}",
-                        brk.step,
-                        brk.kind.describe(),
-                        if run.first == run.last { "" } else { "up to " },
-                        num(run.worst),
-                        (r.explain)(brk.step)
-                    )
-                },
-            ),
-            FrameStatus::Stretched { step, .. } => (
-                "stretched".to_string(),
-                format!(
-                    "step {step} stretched, residual {}{}: {}",
-                    if run.first == run.last { "" } else { "up to " },
-                    num(run.worst),
-                    (r.explain)(*step)
-                ),
-            ),
-            FrameStatus::Solved => unreachable!("a run holds broken frames only"),
-        };
-        writeln!(out, "  {frames}: {name}\n    {detail}")
-    }
-}
-
-impl FrameWriter for Summary<'_, '_> {
+impl FrameWriter for TextFrames<'_> {
     fn begin(&mut self, out: &mut dyn Write) -> io::Result<()> {
-        writeln!(out, "{}", self.r.title)
+        writeln!(out, "{}", self.title)
     }
 
     fn frame(&mut self, out: &mut dyn Write, index: usize, f: &Frame) -> io::Result<()> {
-        self.counts[match f.status {
-            FrameStatus::Solved => 0,
-            FrameStatus::Limited { .. } => 1,
-            FrameStatus::Searched { .. } => 2,
-            FrameStatus::Stretched { .. } => 3,
-            FrameStatus::Unreached { .. } => 4,
-        }] += 1;
-        let this = break_of(&f.status);
-        let alike = match (&self.run, this) {
-            (Some(run), Some((key, _))) => break_of(&run.status).is_some_and(|(k, _)| k == key),
-            _ => false,
-        };
-        if alike {
-            let run = self.run.as_mut().expect("alike implies a run");
-            run.last = index;
-            run.requested.1.clone_from(&f.requested);
-            run.reached.1.clone_from(&f.inputs);
-            run.worst = run.worst.max(this.map_or(0.0, |t| t.1));
-            return Ok(());
-        }
-        self.close(out)?;
-        if let Some((_, worst)) = this {
-            self.run = Some(Run {
-                first: index,
-                last: index,
-                status: f.status,
-                requested: (f.requested.clone(), f.requested.clone()),
-                reached: (f.inputs.clone(), f.inputs.clone()),
-                worst,
-            });
-        }
-        Ok(())
+        self.summary.frame(out, index, &f.requested, &f.inputs, &f.status)
     }
 
     fn end(&mut self, out: &mut dyn Write) -> io::Result<()> {
-        self.close(out)?;
-        let [solved, limited, searched, stretched, unreached] = self.counts;
-        // Unreached frames only occur in sweeps that start out of reach.
-        let unreached = if unreached > 0 {
-            format!(", {unreached} not reachable")
-        } else {
-            String::new()
-        };
-        writeln!(
-            out,
-            "{} frames: {solved} solved, {limited} limited, {searched} searched, {stretched} stretched{unreached}",
-            self.counts.iter().sum::<usize>()
-        )
+        let counts = self.summary.end(out)?;
+        writeln!(out, "{counts}")
     }
 }
 

@@ -20,6 +20,8 @@ use dofplan_runtime::spatial::{Pose3, Vec3};
 use dofplan_runtime::{Driver, FrameStatus, Options};
 use serde_json::{json, Map, Value};
 
+use crate::summary::{Describe, Summary};
+
 /// `dofplan check` of a spatial file.
 pub fn check(m: &Mechanism3, json_out: bool, out: &mut dyn Write) -> io::Result<ExitCode> {
     let c = count(m);
@@ -203,6 +205,8 @@ pub fn simulate(
         })
         .collect();
     let title = format!("{}: {} frames, {}", m.name, sweep.steps, ranges.join(", "));
+    let input = sweep.primary().input;
+    let value = move |inputs: &[f64], f: fn(f64) -> String| f(inputs[input]);
     frames(
         m,
         plan,
@@ -213,6 +217,7 @@ pub fn simulate(
         form,
         svg,
         &title,
+        (&m.inputs[input].name, &value),
         out,
     )
 }
@@ -278,7 +283,20 @@ pub fn drag(
         point(from),
         point(to)
     );
-    frames(&free, &plan, &names, requests, n, options, form, svg, &title, out)
+    let value = |p: &[f64], f: fn(f64) -> String| format!("({}, {}, {})", f(p[0]), f(p[1]), f(p[2]));
+    frames(
+        &free,
+        &plan,
+        &names,
+        requests,
+        n,
+        options,
+        form,
+        svg,
+        &title,
+        ("target", &value),
+        out,
+    )
 }
 
 /// Drives `plan` through `requests` and writes each frame as it comes.
@@ -293,12 +311,22 @@ fn frames(
     form: Form3,
     svg: Option<(&Path, &Mechanism3)>,
     title: &str,
+    (value_name, value): (&str, &Describe),
     out: &mut dyn Write,
 ) -> io::Result<ExitCode> {
     let mut driver = Driver::new(Interpreter3::new(plan.clone()), options);
     if form == Form3::Text {
         writeln!(out, "{title}")?;
     }
+    // The summary's steps as `dofplan plan` numbers and explains them.
+    let explain = |step: u32| {
+        let shown = step_number(step);
+        (
+            shown,
+            plan.steps.get(shown).map_or(String::new(), |s| s.text.clone()),
+        )
+    };
+    let mut summary = Summary::new(value_name, value, &explain);
     let mut kept: Vec<SpatialFrame> = Vec::new();
     let names: Vec<String> = m.all_markers().map(|id| m.marker_name(id)).collect();
     if form == Form3::Csv {
@@ -312,9 +340,7 @@ fn frames(
         head.push("residual".into());
         writeln!(out, "{}", head.join(","))?;
     }
-    let mut counts = [0usize; 5];
     let mut worst: f64 = 0.0;
-    let mut broken = Vec::new();
     if form == Form3::Json {
         writeln!(
             out,
@@ -329,16 +355,6 @@ fn frames(
         let poses = driver.poses();
         let res = residual(m, poses, driver.inputs());
         worst = worst.max(res);
-        counts[match status {
-            FrameStatus::Solved => 0,
-            FrameStatus::Limited { .. } => 1,
-            FrameStatus::Searched { .. } => 2,
-            FrameStatus::Stretched { .. } => 3,
-            FrameStatus::Unreached { .. } => 4,
-        }] += 1;
-        if !status.is_solved() {
-            broken.push(i);
-        }
         let markers = marker_positions(m, poses);
         if svg.is_some() {
             kept.push(SpatialFrame {
@@ -375,19 +391,8 @@ fn frames(
             }
             Form3::Text => {}
         }
-        if let (Form3::Text, FrameStatus::Limited { brk } | FrameStatus::Searched { brk, .. }) =
-            (form, status)
-        {
-            if broken.len() == 1 {
-                let step = step_number(brk.step);
-                writeln!(
-                    out,
-                    "  frame {i}: {}\n    step {step} broke ({}): {}",
-                    status.name(),
-                    brk.kind.describe(),
-                    plan.steps.get(step).map_or("", |s| s.text.as_str())
-                )?;
-            }
+        if form == Form3::Text {
+            summary.frame(out, i, &requested, driver.inputs(), &status)?;
         }
     }
     drop(bar);
@@ -401,17 +406,8 @@ fn frames(
         Form3::Json => writeln!(out, "]}}")?,
         Form3::Csv => {}
         Form3::Text => {
-            let [solved, limited, searched, stretched, unreached] = counts;
-            let unreached = if unreached > 0 {
-                format!(", {unreached} not reachable")
-            } else {
-                String::new()
-            };
-            writeln!(
-                out,
-                "{total} frames: {solved} solved, {limited} limited, {searched} searched, {stretched} stretched{unreached}; \
-                 largest joint residual {worst:.2e}"
-            )?;
+            let counts = summary.end(out)?;
+            writeln!(out, "{counts}; largest joint residual {worst:.2e}")?;
             if let Some((path, _)) = svg {
                 writeln!(out, "wrote {}", path.display())?;
             }
