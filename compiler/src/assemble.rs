@@ -91,17 +91,8 @@ impl Assembled {
             return format!("{}: already assembled, nothing moved\n", m.name);
         }
         let size = m.size();
-        let moved: Vec<&Move> = self.moves.iter().filter(|mv| mv.changed).collect();
-        let most = moved.iter().map(|mv| mv.distance).fold(0.0, f64::max);
-        let mut out = format!(
-            "{}: {} open joint(s) closed; {} of {} markers moved (most {}), each body rigidly, fixed bodies \
-             staying put\n",
-            m.name,
-            self.opened,
-            moved.len(),
-            self.moves.len(),
-            length(most)
-        );
+        let moved = self.moves.iter().filter(|mv| mv.changed).map(|mv| mv.distance);
+        let mut out = headline(&m.name, self.opened, moved, self.moves.len(), "");
         let point = |p: Point| format!("[{}, {}]", short(p[0], size), short(p[1], size));
         let rows: Vec<[String; 4]> = self
             .moves
@@ -121,6 +112,18 @@ impl Assembled {
         table(&mut out, &rows);
         out
     }
+}
+
+/// The report's first line, for either dimension: how many joints were
+/// closed and how far the markers that changed (their `moved` distances, of
+/// `total`) went; `note` ends the line (what happened to the inputs).
+fn headline(name: &str, opened: usize, moved: impl Iterator<Item = f64>, total: usize, note: &str) -> String {
+    let (count, most) = moved.fold((0, 0.0_f64), |(n, most), d| (n + 1, most.max(d)));
+    format!(
+        "{name}: {opened} open joint(s) closed; {count} of {total} markers moved (most {}), each body rigidly, \
+         fixed bodies staying put{note}\n",
+        length(most)
+    )
 }
 
 /// Appends the table of moves (marker, from, to, moved), its columns

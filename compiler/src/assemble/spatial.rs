@@ -70,22 +70,13 @@ impl Assembled3 {
             return format!("{}: already assembled, nothing moved\n", m.name);
         }
         let size = m.size();
-        let moved: Vec<&Move3> = self.moves.iter().filter(|mv| mv.changed).collect();
-        let most = moved.iter().map(|mv| mv.distance).fold(0.0, f64::max);
         let inputs = match (m.inputs.is_empty(), self.inputs_held) {
             (true, _) => "",
             (false, true) => ", inputs at their drawn values",
             (false, false) => ", inputs free (held at their drawn values the joints do not close)",
         };
-        let mut out = format!(
-            "{}: {} open joint(s) closed; {} of {} markers moved (most {}), each body rigidly, fixed bodies \
-             staying put{inputs}\n",
-            m.name,
-            self.opened,
-            moved.len(),
-            self.moves.len(),
-            super::length(most)
-        );
+        let moved = self.moves.iter().filter(|mv| mv.changed).map(|mv| mv.distance);
+        let mut out = super::headline(&m.name, self.opened, moved, self.moves.len(), inputs);
         let point = |p: Vec3| {
             format!(
                 "[{}, {}, {}]",
