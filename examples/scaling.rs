@@ -15,7 +15,10 @@
 //!   of `dofplan check`);
 //! - `emit`: load + analyse + the generated module (`dofplan emit`);
 //! - simulate: one interpreted frame of the sweep (warm start,
-//!   keep-branch), as `dofplan simulate` runs it.
+//!   keep-branch), as `dofplan simulate` runs it;
+//! - compiled: one frame of the same sweep by the chain's compiled plan
+//!   (`dofplan_generated::chains`, compiled as a user's build.rs compiles
+//!   it; other loop counts than the table's have no compiled column).
 //!
 //! Every figure is a median: of at least 3 runs (more for quick ones, up to
 //! 21) for the plan-time columns, of 5 passes over the sweep for the frame.
@@ -33,7 +36,7 @@ use dofplan::emit::emit;
 use dofplan::interp::Interpreter;
 use dofplan::model::{load_str, Format, Mechanism};
 use dofplan::simulate::sweep_inputs;
-use dofplan_runtime::{Driver, Options};
+use dofplan_runtime::{Animate, Driver, Options};
 use dofplan_tests::stress::stress_chain;
 
 /// The sizes of the README's table.
@@ -69,17 +72,18 @@ fn load(text: &str) -> Mechanism {
     load_str("stress.toml", text, Format::Toml).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// Median µs per interpreted frame over 5 passes of the sweep's first
-/// `frames` frames.
-fn us_per_frame(m: &Mechanism, frames: usize) -> f64 {
-    let plan = analyse(m).plan.expect("a stress chain plans");
-    let inputs: Vec<Vec<f64>> = sweep_inputs(m, None).into_iter().take(frames).collect();
-    let mut driver = Driver::new(Interpreter::new(plan), Options::default());
+/// The sweep's first `frames` frames.
+fn frames(m: &Mechanism, frames: usize) -> Vec<Vec<f64>> {
+    sweep_inputs(m, None).into_iter().take(frames).collect()
+}
+
+/// Median µs per frame of `driver` over 5 passes of `inputs`.
+fn us_per_frame(driver: &mut dyn Animate, inputs: &[Vec<f64>]) -> f64 {
     let mut samples: Vec<f64> = (0..5)
         .map(|_| {
             driver.reset();
             let t = cpu();
-            for i in &inputs {
+            for i in inputs {
                 black_box(driver.frame(black_box(i)));
             }
             (cpu() - t) * 1e6 / inputs.len() as f64
@@ -114,9 +118,9 @@ fn main() {
     };
     println!(
         "| loops | bodies | joints | steps | load ms | analyse ms | rank ms | ranges ms | four-bars ms | `plan` ms | \
-         `check` ms | `emit` ms | simulate µs/frame |"
+         `check` ms | `emit` ms | simulate µs/frame | compiled µs/frame |"
     );
-    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    println!("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
     for n in loops {
         let text = stress_chain(n);
         let m = load(&text);
@@ -155,10 +159,17 @@ fn main() {
             black_box(emit(&p));
         });
         // About 100 ms of frames per pass at most: fewer for long chains.
-        let frames = (20_000 / n).clamp(8, 361);
-        let t_frame = us_per_frame(&m, frames);
+        let inputs = frames(&m, (20_000 / n).clamp(8, 361));
+        let t_frame = us_per_frame(
+            &mut Driver::new(Interpreter::new(plan), Options::default()),
+            &inputs,
+        );
+        let t_compiled = match dofplan_generated::chains::driver(n, Options::default()) {
+            Some(mut compiled) => format!("{:.1}", us_per_frame(compiled.as_mut(), &inputs)),
+            None => "–".into(),
+        };
         println!(
-            "| {n} | {} | {} | {steps} | {} | {} | {} | {} | {} | {} | {} | {} | {t_frame:.1} |",
+            "| {n} | {} | {} | {steps} | {} | {} | {} | {} | {} | {} | {} | {} | {t_frame:.1} | {t_compiled} |",
             m.bodies.len(),
             m.joints.len(),
             ms(t_load),

@@ -23,8 +23,9 @@ use std::ops::Range;
 use proc_macro2::{TokenStream, TokenTree};
 use quote::{format_ident, quote};
 
+use super::roll::Run;
 use super::{index, Emitter, Sink};
-use crate::plan::StepKind;
+use crate::plan::{Plan, StepKind};
 
 /// The most tokens of step code one generated function holds (a single
 /// larger step, such as a big numeric cluster, gets a function of its
@@ -79,6 +80,20 @@ impl Uses {
 /// A run of steps that becomes one function.
 pub(super) struct Chunk {
     steps: Range<usize>,
+    /// Whether the steps repeat and are rolled into a loop (see
+    /// [`roll`](super::roll)).
+    rolled: Option<Run>,
+}
+
+/// The step computing each point of `plan`.
+pub(super) fn temp_steps(plan: &Plan) -> Vec<usize> {
+    let mut at = vec![usize::MAX; plan.temps.len()];
+    for (i, step) in plan.steps.iter().enumerate() {
+        if let Some(t) = out(&step.kind) {
+            at[t] = i;
+        }
+    }
+    at
 }
 
 /// The point a step computes, if any.
@@ -105,23 +120,49 @@ pub(super) fn starts_chunk(kind: &StepKind) -> bool {
 }
 
 /// The chunks of a plan whose steps weigh `weights`, or `None` when they
-/// fit in one function of `limit`.
-pub(super) fn partition(kinds: &[&StepKind], weights: &[usize], limit: usize) -> Option<Vec<Chunk>> {
+/// fit in one function of `limit`. Each of the `runs` (made only when the
+/// plan is split) is a chunk of its own; the steps between them are packed
+/// into chunks of at most `limit`.
+pub(super) fn partition(
+    kinds: &[&StepKind],
+    weights: &[usize],
+    limit: usize,
+    runs: impl FnOnce() -> Vec<Run>,
+) -> Option<Vec<Chunk>> {
     if weights.iter().sum::<usize>() <= limit {
         return None;
     }
     let mut chunks = Vec::new();
-    let (mut start, mut weight) = (0, 0);
-    for (i, (&w, kind)) in weights.iter().zip(kinds).enumerate() {
-        if i > start && (weight + w > limit || starts_chunk(kind)) {
-            chunks.push(Chunk { steps: start..i });
-            (start, weight) = (i, 0);
+    let pack = |steps: Range<usize>, chunks: &mut Vec<Chunk>| {
+        if steps.is_empty() {
+            return;
         }
-        weight += w;
+        let (mut start, mut weight) = (steps.start, 0);
+        for i in steps.clone() {
+            if i > start && (weight + weights[i] > limit || starts_chunk(kinds[i])) {
+                chunks.push(Chunk {
+                    steps: start..i,
+                    rolled: None,
+                });
+                (start, weight) = (i, 0);
+            }
+            weight += weights[i];
+        }
+        chunks.push(Chunk {
+            steps: start..steps.end,
+            rolled: None,
+        });
+    };
+    let mut next = 0;
+    for run in runs() {
+        pack(next..run.steps.start, &mut chunks);
+        next = run.steps.end;
+        chunks.push(Chunk {
+            steps: run.steps.clone(),
+            rolled: Some(run),
+        });
     }
-    chunks.push(Chunk {
-        steps: start..weights.len(),
-    });
+    pack(next..weights.len(), &mut chunks);
     Some(chunks)
 }
 
@@ -149,7 +190,11 @@ impl Emitter<'_> {
             .map(|chunk| {
                 let mut u = Uses::default();
                 for s in step_uses.by_ref().take(chunk.steps.len()) {
-                    u.merge(s);
+                    // A rolled run names no frame local: it works on the
+                    // state itself, and its points are its own.
+                    if chunk.rolled.is_none() {
+                        u.merge(s);
+                    }
                 }
                 u
             })
@@ -241,6 +286,11 @@ impl Emitter<'_> {
         }
 
         for (c, chunk) in chunks.iter().enumerate() {
+            if let Some(run) = &chunk.rolled {
+                let (f, doc) = &names[c];
+                self.rolled_chunk(run, f, doc, sink);
+                continue;
+            }
             let code: Vec<TokenStream> = chunk.steps.clone().map(|i| self.step(i)).collect();
             let uses = |ident: &str| used_in(c, ident);
             let written: HashSet<usize> = chunk

@@ -7,7 +7,8 @@
 //! the joints it serves. Bodies live in a fixed-size array in the state
 //! struct, so a frame allocates nothing. A large plan's steps are split
 //! into functions of bounded size (see [`chunk`]), so that rustc compiles
-//! a mechanism of any size; every body and marker gets a named constant
+//! a mechanism of any size, and its repeated steps are rolled into loops
+//! over tables (see [`roll`]); every body and marker gets a named constant
 //! (see [`names`]).
 //!
 //! Spatial plans get a module of the same shape from [`emit_spatial`]
@@ -22,6 +23,7 @@ mod chunk;
 mod cluster;
 mod names;
 mod rates;
+mod roll;
 mod spatial;
 mod spatial_cluster;
 
@@ -89,6 +91,14 @@ struct Emitter<'p> {
     /// With `jets`: the steps are written for `solve_lanes`, on
     /// [`Lanes`](dofplan_runtime::lanes::Lanes) of frames instead of jets.
     lanes: bool,
+    /// While a step is written for a rolled run (see [`roll`]): its
+    /// constants go to a table row instead of the code.
+    row: std::cell::RefCell<Option<roll::Recording>>,
+    /// The step computing each point.
+    temp_steps: Vec<usize>,
+    /// The tables of the rolled runs written so far, by first step: their
+    /// module and rows, for the jets' functions to share.
+    tables: std::cell::RefCell<std::collections::HashMap<usize, (Ident, Vec<roll::Row>)>>,
 }
 
 impl Emitter<'_> {
@@ -104,6 +114,9 @@ impl Emitter<'_> {
     /// A body's pose: its local for a mobile body, the state's (never
     /// written) entry for a fixed one.
     fn pose(&self, body: usize) -> TokenStream {
+        if let Some(pose) = self.rolled_pose(body) {
+            return pose;
+        }
         if self.plan.bodies[body].fixed {
             let b = index(body);
             if self.jets {
@@ -120,7 +133,7 @@ impl Emitter<'_> {
 
     /// A constant point: a literal, or lifted to jets.
     fn plit(&self, p: [f64; 2]) -> TokenStream {
-        let l = point_lit(p);
+        let l = self.point_lit(p);
         if self.jets {
             quote!(planar::cst(#l))
         } else {
@@ -130,7 +143,7 @@ impl Emitter<'_> {
 
     /// A constant number: a literal, or lifted to a jet.
     fn slit(&self, x: f64) -> TokenStream {
-        let l = lit(x);
+        let l = self.lit(x);
         if self.jets {
             let t = self.num();
             quote!(#t::cst(#l))
@@ -145,10 +158,10 @@ impl Emitter<'_> {
         match p {
             PointRef::Fixed { at, .. } => self.plit(*at),
             PointRef::Marker { body, local, name } => {
-                let id = format_ident!("{}", point_ident(name));
+                let id = self.local_point(name, prelude);
                 // A marker's local position is a constant of its body: a
                 // plain number even on jets and lanes (`Pose::world`).
-                let (b, l) = (self.pose(*body), point_lit(*local));
+                let (b, l) = (self.pose(*body), self.point_lit(*local));
                 prelude.push(quote!(let #id = #b.world(#l);));
                 quote!(#id)
             }
@@ -160,14 +173,14 @@ impl Emitter<'_> {
                 sign,
                 name,
             } => {
-                let id = format_ident!("{}", point_ident(name));
+                let id = self.local_point(name, prelude);
                 let b = self.pose(*body);
                 let u = &self.input_idents[*input];
                 let u = if *sign < 0.0 { quote!((-#u)) } else { quote!(#u) };
                 let (lx, ly) = (self.slit(local[0]), self.slit(local[1]));
                 // The slide direction is a constant: on jets and lanes a
                 // multiplication by a plain number.
-                let (dx, dy) = (lit(dir[0]), lit(dir[1]));
+                let (dx, dy) = (self.lit(dir[0]), self.lit(dir[1]));
                 let (ux, uy) = if self.jets {
                     (quote!(#u.mul_f64(#dx)), quote!(#u.mul_f64(#dy)))
                 } else {
@@ -184,7 +197,7 @@ impl Emitter<'_> {
                 quote!(#id)
             }
             PointRef::Temp { id } => {
-                let t = &self.temp_idents[*id];
+                let t = self.temp(*id);
                 quote!(#t)
             }
         }
@@ -195,7 +208,7 @@ impl Emitter<'_> {
             DirRef::Fixed(v) => self.plit(*v),
             DirRef::Body { body, local } => {
                 let id = format_ident!("{}", name);
-                let (b, l) = (self.pose(*body), point_lit(*local));
+                let (b, l) = (self.pose(*body), self.point_lit(*local));
                 prelude.push(quote!(let #id = #b.world_dir(#l);));
                 quote!(#id)
             }
@@ -204,9 +217,9 @@ impl Emitter<'_> {
 
     fn step(&self, i: usize) -> TokenStream {
         let step = &self.plan.steps[i];
-        let id = Literal::u32_unsuffixed(i as u32);
+        let id = self.step_id(i);
         let mut pre = Vec::new();
-        let marker = quote!(__dofplan_step!(#id););
+        let marker = self.step_marker(i);
         match &step.kind {
             StepKind::Orient { body, from, rel } => {
                 let b = self.pose(*body);
@@ -238,7 +251,7 @@ impl Emitter<'_> {
             }
             StepKind::Anchor { body, local, at } => {
                 let at = self.point(at, &mut pre);
-                let (b, l) = (self.pose(*body), point_lit(*local));
+                let (b, l) = (self.pose(*body), self.point_lit(*local));
                 quote! {
                     #marker
                     {
@@ -257,7 +270,7 @@ impl Emitter<'_> {
             } => {
                 let p_at = self.point(p_at, &mut pre);
                 let q_at = self.point(q_at, &mut pre);
-                let (b, p, q) = (self.pose(*body), point_lit(*p), point_lit(*q));
+                let (b, p, q) = (self.pose(*body), self.point_lit(*p), self.point_lit(*q));
                 let call = if *redundant {
                     quote!(planar::align_consistent(ctx, #id, &mut #b, #p, #p_at, #q, #q_at)?;)
                 } else {
@@ -279,10 +292,10 @@ impl Emitter<'_> {
                 r2,
                 branch,
             } => {
-                let t = &self.temp_idents[*out];
+                let t = &self.temp(*out);
                 let c1 = self.point(c1, &mut pre);
                 let c2 = self.point(c2, &mut pre);
-                let (r1, r2, k) = (self.slit(*r1), self.slit(*r2), index(*branch));
+                let (r1, r2, k) = (self.slit(*r1), self.slit(*r2), self.index(*branch));
                 quote! {
                     #marker
                     let #t = {
@@ -298,16 +311,16 @@ impl Emitter<'_> {
                 line,
                 branch,
             } => {
-                let t = &self.temp_idents[*out];
+                let t = &self.temp(*out);
                 let c = self.point(c, &mut pre);
                 let p = self.point(&line.through, &mut pre);
                 // A fixed direction stays a pair of plain numbers: the
                 // step multiplies by it at a third of a jet product's cost.
                 let d = match &line.dir {
-                    DirRef::Fixed(v) => point_lit(*v),
+                    DirRef::Fixed(v) => self.point_lit(*v),
                     body => self.dir(body, "line_dir", &mut pre),
                 };
-                let (r, k) = (self.slit(*r), index(*branch));
+                let (r, k) = (self.slit(*r), self.index(*branch));
                 quote! {
                     #marker
                     let #t = {
@@ -317,7 +330,7 @@ impl Emitter<'_> {
                 }
             }
             StepKind::LineLine { out, a, b } => {
-                let t = &self.temp_idents[*out];
+                let t = &self.temp(*out);
                 let p1 = self.point(&a.through, &mut pre);
                 let d1 = self.dir(&a.dir, "dir_a", &mut pre);
                 let p2 = self.point(&b.through, &mut pre);
@@ -451,7 +464,7 @@ impl Emitter<'_> {
                     self.pose(*body),
                     self.plit(*dir),
                     self.slit(*kappa),
-                    index(*branch),
+                    self.index(*branch),
                 );
                 quote! {
                     #marker
@@ -1074,6 +1087,9 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
         chunked: false,
         jets: false,
         lanes: false,
+        row: Default::default(),
+        temp_steps: chunk::temp_steps(plan),
+        tables: Default::default(),
     };
     // Each step's code is made to be measured and then dropped: a large
     // plan's steps are made again, chunk by chunk, as they are written.
@@ -1082,7 +1098,7 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
         .map(|i| chunk::Uses::of(&e.step(i)))
         .collect();
     let weights: Vec<usize> = uses.iter().map(|u| u.weight).collect();
-    let chunks = chunk::partition(&kinds, &weights, chunk_weight);
+    let chunks = chunk::partition(&kinds, &weights, chunk_weight, || e.runs());
     let mut sink = Sink::new(plan);
     let doc_solve = e.doc_solve();
     match chunks {
@@ -1212,9 +1228,39 @@ impl<'p> Sink<'p> {
         prettyplease::unparse(&file)
     }
 
+    /// Appends the items of `tokens`, laid out, with `rows` (a rolled
+    /// run's table, a row a line) in place of their `__dofplan_rows!()`.
+    fn push_with_rows(&mut self, tokens: TokenStream, rows: &str) {
+        let pretty = Self::lay_out(tokens);
+        let (before, after) = pretty
+            .split_once("__dofplan_rows!()")
+            .expect("a rolled run's module holds its table");
+        let indent = before
+            .rsplit('\n')
+            .next()
+            .map_or(0, |line| line.len() - line.trim_start().len());
+        let mut text = String::with_capacity(pretty.len() + rows.len() + rows.len() / 40 * (indent + 4));
+        text.push_str(before);
+        text.push_str("[\n");
+        for row in rows.lines() {
+            text.extend(std::iter::repeat_n(' ', indent + 4));
+            text.push_str(row);
+            text.push('\n');
+        }
+        text.extend(std::iter::repeat_n(' ', indent));
+        text.push(']');
+        text.push_str(after);
+        self.push_laid_out(&text);
+    }
+
     /// Appends the items of `tokens`, laid out.
     fn push(&mut self, tokens: TokenStream) {
         let pretty = Self::lay_out(tokens);
+        self.push_laid_out(&pretty);
+    }
+
+    /// Appends laid-out items, each step's mark replaced by its comment.
+    fn push_laid_out(&mut self, pretty: &str) {
         // Comments are not tokens: each step was marked by a macro call
         // that is replaced here by the step's explanation.
         for line in pretty.lines() {
