@@ -396,6 +396,29 @@ fn spatial_drags_follow_the_target_and_keep_every_joint_closed() {
     let (last, gap) = frames.last().unwrap();
     assert!(matches!(last, FrameStatus::Stretched { .. }), "{last:?}");
     assert!(*gap < start, "approached: {gap} < {start}");
+    // A marker the joints leave no motion at all: the RSSR crank's point
+    // on its fixed axis. The pin's rows, projected into the joints' motion,
+    // are rounding noise there; inverted, they used to open every joint
+    // (by 0.11 for a target 0.17 away) and put the marker on the target.
+    let to = [0.1, 0.1, 0.1];
+    let (frames, from) = run("rssr", "crank.A", to, 4);
+    assert_eq!(from, [0.0, 0.0, 0.0]);
+    for (i, (status, gap)) in frames.iter().enumerate() {
+        let target = norm(to) * (i + 1) as f64 / 4.0;
+        assert!(matches!(status, FrameStatus::Stretched { .. }), "{status:?}");
+        assert!(
+            (gap - target).abs() < 1e-12,
+            "frame {i}: the marker moved: {gap} from a target {target} away"
+        );
+    }
+    // Far targets, 50 units off, on the other bundled linkages.
+    for (name, marker) in [
+        ("tilted_fourbar", "crank.A"),
+        ("bennett", "crank.A"),
+        ("spherical_fourbar", "crank.A"),
+    ] {
+        run(name, marker, [50.0, 50.0, 50.0], 10);
+    }
 }
 
 /// Breaking policies in space: the excavator's boom cylinder pushed far

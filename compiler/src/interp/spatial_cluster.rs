@@ -319,26 +319,34 @@ fn drag(system: &mut System, x: &mut DVector<f64>, size: f64, ctx: &mut Ctx, ste
     let mut r = DVector::zeros(m);
     let mut j = DMatrix::zeros(m, n);
     let tol = 1e-12 * size;
-    let pinv = |a: DMatrix<f64>| {
+    // Singular values below `cut` are dropped. The cut is relative to the
+    // whole Jacobian, not to the matrix inverted: where the joints leave
+    // the pinned marker no motion at all (a marker on a fixed axis), the
+    // projected pin rows are rounding noise, and a cut relative to them
+    // inverted the noise into steps that opened the joints.
+    let pinv = |a: DMatrix<f64>, cut: f64| {
         let svd = a.svd(true, true);
-        let cut = 1e-10 * svd.singular_values.max().max(1e-300);
         svd.pseudo_inverse(cut).unwrap_or_else(|_| DMatrix::zeros(n, 0))
     };
     for _ in 0..100 {
         system.eval(x, &mut r, Some(&mut j));
+        let cut = 1e-10 * j.norm().max(1e-300);
         let (r1, r2) = (r.rows(0, joints).into_owned(), r.rows(joints, 3).into_owned());
         let (j1, j2) = (j.rows(0, joints).into_owned(), j.rows(joints, 3).into_owned());
-        let j1p = pinv(j1.clone());
+        let j1p = pinv(j1.clone(), cut);
         let dx1 = -(&j1p * &r1);
         let null = DMatrix::identity(n, n) - &j1p * &j1;
         let j2n = &j2 * &null;
-        let dx2 = pinv(j2n) * (-(&r2) - &j2 * &dx1);
-        let mut dx = dx1 + &null * dx2;
-        // Small steps: a frame is a small motion of the target.
-        let len = dx.norm();
+        let dx2 = pinv(j2n, cut) * (-(&r2) - &j2 * &dx1);
+        // Small steps toward the target: a frame is a small motion of it.
+        // Only the motion the joints leave is shortened; the step back
+        // onto the joints is taken whole.
+        let mut toward = &null * dx2;
+        let len = toward.norm();
         if len > 0.25 * size {
-            dx *= 0.25 * size / len;
+            toward *= 0.25 * size / len;
         }
+        let dx = dx1 + toward;
         *x += &dx;
         if dx.norm() <= tol && r1.amax() <= tol {
             break;
