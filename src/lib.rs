@@ -109,3 +109,13 @@ pub fn all_options() -> Vec<dofplan_runtime::Options> {
     }
     out
 }
+
+/// The largest difference of two planar poses' coordinates and rotation
+/// entries: how far apart two back ends' frames are.
+pub fn pose_gap(a: &dofplan_runtime::planar::Pose, b: &dofplan_runtime::planar::Pose) -> f64 {
+    (a.at[0] - b.at[0])
+        .abs()
+        .max((a.at[1] - b.at[1]).abs())
+        .max((a.rot.c - b.rot.c).abs())
+        .max((a.rot.s - b.rot.s).abs())
+}

@@ -92,11 +92,7 @@ fn split_and_whole_compiled_plans_and_the_interpreter_agree_on_every_frame() {
                 assert_eq!(split.poses(), whole.poses(), "{module} frame {i} {options:?}");
                 assert_eq!(split.inputs(), whole.inputs(), "{module} frame {i} {options:?}");
                 for (a, b) in split.poses().iter().zip(interpreted.poses()) {
-                    let d = (a.at[0] - b.at[0])
-                        .abs()
-                        .max((a.at[1] - b.at[1]).abs())
-                        .max((a.rot.c - b.rot.c).abs())
-                        .max((a.rot.s - b.rot.s).abs());
+                    let d = dofplan_tests::pose_gap(a, b);
                     assert!(
                         d <= 1e-12,
                         "{module} frame {i}: split and interpreted differ by {d:e}"

@@ -44,11 +44,7 @@ fn compiled_chains_of_every_size_agree_with_the_interpreter_and_hold_every_joint
                 let r = max_relative_residual(&m, compiled.poses(), inputs);
                 assert!(r <= 1e-9, "{loops} loops, frame {i}: relative residual {r:e}");
                 for (b, (a, c)) in compiled.poses().iter().zip(interpreted.poses()).enumerate() {
-                    let d = (a.at[0] - c.at[0])
-                        .abs()
-                        .max((a.at[1] - c.at[1]).abs())
-                        .max((a.rot.c - c.rot.c).abs())
-                        .max((a.rot.s - c.rot.s).abs());
+                    let d = dofplan_tests::pose_gap(a, c);
                     assert!(
                         d <= 1e-12,
                         "{loops} loops, frame {i}, body {b}: compiled and interpreted differ by {d:e}"

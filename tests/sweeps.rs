@@ -101,11 +101,7 @@ fn compiled_and_interpreted_agree_on_every_frame() {
                     );
                     assert_eq!(fa.inputs, fb.inputs, "{name} frame {i} inputs");
                     for (pa, pb) in fa.poses.iter().zip(&fb.poses) {
-                        let d = (pa.at[0] - pb.at[0])
-                            .abs()
-                            .max((pa.at[1] - pb.at[1]).abs())
-                            .max((pa.rot.c - pb.rot.c).abs())
-                            .max((pa.rot.s - pb.rot.s).abs());
+                        let d = dofplan_tests::pose_gap(pa, pb);
                         assert!(
                             d <= 1e-12,
                             "{name} frame {i}: compiled and interpreted differ by {d:e}"

@@ -85,6 +85,16 @@ pub(super) struct Chunk {
     rolled: Option<Run>,
 }
 
+/// A generated function's parameter `name`, `_`-prefixed when its code
+/// does not use it.
+pub(super) fn param(name: &str, used: bool) -> proc_macro2::Ident {
+    if used {
+        format_ident!("{}", name)
+    } else {
+        format_ident!("_{}", name)
+    }
+}
+
 /// The step computing each point of `plan`.
 pub(super) fn temp_steps(plan: &Plan) -> Vec<usize> {
     let mut at = vec![usize::MAX; plan.temps.len()];
@@ -342,13 +352,6 @@ impl Emitter<'_> {
                     }
                 }
             }
-            let param = |name: &str, used: bool| {
-                if used {
-                    format_ident!("{}", name)
-                } else {
-                    format_ident!("_{}", name)
-                }
-            };
             let s = param("s", uses("s") || (state_used && !jets));
             let w = param(
                 "w",

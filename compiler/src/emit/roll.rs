@@ -30,7 +30,7 @@ use quote::{format_ident, quote};
 
 use std::fmt::Write;
 
-use super::chunk::Uses;
+use super::chunk::{param, Uses};
 use super::{lit, Emitter, Sink};
 use crate::plan::StepKind;
 
@@ -337,13 +337,6 @@ impl Emitter<'_> {
                 reads_inputs = true;
             }
         }
-        let param = |name: &str, used: bool| {
-            if used {
-                format_ident!("{}", name)
-            } else {
-                format_ident!("_{}", name)
-            }
-        };
         let inputs = param("inputs", reads_inputs);
         let ctx = param("ctx", uses.has("ctx"));
         let (first, last, period) = (run.steps.start, run.steps.end - 1, run.period);
