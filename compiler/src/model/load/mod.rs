@@ -12,7 +12,7 @@ use dofplan_runtime::Point;
 
 use super::error::{Diagnostic, Location, ModelError, Note, SourceFile};
 use super::shape;
-use super::source::{parse_json, parse_toml, Key, Node, NodeKind};
+use super::source::{parse_json, parse_toml, At, Key, Node, NodeKind};
 mod spatial;
 
 use super::spatial::Mechanism3;
@@ -347,7 +347,7 @@ impl Drawn {
 
 /// Parses a file into its node tree, with the errors every file can have
 /// (empty, syntax, nothing defined).
-fn parse(file_name: &str, text: &str, format: Format) -> Result<(SourceFile, Node), ModelError> {
+fn parse<'s>(file_name: &str, text: &'s str, format: Format) -> Result<(SourceFile, Node<'s>), ModelError> {
     let file = SourceFile {
         name: file_name.to_string(),
         text: Arc::from(text),
@@ -492,12 +492,12 @@ fn format_name(format: Format) -> &'static str {
 
 /// A marker reference with where it was written, before resolution.
 struct Written<'a> {
-    node: &'a Node,
+    node: &'a Node<'a>,
     path: String,
 }
 
 /// A table's entries as parsed.
-type Entries<'n> = &'n [(Key, Node)];
+type Entries<'n> = &'n [(Key<'n>, Node<'n>)];
 
 /// Bodies by name, and markers by body and name.
 type Names = (HashMap<String, usize>, HashMap<(usize, String), usize>);
@@ -537,15 +537,15 @@ impl Validator {
     }
 
     fn loc(&self, node: &Node, path: &str) -> Location {
-        match &node.span {
-            Some(s) => Location::Span(s.clone()),
+        match node.span() {
+            Some(s) => Location::Span(s),
             None => Location::Path(path.to_string()),
         }
     }
 
     fn key_loc(&self, key: &Key, path: &str) -> Location {
-        match &key.span {
-            Some(s) => Location::Span(s.clone()),
+        match key.span() {
+            Some(s) => Location::Span(s),
             None => Location::Path(path.to_string()),
         }
     }
@@ -570,7 +570,7 @@ impl Validator {
         });
     }
 
-    fn table<'n>(&mut self, node: &'n Node, path: &str) -> Option<&'n [(Key, Node)]> {
+    fn table<'n>(&mut self, node: &'n Node<'n>, path: &str) -> Option<&'n [(Key<'n>, Node<'n>)]> {
         match &node.kind {
             NodeKind::Table(t) => Some(t),
             other => {
@@ -591,7 +591,7 @@ impl Validator {
         let mut seen: HashMap<&str, &Key> = HashMap::new();
         for (key, _) in entries {
             let kpath = join(path, &key.name);
-            if let Some(first) = seen.get(key.name.as_str()) {
+            if let Some(first) = seen.get(key.name.as_ref()) {
                 let first_loc = self.key_loc(first, &kpath);
                 let loc = self.key_loc(key, &kpath);
                 self.error_notes(
@@ -606,7 +606,7 @@ impl Validator {
             } else {
                 seen.insert(&key.name, key);
             }
-            if !allowed.is_empty() && !allowed.contains(&key.name.as_str()) {
+            if !allowed.is_empty() && !allowed.contains(&key.name.as_ref()) {
                 let loc = self.key_loc(key, &kpath);
                 self.error(
                     loc,
@@ -617,17 +617,17 @@ impl Validator {
         }
     }
 
-    fn get<'n>(entries: &'n [(Key, Node)], name: &str) -> Option<&'n Node> {
+    fn get<'n>(entries: &'n [(Key<'n>, Node<'n>)], name: &str) -> Option<&'n Node<'n>> {
         entries.iter().find(|(k, _)| k.name == name).map(|(_, n)| n)
     }
 
     fn required<'n>(
         &mut self,
-        entries: &'n [(Key, Node)],
+        entries: &'n [(Key<'n>, Node<'n>)],
         name: &str,
         parent: &Node,
         path: &str,
-    ) -> Option<&'n Node> {
+    ) -> Option<&'n Node<'n>> {
         let found = Self::get(entries, name);
         if found.is_none() {
             let loc = self.loc(parent, path);
@@ -636,7 +636,7 @@ impl Validator {
         found
     }
 
-    fn string<'n>(&mut self, node: &'n Node, path: &str) -> Option<&'n str> {
+    fn string<'n>(&mut self, node: &'n Node<'n>, path: &str) -> Option<&'n str> {
         match &node.kind {
             NodeKind::Str(s) => Some(s),
             other => {
@@ -740,7 +740,7 @@ impl Validator {
 
     /// The top-level table of a file of either dimension, its keys checked,
     /// and its `name`.
-    fn top<'n>(&mut self, root: &'n Node) -> Option<(Entries<'n>, Option<String>)> {
+    fn top<'n>(&mut self, root: &'n Node<'n>) -> Option<(Entries<'n>, Option<String>)> {
         let top = self.table(root, "")?;
         self.check_keys(
             top,
@@ -791,7 +791,7 @@ impl Validator {
             None => Vec::new(),
         };
         let empty = Node {
-            span: None,
+            at: At::NONE,
             kind: NodeKind::Table(Vec::new()),
         };
         let joints_node = Self::get(top, "joints").unwrap_or(&empty);
@@ -812,7 +812,7 @@ impl Validator {
             None => Vec::new(),
         };
         let written_inputs: Vec<&str> = match Self::get(top, "inputs").map(|n| &n.kind) {
-            Some(NodeKind::Table(t)) => t.iter().map(|(k, _)| k.name.as_str()).collect(),
+            Some(NodeKind::Table(t)) => t.iter().map(|(k, _)| k.name.as_ref()).collect(),
             _ => vec![],
         };
         let sweep = match Self::get(top, "sweep") {
@@ -847,7 +847,7 @@ impl Validator {
             let path = join("bodies", &key.name);
             self.check_name(key, &path, "body");
             let Some(fields) = self.table(bnode, &path) else {
-                self.broken.insert(key.name.clone());
+                self.broken.insert(key.name.to_string());
                 continue;
             };
             self.check_keys(fields, &["fixed", "markers"], &path);
@@ -875,7 +875,7 @@ impl Validator {
                 .and_then(|mnode| self.table(mnode, &join(&path, "markers")));
             match mentries {
                 None => {
-                    self.broken.insert(key.name.clone());
+                    self.broken.insert(key.name.to_string());
                 }
                 Some(mentries) => {
                     let mpath = join(&path, "markers");
@@ -893,7 +893,7 @@ impl Validator {
                 }
             }
             bodies.push(Body {
-                name: key.name.clone(),
+                name: key.name.to_string(),
                 fixed,
                 markers,
             });
@@ -1112,12 +1112,12 @@ impl Validator {
 
     fn kind<'n>(
         &mut self,
-        fields: &'n [(Key, Node)],
+        fields: &'n [(Key<'n>, Node<'n>)],
         node: &Node,
         path: &str,
         allowed: &[&str],
         owner: &str,
-    ) -> Option<(&'n str, &'n Node)> {
+    ) -> Option<(&'n str, &'n Node<'n>)> {
         let knode = self.required(fields, "kind", node, path)?;
         let kind = self.string(knode, &join(path, "kind"))?;
         if !allowed.contains(&kind) {
@@ -1136,16 +1136,16 @@ impl Validator {
     /// `kind` among `kinds` and two `markers`. Calls `check` with the kind
     /// and the resolved markers; entries it accepts are returned.
     #[allow(clippy::too_many_arguments)]
-    fn connections<T, M: MarkerLike>(
+    fn connections<'n, T, M: MarkerLike>(
         &mut self,
-        node: &Node,
+        node: &'n Node<'n>,
         bodies: &[Body<M>],
         section: &str,
         what: &str,
         kinds: &[&str],
         extra: &[&str],
         mut check: impl FnMut(&mut Self, &str, [MarkerId; 2], &Node, &str, &str) -> Option<T>,
-    ) -> Vec<(String, T, [MarkerId; 2], Node)> {
+    ) -> Vec<(String, T, [MarkerId; 2], &'n Node<'n>)> {
         let Some(entries) = self.table(node, section) else {
             return Vec::new();
         };
@@ -1166,13 +1166,13 @@ impl Validator {
                 continue;
             };
             if let Some(value) = check(self, kind, markers, entry, &path, &owner) {
-                out.push((key.name.clone(), value, markers, entry.clone()));
+                out.push((key.name.to_string(), value, markers, entry));
             }
         }
         out
     }
 
-    fn joints(&mut self, node: &Node, bodies: &[Body]) -> Vec<(Joint, Node)> {
+    fn joints<'n>(&mut self, node: &'n Node<'n>, bodies: &[Body]) -> Vec<(Joint, &'n Node<'n>)> {
         let found = self.connections(
             node,
             bodies,
@@ -1195,7 +1195,7 @@ impl Validator {
             .collect()
     }
 
-    fn constraints(&mut self, node: &Node, bodies: &[Body]) -> Vec<(Constraint, Node)> {
+    fn constraints<'n>(&mut self, node: &'n Node<'n>, bodies: &[Body]) -> Vec<(Constraint, &'n Node<'n>)> {
         let found = self.connections(
             node,
             bodies,
@@ -1385,7 +1385,7 @@ impl Validator {
         &mut self,
         node: &Node,
         joints_node: &Node,
-        joints: &[(J, Node)],
+        joints: &[(J, &Node)],
         bodies: &[Body<M>],
     ) -> Vec<Input> {
         let Some(entries) = self.table(node, "inputs") else {
@@ -1393,7 +1393,7 @@ impl Validator {
         };
         self.check_keys(entries, &[], "inputs");
         let written_joints: Vec<&str> = match &joints_node.kind {
-            NodeKind::Table(t) => t.iter().map(|(k, _)| k.name.as_str()).collect(),
+            NodeKind::Table(t) => t.iter().map(|(k, _)| k.name.as_ref()).collect(),
             _ => vec![],
         };
         let mut inputs: Vec<Input> = Vec::new();
@@ -1481,7 +1481,7 @@ impl Validator {
                 continue;
             }
             inputs.push(Input {
-                name: key.name.clone(),
+                name: key.name.to_string(),
                 kind,
                 joint: ji,
             });
@@ -1551,7 +1551,7 @@ impl Validator {
                 // Both forms at once would leave it unclear which range wins.
                 if let Some((k, _)) = fields
                     .iter()
-                    .find(|(k, _)| ["input", "from", "to"].contains(&k.name.as_str()))
+                    .find(|(k, _)| ["input", "from", "to"].contains(&k.name.as_ref()))
                 {
                     let loc = self.key_loc(k, &join("sweep", &k.name));
                     self.error(
@@ -1610,7 +1610,7 @@ impl Validator {
         for (key, range) in entries {
             let path = join("sweep.inputs", &key.name);
             let key_node = Node {
-                span: key.span.clone(),
+                at: key.at,
                 kind: NodeKind::Str(key.name.clone()),
             };
             let index = self.swept_input(&key.name, &key_node, &path, inputs, written_inputs);
