@@ -69,8 +69,18 @@ impl Format {
 /// Reads and validates a (planar) mechanism file.
 pub fn load_file(path: &Path) -> Result<Mechanism, ModelError> {
     let name = path.display().to_string();
-    let text = read_text(path, &name)?;
-    load_str(&name, &text, Format::of_path(path))
+    let file = read_file(path, name)?;
+    let format = Format::of_path(path);
+    let root = parse(&file, format)?;
+    drawn(file.clone(), &root)?.assembled()
+}
+
+/// Reads a file into the text errors quote, held once: the text read is
+/// dropped as soon as it is shared (a 50 MB file is not held twice while
+/// it is parsed).
+fn read_file(path: &Path, name: String) -> Result<SourceFile, ModelError> {
+    let text: Arc<str> = Arc::from(read_text(path, &name)?);
+    Ok(SourceFile { name, text })
 }
 
 /// Reads a file as UTF-8 text, with an error that tells a wrong path from a
@@ -212,14 +222,20 @@ pub fn is_spatial_file(path: &Path) -> bool {
 /// Reads and validates a mechanism file of either dimension.
 pub fn load_any(path: &Path) -> Result<Model, ModelError> {
     let name = path.display().to_string();
-    let text = read_text(path, &name)?;
-    load_any_str(&name, &text, Format::of_path(path))
+    let file = read_file(path, name)?;
+    load_any_file(file, Format::of_path(path))
 }
 
 /// Validates a mechanism of either dimension given as text; `file_name` is
 /// used in errors.
 pub fn load_any_str(file_name: &str, text: &str, format: Format) -> Result<Model, ModelError> {
-    let (file, root) = parse(file_name, text, format)?;
+    load_any_file(source_file(file_name, text), format)
+}
+
+/// [`load_any_str`] on a file's text: parsed once, validated as its
+/// `dimension` says.
+fn load_any_file(file: SourceFile, format: Format) -> Result<Model, ModelError> {
+    let root = parse(&file, format)?;
     let spatial = match &root.kind {
         NodeKind::Table(top) => matches!(
             Validator::get(top, "dimension").map(|d| &d.kind),
@@ -228,9 +244,17 @@ pub fn load_any_str(file_name: &str, text: &str, format: Format) -> Result<Model
         _ => false,
     };
     if !spatial {
-        return load_str(file_name, text, format).map(Model::Planar);
+        return drawn(file.clone(), &root)?.assembled().map(Model::Planar);
     }
-    drawn3(file, &root)?.assembled().map(Model::Spatial)
+    drawn3(file.clone(), &root)?.assembled().map(Model::Spatial)
+}
+
+/// A text to parse, named `file_name` in errors.
+fn source_file(file_name: &str, text: &str) -> SourceFile {
+    SourceFile {
+        name: file_name.to_string(),
+        text: Arc::from(text),
+    }
 }
 
 /// A spatial mechanism whose only errors, if any, are joints and
@@ -282,8 +306,9 @@ impl Drawn3 {
 /// (with those errors). Every other error is still an error, and so is a
 /// planar file.
 pub fn load_str_drawn3(file_name: &str, text: &str, format: Format) -> Result<Drawn3, ModelError> {
-    let (file, root) = parse(file_name, text, format)?;
-    drawn3(file, &root)
+    let file = source_file(file_name, text);
+    let root = parse(&file, format)?;
+    drawn3(file.clone(), &root)
 }
 
 /// The spatial validation of a parsed file, open joints allowed.
@@ -347,17 +372,14 @@ impl Drawn {
 
 /// Parses a file into its node tree, with the errors every file can have
 /// (empty, syntax, nothing defined).
-fn parse<'s>(file_name: &str, text: &'s str, format: Format) -> Result<(SourceFile, Node<'s>), ModelError> {
-    let file = SourceFile {
-        name: file_name.to_string(),
-        text: Arc::from(text),
-    };
+fn parse(file: &SourceFile, format: Format) -> Result<Node<'_>, ModelError> {
+    let text: &str = &file.text;
     // Said plainly: the parsers' own words for nothing at all ("missing
     // `name`", "EOF while parsing a value") do not say the file is empty.
     if text.trim().is_empty() {
         return Err(ModelError {
             diagnostics: vec![Diagnostic {
-                file,
+                file: file.clone(),
                 location: Location::File,
                 message: if text.is_empty() {
                     "the file is empty".into()
@@ -378,7 +400,7 @@ fn parse<'s>(file_name: &str, text: &'s str, format: Format) -> Result<(SourceFi
     if let Some(t) = too_long {
         return Err(ModelError {
             diagnostics: vec![Diagnostic {
-                file,
+                file: file.clone(),
                 location: Location::Span(t.span),
                 message: t.message,
                 notes: vec![],
@@ -447,7 +469,7 @@ fn parse<'s>(file_name: &str, text: &'s str, format: Format) -> Result<(SourceFi
     if matches!(&root.kind, NodeKind::Table(t) if t.is_empty()) {
         return Err(ModelError {
             diagnostics: vec![Diagnostic {
-                file,
+                file: file.clone(),
                 location: Location::File,
                 message: match format {
                     Format::Toml => "the file defines nothing (it has only comments)".into(),
@@ -458,7 +480,7 @@ fn parse<'s>(file_name: &str, text: &'s str, format: Format) -> Result<(SourceFi
             }],
         });
     }
-    Ok((file, root))
+    Ok(root)
 }
 
 /// Validates a mechanism given as text like [`load_str`], but returns it
@@ -466,7 +488,13 @@ fn parse<'s>(file_name: &str, text: &'s str, format: Format) -> Result<(SourceFi
 /// those errors). Every other error (syntax, unknown names, kinds...) is
 /// still an error.
 pub fn load_str_drawn(file_name: &str, text: &str, format: Format) -> Result<Drawn, ModelError> {
-    let (file, root) = parse(file_name, text, format)?;
+    let file = source_file(file_name, text);
+    let root = parse(&file, format)?;
+    drawn(file.clone(), &root)
+}
+
+/// The planar validation of a parsed file, open joints allowed.
+fn drawn(file: SourceFile, root: &Node) -> Result<Drawn, ModelError> {
     let mut v = Validator::new(file);
     let mechanism = v.mechanism(&root);
     match mechanism {
@@ -490,17 +518,19 @@ fn format_name(format: Format) -> &'static str {
     }
 }
 
-/// A marker reference with where it was written, before resolution.
+/// A marker reference with where it was written, before resolution: its
+/// path in the file is made only for an error.
 struct Written<'a> {
     node: &'a Node<'a>,
-    path: String,
+    path: &'a dyn Fn() -> String,
 }
 
 /// A table's entries as parsed.
 type Entries<'n> = &'n [(Key<'n>, Node<'n>)];
 
-/// Bodies by name, and markers by body and name.
-type Names = (HashMap<String, usize>, HashMap<(usize, String), usize>);
+/// Bodies by name, and for each body with more than a few markers, its
+/// markers by name (the others are searched).
+type Names = (HashMap<String, usize>, Vec<Option<HashMap<String, usize>>>);
 
 struct Validator {
     file: SourceFile,
@@ -588,10 +618,21 @@ impl Validator {
     /// Rejects keys outside `allowed` (nothing the user wrote is ignored)
     /// and names within one table that repeat (JSON allows them).
     fn check_keys(&mut self, entries: &[(Key, Node)], allowed: &[&str], path: &str) {
-        let mut seen: HashMap<&str, &Key> = HashMap::new();
-        for (key, _) in entries {
-            let kpath = join(path, &key.name);
-            if let Some(first) = seen.get(key.name.as_ref()) {
+        // A table of a few entries is searched; a larger one is looked up.
+        let mut seen: Option<HashMap<&str, &Key>> = (entries.len() > 8).then(HashMap::new);
+        for (i, (key, _)) in entries.iter().enumerate() {
+            let first = match &mut seen {
+                Some(seen) => match seen.entry(key.name.as_ref()) {
+                    std::collections::hash_map::Entry::Occupied(e) => Some(*e.get()),
+                    std::collections::hash_map::Entry::Vacant(e) => {
+                        e.insert(key);
+                        None
+                    }
+                },
+                None => entries[..i].iter().map(|(k, _)| k).find(|k| k.name == key.name),
+            };
+            if let Some(first) = first {
+                let kpath = join(path, &key.name);
                 let first_loc = self.key_loc(first, &kpath);
                 let loc = self.key_loc(key, &kpath);
                 self.error_notes(
@@ -603,11 +644,9 @@ impl Validator {
                     }],
                     Some("rename one of them".into()),
                 );
-            } else {
-                seen.insert(&key.name, key);
             }
             if !allowed.is_empty() && !allowed.contains(&key.name.as_ref()) {
-                let loc = self.key_loc(key, &kpath);
+                let loc = self.key_loc(key, &join(path, &key.name));
                 self.error(
                     loc,
                     format!("unknown key `{}` in {}", key.name, display_path(path)),
@@ -683,14 +722,20 @@ impl Validator {
 
     /// `N` numbers `[x, y]` or `[x, y, z]`: a point of either dimension.
     fn coords<const N: usize>(&mut self, node: &Node, path: &str) -> Option<[f64; N]> {
-        let form = ["x", "y", "z"][..N].join(", ");
+        let form = || ["x", "y", "z"][..N].join(", ");
         match &node.kind {
             NodeKind::Array(items) if items.len() == N => {
                 let mut out = [0.0; N];
                 let mut ok = true;
                 for (k, item) in items.iter().enumerate() {
-                    // Every coordinate is read, so each bad one is reported.
-                    match self.number(item, &format!("{path}[{k}]")) {
+                    // Every coordinate is read, so each bad one is reported
+                    // (its path made only then).
+                    let value = match item.kind {
+                        NodeKind::Int(i) => Some(i as f64),
+                        NodeKind::Float(f) if f.is_finite() => Some(f),
+                        _ => self.number(item, &format!("{path}[{k}]")),
+                    };
+                    match value {
                         Some(v) => out[k] = v,
                         None => ok = false,
                     }
@@ -702,10 +747,11 @@ impl Validator {
                 self.error(
                     loc,
                     format!(
-                        "`{path}` must have {N} coordinates [{form}], found {}",
+                        "`{path}` must have {N} coordinates [{}], found {}",
+                        form(),
                         items.len()
                     ),
-                    Some(format!("dimension is {N}: write [{form}]")),
+                    Some(format!("dimension is {N}: write [{}]", form())),
                 );
                 None
             }
@@ -713,7 +759,7 @@ impl Validator {
                 let loc = self.loc(node, path);
                 self.error(
                     loc,
-                    format!("`{path}` must be [{form}], found {}", other.type_name()),
+                    format!("`{path}` must be [{}], found {}", form(), other.type_name()),
                     None,
                 );
                 None
@@ -722,13 +768,16 @@ impl Validator {
     }
 
     /// A marker's position: a point within [`MAX_COORDINATE`].
-    fn position(&mut self, marker: &str, node: &Node, path: &str) -> Option<Point> {
+    fn position(&mut self, marker: &dyn Fn() -> String, node: &Node, path: &str) -> Option<Point> {
         let p = self.point(node, path)?;
         if let Some(c) = p.iter().find(|c| c.abs() > MAX_COORDINATE) {
             let loc = self.loc(node, path);
             self.error(
                 loc,
-                format!("marker `{marker}` has a coordinate {c:e}, too far from the origin to compute with"),
+                format!(
+                    "marker `{}` has a coordinate {c:e}, too far from the origin to compute with",
+                    marker()
+                ),
                 Some(format!(
                     "rescale the drawing (units are free): coordinates up to {MAX_COORDINATE:e} work"
                 )),
@@ -943,7 +992,8 @@ impl Validator {
     }
 
     fn marker(&mut self, body: &str, short: &str, node: &Node, path: &str) -> Option<Marker> {
-        let name = format!("{body}.{short}");
+        // The marker's full name, for errors only.
+        let name = || format!("{body}.{short}");
         match &node.kind {
             NodeKind::Array(_) => Some(Marker {
                 name: short.to_string(),
@@ -969,7 +1019,7 @@ impl Validator {
                             };
                             self.error(
                                 loc,
-                                format!("marker `{name}` has {what}"),
+                                format!("marker `{}` has {what}", name()),
                                 Some("a direction needs a non-zero length, e.g. dir = [1, 0]".into()),
                             );
                             return None;
@@ -988,7 +1038,8 @@ impl Validator {
                 self.error(
                     loc,
                     format!(
-                        "marker `{name}` must be [x, y] or {{ at = [x, y], dir = [dx, dy] }}, found {}",
+                        "marker `{}` must be [x, y] or {{ at = [x, y], dir = [dx, dy] }}, found {}",
+                        name(),
                         other.type_name()
                     ),
                     None,
@@ -1005,9 +1056,16 @@ impl Validator {
         bodies: &[Body<M>],
         owner: &str,
     ) -> Option<MarkerId> {
-        let text = self.string(w.node, &w.path)?;
-        let loc = self.loc(w.node, &w.path);
+        let text = match &w.node.kind {
+            NodeKind::Str(s) => s.as_ref(),
+            _ => {
+                // Not a string: `string` says so.
+                self.string(w.node, &(w.path)());
+                return None;
+            }
+        };
         let Some((b, m)) = text.split_once('.') else {
+            let loc = self.loc(w.node, &(w.path)());
             self.error(
                 loc,
                 format!("{owner}: `{text}` is not of the form \"body.marker\""),
@@ -1017,22 +1075,35 @@ impl Validator {
         };
         let (body_index, marker_index) = self.names.get_or_insert_with(|| {
             let mut by_name = HashMap::new();
-            let mut markers = HashMap::new();
             for (bi, body) in bodies.iter().enumerate() {
                 by_name.entry(body.name.clone()).or_insert(bi);
-                for (mi, marker) in body.markers.iter().enumerate() {
-                    markers.entry((bi, marker.name().to_string())).or_insert(mi);
-                }
             }
+            let markers = bodies
+                .iter()
+                .map(|body| {
+                    (body.markers.len() > 8).then(|| {
+                        let mut index = HashMap::new();
+                        for (mi, marker) in body.markers.iter().enumerate() {
+                            index.entry(marker.name().to_string()).or_insert(mi);
+                        }
+                        index
+                    })
+                })
+                .collect();
             (by_name, markers)
         });
+        // The first marker of the name, as the index keeps it.
         let bi = body_index.get(b).copied();
-        let mi = bi.and_then(|bi| marker_index.get(&(bi, m.to_string())).copied());
+        let mi = bi.and_then(|bi| match &marker_index[bi] {
+            Some(index) => index.get(m).copied(),
+            None => bodies[bi].markers.iter().position(|k| k.name() == m),
+        });
         let Some(bi) = bi else {
             if self.broken.contains(b) {
                 return None;
             }
             let names: Vec<_> = bodies.iter().map(|b| b.name.as_str()).collect();
+            let loc = self.loc(w.node, &(w.path)());
             self.error(
                 loc,
                 format!("{owner}: unknown body `{b}` in `{text}`"),
@@ -1045,6 +1116,7 @@ impl Validator {
                 return None;
             }
             let names: Vec<_> = bodies[bi].markers.iter().map(|m| m.name()).collect();
+            let loc = self.loc(w.node, &(w.path)());
             self.error(
                 loc,
                 format!("{owner}: body `{b}` has no marker `{m}`"),
@@ -1081,7 +1153,7 @@ impl Validator {
         let a = self.marker_ref(
             &Written {
                 node: &items[0],
-                path: format!("{mpath}[0]"),
+                path: &|| format!("{mpath}[0]"),
             },
             bodies,
             owner,
@@ -1089,7 +1161,7 @@ impl Validator {
         let b = self.marker_ref(
             &Written {
                 node: &items[1],
-                path: format!("{mpath}[1]"),
+                path: &|| format!("{mpath}[1]"),
             },
             bodies,
             owner,
@@ -1274,25 +1346,7 @@ impl Validator {
     }
 
     fn size(&mut self, bodies: &[Body]) -> f64 {
-        if let Some(size) = self.size {
-            return size;
-        }
-        let m = Mechanism {
-            name: String::new(),
-            dimension: 2,
-            bodies: bodies.to_vec(),
-            joints: vec![],
-            constraints: vec![],
-            inputs: vec![],
-            sweep: None,
-            source: SourceFile {
-                name: String::new(),
-                text: Arc::from(""),
-            },
-        };
-        let size = m.size();
-        self.size = Some(size);
-        size
+        *self.size.get_or_insert_with(|| super::size_of(bodies))
     }
 
     fn check_coincident(
@@ -1526,7 +1580,7 @@ impl Validator {
                     for (i, item) in items.iter().enumerate() {
                         let w = Written {
                             node: item,
-                            path: format!("sweep.trace[{i}]"),
+                            path: &|| format!("sweep.trace[{i}]"),
                         };
                         if let Some(id) = self.marker_ref(&w, bodies, "sweep trace") {
                             trace.push(id);
