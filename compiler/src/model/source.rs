@@ -138,10 +138,16 @@ pub struct SyntaxError {
 /// crate, whose document and messages are the reference: the tree is the
 /// same either way, and so is every error.
 pub fn parse_toml(text: &str) -> Result<Node<'_>, SyntaxError> {
-    match toml::read(text) {
+    match read_toml(text) {
         Some(node) => Ok(node),
         None => parse_toml_by_serde(text),
     }
+}
+
+/// The one-pass reading of [`parse_toml`], or `None` for a text it leaves
+/// to the `toml` crate.
+pub(crate) fn read_toml(text: &str) -> Option<Node<'_>> {
+    toml::read(text)
 }
 
 /// Reads TOML text through the `toml` crate's document and serde.

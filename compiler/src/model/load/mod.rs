@@ -12,7 +12,7 @@ use dofplan_runtime::Point;
 
 use super::error::{Diagnostic, Location, ModelError, Note, SourceFile};
 use super::shape;
-use super::source::{parse_json, parse_toml, At, Key, Node, NodeKind};
+use super::source::{parse_json, parse_toml_by_serde, read_toml, At, Key, Node, NodeKind};
 mod spatial;
 
 use super::spatial::Mechanism3;
@@ -72,7 +72,10 @@ pub fn load_file(path: &Path) -> Result<Mechanism, ModelError> {
     let file = read_file(path, name)?;
     let format = Format::of_path(path);
     let root = parse(&file, format)?;
-    drawn(file.clone(), &root)?.assembled()
+    let d = drawn(file.clone(), &root, format);
+    drop(root);
+    let r = d?.assembled();
+    r
 }
 
 /// Reads a file into the text errors quote, held once: the text read is
@@ -244,9 +247,9 @@ fn load_any_file(file: SourceFile, format: Format) -> Result<Model, ModelError> 
         _ => false,
     };
     if !spatial {
-        return drawn(file.clone(), &root)?.assembled().map(Model::Planar);
+        return drawn(file.clone(), &root, format)?.assembled().map(Model::Planar);
     }
-    drawn3(file.clone(), &root)?.assembled().map(Model::Spatial)
+    drawn3(file.clone(), &root, format)?.assembled().map(Model::Spatial)
 }
 
 /// A text to parse, named `file_name` in errors.
@@ -308,12 +311,12 @@ impl Drawn3 {
 pub fn load_str_drawn3(file_name: &str, text: &str, format: Format) -> Result<Drawn3, ModelError> {
     let file = source_file(file_name, text);
     let root = parse(&file, format)?;
-    drawn3(file.clone(), &root)
+    drawn3(file.clone(), &root, format)
 }
 
 /// The spatial validation of a parsed file, open joints allowed.
-fn drawn3(file: SourceFile, root: &Node) -> Result<Drawn3, ModelError> {
-    let mut v = Validator::new(file);
+fn drawn3(file: SourceFile, root: &Node, format: Format) -> Result<Drawn3, ModelError> {
+    let mut v = Validator::new(file, format);
     match v.mechanism3(root) {
         // Only joints open in the drawn pose (or none): the least-squares
         // assembly says whether the drawing is only off or the joints
@@ -346,8 +349,8 @@ pub struct Drawn {
     pub open: Vec<Diagnostic>,
     /// Which joint or constraint each error is about.
     opened: Vec<Open>,
-    /// Where each joint and constraint is written, by origin ("joint B").
-    places: Vec<(String, Location)>,
+    /// Where each joint, then each constraint, of the mechanism is written.
+    places: Vec<Location>,
 }
 
 impl Drawn {
@@ -365,6 +368,12 @@ impl Drawn {
         if open.is_empty() {
             return Ok(mechanism);
         }
+        // By origin ("joint B"), named only now that they are needed.
+        let places: Vec<(String, Location)> = (mechanism.joints.iter())
+            .map(|j| format!("joint {}", j.name))
+            .chain(mechanism.constraints.iter().map(|c| format!("constraint {}", c.name)))
+            .zip(places)
+            .collect();
         conflict::review(&mechanism, &opened, &places, &mut open);
         Err(ModelError { diagnostics: open })
     }
@@ -391,8 +400,17 @@ fn parse(file: &SourceFile, format: Format) -> Result<Node<'_>, ModelError> {
             }],
         });
     }
-    // Arrays longer than the format allows are refused before a parser
-    // builds them (see `shape`).
+    // A well-formed TOML file is read in one pass (`source::read_toml`),
+    // which takes no array longer than the format allows. Anything else is
+    // scanned for those arrays, refused before a parser builds them (see
+    // `shape`), then parsed by the `toml` crate or serde_json, which say
+    // what is wrong.
+    if let Some(root) = match format {
+        Format::Toml => read_toml(text),
+        Format::Json => None,
+    } {
+        return defines_something(file, format, root);
+    }
     let too_long = match format {
         Format::Toml => shape::check_toml(text),
         Format::Json => shape::check_json(text),
@@ -409,7 +427,7 @@ fn parse(file: &SourceFile, format: Format) -> Result<Node<'_>, ModelError> {
         });
     }
     let parsed = match format {
-        Format::Toml => parse_toml(text),
+        Format::Toml => parse_toml_by_serde(text),
         Format::Json => parse_json(text),
     };
     let root = parsed.map_err(|e| {
@@ -466,6 +484,11 @@ fn parse(file: &SourceFile, format: Format) -> Result<Node<'_>, ModelError> {
             }],
         }
     })?;
+    defines_something(file, format, root)
+}
+
+/// The tree of a file, or the error for a file that defines nothing.
+fn defines_something<'s>(file: &SourceFile, format: Format, root: Node<'s>) -> Result<Node<'s>, ModelError> {
     if matches!(&root.kind, NodeKind::Table(t) if t.is_empty()) {
         return Err(ModelError {
             diagnostics: vec![Diagnostic {
@@ -490,12 +513,12 @@ fn parse(file: &SourceFile, format: Format) -> Result<Node<'_>, ModelError> {
 pub fn load_str_drawn(file_name: &str, text: &str, format: Format) -> Result<Drawn, ModelError> {
     let file = source_file(file_name, text);
     let root = parse(&file, format)?;
-    drawn(file.clone(), &root)
+    drawn(file.clone(), &root, format)
 }
 
 /// The planar validation of a parsed file, open joints allowed.
-fn drawn(file: SourceFile, root: &Node) -> Result<Drawn, ModelError> {
-    let mut v = Validator::new(file);
+fn drawn(file: SourceFile, root: &Node, format: Format) -> Result<Drawn, ModelError> {
+    let mut v = Validator::new(file, format);
     let mechanism = v.mechanism(&root);
     match mechanism {
         // Only joints open in the drawn pose (or none): the assembly check
@@ -543,19 +566,23 @@ struct Validator {
     /// an error already). They are kept in the mechanism, so the assembly
     /// check sees them; the file is rejected anyway.
     open: Vec<Open>,
-    /// Where each joint and constraint is written, by origin ("joint B").
-    places: Vec<(String, Location)>,
+    /// Where each joint, then each constraint, is written (as `Drawn`).
+    places: Vec<Location>,
     /// The mechanism's size, computed once from the bodies (every joint's
     /// drawn-pose tolerance is relative to it).
     size: Option<f64>,
     /// Bodies by name, and markers by body and name (first of a name),
     /// indexed once the bodies are read: references look them up.
     names: Option<Names>,
+    /// Whether a table may name a key twice: JSON allows it, TOML does
+    /// not (its parse has refused the file already).
+    repeats: bool,
 }
 
 impl Validator {
-    fn new(file: SourceFile) -> Validator {
+    fn new(file: SourceFile, format: Format) -> Validator {
         Validator {
+            repeats: format == Format::Json,
             file,
             diags: Vec::new(),
             broken: HashSet::new(),
@@ -622,6 +649,7 @@ impl Validator {
         let mut seen: Option<HashMap<&str, &Key>> = (entries.len() > 8).then(HashMap::new);
         for (i, (key, _)) in entries.iter().enumerate() {
             let first = match &mut seen {
+                _ if !self.repeats => None,
                 Some(seen) => match seen.entry(key.name.as_ref()) {
                     std::collections::hash_map::Entry::Occupied(e) => Some(*e.get()),
                     std::collections::hash_map::Entry::Vacant(e) => {
@@ -852,8 +880,11 @@ impl Validator {
             .map(|(j, n)| ("joint", &j.name, n))
             .chain(constraints.iter().map(|(c, n)| ("constraint", &c.name, n)))
         {
-            let place = self.loc(node, &join(&format!("{what}s"), name));
-            self.places.push((format!("{what} {name}"), place));
+            let place = match node.span() {
+                Some(s) => Location::Span(s),
+                None => Location::Path(join(&format!("{what}s"), name)),
+            };
+            self.places.push(place);
         }
         self.cross_duplicates(joints_node, constraints_node);
         let inputs = match Self::get(top, "inputs") {
@@ -891,10 +922,16 @@ impl Validator {
             return Vec::new();
         };
         self.check_keys(entries, &[], "bodies");
-        let mut bodies = Vec::new();
+        let mut bodies = Vec::with_capacity(entries.len());
+        // Paths are written into buffers, not allocated for every entry.
+        let mut path = String::from("bodies.");
+        let mut mpath = String::new();
+        let mut p = String::new();
         for (key, bnode) in entries {
-            let path = join("bodies", &key.name);
-            self.check_name(key, &path, "body");
+            path.truncate("bodies.".len());
+            path.push_str(&key.name);
+            let path = &path;
+            self.check_name(key, path, "body");
             let Some(fields) = self.table(bnode, &path) else {
                 self.broken.insert(key.name.to_string());
                 continue;
@@ -919,18 +956,24 @@ impl Validator {
                 },
             };
             let mut markers = Vec::new();
+            mpath.clear();
+            mpath.push_str(path);
+            mpath.push_str(".markers");
             let mentries = self
-                .required(fields, "markers", bnode, &path)
-                .and_then(|mnode| self.table(mnode, &join(&path, "markers")));
+                .required(fields, "markers", bnode, path)
+                .and_then(|mnode| self.table(mnode, &mpath));
             match mentries {
                 None => {
                     self.broken.insert(key.name.to_string());
                 }
                 Some(mentries) => {
-                    let mpath = join(&path, "markers");
                     self.check_keys(mentries, &[], &mpath);
+                    markers.reserve_exact(mentries.len());
                     for (mkey, m) in mentries {
-                        let p = join(&mpath, &mkey.name);
+                        p.clear();
+                        p.push_str(&mpath);
+                        p.push('.');
+                        p.push_str(&mkey.name);
                         self.check_name(mkey, &p, "marker");
                         match read(self, &key.name, &mkey.name, m, &p) {
                             Some(marker) => markers.push(marker),
@@ -1222,16 +1265,27 @@ impl Validator {
             return Vec::new();
         };
         self.check_keys(entries, &[], section);
-        let mut out = Vec::new();
+        let mut out = Vec::with_capacity(entries.len());
+        let allowed: Vec<&str> = ["kind", "markers"].iter().chain(extra).copied().collect();
+        // The path and the name in errors are written into buffers, not
+        // allocated for every entry.
+        let (mut path, mut owner) = (String::new(), String::new());
         for (key, entry) in entries {
-            let path = join(section, &key.name);
-            let owner = format!("{what} `{}`", key.name);
-            self.check_name(key, &path, what);
-            let Some(fields) = self.table(entry, &path) else {
+            path.clear();
+            path.push_str(section);
+            path.push('.');
+            path.push_str(&key.name);
+            owner.clear();
+            owner.push_str(what);
+            owner.push_str(" `");
+            owner.push_str(&key.name);
+            owner.push('`');
+            let (path, owner) = (&path, &owner);
+            self.check_name(key, path, what);
+            let Some(fields) = self.table(entry, path) else {
                 continue;
             };
-            let allowed: Vec<&str> = ["kind", "markers"].iter().chain(extra).copied().collect();
-            self.check_keys(fields, &allowed, &path);
+            self.check_keys(fields, &allowed, path);
             let kind = self.kind(fields, entry, &path, kinds, &owner);
             let pair = self.pair(fields, entry, &path, bodies, &owner);
             let (Some((kind, _)), Some(markers)) = (kind, pair) else {

@@ -8,15 +8,16 @@
 //! of look-ahead and the tables still open.
 //!
 //! It takes the TOML that mechanism files are written in: tables by
-//! `[header]`, dotted keys, arrays, inline tables on one line, strings,
-//! integers, floats and booleans. It builds the tree the `toml` crate's
+//! `[header]`, dotted keys, arrays (of at most three values, but
+//! `sweep.trace`), inline tables on one line, strings, integers, floats and
+//! booleans. It builds the tree the `toml` crate's
 //! document gives (the same order, the same spans: [`parse_toml`] is
 //! checked against it) and applies the same rules on defining a table or
 //! key twice. Anything else, and anything wrong, it gives up on (`None`):
 //! [`parse_toml`] then reads the text with the `toml` crate, which says what
 //! is wrong, or reads what this reader does not take (arrays of tables,
 //! dates, newlines in inline tables, keys redefined in the ways TOML
-//! allows...).
+//! allows...). An array too long is refused by `shape` before that.
 //!
 //! [`parse_toml`]: super::parse_toml
 
@@ -36,6 +37,16 @@ const MAX_DEPTH: usize = 64;
 /// Tables of more entries than this look keys up in a hash map.
 const INDEXED: usize = 8;
 
+/// The most values of an array but `sweep.trace`.
+const MAX_VALUES: usize = {
+    let (a, b) = (crate::model::shape::MAX_VALUES, crate::model::shape::MAX_COORDINATES);
+    if a > b {
+        a
+    } else {
+        b
+    }
+};
+
 /// Reads a TOML text, or `None` for anything this reader does not take
 /// (see the module's doc).
 pub fn read(text: &str) -> Option<Node<'_>> {
@@ -46,6 +57,9 @@ pub fn read(text: &str) -> Option<Node<'_>> {
         peeked: [None, None],
         eof: None,
         depth: 0,
+        long_ok: false,
+        tables: Vec::new(),
+        arrays: Vec::new(),
     };
     let root = reader.document()?;
     Some(Node {
@@ -79,7 +93,8 @@ enum Value<'s> {
 impl<'s> Table<'s> {
     fn new(at: At, implicit: bool, dotted: bool) -> Table<'s> {
         Table {
-            entries: Vec::new(),
+            // A body's or a joint's table has two entries or so.
+            entries: Vec::with_capacity(2),
             index: None,
             at,
             implicit,
@@ -187,6 +202,13 @@ struct Reader<'s> {
     eof: Option<Token>,
     /// Arrays and inline tables open.
     depth: usize,
+    /// The next array is `sweep.trace`, the one array of a mechanism file
+    /// that may be long.
+    long_ok: bool,
+    /// Entries and items of the inline tables and arrays open, by depth:
+    /// each is moved into a vector of its exact size when it closes.
+    tables: Vec<Vec<(Key<'s>, Node<'s>)>>,
+    arrays: Vec<Vec<Node<'s>>>,
 }
 
 /// Whether a decoder reported an error.
@@ -338,7 +360,12 @@ impl<'s> Reader<'s> {
                     }
                     self.next();
                     self.skip_space();
+                    self.long_ok = match &header {
+                        Some(h) => h.path.is_empty() && h.key.name == "sweep" && path.is_empty(),
+                        None => path.len() == 1 && path[0].name == "sweep",
+                    } && key.name == "trace";
                     let value = self.value()?;
+                    self.long_ok = false;
                     let dotted = !path.is_empty();
                     let parent = current.descend(&path, dotted)?;
                     if dotted && !parent.implicit {
@@ -457,17 +484,31 @@ impl<'s> Reader<'s> {
         (self.depth <= MAX_DEPTH).then_some(())
     }
 
-    /// `[a, b, ...]`, over lines, with comments and a trailing comma.
+    /// `[a, b, ...]`, over lines, with comments and a trailing comma. An
+    /// array longer than any of a mechanism file (but `sweep.trace`) is
+    /// left to the `toml` crate, after `shape` has refused it.
     fn array(&mut self) -> Option<Node<'s>> {
+        let limit = if std::mem::take(&mut self.long_ok) {
+            usize::MAX
+        } else {
+            MAX_VALUES
+        };
         self.enter()?;
         let open = self.next();
-        let mut items = Vec::new();
+        let level = self.depth - 1;
+        if self.arrays.len() <= level {
+            self.arrays.resize_with(level + 1, Vec::new);
+        }
         loop {
             self.skip_lines()?;
             if self.peek(0) == T::RightSquareBracket {
                 break;
             }
-            items.push(self.value()?);
+            if self.arrays[level].len() == limit {
+                return None;
+            }
+            let value = self.value()?;
+            self.arrays[level].push(value);
             self.skip_lines()?;
             match self.peek(0) {
                 T::Comma => {
@@ -479,7 +520,7 @@ impl<'s> Reader<'s> {
         }
         let close = self.next();
         self.depth -= 1;
-        items.shrink_to_fit();
+        let items: Vec<Node<'s>> = self.arrays[level].drain(..).collect();
         Some(Node {
             at: At::new(open.span().start()..close.span().end()),
             kind: NodeKind::Array(items),
@@ -491,7 +532,10 @@ impl<'s> Reader<'s> {
     fn inline_table(&mut self) -> Option<Node<'s>> {
         self.enter()?;
         let open = self.next();
-        let mut entries: Vec<(Key<'s>, Node<'s>)> = Vec::new();
+        let level = self.depth - 1;
+        if self.tables.len() <= level {
+            self.tables.resize_with(level + 1, Vec::new);
+        }
         let mut index: Option<std::collections::HashSet<Cow<'s, str>>> = None;
         self.skip_space();
         if self.peek(0) != T::RightCurlyBracket {
@@ -503,6 +547,7 @@ impl<'s> Reader<'s> {
                 self.next();
                 self.skip_space();
                 let value = self.value()?;
+                let entries = &mut self.tables[level];
                 let repeated = match &mut index {
                     Some(index) => !index.insert(key.name.clone()),
                     None => entries.iter().any(|(k, _)| k.name == key.name),
@@ -527,7 +572,7 @@ impl<'s> Reader<'s> {
         }
         let close = self.next();
         self.depth -= 1;
-        entries.shrink_to_fit();
+        let entries: Vec<(Key<'s>, Node<'s>)> = self.tables[level].drain(..).collect();
         Some(Node {
             at: At::new(open.span().start()..close.span().end()),
             kind: NodeKind::Table(entries),
@@ -547,7 +592,10 @@ fn finish<'s>(root: &mut Option<Table<'s>>, table: Table<'s>, header: Option<Hea
     let mut table = Table { at: header.at, ..table };
     table.entries.shrink_to_fit();
     table.index = None;
-    parent.insert(header.key, Value::Table(Box::new(table)))
+    // The key is not in the parent: the header's start made sure, and only
+    // headers change the root's tables.
+    parent.push(header.key, Value::Table(Box::new(table)));
+    Some(())
 }
 
 #[cfg(test)]
@@ -664,6 +712,30 @@ mod tests {
             "u = 9223372036854775808\n",
         ] {
             assert!(agrees(text).is_none(), "taken: {text}");
+        }
+    }
+
+    #[test]
+    fn long_arrays_are_left_to_shape_and_the_toml_crate() {
+        assert!(agrees("x = [1, 2, 3]\n").is_some());
+        assert!(agrees("x = [1, 2, 3, 4]\n").is_none());
+        assert!(agrees("[bodies.b]\nmarkers = { A = [1, 2, 3, 4] }\n").is_none());
+        let trace: Vec<String> = (0..10).map(|i| format!("\"b.M{i}\"")).collect();
+        let trace = trace.join(", ");
+        for text in [
+            format!("[sweep]\ntrace = [{trace}]\n"),
+            format!("sweep.trace = [{trace}]\n"),
+        ] {
+            assert!(agrees(&text).is_some(), "{text}");
+        }
+        // Elsewhere, or nested, the limit holds.
+        for text in [
+            format!("[sweep]\nother = [{trace}]\n"),
+            format!("[a.sweep]\ntrace = [{trace}]\n"),
+            format!("[sweep]\ntrace = [[{trace}]]\n"),
+            format!("sweep = {{ trace = [{trace}] }}\n"),
+        ] {
+            assert!(agrees(&text).is_none(), "{text}");
         }
     }
 
