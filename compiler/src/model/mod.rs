@@ -337,4 +337,3 @@ pub(crate) fn size_of(bodies: &[Body]) -> f64 {
         1.0
     }
 }
-

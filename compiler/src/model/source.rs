@@ -49,7 +49,7 @@ impl At {
 
     /// The byte range, if known.
     pub fn span(self) -> Option<Span> {
-        (self != At::NONE).then(|| self.start as usize..self.end as usize)
+        (self != At::NONE).then_some(self.start as usize..self.end as usize)
     }
 }
 

@@ -72,10 +72,10 @@ pub fn load_file(path: &Path) -> Result<Mechanism, ModelError> {
     let file = read_file(path, name)?;
     let format = Format::of_path(path);
     let root = parse(&file, format)?;
-    let d = drawn(file.clone(), &root, format);
+    let drawn = drawn(file.clone(), &root, format);
+    // The tree goes before the assembly reviews open joints, if any.
     drop(root);
-    let r = d?.assembled();
-    r
+    drawn?.assembled()
 }
 
 /// Reads a file into the text errors quote, held once: the text read is
@@ -249,7 +249,9 @@ fn load_any_file(file: SourceFile, format: Format) -> Result<Model, ModelError> 
     if !spatial {
         return drawn(file.clone(), &root, format)?.assembled().map(Model::Planar);
     }
-    drawn3(file.clone(), &root, format)?.assembled().map(Model::Spatial)
+    drawn3(file.clone(), &root, format)?
+        .assembled()
+        .map(Model::Spatial)
 }
 
 /// A text to parse, named `file_name` in errors.
@@ -371,7 +373,12 @@ impl Drawn {
         // By origin ("joint B"), named only now that they are needed.
         let places: Vec<(String, Location)> = (mechanism.joints.iter())
             .map(|j| format!("joint {}", j.name))
-            .chain(mechanism.constraints.iter().map(|c| format!("constraint {}", c.name)))
+            .chain(
+                mechanism
+                    .constraints
+                    .iter()
+                    .map(|c| format!("constraint {}", c.name)),
+            )
             .zip(places)
             .collect();
         conflict::review(&mechanism, &opened, &places, &mut open);
@@ -519,7 +526,7 @@ pub fn load_str_drawn(file_name: &str, text: &str, format: Format) -> Result<Dra
 /// The planar validation of a parsed file, open joints allowed.
 fn drawn(file: SourceFile, root: &Node, format: Format) -> Result<Drawn, ModelError> {
     let mut v = Validator::new(file, format);
-    let mechanism = v.mechanism(&root);
+    let mechanism = v.mechanism(root);
     match mechanism {
         // Only joints open in the drawn pose (or none): the assembly check
         // says whether the mechanism assembles at all, or which joints are
@@ -932,17 +939,17 @@ impl Validator {
             path.push_str(&key.name);
             let path = &path;
             self.check_name(key, path, "body");
-            let Some(fields) = self.table(bnode, &path) else {
+            let Some(fields) = self.table(bnode, path) else {
                 self.broken.insert(key.name.to_string());
                 continue;
             };
-            self.check_keys(fields, &["fixed", "markers"], &path);
+            self.check_keys(fields, &["fixed", "markers"], path);
             let fixed = match Self::get(fields, "fixed") {
                 None => false,
                 Some(f) => match f.kind {
                     NodeKind::Bool(b) => b,
                     ref other => {
-                        let loc = self.loc(f, &join(&path, "fixed"));
+                        let loc = self.loc(f, &join(path, "fixed"));
                         self.error(
                             loc,
                             format!(
@@ -1286,12 +1293,12 @@ impl Validator {
                 continue;
             };
             self.check_keys(fields, &allowed, path);
-            let kind = self.kind(fields, entry, &path, kinds, &owner);
-            let pair = self.pair(fields, entry, &path, bodies, &owner);
+            let kind = self.kind(fields, entry, path, kinds, owner);
+            let pair = self.pair(fields, entry, path, bodies, owner);
             let (Some((kind, _)), Some(markers)) = (kind, pair) else {
                 continue;
             };
-            if let Some(value) = check(self, kind, markers, entry, &path, &owner) {
+            if let Some(value) = check(self, kind, markers, entry, path, owner) {
                 out.push((key.name.to_string(), value, markers, entry));
             }
         }
@@ -1555,7 +1562,7 @@ impl Validator {
                         joint.kind_name()
                     ),
                     vec![Note {
-                        location: self.loc(&joints[ji].1, &join("joints", jname)),
+                        location: self.loc(joints[ji].1, &join("joints", jname)),
                         message: format!("joint `{jname}` is defined here"),
                     }],
                     Some(help),

@@ -213,7 +213,12 @@ impl Validator {
         Some(p)
     }
 
-    fn joints3<'n>(&mut self, node: &'n Node<'n>, bodies: &[Body<Marker3>], size: f64) -> Vec<(Joint3, &'n Node<'n>)> {
+    fn joints3<'n>(
+        &mut self,
+        node: &'n Node<'n>,
+        bodies: &[Body<Marker3>],
+        size: f64,
+    ) -> Vec<(Joint3, &'n Node<'n>)> {
         let kinds: Vec<&str> = JointKind3::ALL.iter().map(|k| k.name()).collect();
         let found = self.connections(
             node,

@@ -39,7 +39,10 @@ const INDEXED: usize = 8;
 
 /// The most values of an array but `sweep.trace`.
 const MAX_VALUES: usize = {
-    let (a, b) = (crate::model::shape::MAX_VALUES, crate::model::shape::MAX_COORDINATES);
+    let (a, b) = (
+        crate::model::shape::MAX_VALUES,
+        crate::model::shape::MAX_COORDINATES,
+    );
     if a > b {
         a
     } else {
@@ -74,7 +77,7 @@ pub fn read(text: &str) -> Option<Node<'_>> {
 struct Table<'s> {
     entries: Vec<(Key<'s>, Value<'s>)>,
     /// Entry by key, once there are more than [`INDEXED`].
-    index: Option<Box<HashMap<Cow<'s, str>, usize>>>,
+    index: Option<HashMap<Cow<'s, str>, usize>>,
     at: At,
     /// Created by a path, not (yet) defined by a header.
     implicit: bool,
@@ -117,13 +120,13 @@ impl<'s> Table<'s> {
         }
         self.entries.push((key, value));
         if self.index.is_none() && self.entries.len() > INDEXED {
-            self.index = Some(Box::new(
+            self.index = Some(
                 self.entries
                     .iter()
                     .enumerate()
                     .map(|(i, (k, _))| (k.name.clone(), i))
                     .collect(),
-            ));
+            );
         }
         at
     }
@@ -589,7 +592,10 @@ fn finish<'s>(root: &mut Option<Table<'s>>, table: Table<'s>, header: Option<Hea
     };
     let root = root.as_mut().expect("the top level is finished first");
     let parent = root.descend(&header.path, false)?;
-    let mut table = Table { at: header.at, ..table };
+    let mut table = Table {
+        at: header.at,
+        ..table
+    };
     table.entries.shrink_to_fit();
     table.index = None;
     // The key is not in the parent: the header's start made sure, and only
@@ -611,7 +617,9 @@ mod tests {
         let reference = parse_toml_by_serde(text);
         match (&fast, &reference) {
             // Compared as printed: NaN is not equal to itself.
-            (Some(fast), Ok(reference)) => assert_eq!(format!("{fast:?}"), format!("{reference:?}"), "{text}"),
+            (Some(fast), Ok(reference)) => {
+                assert_eq!(format!("{fast:?}"), format!("{reference:?}"), "{text}")
+            }
             (Some(_), Err(e)) => panic!("taken, but the toml crate says {}: {text}", e.message),
             (None, _) => {}
         }
