@@ -533,6 +533,8 @@ impl<'s> Reader<'s> {
     /// `{ k = v, ... }` on one line, keys not dotted (anything else is
     /// left to the `toml` crate).
     fn inline_table(&mut self) -> Option<Node<'s>> {
+        // `sweep.trace = { ... }`: the arrays in it are not the trace.
+        self.long_ok = false;
         self.enter()?;
         let open = self.next();
         let level = self.depth - 1;
@@ -742,6 +744,7 @@ mod tests {
             format!("[a.sweep]\ntrace = [{trace}]\n"),
             format!("[sweep]\ntrace = [[{trace}]]\n"),
             format!("sweep = {{ trace = [{trace}] }}\n"),
+            format!("[sweep]\ntrace = {{ x = [{trace}] }}\n"),
         ] {
             assert!(agrees(&text).is_none(), "{text}");
         }
