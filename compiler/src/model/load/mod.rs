@@ -1187,11 +1187,12 @@ impl Validator {
         owner: &str,
     ) -> Option<[MarkerId; 2]> {
         let mnode = self.required(fields, "markers", node, path)?;
-        let mpath = join(path, "markers");
+        // The path, for errors only.
+        let mpath = || join(path, "markers");
         let items = match &mnode.kind {
             NodeKind::Array(items) if items.len() == 2 => items,
             _ => {
-                let loc = self.loc(mnode, &mpath);
+                let loc = self.loc(mnode, &mpath());
                 self.error(
                     loc,
                     format!("{owner}: `markers` must be two markers [\"body.A\", \"other.B\"]"),
@@ -1203,7 +1204,7 @@ impl Validator {
         let a = self.marker_ref(
             &Written {
                 node: &items[0],
-                path: &|| format!("{mpath}[0]"),
+                path: &|| format!("{}[0]", mpath()),
             },
             bodies,
             owner,
@@ -1211,14 +1212,14 @@ impl Validator {
         let b = self.marker_ref(
             &Written {
                 node: &items[1],
-                path: &|| format!("{mpath}[1]"),
+                path: &|| format!("{}[1]", mpath()),
             },
             bodies,
             owner,
         );
         let (a, b) = (a?, b?);
         if a.body == b.body {
-            let loc = self.loc(mnode, &mpath);
+            let loc = self.loc(mnode, &mpath());
             self.error(
                 loc,
                 format!(
@@ -1241,7 +1242,11 @@ impl Validator {
         owner: &str,
     ) -> Option<(&'n str, &'n Node<'n>)> {
         let knode = self.required(fields, "kind", node, path)?;
-        let kind = self.string(knode, &join(path, "kind"))?;
+        let kind = match &knode.kind {
+            NodeKind::Str(s) => s.as_ref(),
+            // Not a string: `string` says so.
+            _ => return self.string(knode, &join(path, "kind")).and(None),
+        };
         if !allowed.contains(&kind) {
             let loc = self.loc(knode, &join(path, "kind"));
             self.error(
