@@ -310,26 +310,30 @@ impl Mechanism {
     /// The size of the mechanism: the diagonal of its markers' bounding box
     /// as drawn (1 if they all coincide). Tolerances are relative to it.
     pub fn size(&self) -> f64 {
-        let mut lo = [f64::INFINITY; 2];
-        let mut hi = [f64::NEG_INFINITY; 2];
-        for id in self.all_markers() {
-            let p = self.marker(id).at;
-            for k in 0..2 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
-        let d = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2)).sqrt();
-        if d.is_finite() && d > 0.0 {
-            d
-        } else {
-            1.0
-        }
+        size_of(&self.bodies)
     }
 
     /// Number of links in Grübler's sense: every mobile body plus one for
     /// the ground (all fixed bodies together).
     pub fn links(&self) -> usize {
         self.bodies.iter().filter(|b| !b.fixed).count() + 1
+    }
+}
+
+/// [`Mechanism::size`] of a mechanism with these bodies.
+pub(crate) fn size_of(bodies: &[Body]) -> f64 {
+    let mut lo = [f64::INFINITY; 2];
+    let mut hi = [f64::NEG_INFINITY; 2];
+    for p in bodies.iter().flat_map(|b| &b.markers).map(|m| m.at) {
+        for k in 0..2 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let d = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2)).sqrt();
+    if d.is_finite() && d > 0.0 {
+        d
+    } else {
+        1.0
     }
 }

@@ -11,6 +11,8 @@
 //! nothing but an array too long, and stops quietly where the text is not
 //! valid (the parser then says why).
 
+use std::borrow::Cow;
+
 use super::source::Span;
 
 /// The most coordinates a marker's point or direction has (`[x, y, z]`).
@@ -33,18 +35,18 @@ pub struct TooLong {
 
 /// Whether the array at `path` holds a marker's coordinates (`[x, y]`, or
 /// the table form's `at`, `dir` and the spatial `x`, `z`).
-fn is_point(path: &[String]) -> bool {
+fn is_point(path: &[Cow<str>]) -> bool {
     match path {
         [bodies, _, markers, _] => bodies == "bodies" && markers == "markers",
         [bodies, _, markers, _, field] => {
-            bodies == "bodies" && markers == "markers" && matches!(field.as_str(), "at" | "dir" | "x" | "z")
+            bodies == "bodies" && markers == "markers" && matches!(field.as_ref(), "at" | "dir" | "x" | "z")
         }
         _ => false,
     }
 }
 
 /// The most values the array at `path` may have (`None`: no limit).
-fn limit(path: &[String]) -> Option<usize> {
+fn limit(path: &[Cow<str>]) -> Option<usize> {
     match path {
         // Every marker of the file may be traced.
         [sweep, trace] if sweep == "sweep" && trace == "trace" => None,
@@ -55,7 +57,7 @@ fn limit(path: &[String]) -> Option<usize> {
 
 /// The error for the array at `path` having a value (at `span`) more than
 /// its [`limit`].
-fn refusal(path: &[String], span: Span) -> TooLong {
+fn refusal(path: &[Cow<str>], span: Span) -> TooLong {
     let key = path.join(".");
     if is_point(path) {
         TooLong {
@@ -97,7 +99,7 @@ struct Open {
 }
 
 impl Open {
-    fn new(path: &[String]) -> Open {
+    fn new(path: &[Cow<str>]) -> Open {
         Open {
             depth: path.len(),
             limit: limit(path),
@@ -108,7 +110,7 @@ impl Open {
 
     /// A value starts at `span` if one is expected: counted, refused past
     /// the limit. `path` starts with the array's.
-    fn value(&mut self, path: &[String], span: Span) -> Result<(), TooLong> {
+    fn value(&mut self, path: &[Cow<str>], span: Span) -> Result<(), TooLong> {
         if !self.expecting {
             return Ok(());
         }
@@ -130,14 +132,16 @@ enum Frame {
 
 /// The first array of a TOML text longer than the format allows.
 pub fn check_toml(text: &str) -> Option<TooLong> {
-    walk_toml(text, &mut |_, _| false)
+    walk_toml(text, false, &mut |_, _| false)
 }
 
 /// Whether a TOML text says `dimension = 3` at its top level, read off its
 /// tokens (up to that key) rather than parsed.
 pub fn toml_says_spatial(text: &str) -> bool {
     let mut spatial = false;
-    walk_toml(text, &mut |path, at| {
+    // Top-level keys come before the first table header: the walk stops
+    // there (a 50 MB file is not read to its end for a key it cannot have).
+    walk_toml(text, true, &mut |path, at| {
         let is_dimension = matches!(path, [key] if key == "dimension");
         if is_dimension {
             // The value is the rest of its line (a comment aside).
@@ -165,14 +169,19 @@ fn toml_integer(value: &str) -> Option<i64> {
 
 /// Walks a TOML text's arrays (see the module's doc), calling `scalar`
 /// with the key path and offset of each value at the top level that is not
-/// an array or a table; it returns whether to stop.
-fn walk_toml(text: &str, scalar: &mut dyn FnMut(&[String], usize) -> bool) -> Option<TooLong> {
+/// an array or a table; it returns whether to stop. With `top_only`, the
+/// walk stops at the first table header.
+fn walk_toml(
+    text: &str,
+    top_only: bool,
+    scalar: &mut dyn FnMut(&[Cow<str>], usize) -> bool,
+) -> Option<TooLong> {
     use toml_parser::lexer::TokenKind as T;
 
     let source = toml_parser::Source::new(text);
     // The key path of the value being read: the table header's, then the
     // keys of inline tables and the dotted key before `=`.
-    let mut path: Vec<String> = Vec::new();
+    let mut path: Vec<Cow<str>> = Vec::new();
     let mut frames: Vec<Frame> = Vec::new();
     // Reading a key (at a line's start, after `{` or a `,` in an inline
     // table) or a table header, rather than a value.
@@ -205,6 +214,9 @@ fn walk_toml(text: &str, scalar: &mut dyn FnMut(&[String], usize) -> bool) -> Op
             T::Newline => {}
             T::Eof => break,
             T::LeftSquareBracket if frames.is_empty() && in_key => {
+                if top_only {
+                    break;
+                }
                 // A table header (`[[` for an array of tables): its keys
                 // are the table's path.
                 in_header = true;
@@ -217,7 +229,7 @@ fn walk_toml(text: &str, scalar: &mut dyn FnMut(&[String], usize) -> bool) -> Op
             }
             T::Dot if in_key => {}
             T::Atom | T::BasicString | T::LiteralString if in_key => {
-                let mut key = String::new();
+                let mut key = Cow::Borrowed("");
                 if let Some(raw) = source.get(token) {
                     raw.decode_key(&mut key, &mut ());
                 }
@@ -296,9 +308,9 @@ pub fn json_says_spatial(text: &str) -> bool {
 /// Walks a JSON text's arrays (see the module's doc), calling `scalar`
 /// with the key path and text of each value of the top-level object that
 /// is not an array or an object; it returns whether to stop.
-fn walk_json(text: &str, scalar: &mut dyn FnMut(&[String], &str) -> bool) -> Option<TooLong> {
+fn walk_json(text: &str, scalar: &mut dyn FnMut(&[Cow<str>], &str) -> bool) -> Option<TooLong> {
     let bytes = text.as_bytes();
-    let mut path: Vec<String> = Vec::new();
+    let mut path: Vec<Cow<str>> = Vec::new();
     let mut frames: Vec<Frame> = Vec::new();
     // In an object: whether a key is expected next (after `{` or `,`).
     let mut in_key = false;
@@ -322,9 +334,9 @@ fn walk_json(text: &str, scalar: &mut dyn FnMut(&[String], &str) -> bool) -> Opt
                     let raw = text.get(start + 1..i.saturating_sub(1)).unwrap_or_default();
                     // Escapes are rare in keys; decoded, they would only
                     // pick a message.
-                    path.push(
+                    path.push(Cow::Owned(
                         serde_json::from_str::<String>(&text[start..i]).unwrap_or_else(|_| raw.to_string()),
-                    );
+                    ));
                     in_key = false;
                     continue;
                 }

@@ -6,42 +6,95 @@
 //! no positions past syntax errors — so errors about JSON files name the
 //! path inside the document (`joints.A.markers[1]`) instead.
 
+use std::borrow::Cow;
 use std::fmt;
 use std::marker::PhantomData;
 use std::ops::Range;
 
 use serde::de::{DeserializeSeed, Deserializer, MapAccess, SeqAccess, Visitor};
 
+mod toml;
+
 /// A byte range in the source text.
 pub type Span = Range<usize>;
 
-/// A value of the file with the position it came from.
-#[derive(Clone, Debug)]
-pub struct Node {
+/// Where a value or key is written, in 8 bytes rather than the 24 of an
+/// `Option<Span>`: a 50 MB file has millions of them. Positions past 4 GiB
+/// are not kept (such a text is far over the size a file may have).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct At {
+    start: u32,
+    end: u32,
+}
+
+impl At {
+    /// No position (JSON values, and texts past 4 GiB).
+    pub const NONE: At = At {
+        start: u32::MAX,
+        end: u32::MAX,
+    };
+
+    /// The position of a byte range.
+    pub fn new(span: Span) -> At {
+        match (u32::try_from(span.start), u32::try_from(span.end)) {
+            (Ok(start), Ok(end)) if end != u32::MAX => At { start, end },
+            _ => At::NONE,
+        }
+    }
+
+    /// A position, if known.
+    pub fn of(span: Option<Span>) -> At {
+        span.map_or(At::NONE, At::new)
+    }
+
+    /// The byte range, if known.
+    pub fn span(self) -> Option<Span> {
+        (self != At::NONE).then_some(self.start as usize..self.end as usize)
+    }
+}
+
+/// A value of the file with the position it came from. Strings and keys
+/// borrow the text (`'s`) where they are written without escapes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Node<'s> {
     /// Where the value is written (TOML only).
-    pub span: Option<Span>,
+    pub at: At,
     /// The value.
-    pub kind: NodeKind,
+    pub kind: NodeKind<'s>,
+}
+
+impl Node<'_> {
+    /// Where the value is written (TOML only).
+    pub fn span(&self) -> Option<Span> {
+        self.at.span()
+    }
 }
 
 /// A table key with the position it came from.
-#[derive(Clone, Debug)]
-pub struct Key {
+#[derive(Clone, Debug, PartialEq)]
+pub struct Key<'s> {
     /// The key text.
-    pub name: String,
+    pub name: Cow<'s, str>,
     /// Where the key is written (TOML only).
-    pub span: Option<Span>,
+    pub at: At,
+}
+
+impl Key<'_> {
+    /// Where the key is written (TOML only).
+    pub fn span(&self) -> Option<Span> {
+        self.at.span()
+    }
 }
 
 /// The value of a [`Node`].
-#[derive(Clone, Debug)]
-pub enum NodeKind {
+#[derive(Clone, Debug, PartialEq)]
+pub enum NodeKind<'s> {
     /// A table (TOML) or object (JSON), in document order.
-    Table(Vec<(Key, Node)>),
+    Table(Vec<(Key<'s>, Node<'s>)>),
     /// An array.
-    Array(Vec<Node>),
+    Array(Vec<Node<'s>>),
     /// A string.
-    Str(String),
+    Str(Cow<'s, str>),
     /// An integer.
     Int(i64),
     /// A float (may be NaN or infinite: TOML allows `nan` and `inf`, and
@@ -53,7 +106,7 @@ pub enum NodeKind {
     Other(&'static str),
 }
 
-impl NodeKind {
+impl NodeKind<'_> {
     /// The name of the value's type for "expected …, found …" errors.
     pub fn type_name(&self) -> &'static str {
         match self {
@@ -78,8 +131,28 @@ pub struct SyntaxError {
 }
 
 /// Reads TOML text into a [`Node`] tree with spans.
-pub fn parse_toml(text: &str) -> Result<Node, SyntaxError> {
-    let de = toml::de::Deserializer::parse(text).map_err(|e| SyntaxError {
+///
+/// A well-formed file is read in one pass over its tokens, straight into
+/// the tree ([`toml::read`]). Anything that pass does not take (a syntax
+/// error, a date, an array of tables...) is read again by the `toml`
+/// crate, whose document and messages are the reference: the tree is the
+/// same either way, and so is every error.
+pub fn parse_toml(text: &str) -> Result<Node<'_>, SyntaxError> {
+    match read_toml(text) {
+        Some(node) => Ok(node),
+        None => parse_toml_by_serde(text),
+    }
+}
+
+/// The one-pass reading of [`parse_toml`], or `None` for a text it leaves
+/// to the `toml` crate.
+pub(crate) fn read_toml(text: &str) -> Option<Node<'_>> {
+    toml::read(text)
+}
+
+/// Reads TOML text through the `toml` crate's document and serde.
+pub(crate) fn parse_toml_by_serde(text: &str) -> Result<Node<'_>, SyntaxError> {
+    let de = ::toml::de::Deserializer::parse(text).map_err(|e| SyntaxError {
         message: e.message().to_string(),
         span: e.span(),
     })?;
@@ -90,14 +163,14 @@ pub fn parse_toml(text: &str) -> Result<Node, SyntaxError> {
             span: e.span(),
         })?;
     Ok(Node {
-        span: Some(0..text.len()),
+        at: At::new(0..text.len()),
         kind,
     })
 }
 
 /// Reads JSON text into a [`Node`] tree (no spans; a syntax error gets
 /// one, from serde_json's line and column).
-pub fn parse_json(text: &str) -> Result<Node, SyntaxError> {
+pub fn parse_json(text: &str) -> Result<Node<'_>, SyntaxError> {
     let mut de = serde_json::Deserializer::from_str(text);
     let kind = (&mut de)
         .deserialize_any(KindVisitor::<false>(PhantomData))
@@ -106,7 +179,7 @@ pub fn parse_json(text: &str) -> Result<Node, SyntaxError> {
             message: strip_position(&e.to_string()),
             span: Some(json_error_span(text, &e)),
         })?;
-    Ok(Node { span: None, kind })
+    Ok(Node { at: At::NONE, kind })
 }
 
 /// The byte range a serde_json error points at.
@@ -150,19 +223,19 @@ fn strip_position(message: &str) -> String {
 struct NodeSeed<const SPANNED: bool>;
 
 impl<'de, const SPANNED: bool> DeserializeSeed<'de> for NodeSeed<SPANNED> {
-    type Value = Node;
+    type Value = Node<'de>;
 
-    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Node, D::Error> {
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Node<'de>, D::Error> {
         if SPANNED {
-            let spanned = <toml::Spanned<Kind<SPANNED>> as serde::Deserialize>::deserialize(d)?;
+            let spanned = <::toml::Spanned<Kind<'de, SPANNED>> as serde::Deserialize>::deserialize(d)?;
             let span = spanned.span();
             Ok(Node {
-                span: Some(span),
+                at: At::new(span),
                 kind: spanned.into_inner().0,
             })
         } else {
             Ok(Node {
-                span: None,
+                at: At::NONE,
                 kind: d.deserialize_any(KindVisitor::<SPANNED>(PhantomData))?,
             })
         }
@@ -173,28 +246,53 @@ impl<'de, const SPANNED: bool> DeserializeSeed<'de> for NodeSeed<SPANNED> {
 struct KeySeed<const SPANNED: bool>;
 
 impl<'de, const SPANNED: bool> DeserializeSeed<'de> for KeySeed<SPANNED> {
-    type Value = Key;
+    type Value = Key<'de>;
 
-    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Key, D::Error> {
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Key<'de>, D::Error> {
         if SPANNED {
-            let spanned = <toml::Spanned<String> as serde::Deserialize>::deserialize(d)?;
+            let spanned = <::toml::Spanned<Text<'de>> as serde::Deserialize>::deserialize(d)?;
             let span = spanned.span();
             Ok(Key {
-                name: spanned.into_inner(),
-                span: Some(span),
+                name: spanned.into_inner().0,
+                at: At::new(span),
             })
         } else {
             Ok(Key {
-                name: <String as serde::Deserialize>::deserialize(d)?,
-                span: None,
+                name: <Text<'de> as serde::Deserialize>::deserialize(d)?.0,
+                at: At::NONE,
             })
         }
     }
 }
 
-struct Kind<const SPANNED: bool>(NodeKind);
+/// A string that borrows the text when it can.
+struct Text<'de>(Cow<'de, str>);
 
-impl<'de, const SPANNED: bool> serde::Deserialize<'de> for Kind<SPANNED> {
+impl<'de> serde::Deserialize<'de> for Text<'de> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct TextVisitor;
+        impl<'de> Visitor<'de> for TextVisitor {
+            type Value = Text<'de>;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a string")
+            }
+            fn visit_borrowed_str<E>(self, v: &'de str) -> Result<Text<'de>, E> {
+                Ok(Text(Cow::Borrowed(v)))
+            }
+            fn visit_str<E>(self, v: &str) -> Result<Text<'de>, E> {
+                Ok(Text(Cow::Owned(v.to_string())))
+            }
+            fn visit_string<E>(self, v: String) -> Result<Text<'de>, E> {
+                Ok(Text(Cow::Owned(v)))
+            }
+        }
+        d.deserialize_str(TextVisitor)
+    }
+}
+
+struct Kind<'de, const SPANNED: bool>(NodeKind<'de>);
+
+impl<'de, const SPANNED: bool> serde::Deserialize<'de> for Kind<'de, SPANNED> {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         d.deserialize_any(KindVisitor::<SPANNED>(PhantomData)).map(Kind)
     }
@@ -203,44 +301,48 @@ impl<'de, const SPANNED: bool> serde::Deserialize<'de> for Kind<SPANNED> {
 struct KindVisitor<const SPANNED: bool>(PhantomData<()>);
 
 impl<'de, const SPANNED: bool> Visitor<'de> for KindVisitor<SPANNED> {
-    type Value = NodeKind;
+    type Value = NodeKind<'de>;
 
     fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
         f.write_str("a mechanism value")
     }
 
-    fn visit_bool<E>(self, v: bool) -> Result<NodeKind, E> {
+    fn visit_bool<E>(self, v: bool) -> Result<NodeKind<'de>, E> {
         Ok(NodeKind::Bool(v))
     }
 
-    fn visit_i64<E>(self, v: i64) -> Result<NodeKind, E> {
+    fn visit_i64<E>(self, v: i64) -> Result<NodeKind<'de>, E> {
         Ok(NodeKind::Int(v))
     }
 
-    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<NodeKind, E> {
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<NodeKind<'de>, E> {
         match i64::try_from(v) {
             Ok(i) => Ok(NodeKind::Int(i)),
             Err(_) => Ok(NodeKind::Float(v as f64)),
         }
     }
 
-    fn visit_f64<E>(self, v: f64) -> Result<NodeKind, E> {
+    fn visit_f64<E>(self, v: f64) -> Result<NodeKind<'de>, E> {
         Ok(NodeKind::Float(v))
     }
 
-    fn visit_str<E>(self, v: &str) -> Result<NodeKind, E> {
-        Ok(NodeKind::Str(v.to_string()))
+    fn visit_borrowed_str<E>(self, v: &'de str) -> Result<NodeKind<'de>, E> {
+        Ok(NodeKind::Str(Cow::Borrowed(v)))
     }
 
-    fn visit_string<E>(self, v: String) -> Result<NodeKind, E> {
-        Ok(NodeKind::Str(v))
+    fn visit_str<E>(self, v: &str) -> Result<NodeKind<'de>, E> {
+        Ok(NodeKind::Str(Cow::Owned(v.to_string())))
     }
 
-    fn visit_unit<E>(self) -> Result<NodeKind, E> {
+    fn visit_string<E>(self, v: String) -> Result<NodeKind<'de>, E> {
+        Ok(NodeKind::Str(Cow::Owned(v)))
+    }
+
+    fn visit_unit<E>(self) -> Result<NodeKind<'de>, E> {
         Ok(NodeKind::Other("null"))
     }
 
-    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<NodeKind, A::Error> {
+    fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<NodeKind<'de>, A::Error> {
         let mut items = Vec::new();
         while let Some(item) = seq.next_element_seed(NodeSeed::<SPANNED>)? {
             items.push(item);
@@ -248,7 +350,7 @@ impl<'de, const SPANNED: bool> Visitor<'de> for KindVisitor<SPANNED> {
         Ok(NodeKind::Array(items))
     }
 
-    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<NodeKind, A::Error> {
+    fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<NodeKind<'de>, A::Error> {
         let mut entries = Vec::new();
         while let Some(key) = map.next_key_seed(KeySeed::<SPANNED>)? {
             let value = map.next_value_seed(NodeSeed::<SPANNED>)?;
@@ -269,9 +371,9 @@ mod tests {
         let NodeKind::Table(entries) = node.kind else {
             panic!("not a table")
         };
-        let names: Vec<_> = entries.iter().map(|(k, _)| k.name.as_str()).collect();
+        let names: Vec<_> = entries.iter().map(|(k, _)| k.name.as_ref()).collect();
         assert_eq!(names, ["b", "a", "t"]);
-        let span = entries[1].1.span.clone().unwrap();
+        let span = entries[1].1.span().unwrap();
         assert_eq!(&text[span], "[1.5, 2]");
     }
 

@@ -12,7 +12,7 @@ use dofplan_runtime::Point;
 
 use super::error::{Diagnostic, Location, ModelError, Note, SourceFile};
 use super::shape;
-use super::source::{parse_json, parse_toml, Key, Node, NodeKind};
+use super::source::{parse_json, parse_toml_by_serde, read_toml, At, Key, Node, NodeKind};
 mod spatial;
 
 use super::spatial::Mechanism3;
@@ -69,8 +69,21 @@ impl Format {
 /// Reads and validates a (planar) mechanism file.
 pub fn load_file(path: &Path) -> Result<Mechanism, ModelError> {
     let name = path.display().to_string();
-    let text = read_text(path, &name)?;
-    load_str(&name, &text, Format::of_path(path))
+    let file = read_file(path, name)?;
+    let format = Format::of_path(path);
+    let root = parse(&file, format)?;
+    let drawn = drawn(file.clone(), &root, format);
+    // The tree goes before the assembly reviews open joints, if any.
+    drop(root);
+    drawn?.assembled()
+}
+
+/// Reads a file into the text errors quote, held once: the text read is
+/// dropped as soon as it is shared (a 50 MB file is not held twice while
+/// it is parsed).
+fn read_file(path: &Path, name: String) -> Result<SourceFile, ModelError> {
+    let text: Arc<str> = Arc::from(read_text(path, &name)?);
+    Ok(SourceFile { name, text })
 }
 
 /// Reads a file as UTF-8 text, with an error that tells a wrong path from a
@@ -212,14 +225,20 @@ pub fn is_spatial_file(path: &Path) -> bool {
 /// Reads and validates a mechanism file of either dimension.
 pub fn load_any(path: &Path) -> Result<Model, ModelError> {
     let name = path.display().to_string();
-    let text = read_text(path, &name)?;
-    load_any_str(&name, &text, Format::of_path(path))
+    let file = read_file(path, name)?;
+    load_any_file(file, Format::of_path(path))
 }
 
 /// Validates a mechanism of either dimension given as text; `file_name` is
 /// used in errors.
 pub fn load_any_str(file_name: &str, text: &str, format: Format) -> Result<Model, ModelError> {
-    let (file, root) = parse(file_name, text, format)?;
+    load_any_file(source_file(file_name, text), format)
+}
+
+/// [`load_any_str`] on a file's text: parsed once, validated as its
+/// `dimension` says.
+fn load_any_file(file: SourceFile, format: Format) -> Result<Model, ModelError> {
+    let root = parse(&file, format)?;
     let spatial = match &root.kind {
         NodeKind::Table(top) => matches!(
             Validator::get(top, "dimension").map(|d| &d.kind),
@@ -228,9 +247,19 @@ pub fn load_any_str(file_name: &str, text: &str, format: Format) -> Result<Model
         _ => false,
     };
     if !spatial {
-        return load_str(file_name, text, format).map(Model::Planar);
+        return drawn(file.clone(), &root, format)?.assembled().map(Model::Planar);
     }
-    drawn3(file, &root)?.assembled().map(Model::Spatial)
+    drawn3(file.clone(), &root, format)?
+        .assembled()
+        .map(Model::Spatial)
+}
+
+/// A text to parse, named `file_name` in errors.
+fn source_file(file_name: &str, text: &str) -> SourceFile {
+    SourceFile {
+        name: file_name.to_string(),
+        text: Arc::from(text),
+    }
 }
 
 /// A spatial mechanism whose only errors, if any, are joints and
@@ -282,13 +311,14 @@ impl Drawn3 {
 /// (with those errors). Every other error is still an error, and so is a
 /// planar file.
 pub fn load_str_drawn3(file_name: &str, text: &str, format: Format) -> Result<Drawn3, ModelError> {
-    let (file, root) = parse(file_name, text, format)?;
-    drawn3(file, &root)
+    let file = source_file(file_name, text);
+    let root = parse(&file, format)?;
+    drawn3(file.clone(), &root, format)
 }
 
 /// The spatial validation of a parsed file, open joints allowed.
-fn drawn3(file: SourceFile, root: &Node) -> Result<Drawn3, ModelError> {
-    let mut v = Validator::new(file);
+fn drawn3(file: SourceFile, root: &Node, format: Format) -> Result<Drawn3, ModelError> {
+    let mut v = Validator::new(file, format);
     match v.mechanism3(root) {
         // Only joints open in the drawn pose (or none): the least-squares
         // assembly says whether the drawing is only off or the joints
@@ -321,8 +351,8 @@ pub struct Drawn {
     pub open: Vec<Diagnostic>,
     /// Which joint or constraint each error is about.
     opened: Vec<Open>,
-    /// Where each joint and constraint is written, by origin ("joint B").
-    places: Vec<(String, Location)>,
+    /// Where each joint, then each constraint, of the mechanism is written.
+    places: Vec<Location>,
 }
 
 impl Drawn {
@@ -340,6 +370,17 @@ impl Drawn {
         if open.is_empty() {
             return Ok(mechanism);
         }
+        // By origin ("joint B"), named only now that they are needed.
+        let places: Vec<(String, Location)> = (mechanism.joints.iter())
+            .map(|j| format!("joint {}", j.name))
+            .chain(
+                mechanism
+                    .constraints
+                    .iter()
+                    .map(|c| format!("constraint {}", c.name)),
+            )
+            .zip(places)
+            .collect();
         conflict::review(&mechanism, &opened, &places, &mut open);
         Err(ModelError { diagnostics: open })
     }
@@ -347,17 +388,14 @@ impl Drawn {
 
 /// Parses a file into its node tree, with the errors every file can have
 /// (empty, syntax, nothing defined).
-fn parse(file_name: &str, text: &str, format: Format) -> Result<(SourceFile, Node), ModelError> {
-    let file = SourceFile {
-        name: file_name.to_string(),
-        text: Arc::from(text),
-    };
+fn parse(file: &SourceFile, format: Format) -> Result<Node<'_>, ModelError> {
+    let text: &str = &file.text;
     // Said plainly: the parsers' own words for nothing at all ("missing
     // `name`", "EOF while parsing a value") do not say the file is empty.
     if text.trim().is_empty() {
         return Err(ModelError {
             diagnostics: vec![Diagnostic {
-                file,
+                file: file.clone(),
                 location: Location::File,
                 message: if text.is_empty() {
                     "the file is empty".into()
@@ -369,8 +407,17 @@ fn parse(file_name: &str, text: &str, format: Format) -> Result<(SourceFile, Nod
             }],
         });
     }
-    // Arrays longer than the format allows are refused before a parser
-    // builds them (see `shape`).
+    // A well-formed TOML file is read in one pass (`source::read_toml`),
+    // which takes no array longer than the format allows. Anything else is
+    // scanned for those arrays, refused before a parser builds them (see
+    // `shape`), then parsed by the `toml` crate or serde_json, which say
+    // what is wrong.
+    if let Some(root) = match format {
+        Format::Toml => read_toml(text),
+        Format::Json => None,
+    } {
+        return defines_something(file, format, root);
+    }
     let too_long = match format {
         Format::Toml => shape::check_toml(text),
         Format::Json => shape::check_json(text),
@@ -378,7 +425,7 @@ fn parse(file_name: &str, text: &str, format: Format) -> Result<(SourceFile, Nod
     if let Some(t) = too_long {
         return Err(ModelError {
             diagnostics: vec![Diagnostic {
-                file,
+                file: file.clone(),
                 location: Location::Span(t.span),
                 message: t.message,
                 notes: vec![],
@@ -387,7 +434,7 @@ fn parse(file_name: &str, text: &str, format: Format) -> Result<(SourceFile, Nod
         });
     }
     let parsed = match format {
-        Format::Toml => parse_toml(text),
+        Format::Toml => parse_toml_by_serde(text),
         Format::Json => parse_json(text),
     };
     let root = parsed.map_err(|e| {
@@ -444,10 +491,15 @@ fn parse(file_name: &str, text: &str, format: Format) -> Result<(SourceFile, Nod
             }],
         }
     })?;
+    defines_something(file, format, root)
+}
+
+/// The tree of a file, or the error for a file that defines nothing.
+fn defines_something<'s>(file: &SourceFile, format: Format, root: Node<'s>) -> Result<Node<'s>, ModelError> {
     if matches!(&root.kind, NodeKind::Table(t) if t.is_empty()) {
         return Err(ModelError {
             diagnostics: vec![Diagnostic {
-                file,
+                file: file.clone(),
                 location: Location::File,
                 message: match format {
                     Format::Toml => "the file defines nothing (it has only comments)".into(),
@@ -458,7 +510,7 @@ fn parse(file_name: &str, text: &str, format: Format) -> Result<(SourceFile, Nod
             }],
         });
     }
-    Ok((file, root))
+    Ok(root)
 }
 
 /// Validates a mechanism given as text like [`load_str`], but returns it
@@ -466,9 +518,15 @@ fn parse(file_name: &str, text: &str, format: Format) -> Result<(SourceFile, Nod
 /// those errors). Every other error (syntax, unknown names, kinds...) is
 /// still an error.
 pub fn load_str_drawn(file_name: &str, text: &str, format: Format) -> Result<Drawn, ModelError> {
-    let (file, root) = parse(file_name, text, format)?;
-    let mut v = Validator::new(file);
-    let mechanism = v.mechanism(&root);
+    let file = source_file(file_name, text);
+    let root = parse(&file, format)?;
+    drawn(file.clone(), &root, format)
+}
+
+/// The planar validation of a parsed file, open joints allowed.
+fn drawn(file: SourceFile, root: &Node, format: Format) -> Result<Drawn, ModelError> {
+    let mut v = Validator::new(file, format);
+    let mechanism = v.mechanism(root);
     match mechanism {
         // Only joints open in the drawn pose (or none): the assembly check
         // says whether the mechanism assembles at all, or which joints are
@@ -490,17 +548,19 @@ fn format_name(format: Format) -> &'static str {
     }
 }
 
-/// A marker reference with where it was written, before resolution.
+/// A marker reference with where it was written, before resolution: its
+/// path in the file is made only for an error.
 struct Written<'a> {
-    node: &'a Node,
-    path: String,
+    node: &'a Node<'a>,
+    path: &'a dyn Fn() -> String,
 }
 
 /// A table's entries as parsed.
-type Entries<'n> = &'n [(Key, Node)];
+type Entries<'n> = &'n [(Key<'n>, Node<'n>)];
 
-/// Bodies by name, and markers by body and name.
-type Names = (HashMap<String, usize>, HashMap<(usize, String), usize>);
+/// Bodies by name, and for each body with more than a few markers, its
+/// markers by name (the others are searched).
+type Names = (HashMap<String, usize>, Vec<Option<HashMap<String, usize>>>);
 
 struct Validator {
     file: SourceFile,
@@ -513,19 +573,23 @@ struct Validator {
     /// an error already). They are kept in the mechanism, so the assembly
     /// check sees them; the file is rejected anyway.
     open: Vec<Open>,
-    /// Where each joint and constraint is written, by origin ("joint B").
-    places: Vec<(String, Location)>,
+    /// Where each joint, then each constraint, is written (as `Drawn`).
+    places: Vec<Location>,
     /// The mechanism's size, computed once from the bodies (every joint's
     /// drawn-pose tolerance is relative to it).
     size: Option<f64>,
     /// Bodies by name, and markers by body and name (first of a name),
     /// indexed once the bodies are read: references look them up.
     names: Option<Names>,
+    /// Whether a table may name a key twice: JSON allows it, TOML does
+    /// not (its parse has refused the file already).
+    repeats: bool,
 }
 
 impl Validator {
-    fn new(file: SourceFile) -> Validator {
+    fn new(file: SourceFile, format: Format) -> Validator {
         Validator {
+            repeats: format == Format::Json,
             file,
             diags: Vec::new(),
             broken: HashSet::new(),
@@ -537,15 +601,15 @@ impl Validator {
     }
 
     fn loc(&self, node: &Node, path: &str) -> Location {
-        match &node.span {
-            Some(s) => Location::Span(s.clone()),
+        match node.span() {
+            Some(s) => Location::Span(s),
             None => Location::Path(path.to_string()),
         }
     }
 
     fn key_loc(&self, key: &Key, path: &str) -> Location {
-        match &key.span {
-            Some(s) => Location::Span(s.clone()),
+        match key.span() {
+            Some(s) => Location::Span(s),
             None => Location::Path(path.to_string()),
         }
     }
@@ -570,7 +634,7 @@ impl Validator {
         });
     }
 
-    fn table<'n>(&mut self, node: &'n Node, path: &str) -> Option<&'n [(Key, Node)]> {
+    fn table<'n>(&mut self, node: &'n Node<'n>, path: &str) -> Option<&'n [(Key<'n>, Node<'n>)]> {
         match &node.kind {
             NodeKind::Table(t) => Some(t),
             other => {
@@ -588,10 +652,22 @@ impl Validator {
     /// Rejects keys outside `allowed` (nothing the user wrote is ignored)
     /// and names within one table that repeat (JSON allows them).
     fn check_keys(&mut self, entries: &[(Key, Node)], allowed: &[&str], path: &str) {
-        let mut seen: HashMap<&str, &Key> = HashMap::new();
-        for (key, _) in entries {
-            let kpath = join(path, &key.name);
-            if let Some(first) = seen.get(key.name.as_str()) {
+        // A table of a few entries is searched; a larger one is looked up.
+        let mut seen: Option<HashMap<&str, &Key>> = (entries.len() > 8).then(HashMap::new);
+        for (i, (key, _)) in entries.iter().enumerate() {
+            let first = match &mut seen {
+                _ if !self.repeats => None,
+                Some(seen) => match seen.entry(key.name.as_ref()) {
+                    std::collections::hash_map::Entry::Occupied(e) => Some(*e.get()),
+                    std::collections::hash_map::Entry::Vacant(e) => {
+                        e.insert(key);
+                        None
+                    }
+                },
+                None => entries[..i].iter().map(|(k, _)| k).find(|k| k.name == key.name),
+            };
+            if let Some(first) = first {
+                let kpath = join(path, &key.name);
                 let first_loc = self.key_loc(first, &kpath);
                 let loc = self.key_loc(key, &kpath);
                 self.error_notes(
@@ -603,11 +679,9 @@ impl Validator {
                     }],
                     Some("rename one of them".into()),
                 );
-            } else {
-                seen.insert(&key.name, key);
             }
-            if !allowed.is_empty() && !allowed.contains(&key.name.as_str()) {
-                let loc = self.key_loc(key, &kpath);
+            if !allowed.is_empty() && !allowed.contains(&key.name.as_ref()) {
+                let loc = self.key_loc(key, &join(path, &key.name));
                 self.error(
                     loc,
                     format!("unknown key `{}` in {}", key.name, display_path(path)),
@@ -617,17 +691,17 @@ impl Validator {
         }
     }
 
-    fn get<'n>(entries: &'n [(Key, Node)], name: &str) -> Option<&'n Node> {
+    fn get<'n>(entries: &'n [(Key<'n>, Node<'n>)], name: &str) -> Option<&'n Node<'n>> {
         entries.iter().find(|(k, _)| k.name == name).map(|(_, n)| n)
     }
 
     fn required<'n>(
         &mut self,
-        entries: &'n [(Key, Node)],
+        entries: &'n [(Key<'n>, Node<'n>)],
         name: &str,
         parent: &Node,
         path: &str,
-    ) -> Option<&'n Node> {
+    ) -> Option<&'n Node<'n>> {
         let found = Self::get(entries, name);
         if found.is_none() {
             let loc = self.loc(parent, path);
@@ -636,7 +710,7 @@ impl Validator {
         found
     }
 
-    fn string<'n>(&mut self, node: &'n Node, path: &str) -> Option<&'n str> {
+    fn string<'n>(&mut self, node: &'n Node<'n>, path: &str) -> Option<&'n str> {
         match &node.kind {
             NodeKind::Str(s) => Some(s),
             other => {
@@ -683,14 +757,20 @@ impl Validator {
 
     /// `N` numbers `[x, y]` or `[x, y, z]`: a point of either dimension.
     fn coords<const N: usize>(&mut self, node: &Node, path: &str) -> Option<[f64; N]> {
-        let form = ["x", "y", "z"][..N].join(", ");
+        let form = || ["x", "y", "z"][..N].join(", ");
         match &node.kind {
             NodeKind::Array(items) if items.len() == N => {
                 let mut out = [0.0; N];
                 let mut ok = true;
                 for (k, item) in items.iter().enumerate() {
-                    // Every coordinate is read, so each bad one is reported.
-                    match self.number(item, &format!("{path}[{k}]")) {
+                    // Every coordinate is read, so each bad one is reported
+                    // (its path made only then).
+                    let value = match item.kind {
+                        NodeKind::Int(i) => Some(i as f64),
+                        NodeKind::Float(f) if f.is_finite() => Some(f),
+                        _ => self.number(item, &format!("{path}[{k}]")),
+                    };
+                    match value {
                         Some(v) => out[k] = v,
                         None => ok = false,
                     }
@@ -702,10 +782,11 @@ impl Validator {
                 self.error(
                     loc,
                     format!(
-                        "`{path}` must have {N} coordinates [{form}], found {}",
+                        "`{path}` must have {N} coordinates [{}], found {}",
+                        form(),
                         items.len()
                     ),
-                    Some(format!("dimension is {N}: write [{form}]")),
+                    Some(format!("dimension is {N}: write [{}]", form())),
                 );
                 None
             }
@@ -713,7 +794,7 @@ impl Validator {
                 let loc = self.loc(node, path);
                 self.error(
                     loc,
-                    format!("`{path}` must be [{form}], found {}", other.type_name()),
+                    format!("`{path}` must be [{}], found {}", form(), other.type_name()),
                     None,
                 );
                 None
@@ -722,13 +803,16 @@ impl Validator {
     }
 
     /// A marker's position: a point within [`MAX_COORDINATE`].
-    fn position(&mut self, marker: &str, node: &Node, path: &str) -> Option<Point> {
+    fn position(&mut self, marker: &dyn Fn() -> String, node: &Node, path: &str) -> Option<Point> {
         let p = self.point(node, path)?;
         if let Some(c) = p.iter().find(|c| c.abs() > MAX_COORDINATE) {
             let loc = self.loc(node, path);
             self.error(
                 loc,
-                format!("marker `{marker}` has a coordinate {c:e}, too far from the origin to compute with"),
+                format!(
+                    "marker `{}` has a coordinate {c:e}, too far from the origin to compute with",
+                    marker()
+                ),
                 Some(format!(
                     "rescale the drawing (units are free): coordinates up to {MAX_COORDINATE:e} work"
                 )),
@@ -740,7 +824,7 @@ impl Validator {
 
     /// The top-level table of a file of either dimension, its keys checked,
     /// and its `name`.
-    fn top<'n>(&mut self, root: &'n Node) -> Option<(Entries<'n>, Option<String>)> {
+    fn top<'n>(&mut self, root: &'n Node<'n>) -> Option<(Entries<'n>, Option<String>)> {
         let top = self.table(root, "")?;
         self.check_keys(
             top,
@@ -791,7 +875,7 @@ impl Validator {
             None => Vec::new(),
         };
         let empty = Node {
-            span: None,
+            at: At::NONE,
             kind: NodeKind::Table(Vec::new()),
         };
         let joints_node = Self::get(top, "joints").unwrap_or(&empty);
@@ -803,8 +887,11 @@ impl Validator {
             .map(|(j, n)| ("joint", &j.name, n))
             .chain(constraints.iter().map(|(c, n)| ("constraint", &c.name, n)))
         {
-            let place = self.loc(node, &join(&format!("{what}s"), name));
-            self.places.push((format!("{what} {name}"), place));
+            let place = match node.span() {
+                Some(s) => Location::Span(s),
+                None => Location::Path(join(&format!("{what}s"), name)),
+            };
+            self.places.push(place);
         }
         self.cross_duplicates(joints_node, constraints_node);
         let inputs = match Self::get(top, "inputs") {
@@ -812,7 +899,7 @@ impl Validator {
             None => Vec::new(),
         };
         let written_inputs: Vec<&str> = match Self::get(top, "inputs").map(|n| &n.kind) {
-            Some(NodeKind::Table(t)) => t.iter().map(|(k, _)| k.name.as_str()).collect(),
+            Some(NodeKind::Table(t)) => t.iter().map(|(k, _)| k.name.as_ref()).collect(),
             _ => vec![],
         };
         let sweep = match Self::get(top, "sweep") {
@@ -842,21 +929,27 @@ impl Validator {
             return Vec::new();
         };
         self.check_keys(entries, &[], "bodies");
-        let mut bodies = Vec::new();
+        let mut bodies = Vec::with_capacity(entries.len());
+        // Paths are written into buffers, not allocated for every entry.
+        let mut path = String::from("bodies.");
+        let mut mpath = String::new();
+        let mut p = String::new();
         for (key, bnode) in entries {
-            let path = join("bodies", &key.name);
-            self.check_name(key, &path, "body");
-            let Some(fields) = self.table(bnode, &path) else {
-                self.broken.insert(key.name.clone());
+            path.truncate("bodies.".len());
+            path.push_str(&key.name);
+            let path = &path;
+            self.check_name(key, path, "body");
+            let Some(fields) = self.table(bnode, path) else {
+                self.broken.insert(key.name.to_string());
                 continue;
             };
-            self.check_keys(fields, &["fixed", "markers"], &path);
+            self.check_keys(fields, &["fixed", "markers"], path);
             let fixed = match Self::get(fields, "fixed") {
                 None => false,
                 Some(f) => match f.kind {
                     NodeKind::Bool(b) => b,
                     ref other => {
-                        let loc = self.loc(f, &join(&path, "fixed"));
+                        let loc = self.loc(f, &join(path, "fixed"));
                         self.error(
                             loc,
                             format!(
@@ -870,18 +963,24 @@ impl Validator {
                 },
             };
             let mut markers = Vec::new();
+            mpath.clear();
+            mpath.push_str(path);
+            mpath.push_str(".markers");
             let mentries = self
-                .required(fields, "markers", bnode, &path)
-                .and_then(|mnode| self.table(mnode, &join(&path, "markers")));
+                .required(fields, "markers", bnode, path)
+                .and_then(|mnode| self.table(mnode, &mpath));
             match mentries {
                 None => {
-                    self.broken.insert(key.name.clone());
+                    self.broken.insert(key.name.to_string());
                 }
                 Some(mentries) => {
-                    let mpath = join(&path, "markers");
                     self.check_keys(mentries, &[], &mpath);
+                    markers.reserve_exact(mentries.len());
                     for (mkey, m) in mentries {
-                        let p = join(&mpath, &mkey.name);
+                        p.clear();
+                        p.push_str(&mpath);
+                        p.push('.');
+                        p.push_str(&mkey.name);
                         self.check_name(mkey, &p, "marker");
                         match read(self, &key.name, &mkey.name, m, &p) {
                             Some(marker) => markers.push(marker),
@@ -893,7 +992,7 @@ impl Validator {
                 }
             }
             bodies.push(Body {
-                name: key.name.clone(),
+                name: key.name.to_string(),
                 fixed,
                 markers,
             });
@@ -943,7 +1042,8 @@ impl Validator {
     }
 
     fn marker(&mut self, body: &str, short: &str, node: &Node, path: &str) -> Option<Marker> {
-        let name = format!("{body}.{short}");
+        // The marker's full name, for errors only.
+        let name = || format!("{body}.{short}");
         match &node.kind {
             NodeKind::Array(_) => Some(Marker {
                 name: short.to_string(),
@@ -969,7 +1069,7 @@ impl Validator {
                             };
                             self.error(
                                 loc,
-                                format!("marker `{name}` has {what}"),
+                                format!("marker `{}` has {what}", name()),
                                 Some("a direction needs a non-zero length, e.g. dir = [1, 0]".into()),
                             );
                             return None;
@@ -988,7 +1088,8 @@ impl Validator {
                 self.error(
                     loc,
                     format!(
-                        "marker `{name}` must be [x, y] or {{ at = [x, y], dir = [dx, dy] }}, found {}",
+                        "marker `{}` must be [x, y] or {{ at = [x, y], dir = [dx, dy] }}, found {}",
+                        name(),
                         other.type_name()
                     ),
                     None,
@@ -1005,9 +1106,16 @@ impl Validator {
         bodies: &[Body<M>],
         owner: &str,
     ) -> Option<MarkerId> {
-        let text = self.string(w.node, &w.path)?;
-        let loc = self.loc(w.node, &w.path);
+        let text = match &w.node.kind {
+            NodeKind::Str(s) => s.as_ref(),
+            _ => {
+                // Not a string: `string` says so.
+                self.string(w.node, &(w.path)());
+                return None;
+            }
+        };
         let Some((b, m)) = text.split_once('.') else {
+            let loc = self.loc(w.node, &(w.path)());
             self.error(
                 loc,
                 format!("{owner}: `{text}` is not of the form \"body.marker\""),
@@ -1017,22 +1125,35 @@ impl Validator {
         };
         let (body_index, marker_index) = self.names.get_or_insert_with(|| {
             let mut by_name = HashMap::new();
-            let mut markers = HashMap::new();
             for (bi, body) in bodies.iter().enumerate() {
                 by_name.entry(body.name.clone()).or_insert(bi);
-                for (mi, marker) in body.markers.iter().enumerate() {
-                    markers.entry((bi, marker.name().to_string())).or_insert(mi);
-                }
             }
+            let markers = bodies
+                .iter()
+                .map(|body| {
+                    (body.markers.len() > 8).then(|| {
+                        let mut index = HashMap::new();
+                        for (mi, marker) in body.markers.iter().enumerate() {
+                            index.entry(marker.name().to_string()).or_insert(mi);
+                        }
+                        index
+                    })
+                })
+                .collect();
             (by_name, markers)
         });
+        // The first marker of the name, as the index keeps it.
         let bi = body_index.get(b).copied();
-        let mi = bi.and_then(|bi| marker_index.get(&(bi, m.to_string())).copied());
+        let mi = bi.and_then(|bi| match &marker_index[bi] {
+            Some(index) => index.get(m).copied(),
+            None => bodies[bi].markers.iter().position(|k| k.name() == m),
+        });
         let Some(bi) = bi else {
             if self.broken.contains(b) {
                 return None;
             }
             let names: Vec<_> = bodies.iter().map(|b| b.name.as_str()).collect();
+            let loc = self.loc(w.node, &(w.path)());
             self.error(
                 loc,
                 format!("{owner}: unknown body `{b}` in `{text}`"),
@@ -1045,6 +1166,7 @@ impl Validator {
                 return None;
             }
             let names: Vec<_> = bodies[bi].markers.iter().map(|m| m.name()).collect();
+            let loc = self.loc(w.node, &(w.path)());
             self.error(
                 loc,
                 format!("{owner}: body `{b}` has no marker `{m}`"),
@@ -1065,11 +1187,12 @@ impl Validator {
         owner: &str,
     ) -> Option<[MarkerId; 2]> {
         let mnode = self.required(fields, "markers", node, path)?;
-        let mpath = join(path, "markers");
+        // The path, for errors only.
+        let mpath = || join(path, "markers");
         let items = match &mnode.kind {
             NodeKind::Array(items) if items.len() == 2 => items,
             _ => {
-                let loc = self.loc(mnode, &mpath);
+                let loc = self.loc(mnode, &mpath());
                 self.error(
                     loc,
                     format!("{owner}: `markers` must be two markers [\"body.A\", \"other.B\"]"),
@@ -1081,7 +1204,7 @@ impl Validator {
         let a = self.marker_ref(
             &Written {
                 node: &items[0],
-                path: format!("{mpath}[0]"),
+                path: &|| format!("{}[0]", mpath()),
             },
             bodies,
             owner,
@@ -1089,14 +1212,14 @@ impl Validator {
         let b = self.marker_ref(
             &Written {
                 node: &items[1],
-                path: format!("{mpath}[1]"),
+                path: &|| format!("{}[1]", mpath()),
             },
             bodies,
             owner,
         );
         let (a, b) = (a?, b?);
         if a.body == b.body {
-            let loc = self.loc(mnode, &mpath);
+            let loc = self.loc(mnode, &mpath());
             self.error(
                 loc,
                 format!(
@@ -1112,14 +1235,18 @@ impl Validator {
 
     fn kind<'n>(
         &mut self,
-        fields: &'n [(Key, Node)],
+        fields: &'n [(Key<'n>, Node<'n>)],
         node: &Node,
         path: &str,
         allowed: &[&str],
         owner: &str,
-    ) -> Option<(&'n str, &'n Node)> {
+    ) -> Option<(&'n str, &'n Node<'n>)> {
         let knode = self.required(fields, "kind", node, path)?;
-        let kind = self.string(knode, &join(path, "kind"))?;
+        let kind = match &knode.kind {
+            NodeKind::Str(s) => s.as_ref(),
+            // Not a string: `string` says so.
+            _ => return self.string(knode, &join(path, "kind")).and(None),
+        };
         if !allowed.contains(&kind) {
             let loc = self.loc(knode, &join(path, "kind"));
             self.error(
@@ -1136,43 +1263,54 @@ impl Validator {
     /// `kind` among `kinds` and two `markers`. Calls `check` with the kind
     /// and the resolved markers; entries it accepts are returned.
     #[allow(clippy::too_many_arguments)]
-    fn connections<T, M: MarkerLike>(
+    fn connections<'n, T, M: MarkerLike>(
         &mut self,
-        node: &Node,
+        node: &'n Node<'n>,
         bodies: &[Body<M>],
         section: &str,
         what: &str,
         kinds: &[&str],
         extra: &[&str],
         mut check: impl FnMut(&mut Self, &str, [MarkerId; 2], &Node, &str, &str) -> Option<T>,
-    ) -> Vec<(String, T, [MarkerId; 2], Node)> {
+    ) -> Vec<(String, T, [MarkerId; 2], &'n Node<'n>)> {
         let Some(entries) = self.table(node, section) else {
             return Vec::new();
         };
         self.check_keys(entries, &[], section);
-        let mut out = Vec::new();
+        let mut out = Vec::with_capacity(entries.len());
+        let allowed: Vec<&str> = ["kind", "markers"].iter().chain(extra).copied().collect();
+        // The path and the name in errors are written into buffers, not
+        // allocated for every entry.
+        let (mut path, mut owner) = (String::new(), String::new());
         for (key, entry) in entries {
-            let path = join(section, &key.name);
-            let owner = format!("{what} `{}`", key.name);
-            self.check_name(key, &path, what);
-            let Some(fields) = self.table(entry, &path) else {
+            path.clear();
+            path.push_str(section);
+            path.push('.');
+            path.push_str(&key.name);
+            owner.clear();
+            owner.push_str(what);
+            owner.push_str(" `");
+            owner.push_str(&key.name);
+            owner.push('`');
+            let (path, owner) = (&path, &owner);
+            self.check_name(key, path, what);
+            let Some(fields) = self.table(entry, path) else {
                 continue;
             };
-            let allowed: Vec<&str> = ["kind", "markers"].iter().chain(extra).copied().collect();
-            self.check_keys(fields, &allowed, &path);
-            let kind = self.kind(fields, entry, &path, kinds, &owner);
-            let pair = self.pair(fields, entry, &path, bodies, &owner);
+            self.check_keys(fields, &allowed, path);
+            let kind = self.kind(fields, entry, path, kinds, owner);
+            let pair = self.pair(fields, entry, path, bodies, owner);
             let (Some((kind, _)), Some(markers)) = (kind, pair) else {
                 continue;
             };
-            if let Some(value) = check(self, kind, markers, entry, &path, &owner) {
-                out.push((key.name.clone(), value, markers, entry.clone()));
+            if let Some(value) = check(self, kind, markers, entry, path, owner) {
+                out.push((key.name.to_string(), value, markers, entry));
             }
         }
         out
     }
 
-    fn joints(&mut self, node: &Node, bodies: &[Body]) -> Vec<(Joint, Node)> {
+    fn joints<'n>(&mut self, node: &'n Node<'n>, bodies: &[Body]) -> Vec<(Joint, &'n Node<'n>)> {
         let found = self.connections(
             node,
             bodies,
@@ -1195,7 +1333,7 @@ impl Validator {
             .collect()
     }
 
-    fn constraints(&mut self, node: &Node, bodies: &[Body]) -> Vec<(Constraint, Node)> {
+    fn constraints<'n>(&mut self, node: &'n Node<'n>, bodies: &[Body]) -> Vec<(Constraint, &'n Node<'n>)> {
         let found = self.connections(
             node,
             bodies,
@@ -1274,25 +1412,7 @@ impl Validator {
     }
 
     fn size(&mut self, bodies: &[Body]) -> f64 {
-        if let Some(size) = self.size {
-            return size;
-        }
-        let m = Mechanism {
-            name: String::new(),
-            dimension: 2,
-            bodies: bodies.to_vec(),
-            joints: vec![],
-            constraints: vec![],
-            inputs: vec![],
-            sweep: None,
-            source: SourceFile {
-                name: String::new(),
-                text: Arc::from(""),
-            },
-        };
-        let size = m.size();
-        self.size = Some(size);
-        size
+        *self.size.get_or_insert_with(|| super::size_of(bodies))
     }
 
     fn check_coincident(
@@ -1385,7 +1505,7 @@ impl Validator {
         &mut self,
         node: &Node,
         joints_node: &Node,
-        joints: &[(J, Node)],
+        joints: &[(J, &Node)],
         bodies: &[Body<M>],
     ) -> Vec<Input> {
         let Some(entries) = self.table(node, "inputs") else {
@@ -1393,7 +1513,7 @@ impl Validator {
         };
         self.check_keys(entries, &[], "inputs");
         let written_joints: Vec<&str> = match &joints_node.kind {
-            NodeKind::Table(t) => t.iter().map(|(k, _)| k.name.as_str()).collect(),
+            NodeKind::Table(t) => t.iter().map(|(k, _)| k.name.as_ref()).collect(),
             _ => vec![],
         };
         let mut inputs: Vec<Input> = Vec::new();
@@ -1447,7 +1567,7 @@ impl Validator {
                         joint.kind_name()
                     ),
                     vec![Note {
-                        location: self.loc(&joints[ji].1, &join("joints", jname)),
+                        location: self.loc(joints[ji].1, &join("joints", jname)),
                         message: format!("joint `{jname}` is defined here"),
                     }],
                     Some(help),
@@ -1481,7 +1601,7 @@ impl Validator {
                 continue;
             }
             inputs.push(Input {
-                name: key.name.clone(),
+                name: key.name.to_string(),
                 kind,
                 joint: ji,
             });
@@ -1526,7 +1646,7 @@ impl Validator {
                     for (i, item) in items.iter().enumerate() {
                         let w = Written {
                             node: item,
-                            path: format!("sweep.trace[{i}]"),
+                            path: &|| format!("sweep.trace[{i}]"),
                         };
                         if let Some(id) = self.marker_ref(&w, bodies, "sweep trace") {
                             trace.push(id);
@@ -1551,7 +1671,7 @@ impl Validator {
                 // Both forms at once would leave it unclear which range wins.
                 if let Some((k, _)) = fields
                     .iter()
-                    .find(|(k, _)| ["input", "from", "to"].contains(&k.name.as_str()))
+                    .find(|(k, _)| ["input", "from", "to"].contains(&k.name.as_ref()))
                 {
                     let loc = self.key_loc(k, &join("sweep", &k.name));
                     self.error(
@@ -1610,7 +1730,7 @@ impl Validator {
         for (key, range) in entries {
             let path = join("sweep.inputs", &key.name);
             let key_node = Node {
-                span: key.span.clone(),
+                at: key.at,
                 kind: NodeKind::Str(key.name.clone()),
             };
             let index = self.swept_input(&key.name, &key_node, &path, inputs, written_inputs);

@@ -7,7 +7,7 @@ use dofplan_runtime::spatial::{cross, dot, norm, scale, sub, unit, Vec3};
 
 use super::{join, Validator, MAX_COORDINATE};
 use crate::analysis::spatial::equations::{drawn_residual, Frame};
-use crate::model::source::{Node, NodeKind};
+use crate::model::source::{At, Node, NodeKind};
 use crate::model::spatial::{Axes, Constraint3, Joint3, JointKind3, Marker3, Mechanism3, Primitive};
 use crate::model::{Body, InputKind, MarkerId, DRAWN_TOLERANCE};
 
@@ -31,7 +31,7 @@ impl Validator {
             }
         };
         let empty = Node {
-            span: None,
+            at: At::NONE,
             kind: NodeKind::Table(Vec::new()),
         };
         let joints_node = Self::get(top, "joints").unwrap_or(&empty);
@@ -44,7 +44,7 @@ impl Validator {
             None => Vec::new(),
         };
         let written_inputs: Vec<&str> = match Self::get(top, "inputs").map(|n| &n.kind) {
-            Some(NodeKind::Table(t)) => t.iter().map(|(k, _)| k.name.as_str()).collect(),
+            Some(NodeKind::Table(t)) => t.iter().map(|(k, _)| k.name.as_ref()).collect(),
             _ => vec![],
         };
         let sweep = match Self::get(top, "sweep") {
@@ -213,7 +213,12 @@ impl Validator {
         Some(p)
     }
 
-    fn joints3(&mut self, node: &Node, bodies: &[Body<Marker3>], size: f64) -> Vec<(Joint3, Node)> {
+    fn joints3<'n>(
+        &mut self,
+        node: &'n Node<'n>,
+        bodies: &[Body<Marker3>],
+        size: f64,
+    ) -> Vec<(Joint3, &'n Node<'n>)> {
         let kinds: Vec<&str> = JointKind3::ALL.iter().map(|k| k.name()).collect();
         let found = self.connections(
             node,
