@@ -20,10 +20,11 @@
 use std::collections::{HashMap, HashSet};
 use std::ops::Range;
 
-use proc_macro2::{TokenStream, TokenTree};
+use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
 use super::roll::Run;
+use super::uses::{param, Uses};
 use super::{index, Emitter, Sink};
 use crate::plan::{Plan, StepKind};
 
@@ -33,66 +34,12 @@ use crate::plan::{Plan, StepKind};
 /// steps) and every bundled mechanism stay one function.
 pub const CHUNK_WEIGHT: usize = 12_000;
 
-/// The identifiers of a step's code that matter to its chunk: the frame
-/// locals (poses, points, inputs) and the parameters.
-#[derive(Default)]
-pub(super) struct Uses {
-    idents: HashSet<String>,
-    /// Number of tokens, groups counted once plus their contents.
-    pub weight: usize,
-}
-
-impl Uses {
-    pub fn of(tokens: &TokenStream) -> Uses {
-        let mut u = Uses::default();
-        u.add(tokens);
-        u
-    }
-
-    /// Whether the code names `ident`.
-    pub fn mentions(&self, ident: &str) -> bool {
-        self.idents.contains(ident)
-    }
-
-    fn merge(&mut self, other: Uses) {
-        self.idents.extend(other.idents);
-        self.weight += other.weight;
-    }
-
-    fn add(&mut self, tokens: &TokenStream) {
-        for t in tokens.clone() {
-            self.weight += 1;
-            match t {
-                TokenTree::Group(g) => self.add(&g.stream()),
-                TokenTree::Ident(i) => {
-                    self.idents.insert(i.to_string());
-                }
-                _ => {}
-            }
-        }
-    }
-
-    pub fn has(&self, ident: &str) -> bool {
-        self.idents.contains(ident)
-    }
-}
-
 /// A run of steps that becomes one function.
 pub(super) struct Chunk {
     steps: Range<usize>,
     /// Whether the steps repeat and are rolled into a loop (see
     /// [`roll`](super::roll)).
     rolled: Option<Run>,
-}
-
-/// A generated function's parameter `name`, `_`-prefixed when its code
-/// does not use it.
-pub(super) fn param(name: &str, used: bool) -> proc_macro2::Ident {
-    if used {
-        format_ident!("{}", name)
-    } else {
-        format_ident!("_{}", name)
-    }
 }
 
 /// The step computing each point of `plan`.
@@ -233,11 +180,7 @@ impl Emitter<'_> {
             .map(|(t, id)| (id.to_string(), t))
             .collect();
         let named = |c: usize, of: &HashMap<String, usize>| -> Vec<usize> {
-            let mut found: Vec<usize> = uses[c]
-                .idents
-                .iter()
-                .filter_map(|id| of.get(id).copied())
-                .collect();
+            let mut found: Vec<usize> = uses[c].idents().filter_map(|id| of.get(id).copied()).collect();
             found.sort_unstable();
             found
         };

@@ -26,6 +26,7 @@ mod rates;
 mod roll;
 mod spatial;
 mod spatial_cluster;
+mod uses;
 
 pub use chunk::CHUNK_WEIGHT;
 pub use cluster::FIXED_LIMIT;
@@ -846,13 +847,13 @@ impl Emitter<'_> {
         real: TokenStream,
         after: impl Fn(usize) -> TokenStream,
     ) -> Vec<TokenStream> {
-        let uses: Vec<chunk::Uses> = steps.iter().map(chunk::Uses::of).collect();
+        let uses: Vec<uses::Uses> = steps.iter().map(uses::Uses::of).collect();
         let first_use: Vec<(usize, usize)> = self
             .written_bodies()
             .into_iter()
             .filter_map(|b| {
                 let id = self.pose_idents[b].to_string();
-                uses.iter().position(|u| u.mentions(&id)).map(|i| (b, i))
+                uses.iter().position(|u| u.has(&id)).map(|i| (b, i))
             })
             .collect();
         steps
@@ -1094,8 +1095,8 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
     // Each step's code is made to be measured and then dropped: a large
     // plan's steps are made again, chunk by chunk, as they are written.
     let kinds: Vec<&StepKind> = plan.steps.iter().map(|s| &s.kind).collect();
-    let mut uses: Vec<chunk::Uses> = (0..plan.steps.len())
-        .map(|i| chunk::Uses::of(&e.step(i)))
+    let mut uses: Vec<uses::Uses> = (0..plan.steps.len())
+        .map(|i| uses::Uses::of(&e.step(i)))
         .collect();
     let weights: Vec<usize> = uses.iter().map(|u| u.weight).collect();
     let chunks = chunk::partition(&kinds, &weights, chunk_weight, || e.runs());
@@ -1134,18 +1135,18 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
             e.chunked = true;
             for (i, kind) in kinds.iter().enumerate() {
                 if chunk::starts_chunk(kind) {
-                    uses[i] = chunk::Uses::of(&e.step(i));
+                    uses[i] = uses::Uses::of(&e.step(i));
                 }
             }
             // The steps on jets, in the same chunks as `solve`: measured
             // here, made again as their functions are written.
             e.jets = true;
             let mut real = false;
-            let jet_uses: Vec<chunk::Uses> = (0..plan.steps.len())
+            let jet_uses: Vec<uses::Uses> = (0..plan.steps.len())
                 .map(|i| {
                     let code = e.step(i);
                     real |= code.to_string().contains("Jet2 :: cst");
-                    chunk::Uses::of(&code)
+                    uses::Uses::of(&code)
                 })
                 .collect();
             e.jets = false;

@@ -30,7 +30,7 @@ use quote::{format_ident, quote};
 
 use std::fmt::Write;
 
-use super::chunk::{param, Uses};
+use super::uses::{param, Uses};
 use super::{lit, Emitter, Sink};
 use crate::plan::StepKind;
 

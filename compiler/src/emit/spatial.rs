@@ -26,7 +26,8 @@ use dofplan_runtime::spatial::rows::RowKind;
 use dofplan_runtime::spatial::Vec3;
 use dofplan_runtime::Branch;
 
-use super::chunk::{Uses, CHUNK_WEIGHT};
+use super::chunk::CHUNK_WEIGHT;
+use super::uses::Uses;
 use super::{ident_for, index, lit, names};
 use crate::model::InputKind;
 use crate::plan::spatial::{Action3, CheckRow, HingeTurn, Locus3, Plan3, StepKind3, D3, P3};

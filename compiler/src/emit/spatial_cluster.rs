@@ -2,7 +2,7 @@
 //! `dofplan_runtime::numeric::fixed_system`, solved by `Newton` at fixed
 //! size so a frame allocates nothing.
 //!
-//! It is [`crate::interp::spatial_cluster`] written out: the same
+//! It is [`crate::interp::spatial::cluster`] written out: the same
 //! operations in the same order, so compiled and interpreted clusters
 //! agree to rounding. Before the solve, each cluster body's unknowns
 //! (`cluster::Unknowns`) and warm start, and each distance row's far end
@@ -356,7 +356,7 @@ impl Emitter3<'_> {
         let mut values = Block::new(self.plan);
         let solve = self.cluster_solve(&mut values, c, id, true);
         let pre = &values.pre;
-        let uses = super::chunk::Uses::of(&quote!(#(#pre)* #solve));
+        let uses = super::uses::Uses::of(&quote!(#(#pre)* #solve));
         let inputs = if uses.has("inputs") {
             quote!(let inputs = input_values;)
         } else {
