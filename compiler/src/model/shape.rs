@@ -13,7 +13,9 @@
 
 use std::borrow::Cow;
 
-use super::source::Span;
+/// A byte range in the text, as `source::Span`: the one-pass reader in
+/// `source` takes its limits from here, so this module names nothing of it.
+type Span = std::ops::Range<usize>;
 
 /// The most coordinates a marker's point or direction has (`[x, y, z]`).
 pub const MAX_COORDINATES: usize = 3;
