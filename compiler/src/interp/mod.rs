@@ -3,7 +3,6 @@
 //! function the generated code calls.
 
 pub mod spatial;
-pub mod spatial_cluster;
 
 use dofplan_runtime::numeric::{cluster, Newton};
 use dofplan_runtime::planar::{self, cst, Point, Pose, Rot};

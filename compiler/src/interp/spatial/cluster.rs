@@ -14,7 +14,7 @@ use dofplan_runtime::spatial::{dot, norm, sub, unit, value, Pose3, Vec3};
 use dofplan_runtime::{Break, Ctx};
 use nalgebra::{DMatrix, DVector};
 
-use super::spatial::{dir_at, point_at, State3};
+use super::state::{dir_at, point_at, State3};
 use crate::plan::spatial::{Cluster3, ClusterRow3, Param3, P3};
 
 /// A row ready to evaluate: an equation's, or a distance from a constant
@@ -28,7 +28,7 @@ enum Row<'c> {
 /// A cluster's rows as Newton's [`Equations`] over its bodies' unknowns,
 /// warm-started from the poses it was made at. The loader's least-squares
 /// assembly of a spatial drawing solves one too
-/// (`analysis::spatial::conflict`), so its residuals are a plan's.
+/// (`conflict::spatial`), so its residuals are a plan's.
 pub(crate) struct System<'a> {
     /// The state's poses: every body not in the cluster stays as it is.
     pub(crate) poses: Vec<Pose3>,

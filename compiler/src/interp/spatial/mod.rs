@@ -5,10 +5,16 @@
 
 use dofplan_runtime::real::{Jet2, RateError, Real};
 use dofplan_runtime::spatial::rows::WorldFrame;
-use dofplan_runtime::spatial::{self, add, cst, norm, scale, sub, unit, Pose3, Rates3, Vec3};
+use dofplan_runtime::spatial::{self, cst, norm, scale, sub, Pose3, Rates3, Vec3};
 use dofplan_runtime::{Branch, BranchPolicy, Break, BreakKind, Ctx, Rot, Solver};
 
 use crate::plan::spatial::{Action3, CheckRow, HingeTurn, Locus3, Plan3, StepKind3, D3, P3};
+
+pub mod cluster;
+mod state;
+
+pub use state::State3;
+pub(crate) use state::{dir, dir_at, point, point_at};
 
 /// Executes a [`Plan3`].
 #[derive(Clone, Debug)]
@@ -17,31 +23,6 @@ pub struct Interpreter3 {
     /// The bodies whose rotations are composed frame after frame
     /// ([`Plan3::composes`]), corrected once a frame.
     composed: Vec<usize>,
-}
-
-/// What the interpreter carries from frame to frame.
-#[derive(Clone, Debug)]
-pub struct State3 {
-    /// Body poses, in the mechanism's body order.
-    pub poses: Vec<Pose3>,
-    /// Each pseudo-marker's last position.
-    pub temps: Vec<Vec3>,
-    /// Each branch slot's current branch.
-    pub branches: Vec<Branch>,
-    /// Each branch slot's last root, by its sine (rotations to a condition).
-    pub angles: Vec<f64>,
-    /// The state before the frame being computed: restored when a step
-    /// breaks (a frame is a transaction), in buffers sized once so a frame
-    /// does not allocate for it.
-    undo: Box<Undo3>,
-}
-
-#[derive(Clone, Debug, Default)]
-struct Undo3 {
-    poses: Vec<Pose3>,
-    temps: Vec<Vec3>,
-    branches: Vec<Branch>,
-    angles: Vec<f64>,
 }
 
 impl Interpreter3 {
@@ -75,7 +56,7 @@ impl Interpreter3 {
             let StepKind3::Cluster(c) = &self.plan.steps[i].kind else {
                 unreachable!("the steps stop at clusters only");
             };
-            crate::interp::spatial_cluster::solve(s, c, inputs, ctx, (i + 1) as u32)?;
+            cluster::solve(s, c, inputs, ctx, (i + 1) as u32)?;
             from = i + 1;
         }
         // Rotations composed frame after frame drift from orthonormal; one
@@ -155,7 +136,7 @@ impl Interpreter3 {
     /// point, where a rate is infinite, gives [`RateError::Singular`]. A
     /// drag's plan (a marker pinned) gives [`RateError::Cluster`].
     ///
-    /// [`spatial_cluster::solve_rates`]: crate::interp::spatial_cluster::solve_rates
+    /// [`spatial_cluster::solve_rates`]: cluster::solve_rates
     pub fn rates(
         &self,
         state: &State3,
@@ -196,7 +177,7 @@ impl Interpreter3 {
                 unreachable!("the steps stop at clusters only");
             };
             let id = (i + 1) as u32;
-            crate::interp::spatial_cluster::solve_rates(&mut poses, &temps, c, &jets, inputs, &mut ctx, id)?;
+            cluster::solve_rates(&mut poses, &temps, c, &jets, inputs, &mut ctx, id)?;
             from = i + 1;
         }
         for &b in &self.composed {
@@ -236,46 +217,6 @@ impl<T: Real> Work<'_, T> {
 
     fn dir(&self, d: &D3, inputs: &[T]) -> Vec3<T> {
         dir_at(self.poses, self.temps, d, inputs)
-    }
-}
-
-/// A world point.
-pub(crate) fn point(s: &State3, p: &P3, inputs: &[f64]) -> Vec3 {
-    point_at(&s.poses, &s.temps, p, inputs)
-}
-
-/// A world point at given poses and pseudo-markers.
-pub(crate) fn point_at<T: Real>(poses: &[Pose3<T>], temps: &[Vec3<T>], p: &P3, inputs: &[T]) -> Vec3<T> {
-    match p {
-        P3::Fixed(v) => cst(*v),
-        P3::Body { body, local } => poses[*body].world(*local),
-        // `input·sign`, the same product as the generated `sign * input`.
-        P3::Slid {
-            body,
-            local,
-            dir,
-            input,
-            sign,
-        } => poses[*body].world_of(add(cst(*local), scale(cst(*dir), inputs[*input].mul_f64(*sign)))),
-        P3::Temp(t) => temps[*t],
-    }
-}
-
-/// A world direction (unit).
-pub(crate) fn dir(s: &State3, d: &D3, inputs: &[f64]) -> Vec3 {
-    dir_at(&s.poses, &s.temps, d, inputs)
-}
-
-/// A world direction (unit) at given poses and pseudo-markers.
-pub(crate) fn dir_at<T: Real>(poses: &[Pose3<T>], temps: &[Vec3<T>], d: &D3, inputs: &[T]) -> Vec3<T> {
-    match d {
-        D3::Fixed(v) => cst(*v),
-        D3::Body { body, local } => poses[*body].dir(*local),
-        D3::Between(a, b) => unit(sub(
-            point_at(poses, temps, b, inputs),
-            point_at(poses, temps, a, inputs),
-        )),
-        D3::Temp(t) => temps[*t],
     }
 }
 
