@@ -33,9 +33,7 @@ mod tests;
 use dofplan_runtime::planar::Point;
 use dofplan_runtime::spatial::{dot, Pose3, Vec3};
 use dofplan_runtime::FrameStatus;
-use svg::node::element::{
-    Circle, Definitions, Group, Line, Path, Pattern, Polygon, Polyline, Rectangle, Text, Title,
-};
+use svg::node::element::{Circle, Definitions, Group, Path, Polygon, Polyline, Rectangle, Text, Title};
 use svg::Document;
 
 use super::caption::{pick_of, titles_of, Shown};
@@ -46,6 +44,9 @@ use super::trace::{self, Reach, Rect};
 use super::view::{self, BBox, View};
 use crate::model::spatial::{JointKind3, Mechanism3};
 use crate::model::MarkerId;
+use symbol::{hatch_pattern, symbol, HATCH_ID};
+
+pub(super) mod symbol;
 
 /// One frame of a spatial sweep, as the drawing needs it.
 #[derive(Clone, Debug, PartialEq)]
@@ -93,8 +94,6 @@ const LEGEND_ENTRIES: usize = 20;
 const NAMED_JOINTS: usize = 24;
 /// Size of joint names.
 const NAME_FONT: f64 = 10.5;
-/// The id of the ground's hatching.
-pub(super) const HATCH_ID: &str = "dofplan-ground-hatch";
 
 /// Colours of the axes arrows: x red, y green, z blue, darkened so that
 /// they read on white.
@@ -590,25 +589,6 @@ fn layout(m: &Mechanism3, boxes: &[BBox; 4]) -> Vec<Cell> {
         });
     }
     cells
-}
-
-/// The hatching that fills the ground.
-fn hatch_pattern() -> Pattern {
-    Pattern::new()
-        .set("id", HATCH_ID)
-        .set("width", 6)
-        .set("height", 6)
-        .set("patternUnits", "userSpaceOnUse")
-        .set("patternTransform", "rotate(45)")
-        .add(
-            Line::new()
-                .set("x1", 0)
-                .set("y1", 0)
-                .set("x2", 0)
-                .set("y2", 6)
-                .set("stroke", GROUND_COLOUR)
-                .set("stroke-width", 1.5),
-        )
 }
 
 /// One view: its frame and heading, the ground, the faint poses, the
@@ -1131,142 +1111,6 @@ fn draw_joints(
     (g, boxes)
 }
 
-/// A joint's symbol around the page origin (placed by a `translate`), `k`
-/// times its full size. `axis` is the joint axis on the page: its length
-/// is the axis's foreshortening (1 in the page's plane, 0 seen end-on).
-///
-/// Revolute: a ring with a short line along the axis. Spherical: a filled
-/// dot. Universal: a bold cross. Prismatic: a block along the axis;
-/// cylindrical: the same with the axis through it; helical: the same with
-/// a thread. Planar: a diamond. Fixed: a filled square.
-pub(super) fn symbol(kind: JointKind3, axis: Point, k: f64) -> Group {
-    let l = axis[0].hypot(axis[1]);
-    let (u, l) = if l.is_finite() && l > 1e-3 {
-        ([axis[0] / l, axis[1] / l], l.min(1.0))
-    } else {
-        ([1.0, 0.0], 0.0)
-    };
-    let v = [-u[1], u[0]];
-    let at = |a: f64, b: f64| [a * u[0] + b * v[0], a * u[1] + b * v[1]];
-    let sw = num((1.5 * k).max(0.75));
-    let g = Group::new();
-    let axis_line = |half: f64| {
-        line(at(-half, 0.0), at(half, 0.0))
-            .set("stroke", INK)
-            .set("stroke-width", sw.clone())
-            .set("stroke-linecap", "round")
-    };
-    // A block along the axis: longer the more the axis lies in the page.
-    let block = || {
-        let (hl, hw) = ((4.0 + 5.0 * l) * k, 3.5 * k);
-        Polygon::new()
-            .set(
-                "points",
-                points(&[at(-hl, -hw), at(hl, -hw), at(hl, hw), at(-hl, hw)]),
-            )
-            .set("fill", "#ffffff")
-            .set("stroke", INK)
-            .set("stroke-width", sw.clone())
-    };
-    match kind {
-        JointKind3::Revolute => {
-            let g = if l > 0.05 {
-                g.add(axis_line((5.0 + 7.0 * l) * k))
-            } else {
-                g
-            };
-            g.add(
-                Circle::new()
-                    .set("r", num(4.5 * k))
-                    .set("fill", "#ffffff")
-                    .set("stroke", INK)
-                    .set("stroke-width", sw),
-            )
-        }
-        JointKind3::Spherical => g.add(
-            Circle::new()
-                .set("r", num(4.5 * k))
-                .set("fill", INK)
-                .set("stroke", "#ffffff")
-                .set("stroke-width", num(k)),
-        ),
-        JointKind3::Universal => {
-            let r = 4.5 * k;
-            let d = format!(
-                "M{} {}L{} {}M{} {}L{} {}",
-                num(-r),
-                num(-r),
-                num(r),
-                num(r),
-                num(-r),
-                num(r),
-                num(r),
-                num(-r)
-            );
-            g.add(
-                Path::new()
-                    .set("d", d.clone())
-                    .set("stroke", "#ffffff")
-                    .set("stroke-width", num(4.5 * k))
-                    .set("stroke-linecap", "round"),
-            )
-            .add(
-                Path::new()
-                    .set("d", d)
-                    .set("stroke", INK)
-                    .set("stroke-width", num(2.2 * k))
-                    .set("stroke-linecap", "round"),
-            )
-        }
-        JointKind3::Prismatic => g.add(block()),
-        JointKind3::Cylindrical => g.add(block()).add(axis_line((7.0 + 6.0 * l) * k)),
-        JointKind3::Helical => {
-            let hl = (4.0 + 5.0 * l) * k;
-            let hw = 3.5 * k;
-            let thread = format!(
-                "M{} {}L{} {}M{} {}L{} {}",
-                num(at(-0.5 * hl, hw)[0]),
-                num(at(-0.5 * hl, hw)[1]),
-                num(at(0.0, -hw)[0]),
-                num(at(0.0, -hw)[1]),
-                num(at(0.0, hw)[0]),
-                num(at(0.0, hw)[1]),
-                num(at(0.5 * hl, -hw)[0]),
-                num(at(0.5 * hl, -hw)[1]),
-            );
-            g.add(block()).add(
-                Path::new()
-                    .set("d", thread)
-                    .set("stroke", INK)
-                    .set("stroke-width", sw),
-            )
-        }
-        JointKind3::Planar => {
-            let r = 5.5 * k;
-            g.add(
-                Polygon::new()
-                    .set("points", points(&[[0.0, -r], [r, 0.0], [0.0, r], [-r, 0.0]]))
-                    .set("fill", "#ffffff")
-                    .set("stroke", INK)
-                    .set("stroke-width", sw),
-            )
-        }
-        JointKind3::Fixed => {
-            let r = 3.5 * k;
-            g.add(
-                Rectangle::new()
-                    .set("x", num(-r))
-                    .set("y", num(-r))
-                    .set("width", num(2.0 * r))
-                    .set("height", num(2.0 * r))
-                    .set("fill", GREY)
-                    .set("stroke", INK)
-                    .set("stroke-width", sw),
-            )
-        }
-    }
-}
-
 /// The distance from a page point to a box (0 inside it).
 fn rect_distance(r: &Rect, p: Point) -> f64 {
     let dx = (r[0] - p[0]).max(p[0] - r[2]).max(0.0);
@@ -1396,7 +1240,7 @@ fn open_bodies(m: &Mechanism3, poses: &[Pose3]) -> Vec<bool> {
     }
     let size = m.size();
     let at_rest = vec![0.0; m.inputs.len()];
-    for e in crate::analysis::spatial::equations::equations(m) {
+    for e in crate::model::spatial::equations::equations(m) {
         if e.origin.starts_with("input ") {
             continue;
         }

@@ -11,7 +11,8 @@ use svg::node::element::tag::Type;
 use svg::parser::Event;
 
 use super::*;
-use crate::model::{load_str, Format};
+use crate::conflict::load_str;
+use crate::model::Format;
 
 // The bundled files, not copies of them.
 const FOURBAR: &str = include_str!("../../../mechanisms/fourbar.toml");

@@ -12,8 +12,9 @@ use dofplan_runtime::{Break, BreakKind, Driver, FrameStatus, Options};
 
 use super::super::tests::{parse, texts, with_class, El};
 use super::*;
+use crate::conflict::load_any_str;
 use crate::interp::spatial::Interpreter3;
-use crate::model::{load_any_str, Format, Model};
+use crate::model::{Format, Model};
 
 // The bundled files, not copies of them.
 const RSSR: &str = include_str!("../../../../mechanisms/spatial/rssr.toml");
