@@ -4,10 +4,46 @@
 
 use nalgebra::allocator::Allocator;
 use nalgebra::{
-    DMatrix, DVector, DefaultAllocator, Dim, DimMin, DimMinimum, DimSub, OMatrix, OVector, SVD, U1,
+    DMatrix, DVector, DefaultAllocator, Dim, DimDiff, DimMin, DimMinimum, DimSub, OMatrix, OVector, SVD, U1,
 };
 
-use super::NewtonAllocator;
+/// Every matrix shape Newton's linear algebra uses on an `R × C` Jacobian
+/// (`R` equations, `C` unknowns), as one bound: the residual and step
+/// vectors, `J` and `Jᵀ`, both Gram matrices of the normal equations and
+/// the SVD's factors. Implemented for `nalgebra`'s allocator whenever all
+/// of them exist — for `Dyn` (heap) and for fixed sizes up to 127 (stack,
+/// where a solve allocates nothing).
+pub trait NewtonAllocator<R: DimMin<C>, C: Dim>:
+    Allocator<R, C>
+    + Allocator<C, R>
+    + Allocator<R, R>
+    + Allocator<C, C>
+    + Allocator<R>
+    + Allocator<C>
+    + Allocator<DimDiff<DimMinimum<R, C>, U1>>
+    + Allocator<DimMinimum<R, C>, C>
+    + Allocator<R, DimMinimum<R, C>>
+    + Allocator<DimMinimum<R, C>>
+where
+    DimMinimum<R, C>: DimSub<U1>,
+{
+}
+
+impl<R: DimMin<C>, C: Dim, A> NewtonAllocator<R, C> for A
+where
+    DimMinimum<R, C>: DimSub<U1>,
+    A: Allocator<R, C>
+        + Allocator<C, R>
+        + Allocator<R, R>
+        + Allocator<C, C>
+        + Allocator<R>
+        + Allocator<C>
+        + Allocator<DimDiff<DimMinimum<R, C>, U1>>
+        + Allocator<DimMinimum<R, C>, C>
+        + Allocator<R, DimMinimum<R, C>>
+        + Allocator<DimMinimum<R, C>>,
+{
+}
 
 /// Rank of a matrix by the relative cut-off (used by analysis to find
 /// redundant constraints and idle DOFs).

@@ -2,48 +2,10 @@
 //! its options and report, and the [`Equations`] it solves.
 
 use nalgebra::allocator::Allocator;
-use nalgebra::{DefaultAllocator, Dim, DimDiff, DimMin, DimMinimum, DimSub, Dyn, OMatrix, OVector, U1};
+use nalgebra::{DefaultAllocator, Dim, DimMin, DimMinimum, DimSub, Dyn, OMatrix, OVector, U1};
 
-use super::linalg::{full_rank_step, Spectrum};
+use super::linalg::{full_rank_step, NewtonAllocator, Spectrum};
 use super::{Const, SMatrix, SVector};
-
-/// Every matrix shape Newton's linear algebra uses on an `R × C` Jacobian
-/// (`R` equations, `C` unknowns), as one bound: the residual and step
-/// vectors, `J` and `Jᵀ`, both Gram matrices of the normal equations and
-/// the SVD's factors. Implemented for `nalgebra`'s allocator whenever all
-/// of them exist — for `Dyn` (heap) and for fixed sizes up to 127 (stack,
-/// where a solve allocates nothing).
-pub trait NewtonAllocator<R: DimMin<C>, C: Dim>:
-    Allocator<R, C>
-    + Allocator<C, R>
-    + Allocator<R, R>
-    + Allocator<C, C>
-    + Allocator<R>
-    + Allocator<C>
-    + Allocator<DimDiff<DimMinimum<R, C>, U1>>
-    + Allocator<DimMinimum<R, C>, C>
-    + Allocator<R, DimMinimum<R, C>>
-    + Allocator<DimMinimum<R, C>>
-where
-    DimMinimum<R, C>: DimSub<U1>,
-{
-}
-
-impl<R: DimMin<C>, C: Dim, A> NewtonAllocator<R, C> for A
-where
-    DimMinimum<R, C>: DimSub<U1>,
-    A: Allocator<R, C>
-        + Allocator<C, R>
-        + Allocator<R, R>
-        + Allocator<C, C>
-        + Allocator<R>
-        + Allocator<C>
-        + Allocator<DimDiff<DimMinimum<R, C>, U1>>
-        + Allocator<DimMinimum<R, C>, C>
-        + Allocator<R, DimMinimum<R, C>>
-        + Allocator<DimMinimum<R, C>>,
-{
-}
 
 /// Options of a Newton solve.
 ///
