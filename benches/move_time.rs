@@ -10,7 +10,7 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use dofplan::interp::spatial::Interpreter3;
 use dofplan::interp::Interpreter;
-use dofplan::model::load_file;
+use dofplan::load_file;
 use dofplan::numeric::drag::Drag;
 use dofplan::numeric::spatial::pure_newton;
 use dofplan::simulate::sweep_inputs;

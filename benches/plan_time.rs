@@ -10,7 +10,8 @@ use std::hint::black_box;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use dofplan::analysis::analyse;
 use dofplan::analysis::rank::rank_mobility;
-use dofplan::model::{load_str, Format};
+use dofplan::load_str;
+use dofplan::model::Format;
 use dofplan_tests::stress::stress_chain;
 
 fn plan_time(c: &mut Criterion) {

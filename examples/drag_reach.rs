@@ -8,7 +8,8 @@
 use std::hint::black_box;
 use std::time::Instant;
 
-use dofplan::model::{load_file, Mechanism};
+use dofplan::load_file;
+use dofplan::model::Mechanism;
 use dofplan::numeric::drag::Drag;
 use dofplan_runtime::{BreakPolicy, Driver, FrameStatus, Options};
 use dofplan_tests::mechanisms_dir;

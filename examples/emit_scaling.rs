@@ -9,7 +9,7 @@ use std::time::Instant;
 
 use dofplan::analysis::analyse;
 use dofplan::emit::emit;
-use dofplan::model::load_file;
+use dofplan::load_file;
 
 /// CPU seconds this process has used (0 where /proc is missing).
 fn cpu() -> f64 {

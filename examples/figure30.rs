@@ -11,7 +11,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use dofplan::interp::Interpreter;
-use dofplan::model::load_file;
+use dofplan::load_file;
 use dofplan::numeric::drag::Drag;
 use dofplan::numeric::PureNewton;
 use dofplan::simulate::sweep_inputs;

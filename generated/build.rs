@@ -72,7 +72,7 @@ fn chains() {
     let mut arms = String::new();
     for loops in CHAINS {
         let text = dofplan_gen::stress::stress_chain(loops);
-        let m = dofplan::model::load_str(
+        let m = dofplan::load_str(
             &format!("stress_loops_{loops}.toml"),
             &text,
             dofplan::model::Format::Toml,
@@ -131,7 +131,7 @@ fn chunked(files: &[PathBuf], spatial: &[PathBuf]) {
     );
     let mut modules = Vec::new();
     for file in files {
-        let m = dofplan::model::load_file(file).expect("compiled above");
+        let m = dofplan::load_file(file).expect("compiled above");
         let plan = dofplan::analysis::analyse(&m).plan.expect("planned above");
         let module = dofplan::emit::ident_for(&m.name);
         let path = dir.join(format!("{module}.rs"));
@@ -152,7 +152,7 @@ pub mod {module} {{
     }
     let mut spatial_modules = Vec::new();
     for file in spatial {
-        let Ok(dofplan::model::Model::Spatial(m)) = dofplan::model::load_any(file) else {
+        let Ok(dofplan::model::Model::Spatial(m)) = dofplan::load_any(file) else {
             panic!("{}: compiled above as a spatial file", file.display());
         };
         let plan = dofplan::analysis::spatial::analyse(&m).expect("planned above");

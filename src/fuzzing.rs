@@ -9,7 +9,8 @@
 use dofplan::analysis::rank::rank_mobility;
 use dofplan::analysis::{analyse, PlanError};
 use dofplan::interp::Interpreter;
-use dofplan::model::{load_str, Format, Location, MarkerId, Mechanism, ModelError};
+use dofplan::load_str;
+use dofplan::model::{Format, Location, MarkerId, Mechanism, ModelError};
 use dofplan::numeric::drag::Drag;
 use dofplan::plan::Plan;
 use dofplan::simulate::{max_relative_residual, run, sweep_inputs, Frame};

@@ -4,7 +4,8 @@
 use std::path::PathBuf;
 
 use dofplan::analysis::analyse;
-use dofplan::model::{load_file, Mechanism};
+use dofplan::load_file;
+use dofplan::model::Mechanism;
 use dofplan::plan::Plan;
 
 pub mod fuzzing;
@@ -81,7 +82,7 @@ pub fn load_spatial(name: &str) -> dofplan::model::spatial::Mechanism3 {
     } else {
         spatial_fixtures_dir().join(format!("{name}.toml"))
     };
-    match dofplan::model::load_any(&path) {
+    match dofplan::load_any(&path) {
         Ok(dofplan::model::Model::Spatial(m)) => m,
         Ok(dofplan::model::Model::Planar(_)) => panic!("{} is planar", path.display()),
         Err(e) => panic!("{e}"),

@@ -9,8 +9,9 @@ use std::panic::{catch_unwind, AssertUnwindSafe};
 
 use dofplan::analysis::analyse;
 use dofplan::interp::Interpreter;
-use dofplan::model::{load_file, load_str, Format, JointKind, Mechanism, ModelError};
+use dofplan::model::{Format, JointKind, Mechanism, ModelError};
 use dofplan::simulate::{run, sweep_inputs};
+use dofplan::{load_file, load_str};
 use dofplan_tests::mechanisms_dir;
 
 /// A valid crank-rocker four-bar, one line per entry (line n is
@@ -764,10 +765,10 @@ fn the_planar_loader_points_a_spatial_file_to_load_any() {
         "t.toml:2:13",
         &[
             "spatial mechanism (dimension = 3)",
-            "help: load it with `model::load_any`",
+            "help: load it with `dofplan::load_any`",
         ],
     );
-    let e = dofplan::model::load_any_str("t.toml", &text, dofplan::model::Format::Toml)
+    let e = dofplan::load_any_str("t.toml", &text, dofplan::model::Format::Toml)
         .expect_err("2D markers in a 3D file")
         .render(false);
     assert!(e.contains("must have 3 coordinates [x, y, z]"), "{e}");

@@ -1,7 +1,8 @@
 //! Every rule of spatial files gets its own error, at its place
 //! (file:line:column) and with the names involved — one test per rule.
 
-use dofplan::model::{load_any_str, Format, Model};
+use dofplan::load_any_str;
+use dofplan::model::{Format, Model};
 
 /// A valid spatial file: a crank on a revolute joint, a rod on a
 /// spherical one, a slider on a cylindrical one, all holding as drawn.

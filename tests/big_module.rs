@@ -139,7 +139,7 @@ fn a_thousand_loop_chain_builds_in_debug_and_agrees_with_the_interpreter() {
 
     // The split solve against the interpreter, frame by frame.
     let file = krate.dir().join(format!("mechanisms/stress_loops_{LOOPS}.toml"));
-    let m = dofplan::model::load_file(&file).unwrap_or_else(|e| panic!("{e}"));
+    let m = dofplan::load_file(&file).unwrap_or_else(|e| panic!("{e}"));
     let plan = dofplan_tests::plan(&m);
     let size = plan.size;
     let mut interpreted = Driver::new(Interpreter::new(plan), Options::default());

@@ -20,7 +20,7 @@ fn mechanisms() -> Vec<(String, dofplan::model::Mechanism)> {
         })
         .collect();
     let fixture = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/fixtures/sixbar_slotted.toml");
-    let m = dofplan::model::load_file(&fixture).unwrap_or_else(|e| panic!("{e}"));
+    let m = dofplan::load_file(&fixture).unwrap_or_else(|e| panic!("{e}"));
     out.push((dofplan::emit::ident_for(&m.name), m));
     out
 }

@@ -15,7 +15,8 @@
 //! files' marker coordinates, not from dofplan's output.
 
 use dofplan::interp::Interpreter;
-use dofplan::model::{load_file, Mechanism};
+use dofplan::load_file;
+use dofplan::model::Mechanism;
 use dofplan::simulate::{marker_at, max_relative_residual};
 use dofplan_runtime::{
     Animate, Batch, BreakKind, BreakPolicy, Ctx, Driver, FrameStatus, Options, Pose, Solver, StartPolicy,

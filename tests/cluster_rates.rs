@@ -18,7 +18,7 @@ use dofplan_tests::{bundled, load, plan};
 fn with_clusters() -> Vec<(String, Mechanism)> {
     let mut all: Vec<(String, Mechanism)> = bundled().into_iter().map(|n| (n.clone(), load(&n))).collect();
     let fixture = dofplan_tests::mechanisms_dir().join("../tests/fixtures/sixbar_slotted.toml");
-    let m = dofplan::model::load_file(&fixture).unwrap_or_else(|e| panic!("{e}"));
+    let m = dofplan::load_file(&fixture).unwrap_or_else(|e| panic!("{e}"));
     all.push((m.name.clone(), m));
     all.retain(|(_, m)| plan(m).clusters() > 0);
     assert!(all.len() >= 10, "{} mechanisms with clusters", all.len());

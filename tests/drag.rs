@@ -4,7 +4,7 @@
 //! break or a stretch by policy — every frame with every joint exact.
 
 use dofplan::interp::Interpreter;
-use dofplan::model::load_file;
+use dofplan::load_file;
 use dofplan::numeric::drag::{Drag, DragError};
 use dofplan::simulate::{marker_at, max_relative_residual, run, Frame};
 use dofplan_runtime::numeric::NewtonOutcome;

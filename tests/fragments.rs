@@ -6,7 +6,8 @@
 
 use dofplan::analysis::analyse;
 use dofplan::interp::Interpreter;
-use dofplan::model::{load_str, Format, Mechanism};
+use dofplan::load_str;
+use dofplan::model::{Format, Mechanism};
 use dofplan::plan::{Plan, StepKind};
 use dofplan::simulate::{marker_at, max_relative_residual, run, Frame};
 use dofplan_runtime::Options;

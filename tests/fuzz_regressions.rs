@@ -72,7 +72,7 @@ fn an_equation_no_step_checks_refuses_the_plan() {
     // joint X and leave joint TY to nobody; the frames broke it unnoticed.
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/fuzz_regressions/interpret/joints_at_one_point.toml");
-    let m = dofplan::model::load_file(&path).expect("it loads: every joint holds as drawn");
+    let m = dofplan::load_file(&path).expect("it loads: every joint holds as drawn");
     match dofplan::analysis::analyse(&m).plan {
         Err(PlanError::Unchecked { equations }) => assert_eq!(equations, ["joint TY"]),
         other => panic!("expected the plan refused for joint TY, got {other:?}"),

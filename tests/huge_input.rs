@@ -9,7 +9,8 @@
 
 use std::path::{Path, PathBuf};
 
-use dofplan::model::{load_any, ModelError, MAX_FILE_BYTES};
+use dofplan::load_any;
+use dofplan::model::{ModelError, MAX_FILE_BYTES};
 use dofplan_tests::huge::{self, HUGE};
 
 /// An error's rendering stays within this many bytes, whatever the file.
@@ -142,7 +143,7 @@ fn a_file_over_the_limit_is_refused_unread() {
                 MAX_FILE_BYTES + 1
             ),
             "help: is this the right file?",
-            "dofplan::model::load_any_str",
+            "dofplan::load_any_str",
         ],
     );
     assert!(!dofplan::model::is_spatial_file(&path));
@@ -164,8 +165,7 @@ fn a_file_with_hundreds_of_errors_shows_the_first_hundred_and_counts_the_rest() 
     let text = std::fs::read_to_string(dofplan_tests::mechanisms_dir().join("fourbar.toml")).unwrap();
     let keys: String = (0..250).map(|i| format!("unknown_{i} = 1\n")).collect();
     let text = text.replacen("name = \"fourbar\"\n", &format!("name = \"fourbar\"\n{keys}"), 1);
-    let e =
-        dofplan::model::load_str("many.toml", &text, dofplan::model::Format::Toml).expect_err("unknown keys");
+    let e = dofplan::load_str("many.toml", &text, dofplan::model::Format::Toml).expect_err("unknown keys");
     assert_eq!(e.diagnostics.len(), 250, "{e}");
     let shown = e.render(false);
     let errors: Vec<&str> = shown.lines().filter(|l| l.starts_with("error")).collect();

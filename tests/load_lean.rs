@@ -11,7 +11,8 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
-use dofplan::model::{load_str, Format};
+use dofplan::load_str;
+use dofplan::model::Format;
 use dofplan_tests::stress::stress_chain;
 
 struct Counting;

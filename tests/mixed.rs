@@ -159,10 +159,9 @@ fn sixbar_b_is_sixbar_a_driven_from_another_joint() {
 /// interpreted agree, iteration for iteration, and every frame holds.
 #[test]
 fn slides_slots_and_parallels_in_a_compiled_cluster() {
-    let m = dofplan::model::load_file(
-        &dofplan_tests::mechanisms_dir().join("../tests/fixtures/sixbar_slotted.toml"),
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
+    let m =
+        dofplan::load_file(&dofplan_tests::mechanisms_dir().join("../tests/fixtures/sixbar_slotted.toml"))
+            .unwrap_or_else(|e| panic!("{e}"));
     let p = plan(&m);
     assert_eq!(p.numeric_size(), (4, 4));
     let explained = p.explain_all();

@@ -11,7 +11,8 @@
 use dofplan::analysis::analyse;
 use dofplan::analysis::rank::rank_mobility;
 use dofplan::interp::Interpreter;
-use dofplan::model::{load_str, Format, Mechanism};
+use dofplan::load_str;
+use dofplan::model::{Format, Mechanism};
 use dofplan::simulate::{marker_at, max_relative_residual, run, run_animate, sweep_inputs, Frame};
 use dofplan_runtime::Options;
 use dofplan_tests::vec2::{cross, dist, norm, sub, P};

@@ -5,7 +5,8 @@
 use dofplan::analysis::analyse;
 use dofplan::analysis::rank::rank_mobility;
 use dofplan::interp::Interpreter;
-use dofplan::model::{load_str, Format, Mechanism};
+use dofplan::load_str;
+use dofplan::model::{Format, Mechanism};
 use dofplan::simulate::{max_relative_residual, run};
 use dofplan_runtime::Options;
 use dofplan_tests::{bundled, load};
@@ -185,7 +186,7 @@ fn the_sparse_rank_equals_the_dense_svds() {
     let mut cases: Vec<(String, Mechanism)> = bundled().into_iter().map(|n| (n.clone(), load(&n))).collect();
     for file in ["drag/open_chain_15.toml", "../tests/fixtures/sixbar_slotted.toml"] {
         let path = dofplan_tests::mechanisms_dir().join(file);
-        let m = dofplan::model::load_file(&path).unwrap_or_else(|e| panic!("{e}"));
+        let m = dofplan::load_file(&path).unwrap_or_else(|e| panic!("{e}"));
         cases.push((file.to_string(), m));
     }
     let fourbar = std::fs::read_to_string(dofplan_tests::mechanisms_dir().join("fourbar.toml")).unwrap();

@@ -4,7 +4,8 @@
 
 use dofplan::analysis::analyse;
 use dofplan::interp::Interpreter;
-use dofplan::model::{load_str, Format};
+use dofplan::load_str;
+use dofplan::model::Format;
 use dofplan::render::{render, SvgOptions};
 use dofplan::simulate::{run, sweep_inputs};
 use dofplan_runtime::Options;

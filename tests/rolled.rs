@@ -9,7 +9,8 @@
 use dofplan::analysis::analyse;
 use dofplan::emit::emit;
 use dofplan::interp::Interpreter;
-use dofplan::model::{load_str, Format, Mechanism};
+use dofplan::load_str;
+use dofplan::model::{Format, Mechanism};
 use dofplan::plan::Plan;
 use dofplan::simulate::{max_relative_residual, sweep_inputs};
 use dofplan_runtime::Driver;

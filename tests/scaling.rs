@@ -6,7 +6,8 @@
 use dofplan::analysis::analyse;
 use dofplan::analysis::grashof::four_bars_counted;
 use dofplan::analysis::rank::rank_mobility;
-use dofplan::model::{load_str, Format, Mechanism};
+use dofplan::load_str;
+use dofplan::model::{Format, Mechanism};
 use dofplan_tests::stress::stress_chain;
 
 fn chain(loops: usize) -> Mechanism {
@@ -147,10 +148,7 @@ fn a_misdrawn_joint_in_a_long_chain_is_reported_without_the_assembly() {
     let help = d.help.as_deref().unwrap_or_default();
     assert!(
         help.contains("was not checked")
-            && help.contains(&format!(
-                "at most {}",
-                dofplan::analysis::conflict::MAX_REVIEWED_BODIES
-            )),
+            && help.contains(&format!("at most {}", dofplan::conflict::MAX_REVIEWED_BODIES)),
         "{help}"
     );
 }

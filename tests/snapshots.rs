@@ -47,7 +47,7 @@ fn compiled_crate_holds_exactly_the_snapshotted_source() {
 /// pinned to the XY carriage.
 #[test]
 fn the_compiled_drag_is_snapshotted_too() {
-    let m = dofplan::model::load_file(&dofplan_tests::mechanisms_dir().join("drag/open_chain_15.toml"))
+    let m = dofplan::load_file(&dofplan_tests::mechanisms_dir().join("drag/open_chain_15.toml"))
         .unwrap_or_else(|e| panic!("{e}"));
     let end = m.find_marker("link_15.E").expect("bundled");
     let c = dofplan::numeric::drag::carriage(&m, end).expect("has a ground");

@@ -8,9 +8,10 @@ use std::path::{Path, PathBuf};
 use dofplan::analysis::spatial::{analyse, count::count};
 use dofplan::interp::spatial::Interpreter3;
 use dofplan::model::spatial::Mechanism3;
-use dofplan::model::{load_any, load_any_str, Format, Model};
+use dofplan::model::{Format, Model};
 use dofplan::simulate::spatial::residual;
 use dofplan::simulate::sweep_requests;
+use dofplan::{load_any, load_any_str};
 use dofplan_runtime::spatial::{cross, dot, norm, sub};
 use dofplan_runtime::{Driver, Options};
 

@@ -3,7 +3,7 @@
 //! marker moved to where the joints close.
 //!
 //! The assembly is the loader's own least-squares assembly from the drawn
-//! pose ([`crate::analysis::conflict::assemble`]): each mobile body moves
+//! pose ([`crate::conflict::assemble`]): each mobile body moves
 //! **rigidly** (its markers keep their distances and angles to each other,
 //! so the lengths a body is drawn with are the lengths it keeps), fixed
 //! bodies never move, and Newton's minimum-norm steps from the drawn pose
@@ -23,12 +23,13 @@ use std::path::Path;
 
 use dofplan_runtime::Point;
 
-use crate::analysis::conflict::{self, Assembly};
+use crate::conflict::{self, Assembly};
+use crate::conflict::{load_file, load_str};
+use crate::format::length;
 use crate::model::{
-    load_file, load_str, load_str_drawn, Diagnostic, Format, Location, MarkerId, Mechanism, ModelError, Note,
-    SourceFile, DRAWN_TOLERANCE,
+    load_str_drawn, Diagnostic, Format, Location, MarkerId, Mechanism, ModelError, Note, SourceFile,
+    DRAWN_TOLERANCE,
 };
-use crate::plan::num;
 
 pub mod spatial;
 pub use spatial::{assemble_file3, assemble_str3, Assembled3, Move3};
@@ -209,7 +210,7 @@ pub fn assemble_str(file_name: &str, text: &str, format: Format) -> Result<Assem
             // The loader's own diagnostics: the joints in conflict, named at
             // their positions.
             let file = m.source.clone();
-            return Err(drawn.assembled().err().unwrap_or_else(|| ModelError {
+            return Err(conflict::assembled(drawn).err().unwrap_or_else(|| ModelError {
                 diagnostics: vec![plain(
                     file,
                     "the joints cannot all close near the drawn pose".into(),
@@ -444,16 +445,6 @@ fn renumber(old: &[(f64, bool)], new: &[f64], dir: bool, edit: &Edit) -> Result<
         .zip(new)
         .map(|(&(o, float), &n)| replacement(o, float, n * scale, eps))
         .collect())
-}
-
-/// A distance for the report: 4 decimals, or two significant digits below
-/// 1e-3.
-pub fn length(x: f64) -> String {
-    if x >= 1e-3 {
-        num(x)
-    } else {
-        format!("{x:.1e}")
-    }
 }
 
 /// The number `v` with the fewest decimals within `eps` of it.

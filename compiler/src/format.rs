@@ -45,6 +45,16 @@ pub fn rounded(x: f64, decimals: usize) -> String {
     }
 }
 
+/// A distance for people (the reports of `assemble` and of joints in
+/// conflict): 4 decimals, or two significant digits below 1e-3.
+pub fn length(x: f64) -> String {
+    if x >= 1e-3 {
+        rounded(x, 4)
+    } else {
+        format!("{x:.1e}")
+    }
+}
+
 /// A count with thousands separators: 1990 → "1,990" (legends, summaries).
 pub fn thousands(n: usize) -> String {
     let digits = n.to_string();

@@ -21,6 +21,7 @@
 pub mod analysis;
 pub mod assemble;
 pub mod build;
+pub mod conflict;
 pub mod edit;
 pub mod emit;
 pub mod format;
@@ -30,3 +31,5 @@ pub mod numeric;
 pub mod plan;
 pub mod render;
 pub mod simulate;
+
+pub use conflict::{load_any, load_any_str, load_file, load_str};

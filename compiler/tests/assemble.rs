@@ -6,8 +6,10 @@
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
-use dofplan::assemble::{assemble_str, length};
-use dofplan::model::{load_file, load_str, load_str_drawn, Format, JointKind, Mechanism, DRAWN_TOLERANCE};
+use dofplan::assemble::assemble_str;
+use dofplan::format::length;
+use dofplan::model::{load_str_drawn, Format, JointKind, Mechanism, DRAWN_TOLERANCE};
+use dofplan::{load_file, load_str};
 
 fn mechanisms() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../mechanisms")

@@ -7,10 +7,11 @@
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
-use dofplan::analysis::spatial::equations::equations;
 use dofplan::assemble::assemble_str3;
+use dofplan::load_any_str;
+use dofplan::model::spatial::equations::equations;
 use dofplan::model::spatial::Mechanism3;
-use dofplan::model::{load_any_str, Format, Model};
+use dofplan::model::{Format, Model};
 use dofplan_runtime::spatial::{add, cross, dist, dot, norm, scale, sub, unit, Pose3, Vec3};
 
 fn mechanisms() -> PathBuf {

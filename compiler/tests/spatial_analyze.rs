@@ -370,7 +370,8 @@ fn spatial_analyze_writes_csv_and_plots() {
 fn spatial_analyze_says_when_a_plan_has_no_rates() {
     use dofplan::analysis::spatial::analyse;
     use dofplan::interp::spatial::Interpreter3;
-    use dofplan::model::{load_any, Model};
+    use dofplan::load_any;
+    use dofplan::model::Model;
     use dofplan_runtime::Solver;
     let Ok(Model::Spatial(m)) = load_any(&spatial("stewart")) else {
         panic!("stewart is spatial")

@@ -33,7 +33,7 @@ fn emit_prints_the_spatial_module() {
         .expect("the dofplan binary runs");
     let out = String::from_utf8_lossy(&o.stdout);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    let m = match dofplan::model::load_any(&file) {
+    let m = match dofplan::load_any(&file) {
         Ok(dofplan::model::Model::Spatial(m)) => m,
         _ => panic!("rssr is spatial"),
     };
@@ -107,7 +107,7 @@ fn spatial_files_compile_beside_planar_ones() {
         without.replace(&*both.to_string_lossy(), ""),
         planar_index.replace(&*alone.to_string_lossy(), "")
     );
-    let m = match dofplan::model::load_any(&spatial) {
+    let m = match dofplan::load_any(&spatial) {
         Ok(dofplan::model::Model::Spatial(m)) => m,
         _ => panic!("rssr is spatial"),
     };
@@ -172,8 +172,7 @@ fn a_spatial_and_a_planar_mechanism_of_one_name_clash() {
 /// bed (every moving body free) does.
 #[test]
 fn a_cluster_too_large_to_compile_is_found() {
-    let load = |name: &str| match dofplan::model::load_any(&mechanisms().join(format!("spatial/{name}.toml")))
-    {
+    let load = |name: &str| match dofplan::load_any(&mechanisms().join(format!("spatial/{name}.toml"))) {
         Ok(dofplan::model::Model::Spatial(m)) => m,
         _ => panic!("{name} is spatial"),
     };

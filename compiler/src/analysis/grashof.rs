@@ -238,7 +238,8 @@ fn loop_of(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::{load_str, Format};
+    use crate::conflict::load_str;
+    use crate::model::Format;
 
     fn classes(text: &str) -> Vec<(Vec<String>, &'static str)> {
         let m = load_str("m.toml", text, Format::Toml).unwrap();

@@ -2,8 +2,6 @@
 //! planner, and the branch choice that makes a plan reproduce the drawn
 //! pose.
 
-pub mod conflict;
-pub mod equations;
 pub mod grashof;
 pub mod mobility;
 mod planner;
@@ -16,9 +14,9 @@ use std::fmt;
 use dofplan_runtime::{BranchPolicy, Ctx, Solver};
 
 use crate::interp::Interpreter;
+pub use crate::model::equations::{Equation, Sourced};
 use crate::model::Mechanism;
 use crate::plan::{Plan, PlanBody, PlanInput};
-pub use equations::{Equation, Sourced};
 pub use mobility::{Class, Mobility};
 
 /// Everything plan time learns about a mechanism.
@@ -108,7 +106,7 @@ pub fn analyse(m: &Mechanism) -> Analysis {
 /// [`analyse`], reporting how far it is to `progress`.
 pub fn analyse_with(m: &Mechanism, progress: &mut dyn FnMut(Progress)) -> Analysis {
     let mobility = Mobility::of(m);
-    let eqs = equations::equations(m);
+    let eqs = crate::model::equations::equations(m);
     let planned = planner::plan(m, &eqs, progress);
     let unused: Vec<String> = planned.unused.iter().map(|&i| eqs[i].origin.clone()).collect();
     let plan = if !unused.is_empty() {

@@ -237,7 +237,8 @@ fn join(up: Vec<(End, End)>, down: Vec<(End, End)>) -> Vec<(End, End)> {
 mod tests {
     use super::*;
     use crate::analysis::analyse;
-    use crate::model::{load_str, Format};
+    use crate::conflict::load_str;
+    use crate::model::Format;
 
     fn ranges_of(text: &str) -> Vec<InputRanges> {
         let m = load_str("m.toml", text, Format::Toml).unwrap();
@@ -301,7 +302,7 @@ mod tests {
     fn a_spatial_yoke_slides_while_its_slot_meets_the_circle() {
         let text = include_str!("../../../tests/fixtures/spatial/yoke.toml");
         let crate::model::Model::Spatial(m) =
-            crate::model::load_any_str("yoke.toml", text, Format::Toml).unwrap()
+            crate::conflict::load_any_str("yoke.toml", text, Format::Toml).unwrap()
         else {
             panic!("a spatial file")
         };

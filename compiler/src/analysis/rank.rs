@@ -19,8 +19,8 @@ use dofplan_runtime::numeric::{rank, Equations};
 use dofplan_runtime::planar::Pose;
 use nalgebra::{DMatrix, DVector};
 
-use super::equations::equations;
 use super::Progress;
+use crate::model::equations::equations;
 use crate::model::Mechanism;
 use crate::plan::ClusterRow;
 

@@ -1,6 +1,6 @@
 //! `dofplan assemble` for spatial files (`dimension = 3`): the planar
 //! assembler's rules in space. The assembly is the loader's own
-//! ([`crate::analysis::spatial::conflict::assemble`]): every moving body
+//! ([`crate::conflict::spatial::assemble`]): every moving body
 //! moves rigidly (a rotation and a translation, so its markers keep their
 //! distances and its axes their angles), ground never moves, the inputs
 //! stay at their drawn values unless the joints close only with them free,
@@ -14,11 +14,11 @@ use std::path::Path;
 use dofplan_runtime::spatial::{norm, sub, Pose3, Vec3};
 
 use super::{plain, rewrite_json, rewrite_toml, same_where_joined, short, undecided, Edit, UNCHANGED_SHARE};
-use crate::analysis::spatial::conflict::{self, Assembly3};
+use crate::conflict::load_any_str;
+use crate::conflict::spatial::{self as conflict, Assembly3};
 use crate::model::spatial::{Mechanism3, Primitive};
 use crate::model::{
-    load_any_str, load_str_drawn3, Format, Location, MarkerId, Model, ModelError, Note, SourceFile,
-    DRAWN_TOLERANCE,
+    load_str_drawn3, Format, Location, MarkerId, Model, ModelError, Note, SourceFile, DRAWN_TOLERANCE,
 };
 
 /// Where one marker of a spatial file goes.
@@ -97,7 +97,7 @@ impl Assembled3 {
                 let mut distance = if mv.distance <= super::WRITTEN_PRECISION * size {
                     "0".to_string()
                 } else {
-                    super::length(mv.distance)
+                    crate::format::length(mv.distance)
                 };
                 if m.marker(mv.marker).axes.is_some() && mv.turn.abs() > 0.0 {
                     distance.push_str(&format!(", axes turned {:.3}°", mv.turn));
@@ -174,7 +174,7 @@ pub fn assemble_str3(file_name: &str, text: &str, format: Format) -> Result<Asse
             // The loader's own diagnostics: each open joint with the joints
             // in conflict named.
             let file = m.source.clone();
-            return Err(drawn.assembled().err().unwrap_or_else(|| ModelError {
+            return Err(conflict::assembled(drawn).err().unwrap_or_else(|| ModelError {
                 diagnostics: vec![plain(
                     file,
                     "the joints cannot all close near the drawn pose".into(),

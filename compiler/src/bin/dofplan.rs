@@ -635,7 +635,7 @@ fn spatial_file(command: &Command) -> Option<Result<Mechanism3, ()>> {
     if !dofplan::model::is_spatial_file(file) {
         return None;
     }
-    Some(match dofplan::model::load_any(file) {
+    Some(match dofplan::load_any(file) {
         Ok(Model::Spatial(m)) => Ok(m),
         Ok(Model::Planar(_)) => return None,
         Err(e) => {

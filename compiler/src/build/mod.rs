@@ -20,8 +20,9 @@ use std::path::{Path, PathBuf};
 
 use crate::analysis::spatial::PlanError3;
 use crate::analysis::{analyse, PlanError};
+use crate::conflict::{load_any, load_file};
 use crate::emit::{emit, emit_spatial, ident_for, spatial_cluster_fits};
-use crate::model::{is_spatial_file, load_any, load_file, Model, ModelError};
+use crate::model::{is_spatial_file, Model, ModelError};
 use crate::numeric::drag::carriage;
 
 /// Why a build failed.

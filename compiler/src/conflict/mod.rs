@@ -22,13 +22,20 @@
 //! not hold in the drawn pose ([`review`]), and turns the answer into its
 //! diagnostics.
 
+pub mod spatial;
+
+use std::path::Path;
+
 use dofplan_runtime::numeric::cluster::{self, Param, System};
 use dofplan_runtime::numeric::{Equations, Newton, NewtonOptions, NewtonOutcome};
 use dofplan_runtime::planar::Pose;
 use nalgebra::{DMatrix, DVector, SVD};
 
-use super::equations::equations;
-use crate::model::{ConstraintKind, Diagnostic, JointKind, Location, Mechanism, Note, DRAWN_TOLERANCE};
+use crate::model::equations::equations;
+use crate::model::{
+    ConstraintKind, Diagnostic, Drawn, DrawnModel, Format, JointKind, Location, Mechanism, Model, ModelError,
+    Note, Open, DRAWN_TOLERANCE,
+};
 
 /// Newton iterations the assembly may take: far more than a frame's 50, as
 /// the drawn pose can be a poor start and this runs once per file.
@@ -201,14 +208,65 @@ pub(crate) fn split(j: &DMatrix<f64>, r: &DVector<f64>, size: f64) -> Option<(DV
     Some((settled, cutoff))
 }
 
-/// A joint or constraint the loader found open in the drawn pose.
-#[derive(Clone, Debug)]
-pub(crate) struct Open {
-    /// "joint B", "constraint c1".
-    pub origin: String,
-    /// Its "does not hold in the drawn pose" error, an index into the
-    /// loader's diagnostics.
-    pub diagnostic: usize,
+/// Reads and validates a (planar) mechanism file; joints open as drawn
+/// are diagnosed ([`assembled`]).
+pub fn load_file(path: &Path) -> Result<Mechanism, ModelError> {
+    assembled(crate::model::load_file_drawn(path)?)
+}
+
+/// Validates a (planar) mechanism given as text; `file_name` is used in
+/// errors. Joints open as drawn are diagnosed ([`assembled`]).
+pub fn load_str(file_name: &str, text: &str, format: Format) -> Result<Mechanism, ModelError> {
+    assembled(crate::model::load_str_drawn(file_name, text, format)?)
+}
+
+/// Reads and validates a mechanism file of either dimension; joints open
+/// as drawn are diagnosed.
+pub fn load_any(path: &Path) -> Result<Model, ModelError> {
+    any(crate::model::load_any_drawn(path)?)
+}
+
+/// Validates a mechanism of either dimension given as text; `file_name` is
+/// used in errors. Joints open as drawn are diagnosed.
+pub fn load_any_str(file_name: &str, text: &str, format: Format) -> Result<Model, ModelError> {
+    any(crate::model::load_any_str_drawn(file_name, text, format)?)
+}
+
+/// A mechanism of either dimension, once its open joints are diagnosed.
+fn any(drawn: DrawnModel) -> Result<Model, ModelError> {
+    match drawn {
+        DrawnModel::Planar(d) => assembled(d).map(Model::Planar),
+        DrawnModel::Spatial(d) => spatial::assembled(d).map(Model::Spatial),
+    }
+}
+
+/// The mechanism if every joint holds in the drawn pose; otherwise the
+/// errors [`load_str`] gives: the open joints, revised by the
+/// least-squares assembly (the drawing is only off, or the joints named
+/// in conflict).
+pub fn assembled(drawn: Drawn) -> Result<Mechanism, ModelError> {
+    let Drawn {
+        mechanism,
+        mut open,
+        opened,
+        places,
+    } = drawn;
+    if open.is_empty() {
+        return Ok(mechanism);
+    }
+    // By origin ("joint B"), named only now that they are needed.
+    let places: Vec<(String, Location)> = (mechanism.joints.iter())
+        .map(|j| format!("joint {}", j.name))
+        .chain(
+            mechanism
+                .constraints
+                .iter()
+                .map(|c| format!("constraint {}", c.name)),
+        )
+        .zip(places)
+        .collect();
+    review(&mechanism, &opened, &places, &mut open);
+    Err(ModelError { diagnostics: open })
 }
 
 /// Revises the loader's "does not hold in the drawn pose" errors of

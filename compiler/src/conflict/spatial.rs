@@ -1,10 +1,10 @@
 //! Can a spatial drawing whose joints do not all hold be assembled, and
-//! where do its joints close? The planar [`conflict`](crate::analysis::conflict)
+//! where do its joints close? The planar [`conflict`](crate::conflict)
 //! lifted to space: a least-squares assembly from the drawn pose, every
 //! moving body free (six unknowns: a rotation vector and a translation),
 //! every joint and constraint its primitive rows, solved by the runtime's
 //! Newton–Raphson with SVD steps. The system is a plan's numeric cluster
-//! ([`crate::interp::spatial_cluster`]), so its residuals and derivatives
+//! ([`crate::interp::spatial::cluster`]), so its residuals and derivatives
 //! are the runtime's rows ([`dofplan_runtime::spatial::rows`]), the ones
 //! every spatial plan checks and solves.
 //!
@@ -25,13 +25,13 @@ use dofplan_runtime::numeric::{Equations, Newton, NewtonOptions, NewtonOutcome};
 use dofplan_runtime::spatial::{dot, norm, sub, Pose3, Vec3};
 use nalgebra::{DMatrix, DVector};
 
-use super::equations::equations;
-use crate::analysis::conflict::{list, short, split, Open, CONFLICT_SHARE, MAX_ITERATIONS};
-use crate::interp::spatial_cluster::{system, System};
+use super::{list, short, split, CONFLICT_SHARE, MAX_ITERATIONS};
+use crate::interp::spatial::cluster::{system, System};
+use crate::model::spatial::equations::equations;
 use crate::model::spatial::Mechanism3;
-use crate::model::{Diagnostic, MarkerId, DRAWN_TOLERANCE};
+use crate::model::{Diagnostic, Drawn3, MarkerId, ModelError, Open, DRAWN_TOLERANCE};
 use crate::numeric::spatial::released;
-use crate::plan::spatial::{Cluster3, ClusterRow3, Param3};
+use crate::plan::spatial::{CheckRow, Cluster3, ClusterRow3, Param3};
 
 /// Above this many moving bodies the dense assembly is not run (its SVD
 /// grows with the cube of the unknowns, six a body); the errors say so.
@@ -140,7 +140,7 @@ fn least_squares(m: &Mechanism3, decides: bool) -> Assembly3 {
         params,
         rows: eqs
             .iter()
-            .map(|e| ClusterRow3::Equation(e.check_row(0, size)))
+            .map(|e| ClusterRow3::Equation(CheckRow::of(e, 0, size)))
             .collect(),
         size,
     };
@@ -270,7 +270,7 @@ fn closing(m: &Mechanism3, origin: &str, poses: &[Pose3]) -> Option<String> {
                 m.marker_name(id),
                 point(from),
                 point(to),
-                crate::assemble::length(d)
+                crate::format::length(d)
             ));
         }
     }
@@ -291,6 +291,23 @@ fn closing(m: &Mechanism3, origin: &str, poses: &[Pose3]) -> Option<String> {
         parts.push("none of its markers moves".into());
     }
     Some(format!("{text}: {}", parts.join(", ")))
+}
+
+/// The mechanism if every joint holds in the drawn pose; otherwise the
+/// errors `load_any_str` gives: the open joints, each with what the
+/// least-squares assembly says (where it closes, or the joints in
+/// conflict).
+pub fn assembled(drawn: Drawn3) -> Result<Mechanism3, ModelError> {
+    let Drawn3 {
+        mechanism,
+        mut open,
+        opened,
+    } = drawn;
+    if open.is_empty() {
+        return Ok(mechanism);
+    }
+    review(&mechanism, &opened, &mut open);
+    Err(ModelError { diagnostics: open })
 }
 
 /// Adds to each "does not hold in the drawn pose" error what the
@@ -343,7 +360,7 @@ pub(crate) fn review(m: &Mechanism3, open: &[Open], diags: &mut [Diagnostic]) {
                         "the mechanism does assemble with {} closed{at}; no marker moves more than {} from the \
                          drawing{inputs}: only the drawing is off (`dofplan assemble` moves the markers there)",
                         o.origin,
-                        crate::assemble::length(moved)
+                        crate::format::length(moved)
                     ),
                 );
             }

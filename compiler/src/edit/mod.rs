@@ -23,7 +23,8 @@ pub mod save;
 use dofplan_runtime::planar::Pose;
 use toml_edit::DocumentMut;
 
-use crate::model::{load_str, Format, Mechanism};
+use crate::conflict::load_str;
+use crate::model::{Format, Mechanism};
 
 pub use ops::Edit;
 

@@ -7,6 +7,7 @@
 //!   rotation; a slide input turns the prismatic's in-line into a coincident
 //!   displaced by the slide (it implies the in-line).
 
+use dofplan_runtime::numeric::cluster::Row as ClusterRow;
 use dofplan_runtime::Point;
 
 use crate::model::{ConstraintKind, InputKind, JointKind, MarkerId, Mechanism};
@@ -75,8 +76,7 @@ impl Equation {
 
     /// The equation as a numeric cluster's row (the runtime's residual
     /// form of it).
-    pub fn row(&self) -> crate::plan::ClusterRow {
-        use crate::plan::ClusterRow;
+    pub fn row(&self) -> ClusterRow {
         match self {
             Equation::Coincident { a, b, slide } => ClusterRow::Coincident {
                 a: a.body,

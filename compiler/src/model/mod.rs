@@ -2,6 +2,7 @@
 //! inputs and a sweep, validated once when a file is loaded. Later stages
 //! (analysis, back ends) never re-check user input.
 
+pub mod equations;
 mod error;
 mod excerpt;
 mod load;
@@ -12,9 +13,10 @@ pub mod spatial;
 use dofplan_runtime::Point;
 
 pub use error::{Diagnostic, Location, ModelError, Note, SourceFile};
+pub(crate) use load::Open;
 pub use load::{
-    is_spatial_file, load_any, load_any_str, load_file, load_str, load_str_drawn, load_str_drawn3, Drawn,
-    Drawn3, Format, Model, DRAWN_TOLERANCE, MAX_FILE_BYTES, MAX_STEPS,
+    is_spatial_file, load_any_drawn, load_any_str_drawn, load_file_drawn, load_str_drawn, load_str_drawn3,
+    Drawn, Drawn3, DrawnModel, Format, Model, DRAWN_TOLERANCE, MAX_FILE_BYTES, MAX_STEPS,
 };
 
 /// A validated mechanism.
@@ -318,6 +320,26 @@ impl Mechanism {
     pub fn links(&self) -> usize {
         self.bodies.iter().filter(|b| !b.fixed).count() + 1
     }
+}
+
+/// The diagonal of the bounding box of `points` (of any dimension), by
+/// `hypot`, which cannot underflow (squares of 1e-300 are 0); 0 for no
+/// points.
+pub(crate) fn extent<'p>(points: impl Iterator<Item = &'p [f64]>) -> f64 {
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    let mut any = false;
+    for p in points {
+        any = true;
+        for (k, c) in p.iter().enumerate() {
+            lo[k] = lo[k].min(*c);
+            hi[k] = hi[k].max(*c);
+        }
+    }
+    if !any {
+        return 0.0;
+    }
+    let span = |k: usize| if hi[k] >= lo[k] { hi[k] - lo[k] } else { 0.0 };
+    span(0).hypot(span(1)).hypot(span(2))
 }
 
 /// [`Mechanism::size`] of a mechanism with these bodies.

@@ -9,6 +9,8 @@
 
 use super::{Body, Input, MarkerId, MarkerLike, SourceFile, Sweep};
 
+pub mod equations;
+
 pub use dofplan_runtime::spatial::Vec3;
 
 /// A validated spatial mechanism.
@@ -318,7 +320,7 @@ impl Mechanism3 {
     /// The size of the mechanism: the diagonal of its markers' bounding box
     /// as drawn (1 if they all coincide). Tolerances are relative to it.
     pub fn size(&self) -> f64 {
-        let d = super::load::extent(self.bodies.iter().flat_map(|b| &b.markers).map(|m| m.coords()));
+        let d = super::extent(self.bodies.iter().flat_map(|b| &b.markers).map(|m| m.coords()));
         if d.is_finite() && d > 0.0 {
             d
         } else {

@@ -255,8 +255,8 @@ fn limit_toward<S: Solver<Pose = Pose>>(
 mod tests {
     use super::*;
     use crate::analysis::analyse;
+    use crate::conflict::load_str;
     use crate::interp::Interpreter;
-    use crate::model::load_str;
     use crate::model::Format;
     use dofplan_runtime::Options;
 

@@ -20,7 +20,7 @@ use dofplan_runtime::planar::{Point, Pose, Rot};
 use dofplan_runtime::{Break, BreakKind, Ctx, Solver};
 use nalgebra::{DMatrix, DVector};
 
-use crate::analysis::equations::equations;
+use crate::model::equations::equations;
 use crate::model::{InputKind, JointKind, Mechanism};
 use crate::plan::ClusterRow;
 

@@ -7,10 +7,10 @@
 //! two differ only in what the analysis saves.
 
 use crate::analysis::spatial::empty_plan;
-use crate::analysis::spatial::equations::equations;
+use crate::model::spatial::equations::equations;
 use crate::model::spatial::Mechanism3;
 use crate::model::MarkerId;
-use crate::plan::spatial::{Cluster3, ClusterRow3, Param3, Plan3, Step3, StepKind3};
+use crate::plan::spatial::{CheckRow, Cluster3, ClusterRow3, Param3, Plan3, Step3, StepKind3};
 
 /// The pure-Newton plan of a spatial mechanism: one cluster of every
 /// moving body (6 unknowns each) over every equation.
@@ -23,7 +23,7 @@ pub fn pure_newton(m: &Mechanism3) -> Plan3 {
     let rows: Vec<ClusterRow3> = equations(m)
         .iter()
         .filter(|e| e.bodies.iter().any(|&b| !m.bodies[b].fixed))
-        .map(|e| ClusterRow3::Equation(e.check_row(0, size)))
+        .map(|e| ClusterRow3::Equation(CheckRow::of(e, 0, size)))
         .collect();
     let cluster = Cluster3 { params, rows, size };
     let text = format!(

@@ -13,6 +13,7 @@ use dofplan_runtime::spatial::rows::RowKind;
 use dofplan_runtime::spatial::Vec3;
 use dofplan_runtime::Branch;
 
+use crate::model::spatial::equations::Equation3;
 use crate::model::InputKind;
 
 /// Index of a body in the mechanism's body order.
@@ -341,6 +342,24 @@ pub struct CheckRow {
     pub tol: f64,
     /// "joint C parallel-z".
     pub name: String,
+}
+
+impl CheckRow {
+    /// An equation as a plan's check or cluster row: `redundant` of its
+    /// rows only checked, passing below 1e-9 of `size` (lengths) or 1e-9
+    /// (sines).
+    pub fn of(e: &Equation3, redundant: usize, size: f64) -> CheckRow {
+        CheckRow {
+            kind: e.row_kind(),
+            bodies: e.bodies,
+            at: [e.frames[0].at, e.frames[1].at],
+            z: [e.frames[0].axes.z, e.frames[1].axes.z],
+            x: [e.frames[0].axes.x, e.frames[1].axes.x],
+            redundant,
+            tol: if e.linear() { 1e-9 * size } else { 1e-9 },
+            name: format!("{} {}", e.origin, e.kind.name()),
+        }
+    }
 }
 
 /// What a step does.

@@ -116,7 +116,8 @@ fn sub(a: Point, b: Point) -> Point {
 mod tests {
     use super::*;
     use crate::analysis::grashof::four_bars;
-    use crate::model::{load_str, Format};
+    use crate::conflict::load_str;
+    use crate::model::Format;
 
     /// fourbar as drawn: C = (4.5, 2.5), B = (1, 1), D = (4, 0):
     /// μ = angle between C→B = (−3.5, −1.5) and C→D = (−0.5, −2.5), worked

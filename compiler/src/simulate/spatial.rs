@@ -7,7 +7,7 @@
 use dofplan_runtime::real::Jet2;
 use dofplan_runtime::spatial::{Pose3, Vec3};
 
-use crate::analysis::spatial::equations::equations;
+use crate::model::spatial::equations::equations;
 use crate::model::spatial::Mechanism3;
 
 /// Every marker's world position, body by body in file order.
@@ -98,7 +98,7 @@ mod tests {
                     [bodies.disc]\nmarkers.A = { at = [0, 0, 0], z = [0, 0, 1] }\nmarkers.P = [1, 0, 0]\n\
                     [joints.A]\nkind = \"revolute\"\nmarkers = [\"ground.A\", \"disc.A\"]\n";
         let crate::model::Model::Spatial(m) =
-            crate::model::load_any_str("spin.toml", text, crate::model::Format::Toml).unwrap()
+            crate::conflict::load_any_str("spin.toml", text, crate::model::Format::Toml).unwrap()
         else {
             panic!("a spatial file")
         };

@@ -11,8 +11,8 @@
 
 use dofplan_runtime::spatial::rows::{FrameRate, WorldFrame};
 
-use super::equations::{equations, Equation3, Kind3};
 use crate::analysis::rank::{Echelon, SparseRow};
+use crate::model::spatial::equations::{equations, Equation3, Kind3};
 use crate::model::spatial::Mechanism3;
 
 /// Relative cut-off of the elimination (as the planar rank's).

@@ -2,9 +2,7 @@
 //! the plan-fragment table, the planner, and counting (mobility, rank,
 //! redundancy, idle freedoms).
 
-pub mod conflict;
 pub mod count;
-pub mod equations;
 pub mod fragments;
 mod invariants;
 pub mod planner;
@@ -65,7 +63,7 @@ pub(crate) fn empty_plan(m: &Mechanism3) -> Plan3 {
 /// plan reproduces the drawn pose (run once from the drawing, taking the
 /// nearest root everywhere), checked against every equation.
 pub fn analyse(m: &Mechanism3) -> Result<Plan3, PlanError3> {
-    let eqs = equations::equations(m);
+    let eqs = crate::model::spatial::equations::equations(m);
     let planned = planner::plan(m, &eqs);
     if !planned.unused.is_empty() {
         return Err(PlanError3::Unplanned(

@@ -21,8 +21,8 @@ use std::collections::BTreeSet;
 use dofplan_runtime::spatial::{cross, norm, sub, unit, Vec3};
 use dofplan_runtime::Branch;
 
-use super::equations::{Equation3, Kind3};
 use super::fragments::{lookup, Case, Do, Fragment, Prim, RDof, TDof};
+use crate::model::spatial::equations::{Equation3, Kind3};
 use crate::model::spatial::{JointKind3, Mechanism3, Primitive};
 use crate::plan::spatial::{
     Action3, BranchSlot3, CheckRow, Cluster3, ClusterRow3, Locus3, Param3, Step3, StepKind3, Temp3, D3, P3,
@@ -394,7 +394,7 @@ impl Planner<'_> {
     }
 
     fn check_row(&self, i: usize, redundant: usize) -> CheckRow {
-        self.eqs[i].check_row(redundant, self.size)
+        CheckRow::of(&self.eqs[i], redundant, self.size)
     }
 
     /// A check step of `redundant` rows of equation `i`.
@@ -503,7 +503,13 @@ impl Planner<'_> {
     }
 
     /// The geometric case of the marker `fm` of a body in state `st`.
-    fn case(&self, st: &State, prim: Prim, fm: &super::equations::Frame, e: &Equation3) -> Case {
+    fn case(
+        &self,
+        st: &State,
+        prim: Prim,
+        fm: &crate::model::spatial::equations::Frame,
+        e: &Equation3,
+    ) -> Case {
         match prim {
             Prim::Coincident | Prim::InLine | Prim::InPlane => {
                 if let Some(q) = st.pivot() {

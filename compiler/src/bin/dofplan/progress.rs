@@ -8,7 +8,8 @@ use std::path::Path;
 use std::time::{Duration, Instant};
 
 use dofplan::analysis::Progress;
-use dofplan::model::{load_file, Mechanism, ModelError};
+use dofplan::load_file;
+use dofplan::model::{Mechanism, ModelError};
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// Files from this size on (bytes: about 500 four-bar loops) show progress;

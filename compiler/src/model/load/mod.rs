@@ -20,13 +20,12 @@ use super::{
     Body, Constraint, ConstraintKind, Input, InputKind, Joint, JointKind, Marker, MarkerId, MarkerLike,
     Mechanism, Sweep, Swept,
 };
-use crate::analysis::conflict::{self, Open};
 
 /// Joints must hold in the drawn pose to this, relative to the mechanism's
 /// size.
 pub const DRAWN_TOLERANCE: f64 = 1e-9;
 
-/// The largest mechanism file [`load_file`] and [`load_any`] read, in
+/// The largest mechanism file [`load_file_drawn`] and [`load_any_drawn`] read, in
 /// bytes (256 MiB): about five times a chain of 90,000 four-bar loops
 /// (53 MB). A larger file is refused before it is read; the `_str` loaders
 /// set no limit.
@@ -66,16 +65,17 @@ impl Format {
     }
 }
 
-/// Reads and validates a (planar) mechanism file.
-pub fn load_file(path: &Path) -> Result<Mechanism, ModelError> {
+/// Reads and validates a (planar) mechanism file like
+/// [`load_str_drawn`]: joints open in the drawn pose are returned with
+/// the mechanism, for the caller to diagnose (`conflict::assembled`).
+pub fn load_file_drawn(path: &Path) -> Result<Drawn, ModelError> {
     let name = path.display().to_string();
     let file = read_file(path, name)?;
     let format = Format::of_path(path);
     let root = parse(&file, format)?;
-    let drawn = drawn(file.clone(), &root, format);
-    // The tree goes before the assembly reviews open joints, if any.
-    drop(root);
-    drawn?.assembled()
+    // The tree is dropped here, before the caller's diagnosis of open
+    // joints (if any) allocates its own.
+    drawn(file.clone(), &root, format)
 }
 
 /// Reads a file into the text errors quote, held once: the text read is
@@ -123,7 +123,7 @@ fn read_text(path: &Path, name: &str) -> Result<String, ModelError> {
             },
             "is this the right file? Mechanisms are far smaller: a chain of 90,000 four-bar loops \
              (180,002 bodies) is 53 MB. To load a larger file anyway, read it yourself and pass its \
-             text to `dofplan::model::load_any_str`, which sets no limit",
+             text to `dofplan::load_any_str`, which sets no limit",
         )
     };
     let mut reader = std::fs::File::open(path).map_err(cannot_read)?;
@@ -222,22 +222,32 @@ pub fn is_spatial_file(path: &Path) -> bool {
     }
 }
 
-/// Reads and validates a mechanism file of either dimension.
-pub fn load_any(path: &Path) -> Result<Model, ModelError> {
+/// A mechanism of either dimension as drawn: [`Drawn`] or [`Drawn3`].
+#[derive(Clone, Debug)]
+pub enum DrawnModel {
+    /// A planar mechanism (`dimension` absent or 2).
+    Planar(Drawn),
+    /// A spatial mechanism (`dimension = 3`).
+    Spatial(Drawn3),
+}
+
+/// Reads and validates a mechanism file of either dimension, open joints
+/// returned with it (see [`DrawnModel`]).
+pub fn load_any_drawn(path: &Path) -> Result<DrawnModel, ModelError> {
     let name = path.display().to_string();
     let file = read_file(path, name)?;
     load_any_file(file, Format::of_path(path))
 }
 
-/// Validates a mechanism of either dimension given as text; `file_name` is
-/// used in errors.
-pub fn load_any_str(file_name: &str, text: &str, format: Format) -> Result<Model, ModelError> {
+/// Validates a mechanism of either dimension given as text, open joints
+/// returned with it; `file_name` is used in errors.
+pub fn load_any_str_drawn(file_name: &str, text: &str, format: Format) -> Result<DrawnModel, ModelError> {
     load_any_file(source_file(file_name, text), format)
 }
 
-/// [`load_any_str`] on a file's text: parsed once, validated as its
+/// [`load_any_str_drawn`] on a file's text: parsed once, validated as its
 /// `dimension` says.
-fn load_any_file(file: SourceFile, format: Format) -> Result<Model, ModelError> {
+fn load_any_file(file: SourceFile, format: Format) -> Result<DrawnModel, ModelError> {
     let root = parse(&file, format)?;
     let spatial = match &root.kind {
         NodeKind::Table(top) => matches!(
@@ -247,11 +257,9 @@ fn load_any_file(file: SourceFile, format: Format) -> Result<Model, ModelError> 
         _ => false,
     };
     if !spatial {
-        return drawn(file.clone(), &root, format)?.assembled().map(Model::Planar);
+        return drawn(file.clone(), &root, format).map(DrawnModel::Planar);
     }
-    drawn3(file.clone(), &root, format)?
-        .assembled()
-        .map(Model::Spatial)
+    drawn3(file.clone(), &root, format).map(DrawnModel::Spatial)
 }
 
 /// A text to parse, named `file_name` in errors.
@@ -265,8 +273,8 @@ fn source_file(file_name: &str, text: &str) -> SourceFile {
 /// A spatial mechanism whose only errors, if any, are joints and
 /// constraints that do not hold in the drawn pose: what `dofplan assemble`
 /// starts from (the spatial [`Drawn`]). With open joints it is not a valid
-/// model: only the assembly (`analysis::spatial::conflict::assemble`) may
-/// use it; everything else takes [`Drawn3::assembled`].
+/// model: only the assembly (`conflict::spatial::assemble`) may
+/// use it; everything else takes `conflict::spatial::assembled`.
 #[derive(Clone, Debug)]
 pub struct Drawn3 {
     /// The mechanism, every joint and constraint included, open ones too.
@@ -275,7 +283,7 @@ pub struct Drawn3 {
     /// when every joint holds.
     pub open: Vec<Diagnostic>,
     /// Which joint or constraint each error is about.
-    opened: Vec<Open>,
+    pub(crate) opened: Vec<Open>,
 }
 
 impl Drawn3 {
@@ -287,26 +295,9 @@ impl Drawn3 {
         origins.dedup();
         origins.len()
     }
-
-    /// The mechanism if every joint holds in the drawn pose; otherwise the
-    /// errors [`load_any_str`] gives: the open joints, each with what the
-    /// least-squares assembly says (where it closes, or the joints in
-    /// conflict).
-    pub fn assembled(self) -> Result<Mechanism3, ModelError> {
-        let Drawn3 {
-            mechanism,
-            mut open,
-            opened,
-        } = self;
-        if open.is_empty() {
-            return Ok(mechanism);
-        }
-        crate::analysis::spatial::conflict::review(&mechanism, &opened, &mut open);
-        Err(ModelError { diagnostics: open })
-    }
 }
 
-/// Validates a spatial mechanism given as text like [`load_any_str`], but
+/// Validates a spatial mechanism given as text like `dofplan::load_any_str`, but
 /// returns it even when joints or constraints do not hold in the drawn pose
 /// (with those errors). Every other error is still an error, and so is a
 /// planar file.
@@ -322,7 +313,7 @@ fn drawn3(file: SourceFile, root: &Node, format: Format) -> Result<Drawn3, Model
     match v.mechanism3(root) {
         // Only joints open in the drawn pose (or none): the least-squares
         // assembly says whether the drawing is only off or the joints
-        // conflict (`Drawn3::assembled`).
+        // conflict (`conflict::spatial::assembled`).
         Some(m) if v.diags.len() == v.open.len() => Ok(Drawn3 {
             mechanism: m,
             open: v.diags,
@@ -332,16 +323,11 @@ fn drawn3(file: SourceFile, root: &Node, format: Format) -> Result<Drawn3, Model
     }
 }
 
-/// Validates a mechanism given as text; `file_name` is used in errors.
-pub fn load_str(file_name: &str, text: &str, format: Format) -> Result<Mechanism, ModelError> {
-    load_str_drawn(file_name, text, format)?.assembled()
-}
-
 /// A mechanism whose only errors, if any, are joints and constraints that do
 /// not hold in the drawn pose: what `dofplan assemble` starts from. With
 /// open joints it is not a valid model: only the assembly
-/// (`analysis::conflict::assemble`) may use it; everything else takes
-/// [`Drawn::assembled`].
+/// (`conflict::assemble`) may use it; everything else takes
+/// `conflict::assembled`.
 #[derive(Clone, Debug)]
 pub struct Drawn {
     /// The mechanism, every joint and constraint included, open ones too.
@@ -350,40 +336,19 @@ pub struct Drawn {
     /// when every joint holds.
     pub open: Vec<Diagnostic>,
     /// Which joint or constraint each error is about.
-    opened: Vec<Open>,
+    pub(crate) opened: Vec<Open>,
     /// Where each joint, then each constraint, of the mechanism is written.
-    places: Vec<Location>,
+    pub(crate) places: Vec<Location>,
 }
 
-impl Drawn {
-    /// The mechanism if every joint holds in the drawn pose; otherwise the
-    /// errors [`load_str`] gives: the open joints, revised by the
-    /// least-squares assembly (the drawing is only off, or the joints named
-    /// in conflict).
-    pub fn assembled(self) -> Result<Mechanism, ModelError> {
-        let Drawn {
-            mechanism,
-            mut open,
-            opened,
-            places,
-        } = self;
-        if open.is_empty() {
-            return Ok(mechanism);
-        }
-        // By origin ("joint B"), named only now that they are needed.
-        let places: Vec<(String, Location)> = (mechanism.joints.iter())
-            .map(|j| format!("joint {}", j.name))
-            .chain(
-                mechanism
-                    .constraints
-                    .iter()
-                    .map(|c| format!("constraint {}", c.name)),
-            )
-            .zip(places)
-            .collect();
-        conflict::review(&mechanism, &opened, &places, &mut open);
-        Err(ModelError { diagnostics: open })
-    }
+/// A joint or constraint the loader found open in the drawn pose.
+#[derive(Clone, Debug)]
+pub(crate) struct Open {
+    /// "joint B", "constraint c1".
+    pub origin: String,
+    /// Its "does not hold in the drawn pose" error, an index into the
+    /// loader's diagnostics.
+    pub diagnostic: usize,
 }
 
 /// Parses a file into its node tree, with the errors every file can have
@@ -513,7 +478,7 @@ fn defines_something<'s>(file: &SourceFile, format: Format, root: Node<'s>) -> R
     Ok(root)
 }
 
-/// Validates a mechanism given as text like [`load_str`], but returns it
+/// Validates a mechanism given as text like `dofplan::load_str`, but returns it
 /// even when joints or constraints do not hold in the drawn pose (with
 /// those errors). Every other error (syntax, unknown names, kinds...) is
 /// still an error.
@@ -530,7 +495,7 @@ fn drawn(file: SourceFile, root: &Node, format: Format) -> Result<Drawn, ModelEr
     match mechanism {
         // Only joints open in the drawn pose (or none): the assembly check
         // says whether the mechanism assembles at all, or which joints are
-        // in conflict (`Drawn::assembled`).
+        // in conflict (`conflict::assembled`).
         Some(m) if v.diags.len() == v.open.len() => Ok(Drawn {
             mechanism: m,
             open: v.diags,
@@ -861,7 +826,7 @@ impl Validator {
                     self.error(
                         loc,
                         "this is a spatial mechanism (dimension = 3), and this reads planar ones".into(),
-                        Some("load it with `model::load_any` (the CLI and build.rs do)".into()),
+                        Some("load it with `dofplan::load_any` (the CLI and build.rs do)".into()),
                     );
                 }
                 _ => {
@@ -1000,7 +965,7 @@ impl Validator {
         // The bounding box's diagonal by `hypot`, which cannot underflow
         // (squares of 1e-300 are 0). Markers that all coincide (extent 0)
         // are a degenerate drawing, not a scale.
-        let extent = extent(bodies.iter().flat_map(|b| &b.markers).map(|m| m.coords()));
+        let extent = crate::model::extent(bodies.iter().flat_map(|b| &b.markers).map(|m| m.coords()));
         if extent > 0.0 && extent < MIN_EXTENT {
             let loc = self.loc(node, "bodies");
             self.error(
@@ -1828,26 +1793,6 @@ impl JointLike for Joint {
             "an angle input drives a revolute joint and a slide input a prismatic one; use kind = \"{fits}\""
         ))
     }
-}
-
-/// The diagonal of the bounding box of `points` (of any dimension), by
-/// `hypot`, which cannot underflow (squares of 1e-300 are 0); 0 for no
-/// points.
-pub(crate) fn extent<'p>(points: impl Iterator<Item = &'p [f64]>) -> f64 {
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    let mut any = false;
-    for p in points {
-        any = true;
-        for (k, c) in p.iter().enumerate() {
-            lo[k] = lo[k].min(*c);
-            hi[k] = hi[k].max(*c);
-        }
-    }
-    if !any {
-        return 0.0;
-    }
-    let span = |k: usize| if hi[k] >= lo[k] { hi[k] - lo[k] } else { 0.0 };
-    span(0).hypot(span(1)).hypot(span(2))
 }
 
 fn join(path: &str, key: &str) -> String {

@@ -6,8 +6,8 @@
 use dofplan_runtime::spatial::{cross, dot, norm, scale, sub, unit, Vec3};
 
 use super::{join, Validator, MAX_COORDINATE};
-use crate::analysis::spatial::equations::{drawn_residual, Frame};
 use crate::model::source::{At, Node, NodeKind};
+use crate::model::spatial::equations::{drawn_residual, Frame};
 use crate::model::spatial::{Axes, Constraint3, Joint3, JointKind3, Marker3, Mechanism3, Primitive};
 use crate::model::{Body, InputKind, MarkerId, DRAWN_TOLERANCE};
 
@@ -23,7 +23,7 @@ impl Validator {
             None => Vec::new(),
         };
         let size = {
-            let d = super::extent(bodies.iter().flat_map(|b| &b.markers).map(|m| &m.at[..]));
+            let d = crate::model::extent(bodies.iter().flat_map(|b| &b.markers).map(|m| &m.at[..]));
             if d.is_finite() && d > 0.0 {
                 d
             } else {
@@ -516,7 +516,7 @@ impl Validator {
                 }
                 let pitch = pitch?;
                 let frames = [frame_of(bodies, markers[0], None), frame_of(bodies, markers[1], None)];
-                let drawn = crate::analysis::spatial::equations::drawn_angle(kind, &frames);
+                let drawn = crate::model::spatial::equations::drawn_angle(kind, &frames);
                 v.check_drawn(
                     kind,
                     &frames,
@@ -558,7 +558,7 @@ fn frame_of(bodies: &[Body<Marker3>], id: MarkerId, borrow: Option<Axes>) -> Fra
 
 /// The drawn frames of a joint's two markers, as its equations use them.
 pub(crate) fn joint_frames(joint: &Joint3, bodies: &[Body<Marker3>]) -> [Frame; 2] {
-    crate::analysis::spatial::equations::joint_frames(
+    crate::model::spatial::equations::joint_frames(
         joint,
         |id| frame_of(bodies, id, None).at,
         |id| bodies[id.body].markers[id.marker].axes,

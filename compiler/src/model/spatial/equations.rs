@@ -98,22 +98,6 @@ pub struct Equation3 {
 }
 
 impl Equation3 {
-    /// The equation as a plan's check or cluster row: `redundant` of its
-    /// rows only checked, passing below 1e-9 of `size` (lengths) or 1e-9
-    /// (sines).
-    pub fn check_row(&self, redundant: usize, size: f64) -> crate::plan::spatial::CheckRow {
-        crate::plan::spatial::CheckRow {
-            kind: self.row_kind(),
-            bodies: self.bodies,
-            at: [self.frames[0].at, self.frames[1].at],
-            z: [self.frames[0].axes.z, self.frames[1].axes.z],
-            x: [self.frames[0].axes.x, self.frames[1].axes.x],
-            redundant,
-            tol: if self.linear() { 1e-9 * size } else { 1e-9 },
-            name: format!("{} {}", self.origin, self.kind.name()),
-        }
-    }
-
     /// The runtime's description of its rows.
     pub fn row_kind(&self) -> RowKind {
         row_kind(self.kind, self.angle, self.pitch, self.axial0)

@@ -40,7 +40,8 @@ impl Document {
     #[cfg(test)]
     pub fn open(path: Option<&Path>) -> Result<Document, String> {
         use dofplan::edit::EMPTY;
-        use dofplan::model::{load_any, load_str, Format, Model};
+        use dofplan::model::{Format, Model};
+        use dofplan::{load_any, load_str};
         let mechanism = match path {
             None => load_str(UNTITLED, EMPTY, Format::Toml).map_err(|e| e.render(false))?,
             Some(path) => match load_any(path) {

@@ -15,7 +15,8 @@ use serde::Deserialize;
 use serde_json::{json, Value};
 
 use dofplan::edit::{save, Edit, Editor, EMPTY};
-use dofplan::model::{load_any_str, load_str, Format, Location, Model, ModelError};
+use dofplan::model::{Format, Location, Model, ModelError};
+use dofplan::{load_any_str, load_str};
 use dofplan_runtime::planar::{Pose, Rot};
 
 use super::document::{Document, UNTITLED};

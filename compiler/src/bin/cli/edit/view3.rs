@@ -295,7 +295,7 @@ mod tests {
 
     fn rssr() -> Session3 {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../mechanisms/spatial/rssr.toml");
-        let Ok(dofplan::model::Model::Spatial(m)) = dofplan::model::load_any(&path) else {
+        let Ok(dofplan::model::Model::Spatial(m)) = dofplan::load_any(&path) else {
             panic!("rssr is a spatial file");
         };
         Session3::new(Arc::new(Document3::new(&path, m)))
