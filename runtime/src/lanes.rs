@@ -13,7 +13,7 @@
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
-use crate::planar::Rot;
+use crate::planar::{Degrees, Rot};
 use crate::real::Real;
 
 /// Frames a [`Lanes`] holds: eight `f64`s, two AVX or four SSE2 registers —
@@ -163,7 +163,9 @@ impl Real for Lanes {
         // the same plain loop the other operations are (see `lanewise`).
         self * Lanes::splat(k)
     }
+}
 
+impl Degrees for Lanes {
     #[inline(always)]
     fn degrees_rot(self) -> Rot<Lanes> {
         Rot::from_degrees_lanes(self)

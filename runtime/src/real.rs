@@ -128,9 +128,6 @@ pub trait Real:
     fn rate_bits(self) -> u64 {
         0
     }
-    /// The rotation by `self` degrees as a (cos, sin) pair, its value from
-    /// [`Rot::from_degrees`](crate::planar::Rot::from_degrees).
-    fn degrees_rot(self) -> crate::planar::Rot<Self>;
 }
 
 /// On lanes, gives up on the frames of a step that is about to leave its
@@ -234,10 +231,6 @@ impl Real for f64 {
     #[inline(always)]
     fn mul_f64(self, k: f64) -> f64 {
         self * k
-    }
-    #[inline(always)]
-    fn degrees_rot(self) -> crate::planar::Rot {
-        crate::planar::Rot::from_degrees(self)
     }
 }
 
@@ -428,10 +421,6 @@ impl Real for Jet2 {
     #[inline(always)]
     fn rate_bits(self) -> u64 {
         (self.d.to_bits() | self.dd.to_bits()) << 1
-    }
-    #[inline(always)]
-    fn degrees_rot(self) -> crate::planar::Rot<Jet2> {
-        crate::planar::Rot::from_degrees_jet(self)
     }
 }
 

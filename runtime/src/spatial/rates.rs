@@ -55,6 +55,7 @@ pub fn checked3<P: AsRef<[Pose3<Jet2>]>>(poses: P) -> Result<P, RateError> {
 mod tests {
     use super::super::*;
     use crate::frame::{Branch, BranchPolicy, Ctx};
+    use crate::planar::Degrees;
     use crate::real::{Jet2, Real};
 
     /// A point moving along `v` with the parameter: `a + t·v`.
@@ -210,7 +211,7 @@ mod tests {
         x
     }
 
-    fn cones_and_turns<T: Real>(t: T) -> Vec<T> {
+    fn cones_and_turns<T: Degrees>(t: T) -> Vec<T> {
         let w1 = unit(moving(t, [1.0, 0.0, 0.2], [0.0, 0.3, 0.0]));
         let w2 = cst([0.0, 1.0, 0.0]);
         let mut last = cst([0.0; 3]);
