@@ -14,7 +14,7 @@
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use crate::planar::{Degrees, Rot};
-use crate::real::Real;
+use crate::real::{Factor, Real};
 
 /// Frames a [`Lanes`] holds: eight `f64`s, two AVX or four SSE2 registers —
 /// enough independent work to hide a square root's or a division's latency.
@@ -162,6 +162,19 @@ impl Real for Lanes {
         // The lanewise product with k in every lane: the same numbers, and
         // the same plain loop the other operations are (see `lanewise`).
         self * Lanes::splat(k)
+    }
+}
+
+/// Lanes multiply by lanes of their own kind (the constant factors are the
+/// `f64`s every `Real` takes).
+impl Factor<Lanes> for Lanes {
+    #[inline(always)]
+    fn times(self, x: Lanes) -> Lanes {
+        x.vmul(self)
+    }
+    #[inline(always)]
+    fn lift(self) -> Lanes {
+        self
     }
 }
 

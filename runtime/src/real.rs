@@ -184,17 +184,6 @@ impl Factor<Jet2> for Jet2 {
     }
 }
 
-impl Factor<crate::lanes::Lanes> for crate::lanes::Lanes {
-    #[inline(always)]
-    fn times(self, x: crate::lanes::Lanes) -> crate::lanes::Lanes {
-        x.vmul(self)
-    }
-    #[inline(always)]
-    fn lift(self) -> crate::lanes::Lanes {
-        self
-    }
-}
-
 impl Real for f64 {
     #[inline(always)]
     fn cst(x: f64) -> f64 {
