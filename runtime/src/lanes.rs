@@ -88,7 +88,7 @@ impl Real for Lanes {
 
     /// The first lane's value. Steps decide with [`Real::all`] and
     /// [`Real::select`]; `value` is read only on a path the lanes leave
-    /// by [`crate::real::lanes_differ`] or a break, whose numbers are
+    /// by [`crate::frame::lanes_differ`] or a break, whose numbers are
     /// thrown away.
     #[inline(always)]
     fn value(self) -> f64 {

@@ -15,6 +15,9 @@ use crate::drive::Solver;
 use crate::frame::Break;
 use crate::planar::Pose;
 
+// Kept under their old path for the code and users that name them here.
+pub use crate::frame::{lanes_break, lanes_differ};
+
 /// A number a plan step computes with.
 pub trait Real:
     Copy
@@ -127,27 +130,6 @@ pub trait Real:
     #[inline(always)]
     fn rate_bits(self) -> u64 {
         0
-    }
-}
-
-/// On lanes, gives up on the frames of a step that is about to leave its
-/// usual path (see [`Real::LANES`]); nothing otherwise.
-#[inline(always)]
-pub fn lanes_differ<T: Real>(step: crate::frame::StepId) -> Result<(), Break> {
-    if T::LANES {
-        Err(lanes_break(step))
-    } else {
-        Ok(())
-    }
-}
-
-/// The break by which frames in lanes give up on step `step`.
-#[cold]
-pub fn lanes_break(step: crate::frame::StepId) -> Break {
-    Break {
-        step,
-        kind: crate::frame::BreakKind::LanesDiffer,
-        gap: f64::NAN,
     }
 }
 

@@ -7,8 +7,8 @@
 //! the branch of the drawn pose is kept along smooth motions.
 
 use super::{add, cross, dist2, dot, perp, scale, sub, Rot};
-use crate::frame::{Branch, BranchPolicy, Break, BreakKind, Ctx, StepId};
-use crate::real::{lanes_break, lanes_differ, Factor, Real};
+use crate::frame::{lanes_break, lanes_differ, Branch, BranchPolicy, Break, BreakKind, Ctx, StepId};
+use crate::real::{Factor, Real};
 
 /// Squared half-chords smaller than this (relative to the squared radii)
 /// count as tangency rather than a miss: round-off at a tangent pose must
