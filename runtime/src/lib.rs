@@ -31,6 +31,7 @@ pub mod lanes;
 pub mod marker;
 pub mod numeric;
 pub mod planar;
+pub mod rates;
 pub mod real;
 pub mod spatial;
 

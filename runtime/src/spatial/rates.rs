@@ -1,5 +1,5 @@
 //! Rates of spatial plans: the spatial counterpart of
-//! [`Rates`](crate::real::Rates), with every body's [`Pose3`] on
+//! [`Rates`](crate::rates::Rates), with every body's [`Pose3`] on
 //! [`Jet2`]s. A pose's rates are its entries' derivatives: the velocity of
 //! the local origin is `pos[i].d`, and the angular velocity ω is read from
 //! `Ṙ = [ω]×·R` (for example as `ω = vee(Ṙ·Rᵀ)`).
@@ -7,7 +7,8 @@
 use super::Pose3;
 use crate::drive::Solver;
 use crate::frame::Ctx;
-use crate::real::{Jet2, RateError};
+use crate::rates::RateError;
+use crate::real::Jet2;
 
 /// A spatial plan that gives its frames' rates: every body's pose with its
 /// first and second derivatives along given input rates and accelerations
