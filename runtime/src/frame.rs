@@ -1,7 +1,7 @@
 //! What one frame reports, the policies that shape it, and the context the
 //! steps of one plan execution share.
 
-use crate::real::Real;
+use crate::scalar::Real;
 
 /// Index of a step in its plan (the plan IR's numbering, shown by
 /// `dofplan plan`), so a break can name the step that could not be met.

@@ -14,7 +14,7 @@
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
 use crate::planar::{Degrees, Rot};
-use crate::real::{Factor, Real};
+use crate::scalar::{Factor, Real};
 
 /// Frames a [`Lanes`] holds: eight `f64`s, two AVX or four SSE2 registers —
 /// enough independent work to hide a square root's or a division's latency.

@@ -9,7 +9,7 @@
 use crate::drive::Solver;
 use crate::frame::{Break, Ctx};
 use crate::planar::Pose;
-use crate::real::Jet2;
+use crate::scalar::Jet2;
 
 /// Why a frame's rates were not computed.
 #[derive(Clone, Debug, PartialEq)]

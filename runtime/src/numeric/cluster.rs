@@ -16,7 +16,7 @@ use nalgebra::{DMatrix, DVector};
 use super::{Equations, Implicit, Newton, NewtonOptions, NewtonOutcome, NewtonReport};
 use crate::frame::{Break, BreakKind, Ctx, StepId};
 use crate::planar::{cst, Point, Pose, Rot};
-use crate::real::{Jet2, Real};
+use crate::scalar::{Jet2, Real};
 
 /// How a cluster body is parametrised (Kramer's DOF states, and the joint
 /// coordinates of a body hinged on another cluster body).

@@ -14,7 +14,7 @@ mod turn_table;
 pub use locus::{circle_circle, circle_line, line_line, turn_line_through};
 pub use place::{align, align_consistent, anchor, orient, set_rotation};
 
-use crate::real::{Jet2, Real};
+use crate::scalar::{Jet2, Real};
 
 /// A point or a vector in the plane.
 pub type Point = [f64; 2];

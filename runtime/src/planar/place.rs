@@ -2,7 +2,7 @@
 
 use super::{dot, sub, Point, Pose, Rot};
 use crate::frame::{lanes_differ, Break, BreakKind, Ctx, StepId};
-use crate::real::Real;
+use crate::scalar::Real;
 
 /// Sets a body's rotation to `from` followed by `rel` (a relative rotation
 /// carried by a joint: the identity for a prismatic joint or an offset

@@ -3,7 +3,7 @@
 
 use super::{cross, cross_by, cst, dot, dot_by, norm2, rate_bits, reject, reject_by, sub, Pose3, Rot3, Vec3};
 use crate::planar::Degrees;
-use crate::real::{Factor, Real};
+use crate::scalar::{Factor, Real};
 
 /// A perpendicular shorter than this fraction of its point's distance from
 /// the pivot is rounding, not a direction: the point counts as on the axis.

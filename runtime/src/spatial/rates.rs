@@ -8,7 +8,7 @@ use super::Pose3;
 use crate::drive::Solver;
 use crate::frame::Ctx;
 use crate::rates::RateError;
-use crate::real::Jet2;
+use crate::scalar::Jet2;
 
 /// A spatial plan that gives its frames' rates: every body's pose with its
 /// first and second derivatives along given input rates and accelerations
@@ -57,7 +57,7 @@ mod tests {
     use super::super::*;
     use crate::frame::{Branch, BranchPolicy, Ctx};
     use crate::planar::Degrees;
-    use crate::real::{Jet2, Real};
+    use crate::scalar::{Jet2, Real};
 
     /// A point moving along `v` with the parameter: `a + t·v`.
     fn moving<T: Real>(t: T, a: Vec3, v: Vec3) -> Vec3<T> {

@@ -7,13 +7,13 @@
 //! decision they take (which root, whether circles meet) is taken on
 //! [`Real::value`], so a run with jets follows the branches of the run with
 //! `f64` and only adds the derivatives.
+//!
+//! This is the bottom layer of the runtime: it names nothing else of the
+//! crate, and lanes, poses and rates build on it (the crate's `real`
+//! module re-exports it under the path generated code names).
 
 use std::fmt::Debug;
 use std::ops::{Add, Div, Mul, Neg, Sub};
-
-// Kept under their old path for the code and users that name them here.
-pub use crate::frame::{lanes_break, lanes_differ};
-pub use crate::rates::{checked, RateError, Rates};
 
 /// A number a plan step computes with.
 pub trait Real:
@@ -40,10 +40,9 @@ pub trait Real:
     /// print. The value itself is the plain square root.
     fn sqrt_dead(self, dead: f64) -> Self;
 
-    /// Whether the number holds several frames' values side by side
-    /// ([`Lanes`](crate::lanes::Lanes)): a step then takes its usual path
-    /// only when every lane does, and gives up on the frames together (a
-    /// [`BreakKind::LanesDiffer`](crate::frame::BreakKind::LanesDiffer)
+    /// Whether the number holds several frames' values side by side (the
+    /// runtime's `Lanes`): a step then takes its usual path only when every
+    /// lane does, and gives up on the frames together (a `LanesDiffer`
     /// break, after which they are solved one at a time) where one of them
     /// would take another.
     const LANES: bool = false;
@@ -467,8 +466,8 @@ mod jet_rates {
     /// Jet2's own operators.
     #[cfg(not(all(target_arch = "x86_64", not(debug_assertions))))]
     mod lane_by_lane {
+        use super::super::Real;
         use super::Jet2;
-        use crate::real::Real;
 
         #[inline(always)]
         pub fn add(a: Jet2, b: Jet2) -> Jet2 {
