@@ -1,6 +1,8 @@
 //! What one frame reports, the policies that shape it, and the context the
 //! steps of one plan execution share.
 
+use crate::scalar::Real;
+
 /// Index of a step in its plan (the plan IR's numbering, shown by
 /// `dofplan plan`), so a break can name the step that could not be met.
 pub type StepId = u32;
@@ -177,6 +179,27 @@ pub struct Break {
     pub kind: BreakKind,
     /// How far from being met (a distance in length units).
     pub gap: f64,
+}
+
+/// On lanes, gives up on the frames of a step that is about to leave its
+/// usual path (see [`Real::LANES`]); nothing otherwise.
+#[inline(always)]
+pub fn lanes_differ<T: Real>(step: StepId) -> Result<(), Break> {
+    if T::LANES {
+        Err(lanes_break(step))
+    } else {
+        Ok(())
+    }
+}
+
+/// The break by which frames in lanes give up on step `step`.
+#[cold]
+pub fn lanes_break(step: StepId) -> Break {
+    Break {
+        step,
+        kind: BreakKind::LanesDiffer,
+        gap: f64::NAN,
+    }
 }
 
 /// What happened in one frame.

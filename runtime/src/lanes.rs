@@ -13,8 +13,8 @@
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
-use crate::planar::Rot;
-use crate::real::Real;
+use crate::planar::{Degrees, Rot};
+use crate::scalar::{Factor, Real};
 
 /// Frames a [`Lanes`] holds: eight `f64`s, two AVX or four SSE2 registers —
 /// enough independent work to hide a square root's or a division's latency.
@@ -88,7 +88,7 @@ impl Real for Lanes {
 
     /// The first lane's value. Steps decide with [`Real::all`] and
     /// [`Real::select`]; `value` is read only on a path the lanes leave
-    /// by [`crate::real::lanes_differ`] or a break, whose numbers are
+    /// by [`crate::frame::lanes_differ`] or a break, whose numbers are
     /// thrown away.
     #[inline(always)]
     fn value(self) -> f64 {
@@ -163,7 +163,22 @@ impl Real for Lanes {
         // the same plain loop the other operations are (see `lanewise`).
         self * Lanes::splat(k)
     }
+}
 
+/// Lanes multiply by lanes of their own kind (the constant factors are the
+/// `f64`s every `Real` takes).
+impl Factor<Lanes> for Lanes {
+    #[inline(always)]
+    fn times(self, x: Lanes) -> Lanes {
+        x.vmul(self)
+    }
+    #[inline(always)]
+    fn lift(self) -> Lanes {
+        self
+    }
+}
+
+impl Degrees for Lanes {
     #[inline(always)]
     fn degrees_rot(self) -> Rot<Lanes> {
         Rot::from_degrees_lanes(self)

@@ -13,6 +13,11 @@
 //!   trigonometry) and the spatial loci steps: rotating a body about a point
 //!   or an axis, intersecting circles, spheres, lines, planes and cones, and
 //!   turning a body about an axis until a condition holds.
+//! - [`scalar`]: the numbers the steps compute with ([`Real`](scalar::Real):
+//!   `f64`, and [`Jet2`](scalar::Jet2) for velocities and accelerations),
+//!   which name nothing of the crate; [`rates`]: the rates of planar
+//!   plans, on jets. [`real`] holds both under the path generated code
+//!   names.
 //! - [`frame`]: what a frame reports (solved, limited, searched, stretched),
 //!   the branch and breaking policies, and the per-frame context the steps
 //!   share.
@@ -31,8 +36,21 @@ pub mod lanes;
 pub mod marker;
 pub mod numeric;
 pub mod planar;
-pub mod real;
+pub mod rates;
+pub mod scalar;
 pub mod spatial;
+
+/// The numbers plan steps compute with ([`scalar`]) and the rates of planar
+/// plans ([`rates`]) under one path, the one generated plan modules and
+/// users name (`real::Jet2`, `real::Rates`, `real::checked`, …). It is kept
+/// here, at the crate's root with its other re-exports, so that the scalar
+/// layer itself names nothing of the crate and the layers above it build on
+/// it.
+pub mod real {
+    pub use crate::frame::{lanes_break, lanes_differ};
+    pub use crate::rates::{checked, RateError, Rates};
+    pub use crate::scalar::{Factor, Jet2, Real};
+}
 
 pub use batch::Batch;
 pub use drive::{Animate, Driver, Solver};

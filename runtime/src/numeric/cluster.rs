@@ -16,7 +16,7 @@ use nalgebra::{DMatrix, DVector};
 use super::{Equations, Implicit, Newton, NewtonOptions, NewtonOutcome, NewtonReport};
 use crate::frame::{Break, BreakKind, Ctx, StepId};
 use crate::planar::{cst, Point, Pose, Rot};
-use crate::real::{Jet2, Real};
+use crate::scalar::{Jet2, Real};
 
 /// How a cluster body is parametrised (Kramer's DOF states, and the joint
 /// coordinates of a body hinged on another cluster body).
@@ -588,7 +588,7 @@ pub fn jet_residuals(poses: &[Pose<Jet2>], rows: &[Row], inputs: &[Jet2], size: 
 /// function theorem ([`Implicit`]) from the rates of what it hangs on
 /// (`poses` before the step, `params`, `inputs`), and the cluster bodies
 /// placed on jets. A singular Jacobian at the solution gives infinite rates
-/// (reported singular by [`crate::real::checked`]), not huge numbers.
+/// (reported singular by [`crate::rates::checked`]), not huge numbers.
 #[allow(clippy::too_many_arguments)]
 pub fn solve_rates(
     ctx: &mut Ctx,

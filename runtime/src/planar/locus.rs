@@ -7,8 +7,8 @@
 //! the branch of the drawn pose is kept along smooth motions.
 
 use super::{add, cross, dist2, dot, perp, scale, sub, Rot};
-use crate::frame::{Branch, BranchPolicy, Break, BreakKind, Ctx, StepId};
-use crate::real::{lanes_break, lanes_differ, Factor, Real};
+use crate::frame::{lanes_break, lanes_differ, Branch, BranchPolicy, Break, BreakKind, Ctx, StepId};
+use crate::scalar::{Factor, Real};
 
 /// Squared half-chords smaller than this (relative to the squared radii)
 /// count as tangency rather than a miss: round-off at a tangent pose must
@@ -367,7 +367,7 @@ mod tests {
     /// bit for bit, the same rates to rounding.
     #[test]
     fn circle_line_takes_a_plain_direction() {
-        use crate::real::Jet2;
+        use crate::scalar::Jet2;
         let t = Jet2::new(0.3, 1.0, 0.0);
         let c = [Jet2::cst(0.5) + t, Jet2::cst(0.2) + t * t];
         let p = [Jet2::cst(-4.0), Jet2::cst(-3.0)];

@@ -14,7 +14,7 @@ mod turn_table;
 pub use locus::{circle_circle, circle_line, line_line, turn_line_through};
 pub use place::{align, align_consistent, anchor, orient, set_rotation};
 
-use crate::real::{Jet2, Real};
+use crate::scalar::{Jet2, Real};
 
 /// A point or a vector in the plane.
 pub type Point = [f64; 2];
@@ -32,6 +32,30 @@ pub struct Rot<T = f64> {
     pub c: T,
     /// Sine of the angle.
     pub s: T,
+}
+
+/// A number a rotation by an angle in degrees is built of: an angle input
+/// of a step generic over [`Real`] (a spatial hinge's, a twist's) turns
+/// into its cos/sin pair by the constructor of its own kind, so that every
+/// kind gives the numbers of [`Rot::from_degrees`].
+pub trait Degrees: Real {
+    /// The rotation by `self` degrees as a (cos, sin) pair, its value from
+    /// [`Rot::from_degrees`].
+    fn degrees_rot(self) -> Rot<Self>;
+}
+
+impl Degrees for f64 {
+    #[inline(always)]
+    fn degrees_rot(self) -> Rot {
+        Rot::from_degrees(self)
+    }
+}
+
+impl Degrees for Jet2 {
+    #[inline(always)]
+    fn degrees_rot(self) -> Rot<Jet2> {
+        Rot::from_degrees_jet(self)
+    }
 }
 
 impl Rot<Jet2> {

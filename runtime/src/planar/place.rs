@@ -1,8 +1,8 @@
 //! Placing a body once its loci are met.
 
 use super::{dot, sub, Point, Pose, Rot};
-use crate::frame::{Break, BreakKind, Ctx, StepId};
-use crate::real::{lanes_differ, Real};
+use crate::frame::{lanes_differ, Break, BreakKind, Ctx, StepId};
+use crate::scalar::Real;
 
 /// Sets a body's rotation to `from` followed by `rel` (a relative rotation
 /// carried by a joint: the identity for a prismatic joint or an offset

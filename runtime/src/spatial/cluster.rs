@@ -22,7 +22,7 @@
 
 use super::rows::{FrameRate, WorldFrame};
 use super::{add, cross, dot, norm, scale, sub, value, Pose3, Rot3, Vec3};
-use crate::real::{Jet2, Real};
+use crate::scalar::{Jet2, Real};
 
 /// How a cluster body moves with its unknowns (the pivot and axis of
 /// `f64`s for a frame, of [`Jet2`]s with their rates for its rates).

@@ -17,7 +17,7 @@ use super::{
     value, Vec3,
 };
 use crate::frame::{Branch, BranchPolicy, Break, BreakKind, Ctx, StepId};
-use crate::real::{Factor, Real};
+use crate::scalar::{Factor, Real};
 
 /// Squared half-chords smaller than this (relative to the squared radii)
 /// count as tangency rather than a miss: round-off at a tangent pose must

@@ -57,7 +57,7 @@ pub use place::{
 pub use rates::{checked3, Rates3};
 pub use turn::{tilt, twist_correction};
 
-use crate::real::{Factor, Jet2, Real};
+use crate::scalar::{Factor, Jet2, Real};
 
 /// A point or a vector in space (of `f64`s, or of [`Jet2`]s carrying its
 /// rates).

@@ -2,7 +2,8 @@
 //! and translations, each applied to the body's current pose.
 
 use super::{cross, cross_by, cst, dot, dot_by, norm2, rate_bits, reject, reject_by, sub, Pose3, Rot3, Vec3};
-use crate::real::{Factor, Real};
+use crate::planar::Degrees;
+use crate::scalar::{Factor, Real};
 
 /// A perpendicular shorter than this fraction of its point's distance from
 /// the pivot is rounding, not a direction: the point counts as on the axis.
@@ -123,7 +124,7 @@ pub fn hinge<T: Real>(pose: &mut Pose3<T>, pivot: Vec3, axis: Vec3, cos: T, sin:
 /// from [`Rot::from_degrees`](crate::planar::Rot::from_degrees) as every
 /// angle input's.
 #[inline(always)]
-pub fn hinge_degrees<T: Real>(pose: &mut Pose3<T>, pivot: Vec3, axis: Vec3, degrees: T) {
+pub fn hinge_degrees<T: Degrees>(pose: &mut Pose3<T>, pivot: Vec3, axis: Vec3, degrees: T) {
     let r = degrees.degrees_rot();
     hinge(pose, pivot, axis, r.c, r.s);
 }

@@ -1,5 +1,5 @@
 //! Rates of spatial plans: the spatial counterpart of
-//! [`Rates`](crate::real::Rates), with every body's [`Pose3`] on
+//! [`Rates`](crate::rates::Rates), with every body's [`Pose3`] on
 //! [`Jet2`]s. A pose's rates are its entries' derivatives: the velocity of
 //! the local origin is `pos[i].d`, and the angular velocity ω is read from
 //! `Ṙ = [ω]×·R` (for example as `ω = vee(Ṙ·Rᵀ)`).
@@ -7,7 +7,8 @@
 use super::Pose3;
 use crate::drive::Solver;
 use crate::frame::Ctx;
-use crate::real::{Jet2, RateError};
+use crate::rates::RateError;
+use crate::scalar::Jet2;
 
 /// A spatial plan that gives its frames' rates: every body's pose with its
 /// first and second derivatives along given input rates and accelerations
@@ -55,7 +56,8 @@ pub fn checked3<P: AsRef<[Pose3<Jet2>]>>(poses: P) -> Result<P, RateError> {
 mod tests {
     use super::super::*;
     use crate::frame::{Branch, BranchPolicy, Ctx};
-    use crate::real::{Jet2, Real};
+    use crate::planar::Degrees;
+    use crate::scalar::{Jet2, Real};
 
     /// A point moving along `v` with the parameter: `a + t·v`.
     fn moving<T: Real>(t: T, a: Vec3, v: Vec3) -> Vec3<T> {
@@ -210,7 +212,7 @@ mod tests {
         x
     }
 
-    fn cones_and_turns<T: Real>(t: T) -> Vec<T> {
+    fn cones_and_turns<T: Degrees>(t: T) -> Vec<T> {
         let w1 = unit(moving(t, [1.0, 0.0, 0.2], [0.0, 0.3, 0.0]));
         let w2 = cst([0.0, 1.0, 0.0]);
         let mut last = cst([0.0; 3]);

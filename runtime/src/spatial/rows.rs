@@ -7,7 +7,7 @@
 //! reference axis.
 
 use super::{dot, sub, Vec3};
-use crate::real::Real;
+use crate::scalar::Real;
 
 /// coincident: p2 − p1 (3 rows).
 #[inline]
@@ -109,7 +109,7 @@ pub enum RowKind {
 }
 
 /// A marker frame in world coordinates (of `f64`s, or of
-/// [`Jet2`](crate::real::Jet2)s carrying its rates).
+/// [`Jet2`](crate::scalar::Jet2)s carrying its rates).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WorldFrame<T = f64> {
     /// Its point.

@@ -1441,7 +1441,7 @@ fn hinge_sets_the_pose_a_turn_about_the_line_reaches() {
 /// product, written out here on `Jet2`s entry by entry.
 #[test]
 fn product_by_a_still_rotation_is_the_full_jet_product() {
-    use crate::real::Jet2;
+    use crate::scalar::Jet2;
     let t = Jet2::new(0.3, 0.7, -1.1);
     let (s, c) = t.sin_cos();
     let turning = Rot3::about_axis(cst::<Jet2>([0.0, 0.6, 0.8]), c, s);
@@ -1466,7 +1466,7 @@ fn product_by_a_still_rotation_is_the_full_jet_product() {
 /// turn's rates (about the pivot), its values unchanged.
 #[test]
 fn aligned_turn_without_rates_leaves_the_pose() {
-    use crate::real::Jet2;
+    use crate::scalar::Jet2;
     let t = Jet2::new(0.4, 1.3, 0.2);
     let (s, c) = t.sin_cos();
     let mut pose = Pose3::<Jet2>::cst(Pose3::IDENTITY);
@@ -1493,7 +1493,7 @@ fn aligned_turn_without_rates_leaves_the_pose() {
 /// axis turns at the angle's rate.
 #[test]
 fn a_hinge_leaves_its_axis_without_rates() {
-    use crate::real::Jet2;
+    use crate::scalar::Jet2;
     for (axis, exact) in [
         ([0.0, 0.0, 1.0], true),
         ([0.0, 1.0, 0.0], true),
@@ -1529,7 +1529,7 @@ fn a_hinge_leaves_its_axis_without_rates() {
 /// bit for bit, the same rates to rounding.
 #[test]
 fn sphere_circle_takes_a_plain_normal() {
-    use crate::real::Jet2;
+    use crate::scalar::Jet2;
     let t = Jet2::new(0.4, 1.0, 0.3);
     let cs = [Jet2::cst(0.5) + t, Jet2::cst(0.2), t * t];
     let (c, n, r) = ([1.0, 0.5, 0.2], unit([0.2, -0.1, 1.0]), 1.5);

@@ -5,7 +5,7 @@
 
 use super::{cross, dot, norm, perpendicular, scale, unit, Pose3, Rot3, Vec3};
 use crate::planar::Rot;
-use crate::real::Real;
+use crate::scalar::Real;
 
 /// The (sin, cos) of the rotation about `axis` that brings the twist of
 /// `x2` about `axis` from `x1` to `target`: the body carrying `x2` turns by

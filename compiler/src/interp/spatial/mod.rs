@@ -3,6 +3,7 @@
 //! on `f64`s for a frame, on [`Jet2`]s for its rates
 //! ([`Interpreter3::rates`]).
 
+use dofplan_runtime::planar::Degrees;
 use dofplan_runtime::real::{Jet2, RateError, Real};
 use dofplan_runtime::spatial::rows::WorldFrame;
 use dofplan_runtime::spatial::{self, cst, norm, scale, sub, Pose3, Rates3, Vec3};
@@ -70,7 +71,7 @@ impl Interpreter3 {
     /// The closed-form steps from step `from` on, on `f64`s or on jets
     /// (`inputs`; check rows read their values, `values`), up to the first
     /// numeric cluster: its index, or none when the plan is done.
-    fn steps<T: Real>(
+    fn steps<T: Degrees>(
         &self,
         w: &mut Work<T>,
         inputs: &[T],
@@ -236,7 +237,7 @@ fn check_gap_at<T: Real>(poses: &[Pose3<T>], r: &CheckRow, inputs: &[f64]) -> f6
     r.kind.gap(&f1, &f2, inputs)
 }
 
-fn act<T: Real>(
+fn act<T: Degrees>(
     s: &mut Work<T>,
     body: usize,
     a: &Action3,

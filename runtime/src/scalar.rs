@@ -7,13 +7,13 @@
 //! decision they take (which root, whether circles meet) is taken on
 //! [`Real::value`], so a run with jets follows the branches of the run with
 //! `f64` and only adds the derivatives.
+//!
+//! This is the bottom layer of the runtime: it names nothing else of the
+//! crate, and lanes, poses and rates build on it (the crate's `real`
+//! module re-exports it under the path generated code names).
 
 use std::fmt::Debug;
 use std::ops::{Add, Div, Mul, Neg, Sub};
-
-use crate::drive::Solver;
-use crate::frame::Break;
-use crate::planar::Pose;
 
 /// A number a plan step computes with.
 pub trait Real:
@@ -40,10 +40,9 @@ pub trait Real:
     /// print. The value itself is the plain square root.
     fn sqrt_dead(self, dead: f64) -> Self;
 
-    /// Whether the number holds several frames' values side by side
-    /// ([`Lanes`](crate::lanes::Lanes)): a step then takes its usual path
-    /// only when every lane does, and gives up on the frames together (a
-    /// [`BreakKind::LanesDiffer`](crate::frame::BreakKind::LanesDiffer)
+    /// Whether the number holds several frames' values side by side (the
+    /// runtime's `Lanes`): a step then takes its usual path only when every
+    /// lane does, and gives up on the frames together (a `LanesDiffer`
     /// break, after which they are solved one at a time) where one of them
     /// would take another.
     const LANES: bool = false;
@@ -128,30 +127,6 @@ pub trait Real:
     fn rate_bits(self) -> u64 {
         0
     }
-    /// The rotation by `self` degrees as a (cos, sin) pair, its value from
-    /// [`Rot::from_degrees`](crate::planar::Rot::from_degrees).
-    fn degrees_rot(self) -> crate::planar::Rot<Self>;
-}
-
-/// On lanes, gives up on the frames of a step that is about to leave its
-/// usual path (see [`Real::LANES`]); nothing otherwise.
-#[inline(always)]
-pub fn lanes_differ<T: Real>(step: crate::frame::StepId) -> Result<(), Break> {
-    if T::LANES {
-        Err(lanes_break(step))
-    } else {
-        Ok(())
-    }
-}
-
-/// The break by which frames in lanes give up on step `step`.
-#[cold]
-pub fn lanes_break(step: crate::frame::StepId) -> Break {
-    Break {
-        step,
-        kind: crate::frame::BreakKind::LanesDiffer,
-        gap: f64::NAN,
-    }
 }
 
 /// A factor of a step's products: a number of the step's own kind, or a
@@ -183,17 +158,6 @@ impl Factor<Jet2> for Jet2 {
     }
     #[inline(always)]
     fn lift(self) -> Jet2 {
-        self
-    }
-}
-
-impl Factor<crate::lanes::Lanes> for crate::lanes::Lanes {
-    #[inline(always)]
-    fn times(self, x: crate::lanes::Lanes) -> crate::lanes::Lanes {
-        x.vmul(self)
-    }
-    #[inline(always)]
-    fn lift(self) -> crate::lanes::Lanes {
         self
     }
 }
@@ -234,10 +198,6 @@ impl Real for f64 {
     #[inline(always)]
     fn mul_f64(self, k: f64) -> f64 {
         self * k
-    }
-    #[inline(always)]
-    fn degrees_rot(self) -> crate::planar::Rot {
-        crate::planar::Rot::from_degrees(self)
     }
 }
 
@@ -429,94 +389,6 @@ impl Real for Jet2 {
     fn rate_bits(self) -> u64 {
         (self.d.to_bits() | self.dd.to_bits()) << 1
     }
-    #[inline(always)]
-    fn degrees_rot(self) -> crate::planar::Rot<Jet2> {
-        crate::planar::Rot::from_degrees_jet(self)
-    }
-}
-
-/// Why a frame's rates were not computed.
-#[derive(Clone, Debug, PartialEq)]
-pub enum RateError {
-    /// The plan has a numeric cluster whose rates are not computed: only a
-    /// spatial drag's (a marker pinned, solved by task priority). Planar
-    /// and spatial plans' clusters have theirs (by the implicit function
-    /// theorem on the cluster's Jacobian) and never give this.
-    Cluster,
-    /// The frame is at a dead point: a rate is infinite there (two roots
-    /// of a step meet), so it is reported as singular, not as a number.
-    Singular,
-    /// The frame does not assemble at these inputs.
-    Break(Break),
-    /// The plan was split into functions (too large for one) whose rates
-    /// are not generated. Generated planar and spatial plans have them in
-    /// the split form too and never give this.
-    Split,
-}
-
-impl From<Break> for RateError {
-    fn from(b: Break) -> RateError {
-        RateError::Break(b)
-    }
-}
-
-impl std::fmt::Display for RateError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            RateError::Cluster => write!(f, "rates of this numeric cluster are not computed"),
-            RateError::Singular => write!(f, "singular: a dead point, where a rate is infinite"),
-            RateError::Break(b) => write!(f, "step {} breaks ({})", b.step, b.kind.describe()),
-            RateError::Split => write!(f, "rates of this plan split into functions are not generated"),
-        }
-    }
-}
-
-impl std::error::Error for RateError {}
-
-/// A planar plan that gives its frames' rates: every body's pose with its
-/// first and second derivatives along given input rates and accelerations
-/// (the generated modules' `rates`, the interpreter's).
-pub trait Rates: Solver<Pose = Pose> {
-    /// The rates at the frame `state` was solved to (at `inputs`), into
-    /// `out` (one pose a body).
-    fn rates_into(
-        &self,
-        state: &Self::State,
-        inputs: &[f64],
-        rates: &[f64],
-        accelerations: &[f64],
-        out: &mut [Pose<Jet2>],
-    ) -> Result<(), RateError>;
-
-    /// A frame and its rates together: `solve` at `inputs` from `state`
-    /// (committed as `solve` commits), then the rates into `out`. Generated
-    /// plans do both in one pass on jets.
-    fn solve_rates_into(
-        &self,
-        state: &mut Self::State,
-        inputs: &[f64],
-        rates: &[f64],
-        accelerations: &[f64],
-        ctx: &mut crate::frame::Ctx,
-        out: &mut [Pose<Jet2>],
-    ) -> Result<(), RateError> {
-        self.solve(state, inputs, ctx)?;
-        self.rates_into(state, inputs, rates, accelerations, out)
-    }
-}
-
-/// `poses` if every rate in them is finite, else [`RateError::Singular`]
-/// (a dead point): what a run of the steps on jets returns.
-pub fn checked<P: AsRef<[Pose<Jet2>]>>(poses: P) -> Result<P, RateError> {
-    let finite = poses
-        .as_ref()
-        .iter()
-        .all(|p| p.at.iter().all(|x| x.finite()) && p.rot.c.finite() && p.rot.s.finite());
-    if finite {
-        Ok(poses)
-    } else {
-        Err(RateError::Singular)
-    }
 }
 
 /// A jet's sum, difference, product and product by a constant for
@@ -594,8 +466,8 @@ mod jet_rates {
     /// Jet2's own operators.
     #[cfg(not(all(target_arch = "x86_64", not(debug_assertions))))]
     mod lane_by_lane {
+        use super::super::Real;
         use super::Jet2;
-        use crate::real::Real;
 
         #[inline(always)]
         pub fn add(a: Jet2, b: Jet2) -> Jet2 {
