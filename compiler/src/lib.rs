@@ -16,7 +16,7 @@
 //! - [`assemble`]: moves the markers of a roughly drawn file to where its
 //!   joints close (`dofplan assemble`).
 //! - [`render`]: the SVG picture of a sweep or a drag.
-//! - [`format`]: how numbers are printed, the same in every output.
+//! - [`mod@format`]: how numbers are printed, the same in every output.
 
 pub mod analysis;
 pub mod assemble;

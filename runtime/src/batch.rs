@@ -1,12 +1,12 @@
 //! Many frames in one call: a sweep for a design study or a plot, solved
-//! with the results a [`Driver`](crate::Driver) gives frame after frame
+//! with the results a [`Driver`] gives frame after frame
 //! (keep-branch policy, limit policy, from the drawn pose), faster.
 //!
 //! Under keep-branch, a closed-form plan's frames do not depend on each
 //! other (each step's root is the branch chosen at plan time, and nothing
 //! a frame writes is read by the next), so compiled closed-form plans solve
 //! them [`LANES`] at a time ([`lane_groups`]), and with the `rayon` feature
-//! [`solve_batch_parallel`] splits a long sweep over every core. A plan
+//! `solve_batch_parallel` (feature `rayon`) splits a long sweep over every core. A plan
 //! with numeric clusters warm-starts each frame's Newton solve from the
 //! last one, so its frames are solved in order ([`in_order`]); so are the
 //! interpreter's.

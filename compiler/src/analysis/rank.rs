@@ -5,7 +5,7 @@
 //!
 //! The Jacobian is sparse — each equation's rows touch the three columns of
 //! at most two bodies — so its rank is found by Gaussian elimination on
-//! sparse rows taken in file order ([`Echelon`]): a row that the rows
+//! sparse rows taken in file order (`Echelon`): a row that the rows
 //! before it already span is dependent, which is exactly "redundant =
 //! dependent on the joints before them in the file", and each row costs
 //! only the eliminations its own columns call for. On a chain of loops that

@@ -50,7 +50,7 @@ pub enum BuildError {
     },
     /// A spatial plan's numeric cluster is too large for the fixed-size
     /// matrices of generated code (see
-    /// [`spatial_cluster_fits`](crate::emit::spatial_cluster_fits)).
+    /// [`spatial_cluster_fits`]).
     ClusterTooLarge {
         /// The file.
         file: PathBuf,
@@ -158,7 +158,7 @@ impl Config {
 
     /// Also compiles a drag of `marker` ("body.marker") of the mechanism in
     /// `file`, planned like an input (see
-    /// [`carriage`](crate::numeric::drag::carriage)): a module
+    /// [`carriage`]): a module
     /// `<name>_drag_<body>_<marker>` whose two slide inputs are the
     /// target's offsets from the marker's drawn position. Meant for
     /// mechanisms with DOF to spare (an open chain); a target the plan

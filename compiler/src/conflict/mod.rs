@@ -13,13 +13,13 @@
 //! - It stops at a least-squares point with a gap: no pose near the drawn
 //!   one closes every joint. (Newton calls the residual stagnant a little
 //!   short of that point; steps that leave out the conflict's own
-//!   directions then finish the way, see [`split`].) The joints and constraints whose equations stay
+//!   directions then finish the way, see `split`.) The joints and constraints whose equations stay
 //!   open there are the ones in conflict; a joint that can close on its own
 //!   (a link on a single pin, a dyad that still reaches) is closed at a
 //!   least-squares point, so it is not named.
 //!
 //! The loader asks this about a file whose only errors are joints that do
-//! not hold in the drawn pose ([`review`]), and turns the answer into its
+//! not hold in the drawn pose (`review`), and turns the answer into its
 //! diagnostics.
 
 pub mod spatial;
@@ -56,7 +56,7 @@ pub(crate) const MAX_ITERATIONS: u32 = 200;
 pub(crate) const CONFLICT_SHARE: f64 = 1e-3;
 
 /// Mobile bodies up to which the loader assembles a file whose joints do
-/// not all hold ([`review`]): the dense assembly takes about 0.5 s of CPU
+/// not all hold (`review`): the dense assembly takes about 0.5 s of CPU
 /// at this size on the development machine, and grows with its cube.
 pub const MAX_REVIEWED_BODIES: usize = 80;
 

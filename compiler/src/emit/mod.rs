@@ -6,10 +6,10 @@
 //! interpreter calls, under a comment holding the step's explanation and
 //! the joints it serves. Bodies live in a fixed-size array in the state
 //! struct, so a frame allocates nothing. A large plan's steps are split
-//! into functions of bounded size (see [`chunk`]), so that rustc compiles
+//! into functions of bounded size (see `chunk`), so that rustc compiles
 //! a mechanism of any size, and its repeated steps are rolled into loops
-//! over tables (see [`roll`]); every body and marker gets a named constant
-//! (see [`names`]).
+//! over tables (see `roll`); every body and marker gets a named constant
+//! (see `names`).
 //!
 //! Spatial plans get a module of the same shape from [`emit_spatial`]
 //! (`spatial.rs`, clusters in `spatial_cluster.rs`).

@@ -176,7 +176,7 @@ pub const MAX_RENDERED: usize = 100;
 impl ModelError {
     /// The diagnostics rendered as [`Diagnostic::render`] does, one after
     /// the other with a blank line between, and no newline at the end: the
-    /// first [`MAX_RENDERED`], then how many more there are. (Each one
+    /// first `MAX_RENDERED`, then how many more there are. (Each one
     /// reads the file up to its position: a large file with errors
     /// everywhere would take minutes to show them all, and no one reads
     /// past the first hundred.)

@@ -133,7 +133,7 @@ pub struct SyntaxError {
 /// Reads TOML text into a [`Node`] tree with spans.
 ///
 /// A well-formed file is read in one pass over its tokens, straight into
-/// the tree ([`toml::read`]). Anything that pass does not take (a syntax
+/// the tree (`toml::read`). Anything that pass does not take (a syntax
 /// error, a date, an array of tables...) is read again by the `toml`
 /// crate, whose document and messages are the reference: the tree is the
 /// same either way, and so is every error.

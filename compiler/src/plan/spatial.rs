@@ -473,8 +473,8 @@ pub enum ClusterRow3 {
         /// "leg1".
         name: String,
     },
-    /// A dragged point: `body.world(local)` = (inputs[0], inputs[1],
-    /// inputs[2]) — the drag's target, carried as the plan's three inputs.
+    /// A dragged point: `body.world(local)` = (`inputs[0]`, `inputs[1]`,
+    /// `inputs[2]`) — the drag's target, carried as the plan's three inputs.
     Pin {
         /// The dragged body.
         body: BodyId,

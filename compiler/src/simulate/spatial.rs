@@ -50,8 +50,8 @@ pub struct Motion3 {
 
 /// The rates of `m`'s markers and bodies from the bodies' jets (as
 /// [`Interpreter3::rates`](crate::interp::spatial::Interpreter3::rates)
-/// gives them). With R the rotation, Ṙ·Rᵀ = [ω]× and R̈·Rᵀ = [α]× + [ω]×²,
-/// whose antisymmetric part is [α]× ([ω]×² is symmetric).
+/// gives them). With R the rotation, `Ṙ·Rᵀ = [ω]×` and `R̈·Rᵀ = [α]× + [ω]×²`,
+/// whose antisymmetric part is `[α]×` (`[ω]×²` is symmetric).
 pub fn motion3(m: &Mechanism3, jets: &[Pose3<Jet2>]) -> Motion3 {
     let (mut velocity, mut acceleration) = (Vec::new(), Vec::new());
     for id in m.all_markers() {

@@ -9,7 +9,7 @@
 //! column of each unknown is the twist it causes at `x` ([`columns`]),
 //! exact at every `x` through the left Jacobian of the rotation group, so
 //! Newton keeps its quadratic convergence. The interpreter and generated
-//! code both evaluate a cluster's rows with [`RowKind::eval`] and
+//! code both evaluate a cluster's rows with [`RowKind::eval`](crate::spatial::rows::RowKind::eval) and
 //! [`RowKind::deriv`](super::rows::RowKind::deriv) at these poses and
 //! twists.
 //!
