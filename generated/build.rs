@@ -86,7 +86,8 @@ fn chains() {
             std::fs::write(&path, source).expect("write a chain's module");
         }
         index.push_str(&format!(
-            "#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, clippy::large_const_arrays)]
+            "/// The stress chain of {loops} loops, compiled (its repeated steps rolled).
+#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, clippy::large_const_arrays)]
 pub mod {module} {{
     include!({:?});
 }}
@@ -140,7 +141,8 @@ fn chunked(files: &[PathBuf], spatial: &[PathBuf]) {
             std::fs::write(&path, source).expect("write a chunked module");
         }
         index.push_str(&format!(
-            "#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal)]
+            "/// `{module}` compiled in split form (chunks of at most `CHUNK_WEIGHT`).
+#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal)]
 pub mod {module} {{
     include!({:?});
 }}
@@ -163,7 +165,8 @@ pub mod {module} {{
             std::fs::write(&path, source).expect("write a chunked module");
         }
         index.push_str(&format!(
-            "#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal)]
+            "/// `{module}` compiled in split form (chunks of at most `CHUNK_WEIGHT`).
+#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal)]
 pub mod {module} {{
     include!({:?});
 }}
