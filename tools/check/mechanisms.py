@@ -3,7 +3,7 @@
 
 Stdlib only (Python >= 3.11 for tomllib).  Usage:
 
-    python3 tools/check_mechanisms.py [-v] [files or directory ...]
+    python3 tools/check/mechanisms.py [-v] [files or directory ...]
 
 (default: every *.toml in <repo>/mechanisms).  Exit status 0 iff everything passes.
 
@@ -850,7 +850,7 @@ def main(argv):
     args = [a for a in argv if a != "-v"]
     here = os.path.dirname(os.path.abspath(__file__))
     if not args:
-        args = [os.path.join(here, "..", "mechanisms")]
+        args = [os.path.join(here, "..", "..", "mechanisms")]
     files = []
     for a in args:
         if os.path.isdir(a):
