@@ -1,11 +1,15 @@
 #!/usr/bin/env python3
 """Writes runtime/src/planar/turn_table.rs: cos/sin of k*360/256 degrees.
 
+Usage:  python3 tools/generate/turn_table.py [output file]
+(default: <repo>/runtime/src/planar/turn_table.rs).
+
 The first quadrant comes from math.cos/math.sin (within an ulp); the other
 three follow by exact symmetry, so multiples of 90 degrees are exact.
 """
 import math
 import pathlib
+import sys
 
 q = []
 for j in range(65):
@@ -35,5 +39,6 @@ lines = [
 ]
 lines += [f"    [{c!r}, {s!r}]," for c, s in full]
 lines.append("];")
-out = pathlib.Path(__file__).resolve().parents[2] / "runtime/src/planar/turn_table.rs"
+repo = pathlib.Path(__file__).resolve().parents[2]
+out = pathlib.Path(sys.argv[1]) if len(sys.argv) > 1 else repo / "runtime/src/planar/turn_table.rs"
 out.write_text("\n".join(lines) + "\n")
