@@ -148,7 +148,7 @@ fn the_rough_rssr_assembles_where_its_closed_form_closes() {
     ] {
         assert_eq!(at(&m, name), at(rough, name), "{name} stays");
     }
-    // ... and the bundled file, made by tools/gen_spatial.py, is this
+    // ... and the bundled file, made by tools/generate/spatial.py, is this
     // assembly mode (the other root is 4.9 away).
     let bundled = spatial("rssr.toml", &read("spatial/rssr.toml"), Format::Toml);
     for name in ["coupler.C", "coupler.M", "rocker.C"] {

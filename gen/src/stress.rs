@@ -3,9 +3,10 @@
 //! loops as a scaling measurement needs, written as a mechanism file.
 //!
 //! The bundled `stress_10 … stress_50` come from a seeded search
-//! (`tools/gen_stress.py`) that stops at 24 loops. Here every loop after the
-//! first is an exact parallelogram, so the chain can be made arbitrarily
-//! long without a search and without ever nearing a singular pose:
+//! (`tools/generate/stress.py`) that stops at 24 loops. Here every loop
+//! after the first is an exact parallelogram, so the chain can be made
+//! arbitrarily long without a search and without ever nearing a singular
+//! pose:
 //!
 //! - loop 1 is the bundled chains' Grashof crank-rocker (ground 4, crank 1
 //!   drawn at 30°, coupler 4, rocker 3); over a full crank turn its rocker

@@ -2,9 +2,9 @@
 """Independent checker for the bundled 3D mechanisms (mechanisms/spatial/*.toml).
 
 Stdlib only (Python >= 3.11 for tomllib); it shares no code with the Rust
-crates nor with tools/gen_spatial.py.  Usage:
+crates nor with tools/generate/spatial.py.  Usage:
 
-    python3 tools/check_spatial.py [-v] [--quick | --stride K] [files or directories ...]
+    python3 tools/check/spatial.py [-v] [--quick | --stride K] [files or directories ...]
 
 (default: every *.toml in <repo>/mechanisms/spatial).  Exit status 0 iff every
 file passes.
@@ -87,7 +87,7 @@ import sys
 import time
 import tomllib
 
-REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 DRAWN_TOL = 1e-9     # joints as drawn, relative to L
 RANK_TOL = 1e-9      # pivot threshold, relative to the largest Jacobian entry
 SOLVE_TOL = 1e-10    # a frame converged: every row below SOLVE_TOL * L

@@ -16,7 +16,7 @@ and the dofplan binary, for the correctness check:
 
 Usage:
 
-    /tmp/pl/bin/python tools/bench_pylinkage.py [--passes 31] [--long 20000]
+    /tmp/pl/bin/python tools/bench/pylinkage.py [--passes 31] [--long 20000]
         [--dofplan target/release/dofplan] [mechanism name or .toml ...]
 
 (default: fourbar stress_10 stress_20 stress_30 stress_40 stress_50).
@@ -67,7 +67,7 @@ Branches: every circle-circle dyad starts at its drawn position, and
 pylinkage keeps the intersection nearest the previous position, so it
 follows the drawn assembly branch (dofplan's keep-branch from the drawn pose)
 as long as no frame comes near a dead point; the stress chains are designed
-to stay far from one (tools/gen_stress.py).
+to stay far from one (tools/generate/stress.py).
 
 Correctness: ``dofplan simulate FILE --json`` gives every marker's world
 position per frame (``frames[i]["markers"]["body.marker"] = [x, y]``); every
@@ -89,15 +89,21 @@ import sys
 import time
 import tomllib
 
-import numpy as np
+# This script is named pylinkage.py, and Python puts its folder first on
+# sys.path: without this, `import pylinkage` below would import the script
+# itself instead of the package.
+_HERE = os.path.dirname(os.path.realpath(__file__))
+sys.path[:] = [p for p in sys.path if os.path.realpath(p or os.curdir) != _HERE]
 
-from pylinkage.actuators import Crank
-from pylinkage.components import Ground
-from pylinkage.dyads import FixedDyad, RRRDyad
-from pylinkage.simulation import Linkage
-from pylinkage.solver.simulation import simulate
+import numpy as np  # noqa: E402
 
-REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+from pylinkage.actuators import Crank  # noqa: E402
+from pylinkage.components import Ground  # noqa: E402
+from pylinkage.dyads import FixedDyad, RRRDyad  # noqa: E402
+from pylinkage.simulation import Linkage  # noqa: E402
+from pylinkage.solver.simulation import simulate  # noqa: E402
+
+REPO = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 DEFAULT_MECHANISMS = ["fourbar", "stress_10", "stress_20", "stress_30", "stress_40", "stress_50"]
 PASS_TARGET_S = 0.005  # about 5 ms a pass, as dofplan's own tables
 

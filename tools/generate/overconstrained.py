@@ -4,15 +4,15 @@ Brunkhart 1994, section 2.1.3-2.1.4: the "table" of fig. 14b and the V-link
 of fig. 13.  Both have Grubler mobility 0 and move with mobility 1, because
 one joint of each repeats what the others already impose.
 
-Deterministic, stdlib only.  Usage:  python3 tools/gen_overconstrained.py [outdir]
-(default outdir: <repo>/mechanisms).  The writer is tools/gen_mechanisms.py's;
-tools/check_mechanisms.py checks both files with its own closed form.
+Deterministic, stdlib only.  Usage:  python3 tools/generate/overconstrained.py [outdir]
+(default outdir: <repo>/mechanisms).  The writer is tools/generate/mechanisms.py's;
+tools/check/mechanisms.py checks both files with its own closed form.
 """
 import math
 import os
 import sys
 
-from gen_mechanisms import Mech, add, fmt, sub
+from mechanisms import Mech, add, fmt, sub
 
 
 def table():
@@ -91,7 +91,7 @@ traced.""" % dict(uw=math.hypot(*sub(W, U)))
 
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
-    outdir = sys.argv[1] if len(sys.argv) > 1 else os.path.join(here, "..", "mechanisms")
+    outdir = sys.argv[1] if len(sys.argv) > 1 else os.path.join(here, "..", "..", "mechanisms")
     os.makedirs(outdir, exist_ok=True)
     for fn in (table, vlink):
         m = fn()

@@ -5,8 +5,8 @@ mechanism file with `dofplan::build` (the README's build.rs), in a debug or
 release build.
 
     cargo run --release -p dofplan-gen -- stress-chain 2000 > /tmp/chain_2000.toml
-    tools/build_cost.py /tmp/chain_2000.toml            # debug
-    tools/build_cost.py /tmp/chain_2000.toml --release
+    tools/bench/build_cost.py /tmp/chain_2000.toml            # debug
+    tools/bench/build_cost.py /tmp/chain_2000.toml --release
 
 The crate is made in --dir (default /tmp/dofplan_build_cost), outside the
 workspace, with path dependencies on this checkout's `compiler` and
@@ -47,7 +47,7 @@ def main():
     ap.add_argument("--release", action="store_true", help="a release build (default: debug)")
     ap.add_argument("--dir", default="/tmp/dofplan_build_cost", help="where the crate is made")
     args = ap.parse_args()
-    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
     d = args.dir
     os.makedirs(os.path.join(d, "src"), exist_ok=True)
     shutil.rmtree(os.path.join(d, "mechanisms"), ignore_errors=True)

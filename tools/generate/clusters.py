@@ -4,18 +4,18 @@
 
 Deterministic, stdlib only (Python >= 3.11).  Usage:
 
-    python3 tools/gen_clusters.py [outdir]          # default <repo>/mechanisms
-    python3 tools/gen_clusters.py --search NAME [COUNT]
+    python3 tools/generate/clusters.py [outdir]          # default <repo>/mechanisms
+    python3 tools/generate/clusters.py --search NAME [COUNT]
                                                     # re-run the seeded design search of
                                                     # eightbar | tenbar | duplex (minutes)
 
 Files written: sixbar_b, eightbar, tenbar, duplex, chain_4, chain_6, chain_8, chain_10,
-chain_15 (.toml).  The checker is tools/check_clusters.py (independent code).
+chain_15 (.toml).  The checker is tools/check/clusters.py (independent code).
 
 None of these can be placed by closed-form propagation + RRR dyads alone from their input:
 
 - sixbar_b: sixbar_a's Stephenson III six-bar (same bodies, markers and joints, built by
-  tools/gen_mechanisms.py), driven instead at ground joint F.  The driven link5 leaves the
+  tools/generate/mechanisms.py), driven instead at ground joint F.  The driven link5 leaves the
   triad crank + coupler + rocker + link4 (a 4-body loop): no dyad, numeric cluster 6/6.
 - eightbar, tenbar, duplex: a crank driving one irreducible Assur group (no proper subset of
   its links is placeable first), sized so that Brunkhart's mixed count (a cluster body pinned
@@ -46,7 +46,7 @@ import time
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-import gen_mechanisms as gm  # noqa: E402  (Mech writer, geometry helpers, sixbar_a)
+import mechanisms as gm  # noqa: E402  (Mech writer, geometry helpers, sixbar_a)
 
 sub, add, mul, norm, cross, polar, cc = gm.sub, gm.add, gm.mul, gm.norm, gm.cross, gm.polar, gm.cc
 
@@ -369,7 +369,7 @@ def sixbar_b():
     s0 = num.smin([0.0] * num.n, 0.0)
     m6.header = """\
 sixbar_b: Figure 30's "6-bar (b)": the SAME Stephenson III six-bar as sixbar_a (bodies,
-markers and joints identical, built by tools/gen_mechanisms.py), driven instead at ground
+markers and joints identical, built by tools/generate/mechanisms.py), driven instead at ground
 joint F: input theta turns link5 about F (counter-clockwise positive, from the drawn pose).
 Why it needs a numeric cluster (Brunkhart 3.4.4 / 4.2): once link5 is placed from the input,
 the unplaced links pinned to placed ones are crank (at A), rocker (at D) and link4 (at G),
@@ -635,7 +635,7 @@ r1, r2, r3 pinned (1 unknown each) + c1, c2, c3 free (3 each) = 12 unknowns; joi
 the cluster; a dyad hanging off a 4-link cluster would give 6/6.)
 Independent loops: J - L + 1 = 3.  The crank turns fully: sweep 0..360 deg, 361 steps.
 Geometry: seeded random search (seed %(seed)d, best of %(count)d drawn designs; rerun it with
-`python3 tools/gen_clusters.py --search eightbar`), 
+`python3 tools/generate/clusters.py --search eightbar`), 
 maximising the smallest singular value of the 18x18 Newton Jacobian over a full crank turn,
 coordinates rounded to 0.001.  Over the sweep that value stays >= %(smin).3f (largest
 singular value <= %(smax).3f); the motion is periodic (frame 360 = drawn pose) and the
@@ -659,7 +659,7 @@ unknowns; joints A..G = 14 equations; the dyad adds none, as in Figure 30 (Newto
 mixed 14/14; 8 mobile links, 12 active joints).  Independent loops: J - L + 1 = 4.
 The crank turns fully: sweep 0..360 deg, 361 steps.
 Geometry: seeded random search (seed %(seed)d, best of %(count)d drawn designs; rerun it with
-`python3 tools/gen_clusters.py --search tenbar`), 
+`python3 tools/generate/clusters.py --search tenbar`), 
 maximising the smallest singular value of the 24x24 Newton Jacobian over a full crank turn,
 coordinates rounded to 0.001.  Over the sweep that value stays >= %(smin).3f (largest
 singular value <= %(smax).3f); periodic; at most %(step).4f per 1-deg step.  The dyad's
@@ -682,7 +682,7 @@ rocker_b pinned (1 each) + 6 free links (3 each) = 20 unknowns; joints A1..A4, B
 X2 = 20 equations, as in Figure 30 (Newton 30/30, mixed 20/20; 10 mobile links, 15 active
 joints).  Independent loops: J - L + 1 = 5.  The crank turns fully: sweep 0..360, 361 steps.
 Geometry: seeded random search (seed %(seed)d, best of %(count)d drawn designs; rerun it with
-`python3 tools/gen_clusters.py --search duplex`), 
+`python3 tools/generate/clusters.py --search duplex`), 
 maximising the smallest singular value of the 30x30 Newton Jacobian over a full crank turn,
 coordinates rounded to 0.001.  Over the sweep that value stays >= %(smin).3f (largest
 singular value <= %(smax).3f); periodic; at most %(step).4f per 1-deg step.  The dyad's
@@ -813,7 +813,7 @@ def main(argv):
         name = argv[1]
         search(name, int(argv[2]) if len(argv) > 2 else None)
         return 0
-    outdir = argv[0] if argv else os.path.join(HERE, "..", "mechanisms")
+    outdir = argv[0] if argv else os.path.join(HERE, "..", "..", "mechanisms")
     os.makedirs(outdir, exist_ok=True)
     makers = [sixbar_b] + [lambda nm=nm: cluster_mech(nm) for nm in ("eightbar", "tenbar", "duplex")] + \
              [lambda n=n: chain(n) for n in (4, 6, 8, 10, 15)]

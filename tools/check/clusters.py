@@ -1,12 +1,12 @@
 #!/usr/bin/env python3
 """Independent checker for the mechanisms that need a numeric cluster
-(the mechanisms written by tools/gen_clusters.py).
+(the mechanisms written by tools/generate/clusters.py).
 
 Stdlib only (Python >= 3.11 for tomllib).  Usage:
 
-    python3 tools/check_clusters.py [-v] [files or directories ...]
+    python3 tools/check/clusters.py [-v] [files or directories ...]
 
-(default: the files tools/gen_clusters.py writes in <repo>/mechanisms).  Exit status 0 iff all pass.
+(default: the files tools/generate/clusters.py writes in <repo>/mechanisms).  Exit status 0 iff all pass.
 
 For each file:
 
@@ -503,7 +503,7 @@ def circle_circle(c1, r1, c2, r2, side):
 
 def check_sixbar_b(M, frames, notes):
     here = os.path.dirname(os.path.abspath(__file__))
-    path = os.path.join(here, "..", "mechanisms", "sixbar_a.toml")
+    path = os.path.join(here, "..", "..", "mechanisms", "sixbar_a.toml")
     with open(path, "rb") as f:
         a = tomllib.load(f)
     b = M.doc
@@ -713,7 +713,7 @@ def main(argv):
     args = [a for a in argv if a != "-v"]
     here = os.path.dirname(os.path.abspath(__file__))
     if not args:
-        args = [os.path.join(here, "..", "mechanisms", f"{name}.toml") for name in REFERENCE]
+        args = [os.path.join(here, "..", "..", "mechanisms", f"{name}.toml") for name in REFERENCE]
     files = []
     for a in args:
         if os.path.isdir(a):

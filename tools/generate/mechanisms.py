@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Generate the hand-designed bundled mechanisms (everything except stress_N).
 
-Deterministic, stdlib only.  Usage:  python3 tools/gen_mechanisms.py [outdir]
+Deterministic, stdlib only.  Usage:  python3 tools/generate/mechanisms.py [outdir]
 (default outdir: <repo>/mechanisms).  The stress chains come from
-tools/gen_stress.py; the checker is tools/check_mechanisms.py.
+tools/generate/stress.py; the checker is tools/check/mechanisms.py.
 
 Coordinates that are computed are written with repr() (shortest round-trip
 form of the double), and both markers of a revolute joint are written from the
@@ -418,7 +418,7 @@ and III (rocker C->D) close a Grashof crank-rocker four-bar with the ground (|AD
 and V (F->G, %(l5)g, ground pivot F = (%(fx)g, %(fy)g)) joins coupler point E to the ground.
 E sits on the coupler %(ea)g of the way from B to C, offset %(eo)g to the left.  The ground
 (A, D, F) and the coupler (B, C, E) are the two ternary links, not adjacent: Stephenson chain.
-Designed by a grid search (tools/gen_mechanisms.py) of F, |EG|, |FG| maximising the worst
+Designed by a grid search (tools/generate/mechanisms.py) of F, |EG|, |FG| maximising the worst
 transmission of the E-G-F dyad over a full crank turn: worst |sin mu| = %(worst).3f.
 Solution order: crank (input) -> RRR dyad (II, III) at C -> RRR dyad (IV, V) at G.
 Drawn pose: crank at %(phi0)g deg; C and G both on the 'left' branch (cross(c2 - c1, X - c1) > 0).
@@ -593,7 +593,7 @@ Grubler: L = 6 (ground, crank, barOE, barAT, barTD, barEP), J = 7, D = 3*5 - 2*7
 
 def main():
     here = os.path.dirname(os.path.abspath(__file__))
-    outdir = sys.argv[1] if len(sys.argv) > 1 else os.path.join(here, "..", "mechanisms")
+    outdir = sys.argv[1] if len(sys.argv) > 1 else os.path.join(here, "..", "..", "mechanisms")
     os.makedirs(outdir, exist_ok=True)
     with open(os.path.join(outdir, "fourbar.toml"), "w") as f:
         f.write(FOURBAR)

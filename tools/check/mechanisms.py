@@ -3,9 +3,10 @@
 
 Stdlib only (Python >= 3.11 for tomllib).  Usage:
 
-    python3 tools/check_mechanisms.py [-v] [files or directory ...]
+    python3 tools/check/mechanisms.py [-v] [files or directory ...]
 
-(default: every *.toml in <repo>/mechanisms).  Exit status 0 iff everything passes.
+(default: every *.toml in <repo>/mechanisms but the numeric-cluster files, which
+tools/check/clusters.py checks).  Exit status 0 iff everything passes.
 
 For each file it checks the structure (name = file stem, markers, joint kinds,
 revolute markers coinciding to 1e-12 relative, prismatic second marker on the
@@ -498,6 +499,12 @@ RECIPES = {
 }
 
 
+# The bundled files that need a numeric cluster: no solution order here fits them
+# (tools/check/clusters.py checks them), so the default run leaves them out.
+CLUSTERS = {"sixbar_b", "eightbar", "tenbar", "duplex", "chain_4", "chain_6", "chain_8", "chain_10",
+            "chain_15"}
+
+
 def recipe_for(M):
     if M.name in RECIPES:
         return RECIPES[M.name](M)
@@ -849,9 +856,11 @@ def main(argv):
     verbose = "-v" in argv
     args = [a for a in argv if a != "-v"]
     here = os.path.dirname(os.path.abspath(__file__))
-    if not args:
-        args = [os.path.join(here, "..", "mechanisms")]
     files = []
+    if not args:
+        d = os.path.join(here, "..", "..", "mechanisms")
+        files = sorted(os.path.join(d, f) for f in os.listdir(d)
+                       if f.endswith(".toml") and f[:-5] not in CLUSTERS)
     for a in args:
         if os.path.isdir(a):
             files += sorted(os.path.join(a, f) for f in os.listdir(a) if f.endswith(".toml"))
