@@ -22,7 +22,7 @@ use dofplan_runtime::spatial::{cross, norm, sub, unit, Vec3};
 use dofplan_runtime::Branch;
 
 use super::fragments::{lookup, Case, Do, Fragment, Prim, RDof, TDof};
-use crate::model::spatial::equations::{Equation3, Kind3};
+use crate::model::spatial::equations::{Equation3, Frame, Kind3};
 use crate::model::spatial::{JointKind3, Mechanism3, Primitive};
 use crate::plan::spatial::{
     Action3, BranchSlot3, CheckRow, Cluster3, ClusterRow3, Locus3, Param3, Step3, StepKind3, Temp3, D3, P3,
@@ -578,514 +578,49 @@ impl Planner<'_> {
         let e = self.eqs[i].clone();
         let fm = e.frames[mover];
         let st = self.state[b].clone();
-        let name = self.name(b).to_string();
-        let mname = self.m.marker_name(e.markers[mover]);
-        let m_pt = self.body_point(b, fm.at);
-        let pivot = self.pivot_point(b, &st, fm.at);
         let mut new = st.clone();
-        let sign = if mover == 1 { 1.0 } else { -1.0 };
+        let a = Applied {
+            mover,
+            b,
+            name: self.name(b).to_string(),
+            mname: self.m.marker_name(e.markers[mover]),
+            m_pt: self.body_point(b, fm.at),
+            pivot: self.pivot_point(b, &st, fm.at),
+            sign: if mover == 1 { 1.0 } else { -1.0 },
+            e,
+            fm,
+            st,
+            serves,
+        };
         match (frag.action, &target) {
             (Do::Check, _) => {
-                self.check(i, e.kind.rows());
+                self.check(i, a.e.kind.rows());
                 return Some(true);
             }
-            (Do::TranslateOnto, Target::Point(k)) => {
-                self.act(
-                    b,
-                    Action3::TranslateOnto {
-                        from: m_pt,
-                        to: k.clone(),
-                    },
-                    format!("{name}: translate {mname} onto {}", self.describe(k)),
-                    serves,
-                );
-                new.t = T::Point { q: fm.at };
-            }
-            (Do::TranslateAlong, Target::Point(k)) => {
-                let T::Line { q, dir } = st.t.clone() else {
-                    return None;
-                };
-                self.act(
-                    b,
-                    Action3::TranslateAlong {
-                        from: m_pt,
-                        to: k.clone(),
-                        dir,
-                    },
-                    format!(
-                        "{name}: slide along its line until {mname} meets {}",
-                        self.describe(k)
-                    ),
-                    serves,
-                );
-                new.t = T::Point {
-                    q: if matches!(st.r, R::Fixed) { q } else { fm.at },
-                };
-            }
-            (Do::SlideTurn, Target::Point(k)) => {
-                let (T::Line { q, dir }, R::Axis { al }) = (st.t.clone(), st.r.clone()) else {
-                    return None;
-                };
-                self.act(
-                    b,
-                    Action3::TranslateAlong {
-                        from: m_pt.clone(),
-                        to: k.clone(),
-                        dir,
-                    },
-                    format!(
-                        "{name}: slide along its axis to the height of {}",
-                        self.describe(k)
-                    ),
-                    serves,
-                );
-                self.act(
-                    b,
-                    Action3::AxisOnto {
-                        pivot: self.body_point(b, q),
-                        axis: self.body_dir(b, al),
-                        from: m_pt,
-                        to: k.clone(),
-                    },
-                    format!(
-                        "{name}: turn about its axis taking {mname} onto {}",
-                        self.describe(k)
-                    ),
-                    serves,
-                );
-                new = State {
-                    t: T::Point { q },
-                    r: R::Fixed,
-                };
-            }
-            (Do::TranslateInPlane, Target::Point(k)) => {
-                let normal = match st.r {
-                    R::Axis { al } => self.body_dir(b, al),
-                    _ => return None,
-                };
-                self.act(
-                    b,
-                    Action3::TranslateInPlane {
-                        from: m_pt,
-                        to: k.clone(),
-                        normal,
-                    },
-                    format!(
-                        "{name}: translate in its plane, {mname} onto {}",
-                        self.describe(k)
-                    ),
-                    serves,
-                );
-                new.t = T::Point { q: fm.at };
-            }
-            (Do::TranslateToLine, Target::Line(k, d)) => {
-                self.act(
-                    b,
-                    Action3::TranslateToLine {
-                        from: m_pt,
-                        through: k.clone(),
-                        dir: d.clone(),
-                    },
-                    format!(
-                        "{name}: translate {mname} onto the line through {}",
-                        self.describe(k)
-                    ),
-                    serves,
-                );
-                new.t = T::Line {
-                    q: fm.at,
-                    dir: d.clone(),
-                };
-            }
-            (Do::TranslateToPlane, Target::Line(k, n)) => {
-                self.act(
-                    b,
-                    Action3::TranslateToPlane {
-                        from: m_pt,
-                        through: k.clone(),
-                        normal: n.clone(),
-                    },
-                    format!(
-                        "{name}: translate {mname} onto the plane through {}",
-                        self.describe(k)
-                    ),
-                    serves,
-                );
-                new.t = T::Plane { q: fm.at };
-            }
-            (Do::OwnerLineThrough, Target::Point(k)) => {
-                let d = self.body_dir(b, fm.axes.z);
-                self.act(
-                    b,
-                    Action3::TranslateToLine {
-                        from: m_pt,
-                        through: k.clone(),
-                        dir: d.clone(),
-                    },
-                    format!(
-                        "{name}: translate its line ({mname}) through {}",
-                        self.describe(k)
-                    ),
-                    serves,
-                );
-                new.t = T::Line { q: fm.at, dir: d };
-            }
-            (Do::OwnerPlaneThrough, Target::Point(k)) => {
-                let n = self.body_dir(b, fm.axes.z);
-                self.act(
-                    b,
-                    Action3::TranslateToPlane {
-                        from: m_pt,
-                        through: k.clone(),
-                        normal: n,
-                    },
-                    format!(
-                        "{name}: translate its plane ({mname}) through {}",
-                        self.describe(k)
-                    ),
-                    serves,
-                );
-                new.t = T::Plane { q: fm.at };
-            }
-            (Do::RotateOnto, Target::Point(k)) => {
-                let q = st.pivot()?;
-                self.rotate_onto(b, &pivot, m_pt, k, &mname, serves);
-                new.r = R::Axis {
-                    al: unit(sub(fm.at, q)),
-                };
-            }
-            (Do::AxisOnto, Target::Point(k)) => {
-                let R::Axis { al } = st.r else { return None };
-                self.act(
-                    b,
-                    Action3::AxisOnto {
-                        pivot: pivot.clone(),
-                        axis: self.body_dir(b, al),
-                        from: m_pt,
-                        to: k.clone(),
-                    },
-                    format!(
-                        "{name}: turn about its axis taking {mname} onto {}",
-                        self.describe(k)
-                    ),
-                    serves,
-                );
-                new.r = R::Fixed;
-            }
-            (Do::RotateOntoCone, Target::Point(k)) => {
-                let R::Cone { u, w, cos } = st.r.clone() else {
-                    return None;
-                };
-                let q = st.pivot()?;
-                if parallel(sub(fm.at, q), u) {
-                    return None;
-                }
-                self.rotate_onto(b, &pivot, m_pt, k, &mname, serves);
-                let slot = self.slot();
-                self.act(
-                    b,
-                    Action3::AxisCondition {
-                        pivot: pivot.clone(),
-                        axis: D3::Between(Box::new(pivot.clone()), Box::new(k.clone())),
-                        v: self.body_dir(b, u),
-                        w,
-                        cos,
-                        branch: slot,
-                    },
-                    format!(
-                        "{name}: spin about {}–{mname} until its cone holds, branch slot {slot}",
-                        self.describe(&pivot)
-                    ),
-                    serves,
-                );
-                new.r = R::Fixed;
-            }
-            (Do::LineSphere, Target::Point(k)) => {
-                let T::Line { q, dir } = st.t.clone() else {
-                    return None;
-                };
-                let qp = self.body_point(b, q);
-                let t = self.temp(format!("{name} pivot"), q);
-                let slot = self.slot();
-                self.push(
-                    StepKind3::Intersect {
-                        temp: t,
-                        loci: Box::new([
-                            Locus3::Line { at: qp.clone(), dir },
-                            Locus3::Sphere {
-                                centre: k.clone(),
-                                a: qp.clone(),
-                                b: m_pt.clone(),
-                            },
-                        ]),
-                        branch: Some(slot),
-                        tol: 1e-9 * self.size,
-                    },
-                    format!(
-                        "{name} pivot: its line ∩ sphere about {}, branch slot {slot}",
-                        self.describe(k)
-                    ),
-                    serves.to_vec(),
-                );
-                self.act(
-                    b,
-                    Action3::TranslateOnto {
-                        from: qp.clone(),
-                        to: P3::Temp(t),
-                    },
-                    format!("{name}: slide its pivot to step {}", self.steps.len() - 1),
-                    serves,
-                );
-                self.act(
-                    b,
-                    Action3::RotateOnto {
-                        pivot: qp,
-                        from: m_pt,
-                        to: k.clone(),
-                    },
-                    format!(
-                        "{name}: rotate about its pivot taking {mname} onto {}",
-                        self.describe(k)
-                    ),
-                    serves,
-                );
-                new = State {
-                    t: T::Point { q },
-                    r: R::Axis {
-                        al: unit(sub(fm.at, q)),
-                    },
-                };
-            }
+            (Do::TranslateOnto, Target::Point(k)) => self.do_translate_onto(&a, k, &mut new)?,
+            (Do::TranslateAlong, Target::Point(k)) => self.do_translate_along(&a, k, &mut new)?,
+            (Do::SlideTurn, Target::Point(k)) => self.do_slide_turn(&a, k, &mut new)?,
+            (Do::TranslateInPlane, Target::Point(k)) => self.do_translate_in_plane(&a, k, &mut new)?,
+            (Do::TranslateToLine, Target::Line(k, d)) => self.do_translate_to_line(&a, k, d, &mut new)?,
+            (Do::TranslateToPlane, Target::Line(k, n)) => self.do_translate_to_plane(&a, k, n, &mut new)?,
+            (Do::OwnerLineThrough, Target::Point(k)) => self.do_owner_line_through(&a, k, &mut new)?,
+            (Do::OwnerPlaneThrough, Target::Point(k)) => self.do_owner_plane_through(&a, k, &mut new)?,
+            (Do::RotateOnto, Target::Point(k)) => self.do_rotate_onto(&a, k, &mut new)?,
+            (Do::AxisOnto, Target::Point(k)) => self.do_axis_onto(&a, k, &mut new)?,
+            (Do::RotateOntoCone, Target::Point(k)) => self.do_rotate_onto_cone(&a, k, &mut new)?,
+            (Do::LineSphere, Target::Point(k)) => self.do_line_sphere(&a, k, &mut new)?,
             (Do::CircleLine | Do::SphereLine, Target::Line(k, d)) => {
-                let q = st.pivot()?;
-                let locus = match st.r {
-                    R::Axis { al } => Locus3::Circle {
-                        pivot: pivot.clone(),
-                        axis: self.body_dir(b, al),
-                        at: m_pt.clone(),
-                    },
-                    _ => Locus3::Sphere {
-                        centre: pivot.clone(),
-                        a: pivot.clone(),
-                        b: m_pt.clone(),
-                    },
-                };
-                let t = self.temp(mname.clone(), fm.at);
-                let slot = self.slot();
-                let lname = locus.name();
-                self.push(
-                    StepKind3::Intersect {
-                        temp: t,
-                        loci: Box::new([
-                            locus,
-                            Locus3::Line {
-                                at: k.clone(),
-                                dir: d.clone(),
-                            },
-                        ]),
-                        branch: Some(slot),
-                        tol: 1e-9 * self.size,
-                    },
-                    format!(
-                        "{mname}: {lname} about {} ∩ line through {}, branch slot {slot}",
-                        self.describe(&pivot),
-                        self.describe(k)
-                    ),
-                    serves.to_vec(),
-                );
-                let to = P3::Temp(t);
-                if let R::Axis { al } = st.r {
-                    self.act(
-                        b,
-                        Action3::AxisOnto {
-                            pivot: pivot.clone(),
-                            axis: self.body_dir(b, al),
-                            from: m_pt,
-                            to,
-                        },
-                        format!(
-                            "{name}: turn about its axis taking {mname} onto step {}",
-                            self.steps.len() - 1
-                        ),
-                        serves,
-                    );
-                    new.r = R::Fixed;
-                } else {
-                    self.act(
-                        b,
-                        Action3::RotateOnto {
-                            pivot: pivot.clone(),
-                            from: m_pt,
-                            to,
-                        },
-                        format!(
-                            "{name}: rotate about its pivot taking {mname} onto step {}",
-                            self.steps.len() - 1
-                        ),
-                        serves,
-                    );
-                    new.r = R::Axis {
-                        al: unit(sub(fm.at, q)),
-                    };
-                }
+                self.do_circle_or_sphere_line(&a, k, d, &mut new)?
             }
-            (Do::AlignDir, Target::Dir(t)) => {
-                self.align_z(b, &pivot, fm.axes.z, t, &mname, serves);
-                new.r = R::Axis { al: fm.axes.z };
-            }
-            (Do::AxisDir, Target::Dir(t)) => {
-                let R::Axis { al } = st.r else { return None };
-                self.act(
-                    b,
-                    Action3::AxisDir {
-                        pivot: pivot.clone(),
-                        axis: self.body_dir(b, al),
-                        from: self.body_dir(b, fm.axes.z),
-                        to: t.clone(),
-                    },
-                    format!("{name}: turn about its axis aligning {mname}'s z"),
-                    serves,
-                );
-                new.r = R::Fixed;
-            }
-            (Do::AlignOntoCone, Target::Dir(t)) => {
-                let R::Cone { u, w, cos } = st.r.clone() else {
-                    return None;
-                };
-                self.align_z(b, &pivot, fm.axes.z, t, &mname, serves);
-                let slot = self.slot();
-                self.act(
-                    b,
-                    Action3::AxisCondition {
-                        pivot: pivot.clone(),
-                        axis: self.body_dir(b, fm.axes.z),
-                        v: self.body_dir(b, u),
-                        w,
-                        cos,
-                        branch: slot,
-                    },
-                    format!("{name}: spin about {mname}'s z until its cone holds, branch slot {slot}"),
-                    serves,
-                );
-                new.r = R::Fixed;
-            }
-            (Do::AxisCondition, Target::Dir(t)) => {
-                let R::Axis { al } = st.r else { return None };
-                let cos = match e.kind {
-                    Kind3::Prim(Primitive::PerpendicularZ) => 0.0,
-                    _ => e.angle.cos(),
-                };
-                let slot = self.slot();
-                self.act(
-                    b,
-                    Action3::AxisCondition {
-                        pivot: pivot.clone(),
-                        axis: self.body_dir(b, al),
-                        v: self.body_dir(b, fm.axes.z),
-                        w: t.clone(),
-                        cos,
-                        branch: slot,
-                    },
-                    format!(
-                        "{name}: turn about its axis until {mname}'s z is at {}° to the other, branch slot {slot}",
-                        crate::plan::num(cos.clamp(-1.0, 1.0).acos().to_degrees())
-                    ),
-                    serves,
-                );
-                new.r = R::Fixed;
-            }
-            (Do::Tilt, Target::Dir(t)) => {
-                let cos = match e.kind {
-                    Kind3::Prim(Primitive::PerpendicularZ) => 0.0,
-                    _ => e.angle.cos(),
-                };
-                self.act(
-                    b,
-                    Action3::Tilt {
-                        pivot: pivot.clone(),
-                        from: self.body_dir(b, fm.axes.z),
-                        to: t.clone(),
-                        cos,
-                    },
-                    format!(
-                        "{name}: tilt {mname}'s z to {}° from the other (a cone)",
-                        crate::plan::num(cos.clamp(-1.0, 1.0).acos().to_degrees())
-                    ),
-                    serves,
-                );
-                new.r = R::Cone {
-                    u: fm.axes.z,
-                    w: t.clone(),
-                    cos,
-                };
-            }
+            (Do::AlignDir, Target::Dir(t)) => self.do_align_dir(&a, t, &mut new)?,
+            (Do::AxisDir, Target::Dir(t)) => self.do_axis_dir(&a, t, &mut new)?,
+            (Do::AlignOntoCone, Target::Dir(t)) => self.do_align_onto_cone(&a, t, &mut new)?,
+            (Do::AxisCondition, Target::Dir(t)) => self.do_axis_condition(&a, t, &mut new)?,
+            (Do::Tilt, Target::Dir(t)) => self.do_tilt(&a, t, &mut new)?,
             (Do::AlignTwist | Do::Twist, Target::Dir(_) | Target::None) => {
-                // The twist is measured about the first marker's z from its x
-                // to the second's.
-                let (b1, b2) = (e.bodies[0], e.bodies[1]);
-                let [f1, f2] = e.frames;
-                if frag.action == Do::AlignTwist {
-                    let Target::Dir(t) = &target else { return None };
-                    self.align_z(b, &pivot, fm.axes.z, t, &mname, serves);
-                }
-                let input = match e.kind {
-                    Kind3::Angle { input } => Some(input),
-                    _ => None,
-                };
-                let z1 = if mover == 0 {
-                    self.body_dir(b1, f1.axes.z)
-                } else {
-                    self.known_dir(b1, f1.axes.z)
-                        .unwrap_or(self.body_dir(b1, f1.axes.z))
-                };
-                self.act(
-                    b,
-                    Action3::Twist {
-                        pivot: pivot.clone(),
-                        axis: z1,
-                        x1: self.body_dir(b1, f1.axes.x),
-                        x2: self.body_dir(b2, f2.axes.x),
-                        angle: e.angle,
-                        input,
-                        sign,
-                    },
-                    match input {
-                        Some(k) => format!(
-                            "{name}: turn about the joint axis by input {}",
-                            self.m.inputs[k].name
-                        ),
-                        None => format!("{name}: turn about the joint axis to the offset-x angle"),
-                    },
-                    serves,
-                );
-                new.r = R::Fixed;
+                self.do_twist(&a, frag, &target, &mut new)?
             }
-            (Do::SlideTo, Target::None) => {
-                let Kind3::Slide { input } = e.kind else {
-                    return None;
-                };
-                let T::Line { q, dir } = st.t.clone() else {
-                    return None;
-                };
-                let (b1, b2) = (e.bodies[0], e.bodies[1]);
-                self.act(
-                    b,
-                    Action3::SlideTo {
-                        from: self.body_point(b2, e.frames[1].at),
-                        origin: self.body_point(b1, e.frames[0].at),
-                        dir,
-                        axial0: e.axial0,
-                        input,
-                        sign,
-                    },
-                    format!(
-                        "{name}: slide along the joint axis by input {}",
-                        self.m.inputs[input].name
-                    ),
-                    serves,
-                );
-                new.t = T::Point { q };
-            }
+            (Do::SlideTo, Target::None) => self.do_slide_to(&a, &mut new)?,
             _ => return None,
         }
         self.state[b] = new;
@@ -1094,6 +629,699 @@ impl Planner<'_> {
             self.check(i, frag.checks);
         }
         Some(true)
+    }
+
+    /// `TranslateOnto`: Translate the marker onto the point.
+    fn do_translate_onto(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let fm = a.fm;
+        let name = &a.name;
+        let mname = &a.mname;
+        let m_pt = a.m_pt.clone();
+        let serves = a.serves;
+        self.act(
+            b,
+            Action3::TranslateOnto {
+                from: m_pt,
+                to: k.clone(),
+            },
+            format!("{name}: translate {mname} onto {}", self.describe(k)),
+            serves,
+        );
+        new.t = T::Point { q: fm.at };
+        Some(())
+    }
+
+    /// `TranslateAlong`: Translate along the body's line so the marker reaches the point.
+    fn do_translate_along(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let fm = a.fm;
+        let st = &a.st;
+        let name = &a.name;
+        let mname = &a.mname;
+        let m_pt = a.m_pt.clone();
+        let serves = a.serves;
+        let T::Line { q, dir } = st.t.clone() else {
+            return None;
+        };
+        self.act(
+            b,
+            Action3::TranslateAlong {
+                from: m_pt,
+                to: k.clone(),
+                dir,
+            },
+            format!(
+                "{name}: slide along its line until {mname} meets {}",
+                self.describe(k)
+            ),
+            serves,
+        );
+        new.t = T::Point {
+            q: if matches!(st.r, R::Fixed) { q } else { fm.at },
+        };
+        Some(())
+    }
+
+    /// `SlideTurn`: Translate along the line, then rotate about it onto the point.
+    fn do_slide_turn(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let st = &a.st;
+        let name = &a.name;
+        let mname = &a.mname;
+        let m_pt = a.m_pt.clone();
+        let serves = a.serves;
+        let (T::Line { q, dir }, R::Axis { al }) = (st.t.clone(), st.r.clone()) else {
+            return None;
+        };
+        self.act(
+            b,
+            Action3::TranslateAlong {
+                from: m_pt.clone(),
+                to: k.clone(),
+                dir,
+            },
+            format!(
+                "{name}: slide along its axis to the height of {}",
+                self.describe(k)
+            ),
+            serves,
+        );
+        self.act(
+            b,
+            Action3::AxisOnto {
+                pivot: self.body_point(b, q),
+                axis: self.body_dir(b, al),
+                from: m_pt,
+                to: k.clone(),
+            },
+            format!(
+                "{name}: turn about its axis taking {mname} onto {}",
+                self.describe(k)
+            ),
+            serves,
+        );
+        *new = State {
+            t: T::Point { q },
+            r: R::Fixed,
+        };
+        Some(())
+    }
+
+    /// `TranslateInPlane`: Translate in the body's plane so the marker reaches the point.
+    fn do_translate_in_plane(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let fm = a.fm;
+        let st = &a.st;
+        let name = &a.name;
+        let mname = &a.mname;
+        let m_pt = a.m_pt.clone();
+        let serves = a.serves;
+        let normal = match st.r {
+            R::Axis { al } => self.body_dir(b, al),
+            _ => return None,
+        };
+        self.act(
+            b,
+            Action3::TranslateInPlane {
+                from: m_pt,
+                to: k.clone(),
+                normal,
+            },
+            format!(
+                "{name}: translate in its plane, {mname} onto {}",
+                self.describe(k)
+            ),
+            serves,
+        );
+        new.t = T::Point { q: fm.at };
+        Some(())
+    }
+
+    /// `TranslateToLine`: Translate the marker to its foot on the line.
+    fn do_translate_to_line(&mut self, a: &Applied, k: &P3, d: &D3, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let fm = a.fm;
+        let name = &a.name;
+        let mname = &a.mname;
+        let m_pt = a.m_pt.clone();
+        let serves = a.serves;
+        self.act(
+            b,
+            Action3::TranslateToLine {
+                from: m_pt,
+                through: k.clone(),
+                dir: d.clone(),
+            },
+            format!(
+                "{name}: translate {mname} onto the line through {}",
+                self.describe(k)
+            ),
+            serves,
+        );
+        new.t = T::Line {
+            q: fm.at,
+            dir: d.clone(),
+        };
+        Some(())
+    }
+
+    /// `TranslateToPlane`: Translate the marker onto the plane.
+    fn do_translate_to_plane(&mut self, a: &Applied, k: &P3, n: &D3, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let fm = a.fm;
+        let name = &a.name;
+        let mname = &a.mname;
+        let m_pt = a.m_pt.clone();
+        let serves = a.serves;
+        self.act(
+            b,
+            Action3::TranslateToPlane {
+                from: m_pt,
+                through: k.clone(),
+                normal: n.clone(),
+            },
+            format!(
+                "{name}: translate {mname} onto the plane through {}",
+                self.describe(k)
+            ),
+            serves,
+        );
+        new.t = T::Plane { q: fm.at };
+        Some(())
+    }
+
+    /// `OwnerLineThrough`: Translate the body's line (its z known) through the point.
+    fn do_owner_line_through(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let fm = a.fm;
+        let name = &a.name;
+        let mname = &a.mname;
+        let m_pt = a.m_pt.clone();
+        let serves = a.serves;
+        let d = self.body_dir(b, fm.axes.z);
+        self.act(
+            b,
+            Action3::TranslateToLine {
+                from: m_pt,
+                through: k.clone(),
+                dir: d.clone(),
+            },
+            format!(
+                "{name}: translate its line ({mname}) through {}",
+                self.describe(k)
+            ),
+            serves,
+        );
+        new.t = T::Line { q: fm.at, dir: d };
+        Some(())
+    }
+
+    /// `OwnerPlaneThrough`: Translate the body's plane (its z known) through the point.
+    fn do_owner_plane_through(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let fm = a.fm;
+        let name = &a.name;
+        let mname = &a.mname;
+        let m_pt = a.m_pt.clone();
+        let serves = a.serves;
+        let n = self.body_dir(b, fm.axes.z);
+        self.act(
+            b,
+            Action3::TranslateToPlane {
+                from: m_pt,
+                through: k.clone(),
+                normal: n,
+            },
+            format!(
+                "{name}: translate its plane ({mname}) through {}",
+                self.describe(k)
+            ),
+            serves,
+        );
+        new.t = T::Plane { q: fm.at };
+        Some(())
+    }
+
+    /// `RotateOnto`: Minimal rotation about the pivot taking the marker toward the point.
+    fn do_rotate_onto(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let fm = a.fm;
+        let st = &a.st;
+        let mname = &a.mname;
+        let m_pt = a.m_pt.clone();
+        let pivot = a.pivot.clone();
+        let serves = a.serves;
+        let q = st.pivot()?;
+        self.rotate_onto(b, &pivot, m_pt, k, &mname, serves);
+        new.r = R::Axis {
+            al: unit(sub(fm.at, q)),
+        };
+        Some(())
+    }
+
+    /// `AxisOnto`: Rotation about the axis taking the marker onto the point.
+    fn do_axis_onto(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let st = &a.st;
+        let name = &a.name;
+        let mname = &a.mname;
+        let m_pt = a.m_pt.clone();
+        let pivot = a.pivot.clone();
+        let serves = a.serves;
+        let R::Axis { al } = st.r else { return None };
+        self.act(
+            b,
+            Action3::AxisOnto {
+                pivot: pivot.clone(),
+                axis: self.body_dir(b, al),
+                from: m_pt,
+                to: k.clone(),
+            },
+            format!(
+                "{name}: turn about its axis taking {mname} onto {}",
+                self.describe(k)
+            ),
+            serves,
+        );
+        new.r = R::Fixed;
+        Some(())
+    }
+
+    /// `RotateOntoCone`: Rotate onto the point, then about the new axis onto the cone (a branch).
+    fn do_rotate_onto_cone(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let fm = a.fm;
+        let st = &a.st;
+        let name = &a.name;
+        let mname = &a.mname;
+        let m_pt = a.m_pt.clone();
+        let pivot = a.pivot.clone();
+        let serves = a.serves;
+        let R::Cone { u, w, cos } = st.r.clone() else {
+            return None;
+        };
+        let q = st.pivot()?;
+        if parallel(sub(fm.at, q), u) {
+            return None;
+        }
+        self.rotate_onto(b, &pivot, m_pt, k, &mname, serves);
+        let slot = self.slot();
+        self.act(
+            b,
+            Action3::AxisCondition {
+                pivot: pivot.clone(),
+                axis: D3::Between(Box::new(pivot.clone()), Box::new(k.clone())),
+                v: self.body_dir(b, u),
+                w,
+                cos,
+                branch: slot,
+            },
+            format!(
+                "{name}: spin about {}–{mname} until its cone holds, branch slot {slot}",
+                self.describe(&pivot)
+            ),
+            serves,
+        );
+        new.r = R::Fixed;
+        Some(())
+    }
+
+    /// `LineSphere`: Pivot onto line ∩ sphere (a branch), then rotate onto the point.
+    fn do_line_sphere(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let fm = a.fm;
+        let st = &a.st;
+        let name = &a.name;
+        let mname = &a.mname;
+        let m_pt = a.m_pt.clone();
+        let serves = a.serves;
+        let T::Line { q, dir } = st.t.clone() else {
+            return None;
+        };
+        let qp = self.body_point(b, q);
+        let t = self.temp(format!("{name} pivot"), q);
+        let slot = self.slot();
+        self.push(
+            StepKind3::Intersect {
+                temp: t,
+                loci: Box::new([
+                    Locus3::Line { at: qp.clone(), dir },
+                    Locus3::Sphere {
+                        centre: k.clone(),
+                        a: qp.clone(),
+                        b: m_pt.clone(),
+                    },
+                ]),
+                branch: Some(slot),
+                tol: 1e-9 * self.size,
+            },
+            format!(
+                "{name} pivot: its line ∩ sphere about {}, branch slot {slot}",
+                self.describe(k)
+            ),
+            serves.to_vec(),
+        );
+        self.act(
+            b,
+            Action3::TranslateOnto {
+                from: qp.clone(),
+                to: P3::Temp(t),
+            },
+            format!("{name}: slide its pivot to step {}", self.steps.len() - 1),
+            serves,
+        );
+        self.act(
+            b,
+            Action3::RotateOnto {
+                pivot: qp,
+                from: m_pt,
+                to: k.clone(),
+            },
+            format!(
+                "{name}: rotate about its pivot taking {mname} onto {}",
+                self.describe(k)
+            ),
+            serves,
+        );
+        *new = State {
+            t: T::Point { q },
+            r: R::Axis {
+                al: unit(sub(fm.at, q)),
+            },
+        };
+        Some(())
+    }
+
+    /// `CircleLine`, `SphereLine`: Marker onto circle ∩ line (a branch). / Marker onto sphere ∩ line (a branch).
+    fn do_circle_or_sphere_line(&mut self, a: &Applied, k: &P3, d: &D3, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let fm = a.fm;
+        let st = &a.st;
+        let name = &a.name;
+        let mname = &a.mname;
+        let m_pt = a.m_pt.clone();
+        let pivot = a.pivot.clone();
+        let serves = a.serves;
+        let q = st.pivot()?;
+        let locus = match st.r {
+            R::Axis { al } => Locus3::Circle {
+                pivot: pivot.clone(),
+                axis: self.body_dir(b, al),
+                at: m_pt.clone(),
+            },
+            _ => Locus3::Sphere {
+                centre: pivot.clone(),
+                a: pivot.clone(),
+                b: m_pt.clone(),
+            },
+        };
+        let t = self.temp(mname.clone(), fm.at);
+        let slot = self.slot();
+        let lname = locus.name();
+        self.push(
+            StepKind3::Intersect {
+                temp: t,
+                loci: Box::new([
+                    locus,
+                    Locus3::Line {
+                        at: k.clone(),
+                        dir: d.clone(),
+                    },
+                ]),
+                branch: Some(slot),
+                tol: 1e-9 * self.size,
+            },
+            format!(
+                "{mname}: {lname} about {} ∩ line through {}, branch slot {slot}",
+                self.describe(&pivot),
+                self.describe(k)
+            ),
+            serves.to_vec(),
+        );
+        let to = P3::Temp(t);
+        if let R::Axis { al } = st.r {
+            self.act(
+                b,
+                Action3::AxisOnto {
+                    pivot: pivot.clone(),
+                    axis: self.body_dir(b, al),
+                    from: m_pt,
+                    to,
+                },
+                format!(
+                    "{name}: turn about its axis taking {mname} onto step {}",
+                    self.steps.len() - 1
+                ),
+                serves,
+            );
+            new.r = R::Fixed;
+        } else {
+            self.act(
+                b,
+                Action3::RotateOnto {
+                    pivot: pivot.clone(),
+                    from: m_pt,
+                    to,
+                },
+                format!(
+                    "{name}: rotate about its pivot taking {mname} onto step {}",
+                    self.steps.len() - 1
+                ),
+                serves,
+            );
+            new.r = R::Axis {
+                al: unit(sub(fm.at, q)),
+            };
+        }
+        Some(())
+    }
+
+    /// `AlignDir`: Minimal rotation taking z_m to the direction.
+    fn do_align_dir(&mut self, a: &Applied, t: &D3, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let fm = a.fm;
+        let mname = &a.mname;
+        let pivot = a.pivot.clone();
+        let serves = a.serves;
+        self.align_z(b, &pivot, fm.axes.z, t, &mname, serves);
+        new.r = R::Axis { al: fm.axes.z };
+        Some(())
+    }
+
+    /// `AxisDir`: Rotation about the axis taking z_m to the direction.
+    fn do_axis_dir(&mut self, a: &Applied, t: &D3, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let fm = a.fm;
+        let st = &a.st;
+        let name = &a.name;
+        let mname = &a.mname;
+        let pivot = a.pivot.clone();
+        let serves = a.serves;
+        let R::Axis { al } = st.r else { return None };
+        self.act(
+            b,
+            Action3::AxisDir {
+                pivot: pivot.clone(),
+                axis: self.body_dir(b, al),
+                from: self.body_dir(b, fm.axes.z),
+                to: t.clone(),
+            },
+            format!("{name}: turn about its axis aligning {mname}'s z"),
+            serves,
+        );
+        new.r = R::Fixed;
+        Some(())
+    }
+
+    /// `AlignOntoCone`: Align z_m, then turn about it until the cone's direction is on its cone (a branch).
+    fn do_align_onto_cone(&mut self, a: &Applied, t: &D3, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let fm = a.fm;
+        let st = &a.st;
+        let name = &a.name;
+        let mname = &a.mname;
+        let pivot = a.pivot.clone();
+        let serves = a.serves;
+        let R::Cone { u, w, cos } = st.r.clone() else {
+            return None;
+        };
+        self.align_z(b, &pivot, fm.axes.z, t, &mname, serves);
+        let slot = self.slot();
+        self.act(
+            b,
+            Action3::AxisCondition {
+                pivot: pivot.clone(),
+                axis: self.body_dir(b, fm.axes.z),
+                v: self.body_dir(b, u),
+                w,
+                cos,
+                branch: slot,
+            },
+            format!("{name}: spin about {mname}'s z until its cone holds, branch slot {slot}"),
+            serves,
+        );
+        new.r = R::Fixed;
+        Some(())
+    }
+
+    /// `AxisCondition`: Rotation about the axis making the angle to the direction (a branch).
+    fn do_axis_condition(&mut self, a: &Applied, t: &D3, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let e = &a.e;
+        let fm = a.fm;
+        let st = &a.st;
+        let name = &a.name;
+        let mname = &a.mname;
+        let pivot = a.pivot.clone();
+        let serves = a.serves;
+        let R::Axis { al } = st.r else { return None };
+        let cos = match e.kind {
+            Kind3::Prim(Primitive::PerpendicularZ) => 0.0,
+            _ => e.angle.cos(),
+        };
+        let slot = self.slot();
+        self.act(
+            b,
+            Action3::AxisCondition {
+                pivot: pivot.clone(),
+                axis: self.body_dir(b, al),
+                v: self.body_dir(b, fm.axes.z),
+                w: t.clone(),
+                cos,
+                branch: slot,
+            },
+            format!(
+                "{name}: turn about its axis until {mname}'s z is at {}° to the other, branch slot {slot}",
+                crate::plan::num(cos.clamp(-1.0, 1.0).acos().to_degrees())
+            ),
+            serves,
+        );
+        new.r = R::Fixed;
+        Some(())
+    }
+
+    /// `Tilt`: Tilt z_m to the angle: the cone state.
+    fn do_tilt(&mut self, a: &Applied, t: &D3, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let e = &a.e;
+        let fm = a.fm;
+        let name = &a.name;
+        let mname = &a.mname;
+        let pivot = a.pivot.clone();
+        let serves = a.serves;
+        let cos = match e.kind {
+            Kind3::Prim(Primitive::PerpendicularZ) => 0.0,
+            _ => e.angle.cos(),
+        };
+        self.act(
+            b,
+            Action3::Tilt {
+                pivot: pivot.clone(),
+                from: self.body_dir(b, fm.axes.z),
+                to: t.clone(),
+                cos,
+            },
+            format!(
+                "{name}: tilt {mname}'s z to {}° from the other (a cone)",
+                crate::plan::num(cos.clamp(-1.0, 1.0).acos().to_degrees())
+            ),
+            serves,
+        );
+        new.r = R::Cone {
+            u: fm.axes.z,
+            w: t.clone(),
+            cos,
+        };
+        Some(())
+    }
+
+    /// `AlignTwist`, `Twist`: Align z, then twist x: orientation known. / Twist about the axis (the input's angle, or offset-x's).
+    fn do_twist(&mut self, a: &Applied, frag: &Fragment, target: &Target, new: &mut State) -> Option<()> {
+        let mover = a.mover;
+        let b = a.b;
+        let e = &a.e;
+        let fm = a.fm;
+        let name = &a.name;
+        let mname = &a.mname;
+        let pivot = a.pivot.clone();
+        let sign = a.sign;
+        let serves = a.serves;
+        // The twist is measured about the first marker's z from its x
+        // to the second's.
+        let (b1, b2) = (e.bodies[0], e.bodies[1]);
+        let [f1, f2] = e.frames;
+        if frag.action == Do::AlignTwist {
+            let Target::Dir(t) = target else { return None };
+            self.align_z(b, &pivot, fm.axes.z, t, &mname, serves);
+        }
+        let input = match e.kind {
+            Kind3::Angle { input } => Some(input),
+            _ => None,
+        };
+        let z1 = if mover == 0 {
+            self.body_dir(b1, f1.axes.z)
+        } else {
+            self.known_dir(b1, f1.axes.z)
+                .unwrap_or(self.body_dir(b1, f1.axes.z))
+        };
+        self.act(
+            b,
+            Action3::Twist {
+                pivot: pivot.clone(),
+                axis: z1,
+                x1: self.body_dir(b1, f1.axes.x),
+                x2: self.body_dir(b2, f2.axes.x),
+                angle: e.angle,
+                input,
+                sign,
+            },
+            match input {
+                Some(k) => format!(
+                    "{name}: turn about the joint axis by input {}",
+                    self.m.inputs[k].name
+                ),
+                None => format!("{name}: turn about the joint axis to the offset-x angle"),
+            },
+            serves,
+        );
+        new.r = R::Fixed;
+        Some(())
+    }
+
+    /// `SlideTo`: Slide along the line to the input's distance.
+    fn do_slide_to(&mut self, a: &Applied, new: &mut State) -> Option<()> {
+        let b = a.b;
+        let e = &a.e;
+        let st = &a.st;
+        let name = &a.name;
+        let sign = a.sign;
+        let serves = a.serves;
+        let Kind3::Slide { input } = e.kind else {
+            return None;
+        };
+        let T::Line { q, dir } = st.t.clone() else {
+            return None;
+        };
+        let (b1, b2) = (e.bodies[0], e.bodies[1]);
+        self.act(
+            b,
+            Action3::SlideTo {
+                from: self.body_point(b2, e.frames[1].at),
+                origin: self.body_point(b1, e.frames[0].at),
+                dir,
+                axial0: e.axial0,
+                input,
+                sign,
+            },
+            format!(
+                "{name}: slide along the joint axis by input {}",
+                self.m.inputs[input].name
+            ),
+            serves,
+        );
+        new.t = T::Point { q };
+        Some(())
     }
 
     /// Rotates body `b` about `pivot` so its marker `mname`'s z (local `z`)
@@ -1609,6 +1837,31 @@ impl Planner<'_> {
         }
         true
     }
+}
+
+/// What a fragment acts on, worked out once by `apply` and read by the
+/// method of its action: the equation, the moving marker's frame, the
+/// body's state before the action, and the names its explanation uses.
+struct Applied<'s> {
+    /// Which of the equation's two markers moves (0 or 1).
+    mover: usize,
+    /// The body that moves.
+    b: usize,
+    e: Equation3,
+    /// The moving marker's frame, in its body.
+    fm: Frame,
+    /// The body's state before the action.
+    st: State,
+    name: String,
+    mname: String,
+    /// The moving marker, as a point of its body.
+    m_pt: P3,
+    /// The body's pivot (its T-part's point, or the marker).
+    pivot: P3,
+    /// +1 when the second marker moves, −1 when the first does.
+    sign: f64,
+    /// The joints the action serves (for the explanation).
+    serves: &'s [String],
 }
 
 /// What the other side of an equation offers.
