@@ -873,7 +873,7 @@ impl Planner<'_> {
         let pivot = a.pivot.clone();
         let serves = a.serves;
         let q = st.pivot()?;
-        self.rotate_onto(b, &pivot, m_pt, k, &mname, serves);
+        self.rotate_onto(b, &pivot, m_pt, k, mname, serves);
         new.r = R::Axis {
             al: unit(sub(fm.at, q)),
         };
@@ -925,7 +925,7 @@ impl Planner<'_> {
         if parallel(sub(fm.at, q), u) {
             return None;
         }
-        self.rotate_onto(b, &pivot, m_pt, k, &mname, serves);
+        self.rotate_onto(b, &pivot, m_pt, k, mname, serves);
         let slot = self.slot();
         self.act(
             b,
@@ -1104,7 +1104,7 @@ impl Planner<'_> {
         let mname = &a.mname;
         let pivot = a.pivot.clone();
         let serves = a.serves;
-        self.align_z(b, &pivot, fm.axes.z, t, &mname, serves);
+        self.align_z(b, &pivot, fm.axes.z, t, mname, serves);
         new.r = R::Axis { al: fm.axes.z };
         Some(())
     }
@@ -1146,7 +1146,7 @@ impl Planner<'_> {
         let R::Cone { u, w, cos } = st.r.clone() else {
             return None;
         };
-        self.align_z(b, &pivot, fm.axes.z, t, &mname, serves);
+        self.align_z(b, &pivot, fm.axes.z, t, mname, serves);
         let slot = self.slot();
         self.act(
             b,
@@ -1253,7 +1253,7 @@ impl Planner<'_> {
         let [f1, f2] = e.frames;
         if frag.action == Do::AlignTwist {
             let Target::Dir(t) = target else { return None };
-            self.align_z(b, &pivot, fm.axes.z, t, &mname, serves);
+            self.align_z(b, &pivot, fm.axes.z, t, mname, serves);
         }
         let input = match e.kind {
             Kind3::Angle { input } => Some(input),
