@@ -327,6 +327,113 @@ impl Emitter<'_> {
         }
     }
 
+    /// A numeric cluster too large for fixed-size matrices: the runtime's
+    /// dynamically sized solver, which allocates (`cluster::solve`, or
+    /// `cluster::solve_rates` on jets: solved on the values as `solve`
+    /// does, then differentiated by the implicit function theorem).
+    ///
+    /// `id` and `marker` are the step's number and comment as `step` wrote
+    /// them (written once: a rolled run records what it writes).
+    pub(super) fn dynamic_cluster_step(
+        &self,
+        i: usize,
+        id: &TokenStream,
+        marker: &TokenStream,
+        params: &[ClusterParam],
+        rows: &[ClusterRow],
+        pre: &mut Vec<TokenStream>,
+    ) -> TokenStream {
+        let step = &self.plan.steps[i];
+        let (n, m) = step.kind.cluster_size();
+        let param_tokens: Vec<TokenStream> = params
+            .iter()
+            .enumerate()
+            .map(|(k, p)| {
+                let b = index(p.body());
+                match p {
+                    ClusterParam::Free { .. } => quote!(cluster::Param::Free { body: #b }),
+                    ClusterParam::Angle { pin, at, .. } => {
+                        let at = self.point(at, pre);
+                        // The pin is local: constants either way.
+                        let pin = point_lit(*pin);
+                        quote!(cluster::Param::Angle { body: #b, pin: #pin, at: #at })
+                    }
+                    ClusterParam::Hinge { pin, parent, at, .. } => {
+                        let (pin, parent, at) = (point_lit(*pin), index(*parent), point_lit(*at));
+                        quote!(cluster::Param::Hinge { body: #b, pin: #pin, parent: #parent, at: #at })
+                    }
+                    ClusterParam::Slide { dir, .. } => {
+                        let d = self.dir(dir, &format!("slide_dir_{k}"), pre);
+                        quote!(cluster::Param::Slide { body: #b, dir: #d })
+                    }
+                    ClusterParam::Translate { .. } => quote!(cluster::Param::Translate { body: #b }),
+                }
+            })
+            .collect();
+        let opt = |o: Option<usize>| match o {
+            Some(i) => {
+                let i = index(i);
+                quote!(Some(#i))
+            }
+            None => quote!(None),
+        };
+        let row_tokens = rows.iter().map(|r| match *r {
+            ClusterRow::Coincident { a, la, slide, b, lb } => {
+                let (a, b, la, lb) = (index(a), index(b), point_lit(la), point_lit(lb));
+                let slide = match slide {
+                    Some((i, d)) => {
+                        let (i, d) = (index(i), point_lit(d));
+                        quote!(Some((#i, #d)))
+                    }
+                    None => quote!(None),
+                };
+                quote!(cluster::Row::Coincident { a: #a, la: #la, slide: #slide, b: #b, lb: #lb })
+            }
+            ClusterRow::InLine { a, la, dir, b, lb } => {
+                let (a, b, la, lb, dir) = (index(a), index(b), point_lit(la), point_lit(lb), point_lit(dir));
+                quote!(cluster::Row::InLine { a: #a, la: #la, dir: #dir, b: #b, lb: #lb })
+            }
+            ClusterRow::Parallel { a, b, input } => {
+                let (a, b, input) = (index(a), index(b), opt(input));
+                quote!(cluster::Row::Parallel { a: #a, b: #b, input: #input })
+            }
+        });
+        let nrows = index(rows.len());
+        // Every pose, current (in the split form too, from the
+        // chunk's locals: the bodies it writes are then read before
+        // they are written).
+        let all = (0..self.plan.bodies.len()).map(|b| self.pose(b));
+        let all = quote!([#(#all),*]);
+        let writes = params.iter().map(|p| {
+            let b = p.body();
+            let id = &self.pose_idents[b];
+            let i = index(b);
+            quote!(#id = all[#i];)
+        });
+        let (n, m, size) = (index(n), index(m), lit(self.plan.size));
+        // On jets: solved on the values as `solve` does, then
+        // differentiated by the implicit function theorem.
+        let solve = if self.jets {
+            quote!(cluster::solve_rates(ctx, #id, &mut all, &params, &ROWS, &inputs, #size, &mut newton)?;)
+        } else {
+            quote!(cluster::solve(ctx, #id, &mut all, &params, &ROWS, inputs, #size, &mut newton)?;)
+        };
+        quote! {
+            #marker
+            {
+                #(#pre)*
+                let params = [#(#param_tokens),*];
+                const ROWS: [cluster::Row; #nrows] = [#(#row_tokens),*];
+                let mut all = #all;
+                // Too large for fixed-size matrices: the runtime's
+                // dynamically sized solver (which allocates).
+                let mut newton = numeric::Newton::new(#n, #m);
+                #solve
+                #(#writes)*
+            }
+        }
+    }
+
     /// The straight-line code of cluster step `id`: its Newton solve, then
     /// the cluster bodies written at the solution; or, with `jacobian_out`,
     /// the solution and the Jacobian there as the block's value `(x, j)`

@@ -33,7 +33,7 @@ pub use cluster::FIXED_LIMIT;
 pub use spatial::{emit_spatial, emit_spatial_chunked, spatial_cluster_fits};
 
 use crate::model::InputKind;
-use crate::plan::{ClusterParam, ClusterRow, DirRef, Plan, PointRef, Rel, StepKind};
+use crate::plan::{DirRef, Plan, PointRef, Rel, StepKind};
 
 /// A Rust identifier made from a user's name ("coupler.C" → `coupler_c`).
 pub fn ident_for(name: &str) -> String {
@@ -361,95 +361,7 @@ impl Emitter<'_> {
                 }
             }
             StepKind::Cluster { params, rows, .. } => {
-                let (n, m) = step.kind.cluster_size();
-                let param_tokens: Vec<TokenStream> = params
-                    .iter()
-                    .enumerate()
-                    .map(|(k, p)| {
-                        let b = index(p.body());
-                        match p {
-                            ClusterParam::Free { .. } => quote!(cluster::Param::Free { body: #b }),
-                            ClusterParam::Angle { pin, at, .. } => {
-                                let at = self.point(at, &mut pre);
-                                // The pin is local: constants either way.
-                                let pin = point_lit(*pin);
-                                quote!(cluster::Param::Angle { body: #b, pin: #pin, at: #at })
-                            }
-                            ClusterParam::Hinge { pin, parent, at, .. } => {
-                                let (pin, parent, at) = (point_lit(*pin), index(*parent), point_lit(*at));
-                                quote!(cluster::Param::Hinge { body: #b, pin: #pin, parent: #parent, at: #at })
-                            }
-                            ClusterParam::Slide { dir, .. } => {
-                                let d = self.dir(dir, &format!("slide_dir_{k}"), &mut pre);
-                                quote!(cluster::Param::Slide { body: #b, dir: #d })
-                            }
-                            ClusterParam::Translate { .. } => quote!(cluster::Param::Translate { body: #b }),
-                        }
-                    })
-                    .collect();
-                let opt = |o: Option<usize>| match o {
-                    Some(i) => {
-                        let i = index(i);
-                        quote!(Some(#i))
-                    }
-                    None => quote!(None),
-                };
-                let row_tokens = rows.iter().map(|r| match *r {
-                    ClusterRow::Coincident { a, la, slide, b, lb } => {
-                        let (a, b, la, lb) = (index(a), index(b), point_lit(la), point_lit(lb));
-                        let slide = match slide {
-                            Some((i, d)) => {
-                                let (i, d) = (index(i), point_lit(d));
-                                quote!(Some((#i, #d)))
-                            }
-                            None => quote!(None),
-                        };
-                        quote!(cluster::Row::Coincident { a: #a, la: #la, slide: #slide, b: #b, lb: #lb })
-                    }
-                    ClusterRow::InLine { a, la, dir, b, lb } => {
-                        let (a, b, la, lb, dir) =
-                            (index(a), index(b), point_lit(la), point_lit(lb), point_lit(dir));
-                        quote!(cluster::Row::InLine { a: #a, la: #la, dir: #dir, b: #b, lb: #lb })
-                    }
-                    ClusterRow::Parallel { a, b, input } => {
-                        let (a, b, input) = (index(a), index(b), opt(input));
-                        quote!(cluster::Row::Parallel { a: #a, b: #b, input: #input })
-                    }
-                });
-                let nrows = index(rows.len());
-                // Every pose, current (in the split form too, from the
-                // chunk's locals: the bodies it writes are then read before
-                // they are written).
-                let all = (0..self.plan.bodies.len()).map(|b| self.pose(b));
-                let all = quote!([#(#all),*]);
-                let writes = params.iter().map(|p| {
-                    let b = p.body();
-                    let id = &self.pose_idents[b];
-                    let i = index(b);
-                    quote!(#id = all[#i];)
-                });
-                let (n, m, size) = (index(n), index(m), lit(self.plan.size));
-                // On jets: solved on the values as `solve` does, then
-                // differentiated by the implicit function theorem.
-                let solve = if self.jets {
-                    quote!(cluster::solve_rates(ctx, #id, &mut all, &params, &ROWS, &inputs, #size, &mut newton)?;)
-                } else {
-                    quote!(cluster::solve(ctx, #id, &mut all, &params, &ROWS, inputs, #size, &mut newton)?;)
-                };
-                quote! {
-                    #marker
-                    {
-                        #(#pre)*
-                        let params = [#(#param_tokens),*];
-                        const ROWS: [cluster::Row; #nrows] = [#(#row_tokens),*];
-                        let mut all = #all;
-                        // Too large for fixed-size matrices: the runtime's
-                        // dynamically sized solver (which allocates).
-                        let mut newton = numeric::Newton::new(#n, #m);
-                        #solve
-                        #(#writes)*
-                    }
-                }
+                self.dynamic_cluster_step(i, &id, &marker, params, rows, &mut pre)
             }
             StepKind::TurnLine {
                 body,
