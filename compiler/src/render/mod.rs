@@ -42,7 +42,7 @@ mod tests;
 
 use dofplan_runtime::planar::{Point, Pose};
 use dofplan_runtime::FrameStatus;
-use svg::node::element::{Rectangle, Text, Title};
+use svg::node::element::{Group, Rectangle, Text, Title};
 use svg::Document;
 
 use crate::model::{MarkerId, Mechanism};
@@ -51,7 +51,7 @@ use caption::{dedupe_identical, pick_poses, titles};
 use legend::{Entry, Key, Layout};
 use mechanism::{
     body_colour, draw_ground, draw_pose, hulls, outlines, pin_labels, slide_ranges, valid, world, Detail,
-    PoseStyle,
+    PoseStyle, Slide,
 };
 use style::{num, trace_colour, INK};
 use trace::Reach;
@@ -90,6 +90,140 @@ const POSE_BUDGET: usize = 600;
 const LABEL_INK_BODIES: usize = 200;
 const PAD: f64 = 16.0;
 const HEADER: f64 = 56.0;
+
+/// The ground (pivots and fixed slide lines, once, in the first pose of
+/// `order`) and every other pose of `order`, fainter and fainter, drawn
+/// faintest first so that nearer ones lie on top.
+fn ground_and_faint_poses(
+    m: &Mechanism,
+    pose_sets: &[&[Pose]],
+    order: &[usize],
+    open_sets: &[Vec<bool>],
+    slides: &[Slide],
+    view: &View,
+    detail: Detail,
+) -> Vec<Group> {
+    let Some(&first) = order.first() else {
+        return Vec::new();
+    };
+    let mut out = vec![draw_ground(m, pose_sets[first], slides, view, detail)];
+    let n = order.len();
+    for (rank, &k) in order.iter().enumerate().skip(1).rev() {
+        let opacity = if n > 2 {
+            0.55 - 0.35 * (rank - 1) as f64 / (n - 2) as f64
+        } else {
+            0.45
+        };
+        let style = PoseStyle {
+            highlighted: false,
+            stretched: &open_sets[k],
+        };
+        out.push(draw_pose(m, pose_sets[k], slides, view, detail, &[], style).set("opacity", num(opacity)));
+    }
+    out
+}
+
+/// The bounding box of everything drawn, in world units: every marker in
+/// every frame, the slides' ends in the drawn poses, the drag targets.
+fn drawn_box(
+    m: &Mechanism,
+    all: &[(&[Pose], Reach)],
+    pose_sets: &[&[Pose]],
+    slides: &[Slide],
+    targets: &[Point],
+) -> BBox {
+    let mut bbox = BBox::new();
+    for (poses, _) in all {
+        for id in m.all_markers() {
+            if let Some(p) = world(m, poses, id) {
+                bbox.add(p);
+            }
+        }
+    }
+    for poses in pose_sets {
+        for s in slides {
+            if let Some((a, b)) = s.ends(m, poses) {
+                bbox.add(a);
+                bbox.add(b);
+            }
+        }
+    }
+    for &t in targets {
+        bbox.add(t);
+    }
+    bbox
+}
+
+/// The legend's entries, before the cap: traces and the picture's marks
+/// (stretched or missed frames, searched break points, the drag target)
+/// first, then the bodies.
+fn legend_entries(m: &Mechanism, frames: &[Frame], traces: &[trace::Trace], targets: &[Point]) -> Vec<Entry> {
+    let drag = !targets.is_empty();
+    let mut entries: Vec<Entry> = traces
+        .iter()
+        .map(|t| Entry {
+            key: Key::Trace(t.colour),
+            label: format!("trace {}", t.name),
+        })
+        .collect();
+    let stretched: Vec<&Frame> = (frames.iter())
+        .filter(|f| matches!(f.status, FrameStatus::Stretched { .. }))
+        .collect();
+    let worst_stretch = (stretched.iter())
+        .filter_map(|f| match f.status {
+            FrameStatus::Stretched { residual, .. } => Some(residual),
+            _ => None,
+        })
+        .fold(None, |acc: Option<f64>, r| Some(acc.map_or(r, |a| a.max(r))));
+    if let Some(r) = worst_stretch {
+        // Stitched bodies only where joints were pulled apart; a stretch
+        // whose joints all hold missed only its input or its target.
+        let opened = (stretched.iter()).any(|f| open_bodies(m, &f.poses).contains(&true));
+        entries.push(if opened {
+            Entry {
+                key: Key::Stretched,
+                label: format!("stretched (residual up to {})", short(r)),
+            }
+        } else if drag {
+            Entry {
+                key: Key::Dashed,
+                label: format!(
+                    "out of reach: up to {} short of the target (the joints hold)",
+                    short(r)
+                ),
+            }
+        } else {
+            Entry {
+                key: Key::Dashed,
+                label: format!("input missed by up to {} (the joints hold)", short(r)),
+            }
+        });
+    }
+    if traces.iter().any(|t| !t.searched.is_empty()) {
+        entries.push(Entry {
+            key: Key::Searched,
+            label: "break point found by search".to_string(),
+        });
+    }
+    if let Some(t) = targets.last() {
+        entries.push(Entry {
+            key: Key::Target,
+            label: format!("drag target ({}, {}) and its path", num(t[0]), num(t[1])),
+        });
+    }
+    for (b, body) in m.bodies.iter().enumerate() {
+        let label = if body.fixed {
+            format!("{} (fixed)", body.name)
+        } else {
+            body.name.clone()
+        };
+        entries.push(Entry {
+            key: Key::Body(body_colour(m, b)),
+            label,
+        });
+    }
+    entries
+}
 
 /// Draws the mechanism at several poses plus the trace of every marker in
 /// `trace`, and returns the SVG text.
@@ -156,26 +290,7 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
 
     let slides = slide_ranges(m, all.iter().map(|(p, _)| *p), size);
 
-    // Bounding box of everything drawn, in world units.
-    let mut bbox = BBox::new();
-    for (poses, _) in &all {
-        for id in m.all_markers() {
-            if let Some(p) = world(m, poses, id) {
-                bbox.add(p);
-            }
-        }
-    }
-    for poses in &pose_sets {
-        for s in &slides {
-            if let Some((a, b)) = s.ends(m, poses) {
-                bbox.add(a);
-                bbox.add(b);
-            }
-        }
-    }
-    for &t in targets {
-        bbox.add(t);
-    }
+    let bbox = drawn_box(m, &all, &pose_sets, &slides, targets);
 
     let plot_w = width - 2.0 * PAD;
     let view = View::fit(&bbox, size, plot_w, PAD, HEADER);
@@ -197,71 +312,7 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
         .collect();
     let arrows: Vec<Vec<trace::Arrow>> = traces.iter().map(trace::arrows).collect();
 
-    // Legend: traces and the picture's marks first, then bodies.
-    let mut entries: Vec<Entry> = traces
-        .iter()
-        .map(|t| Entry {
-            key: Key::Trace(t.colour),
-            label: format!("trace {}", t.name),
-        })
-        .collect();
-    let stretched: Vec<&Frame> = (frames.iter())
-        .filter(|f| matches!(f.status, FrameStatus::Stretched { .. }))
-        .collect();
-    let worst_stretch = (stretched.iter())
-        .filter_map(|f| match f.status {
-            FrameStatus::Stretched { residual, .. } => Some(residual),
-            _ => None,
-        })
-        .fold(None, |acc: Option<f64>, r| Some(acc.map_or(r, |a| a.max(r))));
-    if let Some(r) = worst_stretch {
-        // Stitched bodies only where joints were pulled apart; a stretch
-        // whose joints all hold missed only its input or its target.
-        let opened = (stretched.iter()).any(|f| open_bodies(m, &f.poses).contains(&true));
-        entries.push(if opened {
-            Entry {
-                key: Key::Stretched,
-                label: format!("stretched (residual up to {})", short(r)),
-            }
-        } else if drag {
-            Entry {
-                key: Key::Dashed,
-                label: format!(
-                    "out of reach: up to {} short of the target (the joints hold)",
-                    short(r)
-                ),
-            }
-        } else {
-            Entry {
-                key: Key::Dashed,
-                label: format!("input missed by up to {} (the joints hold)", short(r)),
-            }
-        });
-    }
-    if traces.iter().any(|t| !t.searched.is_empty()) {
-        entries.push(Entry {
-            key: Key::Searched,
-            label: "break point found by search".to_string(),
-        });
-    }
-    if let Some(t) = targets.last() {
-        entries.push(Entry {
-            key: Key::Target,
-            label: format!("drag target ({}, {}) and its path", num(t[0]), num(t[1])),
-        });
-    }
-    for (b, body) in m.bodies.iter().enumerate() {
-        let label = if body.fixed {
-            format!("{} (fixed)", body.name)
-        } else {
-            body.name.clone()
-        };
-        entries.push(Entry {
-            key: Key::Body(body_colour(m, b)),
-            label,
-        });
-    }
-    let entries = legend::cap(entries);
+    let entries = legend::cap(legend_entries(m, frames, &traces, targets));
 
     // Layout: header, plot, the scale bar's strip, legend.
     let layout = Layout::new(&entries, plot_w);
@@ -290,25 +341,8 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
         .copied()
         .zip(traces.iter().map(|t| t.colour))
         .collect();
-    if let Some(&first) = order.first() {
-        // Ground: pivots and fixed slide lines, once.
-        doc = doc.add(draw_ground(m, pose_sets[first], &slides, &view, detail));
-        // Faint poses, faintest first so that nearer ones lie on top.
-        let n = order.len();
-        for (rank, &k) in order.iter().enumerate().skip(1).rev() {
-            let opacity = if n > 2 {
-                0.55 - 0.35 * (rank - 1) as f64 / (n - 2) as f64
-            } else {
-                0.45
-            };
-            let style = PoseStyle {
-                highlighted: false,
-                stretched: &open_sets[k],
-            };
-            let g =
-                draw_pose(m, pose_sets[k], &slides, &view, detail, &[], style).set("opacity", num(opacity));
-            doc = doc.add(g);
-        }
+    for g in ground_and_faint_poses(m, &pose_sets, &order, &open_sets, &slides, &view, detail) {
+        doc = doc.add(g);
     }
     for (t, a) in traces.iter().zip(&arrows) {
         doc = doc.add(trace::draw(t, a));
