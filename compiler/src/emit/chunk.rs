@@ -20,7 +20,7 @@
 use std::collections::{HashMap, HashSet};
 use std::ops::Range;
 
-use proc_macro2::TokenStream;
+use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 
 use super::roll::Run;
@@ -33,6 +33,30 @@ use crate::plan::{Plan, StepKind};
 /// own). About 280 closed-form steps of a stress chain; Stress-50 (152
 /// steps) and every bundled mechanism stay one function.
 pub const CHUNK_WEIGHT: usize = 12_000;
+
+/// What the chunks of a split plan hand each other: where each point is
+/// computed and, when a later chunk reads it, its slot in
+/// `Working::temps`; and the frame locals by name, to find what a chunk's
+/// code names.
+struct Handoff {
+    /// Pose locals by name: their body.
+    pose_of: HashMap<String, usize>,
+    /// Point locals by name: their temp.
+    temp_of: HashMap<String, usize>,
+    /// The chunk computing each temp (`usize::MAX`: none).
+    defined_in: Vec<usize>,
+    /// Each temp's slot in `Working::temps`, if a later chunk reads it.
+    slot: Vec<Option<Literal>>,
+}
+
+impl Handoff {
+    /// The bodies or temps (by `of`) that code with uses `u` names, in order.
+    fn named(&self, u: &Uses, of: &HashMap<String, usize>) -> Vec<usize> {
+        let mut found: Vec<usize> = u.idents().filter_map(|id| of.get(id).copied()).collect();
+        found.sort_unstable();
+        found
+    }
+}
 
 /// A run of steps that becomes one function.
 pub(super) struct Chunk {
@@ -168,34 +192,31 @@ impl Emitter<'_> {
                 defined_in[t] = chunk_of[i];
             }
         }
-        let used_in = |c: usize, ident: &str| uses[c].has(ident);
         // The bodies and points each chunk names, found from its own
         // identifiers (never by a scan of every body per chunk, which made
         // emitting quadratic in the plan's length).
-        let pose_of: HashMap<String, usize> = (0..plan.bodies.len())
-            .filter(|&b| !plan.bodies[b].fixed)
-            .map(|b| (self.pose_idents[b].to_string(), b))
-            .collect();
-        let temp_of: HashMap<String, usize> = (self.temp_idents.iter().enumerate())
-            .map(|(t, id)| (id.to_string(), t))
-            .collect();
-        let named = |c: usize, of: &HashMap<String, usize>| -> Vec<usize> {
-            let mut found: Vec<usize> = uses[c].idents().filter_map(|id| of.get(id).copied()).collect();
-            found.sort_unstable();
-            found
+        let mut handoff = Handoff {
+            pose_of: (0..plan.bodies.len())
+                .filter(|&b| !plan.bodies[b].fixed)
+                .map(|b| (self.pose_idents[b].to_string(), b))
+                .collect(),
+            temp_of: (self.temp_idents.iter().enumerate())
+                .map(|(t, id)| (id.to_string(), t))
+                .collect(),
+            defined_in,
+            slot: vec![None; plan.temps.len()],
         };
         let mut last_use = vec![0; plan.temps.len()];
-        for c in 0..chunks.len() {
-            for t in named(c, &temp_of) {
+        for (c, u) in uses.iter().enumerate() {
+            for t in handoff.named(u, &handoff.temp_of) {
                 last_use[t] = c;
             }
         }
         // The points a later chunk reads get a slot in `Working::temps`.
-        let mut slot = vec![None; plan.temps.len()];
         let mut slots = 0;
-        for (t, &c) in defined_in.iter().enumerate() {
+        for (t, &c) in handoff.defined_in.iter().enumerate() {
             if c != usize::MAX && last_use[t] > c {
-                slot[t] = Some(index(slots));
+                handoff.slot[t] = Some(index(slots));
                 slots += 1;
             }
         }
@@ -244,99 +265,119 @@ impl Emitter<'_> {
                 self.rolled_chunk(run, f, doc, sink);
                 continue;
             }
-            let code: Vec<TokenStream> = chunk.steps.clone().map(|i| self.step(i)).collect();
-            let uses = |ident: &str| used_in(c, ident);
-            let written: HashSet<usize> = chunk
-                .steps
-                .clone()
-                .flat_map(|i| plan.steps[i].kind.writes())
-                .collect();
-            let mut take = Vec::new();
-            let mut commit = Vec::new();
-            let mut state_used = false;
-            for b in named(c, &pose_of) {
-                let id = &self.pose_idents[b];
-                let i = index(b);
-                // On values the chunks work in place on the state; on jets,
-                // on the working poses (the caller's `out`).
-                let poses = if jets { quote!(w.poses) } else { quote!(s.poses) };
-                state_used = true;
-                if written.contains(&b) {
-                    take.push(quote!(let mut #id = #poses[#i];));
-                    commit.push(quote!(#poses[#i] = #id;));
-                } else {
-                    take.push(quote!(let #id = #poses[#i];));
-                }
-            }
-            for t in named(c, &temp_of) {
-                let Some(k) = &slot[t] else { continue };
-                let id = &self.temp_idents[t];
-                if defined_in[t] == c {
-                    commit.push(quote!(w.temps[#k] = #id;));
-                } else if defined_in[t] < c {
-                    take.push(quote!(let #id = w.temps[#k];));
-                }
-            }
-            let mut reads_inputs = uses("inputs");
-            for k in 0..plan.inputs.len() {
-                if uses(&self.input_idents[k].to_string()) {
-                    take.push(self.bind_input(k));
-                    reads_inputs = true;
-                }
-            }
-            for field in ["branches", "last"] {
-                if uses(field) {
-                    let f = format_ident!("{}", field);
-                    if jets {
-                        take.insert(0, quote!(let #f = &mut w.#f;));
-                    } else {
-                        take.insert(0, quote!(let #f = &mut s.#f;));
-                        state_used = true;
-                    }
-                }
-            }
-            let s = param("s", uses("s") || (state_used && !jets));
-            let w = param(
-                "w",
-                jets || uses("w") || commit.iter().chain(&take).any(|t| Uses::of(t).has("w")),
-            );
-            let inputs = param("inputs", reads_inputs);
-            let ctx = param("ctx", uses("ctx"));
             let (f, doc) = &names[c];
-            // Each chunk is a module of its own: rustc hands a module's
-            // functions to LLVM as one unit (always, in a debug build), and
-            // one unit holding every chunk of a 2,000-loop chain took 5 GB.
-            sink.push(if jets {
-                quote! {
-                    #[doc = #doc]
-                    mod #f {
-                        use super::*;
+            sink.push(self.chunk_module(chunk, c, &uses[c], &handoff, f, doc));
+        }
+    }
 
-                        #[inline(never)]
-                        pub(super) fn run(#s: &State, #w: &mut JetWorking<'_>, #inputs: &[Jet2], #ctx: &mut Ctx) -> Result<(), RateError> {
-                            #(#take)*
-                            #(#code)*
-                            #(#commit)*
-                            Ok(())
-                        }
-                    }
-                }
+    /// Chunk `c` of a split plan as a module of its own, whose `run` reads
+    /// the poses, points and inputs its steps name (`u`) from the state and
+    /// from what earlier chunks handed on (`h`), and writes back what it
+    /// changed.
+    fn chunk_module(
+        &self,
+        chunk: &Chunk,
+        c: usize,
+        u: &Uses,
+        h: &Handoff,
+        f: &proc_macro2::Ident,
+        doc: &str,
+    ) -> TokenStream {
+        let code: Vec<TokenStream> = chunk.steps.clone().map(|i| self.step(i)).collect();
+        let uses = |ident: &str| u.has(ident);
+        let written: HashSet<usize> = chunk
+            .steps
+            .clone()
+            .flat_map(|i| self.plan.steps[i].kind.writes())
+            .collect();
+        let mut take = Vec::new();
+        let mut commit = Vec::new();
+        let mut state_used = false;
+        for b in h.named(u, &h.pose_of) {
+            let id = &self.pose_idents[b];
+            let i = index(b);
+            // On values the chunks work in place on the state; on jets,
+            // on the working poses (the caller's `out`).
+            let poses = if self.jets {
+                quote!(w.poses)
             } else {
-                quote! {
-                    #[doc = #doc]
-                    mod #f {
-                        use super::*;
+                quote!(s.poses)
+            };
+            state_used = true;
+            if written.contains(&b) {
+                take.push(quote!(let mut #id = #poses[#i];));
+                commit.push(quote!(#poses[#i] = #id;));
+            } else {
+                take.push(quote!(let #id = #poses[#i];));
+            }
+        }
+        for t in h.named(u, &h.temp_of) {
+            let Some(k) = &h.slot[t] else { continue };
+            let id = &self.temp_idents[t];
+            if h.defined_in[t] == c {
+                commit.push(quote!(w.temps[#k] = #id;));
+            } else if h.defined_in[t] < c {
+                take.push(quote!(let #id = w.temps[#k];));
+            }
+        }
+        let mut reads_inputs = uses("inputs");
+        for k in 0..self.plan.inputs.len() {
+            if uses(&self.input_idents[k].to_string()) {
+                take.push(self.bind_input(k));
+                reads_inputs = true;
+            }
+        }
+        for field in ["branches", "last"] {
+            if uses(field) {
+                let f = format_ident!("{}", field);
+                if self.jets {
+                    take.insert(0, quote!(let #f = &mut w.#f;));
+                } else {
+                    take.insert(0, quote!(let #f = &mut s.#f;));
+                    state_used = true;
+                }
+            }
+        }
+        let s = param("s", uses("s") || (state_used && !self.jets));
+        let w = param(
+            "w",
+            self.jets || uses("w") || commit.iter().chain(&take).any(|t| Uses::of(t).has("w")),
+        );
+        let inputs = param("inputs", reads_inputs);
+        let ctx = param("ctx", uses("ctx"));
+        // Each chunk is a module of its own: rustc hands a module's
+        // functions to LLVM as one unit (always, in a debug build), and
+        // one unit holding every chunk of a 2,000-loop chain took 5 GB.
+        if self.jets {
+            quote! {
+                #[doc = #doc]
+                mod #f {
+                    use super::*;
 
-                        #[inline(never)]
-                        pub(super) fn run(#s: &mut State, #w: &mut Working, #inputs: &[f64], #ctx: &mut Ctx) -> Result<(), Break> {
-                            #(#take)*
-                            #(#code)*
-                            #(#commit)*
-                            Ok(())
-                        }
+                    #[inline(never)]
+                    pub(super) fn run(#s: &State, #w: &mut JetWorking<'_>, #inputs: &[Jet2], #ctx: &mut Ctx) -> Result<(), RateError> {
+                        #(#take)*
+                        #(#code)*
+                        #(#commit)*
+                        Ok(())
                     }
                 }
-            });
+            }
+        } else {
+            quote! {
+                #[doc = #doc]
+                mod #f {
+                    use super::*;
+
+                    #[inline(never)]
+                    pub(super) fn run(#s: &mut State, #w: &mut Working, #inputs: &[f64], #ctx: &mut Ctx) -> Result<(), Break> {
+                        #(#take)*
+                        #(#code)*
+                        #(#commit)*
+                        Ok(())
+                    }
+                }
+            }
         }
     }
 
