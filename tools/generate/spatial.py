@@ -345,7 +345,7 @@ def rssr():
     d.joint("D", "revolute", "ground.D", "rocker.D")
     d.input("theta", "angle", "A")
     d.sweep = {"input": "theta", "from": 0.0, "to": 360.0, "steps": 361, "trace": ["coupler.M"]}
-    d.h("rssr: spatial four-bar R-S-S-R (crank-rocker), the example of SPATIAL.md section 3.",
+    d.h("rssr: spatial four-bar R-S-S-R (crank-rocker), the example of docs/design/spatial.md §3.",
         "crank: revolute A to ground about +z through the origin, B = (1, 0, 0) (radius 1; input theta).",
         "rocker: revolute D to ground at D = (-0.5, 3.2, 2.0) about the skew axis (1, 0, 1)/sqrt2;",
         "its spherical joint C is at C = D + (s, 1.25, -s), s = sqrt(75/32): radius 2.5, C - D normal",

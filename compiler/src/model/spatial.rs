@@ -5,7 +5,7 @@
 //! in world coordinates of the drawn pose, so every body's drawn pose is the
 //! identity; the first marker of a joint or constraint owns the axis, line,
 //! plane or reference direction, and the second is constrained (Kramer
-//! writes in-line and in-plane the other way round; SPATIAL.md §6).
+//! writes in-line and in-plane the other way round; docs/design/spatial.md §6).
 
 use super::{Body, Input, MarkerId, MarkerLike, SourceFile, Sweep};
 
@@ -155,7 +155,7 @@ impl JointKind3 {
     }
 
     /// The primitive constraints the joint is made of, in the order the
-    /// planner meets them (position before orientation, as the seed's
+    /// planner meets them (position before orientation, as Kramer's
     /// revolute: coincident, then parallel-z).
     pub fn primitives(self) -> &'static [Primitive] {
         use Primitive::*;

@@ -2,7 +2,7 @@
 //! back ends, as [`super::Plan`] is for planar plans.
 //!
 //! A spatial plan moves bodies by **actions** (Kramer's translate and
-//! rotate, SPATIAL.md §2.2), each taking a body from the pose it has —
+//! rotate, docs/design/spatial.md §2.2), each taking a body from the pose it has —
 //! last frame's, at first — to one that meets one more constraint while
 //! keeping those met before. Freedoms no constraint removes are therefore
 //! kept at minimum motion (an RSSR coupler's spin stays where it was).
@@ -67,7 +67,7 @@ pub enum D3 {
     Temp(usize),
 }
 
-/// What an action does to its body (SPATIAL.md §2.2). Every rotation is
+/// What an action does to its body (docs/design/spatial.md §2.2). Every rotation is
 /// about the body's pivot, so it keeps the constraints met before.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Action3 {

@@ -1,6 +1,6 @@
 //! Numeric clusters of spatial plans: what no fragment closes is solved by
 //! Newton–Raphson ([`crate::numeric::Newton`]) on each cluster body's
-//! reduced unknowns, counted from its state (SPATIAL.md §2.7): a rotation
+//! reduced unknowns, counted from its state (docs/design/spatial.md §2.7): a rotation
 //! about a known axis (1), about a known pivot (3), or a free motion (6).
 //!
 //! A body's pose is its warm start moved by its unknowns `x` ([`moved`]):

@@ -1,4 +1,4 @@
-//! Counting in space (SPATIAL.md §1.4): Grübler–Kutzbach mobility, mobility
+//! Counting in space (docs/design/spatial.md §1.4): Grübler–Kutzbach mobility, mobility
 //! from the rank of the joint Jacobian at the drawn pose, the redundant
 //! equations named by joint and primitive, and the idle freedoms left with
 //! the inputs added.

@@ -1,4 +1,4 @@
-//! The spatial plan-fragment table (SPATIAL.md §2.3), as data.
+//! The spatial plan-fragment table (docs/design/spatial.md §2.3), as data.
 //!
 //! A row says: a body whose freedoms are (`t`, `r`), meeting a primitive
 //! whose other side is known, in this `case`, takes this `action` and ends
@@ -393,7 +393,7 @@ pub const FRAGMENTS: &[Fragment] = &[
         1,
         "branch when the line lies in the circle's plane",
     ),
-    // in-line with the body owning the line (role swap, §2.4 rule 1)
+    // in-line with the body owning the line (role swap, docs/design/spatial.md §2.4 rule 1)
     row(
         TDof::Free,
         Some(Fixed),

@@ -1,7 +1,7 @@
 //! Kramer's degrees-of-freedom analysis in space.
 //!
 //! Each moving body carries a state (its translational and rotational
-//! freedoms with their arguments, SPATIAL.md §2.1). The planner repeats
+//! freedoms with their arguments, docs/design/spatial.md §2.1). The planner repeats
 //! Kramer's algorithm until nothing is left:
 //! 1. **propagation**: an equation whose other side is known is met by the
 //!    fragment the table ([`super::fragments`]) gives for the body's state;

@@ -1,5 +1,5 @@
 //! Spatial joints, constraints and inputs as Kramer's primitive equations
-//! on body poses (SPATIAL.md §1.2–1.3).
+//! on body poses (docs/design/spatial.md §1.2–1.3).
 //!
 //! Every equation holds two marker frames in their bodies' local (= drawn)
 //! coordinates. A joint's second marker without axes of its own takes the
