@@ -8,11 +8,6 @@
 //! address (a DNS-rebinding page's Host is its own name), and the
 //! WebSocket's Origin must be the page's.
 
-mod document;
-mod editing;
-mod session;
-mod view3;
-
 use std::io::{self, Read, Write};
 use std::net::{Ipv4Addr, SocketAddr};
 use std::path::Path;
@@ -29,9 +24,10 @@ use axum::Router;
 use futures_util::FutureExt;
 use serde_json::Value;
 
-use document::Document;
-use editing::{View, Workspace};
-use session::Session;
+use dofplan::edit::document::Document;
+use dofplan::edit::session::{self, Session};
+use dofplan::edit::view3;
+use dofplan::edit::workspace::{self as editing, View, Workspace};
 
 /// The page and its script and style, embedded at compile time.
 const INDEX_HTML: &str = include_str!("../../../../web/index.html");
@@ -74,7 +70,7 @@ pub fn run(file: Option<&Path>, port: Option<u16>, open: bool, out: &mut dyn Wri
             return Ok(ExitCode::FAILURE);
         }
     };
-    let workspace = match Workspace::open(file, dir) {
+    let workspace = match Workspace::open_watched(file, dir, Some(watch)) {
         Ok(w) => w,
         Err(text) => {
             crate::report(&text);
@@ -153,6 +149,12 @@ pub fn run(file: Option<&Path>, port: Option<u16>, open: bool, out: &mut dyn Wri
             Ok(ExitCode::FAILURE)
         }
     }
+}
+
+/// The progress of a document's analysis, on a terminal for a large file.
+fn watch(file: &Path) -> Box<dyn FnMut(dofplan::analysis::Progress)> {
+    let bar = crate::progress::Bar::for_file(file);
+    Box::new(move |p| bar.report(p))
 }
 
 /// The routes, every one behind [`guard`].
