@@ -11,41 +11,26 @@ use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use serde_json::{json, Map, Value};
 
 use dofplan::analysis::analyse_with;
 use dofplan::assemble::{assemble_file, assemble_file3};
 use dofplan::emit::emit;
-use dofplan::format::number;
 use dofplan::model::spatial::Mechanism3;
 use dofplan::model::Model;
 
-#[path = "cli/spatial.rs"]
-mod spatial;
-#[path = "cli/summary.rs"]
-mod summary;
-use dofplan::interp::Interpreter;
-use dofplan::model::{MarkerId, Mechanism, Sweep, MAX_STEPS};
-use dofplan::numeric::drag::Drag;
-use dofplan::numeric::PureNewton;
+use dofplan::model::{Mechanism, Sweep, MAX_STEPS};
 use dofplan::plan::Plan;
-use dofplan::render::{render, SvgOptions};
 use dofplan::report::check::Check;
-use dofplan::simulate::{frames, marker_positions, sweep_requests, Frame};
-use dofplan_runtime::planar::Pose;
-use dofplan_runtime::{Animate, BranchPolicy, BreakPolicy, Driver, FrameStatus, Options, StartPolicy};
-use summary::{Describe, Explain, Summary};
+use dofplan::report::frames::{self, Solver};
+use dofplan::report::spatial as spatial3;
+use dofplan::report::{analyze, analyze3, Form, Outcome};
+use dofplan_runtime::{BranchPolicy, BreakPolicy, Options, StartPolicy};
 
 #[path = "dofplan/progress.rs"]
 mod progress;
 
 #[path = "cli/edit/mod.rs"]
 mod edit;
-
-#[path = "cli/analyze.rs"]
-mod analyze;
-#[path = "cli/analyze3.rs"]
-mod analyze3;
 
 /// Plan, explain and simulate mechanisms.
 #[derive(Parser)]
@@ -320,6 +305,15 @@ enum SolverArg {
     Newton,
 }
 
+impl From<SolverArg> for Solver {
+    fn from(s: SolverArg) -> Solver {
+        match s {
+            SolverArg::Plan => Solver::Plan,
+            SolverArg::Newton => Solver::Newton,
+        }
+    }
+}
+
 impl From<PolicyArg> for BreakPolicy {
     fn from(p: PolicyArg) -> BreakPolicy {
         match p {
@@ -367,7 +361,7 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
         return spatial_command(command, &m, out);
     }
     match command {
-        Command::Fragments => spatial::fragments(out),
+        Command::Fragments => fragments(out),
         Command::Check { file, json } => check(&file, json, out),
         Command::Plan { file } => with_plan(&file, |_, plan| {
             write!(out, "{}", plan.explain_all())?;
@@ -438,7 +432,18 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
                 ..Options::default()
             };
             let form = Form::of(json, csv);
-            simulate(m, plan, &sweep, options, solver, form, svg.as_deref(), out)
+            let mut bar = progress::Frames::default();
+            outcome(frames::simulate(
+                m,
+                plan,
+                &sweep,
+                options,
+                solver.into(),
+                form,
+                svg.as_deref(),
+                &mut bar,
+                out,
+            ))
         }),
         Command::Analyze {
             file,
@@ -455,7 +460,18 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
                     return Ok(ExitCode::FAILURE);
                 }
             };
-            analyze::analyze(m, plan, &sweep, rate, Form::of(json, csv), svg.as_deref(), out)
+            let mut bar = progress::Frames::default();
+            let form = Form::of(json, csv);
+            outcome(analyze::analyze(
+                m,
+                plan,
+                &sweep,
+                rate,
+                form,
+                svg.as_deref(),
+                &mut bar,
+                out,
+            ))
         }),
         Command::Assemble { file, write } => assemble(&file, write, out),
         Command::Edit { file, port, open } => edit::run(file.as_deref(), port, open, out),
@@ -500,7 +516,16 @@ fn spatial_command(
     };
     match command {
         Command::Check { json, .. } => Ok(exit(dofplan::report::spatial::check(m, json, out)?)),
-        Command::Plan { .. } => spatial::plan(m, out),
+        Command::Plan { .. } => match dofplan::analysis::spatial::analyse(m) {
+            Ok(p) => {
+                write!(out, "{}", p.explain_all())?;
+                Ok(ExitCode::SUCCESS)
+            }
+            Err(e) => {
+                report(&format!("{}: error: {e}", m.source.name));
+                Ok(ExitCode::FAILURE)
+            }
+        },
         Command::Simulate {
             sweep: sweep_args,
             policy,
@@ -535,14 +560,18 @@ fn spatial_command(
                 start: StartPolicy::Sweep,
                 ..Options::default()
             };
-            let form = if json {
-                spatial::Form3::Json
-            } else if csv {
-                spatial::Form3::Csv
-            } else {
-                spatial::Form3::Text
-            };
-            spatial::simulate(m, &plan, &sweep, options, form, svg.as_deref(), out)
+            let form = Form::of(json, csv);
+            let mut bar = progress::Frames::default();
+            outcome(spatial3::simulate(
+                m,
+                &plan,
+                &sweep,
+                options,
+                form,
+                svg.as_deref(),
+                &mut bar,
+                out,
+            ))
         }
         Command::Drag {
             marker,
@@ -563,14 +592,9 @@ fn spatial_command(
                 breaking: policy.into(),
                 ..Options::default()
             };
-            let form = if json {
-                spatial::Form3::Json
-            } else if csv {
-                spatial::Form3::Csv
-            } else {
-                spatial::Form3::Text
-            };
-            spatial::drag(
+            let form = Form::of(json, csv);
+            let mut bar = progress::Frames::default();
+            outcome(spatial3::drag(
                 m,
                 &marker,
                 from,
@@ -579,8 +603,9 @@ fn spatial_command(
                 options,
                 form,
                 svg.as_deref(),
+                &mut bar,
                 out,
-            )
+            ))
         }
         Command::Analyze {
             sweep: sweep_args,
@@ -604,14 +629,18 @@ fn spatial_command(
                     return Ok(ExitCode::FAILURE);
                 }
             };
-            let form = if json {
-                spatial::Form3::Json
-            } else if csv {
-                spatial::Form3::Csv
-            } else {
-                spatial::Form3::Text
-            };
-            analyze3::analyze(m, &plan, &sweep, rate, form, svg.as_deref(), out)
+            let form = Form::of(json, csv);
+            let mut bar = progress::Frames::default();
+            outcome(analyze3::analyze(
+                m,
+                &plan,
+                &sweep,
+                rate,
+                form,
+                svg.as_deref(),
+                &mut bar,
+                out,
+            ))
         }
         Command::Emit { .. } => match dofplan::analysis::spatial::analyse(m) {
             Ok(plan) => {
@@ -625,10 +654,16 @@ fn spatial_command(
         },
         // Never a spatial file here (`spatial_file` leaves it to `assemble`).
         Command::Assemble { file, write } => assemble(&file, write, out),
-        Command::Fragments => spatial::fragments(out),
+        Command::Fragments => fragments(out),
         // Never a spatial file here (`spatial_file` leaves it to the editor).
         Command::Edit { file, port, open } => edit::run(file.as_deref(), port, open, out),
     }
+}
+
+/// `dofplan fragments`: the spatial plan-fragment table.
+fn fragments(out: &mut dyn Write) -> io::Result<ExitCode> {
+    write!(out, "{}", dofplan::analysis::spatial::fragments::table())?;
+    Ok(ExitCode::SUCCESS)
 }
 
 /// `dofplan assemble`: the table of moves goes to standard error when the
@@ -688,7 +723,7 @@ fn wants_colour(terminal: bool, no_color: Option<std::ffi::OsString>) -> bool {
 /// Reports an error about `place` (a file) that has no position in it, and
 /// what to do.
 fn error(place: &str, message: &str, help: &str) {
-    report(&format!("{place}: error: {message}\n  help: {help}"));
+    report(&dofplan::report::error(place, message, help));
 }
 
 /// Loads a file, showing progress on a terminal for a large one, or
@@ -855,58 +890,6 @@ impl SweepSource for Mechanism3 {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-fn simulate(
-    m: &Mechanism,
-    plan: &Plan,
-    sweep: &Sweep,
-    options: Options,
-    solver: SolverArg,
-    form: Form,
-    svg: Option<&Path>,
-    out: &mut dyn Write,
-) -> io::Result<ExitCode> {
-    let mut driver: Box<dyn Animate> = match solver {
-        SolverArg::Plan => Box::new(Driver::new(Interpreter::new(plan.clone()), options)),
-        SolverArg::Newton => Box::new(Driver::new(PureNewton::new(m), options)),
-    };
-    let report = sweep_report(m, plan, sweep, solver);
-    let requested = sweep_requests(sweep, m.inputs.len());
-    output(&report, frames(driver.as_mut(), requested), form, svg, out)
-}
-
-/// The report of a sweep (`simulate`, `analyze`): its title, the inputs'
-/// names, and how a break is explained.
-fn sweep_report<'a>(m: &'a Mechanism, plan: &'a Plan, sweep: &Sweep, solver: SolverArg) -> Report<'a> {
-    let input = sweep.primary().input;
-    let name = m.inputs[input].name.clone();
-    let ranges: Vec<String> = sweep
-        .inputs
-        .iter()
-        .map(|s| {
-            format!(
-                "{} from {} to {}",
-                m.inputs[s.input].name,
-                precise(s.from),
-                precise(s.to)
-            )
-        })
-        .collect();
-    Report {
-        m,
-        title: format!("{}: {} frames, {}", m.name, sweep.steps, ranges.join(", ")),
-        input_names: m.inputs.iter().map(|i| i.name.clone()).collect(),
-        value_name: name,
-        value: Box::new(move |inputs, f| f(inputs[input])),
-        explain: Box::new(move |step| match solver {
-            SolverArg::Plan => plan.explain(step as usize),
-            SolverArg::Newton => "Newton-Raphson on every mobile link".to_string(),
-        }),
-        trace: sweep.trace.clone(),
-        targets: false,
-    }
-}
-
 /// Parses "X,Y" into a finite point.
 fn parse_point(text: &str) -> Result<Target, String> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
@@ -964,6 +947,17 @@ fn parse_finite(text: &str) -> Result<f64, String> {
     }
 }
 
+/// Shows a command's report, or the error it came to.
+fn outcome(written: Outcome) -> io::Result<ExitCode> {
+    Ok(match written? {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(message) => {
+            report(&message);
+            ExitCode::FAILURE
+        }
+    })
+}
+
 #[allow(clippy::too_many_arguments)]
 fn drag(
     file: &Path,
@@ -980,365 +974,10 @@ fn drag(
         return Ok(ExitCode::FAILURE);
     };
     let place = file.display().to_string();
-    let Some(id) = m.find_marker(marker) else {
-        let names: Vec<String> = m.all_markers().map(|id| m.marker_name(id)).collect();
-        error(
-            &place,
-            &format!("no marker `{marker}` to drag"),
-            &format!("markers are: {}", names.join(", ")),
-        );
-        return Ok(ExitCode::FAILURE);
-    };
-    let solver = match Drag::new(&m, id) {
-        Ok(d) => d,
-        Err(e) => {
-            report(&format!("{place}: error: {e}"));
-            return Ok(ExitCode::FAILURE);
-        }
-    };
-    let from = from.unwrap_or(m.marker(id).at);
-    let targets = (0..steps).map(move |i| {
-        let t = if steps == 1 {
-            1.0
-        } else {
-            i as f64 / (steps - 1) as f64
-        };
-        [from[0] + t * (to[0] - from[0]), from[1] + t * (to[1] - from[1])]
-    });
-    let point = |p: &[f64], f: fn(f64) -> String| format!("({}, {})", f(p[0]), f(p[1]));
-    let report = Report {
-        m: &m,
-        title: format!(
-            "{}: {steps} frames, drag of {marker} from {} to {}",
-            m.name,
-            point(&from, precise),
-            point(&to, precise)
-        ),
-        input_names: vec![format!("{marker}.x"), format!("{marker}.y")],
-        value_name: "target".into(),
-        value: Box::new(point),
-        explain: Box::new(|_| format!("drag of {marker}")),
-        trace: vec![id],
-        targets: true,
-    };
-    let mut driver = Driver::new(solver, options);
-    output(&report, frames(&mut driver, targets), form, svg, out)
-}
-
-/// What the output of a run of frames needs besides the frames: how to
-/// name the inputs, how to explain a step, which markers to trace.
-struct Report<'a> {
-    m: &'a Mechanism,
-    /// The summary's first line: what is run.
-    title: String,
-    /// The names of the inputs, keys of JSON's "inputs" and CSV columns.
-    input_names: Vec<String>,
-    /// What the summary calls the driven value ("theta", "target")…
-    value_name: String,
-    /// …and how it writes that value from a frame's inputs.
-    value: Box<Describe<'a>>,
-    explain: Box<dyn Fn(u32) -> String + 'a>,
-    trace: Vec<MarkerId>,
-    /// The frames' requested values are a drag's targets, drawn in the SVG.
-    targets: bool,
-}
-
-/// The form of the printed frames.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum Form {
-    /// A summary naming every break.
-    Text,
-    /// One JSON document.
-    Json,
-    /// One CSV row per frame.
-    Csv,
-}
-
-impl Form {
-    fn of(json: bool, csv: bool) -> Form {
-        match (json, csv) {
-            (true, _) => Form::Json,
-            (_, true) => Form::Csv,
-            _ => Form::Text,
-        }
-    }
-}
-
-/// An input value where the pose is (held, or a break point): up to 9
-/// decimals, the precision a break point is searched to. Requested values
-/// are written with [`num`]'s 4.
-fn precise(x: f64) -> String {
-    dofplan::format::rounded(x, 9)
-}
-
-/// Writes the frames as they come, in `form`, keeping them only when an SVG
-/// is to be drawn from them.
-fn output(
-    r: &Report,
-    frames: impl Iterator<Item = Frame>,
-    form: Form,
-    svg: Option<&Path>,
-    out: &mut dyn Write,
-) -> io::Result<ExitCode> {
-    // Steps of a planar plan are shown by their own index.
-    let explain = |step: u32| (step as usize, (r.explain)(step));
-    let explain: &Explain = &explain;
-    let mut writer: Box<dyn FrameWriter + '_> = match form {
-        Form::Json => Box::new(JsonFrames { r, count: 0 }),
-        Form::Csv => Box::new(CsvFrames { r }),
-        Form::Text => Box::new(TextFrames {
-            title: &r.title,
-            summary: Summary::new(&r.value_name, &*r.value, explain),
-        }),
-    };
-    writer.begin(out)?;
-    let mut kept = Vec::new();
-    let mut bar = progress::FrameBar::new(frames.size_hint().1);
-    for (i, f) in frames.enumerate() {
-        writer.frame(out, i, &f)?;
-        if svg.is_some() {
-            kept.push(f);
-        }
-        bar.tick(i + 1);
-    }
-    drop(bar);
-    writer.end(out)?;
-    if let Some(path) = svg {
-        let options = SvgOptions {
-            targets: if r.targets {
-                kept.iter().map(|f| [f.requested[0], f.requested[1]]).collect()
-            } else {
-                Vec::new()
-            },
-            ..SvgOptions::default()
-        };
-        let text = render(r.m, &kept, &r.trace, &options);
-        if let Err(e) = std::fs::write(path, text) {
-            report(&format!("{}: error: cannot write the SVG: {e}", path.display()));
-            return Ok(ExitCode::FAILURE);
-        }
-        if form == Form::Text {
-            writeln!(out, "wrote {}", path.display())?;
-        }
-    }
-    Ok(ExitCode::SUCCESS)
-}
-
-/// Writes frames one at a time.
-trait FrameWriter {
-    /// Before the first frame.
-    fn begin(&mut self, out: &mut dyn Write) -> io::Result<()>;
-    /// Frame number `index`.
-    fn frame(&mut self, out: &mut dyn Write, index: usize, f: &Frame) -> io::Result<()>;
-    /// After the last frame.
-    fn end(&mut self, out: &mut dyn Write) -> io::Result<()>;
-}
-
-/// `{"mechanism": …, "frames": [ … ]}`, written a frame at a time (one a
-/// line) so no frame is kept.
-struct JsonFrames<'r, 'a> {
-    r: &'r Report<'a>,
-    count: usize,
-}
-
-impl FrameWriter for JsonFrames<'_, '_> {
-    fn begin(&mut self, out: &mut dyn Write) -> io::Result<()> {
-        writeln!(
-            out,
-            "{{\n  \"mechanism\": {},\n  \"frames\": [",
-            json!(self.r.m.name)
-        )
-    }
-
-    fn frame(&mut self, out: &mut dyn Write, _: usize, f: &Frame) -> io::Result<()> {
-        if self.count > 0 {
-            writeln!(out, ",")?;
-        }
-        self.count += 1;
-        write!(out, "    ")?;
-        serde_json::to_writer(&mut *out, &frame_json(self.r, f))?;
-        Ok(())
-    }
-
-    fn end(&mut self, out: &mut dyn Write) -> io::Result<()> {
-        if self.count > 0 {
-            writeln!(out)?;
-        }
-        writeln!(out, "  ]\n}}")
-    }
-}
-
-fn frame_json(r: &Report, f: &Frame) -> Value {
-    let m = r.m;
-    let named = |vals: &[f64]| -> Value {
-        Value::Object(
-            r.input_names
-                .iter()
-                .zip(vals)
-                .map(|(n, v)| (n.clone(), json!(v)))
-                .collect(),
-        )
-    };
-    let mut o = Map::new();
-    o.insert("inputs".into(), named(&f.requested));
-    // A frame the sweep has not reached has no pose: null, not the drawing.
-    let unreached = matches!(f.status, FrameStatus::Unreached { .. });
-    o.insert(
-        "reached".into(),
-        if unreached { Value::Null } else { named(&f.inputs) },
-    );
-    o.insert("status".into(), json!(f.status.name()));
-    if let Some((k, v)) = status_json(r, &f.status) {
-        o.insert(k.into(), v);
-    }
-    if unreached {
-        o.insert("markers".into(), Value::Null);
-        o.insert("bodies".into(), Value::Null);
-        return Value::Object(o);
-    }
-    if let Some(n) = &f.numeric {
-        o.insert(
-            "newton".into(),
-            json!({
-                "outcome": format!("{:?}", n.outcome).to_lowercase(),
-                "iterations": n.iterations,
-                "residual": n.residual,
-                "rank": n.rank,
-            }),
-        );
-    }
-    o.insert(
-        "markers".into(),
-        Value::Object(
-            marker_positions(m, &f.poses)
-                .into_iter()
-                .map(|(k, p)| (k, json!(p)))
-                .collect(),
-        ),
-    );
-    o.insert(
-        "bodies".into(),
-        Value::Object(
-            m.bodies
-                .iter()
-                .zip(&f.poses)
-                .map(|(b, p)| {
-                    let pose = json!({"angle": angle(p), "x": p.at[0], "y": p.at[1]});
-                    (b.name.clone(), pose)
-                })
-                .collect(),
-        ),
-    );
-    Value::Object(o)
-}
-
-/// A body's rotation from its drawn pose in degrees, in (−180, 180].
-fn angle(p: &Pose) -> f64 {
-    let a = p.rot.degrees();
-    // atan2 gives −180 for a half turn whose sine rounded to −0.
-    if a <= -180.0 {
-        a + 360.0
-    } else {
-        a
-    }
-}
-
-/// The "break" or "stretch" detail of a frame that was not solved.
-fn status_json(r: &Report, status: &FrameStatus) -> Option<(&'static str, Value)> {
-    let brk = |b: &dofplan_runtime::Break| {
-        json!({
-            "step": b.step,
-            "explanation": (r.explain)(b.step),
-            "reason": b.kind.describe(),
-            "gap": b.gap,
-        })
-    };
-    match status {
-        FrameStatus::Solved => None,
-        FrameStatus::Limited { brk: b } | FrameStatus::Unreached { brk: b } => Some(("break", brk(b))),
-        FrameStatus::Searched { brk: b, reached } => Some(("break", {
-            let mut v = brk(b);
-            v["reached"] = json!(reached);
-            v
-        })),
-        FrameStatus::Stretched { step, residual } => Some((
-            "stretch",
-            json!({"step": step, "explanation": (r.explain)(*step), "residual": residual}),
-        )),
-    }
-}
-
-/// One CSV row per frame.
-struct CsvFrames<'r, 'a> {
-    r: &'r Report<'a>,
-}
-
-impl FrameWriter for CsvFrames<'_, '_> {
-    fn begin(&mut self, out: &mut dyn Write) -> io::Result<()> {
-        let m = self.r.m;
-        let mut header = vec!["frame".to_string()];
-        header.extend(self.r.input_names.iter().cloned());
-        header.push("status".into());
-        for id in m.all_markers() {
-            let n = m.marker_name(id);
-            header.push(format!("{n}.x"));
-            header.push(format!("{n}.y"));
-        }
-        for b in &m.bodies {
-            for field in ["angle", "x", "y"] {
-                header.push(format!("{}.{field}", b.name));
-            }
-        }
-        writeln!(out, "{}", header.join(","))
-    }
-
-    fn frame(&mut self, out: &mut dyn Write, index: usize, f: &Frame) -> io::Result<()> {
-        let mut row = vec![index.to_string()];
-        row.extend(f.requested.iter().map(|v| number(*v)));
-        row.push(f.status.name().to_string());
-        if matches!(f.status, FrameStatus::Unreached { .. }) {
-            // No pose: empty cells, not the drawing's numbers.
-            let cells = 2 * self.r.m.all_markers().count() + 3 * f.poses.len();
-            row.extend(std::iter::repeat_n(String::new(), cells));
-            return writeln!(out, "{}", row.join(","));
-        }
-        for (_, p) in marker_positions(self.r.m, &f.poses) {
-            row.push(number(p[0]));
-            row.push(number(p[1]));
-        }
-        for p in &f.poses {
-            row.push(number(angle(p)));
-            row.push(number(p.at[0]));
-            row.push(number(p.at[1]));
-        }
-        writeln!(out, "{}", row.join(","))
-    }
-
-    fn end(&mut self, _: &mut dyn Write) -> io::Result<()> {
-        Ok(())
-    }
-}
-
-/// The text summary of a planar run (`cli/summary.rs`): the title, the
-/// runs of frames that broke alike, the counts.
-struct TextFrames<'r> {
-    title: &'r str,
-    summary: Summary<'r>,
-}
-
-impl FrameWriter for TextFrames<'_> {
-    fn begin(&mut self, out: &mut dyn Write) -> io::Result<()> {
-        writeln!(out, "{}", self.title)
-    }
-
-    fn frame(&mut self, out: &mut dyn Write, index: usize, f: &Frame) -> io::Result<()> {
-        self.summary.frame(out, index, &f.requested, &f.inputs, &f.status)
-    }
-
-    fn end(&mut self, out: &mut dyn Write) -> io::Result<()> {
-        let counts = self.summary.end(out)?;
-        writeln!(out, "{counts}")
-    }
+    let mut bar = progress::Frames::default();
+    outcome(frames::drag(
+        &m, &place, marker, from, to, steps, options, form, svg, &mut bar, out,
+    ))
 }
 
 #[cfg(test)]
