@@ -17,6 +17,7 @@
 //! so the next edit starts from what the user sees.
 
 pub mod document;
+pub mod live;
 mod names;
 mod ops;
 pub mod save;

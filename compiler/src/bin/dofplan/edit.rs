@@ -1,7 +1,7 @@
 //! `dofplan edit`: the interactive editor, a page served on the loopback
 //! interface with a WebSocket for the live loop.
 //!
-//! The page ([`compiler/web/`](../../../../web)) is embedded in the binary, so
+//! The page ([`compiler/web/`](../../../web)) is embedded in the binary, so
 //! the editor needs no network beyond 127.0.0.1. Every request must carry
 //! the random token printed with the address (as a query parameter, or the
 //! cookie the page is served with), its Host must be this server's own
@@ -25,14 +25,15 @@ use futures_util::FutureExt;
 use serde_json::Value;
 
 use dofplan::edit::document::Document;
+use dofplan::edit::live;
 use dofplan::edit::session::{self, Session};
 use dofplan::edit::view3;
 use dofplan::edit::workspace::{self as editing, View, Workspace};
 
 /// The page and its script and style, embedded at compile time.
-const INDEX_HTML: &str = include_str!("../../../../web/index.html");
-const APP_JS: &str = include_str!("../../../../web/app.js");
-const STYLE_CSS: &str = include_str!("../../../../web/style.css");
+const INDEX_HTML: &str = include_str!("../../../web/index.html");
+const APP_JS: &str = include_str!("../../../web/app.js");
+const STYLE_CSS: &str = include_str!("../../../web/style.css");
 
 /// The largest WebSocket message accepted: a message is a few numbers.
 const MAX_MESSAGE: usize = 64 * 1024;
@@ -52,9 +53,7 @@ impl Server {
     /// The workspace, even if a page's handler panicked holding it (each
     /// change to it is made whole or not at all).
     fn workspace(&self) -> MutexGuard<'_, Workspace> {
-        self.workspace
-            .lock()
-            .unwrap_or_else(|poisoned| poisoned.into_inner())
+        live::lock(&self.workspace)
     }
 }
 
@@ -370,14 +369,15 @@ async fn live(mut socket: WebSocket, server: Arc<Server>) {
                 Run::Editing(Err(reply)) => vec![reply],
                 Run::Editing(Ok(request)) => {
                     let started = std::time::Instant::now();
-                    let mut replies =
-                        tokio::task::block_in_place(|| change(&server, &mut doc, &mut session, request));
+                    let mut replies = tokio::task::block_in_place(|| {
+                        live::change(&server.workspace, &mut doc, &mut session, request)
+                    });
                     for r in &mut replies {
                         r["server_ms"] = serde_json::json!(started.elapsed().as_secs_f64() * 1e3);
                     }
                     replies
                 }
-                Run::Live(requests) => coalesce(requests)
+                Run::Live(requests) => live::coalesce(requests)
                     .into_iter()
                     .map(|request| solve(&mut session, &doc, request))
                     .collect(),
@@ -460,72 +460,6 @@ fn solve(session: &mut Session, doc: &Arc<Document>, request: Result<session::Re
     reply
 }
 
-/// Makes the change `request` asks for at the pose on screen, and the
-/// replies: the new document and its drawn pose (the frame answering the
-/// request, with what changed in `edited`), or an error, nothing changed.
-/// The page's document `doc` and `session` start over from the new one.
-fn change(
-    server: &Server,
-    doc: &mut Arc<Document>,
-    session: &mut Session,
-    request: editing::Request,
-) -> Vec<Value> {
-    let id = request.id();
-    let mut w = server.workspace();
-    if !w.planar().is_some_and(|now| Arc::ptr_eq(doc, &now)) {
-        // Another page changed the document: this one's pose is of an
-        // older drawing, and an edit made at it would be of a file no
-        // longer there.
-        return vec![session::error(
-            id,
-            "the document was changed in another page: reload this one to edit it",
-        )];
-    }
-    let poses = editing::poses_of(&session.current(0));
-    let changed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| w.handle(request, &poses)));
-    match changed {
-        Ok(Ok(summary)) => {
-            let Some(now) = w.planar() else {
-                return vec![session::error(
-                    id,
-                    "the document is no longer planar: reload the page",
-                )];
-            };
-            *doc = now;
-            *session = Session::new(doc.clone());
-            let mut frame = session.current(id);
-            frame["edited"] = Value::String(summary);
-            vec![w.describe(), frame]
-        }
-        Ok(Err(message)) => vec![session::error(id, &message)],
-        Err(_) => vec![session::error(
-            id,
-            "internal error while editing: the document was left as it was",
-        )],
-    }
-}
-
-/// Drops every drag (or input) request directly followed by another of the
-/// same kind: only the latest target or slider values matter, so the reply
-/// to the last one of a run answers them all.
-fn coalesce(requests: Vec<Result<session::Request, Value>>) -> Vec<Result<session::Request, Value>> {
-    let kind = |r: &Result<session::Request, Value>| match r {
-        Ok(session::Request::Drag { .. }) => 1,
-        Ok(session::Request::Inputs { .. }) => 2,
-        _ => 0,
-    };
-    let mut kept: Vec<Result<session::Request, Value>> = Vec::with_capacity(requests.len());
-    for r in requests {
-        if let Some(last) = kept.last() {
-            if kind(last) != 0 && kind(last) == kind(&r) {
-                kept.pop();
-            }
-        }
-        kept.push(r);
-    }
-    kept
-}
-
 async fn send(socket: &mut WebSocket, value: &Value) -> Result<(), axum::Error> {
     socket.send(Message::Text(value.to_string().into())).await
 }
@@ -533,38 +467,6 @@ async fn send(socket: &mut WebSocket, value: &Value) -> Result<(), axum::Error> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use session::Request as R;
-
-    fn ids(requests: &[Result<R, Value>]) -> Vec<u64> {
-        requests.iter().map(|r| r.as_ref().map_or(0, R::id)).collect()
-    }
-
-    #[test]
-    fn a_run_of_drags_or_inputs_is_solved_once_at_its_latest() {
-        let drag = |id| Ok(R::Drag { id, to: [0.0, 0.0] });
-        let inputs = |id| {
-            Ok(R::Inputs {
-                id,
-                values: vec![1.0],
-                policy: None,
-            })
-        };
-        let queued = vec![
-            Ok(R::Grab {
-                id: 1,
-                body: "b".into(),
-                at: [0.0, 0.0],
-            }),
-            drag(2),
-            drag(3),
-            drag(4),
-            Ok(R::Release { id: 5 }),
-            inputs(6),
-            inputs(7),
-            drag(8),
-        ];
-        assert_eq!(ids(&coalesce(queued)), [1, 4, 5, 7, 8]);
-    }
 
     #[test]
     fn only_this_servers_host_is_let_in() {
@@ -693,51 +595,6 @@ mod tests {
         assert_eq!(get(port, &ws, &none).0, 403, "a WebSocket without Origin");
         none.push(format!("Origin: http://127.0.0.1:{port}"));
         assert_eq!(get(port, &ws, &none).0, 101, "the page's own WebSocket");
-    }
-
-    #[test]
-    fn an_edit_from_a_page_showing_an_older_document_is_refused() {
-        let dir = std::env::temp_dir();
-        let server = Server {
-            workspace: Mutex::new(Workspace::open(None, dir).expect("a new document")),
-            token: String::new(),
-            port: 0,
-        };
-        let first = server.workspace().planar().expect("planar");
-        let (mut doc, mut stale) = (first.clone(), first);
-        let mut session = Session::new(doc.clone());
-        let mut stale_session = Session::new(stale.clone());
-        let add = || {
-            serde_json::from_str::<editing::Request>(
-                r#"{"type":"edit","id":1,"edits":[{"op":"add_marker","body":"ground","at":[1,0]}]}"#,
-            )
-            .unwrap()
-        };
-        let replies = change(&server, &mut doc, &mut session, add());
-        assert_eq!(replies.len(), 2, "{replies:?}");
-        assert_eq!(
-            (replies[0]["type"].as_str(), replies[1]["type"].as_str()),
-            (Some("document"), Some("frame"))
-        );
-        assert_eq!(replies[1]["edited"], "added marker ground.A at (1, 0)");
-        assert_eq!(
-            doc.mechanism.bodies[0].markers.len(),
-            2,
-            "the page's document is the new one"
-        );
-        // The other page still shows the ground alone.
-        let refused = change(&server, &mut stale, &mut stale_session, add());
-        assert_eq!(refused[0]["type"], "error");
-        assert!(
-            refused[0]["message"].as_str().unwrap().contains("reload"),
-            "{refused:?}"
-        );
-        assert_eq!(
-            server.workspace().planar().unwrap().mechanism.bodies[0]
-                .markers
-                .len(),
-            2
-        );
     }
 
     #[test]

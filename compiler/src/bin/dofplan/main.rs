@@ -26,10 +26,8 @@ use dofplan::report::spatial as spatial3;
 use dofplan::report::{analyze, analyze3, Form, Outcome};
 use dofplan_runtime::{BranchPolicy, BreakPolicy, Options, StartPolicy};
 
-#[path = "dofplan/progress.rs"]
 mod progress;
 
-#[path = "cli/edit/mod.rs"]
 mod edit;
 
 /// Plan, explain and simulate mechanisms.
