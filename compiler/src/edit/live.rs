@@ -1,7 +1,7 @@
 //! What one page's live loop does with its messages, apart from the
-//! socket that carries them: a run of session requests that queued up is
-//! coalesced, and a change of the document is made in the workspace every
-//! page shares.
+//! socket that carries them: messages are read, a run of session requests
+//! that queued up is coalesced and solved, and a change of the document is
+//! made in the workspace every page shares.
 
 use std::sync::{Arc, Mutex, MutexGuard};
 
@@ -9,12 +9,79 @@ use serde_json::Value;
 
 use super::document::Document;
 use super::session::{self, Session};
+use super::view3::{Session3, READ_ONLY};
 use super::workspace::{self, Workspace};
 
 /// The workspace the pages share, even if a page's handler panicked
 /// holding it (each change to it is made whole or not at all).
 pub fn lock(shared: &Mutex<Workspace>) -> MutexGuard<'_, Workspace> {
     shared.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+}
+
+/// What a page sent, read: a request for its session (the pose on
+/// screen) or a change of the document; one that does not parse is the
+/// error to answer it with.
+pub enum Incoming {
+    /// A request for the page's session.
+    Live(Result<session::Request, Value>),
+    /// A change of the document every page shows.
+    Editing(Result<workspace::Request, Value>),
+}
+
+/// Reads a text message of a page.
+pub fn read(text: &str) -> Incoming {
+    let bad = |e: serde_json::Error| session::error(0, &format!("bad message: {e}"));
+    if workspace::is_editing(text) {
+        Incoming::Editing(serde_json::from_str(text).map_err(bad))
+    } else {
+        Incoming::Live(serde_json::from_str(text).map_err(bad))
+    }
+}
+
+/// The reply to one session request: a frame, or an error.
+pub fn solve(session: &mut Session, doc: &Arc<Document>, request: Result<session::Request, Value>) -> Value {
+    let started = std::time::Instant::now();
+    let mut reply = match request {
+        Ok(request) => {
+            let solved = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| session.handle(request)));
+            solved.unwrap_or_else(|_| {
+                // A bug, not the user's input: start the page over from
+                // the drawing rather than lose the server.
+                *session = Session::new(doc.clone());
+                session::error(
+                    0,
+                    "internal error while solving: the pose was reset to the drawing",
+                )
+            })
+        }
+        Err(reply) => reply,
+    };
+    // How long the server took, for the page's latency figures.
+    reply["server_ms"] = serde_json::json!(started.elapsed().as_secs_f64() * 1e3);
+    reply
+}
+
+/// The reply of a page showing a spatial document to a text message:
+/// sliders and the sweep run its plan; edits are refused (planar-only).
+pub fn reply3(session: &mut Session3, text: &str) -> Value {
+    if workspace::is_editing(text) {
+        let id = serde_json::from_str::<Value>(text)
+            .ok()
+            .and_then(|v| v["id"].as_u64())
+            .unwrap_or(0);
+        return session::error(id, READ_ONLY);
+    }
+    match serde_json::from_str::<session::Request>(text) {
+        Ok(request) => {
+            let started = std::time::Instant::now();
+            let solved = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| session.handle(request)));
+            let mut reply =
+                solved.unwrap_or_else(|_| session::error(0, "internal error while solving: reload the page"));
+            reply["server_ms"] = serde_json::json!(started.elapsed().as_secs_f64() * 1e3);
+            reply
+        }
+        Err(e) => session::error(0, &format!("bad message: {e}")),
+    }
 }
 
 /// Makes the change `request` asks for at the pose on screen, and the

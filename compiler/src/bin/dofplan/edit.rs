@@ -24,11 +24,10 @@ use axum::Router;
 use futures_util::FutureExt;
 use serde_json::Value;
 
-use dofplan::edit::document::Document;
-use dofplan::edit::live;
+use dofplan::edit::live::{self, Incoming};
 use dofplan::edit::session::{self, Session};
 use dofplan::edit::view3;
-use dofplan::edit::workspace::{self as editing, View, Workspace};
+use dofplan::edit::workspace::{self, View, Workspace};
 
 /// The page and its script and style, embedded at compile time.
 const INDEX_HTML: &str = include_str!("../../../web/index.html");
@@ -304,7 +303,7 @@ async fn socket(State(s): State<Arc<Server>>, upgrade: WebSocketUpgrade) -> Resp
 /// pose on screen), or a change of the document.
 enum Run {
     Live(Vec<Result<session::Request, Value>>),
-    Editing(Result<editing::Request, Value>),
+    Editing(Result<workspace::Request, Value>),
 }
 
 /// The live loop of one page: the document and the drawn pose first, then
@@ -346,15 +345,13 @@ async fn live(mut socket: WebSocket, server: Arc<Server>) {
         let mut runs: Vec<Run> = Vec::new();
         for message in batch {
             let live = match message {
-                Message::Text(text) if editing::is_editing(text.as_str()) => {
-                    runs.push(Run::Editing(
-                        serde_json::from_str::<editing::Request>(text.as_str())
-                            .map_err(|e| session::error(0, &format!("bad message: {e}"))),
-                    ));
-                    continue;
-                }
-                Message::Text(text) => serde_json::from_str::<session::Request>(text.as_str())
-                    .map_err(|e| session::error(0, &format!("bad message: {e}"))),
+                Message::Text(text) => match live::read(text.as_str()) {
+                    Incoming::Live(live) => live,
+                    Incoming::Editing(change) => {
+                        runs.push(Run::Editing(change));
+                        continue;
+                    }
+                },
                 Message::Binary(_) => Err(session::error(0, "bad message: expected JSON text")),
                 Message::Close(_) => return,
                 Message::Ping(_) | Message::Pong(_) => continue,
@@ -379,7 +376,9 @@ async fn live(mut socket: WebSocket, server: Arc<Server>) {
                 }
                 Run::Live(requests) => live::coalesce(requests)
                     .into_iter()
-                    .map(|request| solve(&mut session, &doc, request))
+                    // Solving is CPU work: let the runtime move other
+                    // tasks off this thread meanwhile.
+                    .map(|request| tokio::task::block_in_place(|| live::solve(&mut session, &doc, request)))
                     .collect(),
             };
             for reply in replies {
@@ -402,27 +401,7 @@ async fn live3(mut socket: WebSocket, doc: Arc<view3::Document3>, greeting: Valu
     }
     while let Some(Ok(message)) = socket.recv().await {
         let reply = match message {
-            Message::Text(text) if editing::is_editing(text.as_str()) => {
-                let id = serde_json::from_str::<Value>(text.as_str())
-                    .ok()
-                    .and_then(|v| v["id"].as_u64())
-                    .unwrap_or(0);
-                session::error(id, view3::READ_ONLY)
-            }
-            Message::Text(text) => match serde_json::from_str::<session::Request>(text.as_str()) {
-                Ok(request) => {
-                    let started = std::time::Instant::now();
-                    let solved = tokio::task::block_in_place(|| {
-                        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| session.handle(request)))
-                    });
-                    let mut reply = solved.unwrap_or_else(|_| {
-                        session::error(0, "internal error while solving: reload the page")
-                    });
-                    reply["server_ms"] = serde_json::json!(started.elapsed().as_secs_f64() * 1e3);
-                    reply
-                }
-                Err(e) => session::error(0, &format!("bad message: {e}")),
-            },
+            Message::Text(text) => tokio::task::block_in_place(|| live::reply3(&mut session, text.as_str())),
             Message::Binary(_) => session::error(0, "bad message: expected JSON text"),
             Message::Close(_) => return,
             Message::Ping(_) | Message::Pong(_) => continue,
@@ -431,33 +410,6 @@ async fn live3(mut socket: WebSocket, doc: Arc<view3::Document3>, greeting: Valu
             return;
         }
     }
-}
-
-/// The reply to one session request: a frame, or an error.
-fn solve(session: &mut Session, doc: &Arc<Document>, request: Result<session::Request, Value>) -> Value {
-    let started = std::time::Instant::now();
-    let mut reply = match request {
-        Ok(request) => {
-            // Solving is CPU work: let the runtime move other tasks off
-            // this thread meanwhile.
-            let solved = tokio::task::block_in_place(|| {
-                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| session.handle(request)))
-            });
-            solved.unwrap_or_else(|_| {
-                // A bug, not the user's input: start the page over from
-                // the drawing rather than lose the server.
-                *session = Session::new(doc.clone());
-                session::error(
-                    0,
-                    "internal error while solving: the pose was reset to the drawing",
-                )
-            })
-        }
-        Err(reply) => reply,
-    };
-    // How long the server took, for the page's latency figures.
-    reply["server_ms"] = serde_json::json!(started.elapsed().as_secs_f64() * 1e3);
-    reply
 }
 
 async fn send(socket: &mut WebSocket, value: &Value) -> Result<(), axum::Error> {

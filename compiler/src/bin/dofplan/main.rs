@@ -19,11 +19,13 @@ use dofplan::model::spatial::Mechanism3;
 use dofplan::model::Model;
 
 use dofplan::model::{Mechanism, Sweep, MAX_STEPS};
+use dofplan::plan::spatial::Plan3;
 use dofplan::plan::Plan;
 use dofplan::report::check::Check;
 use dofplan::report::frames::{self, Solver};
 use dofplan::report::spatial as spatial3;
 use dofplan::report::{analyze, analyze3, Form, Outcome};
+use dofplan::simulate::{sweep_to_run, SweepSource};
 use dofplan_runtime::{BranchPolicy, BreakPolicy, Options, StartPolicy};
 
 mod progress;
@@ -37,10 +39,6 @@ struct Cli {
     #[command(subcommand)]
     command: Command,
 }
-
-/// The frames of a sweep or drag when the file and the command line say
-/// nothing.
-const DEFAULT_STEPS: usize = 101;
 
 #[derive(Subcommand)]
 enum Command {
@@ -273,15 +271,19 @@ struct SweepArgs {
 }
 
 impl SweepArgs {
-    /// The sweep to run on `m`, or what to say.
-    fn of(&self, m: &dyn SweepSource) -> Result<Sweep, (String, String)> {
-        sweep_to_run(
+    /// The sweep to run on `m`, or `None` when there is none (said on
+    /// standard error).
+    fn of(&self, m: &dyn SweepSource) -> Option<Sweep> {
+        let sweep = sweep_to_run(
             m,
             self.input.as_deref(),
             self.from,
             self.to,
             self.steps.map(|n| n as usize),
-        )
+        );
+        sweep
+            .map_err(|(message, help)| error(m.file_name(), &message, &help))
+            .ok()
     }
 }
 
@@ -411,24 +413,10 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
             csv,
             svg,
         } => with_plan(&file, |m, plan| {
-            let sweep = match sweep_args.of(m) {
-                Ok(sweep) => sweep,
-                Err((message, help)) => {
-                    error(&m.source.name, &message, &help);
-                    return Ok(ExitCode::FAILURE);
-                }
+            let Some(sweep) = sweep_args.of(m) else {
+                return Ok(ExitCode::FAILURE);
             };
-            let options = Options {
-                breaking: policy.into(),
-                branch: match branch {
-                    BranchArg::Keep => BranchPolicy::Keep,
-                    BranchArg::Nearest => BranchPolicy::Nearest,
-                },
-                // A sweep's frames: one that starts out of reach has no
-                // pose to hold until the input enters the range.
-                start: StartPolicy::Sweep,
-                ..Options::default()
-            };
+            let options = sweep_options(policy, branch);
             let form = Form::of(json, csv);
             let mut bar = progress::Frames::default();
             outcome(frames::simulate(
@@ -451,12 +439,8 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
             csv,
             svg,
         } => with_plan(&file, |m, plan| {
-            let sweep = match sweep_args.of(m) {
-                Ok(sweep) => sweep,
-                Err((message, help)) => {
-                    error(&m.source.name, &message, &help);
-                    return Ok(ExitCode::FAILURE);
-                }
+            let Some(sweep) = sweep_args.of(m) else {
+                return Ok(ExitCode::FAILURE);
             };
             let mut bar = progress::Frames::default();
             let form = Form::of(json, csv);
@@ -514,16 +498,13 @@ fn spatial_command(
     };
     match command {
         Command::Check { json, .. } => Ok(exit(dofplan::report::spatial::check(m, json, out)?)),
-        Command::Plan { .. } => match dofplan::analysis::spatial::analyse(m) {
-            Ok(p) => {
-                write!(out, "{}", p.explain_all())?;
-                Ok(ExitCode::SUCCESS)
+        Command::Plan { .. } => Ok(match plan3(m) {
+            Some(plan) => {
+                write!(out, "{}", plan.explain_all())?;
+                ExitCode::SUCCESS
             }
-            Err(e) => {
-                report(&format!("{}: error: {e}", m.source.name));
-                Ok(ExitCode::FAILURE)
-            }
-        },
+            None => ExitCode::FAILURE,
+        }),
         Command::Simulate {
             sweep: sweep_args,
             policy,
@@ -533,31 +514,13 @@ fn spatial_command(
             svg,
             ..
         } => {
-            let sweep = match sweep_args.of(m) {
-                Ok(sweep) => sweep,
-                Err((message, help)) => {
-                    error(&m.source.name, &message, &help);
-                    return Ok(ExitCode::FAILURE);
-                }
+            let Some(sweep) = sweep_args.of(m) else {
+                return Ok(ExitCode::FAILURE);
             };
-            let plan = match dofplan::analysis::spatial::analyse(m) {
-                Ok(p) => p,
-                Err(e) => {
-                    report(&format!("{}: error: {e}", m.source.name));
-                    return Ok(ExitCode::FAILURE);
-                }
+            let Some(plan) = plan3(m) else {
+                return Ok(ExitCode::FAILURE);
             };
-            let options = Options {
-                breaking: policy.into(),
-                branch: match branch {
-                    BranchArg::Keep => BranchPolicy::Keep,
-                    BranchArg::Nearest => BranchPolicy::Nearest,
-                },
-                // A sweep's frames: one that starts out of reach has no
-                // pose to hold until the input enters the range.
-                start: StartPolicy::Sweep,
-                ..Options::default()
-            };
+            let options = sweep_options(policy, branch);
             let form = Form::of(json, csv);
             let mut bar = progress::Frames::default();
             outcome(spatial3::simulate(
@@ -613,19 +576,11 @@ fn spatial_command(
             svg,
             ..
         } => {
-            let sweep = match sweep_args.of(m) {
-                Ok(sweep) => sweep,
-                Err((message, help)) => {
-                    error(&m.source.name, &message, &help);
-                    return Ok(ExitCode::FAILURE);
-                }
+            let Some(sweep) = sweep_args.of(m) else {
+                return Ok(ExitCode::FAILURE);
             };
-            let plan = match dofplan::analysis::spatial::analyse(m) {
-                Ok(p) => p,
-                Err(e) => {
-                    report(&format!("{}: error: {e}", m.source.name));
-                    return Ok(ExitCode::FAILURE);
-                }
+            let Some(plan) = plan3(m) else {
+                return Ok(ExitCode::FAILURE);
             };
             let form = Form::of(json, csv);
             let mut bar = progress::Frames::default();
@@ -640,22 +595,41 @@ fn spatial_command(
                 out,
             ))
         }
-        Command::Emit { .. } => match dofplan::analysis::spatial::analyse(m) {
-            Ok(plan) => {
+        Command::Emit { .. } => Ok(match plan3(m) {
+            Some(plan) => {
                 write!(out, "{}", dofplan::emit::emit_spatial(&plan))?;
-                Ok(ExitCode::SUCCESS)
+                ExitCode::SUCCESS
             }
-            Err(e) => {
-                report(&format!("{}: error: {e}", m.source.name));
-                Ok(ExitCode::FAILURE)
-            }
-        },
+            None => ExitCode::FAILURE,
+        }),
         // Never a spatial file here (`spatial_file` leaves it to `assemble`).
         Command::Assemble { file, write } => assemble(&file, write, out),
         Command::Fragments => fragments(out),
         // Never a spatial file here (`spatial_file` leaves it to the editor).
         Command::Edit { file, port, open } => edit::run(file.as_deref(), port, open, out),
     }
+}
+
+/// The options of a sweep's frames: one that starts out of reach has no
+/// pose to hold until the input enters the range.
+fn sweep_options(policy: PolicyArg, branch: BranchArg) -> Options {
+    Options {
+        breaking: policy.into(),
+        branch: match branch {
+            BranchArg::Keep => BranchPolicy::Keep,
+            BranchArg::Nearest => BranchPolicy::Nearest,
+        },
+        start: StartPolicy::Sweep,
+        ..Options::default()
+    }
+}
+
+/// The plan of a spatial file, or `None` when the analysis failed (said on
+/// standard error).
+fn plan3(m: &Mechanism3) -> Option<Plan3> {
+    dofplan::analysis::spatial::analyse(m)
+        .map_err(|e| report(&format!("{}: error: {e}", m.source.name)))
+        .ok()
 }
 
 /// `dofplan fragments`: the spatial plan-fragment table.
@@ -767,124 +741,6 @@ fn exit(success: bool) -> ExitCode {
         ExitCode::SUCCESS
     } else {
         ExitCode::FAILURE
-    }
-}
-
-/// The sweep to simulate: the file's `[sweep]` with the command line's
-/// overrides, or one made of them alone. An error is a message and what to
-/// do.
-fn sweep_to_run(
-    m: &dyn SweepSource,
-    input: Option<&str>,
-    from: Option<f64>,
-    to: Option<f64>,
-    steps: Option<usize>,
-) -> Result<Sweep, (String, String)> {
-    let names = || {
-        m.inputs()
-            .iter()
-            .map(|i| i.name.as_str())
-            .collect::<Vec<_>>()
-            .join(", ")
-    };
-    if m.inputs().is_empty() {
-        return Err((
-            "the file has no inputs to simulate".into(),
-            format!(
-                "drag a marker instead (`dofplan drag {} --marker BODY.MARKER --to X,Y`), or declare [inputs]",
-                m.file_name()
-            ),
-        ));
-    }
-    let index = match (input, m.sweep()) {
-        (Some(name), _) => m.inputs().iter().position(|i| i.name == name).ok_or_else(|| {
-            (
-                format!("no input `{name}` to sweep"),
-                format!("inputs are: {}", names()),
-            )
-        })?,
-        (None, Some(sweep)) if from.is_none() && to.is_none() => {
-            // The file's sweep as it is (several inputs may move together).
-            let mut sweep = sweep.clone();
-            if let Some(n) = steps {
-                sweep.steps = n;
-            }
-            return Ok(sweep);
-        }
-        (None, Some(sweep)) => sweep.primary().input,
-        (None, None) if m.inputs().len() == 1 => 0,
-        (None, None) => {
-            return Err((
-                format!("the file has no [sweep], and {} inputs", m.inputs().len()),
-                format!(
-                    "add a [sweep] (input, from, to, steps), or say which input to sweep: \
-                     --input NAME --from A --to B [--steps N] (inputs are: {})",
-                    names()
-                ),
-            ))
-        }
-    };
-    // The file's range belongs to the file's swept input only.
-    let file_range = m
-        .sweep()
-        .and_then(|s| s.inputs.iter().find(|w| w.input == index))
-        .map(|s| (s.from, s.to));
-    let (Some(from), Some(to)) = (from.or(file_range.map(|r| r.0)), to.or(file_range.map(|r| r.1))) else {
-        let name = &m.inputs()[index].name;
-        return Err(match m.sweep() {
-            None => (
-                "the file has no [sweep] to simulate".into(),
-                format!(
-                    "add a [sweep] (input, from, to, steps), or give the range here: \
-                     --input {name} --from A --to B [--steps N]"
-                ),
-            ),
-            Some(s) => (
-                format!(
-                    "input `{name}` is not the one the file's [sweep] drives (`{}`), so it has no range",
-                    m.inputs()[s.primary().input].name
-                ),
-                format!("give its range: --input {name} --from A --to B"),
-            ),
-        });
-    };
-    Ok(Sweep::single(
-        index,
-        from,
-        to,
-        steps.or(m.sweep().map(|s| s.steps)).unwrap_or(DEFAULT_STEPS),
-        m.sweep().map(|s| s.trace.clone()).unwrap_or_default(),
-    ))
-}
-
-/// What [`sweep_to_run`] reads of a mechanism of either dimension.
-trait SweepSource {
-    fn inputs(&self) -> &[dofplan::model::Input];
-    fn sweep(&self) -> Option<&Sweep>;
-    fn file_name(&self) -> &str;
-}
-
-impl SweepSource for Mechanism {
-    fn inputs(&self) -> &[dofplan::model::Input] {
-        &self.inputs
-    }
-    fn sweep(&self) -> Option<&Sweep> {
-        self.sweep.as_ref()
-    }
-    fn file_name(&self) -> &str {
-        &self.source.name
-    }
-}
-
-impl SweepSource for Mechanism3 {
-    fn inputs(&self) -> &[dofplan::model::Input] {
-        &self.inputs
-    }
-    fn sweep(&self) -> Option<&Sweep> {
-        self.sweep.as_ref()
-    }
-    fn file_name(&self) -> &str {
-        &self.source.name
     }
 }
 
