@@ -382,26 +382,31 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
             csv,
             svg,
         } => {
-            let options = Options {
-                breaking: policy.into(),
-                ..Options::default()
-            };
-            let form = Form::of(json, csv);
             let place = file.display().to_string();
             let (Ok(to), Ok(from)) = (to.of(2, &place), from.map(|f| f.of(2, &place)).transpose()) else {
                 return Ok(ExitCode::FAILURE);
             };
-            drag(
-                &file,
+            let Some(m) = load(&progress::Bar::for_file(&file), &file) else {
+                return Ok(ExitCode::FAILURE);
+            };
+            let options = Options {
+                breaking: policy.into(),
+                ..Options::default()
+            };
+            let mut bar = progress::Frames::default();
+            outcome(frames::drag(
+                &m,
+                &place,
                 &marker,
                 from.map(|f| [f[0], f[1]]),
                 [to[0], to[1]],
                 steps as usize,
                 options,
-                form,
+                Form::of(json, csv),
                 svg.as_deref(),
+                &mut bar,
                 out,
-            )
+            ))
         }
         Command::Simulate {
             file,
@@ -810,28 +815,6 @@ fn outcome(written: Outcome) -> io::Result<ExitCode> {
             ExitCode::FAILURE
         }
     })
-}
-
-#[allow(clippy::too_many_arguments)]
-fn drag(
-    file: &Path,
-    marker: &str,
-    from: Option<[f64; 2]>,
-    to: [f64; 2],
-    steps: usize,
-    options: Options,
-    form: Form,
-    svg: Option<&Path>,
-    out: &mut dyn Write,
-) -> io::Result<ExitCode> {
-    let Some(m) = load(&progress::Bar::for_file(file), file) else {
-        return Ok(ExitCode::FAILURE);
-    };
-    let place = file.display().to_string();
-    let mut bar = progress::Frames::default();
-    outcome(frames::drag(
-        &m, &place, marker, from, to, steps, options, form, svg, &mut bar, out,
-    ))
 }
 
 #[cfg(test)]
