@@ -33,8 +33,10 @@ pub struct Document {
     pub mechanism: Mechanism,
     /// Its plan, or why it has none (no inputs, or the analysis failed).
     pub plan: Result<Plan, String>,
-    /// What the page is sent first: the mechanism, the panels' texts and
-    /// the sweep's traces (see [`Document::describe`]).
+    /// What the page is sent first, the `document` message: bodies and
+    /// markers as drawn, joints, inputs with their slider ranges, the
+    /// sweep, its traces, and the texts of `dofplan plan`, `check` and
+    /// `emit`.
     pub description: Value,
 }
 

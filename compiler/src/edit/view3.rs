@@ -31,7 +31,9 @@ pub struct Document3 {
     pub mechanism: Mechanism3,
     /// Its plan, or why it has none.
     plan: Result<Plan3, String>,
-    /// The `document` message (see [`Document3::describe`]).
+    /// The `document` message, as the planar document's with
+    /// `dimension: 3`, points of three coordinates and `bounds` a box
+    /// `[x0, y0, z0, x1, y1, z1]`.
     pub description: Value,
 }
 

@@ -1,8 +1,9 @@
 //! The reports of the `dofplan` commands, written as the CLI prints them:
 //! `check` of planar ([`check`]) and spatial ([`spatial`]) files, the
 //! frames of `simulate` and `drag` as a summary, JSON or CSV ([`frames`],
-//! [`spatial`]), and `analyze`'s rates ([`analyze`], [`analyze3`]). The
-//! editor shows the same `check` texts in its panels.
+//! [`spatial`]), and `analyze`'s rates (`analyze`, `analyze3`, with the
+//! `plots` feature). The editor shows the same `check` texts in its
+//! panels.
 //!
 //! Reports are written to any [`std::io::Write`] and say whether the
 //! command succeeded; printing, exit codes and progress displays are the
