@@ -16,6 +16,8 @@
 //! - [`assemble`]: moves the markers of a roughly drawn file to where its
 //!   joints close (`dofplan assemble`).
 //! - [`render`]: the SVG picture of a sweep or a drag.
+//! - [`report`]: the reports of the CLI's commands (`check`, …), as text
+//!   or JSON.
 //! - [`mod@format`]: how numbers are printed, the same in every output.
 
 pub mod analysis;
@@ -30,6 +32,7 @@ pub mod model;
 pub mod numeric;
 pub mod plan;
 pub mod render;
+pub mod report;
 pub mod simulate;
 
 pub use conflict::{load_any, load_any_str, load_file, load_str};

@@ -8,7 +8,8 @@ use dofplan_runtime::numeric::NewtonReport;
 use dofplan_runtime::planar::{Point, Pose};
 use dofplan_runtime::{Animate, Driver, FrameStatus, Options, Solver};
 
-use crate::model::{ConstraintKind, InputKind, JointKind, MarkerId, Mechanism, Sweep};
+use crate::model::spatial::Mechanism3;
+use crate::model::{ConstraintKind, Input, InputKind, JointKind, MarkerId, Mechanism, Sweep};
 
 /// One solved (or broken) frame.
 #[derive(Clone, Debug)]
@@ -235,6 +236,131 @@ pub fn max_relative_residual(m: &Mechanism, poses: &[Pose], inputs: &[f64]) -> f
                 worst.max(r)
             }
         })
+}
+
+/// The frames of a sweep or drag when the file and the command line say
+/// nothing.
+pub const DEFAULT_STEPS: usize = 101;
+
+/// The sweep a command runs (`simulate`, `analyze`): the file's `[sweep]`
+/// with the command line's overrides, or one made of them alone. An error
+/// is a message and what to do.
+pub fn sweep_to_run(
+    m: &dyn SweepSource,
+    input: Option<&str>,
+    from: Option<f64>,
+    to: Option<f64>,
+    steps: Option<usize>,
+) -> Result<Sweep, (String, String)> {
+    let names = || {
+        m.inputs()
+            .iter()
+            .map(|i| i.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    if m.inputs().is_empty() {
+        return Err((
+            "the file has no inputs to simulate".into(),
+            format!(
+                "drag a marker instead (`dofplan drag {} --marker BODY.MARKER --to X,Y`), or declare [inputs]",
+                m.file_name()
+            ),
+        ));
+    }
+    let index = match (input, m.sweep()) {
+        (Some(name), _) => m.inputs().iter().position(|i| i.name == name).ok_or_else(|| {
+            (
+                format!("no input `{name}` to sweep"),
+                format!("inputs are: {}", names()),
+            )
+        })?,
+        (None, Some(sweep)) if from.is_none() && to.is_none() => {
+            // The file's sweep as it is (several inputs may move together).
+            let mut sweep = sweep.clone();
+            if let Some(n) = steps {
+                sweep.steps = n;
+            }
+            return Ok(sweep);
+        }
+        (None, Some(sweep)) => sweep.primary().input,
+        (None, None) if m.inputs().len() == 1 => 0,
+        (None, None) => {
+            return Err((
+                format!("the file has no [sweep], and {} inputs", m.inputs().len()),
+                format!(
+                    "add a [sweep] (input, from, to, steps), or say which input to sweep: \
+                     --input NAME --from A --to B [--steps N] (inputs are: {})",
+                    names()
+                ),
+            ))
+        }
+    };
+    // The file's range belongs to the file's swept input only.
+    let file_range = m
+        .sweep()
+        .and_then(|s| s.inputs.iter().find(|w| w.input == index))
+        .map(|s| (s.from, s.to));
+    let (Some(from), Some(to)) = (from.or(file_range.map(|r| r.0)), to.or(file_range.map(|r| r.1))) else {
+        let name = &m.inputs()[index].name;
+        return Err(match m.sweep() {
+            None => (
+                "the file has no [sweep] to simulate".into(),
+                format!(
+                    "add a [sweep] (input, from, to, steps), or give the range here: \
+                     --input {name} --from A --to B [--steps N]"
+                ),
+            ),
+            Some(s) => (
+                format!(
+                    "input `{name}` is not the one the file's [sweep] drives (`{}`), so it has no range",
+                    m.inputs()[s.primary().input].name
+                ),
+                format!("give its range: --input {name} --from A --to B"),
+            ),
+        });
+    };
+    Ok(Sweep::single(
+        index,
+        from,
+        to,
+        steps.or(m.sweep().map(|s| s.steps)).unwrap_or(DEFAULT_STEPS),
+        m.sweep().map(|s| s.trace.clone()).unwrap_or_default(),
+    ))
+}
+
+/// What [`sweep_to_run`] reads of a mechanism of either dimension.
+pub trait SweepSource {
+    /// The mechanism's inputs.
+    fn inputs(&self) -> &[Input];
+    /// The file's `[sweep]`, if it has one.
+    fn sweep(&self) -> Option<&Sweep>;
+    /// The file's name, as messages write it.
+    fn file_name(&self) -> &str;
+}
+
+impl SweepSource for Mechanism {
+    fn inputs(&self) -> &[Input] {
+        &self.inputs
+    }
+    fn sweep(&self) -> Option<&Sweep> {
+        self.sweep.as_ref()
+    }
+    fn file_name(&self) -> &str {
+        &self.source.name
+    }
+}
+
+impl SweepSource for Mechanism3 {
+    fn inputs(&self) -> &[Input] {
+        &self.inputs
+    }
+    fn sweep(&self) -> Option<&Sweep> {
+        self.sweep.as_ref()
+    }
+    fn file_name(&self) -> &str {
+        &self.source.name
+    }
 }
 
 #[cfg(test)]

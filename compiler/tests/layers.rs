@@ -41,7 +41,11 @@ const COMPILER: &[&[&str]] = &[
     &["conflict"],
     // What users run on top of plans.
     &["assemble", "simulate"],
-    &["render", "edit", "build"],
+    &["render", "build"],
+    // The commands' reports: they may draw (`analyze --svg`).
+    &["report"],
+    // The editor shows the reports in its panels.
+    &["edit"],
 ];
 
 /// The runtime's layers, lowest first: the scalar layer (`Real`, `Jet2`,

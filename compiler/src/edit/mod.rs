@@ -16,9 +16,14 @@
 //! the caller redraws the file at the pose on screen ([`Editor::redraw`]),
 //! so the next edit starts from what the user sees.
 
+pub mod document;
+pub mod live;
 mod names;
 mod ops;
 pub mod save;
+pub mod session;
+pub mod view3;
+pub mod workspace;
 
 use dofplan_runtime::planar::Pose;
 use toml_edit::DocumentMut;

@@ -10,6 +10,7 @@ use std::time::{Duration, Instant};
 use dofplan::analysis::Progress;
 use dofplan::load_file;
 use dofplan::model::{Mechanism, ModelError};
+use dofplan::report::FrameProgress;
 use indicatif::{ProgressBar, ProgressStyle};
 
 /// Files from this size on (bytes: about 500 four-bar loops) show progress;
@@ -161,5 +162,26 @@ impl Drop for FrameBar {
         if let Some(bar) = &self.shown {
             bar.finish_and_clear();
         }
+    }
+}
+
+/// The [`FrameBar`] of a run the library's reports drive: made when the
+/// run starts, removed when it ends.
+#[derive(Default)]
+pub struct Frames(Option<FrameBar>);
+
+impl FrameProgress for Frames {
+    fn start(&mut self, total: Option<usize>) {
+        self.0 = Some(FrameBar::new(total));
+    }
+
+    fn tick(&mut self, done: usize) {
+        if let Some(bar) = &mut self.0 {
+            bar.tick(done);
+        }
+    }
+
+    fn finish(&mut self) {
+        self.0 = None;
     }
 }

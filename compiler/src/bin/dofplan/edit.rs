@@ -1,17 +1,12 @@
 //! `dofplan edit`: the interactive editor, a page served on the loopback
 //! interface with a WebSocket for the live loop.
 //!
-//! The page ([`compiler/web/`](../../../../web)) is embedded in the binary, so
+//! The page ([`compiler/web/`](../../../web)) is embedded in the binary, so
 //! the editor needs no network beyond 127.0.0.1. Every request must carry
 //! the random token printed with the address (as a query parameter, or the
 //! cookie the page is served with), its Host must be this server's own
 //! address (a DNS-rebinding page's Host is its own name), and the
 //! WebSocket's Origin must be the page's.
-
-mod document;
-mod editing;
-mod session;
-mod view3;
 
 use std::io::{self, Read, Write};
 use std::net::{Ipv4Addr, SocketAddr};
@@ -29,14 +24,15 @@ use axum::Router;
 use futures_util::FutureExt;
 use serde_json::Value;
 
-use document::Document;
-use editing::{View, Workspace};
-use session::Session;
+use dofplan::edit::live::{self, Incoming};
+use dofplan::edit::session::{self, Session};
+use dofplan::edit::view3;
+use dofplan::edit::workspace::{self, View, Workspace};
 
 /// The page and its script and style, embedded at compile time.
-const INDEX_HTML: &str = include_str!("../../../../web/index.html");
-const APP_JS: &str = include_str!("../../../../web/app.js");
-const STYLE_CSS: &str = include_str!("../../../../web/style.css");
+const INDEX_HTML: &str = include_str!("../../../web/index.html");
+const APP_JS: &str = include_str!("../../../web/app.js");
+const STYLE_CSS: &str = include_str!("../../../web/style.css");
 
 /// The largest WebSocket message accepted: a message is a few numbers.
 const MAX_MESSAGE: usize = 64 * 1024;
@@ -56,9 +52,7 @@ impl Server {
     /// The workspace, even if a page's handler panicked holding it (each
     /// change to it is made whole or not at all).
     fn workspace(&self) -> MutexGuard<'_, Workspace> {
-        self.workspace
-            .lock()
-            .unwrap_or_else(|poisoned| poisoned.into_inner())
+        live::lock(&self.workspace)
     }
 }
 
@@ -74,7 +68,7 @@ pub fn run(file: Option<&Path>, port: Option<u16>, open: bool, out: &mut dyn Wri
             return Ok(ExitCode::FAILURE);
         }
     };
-    let workspace = match Workspace::open(file, dir) {
+    let workspace = match Workspace::open_watched(file, dir, Some(watch)) {
         Ok(w) => w,
         Err(text) => {
             crate::report(&text);
@@ -153,6 +147,12 @@ pub fn run(file: Option<&Path>, port: Option<u16>, open: bool, out: &mut dyn Wri
             Ok(ExitCode::FAILURE)
         }
     }
+}
+
+/// The progress of a document's analysis, on a terminal for a large file.
+fn watch(file: &Path) -> Box<dyn FnMut(dofplan::analysis::Progress)> {
+    let bar = crate::progress::Bar::for_file(file);
+    Box::new(move |p| bar.report(p))
 }
 
 /// The routes, every one behind [`guard`].
@@ -303,7 +303,7 @@ async fn socket(State(s): State<Arc<Server>>, upgrade: WebSocketUpgrade) -> Resp
 /// pose on screen), or a change of the document.
 enum Run {
     Live(Vec<Result<session::Request, Value>>),
-    Editing(Result<editing::Request, Value>),
+    Editing(Result<workspace::Request, Value>),
 }
 
 /// The live loop of one page: the document and the drawn pose first, then
@@ -345,15 +345,13 @@ async fn live(mut socket: WebSocket, server: Arc<Server>) {
         let mut runs: Vec<Run> = Vec::new();
         for message in batch {
             let live = match message {
-                Message::Text(text) if editing::is_editing(text.as_str()) => {
-                    runs.push(Run::Editing(
-                        serde_json::from_str::<editing::Request>(text.as_str())
-                            .map_err(|e| session::error(0, &format!("bad message: {e}"))),
-                    ));
-                    continue;
-                }
-                Message::Text(text) => serde_json::from_str::<session::Request>(text.as_str())
-                    .map_err(|e| session::error(0, &format!("bad message: {e}"))),
+                Message::Text(text) => match live::read(text.as_str()) {
+                    Incoming::Live(live) => live,
+                    Incoming::Editing(change) => {
+                        runs.push(Run::Editing(change));
+                        continue;
+                    }
+                },
                 Message::Binary(_) => Err(session::error(0, "bad message: expected JSON text")),
                 Message::Close(_) => return,
                 Message::Ping(_) | Message::Pong(_) => continue,
@@ -368,16 +366,19 @@ async fn live(mut socket: WebSocket, server: Arc<Server>) {
                 Run::Editing(Err(reply)) => vec![reply],
                 Run::Editing(Ok(request)) => {
                     let started = std::time::Instant::now();
-                    let mut replies =
-                        tokio::task::block_in_place(|| change(&server, &mut doc, &mut session, request));
+                    let mut replies = tokio::task::block_in_place(|| {
+                        live::change(&server.workspace, &mut doc, &mut session, request)
+                    });
                     for r in &mut replies {
                         r["server_ms"] = serde_json::json!(started.elapsed().as_secs_f64() * 1e3);
                     }
                     replies
                 }
-                Run::Live(requests) => coalesce(requests)
+                Run::Live(requests) => live::coalesce(requests)
                     .into_iter()
-                    .map(|request| solve(&mut session, &doc, request))
+                    // Solving is CPU work: let the runtime move other
+                    // tasks off this thread meanwhile.
+                    .map(|request| tokio::task::block_in_place(|| live::solve(&mut session, &doc, request)))
                     .collect(),
             };
             for reply in replies {
@@ -400,27 +401,7 @@ async fn live3(mut socket: WebSocket, doc: Arc<view3::Document3>, greeting: Valu
     }
     while let Some(Ok(message)) = socket.recv().await {
         let reply = match message {
-            Message::Text(text) if editing::is_editing(text.as_str()) => {
-                let id = serde_json::from_str::<Value>(text.as_str())
-                    .ok()
-                    .and_then(|v| v["id"].as_u64())
-                    .unwrap_or(0);
-                session::error(id, view3::READ_ONLY)
-            }
-            Message::Text(text) => match serde_json::from_str::<session::Request>(text.as_str()) {
-                Ok(request) => {
-                    let started = std::time::Instant::now();
-                    let solved = tokio::task::block_in_place(|| {
-                        std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| session.handle(request)))
-                    });
-                    let mut reply = solved.unwrap_or_else(|_| {
-                        session::error(0, "internal error while solving: reload the page")
-                    });
-                    reply["server_ms"] = serde_json::json!(started.elapsed().as_secs_f64() * 1e3);
-                    reply
-                }
-                Err(e) => session::error(0, &format!("bad message: {e}")),
-            },
+            Message::Text(text) => tokio::task::block_in_place(|| live::reply3(&mut session, text.as_str())),
             Message::Binary(_) => session::error(0, "bad message: expected JSON text"),
             Message::Close(_) => return,
             Message::Ping(_) | Message::Pong(_) => continue,
@@ -431,99 +412,6 @@ async fn live3(mut socket: WebSocket, doc: Arc<view3::Document3>, greeting: Valu
     }
 }
 
-/// The reply to one session request: a frame, or an error.
-fn solve(session: &mut Session, doc: &Arc<Document>, request: Result<session::Request, Value>) -> Value {
-    let started = std::time::Instant::now();
-    let mut reply = match request {
-        Ok(request) => {
-            // Solving is CPU work: let the runtime move other tasks off
-            // this thread meanwhile.
-            let solved = tokio::task::block_in_place(|| {
-                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| session.handle(request)))
-            });
-            solved.unwrap_or_else(|_| {
-                // A bug, not the user's input: start the page over from
-                // the drawing rather than lose the server.
-                *session = Session::new(doc.clone());
-                session::error(
-                    0,
-                    "internal error while solving: the pose was reset to the drawing",
-                )
-            })
-        }
-        Err(reply) => reply,
-    };
-    // How long the server took, for the page's latency figures.
-    reply["server_ms"] = serde_json::json!(started.elapsed().as_secs_f64() * 1e3);
-    reply
-}
-
-/// Makes the change `request` asks for at the pose on screen, and the
-/// replies: the new document and its drawn pose (the frame answering the
-/// request, with what changed in `edited`), or an error, nothing changed.
-/// The page's document `doc` and `session` start over from the new one.
-fn change(
-    server: &Server,
-    doc: &mut Arc<Document>,
-    session: &mut Session,
-    request: editing::Request,
-) -> Vec<Value> {
-    let id = request.id();
-    let mut w = server.workspace();
-    if !w.planar().is_some_and(|now| Arc::ptr_eq(doc, &now)) {
-        // Another page changed the document: this one's pose is of an
-        // older drawing, and an edit made at it would be of a file no
-        // longer there.
-        return vec![session::error(
-            id,
-            "the document was changed in another page: reload this one to edit it",
-        )];
-    }
-    let poses = editing::poses_of(&session.current(0));
-    let changed = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| w.handle(request, &poses)));
-    match changed {
-        Ok(Ok(summary)) => {
-            let Some(now) = w.planar() else {
-                return vec![session::error(
-                    id,
-                    "the document is no longer planar: reload the page",
-                )];
-            };
-            *doc = now;
-            *session = Session::new(doc.clone());
-            let mut frame = session.current(id);
-            frame["edited"] = Value::String(summary);
-            vec![w.describe(), frame]
-        }
-        Ok(Err(message)) => vec![session::error(id, &message)],
-        Err(_) => vec![session::error(
-            id,
-            "internal error while editing: the document was left as it was",
-        )],
-    }
-}
-
-/// Drops every drag (or input) request directly followed by another of the
-/// same kind: only the latest target or slider values matter, so the reply
-/// to the last one of a run answers them all.
-fn coalesce(requests: Vec<Result<session::Request, Value>>) -> Vec<Result<session::Request, Value>> {
-    let kind = |r: &Result<session::Request, Value>| match r {
-        Ok(session::Request::Drag { .. }) => 1,
-        Ok(session::Request::Inputs { .. }) => 2,
-        _ => 0,
-    };
-    let mut kept: Vec<Result<session::Request, Value>> = Vec::with_capacity(requests.len());
-    for r in requests {
-        if let Some(last) = kept.last() {
-            if kind(last) != 0 && kind(last) == kind(&r) {
-                kept.pop();
-            }
-        }
-        kept.push(r);
-    }
-    kept
-}
-
 async fn send(socket: &mut WebSocket, value: &Value) -> Result<(), axum::Error> {
     socket.send(Message::Text(value.to_string().into())).await
 }
@@ -531,38 +419,6 @@ async fn send(socket: &mut WebSocket, value: &Value) -> Result<(), axum::Error> 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use session::Request as R;
-
-    fn ids(requests: &[Result<R, Value>]) -> Vec<u64> {
-        requests.iter().map(|r| r.as_ref().map_or(0, R::id)).collect()
-    }
-
-    #[test]
-    fn a_run_of_drags_or_inputs_is_solved_once_at_its_latest() {
-        let drag = |id| Ok(R::Drag { id, to: [0.0, 0.0] });
-        let inputs = |id| {
-            Ok(R::Inputs {
-                id,
-                values: vec![1.0],
-                policy: None,
-            })
-        };
-        let queued = vec![
-            Ok(R::Grab {
-                id: 1,
-                body: "b".into(),
-                at: [0.0, 0.0],
-            }),
-            drag(2),
-            drag(3),
-            drag(4),
-            Ok(R::Release { id: 5 }),
-            inputs(6),
-            inputs(7),
-            drag(8),
-        ];
-        assert_eq!(ids(&coalesce(queued)), [1, 4, 5, 7, 8]);
-    }
 
     #[test]
     fn only_this_servers_host_is_let_in() {
@@ -691,51 +547,6 @@ mod tests {
         assert_eq!(get(port, &ws, &none).0, 403, "a WebSocket without Origin");
         none.push(format!("Origin: http://127.0.0.1:{port}"));
         assert_eq!(get(port, &ws, &none).0, 101, "the page's own WebSocket");
-    }
-
-    #[test]
-    fn an_edit_from_a_page_showing_an_older_document_is_refused() {
-        let dir = std::env::temp_dir();
-        let server = Server {
-            workspace: Mutex::new(Workspace::open(None, dir).expect("a new document")),
-            token: String::new(),
-            port: 0,
-        };
-        let first = server.workspace().planar().expect("planar");
-        let (mut doc, mut stale) = (first.clone(), first);
-        let mut session = Session::new(doc.clone());
-        let mut stale_session = Session::new(stale.clone());
-        let add = || {
-            serde_json::from_str::<editing::Request>(
-                r#"{"type":"edit","id":1,"edits":[{"op":"add_marker","body":"ground","at":[1,0]}]}"#,
-            )
-            .unwrap()
-        };
-        let replies = change(&server, &mut doc, &mut session, add());
-        assert_eq!(replies.len(), 2, "{replies:?}");
-        assert_eq!(
-            (replies[0]["type"].as_str(), replies[1]["type"].as_str()),
-            (Some("document"), Some("frame"))
-        );
-        assert_eq!(replies[1]["edited"], "added marker ground.A at (1, 0)");
-        assert_eq!(
-            doc.mechanism.bodies[0].markers.len(),
-            2,
-            "the page's document is the new one"
-        );
-        // The other page still shows the ground alone.
-        let refused = change(&server, &mut stale, &mut stale_session, add());
-        assert_eq!(refused[0]["type"], "error");
-        assert!(
-            refused[0]["message"].as_str().unwrap().contains("reload"),
-            "{refused:?}"
-        );
-        assert_eq!(
-            server.workspace().planar().unwrap().mechanism.bodies[0]
-                .markers
-                .len(),
-            2
-        );
     }
 
     #[test]

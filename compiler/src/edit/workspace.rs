@@ -1,5 +1,5 @@
 //! Construction, undo, saving and opening in `dofplan edit`: the document
-//! the server shares between its pages, edited with [`dofplan::edit`].
+//! the server shares between its pages, edited with [`crate::edit`].
 //!
 //! Every change is made by the library's [`Editor`], which loads the result
 //! as `dofplan check` does and refuses an invalid one with check's message;
@@ -14,12 +14,12 @@ use std::sync::Arc;
 use serde::Deserialize;
 use serde_json::{json, Value};
 
-use dofplan::edit::{save, Edit, Editor, EMPTY};
-use dofplan::model::{Format, Location, Model, ModelError};
-use dofplan::{load_any_str, load_str};
+use super::{save, Edit, Editor, EMPTY};
+use crate::conflict::{load_any_str, load_str};
+use crate::model::{Format, Location, Model, ModelError};
 use dofplan_runtime::planar::{Pose, Rot};
 
-use super::document::{Document, UNTITLED};
+use super::document::{Document, Watch, UNTITLED};
 use super::view3::{Document3, READ_ONLY};
 
 /// A message from the page that changes the document (the others, for
@@ -120,6 +120,8 @@ pub struct Workspace {
     saved: String,
     /// What the pages are sent, rebuilt after every change.
     view: View,
+    /// How a document's analysis shows its progress.
+    watch: Option<Watch>,
 }
 
 /// A file that does not load, as the page shows it: its text, check's
@@ -181,20 +183,35 @@ impl Workspace {
     /// the page. An error is the text to print (a file that cannot be read,
     /// a new file in a folder that does not exist).
     pub fn open(file: Option<&Path>, dir: PathBuf) -> Result<Workspace, String> {
+        Workspace::open_watched(file, dir, None)
+    }
+
+    /// [`Workspace::open`], the analysis of each document showing its
+    /// progress through `watch`.
+    pub fn open_watched(
+        file: Option<&Path>,
+        dir: PathBuf,
+        watch: Option<Watch>,
+    ) -> Result<Workspace, String> {
         let Some(path) = file else {
             let editor = Editor::empty(UNTITLED);
             return Ok(Workspace {
                 saved: editor.text(),
-                view: View::Planar(Arc::new(Document::new(None, editor.mechanism().clone()))),
+                view: View::Planar(Arc::new(Document::watched(
+                    None,
+                    editor.mechanism().clone(),
+                    watch,
+                ))),
                 editor: Ok(editor),
                 broken: None,
                 path: None,
                 dir,
+                watch,
             });
         };
         let name = path.display().to_string();
         if std::fs::symlink_metadata(path).is_err_and(|e| e.kind() == std::io::ErrorKind::NotFound) {
-            return Workspace::new_file(path, dir);
+            return Workspace::new_file(path, dir, watch);
         }
         let text =
             std::fs::read_to_string(path).map_err(|e| format!("{name}: error: cannot read it: {e}"))?;
@@ -205,11 +222,12 @@ impl Workspace {
             dir,
             saved: text.clone(),
             view: View::Planar(Arc::new(placeholder(Some(path)))),
+            watch,
         };
         match load_any_str(&name, &text, Format::of_path(path)) {
             Ok(Model::Planar(m)) => {
                 w.editor = editor_of(path, &text);
-                w.view = View::Planar(Arc::new(Document::new(Some(path), m)));
+                w.view = View::Planar(Arc::new(Document::watched(Some(path), m, watch)));
             }
             Ok(Model::Spatial(m)) => {
                 w.editor = Err(READ_ONLY.to_string());
@@ -222,7 +240,7 @@ impl Workspace {
 
     /// A new document to be saved as `path`, which does not exist yet:
     /// the ground alone, called after the file.
-    fn new_file(path: &Path, dir: PathBuf) -> Result<Workspace, String> {
+    fn new_file(path: &Path, dir: PathBuf, watch: Option<Watch>) -> Result<Workspace, String> {
         let name = path.display().to_string();
         if !matches!(Format::of_path(path), Format::Toml) || path.extension().is_none() {
             return Err(format!(
@@ -242,11 +260,16 @@ impl Workspace {
         let stem = path.file_stem().and_then(|s| s.to_str()).unwrap_or("untitled");
         let editor = Editor::new_named(&name, stem).map_err(|e| e.to_string())?;
         Ok(Workspace {
-            view: View::Planar(Arc::new(Document::new(Some(path), editor.mechanism().clone()))),
+            view: View::Planar(Arc::new(Document::watched(
+                Some(path),
+                editor.mechanism().clone(),
+                watch,
+            ))),
             editor: Ok(editor),
             broken: None,
             path: Some(path.to_path_buf()),
             dir,
+            watch,
             // Nothing is on disk yet: the document has unsaved changes.
             saved: String::new(),
         })
@@ -475,7 +498,11 @@ impl Workspace {
                 let editor = editor_of(Path::new(&file), &text)?;
                 self.editor = Ok(editor);
                 self.broken = None;
-                self.view = View::Planar(Arc::new(Document::new(Some(Path::new(&file)), mechanism)));
+                self.view = View::Planar(Arc::new(Document::watched(
+                    Some(Path::new(&file)),
+                    mechanism,
+                    self.watch,
+                )));
                 format!("opened {file}")
             }
             Ok(Model::Spatial(_)) => {
@@ -509,7 +536,7 @@ impl Workspace {
             self.view = View::Planar(Arc::new(placeholder(shown.as_deref())));
         } else if let Ok(editor) = &self.editor {
             let m = editor.mechanism().clone();
-            self.view = View::Planar(Arc::new(Document::new(shown.as_deref(), m)));
+            self.view = View::Planar(Arc::new(Document::watched(shown.as_deref(), m, self.watch)));
         }
     }
 }

@@ -1,29 +1,34 @@
-//! The CLI's spatial commands: `check`, `plan`, `simulate` and `fragments`
-//! on `dimension = 3` files.
+//! The reports of spatial (`dimension = 3`) files: `dofplan check` (the
+//! mobility counted two ways, redundant equations and idle freedoms, the
+//! plan and the inputs' assembly ranges) and the frames of `simulate` and
+//! `drag`, streamed one by one as a summary, JSON or CSV and drawn as an
+//! SVG.
 
 use std::io::{self, Write};
 use std::path::Path;
-use std::process::ExitCode;
 
-use dofplan::analysis::ranges::spatial_assembly_ranges;
-use dofplan::analysis::spatial::{analyse, count::count, fragments};
-use dofplan::format::number;
-use dofplan::format::rounded;
-use dofplan::interp::spatial::Interpreter3;
-use dofplan::model::spatial::Mechanism3;
-use dofplan::model::Sweep;
-use dofplan::plan::spatial::{step_number, Plan3};
-use dofplan::render::spatial::{render_spatial, SpatialFrame};
-use dofplan::simulate::spatial::{marker_positions, residual};
-use dofplan::simulate::sweep_requests;
 use dofplan_runtime::spatial::{Pose3, Vec3};
 use dofplan_runtime::{Driver, FrameStatus, Options};
 use serde_json::{json, Map, Value};
 
-use crate::summary::{Describe, Summary};
+use crate::analysis::ranges::spatial_assembly_ranges;
+use crate::analysis::spatial::{analyse, count::count};
+use crate::format::{number, rounded};
+use crate::interp::spatial::Interpreter3;
+use crate::model::spatial::Mechanism3;
+use crate::model::Sweep;
+use crate::plan::spatial::{step_number, Plan3};
+use crate::render::spatial::{render_spatial, SpatialFrame};
+use crate::simulate::spatial::{marker_positions, residual};
+use crate::simulate::sweep_requests;
+
+use super::check::{ranges_json, write_ranges};
+use super::summary::{Describe, Summary};
+use super::{error, Form, FrameProgress, Outcome};
 
 /// `dofplan check` of a spatial file.
-pub fn check(m: &Mechanism3, json_out: bool, out: &mut dyn Write) -> io::Result<ExitCode> {
+/// `false` when the analysis found no plan (the command fails).
+pub fn check(m: &Mechanism3, json_out: bool, out: &mut dyn Write) -> io::Result<bool> {
     let c = count(m);
     let plan = analyse(m);
     // Each input's assembly range, as planar `check` reports them (no
@@ -64,7 +69,7 @@ pub fn check(m: &Mechanism3, json_out: bool, out: &mut dyn Write) -> io::Result<
                 Err(e) => json!({"error": e.to_string()}),
             },
             "ranges": match &ranges {
-                Some(r) => super::ranges_json(&m.inputs, r),
+                Some(r) => ranges_json(&m.inputs, r),
                 None => json!(null),
             },
         });
@@ -73,11 +78,7 @@ pub fn check(m: &Mechanism3, json_out: bool, out: &mut dyn Write) -> io::Result<
             "{}",
             serde_json::to_string_pretty(&value).unwrap_or_default()
         )?;
-        return Ok(if plan.is_ok() {
-            ExitCode::SUCCESS
-        } else {
-            ExitCode::FAILURE
-        });
+        return Ok(plan.is_ok());
     }
     writeln!(out, "{} ({}) — spatial", m.name, m.source.name)?;
     writeln!(
@@ -138,55 +139,29 @@ pub fn check(m: &Mechanism3, json_out: bool, out: &mut dyn Write) -> io::Result<
                 )?;
             }
             if let Some(r) = &ranges {
-                super::write_ranges(&m.inputs, r, &|id| step_number(id), out)?;
+                write_ranges(&m.inputs, r, &|id| step_number(id), out)?;
             }
-            Ok(ExitCode::SUCCESS)
+            Ok(true)
         }
         Err(e) => {
             writeln!(out, "  plan: {e}")?;
-            Ok(ExitCode::FAILURE)
+            Ok(false)
         }
     }
-}
-
-/// `dofplan plan` of a spatial file.
-pub fn plan(m: &Mechanism3, out: &mut dyn Write) -> io::Result<ExitCode> {
-    match analyse(m) {
-        Ok(p) => {
-            write!(out, "{}", p.explain_all())?;
-            Ok(ExitCode::SUCCESS)
-        }
-        Err(e) => {
-            super::report(&format!("{}: error: {e}", m.source.name));
-            Ok(ExitCode::FAILURE)
-        }
-    }
-}
-
-/// `dofplan fragments`: the spatial plan-fragment table.
-pub fn fragments(out: &mut dyn Write) -> io::Result<ExitCode> {
-    write!(out, "{}", fragments::table())?;
-    Ok(ExitCode::SUCCESS)
-}
-
-/// How `simulate` writes frames.
-#[derive(Clone, Copy, PartialEq, Eq)]
-pub enum Form3 {
-    Text,
-    Json,
-    Csv,
 }
 
 /// `dofplan simulate` of a spatial file: frames streamed one by one.
+#[allow(clippy::too_many_arguments)]
 pub fn simulate(
     m: &Mechanism3,
     plan: &Plan3,
     sweep: &Sweep,
     options: Options,
-    form: Form3,
+    form: Form,
     svg: Option<&Path>,
+    progress: &mut dyn FrameProgress,
     out: &mut dyn Write,
-) -> io::Result<ExitCode> {
+) -> Outcome {
     let names: Vec<String> = m.inputs.iter().map(|i| i.name.clone()).collect();
     let requests = sweep_requests(sweep, m.inputs.len());
     // The drawing traces what the sweep run traces.
@@ -218,6 +193,7 @@ pub fn simulate(
         svg,
         &title,
         (&m.inputs[input].name, &value),
+        progress,
         out,
     )
 }
@@ -233,29 +209,28 @@ pub fn drag(
     to: [f64; 3],
     steps: usize,
     options: Options,
-    form: Form3,
+    form: Form,
     svg: Option<&Path>,
+    progress: &mut dyn FrameProgress,
     out: &mut dyn Write,
-) -> io::Result<ExitCode> {
+) -> Outcome {
     let Some(id) = m.find_marker(marker) else {
         let names: Vec<String> = m.all_markers().map(|id| m.marker_name(id)).collect();
-        super::error(
+        return Ok(Err(error(
             &m.source.name,
             &format!("no marker `{marker}` to drag"),
             &format!("markers are: {}", names.join(", ")),
-        );
-        return Ok(ExitCode::FAILURE);
+        )));
     };
     if m.bodies[id.body].fixed {
-        super::error(
+        return Ok(Err(error(
             &m.source.name,
             &format!("`{marker}` is on a fixed body and cannot be dragged"),
             "drag a marker of a moving body",
-        );
-        return Ok(ExitCode::FAILURE);
+        )));
     }
-    let free = dofplan::numeric::spatial::released(m);
-    let plan = dofplan::numeric::spatial::drag_plan(m, id);
+    let free = crate::numeric::spatial::released(m);
+    let plan = crate::numeric::spatial::drag_plan(m, id);
     let from = from.unwrap_or(m.marker(id).at);
     let n = steps.max(1);
     let requests = (0..n).map(move |i| {
@@ -295,6 +270,7 @@ pub fn drag(
         svg,
         &title,
         ("target", &value),
+        progress,
         out,
     )
 }
@@ -308,14 +284,15 @@ fn frames(
     requests: impl Iterator<Item = Vec<f64>>,
     total: usize,
     options: Options,
-    form: Form3,
+    form: Form,
     svg: Option<(&Path, &Mechanism3)>,
     title: &str,
     (value_name, value): (&str, &Describe),
+    progress: &mut dyn FrameProgress,
     out: &mut dyn Write,
-) -> io::Result<ExitCode> {
+) -> Outcome {
     let mut driver = Driver::new(Interpreter3::new(plan.clone()), options);
-    if form == Form3::Text {
+    if form == Form::Text {
         writeln!(out, "{title}")?;
     }
     // The summary's steps as `dofplan plan` numbers and explains them.
@@ -329,7 +306,7 @@ fn frames(
     let mut summary = Summary::new(value_name, value, &explain);
     let mut kept: Vec<SpatialFrame> = Vec::new();
     let names: Vec<String> = m.all_markers().map(|id| m.marker_name(id)).collect();
-    if form == Form3::Csv {
+    if form == Form::Csv {
         let mut head: Vec<String> = vec!["frame".into(), "status".into()];
         head.extend(input_names.iter().cloned());
         for n in &names {
@@ -341,16 +318,16 @@ fn frames(
         writeln!(out, "{}", head.join(","))?;
     }
     let mut worst: f64 = 0.0;
-    if form == Form3::Json {
+    if form == Form::Json {
         writeln!(
             out,
             "{{\"name\": {}, \"dimension\": 3, \"frames\": [",
             json!(m.name)
         )?;
     }
-    let mut bar = crate::progress::FrameBar::new(Some(total));
+    progress.start(Some(total));
     for (i, requested) in requests.enumerate() {
-        bar.tick(i);
+        progress.tick(i);
         let status = driver.frame(&requested);
         let poses = driver.poses();
         let res = residual(m, poses, driver.inputs());
@@ -364,7 +341,7 @@ fn frames(
             });
         }
         match form {
-            Form3::Csv => {
+            Form::Csv => {
                 let mut row = vec![i.to_string(), status.name().to_string()];
                 row.extend(driver.inputs().iter().map(|v| number(*v)));
                 for p in &markers {
@@ -373,7 +350,7 @@ fn frames(
                 row.push(number(res));
                 writeln!(out, "{}", row.join(","))?;
             }
-            Form3::Json => {
+            Form::Json => {
                 let frame = frame_value(
                     m,
                     &names,
@@ -389,23 +366,25 @@ fn frames(
                 let sep = if i + 1 < total { "," } else { "" };
                 writeln!(out, "  {frame}{sep}")?;
             }
-            Form3::Text => {}
+            Form::Text => {}
         }
-        if form == Form3::Text {
+        if form == Form::Text {
             summary.frame(out, i, &requested, driver.inputs(), &status)?;
         }
     }
-    drop(bar);
+    progress.finish();
     if let Some((path, drawn)) = svg {
         if let Err(e) = std::fs::write(path, render_spatial(drawn, &kept)) {
-            super::report(&format!("{}: error: cannot write the SVG: {e}", path.display()));
-            return Ok(ExitCode::FAILURE);
+            return Ok(Err(format!(
+                "{}: error: cannot write the SVG: {e}",
+                path.display()
+            )));
         }
     }
     match form {
-        Form3::Json => writeln!(out, "]}}")?,
-        Form3::Csv => {}
-        Form3::Text => {
+        Form::Json => writeln!(out, "]}}")?,
+        Form::Csv => {}
+        Form::Text => {
             let counts = summary.end(out)?;
             writeln!(out, "{counts}; largest joint residual {worst:.2e}")?;
             if let Some((path, _)) = svg {
@@ -413,14 +392,14 @@ fn frames(
             }
         }
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(Ok(()))
 }
 
 /// One frame as `simulate --json` writes it: its number, status, the
 /// inputs requested and reached, every marker (by "body.marker", `names`),
 /// every body's rotation and position, and the largest joint residual.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn frame_value(
+pub fn frame_value(
     m: &Mechanism3,
     names: &[String],
     input_names: &[String],

@@ -9,13 +9,13 @@ use std::sync::Arc;
 
 use serde_json::{json, Value};
 
-use dofplan::analysis::spatial::analyse;
-use dofplan::emit::emit_spatial;
-use dofplan::interp::spatial::Interpreter3;
-use dofplan::model::spatial::{JointKind3, Mechanism3};
-use dofplan::plan::spatial::{step_number, Plan3};
-use dofplan::simulate::spatial::marker_positions;
-use dofplan::simulate::sweep_requests;
+use crate::analysis::spatial::analyse;
+use crate::emit::emit_spatial;
+use crate::interp::spatial::Interpreter3;
+use crate::model::spatial::{JointKind3, Mechanism3};
+use crate::plan::spatial::{step_number, Plan3};
+use crate::simulate::spatial::marker_positions;
+use crate::simulate::sweep_requests;
 use dofplan_runtime::spatial::Vec3;
 use dofplan_runtime::{BreakPolicy, Driver, FrameStatus, Options};
 
@@ -31,7 +31,9 @@ pub struct Document3 {
     pub mechanism: Mechanism3,
     /// Its plan, or why it has none.
     plan: Result<Plan3, String>,
-    /// The `document` message (see [`Document3::describe`]).
+    /// The `document` message, as the planar document's with
+    /// `dimension: 3`, points of three coordinates and `bounds` a box
+    /// `[x0, y0, z0, x1, y1, z1]`.
     pub description: Value,
 }
 
@@ -80,7 +82,7 @@ impl Document3 {
         let (inputs, sweep) =
             super::document::inputs_and_sweep(&m.inputs, &joint_names, m.sweep.as_ref(), size);
         let mut check = Vec::new();
-        let check = match crate::spatial::check(m, false, &mut check) {
+        let check = match crate::report::spatial::check(m, false, &mut check) {
             Ok(_) => String::from_utf8_lossy(&check).into_owned(),
             Err(e) => format!("cannot write the check report: {e}"),
         };
@@ -295,7 +297,7 @@ mod tests {
 
     fn rssr() -> Session3 {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../mechanisms/spatial/rssr.toml");
-        let Ok(dofplan::model::Model::Spatial(m)) = dofplan::load_any(&path) else {
+        let Ok(crate::model::Model::Spatial(m)) = crate::load_any(&path) else {
             panic!("rssr is a spatial file");
         };
         Session3::new(Arc::new(Document3::new(&path, m)))

@@ -6,15 +6,21 @@ use std::path::{Path, PathBuf};
 
 use serde_json::{json, Value};
 
-use dofplan::analysis::analyse;
-use dofplan::emit::emit;
-use dofplan::interp::Interpreter;
-use dofplan::model::{InputKind, JointKind, Mechanism};
-use dofplan::plan::Plan;
-use dofplan::simulate::{frames, marker_at, sweep_requests};
+use crate::analysis::analyse;
+use crate::emit::emit;
+use crate::interp::Interpreter;
+use crate::model::{InputKind, JointKind, Mechanism};
+use crate::plan::Plan;
+use crate::report::check::Check;
+use crate::simulate::{frames, marker_at, sweep_requests};
 use dofplan_runtime::{BreakPolicy, Driver, Options};
 
-use crate::progress;
+use crate::analysis::Progress;
+
+/// Makes the display of an analysis's progress on a document's file (the
+/// CLI's bar, shown on a terminal for a large file): it is told how far
+/// the analysis is, and removed when dropped.
+pub type Watch = fn(&Path) -> Box<dyn FnMut(Progress)>;
 
 /// What a new document is called until it is saved.
 pub const UNTITLED: &str = "untitled.toml";
@@ -27,8 +33,10 @@ pub struct Document {
     pub mechanism: Mechanism,
     /// Its plan, or why it has none (no inputs, or the analysis failed).
     pub plan: Result<Plan, String>,
-    /// What the page is sent first: the mechanism, the panels' texts and
-    /// the sweep's traces (see [`Document::describe`]).
+    /// What the page is sent first, the `document` message: bodies and
+    /// markers as drawn, joints, inputs with their slider ranges, the
+    /// sweep, its traces, and the texts of `dofplan plan`, `check` and
+    /// `emit`.
     pub description: Value,
 }
 
@@ -39,9 +47,9 @@ impl Document {
     /// that does not load; the tests start sessions from files directly.)
     #[cfg(test)]
     pub fn open(path: Option<&Path>) -> Result<Document, String> {
-        use dofplan::edit::EMPTY;
-        use dofplan::model::{Format, Model};
-        use dofplan::{load_any, load_str};
+        use crate::conflict::{load_any, load_str};
+        use crate::edit::EMPTY;
+        use crate::model::{Format, Model};
         let mechanism = match path {
             None => load_str(UNTITLED, EMPTY, Format::Toml).map_err(|e| e.render(false))?,
             Some(path) => match load_any(path) {
@@ -53,7 +61,7 @@ impl Document {
                         path.display()
                     ))
                 }
-                Err(e) => return Err(e.render(crate::colour())),
+                Err(e) => return Err(e.render(false)),
             },
         };
         Ok(Document::new(path, mechanism))
@@ -62,6 +70,12 @@ impl Document {
     /// The document of `mechanism`, read from (or to be saved to) `path`:
     /// its plan and panels computed from it.
     pub fn new(path: Option<&Path>, mechanism: Mechanism) -> Document {
+        Document::watched(path, mechanism, None)
+    }
+
+    /// [`Document::new`], the analysis of its check report showing its
+    /// progress through `watch`.
+    pub fn watched(path: Option<&Path>, mechanism: Mechanism, watch: Option<Watch>) -> Document {
         let plan = if mechanism.inputs.is_empty() {
             Err("the mechanism has no inputs, so there is no plan to run: drag a body to move it".to_string())
         } else {
@@ -73,7 +87,7 @@ impl Document {
             plan,
             description: Value::Null,
         };
-        doc.description = doc.describe();
+        doc.description = doc.describe(watch);
         doc
     }
 
@@ -87,7 +101,7 @@ impl Document {
     /// The `document` message: bodies and markers as drawn, joints, inputs
     /// with their slider ranges, the sweep, the traces of its traced
     /// markers, and the texts of `dofplan plan`, `check` and `emit`.
-    fn describe(&self) -> Value {
+    fn describe(&self, watch: Option<Watch>) -> Value {
         let m = &self.mechanism;
         let bodies: Vec<Value> = m
             .bodies
@@ -141,19 +155,24 @@ impl Document {
             "bounds": bounds,
             "plan": plan_text.as_ref().ok(),
             "plan_error": plan_text.as_ref().err(),
-            "check": self.check_text(),
+            "check": self.check_text(watch),
             "rust": self.plan.as_ref().ok().map(emit),
         })
     }
 
     /// The report of `dofplan check`, as it prints it.
-    fn check_text(&self) -> String {
+    fn check_text(&self, watch: Option<Watch>) -> String {
         let mut out = Vec::new();
         // A path that is no file (a new document) shows no progress, as a
         // small file does not.
-        let bar = progress::Bar::for_file(self.path.as_deref().unwrap_or(Path::new("")));
-        let written = crate::check_mechanism(&self.mechanism, &self.place(), false, &bar, &mut out);
-        bar.finish();
+        let check = match watch {
+            Some(watch) => {
+                let mut progress = watch(self.path.as_deref().unwrap_or(Path::new("")));
+                Check::of(&self.mechanism, &mut *progress)
+            }
+            None => Check::of(&self.mechanism, &mut |_| {}),
+        };
+        let written = check.write(&self.mechanism, &self.place(), false, &mut out);
         match written {
             Ok(_) => String::from_utf8_lossy(&out).into_owned(),
             Err(e) => format!("cannot write the check report: {e}"),
@@ -217,9 +236,9 @@ impl Document {
 /// mechanism's size either way (slides) — and its `sweep`. Both dimensions
 /// share it (`joint_names` by joint index).
 pub(super) fn inputs_and_sweep(
-    inputs: &[dofplan::model::Input],
+    inputs: &[crate::model::Input],
     joint_names: &[&str],
-    sweep: Option<&dofplan::model::Sweep>,
+    sweep: Option<&crate::model::Sweep>,
     size: f64,
 ) -> (Vec<Value>, Option<Value>) {
     let described = (inputs.iter().enumerate())

@@ -9,25 +9,25 @@
 //! runs: its positions are written with the rates null (JSON) or empty
 //! (CSV) and the reason said once, as a dead point's are.
 
-use std::io::{self, Write};
+use std::io::Write;
 use std::path::Path;
-use std::process::ExitCode;
 
-use dofplan::format::number;
-use dofplan::interp::spatial::Interpreter3;
-use dofplan::model::spatial::Mechanism3;
-use dofplan::model::{InputKind, Sweep};
-use dofplan::plan::spatial::Plan3;
-use dofplan::render::plots::{draw_spatial, Sample3, Traced3};
-use dofplan::simulate::kinematics::input_rates;
-use dofplan::simulate::spatial::{marker_positions, motion3, residual, Motion3};
-use dofplan::simulate::sweep_requests;
+use crate::format::number;
+use crate::interp::spatial::Interpreter3;
+use crate::model::spatial::Mechanism3;
+use crate::model::{InputKind, Sweep};
+use crate::plan::spatial::Plan3;
+use crate::render::plots::{draw_spatial, Sample3, Traced3};
+use crate::simulate::kinematics::input_rates;
+use crate::simulate::spatial::{marker_positions, motion3, residual, Motion3};
+use crate::simulate::sweep_requests;
 use dofplan_runtime::real::RateError;
 use dofplan_runtime::{Driver, Options};
 use serde_json::{json, Map, Value};
 
 use super::analyze::{at_input, extremes, header, rate_text};
-use super::spatial::{frame_value, Form3};
+use super::spatial::frame_value;
+use super::{Form, FrameProgress, Outcome};
 
 /// Runs `analyze` on a spatial plan: the sweep with rates at `rate`
 /// (radians or length units per second for the sweep's first input), in
@@ -38,10 +38,11 @@ pub fn analyze(
     plan: &Plan3,
     sweep: &Sweep,
     rate: f64,
-    form: Form3,
+    form: Form,
     svg: Option<&Path>,
+    progress: &mut dyn FrameProgress,
     out: &mut dyn Write,
-) -> io::Result<ExitCode> {
+) -> Outcome {
     let interp = Interpreter3::new(plan.clone());
     let mut driver = Driver::new(interp.clone(), Options::default());
     let rates = input_rates(&m.inputs, sweep, rate);
@@ -58,7 +59,7 @@ pub fn analyze(
     let mut unavailable: Option<RateError> = None;
     let total = sweep.steps;
     match form {
-        Form3::Json => {
+        Form::Json => {
             let rates_json: Map<String, Value> = (input_names.iter().zip(&rates))
                 .map(|(n, r)| (n.clone(), json!(r)))
                 .collect();
@@ -69,7 +70,7 @@ pub fn analyze(
                 Value::Object(rates_json)
             )?;
         }
-        Form3::Csv => {
+        Form::Csv => {
             let mut head: Vec<String> = vec!["frame".into(), "status".into()];
             head.extend(input_names.iter().cloned());
             for n in &names {
@@ -87,11 +88,11 @@ pub fn analyze(
             head.push("residual".into());
             writeln!(out, "{}", head.join(","))?;
         }
-        Form3::Text => {}
+        Form::Text => {}
     }
-    let mut bar = crate::progress::FrameBar::new(Some(total));
+    progress.start(Some(total));
     for (i, requested) in sweep_requests(sweep, m.inputs.len()).enumerate() {
-        bar.tick(i);
+        progress.tick(i);
         let status = driver.frame(&requested);
         if !status.is_solved() {
             broken += 1;
@@ -119,7 +120,7 @@ pub fn analyze(
             });
         }
         match form {
-            Form3::Json => {
+            Form::Json => {
                 let mut o = frame_value(
                     m,
                     &names,
@@ -148,7 +149,7 @@ pub fn analyze(
                 let sep = if i + 1 < total { "," } else { "" };
                 writeln!(out, "  {o}{sep}")?;
             }
-            Form3::Csv => {
+            Form::Csv => {
                 let mut row = vec![i.to_string(), status.name().to_string()];
                 row.extend(reached.iter().map(|v| number(*v)));
                 for (k, p) in markers.iter().enumerate() {
@@ -172,15 +173,15 @@ pub fn analyze(
                 row.push(format!("{res:e}"));
                 writeln!(out, "{}", row.join(","))?;
             }
-            Form3::Text => {}
+            Form::Text => {}
         }
     }
-    drop(bar);
-    if form == Form3::Json {
+    progress.finish();
+    if form == Form::Json {
         writeln!(out, "]}}")?;
     }
     let input = &m.inputs[primary];
-    if form == Form3::Text {
+    if form == Form::Text {
         writeln!(out, "{}", header(&m.name, total, &m.inputs, &rates))?;
         let at = |x: f64| at_input(input, x);
         let norm = |v: [f64; 3]| (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
@@ -228,18 +229,22 @@ pub fn analyze(
         match draw_spatial(&m.name, &axis, &rate_text, &views) {
             Ok(text) => {
                 if let Err(e) = std::fs::write(path, text) {
-                    crate::report(&format!("{}: error: cannot write the plots: {e}", path.display()));
-                    return Ok(ExitCode::FAILURE);
+                    return Ok(Err(format!(
+                        "{}: error: cannot write the plots: {e}",
+                        path.display()
+                    )));
                 }
             }
             Err(e) => {
-                crate::report(&format!("{}: error: cannot draw the plots: {e}", path.display()));
-                return Ok(ExitCode::FAILURE);
+                return Ok(Err(format!(
+                    "{}: error: cannot draw the plots: {e}",
+                    path.display()
+                )));
             }
         }
-        if form == Form3::Text {
+        if form == Form::Text {
             writeln!(out, "wrote {}", path.display())?;
         }
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(Ok(()))
 }

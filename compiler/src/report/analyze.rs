@@ -6,20 +6,20 @@
 
 use std::io::{self, Write};
 use std::path::Path;
-use std::process::ExitCode;
 
-use dofplan::analysis::grashof::{four_bars, FourBar};
-use dofplan::format::number;
-use dofplan::interp::{Interpreter, RateError};
-use dofplan::model::{Input, InputKind, Mechanism, Sweep};
-use dofplan::plan::{num, Plan};
-use dofplan::render::plots::Sample;
-use dofplan::simulate::kinematics::{motion, sweep_rates, transmission_angle, Motion};
-use dofplan::simulate::{sweep_requests, Frame};
+use crate::analysis::grashof::{four_bars, FourBar};
+use crate::format::number;
+use crate::interp::{Interpreter, RateError};
+use crate::model::{Input, InputKind, Mechanism, Sweep};
+use crate::plan::{num, Plan};
+use crate::render::plots::Sample;
+use crate::simulate::kinematics::{motion, sweep_rates, transmission_angle, Motion};
+use crate::simulate::{sweep_requests, Frame};
 use dofplan_runtime::{Driver, FrameStatus, Options};
 use serde_json::{json, Map, Value};
 
-use crate::{frame_json, sweep_report, Form, SolverArg};
+use super::frames::{frame_json, sweep_report, Solver};
+use super::{Form, FrameProgress, Outcome};
 
 /// One traced marker's series over the sweep, for the summary and plots.
 #[derive(Default)]
@@ -30,6 +30,7 @@ struct Series {
 
 /// Runs `analyze`: the sweep with rates at `rate` (radians or length units
 /// per second for the sweep's first input), in `form`, with plots in `svg`.
+#[allow(clippy::too_many_arguments)]
 pub fn analyze(
     m: &Mechanism,
     plan: &Plan,
@@ -37,11 +38,12 @@ pub fn analyze(
     rate: f64,
     form: Form,
     svg: Option<&Path>,
+    progress: &mut dyn FrameProgress,
     out: &mut dyn Write,
-) -> io::Result<ExitCode> {
+) -> Outcome {
     let interp = Interpreter::new(plan.clone());
     let mut driver = Driver::new(interp.clone(), Options::default());
-    let report = sweep_report(m, plan, sweep, SolverArg::Plan);
+    let report = sweep_report(m, plan, sweep, Solver::Plan);
     let rates = sweep_rates(m, sweep, rate);
     let zero = vec![0.0; m.inputs.len()];
     let loops = four_bars(m);
@@ -91,9 +93,9 @@ pub fn analyze(
         }
         writeln!(out, "{}", head.join(","))?;
     }
-    let mut bar = crate::progress::FrameBar::new(Some(total));
+    progress.start(Some(total));
     for (i, requested) in sweep_requests(sweep, m.inputs.len()).enumerate() {
-        bar.tick(i);
+        progress.tick(i);
         let status = driver.frame(&requested);
         let frame = Frame {
             requested,
@@ -175,7 +177,7 @@ pub fn analyze(
             Form::Text => {}
         }
     }
-    drop(bar);
+    progress.finish();
     if form == Form::Json {
         writeln!(out, "  ]\n}}")?;
     }
@@ -199,7 +201,7 @@ pub fn analyze(
             InputKind::Slide => format!("{} (length)", input.name),
         };
         let rate_text = rate_text(input.kind, rates[primary]);
-        let text = dofplan::render::plots::draw(
+        let text = crate::render::plots::draw(
             &m.name,
             &axis,
             &rate_text,
@@ -209,20 +211,24 @@ pub fn analyze(
         match text {
             Ok(text) => {
                 if let Err(e) = std::fs::write(path, text) {
-                    crate::report(&format!("{}: error: cannot write the plots: {e}", path.display()));
-                    return Ok(ExitCode::FAILURE);
+                    return Ok(Err(format!(
+                        "{}: error: cannot write the plots: {e}",
+                        path.display()
+                    )));
                 }
             }
             Err(e) => {
-                crate::report(&format!("{}: error: cannot draw the plots: {e}", path.display()));
-                return Ok(ExitCode::FAILURE);
+                return Ok(Err(format!(
+                    "{}: error: cannot draw the plots: {e}",
+                    path.display()
+                )));
             }
         }
         if form == Form::Text {
             writeln!(out, "wrote {}", path.display())?;
         }
     }
-    Ok(ExitCode::SUCCESS)
+    Ok(Ok(()))
 }
 
 /// The keys `analyze --json` adds to a `simulate` frame.
@@ -380,10 +386,10 @@ pub(super) fn extremes(name: &str, points: &[(f64, f64, f64)], at: &dyn Fn(f64) 
     Some(format!("  {name}: {speed}, {accel}"))
 }
 
-fn series_view(series: &[Series]) -> Vec<dofplan::render::plots::Traced<'_>> {
+fn series_view(series: &[Series]) -> Vec<crate::render::plots::Traced<'_>> {
     series
         .iter()
-        .map(|s| dofplan::render::plots::Traced {
+        .map(|s| crate::render::plots::Traced {
             name: &s.name,
             points: &s.points,
         })
@@ -393,11 +399,11 @@ fn series_view(series: &[Series]) -> Vec<dofplan::render::plots::Traced<'_>> {
 fn loop_views<'a>(
     names: &'a [Vec<&'a str>],
     angles: &'a [Vec<(f64, f64)>],
-) -> Vec<dofplan::render::plots::Loop<'a>> {
+) -> Vec<crate::render::plots::Loop<'a>> {
     names
         .iter()
         .zip(angles)
-        .map(|(n, a)| dofplan::render::plots::Loop {
+        .map(|(n, a)| crate::render::plots::Loop {
             name: n.join("–"),
             angles: a,
         })

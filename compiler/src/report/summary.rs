@@ -5,17 +5,17 @@
 
 use std::io::{self, Write};
 
-use dofplan::format::rounded;
-use dofplan::plan::num;
+use crate::format::rounded;
+use crate::plan::num;
 use dofplan_runtime::{BreakKind, FrameStatus};
 
 /// Writes a frame's driven value from its inputs, each number with the
 /// given format.
-pub(crate) type Describe<'a> = dyn Fn(&[f64], fn(f64) -> String) -> String + 'a;
+pub type Describe<'a> = dyn Fn(&[f64], fn(f64) -> String) -> String + 'a;
 
 /// A step as the user reads it: its number in `dofplan plan` and its
 /// explanation.
-pub(crate) type Explain<'a> = dyn Fn(u32) -> (usize, String) + 'a;
+pub type Explain<'a> = dyn Fn(u32) -> (usize, String) + 'a;
 
 /// A break point's value: to the precision it is found to.
 fn precise(x: f64) -> String {
@@ -23,7 +23,7 @@ fn precise(x: f64) -> String {
 }
 
 /// The summary being written.
-pub(crate) struct Summary<'r> {
+pub struct Summary<'r> {
     /// What the summary calls the driven value ("theta", "target")…
     value_name: &'r str,
     /// …and how it writes that value from a frame's inputs.
@@ -65,7 +65,9 @@ fn break_of(status: &FrameStatus) -> Option<(BreakKey, f64)> {
 }
 
 impl<'r> Summary<'r> {
-    pub(crate) fn new(value_name: &'r str, value: &'r Describe<'r>, explain: &'r Explain<'r>) -> Self {
+    /// A summary calling the driven value `value_name`, written by `value`,
+    /// with steps shown by `explain`.
+    pub fn new(value_name: &'r str, value: &'r Describe<'r>, explain: &'r Explain<'r>) -> Self {
         Summary {
             value_name,
             value,
@@ -76,7 +78,7 @@ impl<'r> Summary<'r> {
     }
 
     /// Frame number `index`: its requested and reached inputs and status.
-    pub(crate) fn frame(
+    pub fn frame(
         &mut self,
         out: &mut dyn Write,
         index: usize,
@@ -121,7 +123,7 @@ impl<'r> Summary<'r> {
     }
 
     /// Writes the last run, and returns the counts line (without its end).
-    pub(crate) fn end(&mut self, out: &mut dyn Write) -> io::Result<String> {
+    pub fn end(&mut self, out: &mut dyn Write) -> io::Result<String> {
         self.close(out)?;
         let [solved, limited, searched, stretched, unreached] = self.counts;
         // Unreached frames only occur in sweeps that start out of reach.

@@ -16,13 +16,13 @@ use std::sync::Arc;
 use serde::Deserialize;
 use serde_json::{json, Value};
 
-use dofplan::analysis::analyse;
-use dofplan::interp::Interpreter;
-use dofplan::model::{InputKind, Marker, MarkerId, Mechanism};
-use dofplan::numeric::drag::Drag;
-use dofplan::numeric::input_drag::drag_inputs;
-use dofplan::plan::Plan;
-use dofplan::simulate::{marker_at, residuals};
+use crate::analysis::analyse;
+use crate::interp::Interpreter;
+use crate::model::{InputKind, Marker, MarkerId, Mechanism};
+use crate::numeric::drag::Drag;
+use crate::numeric::input_drag::drag_inputs;
+use crate::plan::Plan;
+use crate::simulate::{marker_at, residuals};
 use dofplan_runtime::planar::{Point, Pose};
 use dofplan_runtime::{Break, BreakPolicy, Driver, FrameStatus, Options};
 
