@@ -15,7 +15,7 @@ use std::path::Path;
 use crate::format::number;
 use crate::interp::spatial::Interpreter3;
 use crate::model::spatial::Mechanism3;
-use crate::model::{InputKind, Sweep};
+use crate::model::{Input, InputKind, Sweep};
 use crate::plan::spatial::Plan3;
 use crate::render::plots::{draw_spatial, Sample3, Traced3};
 use crate::simulate::kinematics::input_rates;
@@ -221,30 +221,45 @@ pub fn analyze(
                 points: s,
             })
             .collect();
-        let axis = match input.kind {
-            InputKind::Angle => format!("{} (degrees)", input.name),
-            InputKind::Slide => format!("{} (length)", input.name),
-        };
-        let rate_text = rate_text(input.kind, rates[primary]);
-        match draw_spatial(&m.name, &axis, &rate_text, &views) {
-            Ok(text) => {
-                if let Err(e) = std::fs::write(path, text) {
-                    return Ok(Err(format!(
-                        "{}: error: cannot write the plots: {e}",
-                        path.display()
-                    )));
-                }
-            }
-            Err(e) => {
+        return plots(&m.name, input, rates[primary], &views, path, form, out);
+    }
+    Ok(Ok(()))
+}
+
+/// Draws the traced markers' plots to `path` (and says so in a text
+/// report), or the error why they could not be drawn or written.
+fn plots(
+    name: &str,
+    input: &Input,
+    rate: f64,
+    views: &[Traced3],
+    path: &Path,
+    form: Form,
+    out: &mut dyn Write,
+) -> Outcome {
+    let axis = match input.kind {
+        InputKind::Angle => format!("{} (degrees)", input.name),
+        InputKind::Slide => format!("{} (length)", input.name),
+    };
+    let rate_text = rate_text(input.kind, rate);
+    match draw_spatial(name, &axis, &rate_text, views) {
+        Ok(text) => {
+            if let Err(e) = std::fs::write(path, text) {
                 return Ok(Err(format!(
-                    "{}: error: cannot draw the plots: {e}",
+                    "{}: error: cannot write the plots: {e}",
                     path.display()
                 )));
             }
         }
-        if form == Form::Text {
-            writeln!(out, "wrote {}", path.display())?;
+        Err(e) => {
+            return Ok(Err(format!(
+                "{}: error: cannot draw the plots: {e}",
+                path.display()
+            )));
         }
+    }
+    if form == Form::Text {
+        writeln!(out, "wrote {}", path.display())?;
     }
     Ok(Ok(()))
 }
