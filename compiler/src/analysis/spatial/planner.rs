@@ -633,12 +633,8 @@ impl Planner<'_> {
 
     /// `TranslateOnto`: Translate the marker onto the point.
     fn do_translate_onto(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let fm = a.fm;
-        let name = &a.name;
-        let mname = &a.mname;
+        let (b, fm, serves, name, mname) = (a.b, a.fm, a.serves, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
-        let serves = a.serves;
         self.act(
             b,
             Action3::TranslateOnto {
@@ -654,13 +650,8 @@ impl Planner<'_> {
 
     /// `TranslateAlong`: Translate along the body's line so the marker reaches the point.
     fn do_translate_along(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let fm = a.fm;
-        let st = &a.st;
-        let name = &a.name;
-        let mname = &a.mname;
+        let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
-        let serves = a.serves;
         let T::Line { q, dir } = st.t.clone() else {
             return None;
         };
@@ -685,12 +676,8 @@ impl Planner<'_> {
 
     /// `SlideTurn`: Translate along the line, then rotate about it onto the point.
     fn do_slide_turn(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let st = &a.st;
-        let name = &a.name;
-        let mname = &a.mname;
+        let (b, serves, st, name, mname) = (a.b, a.serves, &a.st, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
-        let serves = a.serves;
         let (T::Line { q, dir }, R::Axis { al }) = (st.t.clone(), st.r.clone()) else {
             return None;
         };
@@ -730,13 +717,8 @@ impl Planner<'_> {
 
     /// `TranslateInPlane`: Translate in the body's plane so the marker reaches the point.
     fn do_translate_in_plane(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let fm = a.fm;
-        let st = &a.st;
-        let name = &a.name;
-        let mname = &a.mname;
+        let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
-        let serves = a.serves;
         let normal = match st.r {
             R::Axis { al } => self.body_dir(b, al),
             _ => return None,
@@ -760,12 +742,8 @@ impl Planner<'_> {
 
     /// `TranslateToLine`: Translate the marker to its foot on the line.
     fn do_translate_to_line(&mut self, a: &Applied, k: &P3, d: &D3, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let fm = a.fm;
-        let name = &a.name;
-        let mname = &a.mname;
+        let (b, fm, serves, name, mname) = (a.b, a.fm, a.serves, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
-        let serves = a.serves;
         self.act(
             b,
             Action3::TranslateToLine {
@@ -788,12 +766,8 @@ impl Planner<'_> {
 
     /// `TranslateToPlane`: Translate the marker onto the plane.
     fn do_translate_to_plane(&mut self, a: &Applied, k: &P3, n: &D3, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let fm = a.fm;
-        let name = &a.name;
-        let mname = &a.mname;
+        let (b, fm, serves, name, mname) = (a.b, a.fm, a.serves, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
-        let serves = a.serves;
         self.act(
             b,
             Action3::TranslateToPlane {
@@ -813,12 +787,8 @@ impl Planner<'_> {
 
     /// `OwnerLineThrough`: Translate the body's line (its z known) through the point.
     fn do_owner_line_through(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let fm = a.fm;
-        let name = &a.name;
-        let mname = &a.mname;
+        let (b, fm, serves, name, mname) = (a.b, a.fm, a.serves, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
-        let serves = a.serves;
         let d = self.body_dir(b, fm.axes.z);
         self.act(
             b,
@@ -839,12 +809,8 @@ impl Planner<'_> {
 
     /// `OwnerPlaneThrough`: Translate the body's plane (its z known) through the point.
     fn do_owner_plane_through(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let fm = a.fm;
-        let name = &a.name;
-        let mname = &a.mname;
+        let (b, fm, serves, name, mname) = (a.b, a.fm, a.serves, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
-        let serves = a.serves;
         let n = self.body_dir(b, fm.axes.z);
         self.act(
             b,
@@ -865,13 +831,9 @@ impl Planner<'_> {
 
     /// `RotateOnto`: Minimal rotation about the pivot taking the marker toward the point.
     fn do_rotate_onto(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let fm = a.fm;
-        let st = &a.st;
-        let mname = &a.mname;
+        let (b, fm, serves, st, mname) = (a.b, a.fm, a.serves, &a.st, &a.mname);
         let m_pt = a.m_pt.clone();
         let pivot = a.pivot.clone();
-        let serves = a.serves;
         let q = st.pivot()?;
         self.rotate_onto(b, &pivot, m_pt, k, mname, serves);
         new.r = R::Axis {
@@ -882,13 +844,9 @@ impl Planner<'_> {
 
     /// `AxisOnto`: Rotation about the axis taking the marker onto the point.
     fn do_axis_onto(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let st = &a.st;
-        let name = &a.name;
-        let mname = &a.mname;
+        let (b, serves, st, name, mname) = (a.b, a.serves, &a.st, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
         let pivot = a.pivot.clone();
-        let serves = a.serves;
         let R::Axis { al } = st.r else { return None };
         self.act(
             b,
@@ -910,14 +868,9 @@ impl Planner<'_> {
 
     /// `RotateOntoCone`: Rotate onto the point, then about the new axis onto the cone (a branch).
     fn do_rotate_onto_cone(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let fm = a.fm;
-        let st = &a.st;
-        let name = &a.name;
-        let mname = &a.mname;
+        let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
         let pivot = a.pivot.clone();
-        let serves = a.serves;
         let R::Cone { u, w, cos } = st.r.clone() else {
             return None;
         };
@@ -949,13 +902,8 @@ impl Planner<'_> {
 
     /// `LineSphere`: Pivot onto line ∩ sphere (a branch), then rotate onto the point.
     fn do_line_sphere(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let fm = a.fm;
-        let st = &a.st;
-        let name = &a.name;
-        let mname = &a.mname;
+        let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
-        let serves = a.serves;
         let T::Line { q, dir } = st.t.clone() else {
             return None;
         };
@@ -1015,14 +963,9 @@ impl Planner<'_> {
 
     /// `CircleLine`, `SphereLine`: Marker onto circle ∩ line (a branch). / Marker onto sphere ∩ line (a branch).
     fn do_circle_or_sphere_line(&mut self, a: &Applied, k: &P3, d: &D3, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let fm = a.fm;
-        let st = &a.st;
-        let name = &a.name;
-        let mname = &a.mname;
+        let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
         let pivot = a.pivot.clone();
-        let serves = a.serves;
         let q = st.pivot()?;
         let locus = match st.r {
             R::Axis { al } => Locus3::Circle {
@@ -1099,11 +1042,8 @@ impl Planner<'_> {
 
     /// `AlignDir`: Minimal rotation taking z_m to the direction.
     fn do_align_dir(&mut self, a: &Applied, t: &D3, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let fm = a.fm;
-        let mname = &a.mname;
+        let (b, fm, serves, mname) = (a.b, a.fm, a.serves, &a.mname);
         let pivot = a.pivot.clone();
-        let serves = a.serves;
         self.align_z(b, &pivot, fm.axes.z, t, mname, serves);
         new.r = R::Axis { al: fm.axes.z };
         Some(())
@@ -1111,13 +1051,8 @@ impl Planner<'_> {
 
     /// `AxisDir`: Rotation about the axis taking z_m to the direction.
     fn do_axis_dir(&mut self, a: &Applied, t: &D3, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let fm = a.fm;
-        let st = &a.st;
-        let name = &a.name;
-        let mname = &a.mname;
+        let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
         let pivot = a.pivot.clone();
-        let serves = a.serves;
         let R::Axis { al } = st.r else { return None };
         self.act(
             b,
@@ -1136,13 +1071,8 @@ impl Planner<'_> {
 
     /// `AlignOntoCone`: Align z_m, then turn about it until the cone's direction is on its cone (a branch).
     fn do_align_onto_cone(&mut self, a: &Applied, t: &D3, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let fm = a.fm;
-        let st = &a.st;
-        let name = &a.name;
-        let mname = &a.mname;
+        let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
         let pivot = a.pivot.clone();
-        let serves = a.serves;
         let R::Cone { u, w, cos } = st.r.clone() else {
             return None;
         };
@@ -1167,14 +1097,8 @@ impl Planner<'_> {
 
     /// `AxisCondition`: Rotation about the axis making the angle to the direction (a branch).
     fn do_axis_condition(&mut self, a: &Applied, t: &D3, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let e = &a.e;
-        let fm = a.fm;
-        let st = &a.st;
-        let name = &a.name;
-        let mname = &a.mname;
+        let (b, fm, serves, e, st, name, mname) = (a.b, a.fm, a.serves, &a.e, &a.st, &a.name, &a.mname);
         let pivot = a.pivot.clone();
-        let serves = a.serves;
         let R::Axis { al } = st.r else { return None };
         let cos = match e.kind {
             Kind3::Prim(Primitive::PerpendicularZ) => 0.0,
@@ -1203,13 +1127,8 @@ impl Planner<'_> {
 
     /// `Tilt`: Tilt z_m to the angle: the cone state.
     fn do_tilt(&mut self, a: &Applied, t: &D3, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let e = &a.e;
-        let fm = a.fm;
-        let name = &a.name;
-        let mname = &a.mname;
+        let (b, fm, serves, e, name, mname) = (a.b, a.fm, a.serves, &a.e, &a.name, &a.mname);
         let pivot = a.pivot.clone();
-        let serves = a.serves;
         let cos = match e.kind {
             Kind3::Prim(Primitive::PerpendicularZ) => 0.0,
             _ => e.angle.cos(),
@@ -1238,15 +1157,9 @@ impl Planner<'_> {
 
     /// `AlignTwist`, `Twist`: Align z, then twist x: orientation known. / Twist about the axis (the input's angle, or offset-x's).
     fn do_twist(&mut self, a: &Applied, frag: &Fragment, target: &Target, new: &mut State) -> Option<()> {
-        let mover = a.mover;
-        let b = a.b;
-        let e = &a.e;
-        let fm = a.fm;
-        let name = &a.name;
-        let mname = &a.mname;
+        let (mover, b, fm, sign, serves, e, name, mname) =
+            (a.mover, a.b, a.fm, a.sign, a.serves, &a.e, &a.name, &a.mname);
         let pivot = a.pivot.clone();
-        let sign = a.sign;
-        let serves = a.serves;
         // The twist is measured about the first marker's z from its x
         // to the second's.
         let (b1, b2) = (e.bodies[0], e.bodies[1]);
@@ -1291,12 +1204,7 @@ impl Planner<'_> {
 
     /// `SlideTo`: Slide along the line to the input's distance.
     fn do_slide_to(&mut self, a: &Applied, new: &mut State) -> Option<()> {
-        let b = a.b;
-        let e = &a.e;
-        let st = &a.st;
-        let name = &a.name;
-        let sign = a.sign;
-        let serves = a.serves;
+        let (b, sign, serves, e, st, name) = (a.b, a.sign, a.serves, &a.e, &a.st, &a.name);
         let Kind3::Slide { input } = e.kind else {
             return None;
         };
