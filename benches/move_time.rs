@@ -11,7 +11,7 @@ use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use dofplan::interp::spatial::Interpreter3;
 use dofplan::interp::Interpreter;
 use dofplan::load_file;
-use dofplan::numeric::drag::Drag;
+use dofplan::numeric::planar::drag::Drag;
 use dofplan::numeric::spatial::pure_newton;
 use dofplan::simulate::sweep_inputs;
 use dofplan::simulate::sweep_requests;

@@ -9,7 +9,7 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use dofplan::analysis::analyse;
-use dofplan::analysis::rank::rank_mobility;
+use dofplan::analysis::planar::rank::rank_mobility;
 use dofplan::load_str;
 use dofplan::model::Format;
 use dofplan_tests::stress::stress_chain;

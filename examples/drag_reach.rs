@@ -10,7 +10,7 @@ use std::time::Instant;
 
 use dofplan::load_file;
 use dofplan::model::Mechanism;
-use dofplan::numeric::drag::Drag;
+use dofplan::numeric::planar::drag::Drag;
 use dofplan_runtime::{BreakPolicy, Driver, FrameStatus, Options};
 use dofplan_tests::mechanisms_dir;
 

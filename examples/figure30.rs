@@ -12,7 +12,7 @@ use std::time::Instant;
 
 use dofplan::interp::Interpreter;
 use dofplan::load_file;
-use dofplan::numeric::drag::Drag;
+use dofplan::numeric::planar::drag::Drag;
 use dofplan::numeric::PureNewton;
 use dofplan::simulate::sweep_inputs;
 use dofplan_runtime::{Driver, Options, Solver};

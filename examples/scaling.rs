@@ -29,9 +29,9 @@
 use std::hint::black_box;
 
 use dofplan::analysis::analyse;
-use dofplan::analysis::grashof::four_bars;
+use dofplan::analysis::planar::grashof::four_bars;
+use dofplan::analysis::planar::rank::rank_mobility;
 use dofplan::analysis::ranges::assembly_ranges;
-use dofplan::analysis::rank::rank_mobility;
 use dofplan::emit::emit;
 use dofplan::interp::Interpreter;
 use dofplan::load_str;

@@ -6,12 +6,12 @@
 //! misbehaves: a panic inside dofplan, an error whose source span does not
 //! point into the file, or a frame reported as met whose joints do not hold.
 
-use dofplan::analysis::rank::rank_mobility;
+use dofplan::analysis::planar::rank::rank_mobility;
 use dofplan::analysis::{analyse, PlanError};
 use dofplan::interp::Interpreter;
 use dofplan::load_str;
 use dofplan::model::{Format, Location, MarkerId, Mechanism, ModelError};
-use dofplan::numeric::drag::Drag;
+use dofplan::numeric::planar::drag::Drag;
 use dofplan::plan::Plan;
 use dofplan::simulate::{max_relative_residual, run, sweep_inputs, Frame};
 use dofplan_runtime::{BranchPolicy, BreakPolicy, FrameStatus, Options};

@@ -5,7 +5,7 @@
 
 use dofplan::interp::Interpreter;
 use dofplan::load_file;
-use dofplan::numeric::drag::{Drag, DragError};
+use dofplan::numeric::planar::drag::{Drag, DragError};
 use dofplan::simulate::{marker_at, max_relative_residual, run, Frame};
 use dofplan_runtime::numeric::NewtonOutcome;
 use dofplan_runtime::{BreakKind, BreakPolicy, FrameStatus, Options};

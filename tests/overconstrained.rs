@@ -9,7 +9,7 @@
 //! plan.
 
 use dofplan::analysis::analyse;
-use dofplan::analysis::rank::rank_mobility;
+use dofplan::analysis::planar::rank::rank_mobility;
 use dofplan::interp::Interpreter;
 use dofplan::load_str;
 use dofplan::model::{Format, Mechanism};

@@ -3,7 +3,7 @@
 //! parallelogram with an extra parallel link) and names idle freedoms.
 
 use dofplan::analysis::analyse;
-use dofplan::analysis::rank::rank_mobility;
+use dofplan::analysis::planar::rank::rank_mobility;
 use dofplan::interp::Interpreter;
 use dofplan::load_str;
 use dofplan::model::{Format, Mechanism};
@@ -216,7 +216,7 @@ fn the_sparse_rank_equals_the_dense_svds() {
     }
     // The cases do exercise what is compared.
     assert!(cases.len() > 25);
-    let found = |f: fn(&dofplan::analysis::rank::RankMobility) -> bool| {
+    let found = |f: fn(&dofplan::analysis::planar::rank::RankMobility) -> bool| {
         cases.iter().any(|(_, m)| f(&rank_mobility(m)))
     };
     assert!(found(|r| !r.redundant.is_empty()));

@@ -4,8 +4,8 @@
 //! count says — or, with a redundant link hung mid-chain, that link.
 
 use dofplan::analysis::analyse;
-use dofplan::analysis::grashof::four_bars_counted;
-use dofplan::analysis::rank::rank_mobility;
+use dofplan::analysis::planar::grashof::four_bars_counted;
+use dofplan::analysis::planar::rank::rank_mobility;
 use dofplan::load_str;
 use dofplan::model::{Format, Mechanism};
 use dofplan_tests::stress::stress_chain;

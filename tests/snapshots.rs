@@ -50,7 +50,7 @@ fn the_compiled_drag_is_snapshotted_too() {
     let m = dofplan::load_file(&dofplan_tests::mechanisms_dir().join("drag/open_chain_15.toml"))
         .unwrap_or_else(|e| panic!("{e}"));
     let end = m.find_marker("link_15.E").expect("bundled");
-    let c = dofplan::numeric::drag::carriage(&m, end).expect("has a ground");
+    let c = dofplan::numeric::planar::drag::carriage(&m, end).expect("has a ground");
     let p = plan(&c);
     settings().bind(|| {
         insta::assert_snapshot!("plan_open_chain_15_drag", p.explain_all());

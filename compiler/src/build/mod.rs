@@ -23,7 +23,7 @@ use crate::analysis::{analyse, PlanError};
 use crate::conflict::{load_any, load_file};
 use crate::emit::{emit, emit_spatial, ident_for, spatial_cluster_fits};
 use crate::model::{is_spatial_file, Model, ModelError};
-use crate::numeric::drag::carriage;
+use crate::numeric::planar::drag::carriage;
 
 /// Why a build failed.
 ///

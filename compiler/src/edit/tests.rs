@@ -4,7 +4,7 @@
 
 use super::*;
 use crate::analysis::analyse;
-use crate::analysis::rank::rank_mobility;
+use crate::analysis::planar::rank::rank_mobility;
 use crate::interp::Interpreter;
 use dofplan_runtime::{Driver, FrameStatus, Options};
 

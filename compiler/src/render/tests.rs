@@ -608,7 +608,7 @@ fn drag_fourbar(to: Point, steps: usize, breaking: BreakPolicy) -> (Mechanism, V
         .collect();
     let requested: Vec<Vec<f64>> = targets.iter().map(|t| t.to_vec()).collect();
     let frames = crate::simulate::run(
-        crate::numeric::drag::Drag::new(&m, p).unwrap(),
+        crate::numeric::planar::drag::Drag::new(&m, p).unwrap(),
         Options {
             breaking,
             ..Options::default()

@@ -7,7 +7,7 @@
 use std::io::{self, Write};
 use std::path::Path;
 
-use crate::analysis::grashof::{four_bars, FourBar};
+use crate::analysis::planar::grashof::{four_bars, FourBar};
 use crate::format::number;
 use crate::interp::{Interpreter, RateError};
 use crate::model::{Input, InputKind, Mechanism, Sweep};

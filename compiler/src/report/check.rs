@@ -6,9 +6,9 @@ use std::io::{self, Write};
 
 use serde_json::{json, Value};
 
-use crate::analysis::grashof::{four_bars, Class as GrashofClass};
+use crate::analysis::planar::grashof::{four_bars, Class as GrashofClass};
+use crate::analysis::planar::rank::{idle_freedoms, rank_mobility_with, RankMobility};
 use crate::analysis::ranges::{self, assembly_ranges, InputRanges};
-use crate::analysis::rank::{idle_freedoms, rank_mobility_with, RankMobility};
 use crate::analysis::{analyse_with, Analysis, Class, Mobility, Progress};
 use crate::model::{Input, InputKind, Mechanism};
 use crate::plan::num;

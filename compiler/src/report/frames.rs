@@ -12,7 +12,7 @@ use serde_json::{json, Map, Value};
 use crate::format::number;
 use crate::interp::Interpreter;
 use crate::model::{MarkerId, Mechanism, Sweep};
-use crate::numeric::drag::Drag;
+use crate::numeric::planar::drag::Drag;
 use crate::numeric::PureNewton;
 use crate::plan::Plan;
 use crate::render::{render, SvgOptions};

@@ -6,7 +6,7 @@
 use dofplan_runtime::planar::{Point, Pose};
 use dofplan_runtime::real::Jet2;
 
-use crate::analysis::grashof::FourBar;
+use crate::analysis::planar::grashof::FourBar;
 use crate::model::{Input, InputKind, Mechanism, Sweep};
 
 /// One frame's rates.
@@ -115,7 +115,7 @@ fn sub(a: Point, b: Point) -> Point {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::grashof::four_bars;
+    use crate::analysis::planar::grashof::four_bars;
     use crate::conflict::load_str;
     use crate::model::Format;
 

@@ -11,7 +11,7 @@
 
 use dofplan_runtime::spatial::rows::{FrameRate, WorldFrame};
 
-use crate::analysis::rank::{Echelon, SparseRow};
+use crate::analysis::planar::rank::{Echelon, SparseRow};
 use crate::model::spatial::equations::{equations, Equation3, Kind3};
 use crate::model::spatial::Mechanism3;
 

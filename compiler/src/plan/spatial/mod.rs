@@ -620,7 +620,7 @@ impl Plan3 {
     /// explanations cite; a break's runtime id is one more, see
     /// [`step_number`]), then the idle freedoms.
     pub fn explain_all(&self) -> String {
-        let mut out = super::explain::header(
+        let mut out = crate::plan::explain::header(
             &self.name,
             &self.source,
             self.steps.len(),
@@ -631,7 +631,7 @@ impl Plan3 {
                 .zip(self.input_kinds.iter().copied()),
         );
         for (i, s) in self.steps.iter().enumerate() {
-            out.push_str(&super::explain::step_line(i, &s.text, &s.serves));
+            out.push_str(&crate::plan::explain::step_line(i, &s.text, &s.serves));
         }
         for (b, dof, why) in &self.idle {
             out.push_str(&format!(

@@ -9,7 +9,6 @@
 use crate::analysis::spatial::empty_plan;
 use crate::model::spatial::equations::equations;
 use crate::model::spatial::Mechanism3;
-use crate::model::MarkerId;
 use crate::plan::spatial::{CheckRow, Cluster3, ClusterRow3, Param3, Plan3, Step3, StepKind3};
 
 /// The pure-Newton plan of a spatial mechanism: one cluster of every
@@ -39,41 +38,4 @@ pub fn pure_newton(m: &Mechanism3) -> Plan3 {
         }],
         ..empty_plan(m)
     }
-}
-
-/// Dragging a marker of a spatial mechanism: its inputs released, the
-/// marker pinned to a target given as the plan's three inputs (x, y, z),
-/// every moving body free, and Newton–Raphson's minimum-norm step — so the
-/// mechanism follows the target with the least motion its joints allow
-/// (Brunkhart's quasi-physical drag). A target out of reach leaves the
-/// joints closed: the frame breaks (no solution within reach) and the
-/// breaking policy holds or bisects.
-pub fn drag_plan(m: &Mechanism3, marker: MarkerId) -> Plan3 {
-    let mut plan = pure_newton(&released(m));
-    let StepKind3::Cluster(c) = &mut plan.steps[0].kind else {
-        unreachable!("pure Newton is one cluster")
-    };
-    let name = m.marker_name(marker);
-    c.rows.push(ClusterRow3::Pin {
-        body: marker.body,
-        local: m.marker(marker).at,
-        name: name.clone(),
-    });
-    plan.steps[0].text = format!(
-        "drag {name}: every moving body free, {name} pinned to the target ({} unknowns, {} equations)",
-        c.unknowns(),
-        c.equations()
-    );
-    plan.inputs = vec!["x".into(), "y".into(), "z".into()];
-    plan.input_kinds = vec![crate::model::InputKind::Slide; 3];
-    plan
-}
-
-/// The mechanism with its inputs released (and so no sweep): what a drag
-/// moves, and whose joints its frames are checked against.
-pub fn released(m: &Mechanism3) -> Mechanism3 {
-    let mut free = m.clone();
-    free.inputs.clear();
-    free.sweep = None;
-    free
 }

@@ -260,7 +260,7 @@ mod tests {
     use crate::model::Format;
     use dofplan_runtime::Options;
 
-    const FOURBAR: &str = include_str!("../../../mechanisms/fourbar.toml");
+    const FOURBAR: &str = include_str!("../../../../mechanisms/fourbar.toml");
 
     /// The coupler point's curve sampled finely by the plan itself is the
     /// reference: the drag must end within a hair of the curve's point

@@ -372,12 +372,12 @@ mod tests {
     #[test]
     fn the_bundled_four_bars_are_what_their_headers_say() {
         // fourbar: s + l = √2 + 4 < p + q, the crank shortest.
-        let c = classes(include_str!("../../../mechanisms/fourbar.toml"));
+        let c = classes(include_str!("../../../../mechanisms/fourbar.toml"));
         assert_eq!(c.len(), 1);
         assert_eq!(c[0].1, "crank-rocker");
         assert_eq!(c[0].0[0], "ground");
         // rocker_rocker: s + l = 7 > p + q = 5.5.
-        let c = classes(include_str!("../../../mechanisms/rocker_rocker.toml"));
+        let c = classes(include_str!("../../../../mechanisms/rocker_rocker.toml"));
         assert_eq!(
             c,
             [(
@@ -386,7 +386,7 @@ mod tests {
             )]
         );
         // parallelogram: s + l = p + q.
-        let c = classes(include_str!("../../../mechanisms/parallelogram.toml"));
+        let c = classes(include_str!("../../../../mechanisms/parallelogram.toml"));
         assert!(c.iter().any(|(_, k)| *k == "change point"), "{c:?}");
     }
 
