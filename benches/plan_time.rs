@@ -3,7 +3,8 @@
 //! loops; criterion reports time per body via the throughput.
 //!
 //! `cargo bench --bench plan_time`. `cargo run --release --example scaling`
-//! prints the README's table for 10 to 2,000 loops.
+//! prints the user guide's table ("Plan time by size" in
+//! docs/guide/performance.md) for 10 to 2,000 loops.
 
 use std::hint::black_box;
 

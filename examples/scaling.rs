@@ -40,7 +40,8 @@ use dofplan::simulate::sweep_inputs;
 use dofplan_runtime::{Animate, Driver, Options};
 use dofplan_tests::stress::stress_chain;
 
-/// The sizes of the README's table.
+/// The sizes of the user guide's table ("Plan time by size" in
+/// docs/guide/performance.md).
 const LOOPS: [usize; 7] = [10, 50, 100, 200, 500, 1000, 2000];
 
 /// CPU seconds the calling thread has run.

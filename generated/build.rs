@@ -55,7 +55,8 @@ fn main() {
     chains();
 }
 
-/// The stress chains of the README's scaling table, by loops.
+/// The stress chains of the user guide's scaling table ("Plan time by size"
+/// in docs/guide/performance.md), by loops.
 const CHAINS: [usize; 7] = [10, 50, 100, 200, 500, 1000, 2000];
 
 /// Writes `chains.rs`: the stress chains of [`CHAINS`] loops

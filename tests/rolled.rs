@@ -1,7 +1,8 @@
 //! Large plans rolled into loops (`dofplan::emit`, `emit/roll.rs`): a
 //! stress chain's repeated steps become one loop over a table of their
-//! numbers. The compiled chains of the README's scaling table
-//! (`dofplan_generated::chains`, 10 to 2,000 loops, compiled as a user's
+//! numbers. The compiled chains of the user guide's scaling table
+//! ("Plan time by size" in docs/guide/performance.md;
+//! `dofplan_generated::chains`, 10 to 2,000 loops, compiled as a user's
 //! build.rs compiles them) give the interpreter's frames, every joint
 //! held, under every policy; and the code of a chain's module does not
 //! grow with the chain, only its table does.

@@ -1,24 +1,25 @@
-//! The pictures the README shows are what its commands write today.
+//! The pictures the README and the user guide show are what their commands
+//! write today.
 //!
-//! Every `dofplan … --svg docs/NAME.svg` command quoted in the README is run
-//! from the repository root, as a reader would run it, with the picture
-//! written to a scratch file instead; the committed `docs/NAME.svg` must be
-//! byte for byte the same. A change to the drawing code then shows up as a
-//! failing test until the pictures are regenerated with those commands.
+//! Every `dofplan … --svg docs/NAME.svg` command quoted in README.md or a
+//! chapter of `docs/guide/` is run once from the repository root, as a
+//! reader would run it, with the picture written to a scratch file instead;
+//! the committed `docs/NAME.svg` must be byte for byte the same. A change to
+//! the drawing code then shows up as a failing test until the pictures are
+//! regenerated with those commands.
 
-use std::path::{Path, PathBuf};
+mod user_docs;
+
+use std::path::Path;
 use std::process::Command;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
-}
+use user_docs::{root, user_docs};
 
-/// The README's commands that write a picture into `docs/`: every
-/// backquoted span that starts with `dofplan ` and has `--svg docs/`
-/// (a span may be broken over two lines).
-fn picture_commands(readme: &str) -> Vec<Vec<String>> {
-    readme
-        .split('`')
+/// The commands of a page (README.md or a guide chapter) that write a
+/// picture into `docs/`: every backquoted span that starts with `dofplan `
+/// and has `--svg docs/` (a span may be broken over two lines).
+fn picture_commands(page: &str) -> Vec<Vec<String>> {
+    page.split('`')
         .skip(1)
         .step_by(2)
         .map(|span| span.split_whitespace().map(str::to_string).collect::<Vec<_>>())
@@ -34,11 +35,19 @@ fn picture_commands(readme: &str) -> Vec<Vec<String>> {
 #[test]
 fn committed_pictures_equal_their_commands_output() {
     let root = root();
-    let readme = std::fs::read_to_string(root.join("README.md")).expect("README.md");
-    let commands = picture_commands(&readme);
+    // Every page's commands, each once (the README shows a picture the
+    // guide shows too).
+    let mut commands: Vec<Vec<String>> = Vec::new();
+    for (_, text) in user_docs() {
+        for words in picture_commands(&text) {
+            if !commands.contains(&words) {
+                commands.push(words);
+            }
+        }
+    }
     assert!(
         commands.len() >= 2,
-        "the README quotes its picture commands: {commands:?}"
+        "the README and the guide quote their picture commands: {commands:?}"
     );
     let scratch = std::env::temp_dir().join(format!("dofplan-docs-{}", std::process::id()));
     std::fs::create_dir_all(&scratch).unwrap();
@@ -69,7 +78,7 @@ fn committed_pictures_equal_their_commands_output() {
     std::fs::remove_dir_all(&scratch).ok();
     assert!(
         stale.is_empty(),
-        "committed pictures differ from what their README commands write:\n{}",
+        "committed pictures differ from what the commands the docs quote write:\n{}",
         stale.join("\n")
     );
 }

@@ -17,8 +17,9 @@ pub mod chunked {
     include!(concat!(env!("OUT_DIR"), "/chunked.rs"));
 }
 
-/// The stress chains of 10 to 2,000 four-bar loops of the README's scaling
-/// table (`dofplan_gen::stress::stress_chain`), compiled by
+/// The stress chains of 10 to 2,000 four-bar loops of the user guide's
+/// scaling table ("Plan time by size" in docs/guide/performance.md;
+/// `dofplan_gen::stress::stress_chain`), compiled by
 /// `dofplan::emit::emit` as a user's build.rs compiles them: above about
 /// 280 steps in the split form, the repeated steps rolled into a loop over
 /// a table. `driver(loops, options)` picks one.

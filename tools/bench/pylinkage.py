@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Time pylinkage's numba simulation path on dofplan's mechanisms, and check it.
 
-Side-by-side peer measurement for the README's "Move time, measured" and
-"Many frames in one call: `solve_batch`" tables: how long does pylinkage take
+Side-by-side peer measurement for the user guide's "Move time, measured"
+(docs/guide/performance.md) and "Many frames in one call: `solve_batch`"
+(docs/guide/batch.md) tables: how long does pylinkage take
 per frame to simulate one linkage over many crank angles, on this machine,
 for the same mechanisms (fourbar, stress_10 .. stress_50) and the same sweep?
 
