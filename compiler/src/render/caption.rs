@@ -4,7 +4,7 @@
 use dofplan_runtime::planar::Pose;
 use dofplan_runtime::FrameStatus;
 
-use super::mechanism::world;
+use super::planar::mechanism::world;
 use super::style::num;
 use crate::model::{Input, InputKind, Mechanism, Sweep};
 use crate::simulate::Frame;

@@ -4,8 +4,8 @@
 
 use svg::node::element::{Circle, Group, Line, Path, Rectangle, Text};
 
-use super::mechanism::STITCH_DASH;
 use super::spatial::symbol::{symbol, HATCH_ID};
+use super::style::STITCH_DASH;
 use super::style::{num, text_width, GREY, GROUND_COLOUR, INK, TARGET_COLOUR};
 use crate::format::thousands;
 use crate::model::spatial::JointKind3;

@@ -4,6 +4,8 @@
 use dofplan_runtime::planar::Point;
 use svg::node::element::Line;
 
+use crate::model::Body;
+
 /// Colours of the mobile bodies, in order (a colour-blind-friendly
 /// categorical palette without its grey, kept for the ground).
 pub(super) const BODY_COLOURS: [&str; 9] = [
@@ -84,4 +86,35 @@ pub(super) fn dashed<N: svg::Node>(mut node: N, width: f64, on: bool) -> N {
         );
     }
     node
+}
+
+/// The colour of body `b` in either dimension: the ground grey, the mobile
+/// bodies by rank.
+pub(crate) fn colour_of<M>(bodies: &[Body<M>], b: usize) -> &'static str {
+    if bodies.get(b).is_none_or(|body| body.fixed) {
+        return GROUND_COLOUR;
+    }
+    let rank = bodies[..b].iter().filter(|body| !body.fixed).count();
+    BODY_COLOURS[rank % BODY_COLOURS.len()]
+}
+
+/// The dash pattern of the stitch on stretched poses.
+pub(crate) const STITCH_DASH: &str = "4 3";
+
+/// A residual in three significant figures at most ("0.0567", "2.1e-7").
+pub(crate) fn short(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() {
+        return num(x);
+    }
+    if x.abs() >= 1e-3 {
+        let decimals = (2 - x.abs().log10().floor() as i32).max(0) as usize;
+        let s = format!("{x:.decimals$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    } else {
+        format!("{x:.1e}")
+    }
 }

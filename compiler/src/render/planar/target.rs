@@ -5,9 +5,9 @@
 use dofplan_runtime::planar::Point;
 use svg::node::element::{Circle, Group, Path, Polyline};
 
-use super::style::{line, num, points, TARGET_COLOUR};
-use super::trace::THIN_PX;
-use super::view::{dist, View};
+use crate::render::style::{line, num, points, TARGET_COLOUR};
+use crate::render::trace::THIN_PX;
+use crate::render::view::{dist, View};
 
 /// The target's path (dashed), the final target (a ring with a cross) and,
 /// when the dragged marker stopped short of it, a dotted line from where

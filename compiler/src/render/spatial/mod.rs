@@ -38,9 +38,10 @@ use svg::Document;
 
 use super::caption::{pick_of, titles_of, Shown};
 use super::legend::{self, Entry, Key, Layout};
-use super::mechanism::{colour_of, hull};
+use super::style::colour_of;
 use super::style::{dashed, line, num, points, text_width, trace_colour, GREY, GROUND_COLOUR, INK};
 use super::trace::{self, Reach, Rect};
+use super::view::hull;
 use super::view::{self, BBox, View};
 use crate::model::spatial::{JointKind3, Mechanism3};
 use crate::model::MarkerId;
@@ -454,12 +455,15 @@ fn legend_entries(
         entries.push(if opened {
             Entry {
                 key: Key::Stretched,
-                label: format!("stretched (residual up to {})", super::short(r)),
+                label: format!("stretched (residual up to {})", super::style::short(r)),
             }
         } else {
             Entry {
                 key: Key::Dashed,
-                label: format!("stretched: missed by up to {} (the joints hold)", super::short(r)),
+                label: format!(
+                    "stretched: missed by up to {} (the joints hold)",
+                    super::style::short(r)
+                ),
             }
         });
     }

@@ -4,13 +4,13 @@
 use dofplan_runtime::planar::{Point, Pose};
 use svg::node::element::{Circle, Group, Path, Polygon, Polyline, Text};
 
-use super::style::{line, num, points, text_width, BODY_COLOURS, GREY, GROUND_COLOUR, INK};
-use super::trace::{crosses, overlaps, Rect};
-use super::view::{finite, BBox, View};
-use crate::model::{Body, JointKind, MarkerId, Mechanism};
+use crate::model::{JointKind, MarkerId, Mechanism};
+use crate::render::style::{colour_of, line, num, points, text_width, GREY, INK, STITCH_DASH};
+use crate::render::trace::{crosses, overlaps, Rect};
+use crate::render::view::{finite, hull, BBox, View};
 
 /// The world position of a marker, if the ids are valid and it is finite.
-pub(super) fn world(m: &Mechanism, poses: &[Pose], id: MarkerId) -> Option<Point> {
+pub(in crate::render) fn world(m: &Mechanism, poses: &[Pose], id: MarkerId) -> Option<Point> {
     let marker = m.bodies.get(id.body)?.markers.get(id.marker)?;
     let p = poses.get(id.body)?.world(marker.at);
     finite(p).then_some(p)
@@ -25,15 +25,6 @@ pub(super) fn valid(m: &Mechanism, id: MarkerId) -> bool {
 /// the mobile bodies.
 pub(super) fn body_colour(m: &Mechanism, b: usize) -> &'static str {
     colour_of(&m.bodies, b)
-}
-
-/// [`body_colour`] for bodies of either dimension.
-pub(super) fn colour_of<M>(bodies: &[Body<M>], b: usize) -> &'static str {
-    if bodies.get(b).is_none_or(|body| body.fixed) {
-        return GROUND_COLOUR;
-    }
-    let rank = bodies[..b].iter().filter(|body| !body.fixed).count();
-    BODY_COLOURS[rank % BODY_COLOURS.len()]
 }
 
 /// How much detail the page has room for: symbol sizes and line widths
@@ -256,37 +247,6 @@ pub(super) fn draw_ground(
     }
     g
 }
-
-/// Convex hull (monotone chain) of page points, counter-clockwise on the
-/// page, collinear points dropped.
-pub(super) fn hull(mut ps: Vec<Point>) -> Vec<Point> {
-    ps.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
-    ps.dedup_by(|a, b| (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9);
-    if ps.len() < 3 {
-        return ps;
-    }
-    let cross = |o: Point, a: Point, b: Point| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
-    let mut out: Vec<Point> = Vec::with_capacity(2 * ps.len());
-    for pass in 0..2 {
-        let start = out.len();
-        let iter: Box<dyn Iterator<Item = &Point>> = if pass == 0 {
-            Box::new(ps.iter())
-        } else {
-            Box::new(ps.iter().rev())
-        };
-        for &p in iter {
-            while out.len() >= start + 2 && cross(out[out.len() - 2], out[out.len() - 1], p) <= 0.0 {
-                out.pop();
-            }
-            out.push(p);
-        }
-        out.pop();
-    }
-    out
-}
-
-/// The dash pattern of the stitch on stretched poses.
-pub(super) const STITCH_DASH: &str = "4 3";
 
 /// The outlines of the mobile bodies at `poses` as page segments (the
 /// edges of the shapes `draw_pose` fills, or its bars), for labels to keep
