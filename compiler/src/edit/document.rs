@@ -11,7 +11,7 @@ use crate::emit::emit;
 use crate::interp::Interpreter;
 use crate::model::{InputKind, JointKind, Mechanism};
 use crate::plan::Plan;
-use crate::report::check::Check;
+use crate::report::planar::check::Check;
 use crate::simulate::{frames, marker_at, sweep_requests};
 use dofplan_runtime::{BreakPolicy, Driver, Options};
 

@@ -1,20 +1,19 @@
 //! The reports of the `dofplan` commands, written as the CLI prints them:
-//! `check` of planar ([`check`]) and spatial ([`spatial`]) files, the
-//! frames of `simulate` and `drag` as a summary, JSON or CSV ([`frames`],
-//! [`spatial`]), and `analyze`'s rates (`analyze`, `analyze3`, with the
-//! `plots` feature). The editor shows the same `check` texts in its
-//! panels.
+//! one folder per dimension ([`planar`], [`spatial`]) with the same files:
+//! `check.rs` (`dofplan check`), `frames.rs` (the frames of `simulate` and
+//! `drag` as a summary, JSON or CSV) and `analyze.rs` (`analyze`'s rates,
+//! with the `plots` feature). What both share is here: the run summary
+//! ([`summary`]), the assembly ranges ([`ranges`]), the forms and errors.
+//! The editor shows the same `check` texts in its panels.
 //!
 //! Reports are written to any [`std::io::Write`] and say whether the
 //! command succeeded; printing, exit codes and progress displays are the
 //! caller's.
 
+pub mod planar;
+pub mod ranges;
 #[cfg(feature = "plots")]
-pub mod analyze;
-#[cfg(feature = "plots")]
-pub mod analyze3;
-pub mod check;
-pub mod frames;
+mod rates;
 pub mod spatial;
 pub mod summary;
 
@@ -66,7 +65,7 @@ impl FrameProgress for () {
 
 /// An input value where the pose is (held, or a break point): up to 9
 /// decimals, the precision a break point is searched to.
-fn precise(x: f64) -> String {
+pub(crate) fn precise(x: f64) -> String {
     crate::format::rounded(x, 9)
 }
 

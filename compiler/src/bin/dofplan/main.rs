@@ -21,10 +21,12 @@ use dofplan::model::Model;
 use dofplan::model::{Mechanism, Sweep, MAX_STEPS};
 use dofplan::plan::spatial::Plan3;
 use dofplan::plan::Plan;
-use dofplan::report::check::Check;
-use dofplan::report::frames::{self, Solver};
+use dofplan::report::planar::analyze;
+use dofplan::report::planar::check::Check;
+use dofplan::report::planar::frames::{self, Solver};
 use dofplan::report::spatial as spatial3;
-use dofplan::report::{analyze, analyze3, Form, Outcome};
+use dofplan::report::spatial::analyze as analyze3;
+use dofplan::report::{Form, Outcome};
 use dofplan::simulate::{sweep_to_run, SweepSource};
 use dofplan_runtime::{BranchPolicy, BreakPolicy, Options, StartPolicy};
 

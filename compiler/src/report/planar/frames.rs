@@ -18,8 +18,8 @@ use crate::plan::Plan;
 use crate::render::{render, SvgOptions};
 use crate::simulate::{frames, marker_positions, sweep_requests, Frame};
 
-use super::summary::{Describe, Explain, Summary};
-use super::{error, precise, Form, FrameProgress, Outcome};
+use crate::report::summary::{Describe, Explain, Summary};
+use crate::report::{error, precise, Form, FrameProgress, Outcome};
 
 /// What moves the mechanism through a sweep.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

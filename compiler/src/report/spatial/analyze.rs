@@ -25,9 +25,9 @@ use dofplan_runtime::real::RateError;
 use dofplan_runtime::{Driver, Options};
 use serde_json::{json, Map, Value};
 
-use super::analyze::{at_input, extremes, header, rate_text};
-use super::spatial::frame_value;
-use super::{Form, FrameProgress, Outcome};
+use super::frames::frame_value;
+use crate::report::rates::{at_input, extremes, header, rate_keys, rate_text};
+use crate::report::{Form, FrameProgress, Outcome};
 
 /// Runs `analyze` on a spatial plan: the sweep with rates at `rate`
 /// (radians or length units per second for the sweep's first input), in
@@ -133,7 +133,7 @@ pub fn analyze(
                     &markers,
                     res,
                 );
-                super::analyze::rate_keys(
+                rate_keys(
                     &mut o,
                     m.bodies.iter().map(|b| b.name.as_str()),
                     &names,

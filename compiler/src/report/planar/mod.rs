@@ -1,0 +1,7 @@
+//! The reports of planar files: `check`, the frames of `simulate` and
+//! `drag`, and `analyze`'s rates (with the `plots` feature).
+
+#[cfg(feature = "plots")]
+pub mod analyze;
+pub mod check;
+pub mod frames;
