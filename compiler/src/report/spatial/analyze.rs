@@ -18,7 +18,7 @@ use crate::model::spatial::Mechanism3;
 use crate::model::{Input, InputKind, Sweep};
 use crate::plan::spatial::Plan3;
 use crate::render::plots::{draw_spatial, Sample3, Traced3};
-use crate::simulate::kinematics::input_rates;
+use crate::simulate::input_rates;
 use crate::simulate::spatial::{marker_positions, motion3, residual, Motion3};
 use crate::simulate::sweep_requests;
 use dofplan_runtime::real::RateError;

@@ -7,7 +7,7 @@ use dofplan_runtime::planar::{Point, Pose};
 use dofplan_runtime::real::Jet2;
 
 use crate::analysis::planar::grashof::FourBar;
-use crate::model::{Input, InputKind, Mechanism, Sweep};
+use crate::model::Mechanism;
 
 /// One frame's rates.
 #[derive(Clone, Debug, PartialEq)]
@@ -46,41 +46,6 @@ pub fn motion(m: &Mechanism, jets: &[Pose<Jet2>]) -> Motion {
         omega,
         alpha,
     }
-}
-
-/// Each input's rate along a sweep, in the input's units per unit of time
-/// (degrees for angles), when the sweep's first input moves at `rate`
-/// (radians or length units per unit of time) and the others keep their
-/// proportions to it.
-pub fn sweep_rates(m: &Mechanism, sweep: &Sweep, rate: f64) -> Vec<f64> {
-    input_rates(&m.inputs, sweep, rate)
-}
-
-/// [`sweep_rates`] of a mechanism's `inputs`, planar or spatial.
-pub fn input_rates(inputs: &[Input], sweep: &Sweep, rate: f64) -> Vec<f64> {
-    let primary = sweep.primary();
-    // Halves, so that a sweep over most of the f64 range (`--from -1e308
-    // --to 1e308`) has a finite span; the ratio below is divided first for
-    // the same reason.
-    let half_span = |s: &crate::model::Swept| 0.5 * s.to - 0.5 * s.from;
-    let span = half_span(primary);
-    let per_unit = match inputs[primary.input].kind {
-        InputKind::Angle => rate.to_degrees(),
-        InputKind::Slide => rate,
-    };
-    let mut rates = vec![0.0; inputs.len()];
-    for s in &sweep.inputs {
-        rates[s.input] = if span == 0.0 {
-            if s.input == primary.input {
-                per_unit
-            } else {
-                0.0
-            }
-        } else {
-            per_unit * (half_span(s) / span.abs())
-        };
-    }
-    rates
 }
 
 /// The transmission angle of a four-bar loop at `poses`, in degrees
@@ -126,7 +91,7 @@ mod tests {
     fn the_drawn_fourbar_transmits_at_the_angle_of_its_coupler_and_rocker() {
         let m = load_str(
             "f.toml",
-            include_str!("../../../mechanisms/fourbar.toml"),
+            include_str!("../../../../mechanisms/fourbar.toml"),
             Format::Toml,
         )
         .unwrap();
@@ -145,13 +110,13 @@ mod tests {
     fn input_rates_survive_huge_spans() {
         let m = load_str(
             "f.toml",
-            include_str!("../../../mechanisms/fourbar.toml"),
+            include_str!("../../../../mechanisms/fourbar.toml"),
             Format::Toml,
         )
         .unwrap();
         for (from, to) in [(0.0, 360.0), (0.0, 1e308), (-1e308, 1e308), (1e308, -1e308)] {
             let sweep = crate::model::Sweep::single(0, from, to, 3, Vec::new());
-            let rates = input_rates(&m.inputs, &sweep, 1.0);
+            let rates = crate::simulate::input_rates(&m.inputs, &sweep, 1.0);
             let want = if to > from { 1.0_f64 } else { -1.0 }.to_degrees();
             assert!((rates[0] - want).abs() < 1e-12, "{from}..{to}: {rates:?}");
         }

@@ -1,15 +1,17 @@
 //! Running a plan over a sweep and reading the result: marker positions and
 //! the residual of every joint, constraint and input.
 
-pub mod kinematics;
+pub mod planar;
 pub mod spatial;
 
+pub use planar::{marker_at, marker_positions, max_relative_residual, residuals, Residual};
+
 use dofplan_runtime::numeric::NewtonReport;
-use dofplan_runtime::planar::{Point, Pose};
+use dofplan_runtime::planar::Pose;
 use dofplan_runtime::{Animate, Driver, FrameStatus, Options, Solver};
 
 use crate::model::spatial::Mechanism3;
-use crate::model::{ConstraintKind, Input, InputKind, JointKind, MarkerId, Mechanism, Sweep};
+use crate::model::{Input, InputKind, Mechanism, Sweep};
 
 /// One solved (or broken) frame.
 #[derive(Clone, Debug)]
@@ -109,133 +111,6 @@ where
     fn size_hint(&self) -> (usize, Option<usize>) {
         self.requested.size_hint()
     }
-}
-
-/// World position of a marker.
-pub fn marker_at(m: &Mechanism, poses: &[Pose], id: MarkerId) -> Point {
-    poses[id.body].world(m.marker(id).at)
-}
-
-/// Every marker's world position, keyed "body.marker", in file order.
-pub fn marker_positions(m: &Mechanism, poses: &[Pose]) -> Vec<(String, Point)> {
-    m.all_markers()
-        .map(|id| (m.marker_name(id), marker_at(m, poses, id)))
-        .collect()
-}
-
-/// How far a joint, constraint or input is from holding.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Residual {
-    /// "joint A", "constraint c", "input theta".
-    pub name: String,
-    /// The violation as a length: a gap between points, a distance off a
-    /// line, or an angle error times the mechanism's size.
-    pub value: f64,
-}
-
-fn dist(a: Point, b: Point) -> f64 {
-    ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt()
-}
-
-/// The distance of `p` from the line through `a` along unit `d`, and the
-/// position of its foot along the line.
-fn off_line(a: Point, d: Point, p: Point) -> (f64, f64) {
-    let v = [p[0] - a[0], p[1] - a[1]];
-    ((v[0] * d[1] - v[1] * d[0]).abs(), v[0] * d[0] + v[1] * d[1])
-}
-
-/// Relative rotation angle (radians) of body `b` with respect to `a`.
-fn relative_angle(poses: &[Pose], a: usize, b: usize) -> f64 {
-    let r = poses[a].rot.inverse().then(poses[b].rot);
-    r.s.atan2(r.c)
-}
-
-fn wrap(angle: f64) -> f64 {
-    let t = std::f64::consts::TAU;
-    (angle + std::f64::consts::PI).rem_euclid(t) - std::f64::consts::PI
-}
-
-/// The residual of every joint, constraint and input at `poses` for
-/// `inputs`. Computed from the model alone (not from the plan), so it checks
-/// a plan independently of how the plan placed the bodies.
-pub fn residuals(m: &Mechanism, poses: &[Pose], inputs: &[f64]) -> Vec<Residual> {
-    let size = m.size();
-    let at = |id: MarkerId| marker_at(m, poses, id);
-    let line = |id: MarkerId| {
-        let d = m
-            .marker(id)
-            .unit_dir()
-            .expect("validated: line markers carry a dir");
-        (at(id), poses[id.body].world_dir(d))
-    };
-    let mut out = Vec::new();
-    for (ji, j) in m.joints.iter().enumerate() {
-        let [a, b] = j.markers;
-        let value = match j.kind {
-            JointKind::Revolute => dist(at(a), at(b)),
-            JointKind::Prismatic => {
-                let (p, d) = line(a);
-                let (off, _) = off_line(p, d, at(b));
-                off.max(relative_angle(poses, a.body, b.body).abs() * size)
-            }
-        };
-        out.push(Residual {
-            name: format!("joint {}", j.name),
-            value,
-        });
-        if let Some(k) = m.inputs.iter().position(|i| i.joint == ji) {
-            let value = match m.inputs[k].kind {
-                // Reduced modulo 360 first (exact), as `Rot::from_degrees`
-                // does: a huge angle in radians has lost its turn.
-                InputKind::Angle => {
-                    wrap(relative_angle(poses, a.body, b.body) - (inputs[k] % 360.0).to_radians()).abs()
-                        * size
-                }
-                InputKind::Slide => {
-                    let (p, d) = line(a);
-                    let (_, along) = off_line(p, d, at(b));
-                    let drawn = off_line(m.marker(a).at, m.marker(a).unit_dir().unwrap(), m.marker(b).at).1;
-                    (along - drawn - inputs[k]).abs()
-                }
-            };
-            out.push(Residual {
-                name: format!("input {}", m.inputs[k].name),
-                value,
-            });
-        }
-    }
-    for c in &m.constraints {
-        let [a, b] = c.markers;
-        let value = match c.kind {
-            ConstraintKind::Coincident => dist(at(a), at(b)),
-            ConstraintKind::InLine => {
-                let (p, d) = line(a);
-                off_line(p, d, at(b)).0
-            }
-            ConstraintKind::Offset => relative_angle(poses, a.body, b.body).abs() * size,
-        };
-        out.push(Residual {
-            name: format!("constraint {}", c.name),
-            value,
-        });
-    }
-    out
-}
-
-/// The largest residual, relative to the mechanism's size; NaN if any is
-/// NaN (`f64::max` alone would drop it, and a NaN pose would pass a check).
-pub fn max_relative_residual(m: &Mechanism, poses: &[Pose], inputs: &[f64]) -> f64 {
-    let size = m.size();
-    residuals(m, poses, inputs)
-        .iter()
-        .map(|r| r.value / size)
-        .fold(0.0, |worst: f64, r| {
-            if worst.is_nan() || r.is_nan() {
-                f64::NAN
-            } else {
-                worst.max(r)
-            }
-        })
 }
 
 /// The frames of a sweep or drag when the file and the command line say
@@ -361,6 +236,41 @@ impl SweepSource for Mechanism3 {
     fn file_name(&self) -> &str {
         &self.source.name
     }
+}
+
+/// Each input's rate along a sweep, in the input's units per unit of time
+/// (degrees for angles), when the sweep's first input moves at `rate`
+/// (radians or length units per unit of time) and the others keep their
+/// proportions to it.
+pub fn sweep_rates(m: &Mechanism, sweep: &Sweep, rate: f64) -> Vec<f64> {
+    input_rates(&m.inputs, sweep, rate)
+}
+
+/// [`sweep_rates`] of a mechanism's `inputs`, planar or spatial.
+pub fn input_rates(inputs: &[Input], sweep: &Sweep, rate: f64) -> Vec<f64> {
+    let primary = sweep.primary();
+    // Halves, so that a sweep over most of the f64 range (`--from -1e308
+    // --to 1e308`) has a finite span; the ratio below is divided first for
+    // the same reason.
+    let half_span = |s: &crate::model::Swept| 0.5 * s.to - 0.5 * s.from;
+    let span = half_span(primary);
+    let per_unit = match inputs[primary.input].kind {
+        InputKind::Angle => rate.to_degrees(),
+        InputKind::Slide => rate,
+    };
+    let mut rates = vec![0.0; inputs.len()];
+    for s in &sweep.inputs {
+        rates[s.input] = if span == 0.0 {
+            if s.input == primary.input {
+                per_unit
+            } else {
+                0.0
+            }
+        } else {
+            per_unit * (half_span(s) / span.abs())
+        };
+    }
+    rates
 }
 
 #[cfg(test)]
