@@ -148,7 +148,10 @@ fn a_misdrawn_joint_in_a_long_chain_is_reported_without_the_assembly() {
     let help = d.help.as_deref().unwrap_or_default();
     assert!(
         help.contains("was not checked")
-            && help.contains(&format!("at most {}", dofplan::conflict::MAX_REVIEWED_BODIES)),
+            && help.contains(&format!(
+                "at most {}",
+                dofplan::conflict::planar::MAX_REVIEWED_BODIES
+            )),
         "{help}"
     );
 }
