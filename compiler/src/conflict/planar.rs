@@ -6,7 +6,7 @@ use dofplan_runtime::numeric::{Equations, Newton, NewtonOptions, NewtonOutcome};
 use dofplan_runtime::planar::Pose;
 use nalgebra::{DMatrix, DVector};
 
-use crate::model::equations::equations;
+use crate::model::planar::equations::equations;
 use crate::model::{
     ConstraintKind, Diagnostic, Drawn, JointKind, Location, Mechanism, ModelError, Note, Open,
     DRAWN_TOLERANCE,

@@ -13,7 +13,7 @@ use dofplan_runtime::{BranchPolicy, Ctx, Solver};
 
 use super::{file_name, Progress};
 use crate::interp::Interpreter;
-pub use crate::model::equations::{Equation, Sourced};
+pub use crate::model::planar::equations::{Equation, Sourced};
 use crate::model::Mechanism;
 use crate::plan::{Plan, PlanBody, PlanInput};
 pub use mobility::{Class, Mobility};
@@ -91,7 +91,7 @@ pub fn analyse(m: &Mechanism) -> Analysis {
 /// [`analyse`], reporting how far it is to `progress`.
 pub fn analyse_with(m: &Mechanism, progress: &mut dyn FnMut(Progress)) -> Analysis {
     let mobility = Mobility::of(m);
-    let eqs = crate::model::equations::equations(m);
+    let eqs = crate::model::planar::equations::equations(m);
     let planned = planner::plan(m, &eqs, progress);
     let unused: Vec<String> = planned.unused.iter().map(|&i| eqs[i].origin.clone()).collect();
     let plan = if !unused.is_empty() {

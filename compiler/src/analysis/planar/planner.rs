@@ -34,7 +34,7 @@ use std::collections::BTreeSet;
 use dofplan_runtime::{Branch, Point};
 
 use super::Progress;
-use crate::model::equations::{Equation, Sourced};
+use crate::model::planar::equations::{Equation, Sourced};
 use crate::model::Mechanism;
 use crate::plan::{BodyId, BranchSlot, ClusterParam, DirRef, Line, PointRef, Rel, Step, StepKind, Temp};
 

@@ -20,7 +20,7 @@ use dofplan_runtime::planar::Pose;
 use nalgebra::{DMatrix, DVector};
 
 use super::Progress;
-use crate::model::equations::equations;
+use crate::model::planar::equations::equations;
 use crate::model::Mechanism;
 use crate::plan::ClusterRow;
 

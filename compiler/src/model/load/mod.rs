@@ -1377,7 +1377,7 @@ impl Validator {
     }
 
     fn size(&mut self, bodies: &[Body]) -> f64 {
-        *self.size.get_or_insert_with(|| super::size_of(bodies))
+        *self.size.get_or_insert_with(|| super::planar::size_of(bodies))
     }
 
     fn check_coincident(

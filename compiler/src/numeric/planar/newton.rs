@@ -16,7 +16,7 @@ use dofplan_runtime::planar::{Point, Pose, Rot};
 use dofplan_runtime::{Break, BreakKind, Ctx, Solver};
 use nalgebra::{DMatrix, DVector};
 
-use crate::model::equations::equations;
+use crate::model::planar::equations::equations;
 use crate::model::{InputKind, JointKind, Mechanism};
 use crate::plan::ClusterRow;
 
