@@ -8,7 +8,6 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
-use dofplan::interp::spatial::Interpreter3;
 use dofplan::interp::Interpreter;
 use dofplan::load_file;
 use dofplan::numeric::planar::drag::Drag;
@@ -91,10 +90,16 @@ fn spatial(c: &mut Criterion) {
         })
         .expect("compiled");
         let plan = dofplan::analysis::spatial::analyse(&m).expect("plans");
-        let mut interpreted = Driver::new(Interpreter3::new(plan), Options::default());
+        let mut interpreted = Driver::new(
+            dofplan::interp::spatial::Interpreter::new(plan),
+            Options::default(),
+        );
         group.bench_function("interpreted", |b| b.iter(|| sweep(&mut interpreted, &inputs)));
         if m.moving() <= 20 {
-            let mut newton = Driver::new(Interpreter3::new(pure_newton(&m)), Options::default());
+            let mut newton = Driver::new(
+                dofplan::interp::spatial::Interpreter::new(pure_newton(&m)),
+                Options::default(),
+            );
             group.sample_size(10);
             group.bench_function("pure_newton", |b| b.iter(|| sweep(&mut newton, &inputs)));
         }

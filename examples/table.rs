@@ -19,7 +19,6 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use dofplan::analysis::spatial::{analyse as analyse3, count::count};
-use dofplan::interp::spatial::Interpreter3;
 use dofplan::interp::Interpreter;
 use dofplan::numeric::spatial::pure_newton;
 use dofplan::simulate::{sweep_inputs, sweep_requests};
@@ -210,7 +209,10 @@ fn spatial(filter: &[String]) {
         let c = count(&m);
         let s = m.sweep.as_ref().expect("a sweep");
         let inputs: Vec<Vec<f64>> = sweep_requests(s, m.inputs.len()).collect();
-        let mut interpreted = Driver::new(Interpreter3::new(p.clone()), Options::default());
+        let mut interpreted = Driver::new(
+            dofplan::interp::spatial::Interpreter::new(p.clone()),
+            Options::default(),
+        );
         let (compiled, interp) = dofplan_generated::with_spatial_plan!(name.as_str(), |plan| {
             compare(
                 &mut Driver::new(plan, Options::default()),
@@ -226,7 +228,10 @@ fn spatial(filter: &[String]) {
         // Figure 30 leaves its slowest cell blank.
         let (u, _) = p.cluster_size();
         let newton = if m.moving() <= 60 {
-            let mut newton = Driver::new(Interpreter3::new(pure_newton(&m)), Options::default());
+            let mut newton = Driver::new(
+                dofplan::interp::spatial::Interpreter::new(pure_newton(&m)),
+                Options::default(),
+            );
             let passes = if m.moving() > 15 { 3 } else { 11 };
             let reps = reps_for(&mut newton, &inputs);
             let n = median((0..passes).map(|_| pass(&mut newton, &inputs, reps)).collect());

@@ -75,7 +75,7 @@ fn spatial_fixtures_dir() -> PathBuf {
 
 /// Loads a bundled spatial mechanism, or else a spatial fixture, by name,
 /// panicking with the diagnostics.
-pub fn load_spatial(name: &str) -> dofplan::model::spatial::Mechanism3 {
+pub fn load_spatial(name: &str) -> dofplan::model::spatial::Mechanism {
     let bundled = mechanisms_dir().join(format!("spatial/{name}.toml"));
     let path = if bundled.exists() {
         bundled
@@ -90,7 +90,7 @@ pub fn load_spatial(name: &str) -> dofplan::model::spatial::Mechanism3 {
 }
 
 /// Plans a spatial mechanism, panicking with the reason if it has no plan.
-pub fn plan_spatial(m: &dofplan::model::spatial::Mechanism3) -> dofplan::plan::spatial::Plan3 {
+pub fn plan_spatial(m: &dofplan::model::spatial::Mechanism) -> dofplan::plan::spatial::Plan {
     dofplan::analysis::spatial::analyse(m).unwrap_or_else(|e| panic!("{}: {e}", m.name))
 }
 

@@ -6,8 +6,8 @@
 use std::path::{Path, PathBuf};
 
 use dofplan::analysis::spatial::{analyse, count::count};
-use dofplan::interp::spatial::Interpreter3;
-use dofplan::model::spatial::Mechanism3;
+use dofplan::interp::spatial::Interpreter;
+use dofplan::model::spatial::Mechanism;
 use dofplan::model::{Format, Model};
 use dofplan::simulate::spatial::residual;
 use dofplan::simulate::sweep_requests;
@@ -21,7 +21,7 @@ fn data(name: &str) -> PathBuf {
         .join(name)
 }
 
-fn load(path: &Path) -> Mechanism3 {
+fn load(path: &Path) -> Mechanism {
     match load_any(path) {
         Ok(Model::Spatial(m)) => m,
         Ok(Model::Planar(_)) => panic!("{} is planar", path.display()),
@@ -31,9 +31,9 @@ fn load(path: &Path) -> Mechanism3 {
 
 /// Runs the file's sweep; every frame solved with every raw residual
 /// ≤ 1e-9 of the size. Returns each frame's marker positions by name.
-fn sweep(m: &Mechanism3) -> Vec<(Vec<f64>, Vec<dofplan_runtime::spatial::Pose3>)> {
+fn sweep(m: &Mechanism) -> Vec<(Vec<f64>, Vec<dofplan_runtime::spatial::Pose3>)> {
     let plan = analyse(m).unwrap_or_else(|e| panic!("{}: {e}", m.name));
-    let mut driver = Driver::new(Interpreter3::new(plan), Options::default());
+    let mut driver = Driver::new(Interpreter::new(plan), Options::default());
     let s = m.sweep.as_ref().expect("a sweep");
     let mut out = Vec::new();
     for (i, req) in sweep_requests(s, m.inputs.len()).enumerate() {
@@ -230,11 +230,11 @@ fn every_bundled_spatial_sweep_closes_every_joint() {
     }
 }
 
-fn bundled3(name: &str) -> Mechanism3 {
+fn bundled3(name: &str) -> Mechanism {
     load(&Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("mechanisms/spatial/{name}.toml")))
 }
 
-fn body(m: &Mechanism3, name: &str) -> usize {
+fn body(m: &Mechanism, name: &str) -> usize {
     m.bodies.iter().position(|b| b.name == name).unwrap()
 }
 
@@ -248,7 +248,7 @@ fn tilted_fourbar_is_the_planar_fourbar_mapped_into_its_plane() {
     let m2 = dofplan_tests::load("fourbar");
     let at3 = |n: &str| m3.marker(m3.find_marker(n).unwrap()).at;
     let at2 = |n: &str| m2.marker(m2.find_marker(n).unwrap()).at;
-    // Planar A = (0, 0), D = (4, 0), B = (1, 1): o = A3, e1 = (D3 − o)/4,
+    // Planar A = (0, 0), D = (4, 0), B = (1, 1): o = A3, e1 = (DirRef − o)/4,
     // e2 = B3 − o − e1.
     assert_eq!(
         (at2("ground.A"), at2("ground.D"), at2("crank.B")),
@@ -329,7 +329,7 @@ fn plans_agree_with_pure_newton_on_the_raw_equations() {
         let plan = analyse(&m).unwrap();
         let idle: Vec<usize> = plan.idle.iter().map(|(b, _, _)| *b).collect();
         let mut newton = Driver::new(
-            Interpreter3::new(dofplan::numeric::spatial::pure_newton(&m)),
+            Interpreter::new(dofplan::numeric::spatial::pure_newton(&m)),
             Options::default(),
         );
         let frames = sweep(&m);
@@ -370,7 +370,7 @@ fn spatial_drags_follow_the_target_and_keep_every_joint_closed() {
             breaking: BreakPolicy::Stretch,
             ..Options::default()
         };
-        let mut d = Driver::new(Interpreter3::new(drag_plan(&m, id)), options);
+        let mut d = Driver::new(Interpreter::new(drag_plan(&m, id)), options);
         let from = m.marker(id).at;
         let mut out = Vec::new();
         for i in 0..steps {
@@ -441,7 +441,7 @@ fn breaking_policies_hold_search_and_stretch_in_space() {
             branch: BranchPolicy::Keep,
             ..Options::default()
         };
-        let mut d = Driver::new(Interpreter3::new(plan.clone()), options);
+        let mut d = Driver::new(Interpreter::new(plan.clone()), options);
         let status = d.frame(&far);
         match (breaking, status) {
             (BreakPolicy::Limit, FrameStatus::Limited { .. }) => {
@@ -459,7 +459,7 @@ fn breaking_policies_hold_search_and_stretch_in_space() {
                 // …and it is the boundary: a little further breaks.
                 let mut beyond = d.inputs().to_vec();
                 beyond[boom] += 1e-6;
-                let mut probe = Driver::new(Interpreter3::new(plan.clone()), Options::default());
+                let mut probe = Driver::new(Interpreter::new(plan.clone()), Options::default());
                 let mut step = vec![0.0; m.inputs.len()];
                 for k in 1..=100 {
                     step[boom] = d.inputs()[boom] * k as f64 / 100.0;
@@ -487,7 +487,7 @@ fn a_spherical_linkage_drawn_at_its_centre_closes_on_directions() {
     assert!(plan
         .steps
         .iter()
-        .any(|s| matches!(s.kind, dofplan::plan::spatial::StepKind3::IntersectDir { .. })));
+        .any(|s| matches!(s.kind, dofplan::plan::spatial::StepKind::IntersectDir { .. })));
     let bundled = bundled3("spherical_fourbar");
     let a = sweep(&centre);
     let b = sweep(&bundled);

@@ -8,8 +8,8 @@
 
 use dofplan::analysis::spatial::analyse;
 use dofplan::emit::ident_for;
-use dofplan::interp::spatial::Interpreter3;
-use dofplan::model::spatial::Mechanism3;
+use dofplan::interp::spatial::Interpreter;
+use dofplan::model::spatial::Mechanism;
 use dofplan::simulate::sweep_requests;
 use dofplan_runtime::spatial::Pose3;
 use dofplan_runtime::{Animate, BranchPolicy, Break, BreakPolicy, Ctx, Driver, FrameStatus, Options};
@@ -24,7 +24,7 @@ fn every_spatial() -> Vec<String> {
 
 /// Whether a file is one of the long generated chains, whose sweeps are
 /// checked on fewer frames (a debug build runs hundreds of steps a frame).
-fn is_stress(m: &Mechanism3) -> bool {
+fn is_stress(m: &Mechanism) -> bool {
     m.name.starts_with("spatial_stress_")
 }
 
@@ -32,14 +32,14 @@ fn is_stress(m: &Mechanism3) -> bool {
 /// but the stress chains, and the fixtures in closed form. (The fixtures'
 /// large clusters break into least-squares searches that take minutes in a
 /// debug build; the Stewart platform's cluster breaks there already.)
-fn overreach(m: &Mechanism3) -> bool {
+fn overreach(m: &Mechanism) -> bool {
     !is_stress(m) && (bundled_spatial().contains(&m.name) || tol(m, Options::default()) == EXACT)
 }
 
 /// The frames of `m`'s sweep (at most `max` of them, same ends), with its
 /// ranges stretched by `reach` (1 = as written; more drives the inputs past
 /// where the mechanism assembles, so frames break).
-fn requests(m: &Mechanism3, max: usize, reach: f64) -> Vec<Vec<f64>> {
+fn requests(m: &Mechanism, max: usize, reach: f64) -> Vec<Vec<f64>> {
     let mut sweep = m.sweep.clone().expect("every bundled file has a sweep");
     sweep.steps = sweep.steps.min(max);
     for s in &mut sweep.inputs {
@@ -138,7 +138,7 @@ const STRETCHED_CLUSTER: f64 = 1e-5;
 /// every pose within `tol` — and, at [`EXACT`], Newton's iterations the
 /// same. Returns how many frames did not solve.
 fn agree(
-    m: &Mechanism3,
+    m: &Mechanism,
     what: &str,
     compiled: &mut dyn Animate<Pose3>,
     opts: Options,
@@ -146,7 +146,7 @@ fn agree(
     tol: f64,
 ) -> usize {
     let plan = analyse(m).unwrap_or_else(|e| panic!("{}: {e}", m.name));
-    let mut interpreted = Driver::new(Interpreter3::new(plan), opts);
+    let mut interpreted = Driver::new(Interpreter::new(plan), opts);
     let a = run(&mut interpreted, requested);
     let b = run(compiled, requested);
     let name = &m.name;
@@ -179,7 +179,7 @@ fn agree(
 /// [`EXACT`] for a closed-form plan; for one with a numeric cluster, where
 /// frames break, [`AT_A_CLUSTER_BREAK`], or [`STRETCHED_CLUSTER`] under the
 /// stretch policy.
-fn tol(m: &Mechanism3, opts: Options) -> f64 {
+fn tol(m: &Mechanism, opts: Options) -> f64 {
     let plan = analyse(m).unwrap_or_else(|e| panic!("{}: {e}", m.name));
     if plan.cluster_size() == (0, 0) {
         EXACT
@@ -305,7 +305,7 @@ fn a_break_leaves_the_compiled_state_unchanged() {
     use dofplan_generated::excavator::{solve, State, INPUTS};
     let m = load_spatial("excavator");
     let plan = analyse(&m).expect("plans");
-    let mut interpreted = Driver::new(Interpreter3::new(plan), Options::default());
+    let mut interpreted = Driver::new(Interpreter::new(plan), Options::default());
     // A few frames in, so the state is not the drawing.
     let mut s = State::DRAWN;
     let mut inputs = vec![0.0; INPUTS.len()];

@@ -1,5 +1,5 @@
 //! Velocities and accelerations of spatial plans by forward-mode
-//! differentiation through the plan ([`Interpreter3::rates`], the generated
+//! differentiation through the plan ([`Interpreter::rates`], the generated
 //! modules' `rates` and `solve_rates`), against independent computations:
 //! the Cardan joint's velocity ratio cos β / (1 − sin²β cos²θ₁) and its
 //! derivative, with β and the phase of θ₁ read from the file's geometry,
@@ -7,8 +7,8 @@
 //! the Stewart platform's leg lengths, whose rates must be the slides'.
 //! Every frame solved here is held to its raw joint residuals.
 
-use dofplan::interp::spatial::Interpreter3;
-use dofplan::model::spatial::Mechanism3;
+use dofplan::interp::spatial::Interpreter;
+use dofplan::model::spatial::Mechanism;
 use dofplan::simulate::spatial::residual;
 use dofplan::simulate::sweep_requests;
 use dofplan_runtime::real::{Jet2, RateError};
@@ -55,11 +55,11 @@ fn every_spatial() -> Vec<String> {
 }
 
 /// Whether `m`'s plan has a numeric cluster.
-fn has_cluster(m: &Mechanism3) -> bool {
+fn has_cluster(m: &Mechanism) -> bool {
     plan_spatial(m)
         .steps
         .iter()
-        .any(|s| matches!(s.kind, dofplan::plan::spatial::StepKind3::Cluster(_)))
+        .any(|s| matches!(s.kind, dofplan::plan::spatial::StepKind::Cluster(_)))
 }
 
 fn unit(v: Vec3) -> Vec3 {
@@ -99,7 +99,7 @@ fn a_cardan_joint_has_its_velocity_ratio_and_its_derivative() {
         let q = 1.0 - sb * sb * t.cos() * t.cos();
         -cb * sb * sb * (2.0 * t).sin() / (q * q)
     };
-    let interp = Interpreter3::new(plan_spatial(&m));
+    let interp = Interpreter::new(plan_spatial(&m));
     let mut di = Driver::new(interp.clone(), Options::default());
     let mut s = dofplan_generated::cardan::State::DRAWN;
     // 90°/s and 40°/s², in the inputs' units (degrees).
@@ -143,7 +143,7 @@ fn a_cardan_joint_has_its_velocity_ratio_and_its_derivative() {
 }
 
 /// The sweep's direction in input space, largest component 1.
-fn direction(m: &Mechanism3) -> Vec<f64> {
+fn direction(m: &Mechanism) -> Vec<f64> {
     let sweep = m.sweep.as_ref().expect("a sweep");
     let mut dir = vec![0.0; m.inputs.len()];
     for s in &sweep.inputs {
@@ -166,7 +166,7 @@ fn spatial_rates_agree_with_central_differences_on_every_bundled_sweep() {
     let mut with_clusters = Vec::new();
     for name in every_spatial() {
         let m = load_spatial(&name);
-        let interp = Interpreter3::new(plan_spatial(&m));
+        let interp = Interpreter::new(plan_spatial(&m));
         let n = m.inputs.len();
         let dir = direction(&m);
         let count = if name.starts_with("spatial_stress_") {
@@ -303,7 +303,7 @@ fn compiled_spatial_rates_equal_interpreted_rates() {
     let mut compared = 0;
     for name in every_spatial() {
         let m = load_spatial(&name);
-        let interp = Interpreter3::new(plan_spatial(&m));
+        let interp = Interpreter::new(plan_spatial(&m));
         let n = m.inputs.len();
         let rates: Vec<f64> = (0..n).map(|k| 10.0 + k as f64).collect();
         let accels: Vec<f64> = (0..n).map(|k| 2.0 - k as f64).collect();
@@ -453,7 +453,7 @@ fn split_spatial_plans_have_the_rates_of_the_whole_plan() {
 fn stewart_leg_lengths_move_at_their_slides_rates() {
     let m = load_spatial("stewart");
     assert!(has_cluster(&m));
-    let interp = Interpreter3::new(plan_spatial(&m));
+    let interp = Interpreter::new(plan_spatial(&m));
     let n = m.inputs.len();
     assert_eq!(n, 6);
     let rates: Vec<f64> = (0..n).map(|k| 0.3 - 0.11 * k as f64).collect();

@@ -7,10 +7,10 @@
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
-use dofplan::assemble::assemble_str3;
+use dofplan::assemble::spatial::assemble_str;
 use dofplan::load_any_str;
 use dofplan::model::spatial::equations::equations;
-use dofplan::model::spatial::Mechanism3;
+use dofplan::model::spatial::Mechanism;
 use dofplan::model::{Format, Model};
 use dofplan_runtime::spatial::{add, cross, dist, dot, norm, scale, sub, unit, Pose3, Vec3};
 
@@ -29,7 +29,7 @@ fn dofplan(args: &[&str]) -> Output {
         .expect("the dofplan binary runs")
 }
 
-fn spatial(name: &str, text: &str, format: Format) -> Mechanism3 {
+fn spatial(name: &str, text: &str, format: Format) -> Mechanism {
     match load_any_str(name, text, format) {
         Ok(Model::Spatial(m)) => m,
         Ok(Model::Planar(_)) => panic!("{name} is planar"),
@@ -37,13 +37,13 @@ fn spatial(name: &str, text: &str, format: Format) -> Mechanism3 {
     }
 }
 
-fn at(m: &Mechanism3, marker: &str) -> Vec3 {
+fn at(m: &Mechanism, marker: &str) -> Vec3 {
     m.marker(m.find_marker(marker).expect(marker)).at
 }
 
 /// The largest residual of any joint, constraint or input in the drawn
 /// pose (lengths, and sines times the size).
-fn largest_gap(m: &Mechanism3) -> f64 {
+fn largest_gap(m: &Mechanism) -> f64 {
     let poses = vec![Pose3::IDENTITY; m.bodies.len()];
     let inputs = vec![0.0; m.inputs.len()];
     equations(m)
@@ -100,7 +100,7 @@ fn closures(b: Vec3, d: Vec3, a: Vec3, u: Vec3, len: f64) -> [Vec3; 2] {
 #[test]
 fn the_rough_rssr_assembles_where_its_closed_form_closes() {
     let rough_text = read("rough/rssr.toml");
-    let done = assemble_str3("rough/rssr.toml", &rough_text, Format::Toml).expect("the rough RSSR assembles");
+    let done = assemble_str("rough/rssr.toml", &rough_text, Format::Toml).expect("the rough RSSR assembles");
     assert!(
         done.inputs_held,
         "the crank is drawn where the loop closes: it stays"
@@ -244,7 +244,7 @@ fn joints_that_cannot_all_close_are_refused_naming_them() {
     let exact = "markers.D = { at = [-1.4004150764194194, 0.0, 0.0]";
     let text = read("spatial/bennett.toml").replacen(exact, "markers.D = { at = [-1.45, 0.0, 0.0]", 1);
     assert_ne!(text, read("spatial/bennett.toml"));
-    let e = assemble_str3("bennett.toml", &text, Format::Toml).expect_err("no assembly");
+    let e = assemble_str("bennett.toml", &text, Format::Toml).expect_err("no assembly");
     let shown = e.to_string();
     assert!(
         shown.contains("joint `D` does not hold in the drawn pose (coincident)"),
@@ -283,7 +283,7 @@ fn a_crank_drawn_out_of_reach_is_turned_with_the_input_freed() {
             "markers.M = [1.0, 2.684856356514, 0.0]",
             "markers.M = [1.0, 3.96, 0.0]",
         );
-    let done = assemble_str3("long.toml", &text, Format::Toml).expect("it assembles");
+    let done = assemble_str("long.toml", &text, Format::Toml).expect("it assembles");
     assert!(!done.inputs_held);
     assert!(done
         .report()
@@ -306,17 +306,17 @@ fn a_crank_drawn_out_of_reach_is_turned_with_the_input_freed() {
 #[test]
 fn assembled_files_stay_and_json_drawings_assemble() {
     let bundled = read("spatial/rssr.toml");
-    let done = assemble_str3("rssr.toml", &bundled, Format::Toml).unwrap();
+    let done = assemble_str("rssr.toml", &bundled, Format::Toml).unwrap();
     assert!(done.unchanged());
     assert_eq!(done.text, bundled);
     assert_eq!(done.report(), "rssr: already assembled, nothing moved\n");
 
     let value: serde_json::Value = toml::from_str(&read("rough/rssr.toml")).unwrap();
     let json = serde_json::to_string_pretty(&value).unwrap();
-    let done = assemble_str3("rssr.json", &json, Format::Json).expect("the JSON drawing assembles");
+    let done = assemble_str("rssr.json", &json, Format::Json).expect("the JSON drawing assembles");
     let m = spatial("rssr.json", &done.text, Format::Json);
     assert!(largest_gap(&m) <= 1e-10 * m.size());
-    let toml = assemble_str3("rssr.toml", &read("rough/rssr.toml"), Format::Toml).unwrap();
+    let toml = assemble_str("rssr.toml", &read("rough/rssr.toml"), Format::Toml).unwrap();
     let t = spatial("rssr.toml", &toml.text, Format::Toml);
     for id in t.all_markers() {
         let name = t.marker_name(id);

@@ -369,14 +369,14 @@ fn spatial_analyze_writes_csv_and_plots() {
 #[test]
 fn spatial_analyze_says_when_a_plan_has_no_rates() {
     use dofplan::analysis::spatial::analyse;
-    use dofplan::interp::spatial::Interpreter3;
+    use dofplan::interp::spatial::Interpreter;
     use dofplan::load_any;
     use dofplan::model::Model;
     use dofplan_runtime::Solver;
     let Ok(Model::Spatial(m)) = load_any(&spatial("stewart")) else {
         panic!("stewart is spatial")
     };
-    let interp = Interpreter3::new(analyse(&m).unwrap());
+    let interp = Interpreter::new(analyse(&m).unwrap());
     let n = m.inputs.len();
     let library = interp.rates(
         &interp.initial_state(),

@@ -18,11 +18,8 @@
 
 use dofplan_runtime::{BranchPolicy, Break, Ctx, Solver};
 
-use crate::interp::spatial::Interpreter3;
 use crate::interp::Interpreter;
-use crate::model::spatial::Mechanism3;
 use crate::model::{Input, InputKind, Mechanism};
-use crate::plan::spatial::Plan3;
 use crate::plan::Plan;
 
 /// Break points are found to this, in the input's unit.
@@ -68,8 +65,15 @@ pub fn assembly_ranges(m: &Mechanism, plan: &Plan) -> Vec<InputRanges> {
 
 /// The assembly ranges of every input of the spatial mechanism `m`, by
 /// running `plan` (the same search as [`assembly_ranges`]).
-pub fn spatial_assembly_ranges(m: &Mechanism3, plan: &Plan3) -> Vec<InputRanges> {
-    ranges_of(&Interpreter3::new(plan.clone()), &m.inputs, m.size())
+pub fn spatial_assembly_ranges(
+    m: &crate::model::spatial::Mechanism,
+    plan: &crate::plan::spatial::Plan,
+) -> Vec<InputRanges> {
+    ranges_of(
+        &crate::interp::spatial::Interpreter::new(plan.clone()),
+        &m.inputs,
+        m.size(),
+    )
 }
 
 /// The assembly ranges of `inputs` (in plan order) run by `solver`, slides

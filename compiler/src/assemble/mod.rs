@@ -26,7 +26,6 @@ pub mod planar;
 pub mod spatial;
 
 pub use planar::{assemble_file, assemble_str, Assembled, Move};
-pub use spatial::{assemble_file3, assemble_str3, Assembled3, Move3};
 
 /// Numbers are written with the fewest decimals that keep them within this
 /// (relative to the mechanism's size, or to a direction's length) of the

@@ -15,15 +15,15 @@ use dofplan_runtime::spatial::{norm, sub, Pose3, Vec3};
 
 use super::{plain, rewrite_json, rewrite_toml, same_where_joined, short, undecided, Edit, UNCHANGED_SHARE};
 use crate::conflict::load_any_str;
-use crate::conflict::spatial::{self as conflict, Assembly3};
-use crate::model::spatial::{Mechanism3, Primitive};
+use crate::conflict::spatial::{self as conflict, Assembly};
+use crate::model::spatial::{Mechanism, Primitive};
 use crate::model::{
     load_str_drawn3, Format, Location, MarkerId, Model, ModelError, Note, SourceFile, DRAWN_TOLERANCE,
 };
 
 /// Where one marker of a spatial file goes.
 #[derive(Clone, Debug)]
-pub struct Move3 {
+pub struct Move {
     /// The marker.
     pub marker: MarkerId,
     /// Its position as drawn.
@@ -41,11 +41,11 @@ pub struct Move3 {
 
 /// The result of assembling a spatial file.
 #[derive(Clone, Debug)]
-pub struct Assembled3 {
+pub struct Assembled {
     /// The mechanism as drawn (joints open).
-    pub mechanism: Mechanism3,
+    pub mechanism: Mechanism,
     /// Every marker, body by body, in file order.
-    pub moves: Vec<Move3>,
+    pub moves: Vec<Move>,
     /// The file with the assembled coordinates (the text as given when
     /// nothing moved).
     pub text: String,
@@ -56,7 +56,7 @@ pub struct Assembled3 {
     pub inputs_held: bool,
 }
 
-impl Assembled3 {
+impl Assembled {
     /// Whether the file was assembled already (every joint held as drawn).
     pub fn unchanged(&self) -> bool {
         self.moves.iter().all(|m| !m.changed)
@@ -110,8 +110,8 @@ impl Assembled3 {
     }
 }
 
-/// Assembles a spatial mechanism file: see [`assemble_str3`].
-pub fn assemble_file3(path: &Path) -> Result<Assembled3, ModelError> {
+/// Assembles a spatial mechanism file: see [`assemble_str`].
+pub fn assemble_file(path: &Path) -> Result<Assembled, ModelError> {
     let text = std::fs::read_to_string(path).map_err(|e| ModelError {
         diagnostics: vec![plain(
             SourceFile {
@@ -121,7 +121,7 @@ pub fn assemble_file3(path: &Path) -> Result<Assembled3, ModelError> {
             format!("cannot read the file: {e}"),
         )],
     })?;
-    assemble_str3(&path.display().to_string(), &text, Format::of_path(path))
+    assemble_str(&path.display().to_string(), &text, Format::of_path(path))
 }
 
 /// The angle of a rotation, in radians.
@@ -139,14 +139,14 @@ fn angle(p: &Pose3) -> f64 {
 /// Errors: the loader's (syntax, names...); the loader's errors naming the
 /// joints in conflict when they cannot all close near the drawn pose; an
 /// error when the assembly cannot tell.
-pub fn assemble_str3(file_name: &str, text: &str, format: Format) -> Result<Assembled3, ModelError> {
+pub fn assemble_str(file_name: &str, text: &str, format: Format) -> Result<Assembled, ModelError> {
     let drawn = load_str_drawn3(file_name, text, format)?;
     let m = &drawn.mechanism;
     let opened = drawn.open_count();
     let unmoved = |inputs_held| {
         let moves = m
             .all_markers()
-            .map(|id| Move3 {
+            .map(|id| Move {
                 marker: id,
                 from: m.marker(id).at,
                 to: m.marker(id).at,
@@ -155,7 +155,7 @@ pub fn assemble_str3(file_name: &str, text: &str, format: Format) -> Result<Asse
                 changed: false,
             })
             .collect();
-        Assembled3 {
+        Assembled {
             mechanism: m.clone(),
             moves,
             text: text.to_string(),
@@ -167,10 +167,10 @@ pub fn assemble_str3(file_name: &str, text: &str, format: Format) -> Result<Asse
         return Ok(unmoved(!m.inputs.is_empty()));
     }
     let (poses, inputs_held) = match conflict::assemble(m) {
-        Assembly3::Closes {
+        Assembly::Closes {
             poses, inputs_held, ..
         } => (poses, inputs_held),
-        Assembly3::Conflict { .. } => {
+        Assembly::Conflict { .. } => {
             // The loader's own diagnostics: each open joint with the joints
             // in conflict named.
             let file = m.source.clone();
@@ -181,7 +181,7 @@ pub fn assemble_str3(file_name: &str, text: &str, format: Format) -> Result<Asse
                 )],
             }));
         }
-        Assembly3::Undecided => return Err(undecided(&drawn.open)),
+        Assembly::Undecided => return Err(undecided(&drawn.open)),
     };
     let size = m.size();
     let kept = UNCHANGED_SHARE * DRAWN_TOLERANCE * size;
@@ -232,7 +232,7 @@ pub fn assemble_str3(file_name: &str, text: &str, format: Format) -> Result<Asse
             keep_length: true,
             size,
         });
-        moves.push(Move3 {
+        moves.push(Move {
             marker: id,
             from: marker.at,
             to,
@@ -278,7 +278,7 @@ pub fn assemble_str3(file_name: &str, text: &str, format: Format) -> Result<Asse
             return Err(ModelError { diagnostics: vec![d] });
         }
     }
-    Ok(Assembled3 {
+    Ok(Assembled {
         mechanism: drawn.mechanism,
         moves,
         text: rewritten,
@@ -290,7 +290,7 @@ pub fn assemble_str3(file_name: &str, text: &str, format: Format) -> Result<Asse
 /// The marker pairs a coincident primitive joins (revolute, spherical,
 /// universal and fixed joints; coincident constraints): written with the
 /// very same numbers.
-fn coincident_pairs(m: &Mechanism3) -> impl Iterator<Item = [MarkerId; 2]> + '_ {
+fn coincident_pairs(m: &Mechanism) -> impl Iterator<Item = [MarkerId; 2]> + '_ {
     let joints = (m.joints.iter())
         .filter(|j| j.kind.primitives().contains(&Primitive::Coincident))
         .map(|j| j.markers);

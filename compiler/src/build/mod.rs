@@ -18,7 +18,6 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-use crate::analysis::spatial::PlanError3;
 use crate::analysis::{analyse, PlanError};
 use crate::conflict::{load_any, load_file};
 use crate::emit::{emit, emit_spatial, ident_for, spatial_cluster_fits};
@@ -42,11 +41,11 @@ pub enum BuildError {
         error: PlanError,
     },
     /// A spatial file has no plan.
-    Plan3 {
+    SpatialPlan {
         /// The file.
         file: PathBuf,
         /// Why.
-        error: PlanError3,
+        error: crate::analysis::spatial::PlanError,
     },
     /// A spatial plan's numeric cluster is too large for the fixed-size
     /// matrices of generated code (see
@@ -94,7 +93,7 @@ impl fmt::Display for BuildError {
         match self {
             BuildError::Model(e) => write!(f, "{}", e.render(false)),
             BuildError::Plan { file, error } => write!(f, "{}: {error}", file.display()),
-            BuildError::Plan3 { file, error } => write!(f, "{}: {error}", file.display()),
+            BuildError::SpatialPlan { file, error } => write!(f, "{}: {error}", file.display()),
             BuildError::ClusterTooLarge {
                 file,
                 step,
@@ -266,7 +265,7 @@ impl Config {
         }
         for (file, m) in &spatial {
             let file = file.as_path();
-            let plan = crate::analysis::spatial::analyse(m).map_err(|error| BuildError::Plan3 {
+            let plan = crate::analysis::spatial::analyse(m).map_err(|error| BuildError::SpatialPlan {
                 file: file.to_path_buf(),
                 error,
             })?;

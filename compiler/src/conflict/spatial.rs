@@ -28,10 +28,10 @@ use nalgebra::{DMatrix, DVector};
 use super::{list, short, split, CONFLICT_SHARE, MAX_ITERATIONS};
 use crate::interp::spatial::cluster::{system, System};
 use crate::model::spatial::equations::equations;
-use crate::model::spatial::Mechanism3;
+use crate::model::spatial::Mechanism;
 use crate::model::{Diagnostic, Drawn3, MarkerId, ModelError, Open, DRAWN_TOLERANCE};
 use crate::numeric::spatial::released;
-use crate::plan::spatial::{CheckRow, Cluster3, ClusterRow3, Param3};
+use crate::plan::spatial::{CheckRow, Cluster, ClusterRow, Param};
 
 /// Above this many moving bodies the dense assembly is not run (its SVD
 /// grows with the cube of the unknowns, six a body); the errors say so.
@@ -39,7 +39,7 @@ pub const MAX_REVIEWED_BODIES: usize = 80;
 
 /// What the least-squares assembly of a spatial drawing found.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Assembly3 {
+pub enum Assembly {
     /// Every joint and constraint closes (to the drawn-pose tolerance).
     Closes {
         /// Body poses of the assembled mechanism (relative to the drawing),
@@ -69,11 +69,11 @@ pub enum Assembly3 {
 /// Assembles a spatial mechanism by least squares from the drawn pose:
 /// with the inputs held at 0 first, then, if that does not close, with
 /// them released.
-pub fn assemble(m: &Mechanism3) -> Assembly3 {
+pub fn assemble(m: &Mechanism) -> Assembly {
     let mut held = m.clone();
     held.sweep = None;
     if !m.inputs.is_empty() {
-        if let found @ Assembly3::Closes { .. } = least_squares(&held, false) {
+        if let found @ Assembly::Closes { .. } = least_squares(&held, false) {
             return found;
         }
     }
@@ -129,18 +129,18 @@ impl Equations for Scaled<'_, '_> {
 
 /// The least-squares assembly of `m` with its inputs (if any) at 0.
 /// `decides`: whether a gap is a conflict (else only a closure counts).
-fn least_squares(m: &Mechanism3, decides: bool) -> Assembly3 {
+fn least_squares(m: &Mechanism, decides: bool) -> Assembly {
     let size = m.size();
     let eqs = equations(m);
-    let params: Vec<Param3> = (0..m.bodies.len())
+    let params: Vec<Param> = (0..m.bodies.len())
         .filter(|&b| !m.bodies[b].fixed)
-        .map(|body| Param3::Free { body })
+        .map(|body| Param::Free { body })
         .collect();
-    let cluster = Cluster3 {
+    let cluster = Cluster {
         params,
         rows: eqs
             .iter()
-            .map(|e| ClusterRow3::Equation(CheckRow::of(e, 0, size)))
+            .map(|e| ClusterRow::Equation(CheckRow::of(e, 0, size)))
             .collect(),
         size,
     };
@@ -176,7 +176,7 @@ fn least_squares(m: &Mechanism3, decides: bool) -> Assembly3 {
     system.eval(&x, &mut r, Some(&mut j));
     let finite = |r: &DVector<f64>, j: &DMatrix<f64>| r.iter().chain(j.iter()).all(|v| v.is_finite());
     if !finite(&r, &j) {
-        return Assembly3::Undecided;
+        return Assembly::Undecided;
     }
     let mut unsettled = report.outcome == NewtonOutcome::NotConverged;
     if report.outcome == NewtonOutcome::NoSolution && r.norm() > tolerance {
@@ -191,7 +191,7 @@ fn least_squares(m: &Mechanism3, decides: bool) -> Assembly3 {
             unsettled = newton.solve(&mut system, &mut x, &polish).outcome == NewtonOutcome::NotConverged;
             system.eval(&x, &mut r, Some(&mut j));
             if !finite(&r, &j) {
-                return Assembly3::Undecided;
+                return Assembly::Undecided;
             }
         }
     }
@@ -206,17 +206,17 @@ fn least_squares(m: &Mechanism3, decides: bool) -> Assembly3 {
                 norm(sub(poses[id.body].world(p), p))
             })
             .fold(0.0, f64::max);
-        return Assembly3::Closes {
+        return Assembly::Closes {
             poses,
             moved,
             inputs_held: !m.inputs.is_empty(),
         };
     }
     if unsettled || !decides {
-        return Assembly3::Undecided;
+        return Assembly::Undecided;
     }
     let Some((settled, _)) = split(&j, &r, size) else {
-        return Assembly3::Undecided;
+        return Assembly::Undecided;
     };
     let mut gaps: Vec<(String, f64)> = Vec::new();
     let mut at = 0;
@@ -233,13 +233,13 @@ fn least_squares(m: &Mechanism3, decides: bool) -> Assembly3 {
     let floor = tolerance.max(CONFLICT_SHARE * largest);
     let open: Vec<(String, f64)> = gaps.into_iter().filter(|(_, g)| *g > floor).collect();
     if open.is_empty() {
-        return Assembly3::Undecided;
+        return Assembly::Undecided;
     }
-    Assembly3::Conflict { gap: r.norm(), open }
+    Assembly::Conflict { gap: r.norm(), open }
 }
 
 /// The two markers of a joint or constraint ("joint C", "constraint K").
-pub(crate) fn markers_of(m: &Mechanism3, origin: &str) -> Option<[MarkerId; 2]> {
+pub(crate) fn markers_of(m: &Mechanism, origin: &str) -> Option<[MarkerId; 2]> {
     if let Some(name) = origin.strip_prefix("joint ") {
         return m.joints.iter().find(|j| j.name == name).map(|j| j.markers);
     }
@@ -255,7 +255,7 @@ pub(crate) fn point(p: Vec3) -> String {
 /// Where the joint or constraint `origin` closes in the assembled `poses`:
 /// each of its markers that moves, from where to where and how far, and
 /// the axis it turns to.
-fn closing(m: &Mechanism3, origin: &str, poses: &[Pose3]) -> Option<String> {
+fn closing(m: &Mechanism, origin: &str, poses: &[Pose3]) -> Option<String> {
     let markers = markers_of(m, origin)?;
     let size = m.size();
     let tiny = 0.25 * DRAWN_TOLERANCE * size;
@@ -297,7 +297,7 @@ fn closing(m: &Mechanism3, origin: &str, poses: &[Pose3]) -> Option<String> {
 /// errors `load_any_str` gives: the open joints, each with what the
 /// least-squares assembly says (where it closes, or the joints in
 /// conflict).
-pub fn assembled(drawn: Drawn3) -> Result<Mechanism3, ModelError> {
+pub fn assembled(drawn: Drawn3) -> Result<Mechanism, ModelError> {
     let Drawn3 {
         mechanism,
         mut open,
@@ -313,7 +313,7 @@ pub fn assembled(drawn: Drawn3) -> Result<Mechanism3, ModelError> {
 /// Adds to each "does not hold in the drawn pose" error what the
 /// least-squares assembly says: where the joint closes (which markers move
 /// where), or which joints are in conflict.
-pub(crate) fn review(m: &Mechanism3, open: &[Open], diags: &mut [Diagnostic]) {
+pub(crate) fn review(m: &Mechanism, open: &[Open], diags: &mut [Diagnostic]) {
     let mut add = |i: usize, hint: &str| {
         let d = &mut diags[i];
         d.help = Some(match d.help.take() {
@@ -335,7 +335,7 @@ pub(crate) fn review(m: &Mechanism3, open: &[Open], diags: &mut [Diagnostic]) {
         return;
     }
     match assemble(m) {
-        Assembly3::Closes {
+        Assembly::Closes {
             poses,
             moved,
             inputs_held,
@@ -365,7 +365,7 @@ pub(crate) fn review(m: &Mechanism3, open: &[Open], diags: &mut [Diagnostic]) {
                 );
             }
         }
-        Assembly3::Conflict { gap, open: conflict } => {
+        Assembly::Conflict { gap, open: conflict } => {
             let names: Vec<String> = conflict.iter().map(|(o, _)| o.clone()).collect();
             let gaps: Vec<String> = conflict
                 .iter()
@@ -393,7 +393,7 @@ pub(crate) fn review(m: &Mechanism3, open: &[Open], diags: &mut [Diagnostic]) {
                 );
             }
         }
-        Assembly3::Undecided => {
+        Assembly::Undecided => {
             for o in open {
                 add(
                     o.diagnostic,

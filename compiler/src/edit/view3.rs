@@ -11,9 +11,9 @@ use serde_json::{json, Value};
 
 use crate::analysis::spatial::analyse;
 use crate::emit::emit_spatial;
-use crate::interp::spatial::Interpreter3;
-use crate::model::spatial::{JointKind3, Mechanism3};
-use crate::plan::spatial::{step_number, Plan3};
+use crate::interp::spatial::Interpreter;
+use crate::model::spatial::{JointKind, Mechanism};
+use crate::plan::spatial::{step_number, Plan};
 use crate::simulate::spatial::marker_positions;
 use crate::simulate::sweep_requests;
 use dofplan_runtime::spatial::Vec3;
@@ -28,9 +28,9 @@ pub const READ_ONLY: &str =
 /// A spatial mechanism open in the editor.
 pub struct Document3 {
     /// The mechanism as drawn in the file.
-    pub mechanism: Mechanism3,
+    pub mechanism: Mechanism,
     /// Its plan, or why it has none.
-    plan: Result<Plan3, String>,
+    plan: Result<Plan, String>,
     /// The `document` message, as the planar document's with
     /// `dimension: 3`, points of three coordinates and `bounds` a box
     /// `[x0, y0, z0, x1, y1, z1]`.
@@ -39,7 +39,7 @@ pub struct Document3 {
 
 impl Document3 {
     /// The document of `mechanism`, read from `path`.
-    pub fn new(path: &Path, mechanism: Mechanism3) -> Document3 {
+    pub fn new(path: &Path, mechanism: Mechanism) -> Document3 {
         let plan = if mechanism.inputs.is_empty() {
             Err("the mechanism has no inputs, so there is no plan to run".to_string())
         } else {
@@ -99,7 +99,7 @@ impl Document3 {
             "sweep": sweep,
             "traces": traces,
             "bounds": bounds,
-            "plan": self.plan.as_ref().ok().map(Plan3::explain_all),
+            "plan": self.plan.as_ref().ok().map(Plan::explain_all),
             "plan_error": self.plan.as_ref().err(),
             "check": check,
             "rust": self.plan.as_ref().ok().map(emit_spatial),
@@ -132,7 +132,7 @@ impl Document3 {
         let (Ok(plan), Some(sweep)) = (&self.plan, &m.sweep) else {
             return (json!({}), bounds);
         };
-        let mut driver = Driver::new(Interpreter3::new(plan.clone()), options(BreakPolicy::Limit));
+        let mut driver = Driver::new(Interpreter::new(plan.clone()), options(BreakPolicy::Limit));
         let mut paths = vec![Vec::new(); sweep.trace.len()];
         for request in sweep_requests(sweep, m.inputs.len()) {
             driver.frame(&request);
@@ -156,7 +156,7 @@ impl Document3 {
 /// sliders.
 pub struct Session3 {
     doc: Arc<Document3>,
-    driver: Option<Driver<Interpreter3>>,
+    driver: Option<Driver<Interpreter>>,
     policy: BreakPolicy,
 }
 
@@ -164,7 +164,7 @@ impl Session3 {
     /// A session showing the file's drawing.
     pub fn new(doc: Arc<Document3>) -> Session3 {
         let driver = (doc.plan.as_ref().ok())
-            .map(|plan| Driver::new(Interpreter3::new(plan.clone()), options(BreakPolicy::Limit)));
+            .map(|plan| Driver::new(Interpreter::new(plan.clone()), options(BreakPolicy::Limit)));
         Session3 {
             doc,
             driver,
@@ -213,7 +213,7 @@ impl Session3 {
         };
         if policy != self.policy {
             // From the drawing, with the new policy, straight to the values.
-            self.driver = Some(Driver::new(Interpreter3::new(plan.clone()), options(policy)));
+            self.driver = Some(Driver::new(Interpreter::new(plan.clone()), options(policy)));
             self.policy = policy;
         }
         let Some(driver) = self.driver.as_mut() else {
@@ -233,7 +233,7 @@ impl Session3 {
                 let id = j.markers[0];
                 let z = m.marker(id).axes.map(|a| a.z);
                 let dir = match (z, &self.driver) {
-                    (Some(_), _) if matches!(j.kind, JointKind3::Spherical) => None,
+                    (Some(_), _) if matches!(j.kind, JointKind::Spherical) => None,
                     (Some(z), Some(d)) => d.poses().get(id.body).map(|p| p.dir(z)),
                     (z, _) => z,
                 };

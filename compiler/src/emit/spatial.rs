@@ -1,4 +1,4 @@
-//! The Rust back end of spatial plans: a [`Plan3`] becomes a module of the
+//! The Rust back end of spatial plans: a [`Plan`] becomes a module of the
 //! same shape as a planar one — named constants for bodies and markers, a
 //! `State` of fixed-size arrays, `solve` as straight-line code and a `Plan`
 //! implementing `dofplan_runtime::Solver` (with `Pose = Pose3`).
@@ -30,7 +30,7 @@ use super::chunk::CHUNK_WEIGHT;
 use super::uses::Uses;
 use super::{ident_for, index, lit, names};
 use crate::model::InputKind;
-use crate::plan::spatial::{Action3, CheckRow, HingeTurn, Locus3, Plan3, StepKind3, D3, P3};
+use crate::plan::spatial::{Action, CheckRow, DirRef, HingeTurn, Locus, Plan, PointRef, StepKind};
 
 /// A point or direction as a literal `[x, y, z]`.
 pub(super) fn vec_lit(v: Vec3) -> TokenStream {
@@ -91,7 +91,7 @@ const RESERVED: [&str; 14] = [
 /// is bound once, under the marker's name or the role it plays, so the
 /// runtime call below reads like the step's explanation.
 pub(super) struct Block<'p> {
-    plan: &'p Plan3,
+    plan: &'p Plan,
     /// Whether the step is written for `solve_rates`: on jets, every
     /// constant point, direction and input expression lifted to
     /// [`Jet2`](dofplan_runtime::real::Jet2)s.
@@ -106,7 +106,7 @@ pub(super) struct Block<'p> {
 
 impl<'p> Block<'p> {
     /// An empty block of a step of `plan`.
-    pub fn new(plan: &'p Plan3) -> Block<'p> {
+    pub fn new(plan: &'p Plan) -> Block<'p> {
         Block {
             plan,
             jets: false,
@@ -176,14 +176,18 @@ impl<'p> Block<'p> {
 
     /// A point as an expression of `pose(body)` (the state's poses, or a
     /// cluster's trial poses), and the name it is bound under.
-    pub fn point_expr(&self, p: &P3, pose: &dyn Fn(usize) -> TokenStream) -> Option<(String, TokenStream)> {
+    pub fn point_expr(
+        &self,
+        p: &PointRef,
+        pose: &dyn Fn(usize) -> TokenStream,
+    ) -> Option<(String, TokenStream)> {
         match p {
-            P3::Fixed(_) => None,
-            P3::Body { body, local } => {
+            PointRef::Fixed(_) => None,
+            PointRef::Body { body, local } => {
                 let (b, l) = (pose(*body), vec_lit(*local));
                 Some((self.point_name(*body, *local), quote!(#b.world(#l))))
             }
-            P3::Slid {
+            PointRef::Slid {
                 body,
                 local,
                 dir,
@@ -216,7 +220,7 @@ impl<'p> Block<'p> {
                 }
                 Some((name, quote!(#b.world(spatial::add(#l, spatial::scale(#d, #s))))))
             }
-            P3::Temp(t) => {
+            PointRef::Temp(t) => {
                 let t_lit = index(*t);
                 Some((
                     format!("at_{}", ident_for(&self.plan.temps[*t].name)),
@@ -228,9 +232,9 @@ impl<'p> Block<'p> {
 
     /// A world point the step reads, at the state's poses: a literal, or a
     /// local bound in the block.
-    pub fn point(&mut self, p: &P3) -> TokenStream {
+    pub fn point(&mut self, p: &PointRef) -> TokenStream {
         match p {
-            P3::Fixed(v) => self.vlit(*v),
+            PointRef::Fixed(v) => self.vlit(*v),
             _ => {
                 let (name, expr) = self.point_expr(p, &state_pose).expect("not fixed");
                 self.bind(&name, expr)
@@ -239,18 +243,18 @@ impl<'p> Block<'p> {
     }
 
     /// A world direction the step reads, bound under `role` unless constant.
-    pub fn dir(&mut self, d: &D3, role: &str) -> TokenStream {
+    pub fn dir(&mut self, d: &DirRef, role: &str) -> TokenStream {
         match d {
-            D3::Fixed(v) => self.vlit(*v),
-            D3::Body { body, local } => {
+            DirRef::Fixed(v) => self.vlit(*v),
+            DirRef::Body { body, local } => {
                 let (b, l) = (state_pose(*body), vec_lit(*local));
                 self.bind(role, quote!(#b.dir(#l)))
             }
-            D3::Between(a, b) => {
+            DirRef::Between(a, b) => {
                 let (a, b) = (self.point(a), self.point(b));
                 self.bind(role, quote!(spatial::unit(spatial::sub(#b, #a))))
             }
-            D3::Temp(t) => {
+            DirRef::Temp(t) => {
                 let t = index(*t);
                 quote!(w.temps[#t])
             }
@@ -270,7 +274,7 @@ pub(super) fn state_pose(body: usize) -> TokenStream {
 /// Writes one spatial plan's module.
 pub(super) struct Emitter3<'p> {
     /// The plan.
-    pub plan: &'p Plan3,
+    pub plan: &'p Plan,
     /// Comments inside a step (a cluster's rows), by the index their
     /// placeholder names.
     pub notes: RefCell<Vec<String>>,
@@ -297,14 +301,14 @@ impl Emitter3<'_> {
         let mut b = Block::new(self.plan);
         b.jets = self.jets.get();
         let code = match &step.kind {
-            StepKind3::Act { body, action } => act(&mut b, *body, action, &id),
-            StepKind3::Intersect {
+            StepKind::Act { body, action } => act(&mut b, *body, action, &id),
+            StepKind::Intersect {
                 temp,
                 loci,
                 branch,
                 tol,
             } => intersect(&mut b, *temp, loci, *branch, *tol, &id),
-            StepKind3::IntersectDir {
+            StepKind::IntersectDir {
                 temps,
                 cones,
                 sign,
@@ -322,11 +326,11 @@ impl Emitter3<'_> {
                     w.temps[#t1] = spatial::scale(d, #sg);
                 }
             }
-            StepKind3::Check { rows } => {
+            StepKind::Check { rows } => {
                 let checks: Vec<TokenStream> = rows.iter().map(|r| check(r, &id, b.jets)).collect();
                 quote!(#(#checks)*)
             }
-            StepKind3::Cluster(c) => self.cluster(&mut b, c, &id),
+            StepKind::Cluster(c) => self.cluster(&mut b, c, &id),
         };
         let pre = &b.pre;
         quote! {
@@ -340,26 +344,26 @@ impl Emitter3<'_> {
 }
 
 /// One action on `body`: the runtime call `interp::spatial::act` makes.
-fn act(b: &mut Block, body: usize, action: &Action3, id: &Literal) -> TokenStream {
+fn act(b: &mut Block, body: usize, action: &Action, id: &Literal) -> TokenStream {
     let pose = state_pose(body);
     match action {
-        Action3::TranslateOnto { from, to } => {
+        Action::TranslateOnto { from, to } => {
             let (f, t) = (b.point(from), b.point(to));
             quote!(spatial::translate_onto(&mut #pose, #f, #t);)
         }
-        Action3::TranslateAlong { from, to, dir } => {
+        Action::TranslateAlong { from, to, dir } => {
             let (f, t, u) = (b.point(from), b.point(to), b.dir(dir, "dir"));
             quote!(spatial::translate_along(&mut #pose, #f, #t, #u);)
         }
-        Action3::TranslateInPlane { from, to, normal } => {
+        Action::TranslateInPlane { from, to, normal } => {
             let (f, t, n) = (b.point(from), b.point(to), b.dir(normal, "normal"));
             quote!(spatial::translate_in_plane(&mut #pose, #f, #t, #n);)
         }
-        Action3::TranslateToLine { from, through, dir } => {
+        Action::TranslateToLine { from, through, dir } => {
             let (f, q, u) = (b.point(from), b.point(through), b.dir(dir, "dir"));
             quote!(spatial::translate_to_line(&mut #pose, #f, #q, #u);)
         }
-        Action3::TranslateToPlane {
+        Action::TranslateToPlane {
             from,
             through,
             normal,
@@ -367,7 +371,7 @@ fn act(b: &mut Block, body: usize, action: &Action3, id: &Literal) -> TokenStrea
             let (f, q, n) = (b.point(from), b.point(through), b.dir(normal, "normal"));
             quote!(spatial::translate_to_plane(&mut #pose, #f, #q, #n);)
         }
-        Action3::SlideTo {
+        Action::SlideTo {
             from,
             origin,
             dir,
@@ -379,15 +383,15 @@ fn act(b: &mut Block, body: usize, action: &Action3, id: &Literal) -> TokenStrea
             let (axial0, i, sign) = (b.slit(*axial0), index(*input), lit(*sign));
             quote!(spatial::slide_to(&mut #pose, #o, #f, #u, #axial0 + inputs[#i], #sign);)
         }
-        Action3::RotateOnto { pivot, from, to } => {
+        Action::RotateOnto { pivot, from, to } => {
             let (c, f, t) = (b.point(pivot), b.point(from), b.point(to));
             quote!(spatial::rotate_about_point(&mut #pose, #c, spatial::sub(#f, #c), spatial::sub(#t, #c));)
         }
-        Action3::AlignDir { pivot, from, to } => {
+        Action::AlignDir { pivot, from, to } => {
             let (c, f, t) = (b.point(pivot), b.dir(from, "from_dir"), b.dir(to, "to_dir"));
             quote!(spatial::rotate_about_point(&mut #pose, #c, #f, #t);)
         }
-        Action3::AxisOnto {
+        Action::AxisOnto {
             pivot,
             axis,
             from,
@@ -397,7 +401,7 @@ fn act(b: &mut Block, body: usize, action: &Action3, id: &Literal) -> TokenStrea
             let (f, t) = (b.point(from), b.point(to));
             quote!(spatial::rotate_about_axis_onto(&mut #pose, #c, #a, #f, #t);)
         }
-        Action3::AxisDir {
+        Action::AxisDir {
             pivot,
             axis,
             from,
@@ -407,7 +411,7 @@ fn act(b: &mut Block, body: usize, action: &Action3, id: &Literal) -> TokenStrea
             let (f, t) = (b.dir(from, "from_dir"), b.dir(to, "to_dir"));
             quote!(spatial::rotate_about_axis_dir(&mut #pose, #c, #a, #f, #t);)
         }
-        Action3::Twist {
+        Action::Twist {
             pivot,
             axis,
             x1,
@@ -445,7 +449,7 @@ fn act(b: &mut Block, body: usize, action: &Action3, id: &Literal) -> TokenStrea
                 spatial::rotate_about_axis_angle(&mut #pose, #c, #a, cos, sin);
             }
         }
-        Action3::AxisCondition {
+        Action::AxisCondition {
             pivot,
             axis,
             v,
@@ -463,12 +467,12 @@ fn act(b: &mut Block, body: usize, action: &Action3, id: &Literal) -> TokenStrea
                 spatial::rotate_about_axis_angle(&mut #pose, #c, #a, cos, sin);
             }
         }
-        Action3::Tilt { pivot, from, to, cos } => {
+        Action::Tilt { pivot, from, to, cos } => {
             let (c, f, t) = (b.point(pivot), b.dir(from, "from_dir"), b.dir(to, "to_dir"));
             let cos = lit(*cos);
             quote!(spatial::tilt(&mut #pose, #c, #f, #t, #cos);)
         }
-        Action3::Hinge { pivot, axis, turn } => {
+        Action::Hinge { pivot, axis, turn } => {
             let (c, a) = (vec_lit(*pivot), vec_lit(*axis));
             match turn {
                 HingeTurn::Degrees { offset, input, sign } => {
@@ -512,9 +516,9 @@ fn act(b: &mut Block, body: usize, action: &Action3, id: &Literal) -> TokenStrea
 /// as a `Factor`).
 fn circle(
     b: &mut Block,
-    pivot: &P3,
-    axis: &D3,
-    at: &P3,
+    pivot: &PointRef,
+    axis: &DirRef,
+    at: &PointRef,
     k: &str,
     plain_normal: bool,
 ) -> (Ident, Ident, Ident) {
@@ -524,7 +528,7 @@ fn circle(
         b.fresh(&format!("n{k}")),
         b.fresh(&format!("r{k}")),
     );
-    if let (P3::Fixed(p), D3::Fixed(a), P3::Fixed(x)) = (pivot, axis, at) {
+    if let (PointRef::Fixed(p), DirRef::Fixed(a), PointRef::Fixed(x)) = (pivot, axis, at) {
         let (cv, nv, rv) = dofplan_runtime::spatial::circle_about(*p, *a, *x);
         // A step that takes its normal as a `Factor` multiplies by a
         // constant one as plain numbers (a third of a jet product).
@@ -541,9 +545,9 @@ fn circle(
 
 /// `(centre, radius)` of a sphere locus, bound as `cs`, `rs`; the radius
 /// between two constant points evaluated here, as a constant circle's.
-fn sphere(b: &mut Block, centre: &P3, a: &P3, bb: &P3) -> (TokenStream, TokenStream) {
+fn sphere(b: &mut Block, centre: &PointRef, a: &PointRef, bb: &PointRef) -> (TokenStream, TokenStream) {
     let cs = b.point(centre);
-    if let (P3::Fixed(pa), P3::Fixed(pb)) = (a, bb) {
+    if let (PointRef::Fixed(pa), PointRef::Fixed(pb)) = (a, bb) {
         use dofplan_runtime::spatial::{norm, sub};
         let rs = b.slit(norm(sub(*pb, *pa)));
         return (cs, b.bind("rs", rs));
@@ -559,7 +563,7 @@ fn sphere(b: &mut Block, centre: &P3, a: &P3, bb: &P3) -> (TokenStream, TokenStr
 fn intersect(
     b: &mut Block,
     temp: usize,
-    loci: &[Locus3; 2],
+    loci: &[Locus; 2],
     branch: Option<usize>,
     tol: f64,
     id: &Literal,
@@ -577,7 +581,7 @@ fn intersect(
     let last = quote!(&mut w.temps[#t]);
     let tol = lit(tol);
     let call = match loci {
-        [Locus3::Circle { pivot, axis, at }, Locus3::Circle {
+        [Locus::Circle { pivot, axis, at }, Locus::Circle {
             pivot: p2,
             axis: a2,
             at: x2,
@@ -586,20 +590,20 @@ fn intersect(
             let (c2, n2, r2) = circle(b, p2, a2, x2, "2", false);
             quote!(spatial::circle_circle(ctx, #id, #c1, #n1, #r1, #c2, #n2, #r2, #tol, #br, #last)?)
         }
-        [Locus3::Sphere { centre, a, b: pb }, Locus3::Circle { pivot, axis, at: x }]
-        | [Locus3::Circle { pivot, axis, at: x }, Locus3::Sphere { centre, a, b: pb }] => {
+        [Locus::Sphere { centre, a, b: pb }, Locus::Circle { pivot, axis, at: x }]
+        | [Locus::Circle { pivot, axis, at: x }, Locus::Sphere { centre, a, b: pb }] => {
             let (cs, rs) = sphere(b, centre, a, pb);
             let (c, n, r) = circle(b, pivot, axis, x, "", true);
             quote!(spatial::sphere_circle(ctx, #id, #cs, #rs, #c, #n, #r, #br, #last)?)
         }
-        [Locus3::Line { at, dir }, Locus3::Sphere { centre, a, b: pb }]
-        | [Locus3::Sphere { centre, a, b: pb }, Locus3::Line { at, dir }] => {
+        [Locus::Line { at, dir }, Locus::Sphere { centre, a, b: pb }]
+        | [Locus::Sphere { centre, a, b: pb }, Locus::Line { at, dir }] => {
             let (cs, rs) = sphere(b, centre, a, pb);
             let (p, d) = (b.point(at), b.dir(dir, "line_dir"));
             quote!(spatial::line_sphere(ctx, #id, #p, #d, #cs, #rs, #br, #last)?)
         }
-        [Locus3::Line { at, dir }, Locus3::Circle { pivot, axis, at: x }]
-        | [Locus3::Circle { pivot, axis, at: x }, Locus3::Line { at, dir }] => {
+        [Locus::Line { at, dir }, Locus::Circle { pivot, axis, at: x }]
+        | [Locus::Circle { pivot, axis, at: x }, Locus::Line { at, dir }] => {
             let (c, n, r) = circle(b, pivot, axis, x, "", false);
             let (p, d) = (b.point(at), b.dir(dir, "line_dir"));
             quote!(spatial::line_circle(ctx, #id, #p, #d, #c, #n, #r, #tol, #br, #last)?)
@@ -731,7 +735,7 @@ impl Emitter3<'_> {
             .plan
             .steps
             .iter()
-            .any(|s| !matches!(s.kind, StepKind3::Check { .. }));
+            .any(|s| !matches!(s.kind, StepKind::Check { .. }));
         let mut unused = Vec::new();
         if !uses.has("inputs") {
             unused.push(quote!(let _ = inputs;));
@@ -1148,9 +1152,9 @@ impl Emitter3<'_> {
 /// runtime to fall back on (a planar one does), so `dofplan::build`
 /// refuses a plan that does not fit rather than write a module rustc
 /// cannot compile or a frame cannot run on the stack.
-pub fn spatial_cluster_fits(plan: &Plan3) -> Result<(), (usize, usize, usize)> {
+pub fn spatial_cluster_fits(plan: &Plan) -> Result<(), (usize, usize, usize)> {
     for (i, s) in plan.steps.iter().enumerate() {
-        if let StepKind3::Cluster(c) = &s.kind {
+        if let StepKind::Cluster(c) = &s.kind {
             let (n, m) = (c.unknowns(), c.equations());
             if n.max(m) > super::FIXED_LIMIT {
                 return Err((i + 1, n, m));
@@ -1169,7 +1173,7 @@ pub fn spatial_cluster_fits(plan: &Plan3) -> Result<(), (usize, usize, usize)> {
 /// On a drag's plan (`numeric::spatial::drag_plan`): its cluster is solved
 /// by task priority, which only the interpreter has. The analysis never
 /// makes one.
-pub fn emit_spatial(plan: &Plan3) -> String {
+pub fn emit_spatial(plan: &Plan) -> String {
     emit_spatial_chunked(plan, CHUNK_WEIGHT)
 }
 
@@ -1179,7 +1183,7 @@ pub fn emit_spatial(plan: &Plan3) -> String {
 ///
 /// # Panics
 /// As [`emit_spatial`].
-pub fn emit_spatial_chunked(plan: &Plan3, chunk_weight: usize) -> String {
+pub fn emit_spatial_chunked(plan: &Plan, chunk_weight: usize) -> String {
     let e = Emitter3 {
         plan,
         notes: RefCell::new(Vec::new()),

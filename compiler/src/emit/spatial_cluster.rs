@@ -25,7 +25,7 @@ use quote::quote;
 
 use super::spatial::{frames, row_kind, state_pose, Block, Emitter3};
 use super::{ident_for, index, lit};
-use crate::plan::spatial::{Cluster3, ClusterRow3, Param3, P3};
+use crate::plan::spatial::{Cluster, ClusterRow, Param, PointRef};
 
 /// A cluster body: its locals and its first unknown.
 struct Member {
@@ -77,7 +77,7 @@ impl Emitter3<'_> {
     /// The code of cluster step `id` inside its block `b`: its Newton
     /// solve, or (a block on jets, in `solve_rates`) the solve on the
     /// values and the rates by the implicit function theorem.
-    pub(super) fn cluster(&self, b: &mut Block, c: &Cluster3, id: &Literal) -> TokenStream {
+    pub(super) fn cluster(&self, b: &mut Block, c: &Cluster, id: &Literal) -> TokenStream {
         if b.jets {
             self.cluster_rates(b, c, id)
         } else {
@@ -87,7 +87,7 @@ impl Emitter3<'_> {
 
     /// The pieces of a cluster's code, with the bindings they read pushed
     /// onto `b` (on jets when `b` is).
-    fn pieces(&self, b: &mut Block, c: &Cluster3) -> Pieces {
+    fn pieces(&self, b: &mut Block, c: &Cluster) -> Pieces {
         let m = c.equations();
         for name in [
             "x", "r", "j", "c", "t", "d", "u", "v", "zero", "system", "report", "SIZE",
@@ -102,12 +102,12 @@ impl Emitter3<'_> {
             let body = p.body();
             let name = ident_for(&self.plan.bodies[body]);
             let u = match p {
-                Param3::Free { .. } => quote!(Unknowns::Free),
-                Param3::Pivot { pivot, .. } => {
+                Param::Free { .. } => quote!(Unknowns::Free),
+                Param::Pivot { pivot, .. } => {
                     let c = b.point(pivot);
                     quote!(Unknowns::Pivot(#c))
                 }
-                Param3::Axis { pivot, axis, .. } => {
+                Param::Axis { pivot, axis, .. } => {
                     let c = b.point(pivot);
                     let a = b.dir(axis, &format!("axis_{name}"));
                     quote!(Unknowns::Axis(#c, #a))
@@ -150,7 +150,7 @@ impl Emitter3<'_> {
         let mut row = 0;
         for r in &c.rows {
             match r {
-                ClusterRow3::Equation(e) => {
+                ClusterRow::Equation(e) => {
                     let rows = e.kind.rows();
                     let (f1, f2) = frames(e, &trial);
                     let (f1_id, f2_id) = (b.fresh(&format!("f1_{row}")), b.fresh(&format!("f2_{row}")));
@@ -204,7 +204,7 @@ impl Emitter3<'_> {
                     }
                     row += rows;
                 }
-                ClusterRow3::Distance {
+                ClusterRow::Distance {
                     a,
                     b: pb,
                     c: pc,
@@ -232,7 +232,7 @@ impl Emitter3<'_> {
                         r[#ri] = spatial::norm(#ab) - #len;
                     });
                     let body = match a {
-                        P3::Body { body, .. } | P3::Slid { body, .. } => Some(*body),
+                        PointRef::Body { body, .. } | PointRef::Slid { body, .. } => Some(*body),
                         _ => None,
                     };
                     if let Some(k) = body.and_then(|body| members.iter().position(|mb| mb.body == body)) {
@@ -250,7 +250,7 @@ impl Emitter3<'_> {
                 }
                 // Drags are run by the interpreter (`numeric::spatial::
                 // drag_plan`); no plan the analysis makes pins a marker.
-                ClusterRow3::Pin { .. } => unreachable!("drag plans are not emitted"),
+                ClusterRow::Pin { .. } => unreachable!("drag plans are not emitted"),
             }
         }
         debug_assert_eq!(row, m);
@@ -267,7 +267,7 @@ impl Emitter3<'_> {
     /// bodies written at the solution; or, with `jacobian_out`, the
     /// solution and the Jacobian there as the block's value `(x, j)`
     /// instead of the writes (the values half of its rates).
-    fn cluster_solve(&self, b: &mut Block, c: &Cluster3, id: &Literal, jacobian_out: bool) -> TokenStream {
+    fn cluster_solve(&self, b: &mut Block, c: &Cluster, id: &Literal, jacobian_out: bool) -> TokenStream {
         let (n, m) = (c.unknowns(), c.equations());
         let Pieces {
             members,
@@ -351,7 +351,7 @@ impl Emitter3<'_> {
     /// moving at `ẋ` (all of `F″` but `J·ẍ`, so `ẍ = −J⁺·F″`) — and the
     /// cluster bodies placed on jets (`cluster::moved_rates`, whose values
     /// are `cluster::moved`'s).
-    fn cluster_rates(&self, b: &mut Block, c: &Cluster3, id: &Literal) -> TokenStream {
+    fn cluster_rates(&self, b: &mut Block, c: &Cluster, id: &Literal) -> TokenStream {
         let (n, m) = (c.unknowns(), c.equations());
         let mut values = Block::new(self.plan);
         let solve = self.cluster_solve(&mut values, c, id, true);

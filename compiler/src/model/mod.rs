@@ -24,7 +24,7 @@ pub use load::{
 pub use planar::{equations, Constraint, ConstraintKind, Joint, JointKind, Marker, Mechanism};
 
 /// A rigid body: planar ([`Marker`]s) by default, spatial with
-/// [`spatial::Marker3`]s.
+/// [`spatial::Marker`]s.
 #[derive(Clone, Debug)]
 pub struct Body<M = Marker> {
     /// Name, unique in the mechanism.

@@ -5,7 +5,7 @@
 //! interpreter walks the steps; the emitter writes one Rust block per step.
 //! Neither re-analyses anything: every constant a step needs (local marker
 //! coordinates, radii, unit directions, branch slots) is in the IR. One
-//! folder per dimension: [`planar::Plan`] and [`spatial::Plan3`].
+//! folder per dimension: [`planar::Plan`] and [`spatial::Plan`].
 
 mod explain;
 pub mod planar;

@@ -8,7 +8,7 @@ use super::spatial::symbol::{symbol, HATCH_ID};
 use super::style::STITCH_DASH;
 use super::style::{num, text_width, GREY, GROUND_COLOUR, INK, TARGET_COLOUR};
 use crate::format::thousands;
-use crate::model::spatial::JointKind3;
+use crate::model::spatial::JointKind;
 
 /// At most this many entries are listed; the rest are counted in one more
 /// line ("… and 1,990 more bodies").
@@ -37,7 +37,7 @@ pub(super) enum Key {
     /// The ground of a spatial drawing: a hatched box.
     Ground,
     /// A spatial joint kind: its symbol.
-    Joint(JointKind3),
+    Joint(JointKind),
     /// The count of entries left out: no key.
     More,
 }

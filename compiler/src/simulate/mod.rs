@@ -10,7 +10,6 @@ use dofplan_runtime::numeric::NewtonReport;
 use dofplan_runtime::planar::Pose;
 use dofplan_runtime::{Animate, Driver, FrameStatus, Options, Solver};
 
-use crate::model::spatial::Mechanism3;
 use crate::model::{Input, InputKind, Mechanism, Sweep};
 
 /// One solved (or broken) frame.
@@ -226,7 +225,7 @@ impl SweepSource for Mechanism {
     }
 }
 
-impl SweepSource for Mechanism3 {
+impl SweepSource for crate::model::spatial::Mechanism {
     fn inputs(&self) -> &[Input] {
         &self.inputs
     }

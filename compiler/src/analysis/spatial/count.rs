@@ -12,15 +12,15 @@
 use dofplan_runtime::spatial::rows::{FrameRate, WorldFrame};
 
 use crate::analysis::planar::rank::{Echelon, SparseRow};
-use crate::model::spatial::equations::{equations, Equation3, Kind3};
-use crate::model::spatial::Mechanism3;
+use crate::model::spatial::equations::{equations, Equation, Kind};
+use crate::model::spatial::Mechanism;
 
 /// Relative cut-off of the elimination (as the planar rank's).
 const RANK_CUTOFF: f64 = 1e-9;
 
 /// What `dofplan check` reports of a spatial mechanism.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Count3 {
+pub struct Count {
     /// Moving bodies.
     pub moving: usize,
     /// Scalar equations of joints and constraints (inputs left out).
@@ -43,7 +43,7 @@ pub struct Count3 {
 }
 
 /// Counts a spatial mechanism.
-pub fn count(m: &Mechanism3) -> Count3 {
+pub fn count(m: &Mechanism) -> Count {
     let eqs = equations(m);
     let mut column = vec![None; m.bodies.len()];
     let mut unknowns = 0;
@@ -54,7 +54,7 @@ pub fn count(m: &Mechanism3) -> Count3 {
         }
     }
     let size = m.size();
-    let groups: Vec<(&Equation3, Vec<SparseRow>)> = eqs
+    let groups: Vec<(&Equation, Vec<SparseRow>)> = eqs
         .iter()
         .filter(|e| e.bodies.iter().any(|&b| column[b].is_some()))
         .map(|e| (e, jacobian_rows(e, &column, size, m.inputs.len())))
@@ -71,7 +71,7 @@ pub fn count(m: &Mechanism3) -> Count3 {
     // Joints and constraints first (the inputs last, as `equations` lists
     // them): the rank without inputs is read before they are added.
     for (e, rows) in &groups {
-        let is_input = matches!(e.kind, Kind3::Angle { .. } | Kind3::Slide { .. });
+        let is_input = matches!(e.kind, Kind::Angle { .. } | Kind::Slide { .. });
         if is_input && rank_joints.is_none() {
             rank_joints = Some(echelon.rank());
         }
@@ -86,7 +86,7 @@ pub fn count(m: &Mechanism3) -> Count3 {
     let rank = rank_joints.unwrap_or(echelon.rank());
     let with_inputs = echelon.rank();
     let moving = m.moving();
-    Count3 {
+    Count {
         moving,
         equations: equations_n,
         grubler: 6 * moving as i64 - equations_n as i64,
@@ -101,7 +101,7 @@ pub fn count(m: &Mechanism3) -> Count3 {
 
 /// The Jacobian rows of one equation at the drawn pose, against each moving
 /// body's twist (ω about the world origin, v).
-fn jacobian_rows(e: &Equation3, column: &[Option<usize>], size: f64, inputs: usize) -> Vec<SparseRow> {
+fn jacobian_rows(e: &Equation, column: &[Option<usize>], size: f64, inputs: usize) -> Vec<SparseRow> {
     let kind = e.row_kind();
     let frame = |k: usize| WorldFrame {
         at: e.frames[k].at,

@@ -6,7 +6,7 @@
 //! turns the body about the axis from last frame's pose. When every later
 //! action on the body is such a turn, the body never leaves its line, so
 //! [`place_hinged`] drops the two re-imposing steps and makes each turn an
-//! [`Action3::Hinge`]: the pose built from the drawn one. A frame then saves
+//! [`Action::Hinge`]: the pose built from the drawn one. A frame then saves
 //! the two steps, a matrix composition per turn and the body's rigidity
 //! correction (a rotation built afresh does not drift), and later steps read
 //! the body's points on the line, its axis and the circles its markers sweep
@@ -21,7 +21,7 @@ use dofplan_runtime::spatial::{cross, dist, norm, reject, sub, twist_correction,
 use dofplan_runtime::Rot;
 
 use crate::plan::spatial::{
-    Action3, BodyId, ClusterRow3, HingeTurn, Locus3, Param3, Plan3, StepKind3, D3, P3,
+    Action, BodyId, ClusterRow, DirRef, HingeTurn, Locus, Param, Plan, PointRef, StepKind,
 };
 
 /// Directions parallel to this (the cross product of unit vectors) are one.
@@ -45,11 +45,11 @@ impl Line {
 }
 
 /// Every body hinged on a fixed line whose later actions are all turns
-/// about it is set outright ([`Action3::Hinge`]); the steps that
+/// about it is set outright ([`Action::Hinge`]); the steps that
 /// re-imposed its hinge are dropped (what they served is listed on its
 /// first turn) and the steps after them renumbered. `size` is the
 /// mechanism's size: points within 1e-12 of it are one.
-pub(super) fn place_hinged(plan: &mut Plan3, size: f64) {
+pub(super) fn place_hinged(plan: &mut Plan, size: f64) {
     let tol = 1e-12 * size.max(1.0);
     // Each body's hinge, if it is set outright.
     let mut hinged: Vec<Option<Line>> = vec![None; plan.bodies.len()];
@@ -60,8 +60,8 @@ pub(super) fn place_hinged(plan: &mut Plan3, size: f64) {
     let mut clustered = vec![false; plan.bodies.len()];
     for (i, s) in plan.steps.iter().enumerate() {
         match &s.kind {
-            StepKind3::Act { body, .. } => acts_of[*body].push(i),
-            StepKind3::Cluster(c) => c.params.iter().for_each(|p| clustered[p.body()] = true),
+            StepKind::Act { body, .. } => acts_of[*body].push(i),
+            StepKind::Cluster(c) => c.params.iter().for_each(|p| clustered[p.body()] = true),
             _ => {}
         }
     }
@@ -79,7 +79,7 @@ pub(super) fn place_hinged(plan: &mut Plan3, size: f64) {
         }
         for (k, (i, action)) in acts[2..].iter().zip(turns).enumerate() {
             let step = &mut plan.steps[*i];
-            step.kind = StepKind3::Act {
+            step.kind = StepKind::Act {
                 body: b,
                 action: Box::new(action),
             };
@@ -129,20 +129,20 @@ pub(super) fn place_hinged(plan: &mut Plan3, size: f64) {
 /// Body `b`'s hinge, the indices of its actions `acts` (the two
 /// re-imposing the hinge first) and its turns rewritten, if `b` is hinged
 /// and only turned about its hinge after that.
-fn hinge_of(plan: &Plan3, b: BodyId, acts: Vec<usize>, tol: f64) -> Option<(Line, Vec<usize>, Vec<Action3>)> {
+fn hinge_of(plan: &Plan, b: BodyId, acts: Vec<usize>, tol: f64) -> Option<(Line, Vec<usize>, Vec<Action>)> {
     if acts.len() < 3 {
         return None;
     }
     let action = |i: usize| match &plan.steps[i].kind {
-        StepKind3::Act { action, .. } => &**action,
+        StepKind::Act { action, .. } => &**action,
         _ => unreachable!("acts are Act steps"),
     };
     // The hinge as the planner imposes it: the body's pivot onto a fixed
     // point where it is drawn, then its axis onto a fixed axis it is drawn
     // along (so both steps only undo rounding).
-    let Action3::TranslateOnto {
-        from: P3::Body { body, local: p },
-        to: P3::Fixed(q),
+    let Action::TranslateOnto {
+        from: PointRef::Body { body, local: p },
+        to: PointRef::Fixed(q),
     } = action(acts[0])
     else {
         return None;
@@ -150,17 +150,17 @@ fn hinge_of(plan: &Plan3, b: BodyId, acts: Vec<usize>, tol: f64) -> Option<(Line
     if *body != b || dist(*p, *q) > tol {
         return None;
     }
-    let Action3::AlignDir {
+    let Action::AlignDir {
         pivot,
-        from: D3::Body { body, local: z },
-        to: D3::Fixed(z2),
+        from: DirRef::Body { body, local: z },
+        to: DirRef::Fixed(z2),
     } = action(acts[1])
     else {
         return None;
     };
     let on_pivot = match pivot {
-        P3::Fixed(v) => dist(*v, *q) <= tol,
-        P3::Body { body, local } => *body == b && dist(*local, *p) <= tol,
+        PointRef::Fixed(v) => dist(*v, *q) <= tol,
+        PointRef::Body { body, local } => *body == b && dist(*local, *p) <= tol,
         _ => false,
     };
     if *body != b || !on_pivot || dist(*z, *z2) > PARALLEL || (norm(*z2) - 1.0).abs() > PARALLEL {
@@ -175,34 +175,35 @@ fn hinge_of(plan: &Plan3, b: BodyId, acts: Vec<usize>, tol: f64) -> Option<(Line
 }
 
 /// A point of the line, constant: a fixed point, or one of `b`'s on it.
-fn on_line(p: &P3, b: BodyId, line: Line, tol: f64) -> Option<Vec3> {
+fn on_line(p: &PointRef, b: BodyId, line: Line, tol: f64) -> Option<Vec3> {
     match p {
-        P3::Fixed(v) => Some(*v),
-        P3::Body { body, local } if *body == b => Some(*local),
+        PointRef::Fixed(v) => Some(*v),
+        PointRef::Body { body, local } if *body == b => Some(*local),
         _ => None,
     }
     .filter(|v| line.holds(*v, tol))
 }
 
 /// A direction fixed or of `b`, as drawn.
-fn drawn_dir(d: &D3, b: BodyId) -> Option<Vec3> {
+fn drawn_dir(d: &DirRef, b: BodyId) -> Option<Vec3> {
     match d {
-        D3::Fixed(v) => Some(*v),
-        D3::Body { body, local } if *body == b => Some(*local),
+        DirRef::Fixed(v) => Some(*v),
+        DirRef::Body { body, local } if *body == b => Some(*local),
         _ => None,
     }
 }
 
 /// A turn of `b` about its hinge, set outright.
-fn turn(a: &Action3, b: BodyId, line: Line, tol: f64) -> Option<Action3> {
-    let about = |pivot: &P3, axis: &D3| {
+fn turn(a: &Action, b: BodyId, line: Line, tol: f64) -> Option<Action> {
+    let about = |pivot: &PointRef, axis: &DirRef| {
         let c = on_line(pivot, b, line, tol)?;
         let a = drawn_dir(axis, b).filter(|a| line.along(*a) && (norm(*a) - 1.0).abs() <= PARALLEL)?;
         Some((c, a))
     };
-    let not_b = |p: &P3| !matches!(p, P3::Body { body, .. } | P3::Slid { body, .. } if *body == b);
+    let not_b =
+        |p: &PointRef| !matches!(p, PointRef::Body { body, .. } | PointRef::Slid { body, .. } if *body == b);
     let (pivot, axis, turn) = match a {
-        Action3::Twist {
+        Action::Twist {
             pivot,
             axis,
             x1,
@@ -229,10 +230,10 @@ fn turn(a: &Action3, b: BodyId, line: Line, tol: f64) -> Option<Action3> {
             };
             (c, ax, turn)
         }
-        Action3::AxisOnto {
+        Action::AxisOnto {
             pivot,
             axis,
-            from: P3::Body { body, local },
+            from: PointRef::Body { body, local },
             to,
         } if *body == b && not_b(to) => {
             let (c, ax) = about(pivot, axis)?;
@@ -245,14 +246,14 @@ fn turn(a: &Action3, b: BodyId, line: Line, tol: f64) -> Option<Action3> {
                 },
             )
         }
-        Action3::AxisDir {
+        Action::AxisDir {
             pivot,
             axis,
-            from: D3::Body { body, local },
+            from: DirRef::Body { body, local },
             to,
         } if *body == b
-            && !matches!(to, D3::Body { body, .. } if *body == b)
-            && !matches!(to, D3::Between(..)) =>
+            && !matches!(to, DirRef::Body { body, .. } if *body == b)
+            && !matches!(to, DirRef::Between(..)) =>
         {
             let (c, ax) = about(pivot, axis)?;
             (
@@ -266,7 +267,7 @@ fn turn(a: &Action3, b: BodyId, line: Line, tol: f64) -> Option<Action3> {
         }
         _ => return None,
     };
-    Some(Action3::Hinge { pivot, axis, turn })
+    Some(Action::Hinge { pivot, axis, turn })
 }
 
 /// `[x, y, z]` as plans print numbers.
@@ -303,18 +304,18 @@ fn renumber(text: &str, new_id: &[Option<usize>]) -> String {
 /// Reads as constants what the hinged bodies keep fixed (their points on
 /// the line, their directions along it, the circles their points sweep
 /// about it) and every sphere's radius.
-fn read_constants(kind: &mut StepKind3, hinged: &[Option<Line>], tol: f64) {
-    let fixed_point = |p: &mut P3| {
-        if let P3::Body { body, local } = p {
+fn read_constants(kind: &mut StepKind, hinged: &[Option<Line>], tol: f64) {
+    let fixed_point = |p: &mut PointRef| {
+        if let PointRef::Body { body, local } = p {
             if hinged[*body].is_some_and(|l| l.holds(*local, tol)) {
-                *p = P3::Fixed(*local);
+                *p = PointRef::Fixed(*local);
             }
         }
     };
-    let fixed_dir = |d: &mut D3| {
-        if let D3::Body { body, local } = d {
+    let fixed_dir = |d: &mut DirRef| {
+        if let DirRef::Body { body, local } = d {
             if hinged[*body].is_some_and(|l| l.along(*local)) {
-                *d = D3::Fixed(*local);
+                *d = DirRef::Fixed(*local);
             }
         }
     };
@@ -322,27 +323,29 @@ fn read_constants(kind: &mut StepKind3, hinged: &[Option<Line>], tol: f64) {
         Ref::P(p) => fixed_point(p),
         Ref::D(d) => fixed_dir(d),
     });
-    if let StepKind3::Intersect { loci, .. } = kind {
+    if let StepKind::Intersect { loci, .. } = kind {
         for locus in loci.iter_mut() {
             match locus {
-                Locus3::Circle {
-                    pivot: P3::Fixed(c),
-                    axis: D3::Fixed(a),
+                Locus::Circle {
+                    pivot: PointRef::Fixed(c),
+                    axis: DirRef::Fixed(a),
                     at,
                 } => {
-                    if let P3::Body { body, local } = at {
+                    if let PointRef::Body { body, local } = at {
                         let swept = hinged[*body].is_some_and(|l| l.holds(*c, tol) && l.along(*a));
                         if swept {
-                            *at = P3::Fixed(*local);
+                            *at = PointRef::Fixed(*local);
                         }
                     }
                 }
-                Locus3::Sphere { a, b, .. } => {
-                    if let (P3::Body { body: b1, local: l1 }, P3::Body { body: b2, local: l2 }) = (&*a, &*b) {
+                Locus::Sphere { a, b, .. } => {
+                    if let (PointRef::Body { body: b1, local: l1 }, PointRef::Body { body: b2, local: l2 }) =
+                        (&*a, &*b)
+                    {
                         if b1 == b2 {
                             let (l1, l2) = (*l1, *l2);
-                            *a = P3::Fixed(l1);
-                            *b = P3::Fixed(l2);
+                            *a = PointRef::Fixed(l1);
+                            *b = PointRef::Fixed(l2);
                         }
                     }
                 }
@@ -354,18 +357,18 @@ fn read_constants(kind: &mut StepKind3, hinged: &[Option<Line>], tol: f64) {
 
 /// A point or a direction a step reads.
 enum Ref<'a> {
-    P(&'a mut P3),
-    D(&'a mut D3),
+    P(&'a mut PointRef),
+    D(&'a mut DirRef),
 }
 
 /// Calls `f` on every point and direction a step reads (inside a
-/// [`D3::Between`] too).
-fn each_ref(kind: &mut StepKind3, f: &mut dyn FnMut(Ref<'_>)) {
-    fn p(q: &mut P3, f: &mut dyn FnMut(Ref<'_>)) {
+/// [`DirRef::Between`] too).
+fn each_ref(kind: &mut StepKind, f: &mut dyn FnMut(Ref<'_>)) {
+    fn p(q: &mut PointRef, f: &mut dyn FnMut(Ref<'_>)) {
         f(Ref::P(q));
     }
-    fn d(v: &mut D3, f: &mut dyn FnMut(Ref<'_>)) {
-        if let D3::Between(a, b) = v {
+    fn d(v: &mut DirRef, f: &mut dyn FnMut(Ref<'_>)) {
+        if let DirRef::Between(a, b) = v {
             f(Ref::P(a));
             f(Ref::P(b));
         } else {
@@ -373,23 +376,23 @@ fn each_ref(kind: &mut StepKind3, f: &mut dyn FnMut(Ref<'_>)) {
         }
     }
     match kind {
-        StepKind3::Act { action, .. } => match &mut **action {
-            Action3::TranslateOnto { from, to } => {
+        StepKind::Act { action, .. } => match &mut **action {
+            Action::TranslateOnto { from, to } => {
                 p(from, f);
                 p(to, f);
             }
-            Action3::TranslateAlong { from, to, dir: n }
-            | Action3::TranslateInPlane { from, to, normal: n } => {
+            Action::TranslateAlong { from, to, dir: n }
+            | Action::TranslateInPlane { from, to, normal: n } => {
                 p(from, f);
                 p(to, f);
                 d(n, f);
             }
-            Action3::TranslateToLine {
+            Action::TranslateToLine {
                 from,
                 through,
                 dir: n,
             }
-            | Action3::TranslateToPlane {
+            | Action::TranslateToPlane {
                 from,
                 through,
                 normal: n,
@@ -398,24 +401,24 @@ fn each_ref(kind: &mut StepKind3, f: &mut dyn FnMut(Ref<'_>)) {
                 p(through, f);
                 d(n, f);
             }
-            Action3::SlideTo {
+            Action::SlideTo {
                 from, origin, dir, ..
             } => {
                 p(from, f);
                 p(origin, f);
                 d(dir, f);
             }
-            Action3::RotateOnto { pivot, from, to } => {
+            Action::RotateOnto { pivot, from, to } => {
                 p(pivot, f);
                 p(from, f);
                 p(to, f);
             }
-            Action3::AlignDir { pivot, from, to } | Action3::Tilt { pivot, from, to, .. } => {
+            Action::AlignDir { pivot, from, to } | Action::Tilt { pivot, from, to, .. } => {
                 p(pivot, f);
                 d(from, f);
                 d(to, f);
             }
-            Action3::AxisOnto {
+            Action::AxisOnto {
                 pivot,
                 axis,
                 from,
@@ -426,7 +429,7 @@ fn each_ref(kind: &mut StepKind3, f: &mut dyn FnMut(Ref<'_>)) {
                 p(from, f);
                 p(to, f);
             }
-            Action3::AxisDir {
+            Action::AxisDir {
                 pivot,
                 axis,
                 from,
@@ -437,7 +440,7 @@ fn each_ref(kind: &mut StepKind3, f: &mut dyn FnMut(Ref<'_>)) {
                 d(from, f);
                 d(to, f);
             }
-            Action3::Twist {
+            Action::Twist {
                 pivot, axis, x1, x2, ..
             } => {
                 p(pivot, f);
@@ -445,7 +448,7 @@ fn each_ref(kind: &mut StepKind3, f: &mut dyn FnMut(Ref<'_>)) {
                 d(x1, f);
                 d(x2, f);
             }
-            Action3::AxisCondition {
+            Action::AxisCondition {
                 pivot, axis, v, w, ..
             } => {
                 p(pivot, f);
@@ -453,51 +456,51 @@ fn each_ref(kind: &mut StepKind3, f: &mut dyn FnMut(Ref<'_>)) {
                 d(v, f);
                 d(w, f);
             }
-            Action3::Hinge { turn, .. } => match turn {
+            Action::Hinge { turn, .. } => match turn {
                 HingeTurn::Degrees { .. } => {}
                 HingeTurn::Onto { to, .. } => p(to, f),
                 HingeTurn::Dir { to, .. } => d(to, f),
             },
         },
-        StepKind3::Intersect { loci, .. } => {
+        StepKind::Intersect { loci, .. } => {
             for locus in loci.iter_mut() {
                 match locus {
-                    Locus3::Circle { pivot, axis, at } => {
+                    Locus::Circle { pivot, axis, at } => {
                         p(pivot, f);
                         d(axis, f);
                         p(at, f);
                     }
-                    Locus3::Sphere { centre, a, b } => {
+                    Locus::Sphere { centre, a, b } => {
                         p(centre, f);
                         p(a, f);
                         p(b, f);
                     }
-                    Locus3::Line { at, dir } => {
+                    Locus::Line { at, dir } => {
                         p(at, f);
                         d(dir, f);
                     }
                 }
             }
         }
-        StepKind3::IntersectDir { cones, .. } => {
+        StepKind::IntersectDir { cones, .. } => {
             for (axis, _) in cones.iter_mut() {
                 d(axis, f);
             }
         }
-        StepKind3::Check { .. } => {}
-        StepKind3::Cluster(c) => {
+        StepKind::Check { .. } => {}
+        StepKind::Cluster(c) => {
             for param in &mut c.params {
                 match param {
-                    Param3::Free { .. } => {}
-                    Param3::Pivot { pivot, .. } => p(pivot, f),
-                    Param3::Axis { pivot, axis, .. } => {
+                    Param::Free { .. } => {}
+                    Param::Pivot { pivot, .. } => p(pivot, f),
+                    Param::Axis { pivot, axis, .. } => {
                         p(pivot, f);
                         d(axis, f);
                     }
                 }
             }
             for row in &mut c.rows {
-                if let ClusterRow3::Distance { a, b, c, d: e, .. } = row {
+                if let ClusterRow::Distance { a, b, c, d: e, .. } = row {
                     p(a, f);
                     p(b, f);
                     p(c, f);

@@ -9,38 +9,38 @@ pub mod planner;
 
 use dofplan_runtime::{BranchPolicy, Ctx, Solver};
 
-use crate::interp::spatial::Interpreter3;
-use crate::model::spatial::Mechanism3;
-use crate::plan::spatial::Plan3;
+use crate::interp::spatial::Interpreter;
+use crate::model::spatial::Mechanism;
+use crate::plan::spatial::Plan;
 
 /// Why a spatial mechanism could not be planned.
 #[derive(Debug, Clone, PartialEq)]
-pub enum PlanError3 {
+pub enum PlanError {
     /// Equations no step meets or checks.
     Unplanned(Vec<String>),
     /// The plan does not reproduce the drawing at input 0.
     Drawn(String),
 }
 
-impl std::fmt::Display for PlanError3 {
+impl std::fmt::Display for PlanError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            PlanError3::Unplanned(eqs) => write!(
+            PlanError::Unplanned(eqs) => write!(
                 f,
                 "no plan fragment or cluster meets these equations: {} (please report the file)",
                 eqs.join(", ")
             ),
-            PlanError3::Drawn(what) => write!(f, "the plan does not reproduce the drawing: {what}"),
+            PlanError::Drawn(what) => write!(f, "the plan does not reproduce the drawing: {what}"),
         }
     }
 }
 
-impl std::error::Error for PlanError3 {}
+impl std::error::Error for PlanError {}
 
 /// A plan of `m` with no steps yet: the names, markers and inputs every
 /// spatial plan carries for its back ends.
-pub(crate) fn empty_plan(m: &Mechanism3) -> Plan3 {
-    Plan3 {
+pub(crate) fn empty_plan(m: &Mechanism) -> Plan {
+    Plan {
         name: m.name.clone(),
         bodies: m.bodies.iter().map(|b| b.name.clone()).collect(),
         fixed: m.bodies.iter().map(|b| b.fixed).collect(),
@@ -62,11 +62,11 @@ pub(crate) fn empty_plan(m: &Mechanism3) -> Plan3 {
 /// Plans a spatial mechanism: the steps, then each branch chosen so the
 /// plan reproduces the drawn pose (run once from the drawing, taking the
 /// nearest root everywhere), checked against every equation.
-pub fn analyse(m: &Mechanism3) -> Result<Plan3, PlanError3> {
+pub fn analyse(m: &Mechanism) -> Result<Plan, PlanError> {
     let eqs = crate::model::spatial::equations::equations(m);
     let planned = planner::plan(m, &eqs);
     if !planned.unused.is_empty() {
-        return Err(PlanError3::Unplanned(
+        return Err(PlanError::Unplanned(
             planned
                 .unused
                 .iter()
@@ -74,7 +74,7 @@ pub fn analyse(m: &Mechanism3) -> Result<Plan3, PlanError3> {
                 .collect(),
         ));
     }
-    let mut plan = Plan3 {
+    let mut plan = Plan {
         steps: planned.steps,
         temps: planned.temps,
         branches: planned.branches,
@@ -82,12 +82,12 @@ pub fn analyse(m: &Mechanism3) -> Result<Plan3, PlanError3> {
         ..empty_plan(m)
     };
     invariants::place_hinged(&mut plan, m.size());
-    let interp = Interpreter3::new(plan.clone());
+    let interp = Interpreter::new(plan.clone());
     let mut state = interp.initial_state();
     let inputs = vec![0.0; m.inputs.len()];
     let mut ctx = Ctx::new(BranchPolicy::Nearest, false);
     interp.run(&mut state, &inputs, &mut ctx).map_err(|b| {
-        PlanError3::Drawn(format!(
+        PlanError::Drawn(format!(
             "step {} breaks at input 0 ({})",
             crate::plan::spatial::step_number(b.step),
             b.kind.describe()
@@ -98,7 +98,7 @@ pub fn analyse(m: &Mechanism3) -> Result<Plan3, PlanError3> {
         let gap = e.gap(&state.poses, &inputs);
         let tol = if e.linear() { 1e-7 * size } else { 1e-7 };
         if gap > tol {
-            return Err(PlanError3::Drawn(format!(
+            return Err(PlanError::Drawn(format!(
                 "{} {} is off by {gap:.3e}",
                 e.origin,
                 e.kind.name()
@@ -116,21 +116,21 @@ pub fn analyse(m: &Mechanism3) -> Result<Plan3, PlanError3> {
 /// at most one of the two candidate points (a Bennett linkage's skew
 /// circles): where the drawing has only one valid candidate, the step needs
 /// no branch, and its explanation says so with the other's miss.
-fn single_roots(plan: &mut Plan3, interp: &Interpreter3) {
-    use crate::plan::spatial::{Locus3, StepKind3};
+fn single_roots(plan: &mut Plan, interp: &Interpreter) {
+    use crate::plan::spatial::{Locus, StepKind};
     use dofplan_runtime::spatial::{circle_about, circle_circle_candidates};
     let state = interp.initial_state();
     let inputs = vec![0.0; plan.inputs.len()];
-    let p = |q: &crate::plan::spatial::P3| crate::interp::spatial::point(&state, q, &inputs);
-    let d = |v: &crate::plan::spatial::D3| crate::interp::spatial::dir(&state, v, &inputs);
+    let p = |q: &crate::plan::spatial::PointRef| crate::interp::spatial::point(&state, q, &inputs);
+    let d = |v: &crate::plan::spatial::DirRef| crate::interp::spatial::dir(&state, v, &inputs);
     for step in &mut plan.steps {
-        let StepKind3::Intersect {
+        let StepKind::Intersect {
             loci, branch, tol, ..
         } = &mut step.kind
         else {
             continue;
         };
-        let [Locus3::Circle { pivot, axis, at }, Locus3::Circle {
+        let [Locus::Circle { pivot, axis, at }, Locus::Circle {
             pivot: p2,
             axis: a2,
             at: x2,

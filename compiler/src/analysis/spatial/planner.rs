@@ -22,10 +22,10 @@ use dofplan_runtime::spatial::{cross, norm, sub, unit, Vec3};
 use dofplan_runtime::Branch;
 
 use super::fragments::{lookup, Case, Do, Fragment, Prim, RDof, TDof};
-use crate::model::spatial::equations::{Equation3, Frame, Kind3};
-use crate::model::spatial::{JointKind3, Mechanism3, Primitive};
+use crate::model::spatial::equations::{Equation, Frame, Kind};
+use crate::model::spatial::{JointKind, Mechanism, Primitive};
 use crate::plan::spatial::{
-    Action3, BranchSlot3, CheckRow, Cluster3, ClusterRow3, Locus3, Param3, Step3, StepKind3, Temp3, D3, P3,
+    Action, BranchSlot, CheckRow, Cluster, ClusterRow, DirRef, Locus, Param, PointRef, Step, StepKind, Temp,
 };
 
 /// Two local points closer than this (relative to the size) are one point;
@@ -36,14 +36,14 @@ const SAME: f64 = 1e-9;
 enum T {
     Free,
     Plane { q: Vec3 },
-    Line { q: Vec3, dir: D3 },
+    Line { q: Vec3, dir: DirRef },
     Point { q: Vec3 },
 }
 
 #[derive(Clone, Debug)]
 enum R {
     Free,
-    Cone { u: Vec3, w: D3, cos: f64 },
+    Cone { u: Vec3, w: DirRef, cos: f64 },
     Axis { al: Vec3 },
     Fixed,
 }
@@ -96,13 +96,13 @@ impl State {
 }
 
 /// The outcome of planning.
-pub struct Planned3 {
+pub struct Planned {
     /// Steps in order.
-    pub steps: Vec<Step3>,
+    pub steps: Vec<Step>,
     /// Pseudo-markers.
-    pub temps: Vec<Temp3>,
+    pub temps: Vec<Temp>,
     /// Branch slots (initial branch still to be chosen).
-    pub branches: Vec<BranchSlot3>,
+    pub branches: Vec<BranchSlot>,
     /// Freedoms left at minimum motion.
     pub idle: Vec<(usize, usize, String)>,
     /// Equations no step used.
@@ -110,13 +110,13 @@ pub struct Planned3 {
 }
 
 struct Planner<'m> {
-    m: &'m Mechanism3,
-    eqs: &'m [Equation3],
+    m: &'m Mechanism,
+    eqs: &'m [Equation],
     used: Vec<bool>,
     state: Vec<State>,
-    steps: Vec<Step3>,
-    temps: Vec<Temp3>,
-    branches: Vec<BranchSlot3>,
+    steps: Vec<Step>,
+    temps: Vec<Temp>,
+    branches: Vec<BranchSlot>,
     size: f64,
     /// Per body: slide-input joints (joint, input) whose axis points of the
     /// body move rigidly with the joint's other body.
@@ -131,12 +131,12 @@ struct Planner<'m> {
 }
 
 /// Plans a spatial mechanism from its equations.
-pub fn plan(m: &Mechanism3, eqs: &[Equation3]) -> Planned3 {
+pub fn plan(m: &Mechanism, eqs: &[Equation]) -> Planned {
     let mut slides = vec![Vec::new(); m.bodies.len()];
     for (ii, input) in m.inputs.iter().enumerate() {
         let j = &m.joints[input.joint];
         if input.kind == crate::model::InputKind::Slide
-            && matches!(j.kind, JointKind3::Cylindrical | JointKind3::Prismatic)
+            && matches!(j.kind, JointKind::Cylindrical | JointKind::Prismatic)
         {
             for id in j.markers {
                 slides[id.body].push((input.joint, ii));
@@ -242,7 +242,7 @@ pub fn plan(m: &Mechanism3, eqs: &[Equation3]) -> Planned3 {
             idle.push((b, s.dof(), why));
         }
     }
-    Planned3 {
+    Planned {
         steps: p.steps,
         temps: p.temps,
         branches: p.branches,
@@ -284,24 +284,24 @@ impl Planner<'_> {
     }
 
     /// A body point as the plan reads it.
-    fn body_point(&self, b: usize, local: Vec3) -> P3 {
+    fn body_point(&self, b: usize, local: Vec3) -> PointRef {
         if self.fixed(b) {
-            P3::Fixed(local)
+            PointRef::Fixed(local)
         } else {
-            P3::Body { body: b, local }
+            PointRef::Body { body: b, local }
         }
     }
 
-    fn body_dir(&self, b: usize, local: Vec3) -> D3 {
+    fn body_dir(&self, b: usize, local: Vec3) -> DirRef {
         if self.fixed(b) {
-            D3::Fixed(local)
+            DirRef::Fixed(local)
         } else {
-            D3::Body { body: b, local }
+            DirRef::Body { body: b, local }
         }
     }
 
     /// The body point `local`, if its world position is known already.
-    fn known_point(&self, b: usize, local: Vec3) -> Option<P3> {
+    fn known_point(&self, b: usize, local: Vec3) -> Option<PointRef> {
         if self.placed(b) {
             return Some(self.body_point(b, local));
         }
@@ -323,7 +323,7 @@ impl Planner<'_> {
 
     /// The point `local` of `b` as a point of the other body of a slide
     /// input's joint, when it lies on the joint's axis.
-    fn slid(&self, b: usize, local: Vec3) -> Option<(usize, P3)> {
+    fn slid(&self, b: usize, local: Vec3) -> Option<(usize, PointRef)> {
         for &(ji, input) in &self.slides[b] {
             let j = &self.m.joints[ji];
             let first = self.m.marker(j.markers[0]);
@@ -339,7 +339,7 @@ impl Planner<'_> {
             let p = if self.fixed(other) {
                 continue;
             } else {
-                P3::Slid {
+                PointRef::Slid {
                     body: other,
                     local,
                     dir: z,
@@ -353,7 +353,7 @@ impl Planner<'_> {
     }
 
     /// The body direction `local`, if its world value is known already.
-    fn known_dir(&self, b: usize, local: Vec3) -> Option<D3> {
+    fn known_dir(&self, b: usize, local: Vec3) -> Option<DirRef> {
         match self.state[b].r {
             R::Fixed => Some(self.body_dir(b, local)),
             R::Axis { al } if parallel(local, al) => Some(self.body_dir(b, local)),
@@ -362,25 +362,25 @@ impl Planner<'_> {
     }
 
     fn temp(&mut self, name: String, drawn: Vec3) -> usize {
-        self.temps.push(Temp3 { name, drawn });
+        self.temps.push(Temp { name, drawn });
         self.temps.len() - 1
     }
 
     fn slot(&mut self) -> usize {
-        self.branches.push(BranchSlot3 {
+        self.branches.push(BranchSlot {
             initial: Branch::Plus,
             angle: 0.0,
         });
         self.branches.len() - 1
     }
 
-    fn push(&mut self, kind: StepKind3, text: String, serves: Vec<String>) {
-        self.steps.push(Step3 { kind, text, serves });
+    fn push(&mut self, kind: StepKind, text: String, serves: Vec<String>) {
+        self.steps.push(Step { kind, text, serves });
     }
 
-    fn act(&mut self, body: usize, action: Action3, text: String, serves: &[String]) {
+    fn act(&mut self, body: usize, action: Action, text: String, serves: &[String]) {
         self.push(
-            StepKind3::Act {
+            StepKind::Act {
                 body,
                 action: Box::new(action),
             },
@@ -409,7 +409,7 @@ impl Planner<'_> {
             format!("check {name}")
         };
         let row = self.check_row(i, redundant);
-        self.push(StepKind3::Check { rows: vec![row] }, text, vec![]);
+        self.push(StepKind::Check { rows: vec![row] }, text, vec![]);
     }
 
     fn name(&self, b: usize) -> &str {
@@ -451,51 +451,51 @@ impl Planner<'_> {
         let st = self.state[b].clone();
         let serves = vec![self.serves(i)];
         let (prim, target): (Prim, Target) = match e.kind {
-            Kind3::Prim(Primitive::Coincident) => {
+            Kind::Prim(Primitive::Coincident) => {
                 (Prim::Coincident, Target::Point(self.known_point(o, fo.at)?))
             }
-            Kind3::Prim(Primitive::InLine) if mover == 1 => {
+            Kind::Prim(Primitive::InLine) if mover == 1 => {
                 let k = self.known_point(o, fo.at)?;
                 let d = self.known_dir(o, fo.axes.z)?;
                 (Prim::InLine, Target::Line(k, d))
             }
-            Kind3::Prim(Primitive::InLine) => {
+            Kind::Prim(Primitive::InLine) => {
                 let k = self.known_point(o, fo.at)?;
                 (Prim::InLineOwner, Target::Point(k))
             }
-            Kind3::Prim(Primitive::InPlane) if mover == 1 => {
+            Kind::Prim(Primitive::InPlane) if mover == 1 => {
                 let k = self.known_point(o, fo.at)?;
                 let d = self.known_dir(o, fo.axes.z)?;
                 (Prim::InPlane, Target::Line(k, d))
             }
-            Kind3::Prim(Primitive::InPlane) => {
+            Kind::Prim(Primitive::InPlane) => {
                 let k = self.known_point(o, fo.at)?;
                 (Prim::InPlaneOwner, Target::Point(k))
             }
-            Kind3::Prim(Primitive::ParallelZ) => {
+            Kind::Prim(Primitive::ParallelZ) => {
                 let z = if e.sign < 0.0 { neg(fo.axes.z) } else { fo.axes.z };
                 (Prim::ParallelZ, Target::Dir(self.known_dir(o, z)?))
             }
-            Kind3::Prim(Primitive::OffsetZ | Primitive::PerpendicularZ) => {
+            Kind::Prim(Primitive::OffsetZ | Primitive::PerpendicularZ) => {
                 (Prim::OffsetZ, Target::Dir(self.known_dir(o, fo.axes.z)?))
             }
-            Kind3::Prim(Primitive::OffsetX) => {
+            Kind::Prim(Primitive::OffsetX) => {
                 let z = if e.sign < 0.0 { neg(fo.axes.z) } else { fo.axes.z };
                 let t = self.known_dir(o, z)?;
                 self.known_dir(o, fo.axes.x)?;
                 (Prim::OffsetX, Target::Dir(t))
             }
-            Kind3::Angle { .. } => {
+            Kind::Angle { .. } => {
                 self.known_dir(o, fo.axes.z)?;
                 self.known_dir(o, fo.axes.x)?;
                 (Prim::Angle, Target::None)
             }
-            Kind3::Slide { .. } => {
+            Kind::Slide { .. } => {
                 self.known_point(o, fo.at)?;
                 self.known_dir(o, fo.axes.z)?;
                 (Prim::Slide, Target::None)
             }
-            Kind3::Prim(Primitive::Helical) => return None,
+            Kind::Prim(Primitive::Helical) => return None,
         };
         let case = self.case(&st, prim, &fm, &e);
         let frag = *lookup(st.tdof(), st.rdof(), prim, case)?;
@@ -508,7 +508,7 @@ impl Planner<'_> {
         st: &State,
         prim: Prim,
         fm: &crate::model::spatial::equations::Frame,
-        e: &Equation3,
+        e: &Equation,
     ) -> Case {
         match prim {
             Prim::Coincident | Prim::InLine | Prim::InPlane => {
@@ -558,7 +558,7 @@ impl Planner<'_> {
 
     /// The pivot of a body as a point (its T-part's point, or the marker
     /// itself for a free body).
-    fn pivot_point(&self, b: usize, st: &State, fallback: Vec3) -> P3 {
+    fn pivot_point(&self, b: usize, st: &State, fallback: Vec3) -> PointRef {
         self.body_point(b, st.pivot().unwrap_or(fallback))
     }
 
@@ -632,12 +632,12 @@ impl Planner<'_> {
     }
 
     /// `TranslateOnto`: Translate the marker onto the point.
-    fn do_translate_onto(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+    fn do_translate_onto(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
         let (b, fm, serves, name, mname) = (a.b, a.fm, a.serves, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
         self.act(
             b,
-            Action3::TranslateOnto {
+            Action::TranslateOnto {
                 from: m_pt,
                 to: k.clone(),
             },
@@ -649,7 +649,7 @@ impl Planner<'_> {
     }
 
     /// `TranslateAlong`: Translate along the body's line so the marker reaches the point.
-    fn do_translate_along(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+    fn do_translate_along(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
         let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
         let T::Line { q, dir } = st.t.clone() else {
@@ -657,7 +657,7 @@ impl Planner<'_> {
         };
         self.act(
             b,
-            Action3::TranslateAlong {
+            Action::TranslateAlong {
                 from: m_pt,
                 to: k.clone(),
                 dir,
@@ -675,7 +675,7 @@ impl Planner<'_> {
     }
 
     /// `SlideTurn`: Translate along the line, then rotate about it onto the point.
-    fn do_slide_turn(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+    fn do_slide_turn(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
         let (b, serves, st, name, mname) = (a.b, a.serves, &a.st, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
         let (T::Line { q, dir }, R::Axis { al }) = (st.t.clone(), st.r.clone()) else {
@@ -683,7 +683,7 @@ impl Planner<'_> {
         };
         self.act(
             b,
-            Action3::TranslateAlong {
+            Action::TranslateAlong {
                 from: m_pt.clone(),
                 to: k.clone(),
                 dir,
@@ -696,7 +696,7 @@ impl Planner<'_> {
         );
         self.act(
             b,
-            Action3::AxisOnto {
+            Action::AxisOnto {
                 pivot: self.body_point(b, q),
                 axis: self.body_dir(b, al),
                 from: m_pt,
@@ -716,7 +716,7 @@ impl Planner<'_> {
     }
 
     /// `TranslateInPlane`: Translate in the body's plane so the marker reaches the point.
-    fn do_translate_in_plane(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+    fn do_translate_in_plane(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
         let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
         let normal = match st.r {
@@ -725,7 +725,7 @@ impl Planner<'_> {
         };
         self.act(
             b,
-            Action3::TranslateInPlane {
+            Action::TranslateInPlane {
                 from: m_pt,
                 to: k.clone(),
                 normal,
@@ -741,12 +741,12 @@ impl Planner<'_> {
     }
 
     /// `TranslateToLine`: Translate the marker to its foot on the line.
-    fn do_translate_to_line(&mut self, a: &Applied, k: &P3, d: &D3, new: &mut State) -> Option<()> {
+    fn do_translate_to_line(&mut self, a: &Applied, k: &PointRef, d: &DirRef, new: &mut State) -> Option<()> {
         let (b, fm, serves, name, mname) = (a.b, a.fm, a.serves, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
         self.act(
             b,
-            Action3::TranslateToLine {
+            Action::TranslateToLine {
                 from: m_pt,
                 through: k.clone(),
                 dir: d.clone(),
@@ -765,12 +765,18 @@ impl Planner<'_> {
     }
 
     /// `TranslateToPlane`: Translate the marker onto the plane.
-    fn do_translate_to_plane(&mut self, a: &Applied, k: &P3, n: &D3, new: &mut State) -> Option<()> {
+    fn do_translate_to_plane(
+        &mut self,
+        a: &Applied,
+        k: &PointRef,
+        n: &DirRef,
+        new: &mut State,
+    ) -> Option<()> {
         let (b, fm, serves, name, mname) = (a.b, a.fm, a.serves, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
         self.act(
             b,
-            Action3::TranslateToPlane {
+            Action::TranslateToPlane {
                 from: m_pt,
                 through: k.clone(),
                 normal: n.clone(),
@@ -786,13 +792,13 @@ impl Planner<'_> {
     }
 
     /// `OwnerLineThrough`: Translate the body's line (its z known) through the point.
-    fn do_owner_line_through(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+    fn do_owner_line_through(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
         let (b, fm, serves, name, mname) = (a.b, a.fm, a.serves, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
         let d = self.body_dir(b, fm.axes.z);
         self.act(
             b,
-            Action3::TranslateToLine {
+            Action::TranslateToLine {
                 from: m_pt,
                 through: k.clone(),
                 dir: d.clone(),
@@ -808,13 +814,13 @@ impl Planner<'_> {
     }
 
     /// `OwnerPlaneThrough`: Translate the body's plane (its z known) through the point.
-    fn do_owner_plane_through(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+    fn do_owner_plane_through(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
         let (b, fm, serves, name, mname) = (a.b, a.fm, a.serves, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
         let n = self.body_dir(b, fm.axes.z);
         self.act(
             b,
-            Action3::TranslateToPlane {
+            Action::TranslateToPlane {
                 from: m_pt,
                 through: k.clone(),
                 normal: n,
@@ -830,7 +836,7 @@ impl Planner<'_> {
     }
 
     /// `RotateOnto`: Minimal rotation about the pivot taking the marker toward the point.
-    fn do_rotate_onto(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+    fn do_rotate_onto(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
         let (b, fm, serves, st, mname) = (a.b, a.fm, a.serves, &a.st, &a.mname);
         let m_pt = a.m_pt.clone();
         let pivot = a.pivot.clone();
@@ -843,14 +849,14 @@ impl Planner<'_> {
     }
 
     /// `AxisOnto`: Rotation about the axis taking the marker onto the point.
-    fn do_axis_onto(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+    fn do_axis_onto(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
         let (b, serves, st, name, mname) = (a.b, a.serves, &a.st, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
         let pivot = a.pivot.clone();
         let R::Axis { al } = st.r else { return None };
         self.act(
             b,
-            Action3::AxisOnto {
+            Action::AxisOnto {
                 pivot: pivot.clone(),
                 axis: self.body_dir(b, al),
                 from: m_pt,
@@ -867,7 +873,7 @@ impl Planner<'_> {
     }
 
     /// `RotateOntoCone`: Rotate onto the point, then about the new axis onto the cone (a branch).
-    fn do_rotate_onto_cone(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+    fn do_rotate_onto_cone(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
         let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
         let pivot = a.pivot.clone();
@@ -882,9 +888,9 @@ impl Planner<'_> {
         let slot = self.slot();
         self.act(
             b,
-            Action3::AxisCondition {
+            Action::AxisCondition {
                 pivot: pivot.clone(),
-                axis: D3::Between(Box::new(pivot.clone()), Box::new(k.clone())),
+                axis: DirRef::Between(Box::new(pivot.clone()), Box::new(k.clone())),
                 v: self.body_dir(b, u),
                 w,
                 cos,
@@ -901,7 +907,7 @@ impl Planner<'_> {
     }
 
     /// `LineSphere`: Pivot onto line ∩ sphere (a branch), then rotate onto the point.
-    fn do_line_sphere(&mut self, a: &Applied, k: &P3, new: &mut State) -> Option<()> {
+    fn do_line_sphere(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
         let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
         let T::Line { q, dir } = st.t.clone() else {
@@ -911,11 +917,11 @@ impl Planner<'_> {
         let t = self.temp(format!("{name} pivot"), q);
         let slot = self.slot();
         self.push(
-            StepKind3::Intersect {
+            StepKind::Intersect {
                 temp: t,
                 loci: Box::new([
-                    Locus3::Line { at: qp.clone(), dir },
-                    Locus3::Sphere {
+                    Locus::Line { at: qp.clone(), dir },
+                    Locus::Sphere {
                         centre: k.clone(),
                         a: qp.clone(),
                         b: m_pt.clone(),
@@ -932,16 +938,16 @@ impl Planner<'_> {
         );
         self.act(
             b,
-            Action3::TranslateOnto {
+            Action::TranslateOnto {
                 from: qp.clone(),
-                to: P3::Temp(t),
+                to: PointRef::Temp(t),
             },
             format!("{name}: slide its pivot to step {}", self.steps.len() - 1),
             serves,
         );
         self.act(
             b,
-            Action3::RotateOnto {
+            Action::RotateOnto {
                 pivot: qp,
                 from: m_pt,
                 to: k.clone(),
@@ -962,18 +968,24 @@ impl Planner<'_> {
     }
 
     /// `CircleLine`, `SphereLine`: Marker onto circle ∩ line (a branch). / Marker onto sphere ∩ line (a branch).
-    fn do_circle_or_sphere_line(&mut self, a: &Applied, k: &P3, d: &D3, new: &mut State) -> Option<()> {
+    fn do_circle_or_sphere_line(
+        &mut self,
+        a: &Applied,
+        k: &PointRef,
+        d: &DirRef,
+        new: &mut State,
+    ) -> Option<()> {
         let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
         let m_pt = a.m_pt.clone();
         let pivot = a.pivot.clone();
         let q = st.pivot()?;
         let locus = match st.r {
-            R::Axis { al } => Locus3::Circle {
+            R::Axis { al } => Locus::Circle {
                 pivot: pivot.clone(),
                 axis: self.body_dir(b, al),
                 at: m_pt.clone(),
             },
-            _ => Locus3::Sphere {
+            _ => Locus::Sphere {
                 centre: pivot.clone(),
                 a: pivot.clone(),
                 b: m_pt.clone(),
@@ -983,11 +995,11 @@ impl Planner<'_> {
         let slot = self.slot();
         let lname = locus.name();
         self.push(
-            StepKind3::Intersect {
+            StepKind::Intersect {
                 temp: t,
                 loci: Box::new([
                     locus,
-                    Locus3::Line {
+                    Locus::Line {
                         at: k.clone(),
                         dir: d.clone(),
                     },
@@ -1002,11 +1014,11 @@ impl Planner<'_> {
             ),
             serves.to_vec(),
         );
-        let to = P3::Temp(t);
+        let to = PointRef::Temp(t);
         if let R::Axis { al } = st.r {
             self.act(
                 b,
-                Action3::AxisOnto {
+                Action::AxisOnto {
                     pivot: pivot.clone(),
                     axis: self.body_dir(b, al),
                     from: m_pt,
@@ -1022,7 +1034,7 @@ impl Planner<'_> {
         } else {
             self.act(
                 b,
-                Action3::RotateOnto {
+                Action::RotateOnto {
                     pivot: pivot.clone(),
                     from: m_pt,
                     to,
@@ -1041,7 +1053,7 @@ impl Planner<'_> {
     }
 
     /// `AlignDir`: Minimal rotation taking z_m to the direction.
-    fn do_align_dir(&mut self, a: &Applied, t: &D3, new: &mut State) -> Option<()> {
+    fn do_align_dir(&mut self, a: &Applied, t: &DirRef, new: &mut State) -> Option<()> {
         let (b, fm, serves, mname) = (a.b, a.fm, a.serves, &a.mname);
         let pivot = a.pivot.clone();
         self.align_z(b, &pivot, fm.axes.z, t, mname, serves);
@@ -1050,13 +1062,13 @@ impl Planner<'_> {
     }
 
     /// `AxisDir`: Rotation about the axis taking z_m to the direction.
-    fn do_axis_dir(&mut self, a: &Applied, t: &D3, new: &mut State) -> Option<()> {
+    fn do_axis_dir(&mut self, a: &Applied, t: &DirRef, new: &mut State) -> Option<()> {
         let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
         let pivot = a.pivot.clone();
         let R::Axis { al } = st.r else { return None };
         self.act(
             b,
-            Action3::AxisDir {
+            Action::AxisDir {
                 pivot: pivot.clone(),
                 axis: self.body_dir(b, al),
                 from: self.body_dir(b, fm.axes.z),
@@ -1070,7 +1082,7 @@ impl Planner<'_> {
     }
 
     /// `AlignOntoCone`: Align z_m, then turn about it until the cone's direction is on its cone (a branch).
-    fn do_align_onto_cone(&mut self, a: &Applied, t: &D3, new: &mut State) -> Option<()> {
+    fn do_align_onto_cone(&mut self, a: &Applied, t: &DirRef, new: &mut State) -> Option<()> {
         let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
         let pivot = a.pivot.clone();
         let R::Cone { u, w, cos } = st.r.clone() else {
@@ -1080,7 +1092,7 @@ impl Planner<'_> {
         let slot = self.slot();
         self.act(
             b,
-            Action3::AxisCondition {
+            Action::AxisCondition {
                 pivot: pivot.clone(),
                 axis: self.body_dir(b, fm.axes.z),
                 v: self.body_dir(b, u),
@@ -1096,18 +1108,18 @@ impl Planner<'_> {
     }
 
     /// `AxisCondition`: Rotation about the axis making the angle to the direction (a branch).
-    fn do_axis_condition(&mut self, a: &Applied, t: &D3, new: &mut State) -> Option<()> {
+    fn do_axis_condition(&mut self, a: &Applied, t: &DirRef, new: &mut State) -> Option<()> {
         let (b, fm, serves, e, st, name, mname) = (a.b, a.fm, a.serves, &a.e, &a.st, &a.name, &a.mname);
         let pivot = a.pivot.clone();
         let R::Axis { al } = st.r else { return None };
         let cos = match e.kind {
-            Kind3::Prim(Primitive::PerpendicularZ) => 0.0,
+            Kind::Prim(Primitive::PerpendicularZ) => 0.0,
             _ => e.angle.cos(),
         };
         let slot = self.slot();
         self.act(
             b,
-            Action3::AxisCondition {
+            Action::AxisCondition {
                 pivot: pivot.clone(),
                 axis: self.body_dir(b, al),
                 v: self.body_dir(b, fm.axes.z),
@@ -1126,16 +1138,16 @@ impl Planner<'_> {
     }
 
     /// `Tilt`: Tilt z_m to the angle: the cone state.
-    fn do_tilt(&mut self, a: &Applied, t: &D3, new: &mut State) -> Option<()> {
+    fn do_tilt(&mut self, a: &Applied, t: &DirRef, new: &mut State) -> Option<()> {
         let (b, fm, serves, e, name, mname) = (a.b, a.fm, a.serves, &a.e, &a.name, &a.mname);
         let pivot = a.pivot.clone();
         let cos = match e.kind {
-            Kind3::Prim(Primitive::PerpendicularZ) => 0.0,
+            Kind::Prim(Primitive::PerpendicularZ) => 0.0,
             _ => e.angle.cos(),
         };
         self.act(
             b,
-            Action3::Tilt {
+            Action::Tilt {
                 pivot: pivot.clone(),
                 from: self.body_dir(b, fm.axes.z),
                 to: t.clone(),
@@ -1169,7 +1181,7 @@ impl Planner<'_> {
             self.align_z(b, &pivot, fm.axes.z, t, mname, serves);
         }
         let input = match e.kind {
-            Kind3::Angle { input } => Some(input),
+            Kind::Angle { input } => Some(input),
             _ => None,
         };
         let z1 = if mover == 0 {
@@ -1180,7 +1192,7 @@ impl Planner<'_> {
         };
         self.act(
             b,
-            Action3::Twist {
+            Action::Twist {
                 pivot: pivot.clone(),
                 axis: z1,
                 x1: self.body_dir(b1, f1.axes.x),
@@ -1205,7 +1217,7 @@ impl Planner<'_> {
     /// `SlideTo`: Slide along the line to the input's distance.
     fn do_slide_to(&mut self, a: &Applied, new: &mut State) -> Option<()> {
         let (b, sign, serves, e, st, name) = (a.b, a.sign, a.serves, &a.e, &a.st, &a.name);
-        let Kind3::Slide { input } = e.kind else {
+        let Kind::Slide { input } = e.kind else {
             return None;
         };
         let T::Line { q, dir } = st.t.clone() else {
@@ -1214,7 +1226,7 @@ impl Planner<'_> {
         let (b1, b2) = (e.bodies[0], e.bodies[1]);
         self.act(
             b,
-            Action3::SlideTo {
+            Action::SlideTo {
                 from: self.body_point(b2, e.frames[1].at),
                 origin: self.body_point(b1, e.frames[0].at),
                 dir,
@@ -1234,7 +1246,7 @@ impl Planner<'_> {
 
     /// Rotates body `b` about `pivot` so its marker `mname`'s z (local `z`)
     /// points along `to`.
-    fn align_z(&mut self, b: usize, pivot: &P3, z: Vec3, to: &D3, mname: &str, serves: &[String]) {
+    fn align_z(&mut self, b: usize, pivot: &PointRef, z: Vec3, to: &DirRef, mname: &str, serves: &[String]) {
         let text = format!(
             "{}: rotate about {} aligning {mname}'s z",
             self.name(b),
@@ -1242,7 +1254,7 @@ impl Planner<'_> {
         );
         self.act(
             b,
-            Action3::AlignDir {
+            Action::AlignDir {
                 pivot: pivot.clone(),
                 from: self.body_dir(b, z),
                 to: to.clone(),
@@ -1254,7 +1266,15 @@ impl Planner<'_> {
 
     /// Rotates body `b` about `pivot` taking its point `from` (the marker
     /// `mname`) onto `to`.
-    fn rotate_onto(&mut self, b: usize, pivot: &P3, from: P3, to: &P3, mname: &str, serves: &[String]) {
+    fn rotate_onto(
+        &mut self,
+        b: usize,
+        pivot: &PointRef,
+        from: PointRef,
+        to: &PointRef,
+        mname: &str,
+        serves: &[String],
+    ) {
         let text = format!(
             "{}: rotate about {} taking {mname} onto {}",
             self.name(b),
@@ -1263,7 +1283,7 @@ impl Planner<'_> {
         );
         self.act(
             b,
-            Action3::RotateOnto {
+            Action::RotateOnto {
                 pivot: pivot.clone(),
                 from,
                 to: to.clone(),
@@ -1273,56 +1293,56 @@ impl Planner<'_> {
         );
     }
 
-    fn describe(&self, p: &P3) -> String {
+    fn describe(&self, p: &PointRef) -> String {
         match p {
-            P3::Fixed(v) => format!(
+            PointRef::Fixed(v) => format!(
                 "[{}, {}, {}]",
                 crate::plan::num(v[0]),
                 crate::plan::num(v[1]),
                 crate::plan::num(v[2])
             ),
-            P3::Body { body, local } | P3::Slid { body, local, .. } => {
+            PointRef::Body { body, local } | PointRef::Slid { body, local, .. } => {
                 let b = &self.m.bodies[*body];
                 match b.markers.iter().find(|m| self.same_point(m.at, *local)) {
                     Some(m) => format!("{}.{}", b.name, m.name),
                     None => format!("a point of {}", b.name),
                 }
             }
-            P3::Temp(t) => format!("step {} ({})", self.temp_step(*t), self.temps[*t].name),
+            PointRef::Temp(t) => format!("step {} ({})", self.temp_step(*t), self.temps[*t].name),
         }
     }
 
     fn temp_step(&self, t: usize) -> usize {
         self.steps
             .iter()
-            .position(|s| matches!(s.kind, StepKind3::Intersect { temp, .. } if temp == t))
+            .position(|s| matches!(s.kind, StepKind::Intersect { temp, .. } if temp == t))
             .unwrap_or(0)
     }
 
     /// The locus of body point `local` of `b` (or of the point it is on a
     /// driven slide's other body), with the body that moves on it.
-    fn locus(&self, b: usize, local: Vec3) -> Option<(usize, Locus3, P3)> {
+    fn locus(&self, b: usize, local: Vec3) -> Option<(usize, Locus, PointRef)> {
         self.locus_of(b, local, false)
     }
 
     /// [`Self::locus`]; `cone_ok`: a point of a body whose direction is on
     /// a cone (a leg on a universal joint) counts as on a sphere, which
     /// holds for distances (contraction) though not for placing it.
-    fn locus_of(&self, b: usize, local: Vec3, cone_ok: bool) -> Option<(usize, Locus3, P3)> {
+    fn locus_of(&self, b: usize, local: Vec3, cone_ok: bool) -> Option<(usize, Locus, PointRef)> {
         let s = &self.state[b];
-        let here = |p: P3| -> Option<Locus3> {
+        let here = |p: PointRef| -> Option<Locus> {
             match (&s.t, &s.r) {
-                (T::Point { q }, R::Axis { al }) if !self.on_line(local, *q, *al) => Some(Locus3::Circle {
+                (T::Point { q }, R::Axis { al }) if !self.on_line(local, *q, *al) => Some(Locus::Circle {
                     pivot: self.body_point(b, *q),
                     axis: self.body_dir(b, *al),
                     at: p,
                 }),
-                (T::Point { q }, R::Free) if !self.same_point(local, *q) => Some(Locus3::Sphere {
+                (T::Point { q }, R::Free) if !self.same_point(local, *q) => Some(Locus::Sphere {
                     centre: self.body_point(b, *q),
                     a: self.body_point(b, *q),
                     b: p,
                 }),
-                (T::Line { dir, .. }, R::Fixed) => Some(Locus3::Line {
+                (T::Line { dir, .. }, R::Fixed) => Some(Locus::Line {
                     at: p,
                     dir: dir.clone(),
                 }),
@@ -1335,17 +1355,17 @@ impl Planner<'_> {
         let (a, slid) = self.slid(b, local)?;
         let sa = &self.state[a];
         let l = match (&sa.t, &sa.r) {
-            (T::Point { q }, R::Axis { al }) => Locus3::Circle {
+            (T::Point { q }, R::Axis { al }) => Locus::Circle {
                 pivot: self.body_point(a, *q),
                 axis: self.body_dir(a, *al),
                 at: slid.clone(),
             },
-            (T::Point { q }, R::Free) => Locus3::Sphere {
+            (T::Point { q }, R::Free) => Locus::Sphere {
                 centre: self.body_point(a, *q),
                 a: self.body_point(a, *q),
                 b: slid.clone(),
             },
-            (T::Point { q }, R::Cone { .. }) if cone_ok => Locus3::Sphere {
+            (T::Point { q }, R::Cone { .. }) if cone_ok => Locus::Sphere {
                 centre: self.body_point(a, *q),
                 a: self.body_point(a, *q),
                 b: slid.clone(),
@@ -1359,10 +1379,10 @@ impl Planner<'_> {
     /// bodies, by intersecting its markers' loci.
     fn close_loop(&mut self, i: usize) -> bool {
         let e = self.eqs[i].clone();
-        if e.kind == Kind3::Prim(Primitive::ParallelZ) {
+        if e.kind == Kind::Prim(Primitive::ParallelZ) {
             return self.close_directions(i);
         }
-        if e.kind != Kind3::Prim(Primitive::Coincident) {
+        if e.kind != Kind::Prim(Primitive::Coincident) {
             return false;
         }
         let Some((ba, la, pa)) = self.locus(e.bodies[0], e.frames[0].at) else {
@@ -1376,13 +1396,13 @@ impl Planner<'_> {
         }
         let pair_ok = matches!(
             (&la, &lb),
-            (Locus3::Circle { .. }, Locus3::Circle { .. })
-                | (Locus3::Sphere { .. }, Locus3::Circle { .. })
-                | (Locus3::Circle { .. }, Locus3::Sphere { .. })
-                | (Locus3::Line { .. }, Locus3::Sphere { .. })
-                | (Locus3::Sphere { .. }, Locus3::Line { .. })
-                | (Locus3::Line { .. }, Locus3::Circle { .. })
-                | (Locus3::Circle { .. }, Locus3::Line { .. })
+            (Locus::Circle { .. }, Locus::Circle { .. })
+                | (Locus::Sphere { .. }, Locus::Circle { .. })
+                | (Locus::Circle { .. }, Locus::Sphere { .. })
+                | (Locus::Line { .. }, Locus::Sphere { .. })
+                | (Locus::Sphere { .. }, Locus::Line { .. })
+                | (Locus::Line { .. }, Locus::Circle { .. })
+                | (Locus::Circle { .. }, Locus::Line { .. })
         );
         if !pair_ok {
             return false;
@@ -1400,7 +1420,7 @@ impl Planner<'_> {
             self.name(bb)
         );
         self.push(
-            StepKind3::Intersect {
+            StepKind::Intersect {
                 temp: t,
                 loci: Box::new([la, lb]),
                 branch: Some(slot),
@@ -1410,7 +1430,7 @@ impl Planner<'_> {
             serves.clone(),
         );
         for (body, pt) in [(ba, pa), (bb, pb)] {
-            self.meet(body, pt, P3::Temp(t), &serves);
+            self.meet(body, pt, PointRef::Temp(t), &serves);
         }
         self.used[i] = true;
         if redundant > 0 {
@@ -1459,7 +1479,7 @@ impl Planner<'_> {
         let slot = self.slot();
         let serves = vec![self.serves(i)];
         self.push(
-            StepKind3::IntersectDir {
+            StepKind::IntersectDir {
                 temps: [t1, t2],
                 cones: Box::new([
                     (self.body_dir(b1, al1), cos(z1, al1)),
@@ -1480,11 +1500,11 @@ impl Planner<'_> {
             let name = self.name(b).to_string();
             self.act(
                 b,
-                Action3::AxisDir {
+                Action::AxisDir {
                     pivot,
                     axis: self.body_dir(b, al),
                     from: self.body_dir(b, z),
-                    to: D3::Temp(t),
+                    to: DirRef::Temp(t),
                 },
                 format!(
                     "{name}: turn about its axis onto the direction of step {}",
@@ -1500,7 +1520,7 @@ impl Planner<'_> {
     }
 
     /// Moves a partly placed body so its point `pt` meets a known point.
-    fn meet(&mut self, b: usize, pt: P3, to: P3, serves: &[String]) {
+    fn meet(&mut self, b: usize, pt: PointRef, to: PointRef, serves: &[String]) {
         let st = self.state[b].clone();
         let name = self.name(b).to_string();
         let step = self.describe(&to);
@@ -1508,7 +1528,7 @@ impl Planner<'_> {
             (T::Point { q }, R::Axis { al }) => {
                 self.act(
                     b,
-                    Action3::AxisOnto {
+                    Action::AxisOnto {
                         pivot: self.body_point(b, *q),
                         axis: self.body_dir(b, *al),
                         from: pt,
@@ -1522,12 +1542,12 @@ impl Planner<'_> {
             }
             (T::Point { q }, R::Free) => {
                 let local = match &pt {
-                    P3::Body { local, .. } | P3::Slid { local, .. } => *local,
+                    PointRef::Body { local, .. } | PointRef::Slid { local, .. } => *local,
                     _ => *q,
                 };
                 self.act(
                     b,
-                    Action3::RotateOnto {
+                    Action::RotateOnto {
                         pivot: self.body_point(b, *q),
                         from: pt,
                         to,
@@ -1546,7 +1566,7 @@ impl Planner<'_> {
                 };
                 self.act(
                     b,
-                    Action3::TranslateAlong { from: pt, to, dir },
+                    Action::TranslateAlong { from: pt, to, dir },
                     format!("{name}: slide along its line onto {step}"),
                     serves,
                 );
@@ -1558,7 +1578,7 @@ impl Planner<'_> {
                 let pivot = self.body_point(b, *q);
                 self.act(
                     b,
-                    Action3::RotateOnto {
+                    Action::RotateOnto {
                         pivot: pivot.clone(),
                         from: pt,
                         to: to.clone(),
@@ -1569,9 +1589,9 @@ impl Planner<'_> {
                 let slot = self.slot();
                 self.act(
                     b,
-                    Action3::AxisCondition {
+                    Action::AxisCondition {
                         pivot: pivot.clone(),
-                        axis: D3::Between(Box::new(pivot), Box::new(to)),
+                        axis: DirRef::Between(Box::new(pivot), Box::new(to)),
                         v: self.body_dir(b, u),
                         w,
                         cos,
@@ -1609,12 +1629,12 @@ impl Planner<'_> {
         let mut used = Vec::new();
         for &i in &open {
             let e = &self.eqs[i];
-            if e.kind != Kind3::Prim(Primitive::Coincident) {
+            if e.kind != Kind::Prim(Primitive::Coincident) {
                 continue;
             }
             for side in [0usize, 1] {
                 let (b, o) = (e.bodies[side], e.bodies[1 - side]);
-                let Some((a, Locus3::Sphere { centre, a: pa, b: pb }, _)) =
+                let Some((a, Locus::Sphere { centre, a: pa, b: pb }, _)) =
                     self.locus_of(b, e.frames[side].at, true)
                 else {
                     continue;
@@ -1634,7 +1654,7 @@ impl Planner<'_> {
                     self.body_point(o, e.frames[1 - side].at),
                     self.serves(i),
                 ));
-                rows.push(ClusterRow3::Distance {
+                rows.push(ClusterRow::Distance {
                     a: self.body_point(o, e.frames[1 - side].at),
                     b: pa.clone(),
                     c: pa,
@@ -1682,7 +1702,7 @@ impl Planner<'_> {
             let [b1, b2] = self.eqs[i].bodies;
             let inside = |b: usize| member(b) || self.placed(b) || self.fixed(b);
             if (member(b1) || member(b2)) && inside(b1) && inside(b2) {
-                rows.push(ClusterRow3::Equation(self.check_row(i, 0)));
+                rows.push(ClusterRow::Equation(self.check_row(i, 0)));
                 used.push(i);
             }
         }
@@ -1691,16 +1711,16 @@ impl Planner<'_> {
         for &b in &members {
             let st = &self.state[b];
             params.push(match (&st.t, &st.r) {
-                (T::Point { q }, R::Axis { al }) => Param3::Axis {
+                (T::Point { q }, R::Axis { al }) => Param::Axis {
                     body: b,
                     pivot: self.body_point(b, *q),
                     axis: self.body_dir(b, *al),
                 },
-                (T::Point { q }, R::Free) => Param3::Pivot {
+                (T::Point { q }, R::Free) => Param::Pivot {
                     body: b,
                     pivot: self.body_point(b, *q),
                 },
-                _ => Param3::Free { body: b },
+                _ => Param::Free { body: b },
             });
             if !matches!(
                 (&st.t, &st.r),
@@ -1709,13 +1729,13 @@ impl Planner<'_> {
                 // The state's own constraints become rows again.
                 for (i, e) in self.eqs.iter().enumerate() {
                     if self.used[i] && e.bodies.contains(&b) && !used.contains(&i) {
-                        rows.push(ClusterRow3::Equation(self.check_row(i, 0)));
+                        rows.push(ClusterRow::Equation(self.check_row(i, 0)));
                         used.push(i);
                     }
                 }
             }
         }
-        let cluster = Cluster3 {
+        let cluster = Cluster {
             params,
             rows,
             size: self.size,
@@ -1728,7 +1748,7 @@ impl Planner<'_> {
             cluster.equations()
         );
         let serves: Vec<String> = used.iter().map(|&i| self.serves(i)).collect();
-        self.push(StepKind3::Cluster(Box::new(cluster)), text, serves);
+        self.push(StepKind::Cluster(Box::new(cluster)), text, serves);
         for &i in &used {
             self.used[i] = true;
         }
@@ -1755,7 +1775,7 @@ struct Applied<'s> {
     mover: usize,
     /// The body that moves.
     b: usize,
-    e: Equation3,
+    e: Equation,
     /// The moving marker's frame, in its body.
     fm: Frame,
     /// The body's state before the action.
@@ -1763,9 +1783,9 @@ struct Applied<'s> {
     name: String,
     mname: String,
     /// The moving marker, as a point of its body.
-    m_pt: P3,
+    m_pt: PointRef,
     /// The body's pivot (its T-part's point, or the marker).
-    pivot: P3,
+    pivot: PointRef,
     /// +1 when the second marker moves, −1 when the first does.
     sign: f64,
     /// The joints the action serves (for the explanation).
@@ -1776,11 +1796,11 @@ struct Applied<'s> {
 #[derive(Clone, Debug)]
 enum Target {
     /// A known point.
-    Point(P3),
+    Point(PointRef),
     /// A known line (or plane: point and normal).
-    Line(P3, D3),
+    Line(PointRef, DirRef),
     /// A known direction.
-    Dir(D3),
+    Dir(DirRef),
     /// Nothing beyond the known axes (inputs).
     None,
 }

@@ -13,13 +13,11 @@ use std::process::ExitCode;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use dofplan::analysis::analyse_with;
-use dofplan::assemble::{assemble_file, assemble_file3};
+use dofplan::assemble::assemble_file;
 use dofplan::emit::emit;
-use dofplan::model::spatial::Mechanism3;
 use dofplan::model::Model;
 
 use dofplan::model::{Mechanism, Sweep, MAX_STEPS};
-use dofplan::plan::spatial::Plan3;
 use dofplan::plan::Plan;
 use dofplan::report::planar::analyze;
 use dofplan::report::planar::check::Check;
@@ -469,7 +467,7 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
 
 /// The spatial mechanism a command's file holds, if it is one (loaded and
 /// validated; a 3D file that fails validation is reported here).
-fn spatial_file(command: &Command) -> Option<Result<Mechanism3, ()>> {
+fn spatial_file(command: &Command) -> Option<Result<dofplan::model::spatial::Mechanism, ()>> {
     let file = match command {
         Command::Check { file, .. }
         | Command::Plan { file }
@@ -497,7 +495,7 @@ fn spatial_file(command: &Command) -> Option<Result<Mechanism3, ()>> {
 /// Runs a command on a spatial file.
 fn spatial_command(
     command: Command,
-    m: &Result<Mechanism3, ()>,
+    m: &Result<dofplan::model::spatial::Mechanism, ()>,
     out: &mut dyn Write,
 ) -> io::Result<ExitCode> {
     let Ok(m) = m else {
@@ -633,7 +631,7 @@ fn sweep_options(policy: PolicyArg, branch: BranchArg) -> Options {
 
 /// The plan of a spatial file, or `None` when the analysis failed (said on
 /// standard error).
-fn plan3(m: &Mechanism3) -> Option<Plan3> {
+fn plan3(m: &dofplan::model::spatial::Mechanism) -> Option<dofplan::plan::spatial::Plan> {
     dofplan::analysis::spatial::analyse(m)
         .map_err(|e| report(&format!("{}: error: {e}", m.source.name)))
         .ok()
@@ -650,7 +648,7 @@ fn fragments(out: &mut dyn Write) -> io::Result<ExitCode> {
 fn assemble(file: &Path, write: bool, out: &mut dyn Write) -> io::Result<ExitCode> {
     // (the table of moves, the text, whether nothing moved)
     let done = if dofplan::model::is_spatial_file(file) {
-        assemble_file3(file).map(|d| (d.report(), d.unchanged(), d.text))
+        dofplan::assemble::spatial::assemble_file(file).map(|d| (d.report(), d.unchanged(), d.text))
     } else {
         assemble_file(file).map(|d| (d.report(), d.unchanged(), d.text))
     };

@@ -14,14 +14,14 @@ use dofplan_runtime::spatial::{dot, norm, sub, unit, value, Pose3, Vec3};
 use dofplan_runtime::{Break, Ctx};
 use nalgebra::{DMatrix, DVector};
 
-use super::state::{dir_at, point_at, State3};
-use crate::plan::spatial::{Cluster3, ClusterRow3, Param3, P3};
+use super::state::{dir_at, point_at, InterpState};
+use crate::plan::spatial::{Cluster, ClusterRow, Param, PointRef};
 
 /// A row ready to evaluate: an equation's, or a distance from a constant
 /// point.
 enum Row<'c> {
     Frames(&'c crate::plan::spatial::CheckRow),
-    Distance { a: &'c P3, b: Vec3, len: f64 },
+    Distance { a: &'c PointRef, b: Vec3, len: f64 },
     Pin { body: usize, local: Vec3 },
 }
 
@@ -110,7 +110,7 @@ impl Equations for System<'_> {
                 Row::Distance { a, b, len } => {
                     let (b, len) = (*b, *len);
                     let body = match a {
-                        P3::Body { body, .. } | P3::Slid { body, .. } => Some(*body),
+                        PointRef::Body { body, .. } | PointRef::Slid { body, .. } => Some(*body),
                         _ => None,
                     };
                     let pa = point_at(&self.poses, &[], a, self.inputs);
@@ -151,13 +151,13 @@ impl Equations for System<'_> {
 
 /// The cluster's unknowns of each body, at `poses` and `temps` (of
 /// `f64`s for a frame, of jets for its rates).
-fn unknowns<T: Real>(poses: &[Pose3<T>], temps: &[Vec3<T>], c: &Cluster3, inputs: &[T]) -> Vec<Unknowns<T>> {
+fn unknowns<T: Real>(poses: &[Pose3<T>], temps: &[Vec3<T>], c: &Cluster, inputs: &[T]) -> Vec<Unknowns<T>> {
     c.params
         .iter()
         .map(|p| match p {
-            Param3::Free { .. } => Unknowns::Free,
-            Param3::Pivot { pivot, .. } => Unknowns::Pivot(point_at(poses, temps, pivot, inputs)),
-            Param3::Axis { pivot, axis, .. } => Unknowns::Axis(
+            Param::Free { .. } => Unknowns::Free,
+            Param::Pivot { pivot, .. } => Unknowns::Pivot(point_at(poses, temps, pivot, inputs)),
+            Param::Axis { pivot, axis, .. } => Unknowns::Axis(
                 point_at(poses, temps, pivot, inputs),
                 dir_at(poses, temps, axis, inputs),
             ),
@@ -167,7 +167,7 @@ fn unknowns<T: Real>(poses: &[Pose3<T>], temps: &[Vec3<T>], c: &Cluster3, inputs
 
 /// The cluster's system at the poses and pseudo-markers a frame reached
 /// before it (the warm start).
-pub(crate) fn system<'a>(poses: &[Pose3], temps: &[Vec3], c: &'a Cluster3, inputs: &'a [f64]) -> System<'a> {
+pub(crate) fn system<'a>(poses: &[Pose3], temps: &[Vec3], c: &'a Cluster, inputs: &'a [f64]) -> System<'a> {
     let mut members = Vec::new();
     let mut member_of = vec![None; poses.len()];
     let mut n = 0;
@@ -176,18 +176,18 @@ pub(crate) fn system<'a>(poses: &[Pose3], temps: &[Vec3], c: &'a Cluster3, input
         members.push((p.body(), u, n));
         n += u.count();
     }
-    let point = |p: &P3| point_at(poses, temps, p, inputs);
+    let point = |p: &PointRef| point_at(poses, temps, p, inputs);
     let rows: Vec<Row> = c
         .rows
         .iter()
         .map(|r| match r {
-            ClusterRow3::Equation(e) => Row::Frames(e),
-            ClusterRow3::Distance { a, b, c: pc, d, .. } => Row::Distance {
+            ClusterRow::Equation(e) => Row::Frames(e),
+            ClusterRow::Distance { a, b, c: pc, d, .. } => Row::Distance {
                 a,
                 b: point(b),
                 len: norm(sub(point(d), point(pc))),
             },
-            ClusterRow3::Pin { body, local, .. } => Row::Pin {
+            ClusterRow::Pin { body, local, .. } => Row::Pin {
                 body: *body,
                 local: *local,
             },
@@ -206,11 +206,17 @@ pub(crate) fn system<'a>(poses: &[Pose3], temps: &[Vec3], c: &'a Cluster3, input
 }
 
 /// Solves a cluster in place, warm-started from the bodies' current poses.
-pub fn solve(s: &mut State3, c: &Cluster3, inputs: &[f64], ctx: &mut Ctx, step: u32) -> Result<(), Break> {
+pub fn solve(
+    s: &mut InterpState,
+    c: &Cluster,
+    inputs: &[f64],
+    ctx: &mut Ctx,
+    step: u32,
+) -> Result<(), Break> {
     let mut system = system(&s.poses, &s.temps, c, inputs);
     let n = system.n;
     let mut x = DVector::zeros(n);
-    if c.rows.iter().any(|r| matches!(r, ClusterRow3::Pin { .. })) {
+    if c.rows.iter().any(|r| matches!(r, ClusterRow::Pin { .. })) {
         let result = drag(&mut system, &mut x, c.size, ctx, step);
         system.place(x.as_slice());
         s.poses.copy_from_slice(&system.poses);
@@ -234,7 +240,7 @@ pub fn solve(s: &mut State3, c: &Cluster3, inputs: &[f64], ctx: &mut Ctx, step: 
 pub fn solve_rates(
     poses: &mut [Pose3<Jet2>],
     temps: &[Vec3<Jet2>],
-    c: &Cluster3,
+    c: &Cluster,
     jets: &[Jet2],
     inputs: &[f64],
     ctx: &mut Ctx,
@@ -254,12 +260,12 @@ pub fn solve_rates(
     // The same rows on jets.
     let units = unknowns(poses, temps, c, jets);
     let base: Vec<Pose3<Jet2>> = poses.to_vec();
-    let point = |poses: &[Pose3<Jet2>], p: &P3| point_at(poses, temps, p, jets);
+    let point = |poses: &[Pose3<Jet2>], p: &PointRef| point_at(poses, temps, p, jets);
     let ends: Vec<Option<(Vec3<Jet2>, Jet2)>> = c
         .rows
         .iter()
         .map(|r| match r {
-            ClusterRow3::Distance { b, c: pc, d, .. } => {
+            ClusterRow::Distance { b, c: pc, d, .. } => {
                 Some((point(&base, b), norm(sub(point(&base, d), point(&base, pc)))))
             }
             _ => None,
@@ -277,17 +283,17 @@ pub fn solve_rates(
         let mut f = Vec::with_capacity(m);
         for (r, end) in c.rows.iter().zip(&ends) {
             match r {
-                ClusterRow3::Equation(e) => {
+                ClusterRow::Equation(e) => {
                     let f1 = WorldFrame::of(&poses[e.bodies[0]], e.at[0], e.z[0], e.x[0]);
                     let f2 = WorldFrame::of(&poses[e.bodies[1]], e.at[1], e.z[1], e.x[1]);
                     let v = e.kind.eval(&f1, &f2, jets);
                     f.extend_from_slice(&v[..e.kind.rows()]);
                 }
-                ClusterRow3::Distance { a, .. } => {
+                ClusterRow::Distance { a, .. } => {
                     let (end, len) = end.expect("a distance row's end");
                     f.push(norm(sub(point(poses, a), end)) - len);
                 }
-                ClusterRow3::Pin { .. } => unreachable!("no rates for a drag's cluster"),
+                ClusterRow::Pin { .. } => unreachable!("no rates for a drag's cluster"),
             }
         }
         f

@@ -1,7 +1,7 @@
-//! The spatial plan interpreter: executes a [`Plan3`] step by step through
+//! The spatial plan interpreter: executes a [`Plan`] step by step through
 //! the same `dofplan_runtime::spatial` functions generated code calls —
 //! on `f64`s for a frame, on [`Jet2`]s for its rates
-//! ([`Interpreter3::rates`]).
+//! ([`Interpreter::rates`]).
 
 use dofplan_runtime::planar::Degrees;
 use dofplan_runtime::real::{Jet2, RateError, Real};
@@ -9,38 +9,38 @@ use dofplan_runtime::spatial::rows::WorldFrame;
 use dofplan_runtime::spatial::{self, cst, norm, scale, sub, Pose3, Rates3, Vec3};
 use dofplan_runtime::{Branch, BranchPolicy, Break, BreakKind, Ctx, Rot, Solver};
 
-use crate::plan::spatial::{Action3, CheckRow, HingeTurn, Locus3, Plan3, StepKind3, D3, P3};
+use crate::plan::spatial::{Action, CheckRow, DirRef, HingeTurn, Locus, Plan, PointRef, StepKind};
 
 pub mod cluster;
 mod state;
 
-pub use state::State3;
+pub use state::InterpState;
 pub(crate) use state::{dir, dir_at, point, point_at};
 
-/// Executes a [`Plan3`].
+/// Executes a [`Plan`].
 #[derive(Clone, Debug)]
-pub struct Interpreter3 {
-    plan: Plan3,
+pub struct Interpreter {
+    plan: Plan,
     /// The bodies whose rotations are composed frame after frame
-    /// ([`Plan3::composes`]), corrected once a frame.
+    /// ([`Plan::composes`]), corrected once a frame.
     composed: Vec<usize>,
 }
 
-impl Interpreter3 {
+impl Interpreter {
     /// An interpreter for `plan`.
-    pub fn new(plan: Plan3) -> Interpreter3 {
+    pub fn new(plan: Plan) -> Interpreter {
         let composed = (0..plan.bodies.len()).filter(|&b| plan.composes(b)).collect();
-        Interpreter3 { plan, composed }
+        Interpreter { plan, composed }
     }
 
     /// The plan.
-    pub fn plan(&self) -> &Plan3 {
+    pub fn plan(&self) -> &Plan {
         &self.plan
     }
 
     /// Runs every step on `s` (left half-updated on a break: [`Solver::solve`]
     /// works on a copy).
-    pub fn run(&self, s: &mut State3, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+    pub fn run(&self, s: &mut InterpState, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
         let mut from = 0;
         loop {
             let mut w = Work {
@@ -54,7 +54,7 @@ impl Interpreter3 {
             let Some(i) = self.steps(&mut w, inputs, inputs, ctx, from)? else {
                 break;
             };
-            let StepKind3::Cluster(c) = &self.plan.steps[i].kind else {
+            let StepKind::Cluster(c) = &self.plan.steps[i].kind else {
                 unreachable!("the steps stop at clusters only");
             };
             cluster::solve(s, c, inputs, ctx, (i + 1) as u32)?;
@@ -82,8 +82,8 @@ impl Interpreter3 {
         for (i, step) in self.plan.steps.iter().enumerate().skip(from) {
             let id = (i + 1) as u32;
             match &step.kind {
-                StepKind3::Act { body, action } => act(w, *body, action, inputs, ctx, id)?,
-                StepKind3::Intersect {
+                StepKind::Act { body, action } => act(w, *body, action, inputs, ctx, id)?,
+                StepKind::Intersect {
                     temp,
                     loci,
                     branch,
@@ -97,7 +97,7 @@ impl Interpreter3 {
                     }
                     w.temps[*temp] = x;
                 }
-                StepKind3::IntersectDir {
+                StepKind::IntersectDir {
                     temps,
                     cones,
                     sign,
@@ -112,7 +112,7 @@ impl Interpreter3 {
                     w.temps[temps[0]] = d;
                     w.temps[temps[1]] = scale(d, T::cst(*sign));
                 }
-                StepKind3::Check { rows } => {
+                StepKind::Check { rows } => {
                     for r in rows {
                         let gap = check_gap_at(w.poses, r, values);
                         if gap > r.tol {
@@ -120,7 +120,7 @@ impl Interpreter3 {
                         }
                     }
                 }
-                StepKind3::Cluster(_) => return Ok(Some(i)),
+                StepKind::Cluster(_) => return Ok(Some(i)),
             }
         }
         Ok(None)
@@ -140,16 +140,16 @@ impl Interpreter3 {
     /// [`spatial_cluster::solve_rates`]: cluster::solve_rates
     pub fn rates(
         &self,
-        state: &State3,
+        state: &InterpState,
         inputs: &[f64],
         rates: &[f64],
         accelerations: &[f64],
     ) -> Result<Vec<Pose3<Jet2>>, RateError> {
         let pinned = self.plan.steps.iter().any(|s| match &s.kind {
-            StepKind3::Cluster(c) => c
+            StepKind::Cluster(c) => c
                 .rows
                 .iter()
-                .any(|r| matches!(r, crate::plan::spatial::ClusterRow3::Pin { .. })),
+                .any(|r| matches!(r, crate::plan::spatial::ClusterRow::Pin { .. })),
             _ => false,
         });
         if pinned {
@@ -174,7 +174,7 @@ impl Interpreter3 {
             let Some(i) = self.steps(&mut w, &jets, inputs, &mut ctx, from)? else {
                 break;
             };
-            let StepKind3::Cluster(c) = &self.plan.steps[i].kind else {
+            let StepKind::Cluster(c) = &self.plan.steps[i].kind else {
                 unreachable!("the steps stop at clusters only");
             };
             let id = (i + 1) as u32;
@@ -188,10 +188,10 @@ impl Interpreter3 {
     }
 }
 
-impl Rates3 for Interpreter3 {
+impl Rates3 for Interpreter {
     fn rates_into(
         &self,
-        state: &State3,
+        state: &InterpState,
         inputs: &[f64],
         rates: &[f64],
         accelerations: &[f64],
@@ -202,7 +202,7 @@ impl Rates3 for Interpreter3 {
     }
 }
 
-/// One execution's buffers, borrowed apart: of a [`State3`] for a frame, of
+/// One execution's buffers, borrowed apart: of a [`InterpState`] for a frame, of
 /// jets for its rates.
 struct Work<'a, T> {
     poses: &'a mut [Pose3<T>],
@@ -212,11 +212,11 @@ struct Work<'a, T> {
 }
 
 impl<T: Real> Work<'_, T> {
-    fn point(&self, p: &P3, inputs: &[T]) -> Vec3<T> {
+    fn point(&self, p: &PointRef, inputs: &[T]) -> Vec3<T> {
         point_at(self.poses, self.temps, p, inputs)
     }
 
-    fn dir(&self, d: &D3, inputs: &[T]) -> Vec3<T> {
+    fn dir(&self, d: &DirRef, inputs: &[T]) -> Vec3<T> {
         dir_at(self.poses, self.temps, d, inputs)
     }
 }
@@ -240,27 +240,27 @@ fn check_gap_at<T: Real>(poses: &[Pose3<T>], r: &CheckRow, inputs: &[f64]) -> f6
 fn act<T: Degrees>(
     s: &mut Work<T>,
     body: usize,
-    a: &Action3,
+    a: &Action,
     inputs: &[T],
     ctx: &mut Ctx,
     id: u32,
 ) -> Result<(), Break> {
-    let p = |s: &Work<T>, q: &P3| s.point(q, inputs);
-    let d = |s: &Work<T>, v: &D3| s.dir(v, inputs);
+    let p = |s: &Work<T>, q: &PointRef| s.point(q, inputs);
+    let d = |s: &Work<T>, v: &DirRef| s.dir(v, inputs);
     match a {
-        Action3::TranslateOnto { from, to } => {
+        Action::TranslateOnto { from, to } => {
             let (f, t) = (p(s, from), p(s, to));
             spatial::translate_onto(&mut s.poses[body], f, t);
         }
-        Action3::TranslateAlong { from, to, dir: l } => {
+        Action::TranslateAlong { from, to, dir: l } => {
             let (f, t, u) = (p(s, from), p(s, to), d(s, l));
             spatial::translate_along(&mut s.poses[body], f, t, u);
         }
-        Action3::TranslateInPlane { from, to, normal } => {
+        Action::TranslateInPlane { from, to, normal } => {
             let (f, t, n) = (p(s, from), p(s, to), d(s, normal));
             spatial::translate_in_plane(&mut s.poses[body], f, t, n);
         }
-        Action3::TranslateToLine {
+        Action::TranslateToLine {
             from,
             through,
             dir: l,
@@ -268,7 +268,7 @@ fn act<T: Degrees>(
             let (f, q, u) = (p(s, from), p(s, through), d(s, l));
             spatial::translate_to_line(&mut s.poses[body], f, q, u);
         }
-        Action3::TranslateToPlane {
+        Action::TranslateToPlane {
             from,
             through,
             normal,
@@ -276,7 +276,7 @@ fn act<T: Degrees>(
             let (f, q, n) = (p(s, from), p(s, through), d(s, normal));
             spatial::translate_to_plane(&mut s.poses[body], f, q, n);
         }
-        Action3::SlideTo {
+        Action::SlideTo {
             from,
             origin,
             dir: l,
@@ -294,15 +294,15 @@ fn act<T: Degrees>(
                 *sign,
             );
         }
-        Action3::RotateOnto { pivot, from, to } => {
+        Action::RotateOnto { pivot, from, to } => {
             let (c, f, t) = (p(s, pivot), p(s, from), p(s, to));
             spatial::rotate_about_point(&mut s.poses[body], c, sub(f, c), sub(t, c));
         }
-        Action3::AlignDir { pivot, from, to } => {
+        Action::AlignDir { pivot, from, to } => {
             let (c, f, t) = (p(s, pivot), d(s, from), d(s, to));
             spatial::rotate_about_point(&mut s.poses[body], c, f, t);
         }
-        Action3::AxisOnto {
+        Action::AxisOnto {
             pivot,
             axis,
             from,
@@ -311,7 +311,7 @@ fn act<T: Degrees>(
             let (c, a, f, t) = (p(s, pivot), d(s, axis), p(s, from), p(s, to));
             spatial::rotate_about_axis_onto(&mut s.poses[body], c, a, f, t);
         }
-        Action3::AxisDir {
+        Action::AxisDir {
             pivot,
             axis,
             from,
@@ -320,7 +320,7 @@ fn act<T: Degrees>(
             let (c, a, f, t) = (p(s, pivot), d(s, axis), d(s, from), d(s, to));
             spatial::rotate_about_axis_dir(&mut s.poses[body], c, a, f, t);
         }
-        Action3::Twist {
+        Action::Twist {
             pivot,
             axis,
             x1,
@@ -335,7 +335,7 @@ fn act<T: Degrees>(
             let (sin, cos) = spatial::twist_correction(a, u1, u2, target, *sign);
             spatial::rotate_about_axis_angle(&mut s.poses[body], c, a, cos, sin);
         }
-        Action3::AxisCondition {
+        Action::AxisCondition {
             pivot,
             axis,
             v,
@@ -351,11 +351,11 @@ fn act<T: Degrees>(
             s.angles[*branch] = last;
             spatial::rotate_about_axis_angle(&mut s.poses[body], c, a, co, si);
         }
-        Action3::Tilt { pivot, from, to, cos } => {
+        Action::Tilt { pivot, from, to, cos } => {
             let (c, f, t) = (p(s, pivot), d(s, from), d(s, to));
             spatial::tilt(&mut s.poses[body], c, f, t, *cos);
         }
-        Action3::Hinge { pivot, axis, turn } => match turn {
+        Action::Hinge { pivot, axis, turn } => match turn {
             HingeTurn::Degrees { offset, input, sign } => {
                 // `(offset + input)·sign`, the same product as the
                 // generated `sign * (offset + input)`.
@@ -378,7 +378,7 @@ fn act<T: Degrees>(
 #[allow(clippy::too_many_arguments)]
 fn intersect<T: Real>(
     s: &Work<T>,
-    loci: &[Locus3; 2],
+    loci: &[Locus; 2],
     tol: f64,
     inputs: &[T],
     ctx: &mut Ctx,
@@ -386,11 +386,12 @@ fn intersect<T: Real>(
     branch: &mut Branch,
     last: &mut Vec3<T>,
 ) -> Result<Vec3<T>, Break> {
-    let p = |q: &P3| s.point(q, inputs);
-    let d = |v: &D3| s.dir(v, inputs);
-    let circ = |pivot: &P3, axis: &D3, at: &P3| spatial::circle_about(p(pivot), d(axis), p(at));
+    let p = |q: &PointRef| s.point(q, inputs);
+    let d = |v: &DirRef| s.dir(v, inputs);
+    let circ =
+        |pivot: &PointRef, axis: &DirRef, at: &PointRef| spatial::circle_about(p(pivot), d(axis), p(at));
     match loci {
-        [Locus3::Circle { pivot, axis, at }, Locus3::Circle {
+        [Locus::Circle { pivot, axis, at }, Locus::Circle {
             pivot: p2,
             axis: a2,
             at: x2,
@@ -399,21 +400,21 @@ fn intersect<T: Real>(
             let (c2, n2, r2) = circ(p2, a2, x2);
             spatial::circle_circle(ctx, id, c1, n1, r1, c2, n2, r2, tol, branch, last)
         }
-        [Locus3::Sphere { centre, a, b }, Locus3::Circle { pivot, axis, at: x }]
-        | [Locus3::Circle { pivot, axis, at: x }, Locus3::Sphere { centre, a, b }] => {
+        [Locus::Sphere { centre, a, b }, Locus::Circle { pivot, axis, at: x }]
+        | [Locus::Circle { pivot, axis, at: x }, Locus::Sphere { centre, a, b }] => {
             let cs = p(centre);
             let rs = norm(sub(p(b), p(a)));
             let (c, n, r) = circ(pivot, axis, x);
             spatial::sphere_circle(ctx, id, cs, rs, c, n, r, branch, last)
         }
-        [Locus3::Line { at, dir: l }, Locus3::Sphere { centre, a, b }]
-        | [Locus3::Sphere { centre, a, b }, Locus3::Line { at, dir: l }] => {
+        [Locus::Line { at, dir: l }, Locus::Sphere { centre, a, b }]
+        | [Locus::Sphere { centre, a, b }, Locus::Line { at, dir: l }] => {
             let cs = p(centre);
             let rs = norm(sub(p(b), p(a)));
             spatial::line_sphere(ctx, id, p(at), d(l), cs, rs, branch, last)
         }
-        [Locus3::Line { at, dir: l }, Locus3::Circle { pivot, axis, at: x }]
-        | [Locus3::Circle { pivot, axis, at: x }, Locus3::Line { at, dir: l }] => {
+        [Locus::Line { at, dir: l }, Locus::Circle { pivot, axis, at: x }]
+        | [Locus::Circle { pivot, axis, at: x }, Locus::Line { at, dir: l }] => {
             let (c, n, r) = circ(pivot, axis, x);
             spatial::line_circle(ctx, id, p(at), d(l), c, n, r, tol, branch, last)
         }
@@ -421,13 +422,13 @@ fn intersect<T: Real>(
     }
 }
 
-impl Solver for Interpreter3 {
+impl Solver for Interpreter {
     type Pose = Pose3;
-    type State = State3;
+    type State = InterpState;
     type Inputs = Vec<f64>;
 
-    fn initial_state(&self) -> State3 {
-        State3 {
+    fn initial_state(&self) -> InterpState {
+        InterpState {
             poses: vec![Pose3::IDENTITY; self.plan.bodies.len()],
             temps: self.plan.temps.iter().map(|t| t.drawn).collect(),
             branches: self.plan.branches.iter().map(|b| b.initial).collect(),
@@ -440,11 +441,11 @@ impl Solver for Interpreter3 {
         vec![0.0; self.plan.inputs.len()]
     }
 
-    fn poses(state: &State3) -> &[Pose3] {
+    fn poses(state: &InterpState) -> &[Pose3] {
         &state.poses
     }
 
-    fn solve(&self, state: &mut State3, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+    fn solve(&self, state: &mut InterpState, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
         // A break must leave the state as it was.
         let u = &mut state.undo;
         u.poses.clone_from(&state.poses);

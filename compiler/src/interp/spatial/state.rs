@@ -6,11 +6,11 @@ use dofplan_runtime::real::Real;
 use dofplan_runtime::spatial::{add, cst, scale, sub, unit, Pose3, Vec3};
 use dofplan_runtime::Branch;
 
-use crate::plan::spatial::{D3, P3};
+use crate::plan::spatial::{DirRef, PointRef};
 
 /// What the interpreter carries from frame to frame.
 #[derive(Clone, Debug)]
-pub struct State3 {
+pub struct InterpState {
     /// Body poses, in the mechanism's body order.
     pub poses: Vec<Pose3>,
     /// Each pseudo-marker's last position.
@@ -22,11 +22,11 @@ pub struct State3 {
     /// The state before the frame being computed: restored when a step
     /// breaks (a frame is a transaction), in buffers sized once so a frame
     /// does not allocate for it.
-    pub(super) undo: Box<Undo3>,
+    pub(super) undo: Box<Undo>,
 }
 
 #[derive(Clone, Debug, Default)]
-pub(super) struct Undo3 {
+pub(super) struct Undo {
     pub(super) poses: Vec<Pose3>,
     pub(super) temps: Vec<Vec3>,
     pub(super) branches: Vec<Branch>,
@@ -34,41 +34,46 @@ pub(super) struct Undo3 {
 }
 
 /// A world point.
-pub(crate) fn point(s: &State3, p: &P3, inputs: &[f64]) -> Vec3 {
+pub(crate) fn point(s: &InterpState, p: &PointRef, inputs: &[f64]) -> Vec3 {
     point_at(&s.poses, &s.temps, p, inputs)
 }
 
 /// A world point at given poses and pseudo-markers.
-pub(crate) fn point_at<T: Real>(poses: &[Pose3<T>], temps: &[Vec3<T>], p: &P3, inputs: &[T]) -> Vec3<T> {
+pub(crate) fn point_at<T: Real>(
+    poses: &[Pose3<T>],
+    temps: &[Vec3<T>],
+    p: &PointRef,
+    inputs: &[T],
+) -> Vec3<T> {
     match p {
-        P3::Fixed(v) => cst(*v),
-        P3::Body { body, local } => poses[*body].world(*local),
+        PointRef::Fixed(v) => cst(*v),
+        PointRef::Body { body, local } => poses[*body].world(*local),
         // `input·sign`, the same product as the generated `sign * input`.
-        P3::Slid {
+        PointRef::Slid {
             body,
             local,
             dir,
             input,
             sign,
         } => poses[*body].world_of(add(cst(*local), scale(cst(*dir), inputs[*input].mul_f64(*sign)))),
-        P3::Temp(t) => temps[*t],
+        PointRef::Temp(t) => temps[*t],
     }
 }
 
 /// A world direction (unit).
-pub(crate) fn dir(s: &State3, d: &D3, inputs: &[f64]) -> Vec3 {
+pub(crate) fn dir(s: &InterpState, d: &DirRef, inputs: &[f64]) -> Vec3 {
     dir_at(&s.poses, &s.temps, d, inputs)
 }
 
 /// A world direction (unit) at given poses and pseudo-markers.
-pub(crate) fn dir_at<T: Real>(poses: &[Pose3<T>], temps: &[Vec3<T>], d: &D3, inputs: &[T]) -> Vec3<T> {
+pub(crate) fn dir_at<T: Real>(poses: &[Pose3<T>], temps: &[Vec3<T>], d: &DirRef, inputs: &[T]) -> Vec3<T> {
     match d {
-        D3::Fixed(v) => cst(*v),
-        D3::Body { body, local } => poses[*body].dir(*local),
-        D3::Between(a, b) => unit(sub(
+        DirRef::Fixed(v) => cst(*v),
+        DirRef::Body { body, local } => poses[*body].dir(*local),
+        DirRef::Between(a, b) => unit(sub(
             point_at(poses, temps, b, inputs),
             point_at(poses, temps, a, inputs),
         )),
-        D3::Temp(t) => temps[*t],
+        DirRef::Temp(t) => temps[*t],
     }
 }

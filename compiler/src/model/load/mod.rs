@@ -15,7 +15,6 @@ use super::shape;
 use super::source::{parse_json, parse_toml_by_serde, read_toml, At, Key, Node, NodeKind};
 mod spatial;
 
-use super::spatial::Mechanism3;
 use super::{
     Body, Constraint, ConstraintKind, Input, InputKind, Joint, JointKind, Marker, MarkerId, MarkerLike,
     Mechanism, Sweep, Swept,
@@ -179,7 +178,7 @@ pub enum Model {
     /// A planar mechanism (`dimension` absent or 2).
     Planar(Mechanism),
     /// A spatial mechanism (`dimension = 3`).
-    Spatial(Mechanism3),
+    Spatial(super::spatial::Mechanism),
 }
 
 impl Model {
@@ -278,7 +277,7 @@ fn source_file(file_name: &str, text: &str) -> SourceFile {
 #[derive(Clone, Debug)]
 pub struct Drawn3 {
     /// The mechanism, every joint and constraint included, open ones too.
-    pub mechanism: Mechanism3,
+    pub mechanism: super::spatial::Mechanism,
     /// The "does not hold in the drawn pose" errors, in file order; empty
     /// when every joint holds.
     pub open: Vec<Diagnostic>,

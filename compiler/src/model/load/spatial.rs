@@ -8,7 +8,7 @@ use dofplan_runtime::spatial::{cross, dot, norm, scale, sub, unit, Vec3};
 use super::{join, Validator, MAX_COORDINATE};
 use crate::model::source::{At, Node, NodeKind};
 use crate::model::spatial::equations::{drawn_residual, Frame};
-use crate::model::spatial::{Axes, Constraint3, Joint3, JointKind3, Marker3, Mechanism3, Primitive};
+use crate::model::spatial::{Axes, Constraint, Joint, JointKind, Marker, Mechanism, Primitive};
 use crate::model::{Body, InputKind, MarkerId, DRAWN_TOLERANCE};
 
 /// Axes closer than this to parallel (or perpendicular), as a sine or a
@@ -16,7 +16,7 @@ use crate::model::{Body, InputKind, MarkerId, DRAWN_TOLERANCE};
 const AXIS_TOLERANCE: f64 = 1e-9;
 
 impl Validator {
-    pub(super) fn mechanism3(&mut self, root: &Node) -> Option<Mechanism3> {
+    pub(super) fn mechanism3(&mut self, root: &Node) -> Option<Mechanism> {
         let (top, name) = self.top(root)?;
         let bodies = match self.required(top, "bodies", root, "") {
             Some(n) => self.bodies(n, Self::marker3),
@@ -51,7 +51,7 @@ impl Validator {
             Some(n) => self.sweep(n, &inputs, &written_inputs, &bodies),
             None => None,
         };
-        Some(Mechanism3 {
+        Some(Mechanism {
             name: name?,
             bodies,
             joints: joints.into_iter().map(|(j, _)| j).collect(),
@@ -90,7 +90,7 @@ impl Validator {
         Some(scale(v, 1.0 / n))
     }
 
-    fn marker3(&mut self, body: &str, short: &str, node: &Node, path: &str) -> Option<Marker3> {
+    fn marker3(&mut self, body: &str, short: &str, node: &Node, path: &str) -> Option<Marker> {
         let name = format!("{body}.{short}");
         let position = |v: &mut Self, n: &Node, p: &str| -> Option<Vec3> {
             let at = v.vec3(n, p)?;
@@ -110,7 +110,7 @@ impl Validator {
             Some(at)
         };
         match &node.kind {
-            NodeKind::Array(_) => Some(Marker3 {
+            NodeKind::Array(_) => Some(Marker {
                 name: short.to_string(),
                 at: position(self, node, path)?,
                 axes: None,
@@ -172,7 +172,7 @@ impl Validator {
                         Some(Axes { z, x })
                     }
                 };
-                Some(Marker3 {
+                Some(Marker {
                     name: short.to_string(),
                     at: at?,
                     axes,
@@ -216,10 +216,10 @@ impl Validator {
     fn joints3<'n>(
         &mut self,
         node: &'n Node<'n>,
-        bodies: &[Body<Marker3>],
+        bodies: &[Body<Marker>],
         size: f64,
-    ) -> Vec<(Joint3, &'n Node<'n>)> {
-        let kinds: Vec<&str> = JointKind3::ALL.iter().map(|k| k.name()).collect();
+    ) -> Vec<(Joint, &'n Node<'n>)> {
+        let kinds: Vec<&str> = JointKind::ALL.iter().map(|k| k.name()).collect();
         let found = self.connections(
             node,
             bodies,
@@ -228,9 +228,9 @@ impl Validator {
             &kinds,
             &["pitch"],
             |v, kind, markers, entry, path, owner| {
-                let kind = JointKind3::from_name(kind)?;
+                let kind = JointKind::from_name(kind)?;
                 let pitch = match kind {
-                    JointKind3::Helical => v.pitch(entry, path, owner)?,
+                    JointKind::Helical => v.pitch(entry, path, owner)?,
                     _ => {
                         if let NodeKind::Table(f) = &entry.kind {
                             if let Some(n) = Self::get(f, "pitch") {
@@ -250,7 +250,7 @@ impl Validator {
                     }
                 };
                 v.check_joint_axes(kind, markers, bodies, entry, path, owner)?;
-                let joint = Joint3 {
+                let joint = Joint {
                     name: String::new(),
                     kind,
                     markers,
@@ -267,7 +267,7 @@ impl Validator {
             .into_iter()
             .map(|(name, (kind, pitch), markers, entry)| {
                 (
-                    Joint3 {
+                    Joint {
                         name,
                         kind,
                         markers,
@@ -284,9 +284,9 @@ impl Validator {
     /// perpendicular.
     fn check_joint_axes(
         &mut self,
-        kind: JointKind3,
+        kind: JointKind,
         markers: [MarkerId; 2],
-        bodies: &[Body<Marker3>],
+        bodies: &[Body<Marker>],
         entry: &Node,
         path: &str,
         owner: &str,
@@ -299,7 +299,7 @@ impl Validator {
         };
         let axes = |id: MarkerId| bodies[id.body].markers[id.marker].axes;
         let loc = self.loc(entry, path);
-        if kind == JointKind3::Universal {
+        if kind == JointKind::Universal {
             let mut ok = true;
             for id in markers {
                 if axes(id).is_none() {
@@ -379,7 +379,7 @@ impl Validator {
         frames: &[Frame; 2],
         angle: f64,
         pitch: f64,
-        bodies: &[Body<Marker3>],
+        bodies: &[Body<Marker>],
         markers: [MarkerId; 2],
         entry: &Node,
         path: &str,
@@ -435,7 +435,7 @@ impl Validator {
         }
     }
 
-    fn constraints3(&mut self, node: &Node, bodies: &[Body<Marker3>], size: f64) -> Vec<Constraint3> {
+    fn constraints3(&mut self, node: &Node, bodies: &[Body<Marker>], size: f64) -> Vec<Constraint> {
         let kinds: Vec<&str> = Primitive::ALL.iter().map(|k| k.name()).collect();
         let found = self.connections(
             node,
@@ -534,7 +534,7 @@ impl Validator {
         );
         found
             .into_iter()
-            .map(|(name, (kind, angle, pitch), markers, _)| Constraint3 {
+            .map(|(name, (kind, angle, pitch), markers, _)| Constraint {
                 name,
                 kind,
                 markers,
@@ -547,7 +547,7 @@ impl Validator {
 
 /// The world frame of a marker as drawn; `borrow` stands in for missing
 /// axes (a joint's second marker takes the first's).
-fn frame_of(bodies: &[Body<Marker3>], id: MarkerId, borrow: Option<Axes>) -> Frame {
+fn frame_of(bodies: &[Body<Marker>], id: MarkerId, borrow: Option<Axes>) -> Frame {
     let m = &bodies[id.body].markers[id.marker];
     let axes = m.axes.or(borrow).unwrap_or(Axes {
         z: [0.0, 0.0, 1.0],
@@ -557,7 +557,7 @@ fn frame_of(bodies: &[Body<Marker3>], id: MarkerId, borrow: Option<Axes>) -> Fra
 }
 
 /// The drawn frames of a joint's two markers, as its equations use them.
-pub(crate) fn joint_frames(joint: &Joint3, bodies: &[Body<Marker3>]) -> [Frame; 2] {
+pub(crate) fn joint_frames(joint: &Joint, bodies: &[Body<Marker>]) -> [Frame; 2] {
     crate::model::spatial::equations::joint_frames(
         joint,
         |id| frame_of(bodies, id, None).at,
@@ -574,7 +574,7 @@ fn short_num(v: f64) -> String {
     }
 }
 
-impl super::JointLike for Joint3 {
+impl super::JointLike for Joint {
     fn name(&self) -> &str {
         &self.name
     }
@@ -593,12 +593,12 @@ impl super::JointLike for Joint3 {
             return None;
         }
         let help = match self.kind {
-            JointKind3::Spherical | JointKind3::Universal | JointKind3::Planar => format!(
+            JointKind::Spherical | JointKind::Universal | JointKind::Planar => format!(
                 "joint `{}` has {} freedoms; an input needs a 1-DOF joint or a cylindrical joint",
                 self.name,
                 6 - self.kind.equations()
             ),
-            JointKind3::Fixed => format!("joint `{}` is fixed: nothing to drive", self.name),
+            JointKind::Fixed => format!("joint `{}` is fixed: nothing to drive", self.name),
             k if k.takes_angle() => "use kind = \"angle\"".into(),
             _ => "use kind = \"slide\"".into(),
         };
@@ -607,6 +607,6 @@ impl super::JointLike for Joint3 {
         ))
     }
     fn takes_both(&self) -> bool {
-        self.kind == JointKind3::Cylindrical
+        self.kind == JointKind::Cylindrical
     }
 }

@@ -12,7 +12,7 @@ use super::{all_markers, find_marker, Body, Input, MarkerId, MarkerLike, SourceF
 pub struct Mechanism {
     /// Its name (also the generated module's name).
     pub name: String,
-    /// 2: a planar mechanism ([`spatial::Mechanism3`] holds 3D ones).
+    /// 2: a planar mechanism ([`spatial::Mechanism`](crate::model::spatial::Mechanism) holds 3D ones).
     pub dimension: u8,
     /// Bodies in file order.
     pub bodies: Vec<Body>,

@@ -9,7 +9,7 @@
 use dofplan_runtime::spatial::rows::{self, RowKind, WorldFrame};
 use dofplan_runtime::spatial::{dot, Pose3, Vec3};
 
-use crate::model::spatial::{Axes, Joint3, JointKind3, Mechanism3, Primitive};
+use crate::model::spatial::{Axes, Joint, JointKind, Mechanism, Primitive};
 use crate::model::{InputKind, MarkerId};
 
 /// A marker's point and axes.
@@ -36,7 +36,7 @@ impl Frame {
 
 /// What an equation constrains.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Kind3 {
+pub enum Kind {
     /// A primitive of a joint or of a constraint written in the file.
     Prim(Primitive),
     /// An angle input: the twist of the second marker's x about the first's z.
@@ -51,30 +51,30 @@ pub enum Kind3 {
     },
 }
 
-impl Kind3 {
+impl Kind {
     /// Scalar rows.
     pub fn rows(self) -> usize {
         match self {
-            Kind3::Prim(p) => p.rows(),
-            Kind3::Angle { .. } | Kind3::Slide { .. } => 1,
+            Kind::Prim(p) => p.rows(),
+            Kind::Angle { .. } | Kind::Slide { .. } => 1,
         }
     }
 
     /// The name used in explanations.
     pub fn name(self) -> &'static str {
         match self {
-            Kind3::Prim(p) => p.name(),
-            Kind3::Angle { .. } => "angle",
-            Kind3::Slide { .. } => "slide",
+            Kind::Prim(p) => p.name(),
+            Kind::Angle { .. } => "angle",
+            Kind::Slide { .. } => "slide",
         }
     }
 }
 
 /// One primitive equation between two bodies.
 #[derive(Clone, Debug)]
-pub struct Equation3 {
+pub struct Equation {
     /// What it constrains.
-    pub kind: Kind3,
+    pub kind: Kind,
     /// The first marker's body (owner of the line, plane or axis), then the
     /// second's.
     pub bodies: [usize; 2],
@@ -97,7 +97,7 @@ pub struct Equation3 {
     pub joint: Option<usize>,
 }
 
-impl Equation3 {
+impl Equation {
     /// The runtime's description of its rows.
     pub fn row_kind(&self) -> RowKind {
         row_kind(self.kind, self.angle, self.pitch, self.axial0)
@@ -122,7 +122,7 @@ impl Equation3 {
     pub fn linear(&self) -> bool {
         matches!(
             self.kind,
-            Kind3::Prim(Primitive::Coincident | Primitive::InLine | Primitive::InPlane) | Kind3::Slide { .. }
+            Kind::Prim(Primitive::Coincident | Primitive::InLine | Primitive::InPlane) | Kind::Slide { .. }
         )
     }
 }
@@ -130,7 +130,7 @@ impl Equation3 {
 /// The rows of a primitive on world frames: the runtime's
 /// [`RowKind::eval`], so plan checks, clusters and these residuals agree.
 pub fn residual_rows(
-    kind: Kind3,
+    kind: Kind,
     f1: &Frame,
     f2: &Frame,
     angle: f64,
@@ -147,18 +147,18 @@ pub fn residual_rows(
 }
 
 /// The runtime's description of an equation's rows.
-pub fn row_kind(kind: Kind3, angle: f64, pitch: f64, axial0: f64) -> RowKind {
+pub fn row_kind(kind: Kind, angle: f64, pitch: f64, axial0: f64) -> RowKind {
     match kind {
-        Kind3::Prim(Primitive::Coincident) => RowKind::Coincident,
-        Kind3::Prim(Primitive::InLine) => RowKind::InLine,
-        Kind3::Prim(Primitive::InPlane) => RowKind::InPlane,
-        Kind3::Prim(Primitive::ParallelZ) => RowKind::ParallelZ,
-        Kind3::Prim(Primitive::OffsetZ) => RowKind::OffsetZ { cos: angle.cos() },
-        Kind3::Prim(Primitive::PerpendicularZ) => RowKind::OffsetZ { cos: 0.0 },
-        Kind3::Prim(Primitive::OffsetX) => RowKind::OffsetX { angle },
-        Kind3::Prim(Primitive::Helical) => RowKind::Helical { angle, pitch, axial0 },
-        Kind3::Angle { input } => RowKind::Angle { angle, input },
-        Kind3::Slide { input } => RowKind::Slide { axial0, input },
+        Kind::Prim(Primitive::Coincident) => RowKind::Coincident,
+        Kind::Prim(Primitive::InLine) => RowKind::InLine,
+        Kind::Prim(Primitive::InPlane) => RowKind::InPlane,
+        Kind::Prim(Primitive::ParallelZ) => RowKind::ParallelZ,
+        Kind::Prim(Primitive::OffsetZ) => RowKind::OffsetZ { cos: angle.cos() },
+        Kind::Prim(Primitive::PerpendicularZ) => RowKind::OffsetZ { cos: 0.0 },
+        Kind::Prim(Primitive::OffsetX) => RowKind::OffsetX { angle },
+        Kind::Prim(Primitive::Helical) => RowKind::Helical { angle, pitch, axial0 },
+        Kind::Angle { input } => RowKind::Angle { angle, input },
+        Kind::Slide { input } => RowKind::Slide { axial0, input },
     }
 }
 
@@ -177,7 +177,7 @@ pub fn drawn_angle(p: Primitive, f: &[Frame; 2]) -> f64 {
 /// and whether that is a length.
 pub fn drawn_residual(p: Primitive, f: &[Frame; 2], angle: f64, pitch: f64) -> (f64, bool) {
     let axial0 = rows::axial(f[0].at, f[0].axes.z, f[1].at);
-    let r = residual_rows(Kind3::Prim(p), &f[0], &f[1], angle, pitch, axial0, &[]);
+    let r = residual_rows(Kind::Prim(p), &f[0], &f[1], angle, pitch, axial0, &[]);
     let gap = r[..p.rows()].iter().fold(0.0_f64, |m, v| m.max(v.abs()));
     let linear = matches!(p, Primitive::Coincident | Primitive::InLine | Primitive::InPlane);
     (gap, linear)
@@ -188,7 +188,7 @@ pub fn drawn_residual(p: Primitive, f: &[Frame; 2], angle: f64, pitch: f64) -> (
 /// none, or where the joint relates the x axes (prismatic, fixed, helical:
 /// "no relative rotation as drawn", whatever x the files gave).
 pub fn joint_frames(
-    joint: &Joint3,
+    joint: &Joint,
     at: impl Fn(MarkerId) -> Vec3,
     axes: impl Fn(MarkerId) -> Option<Axes>,
 ) -> [Frame; 2] {
@@ -199,8 +199,8 @@ pub fn joint_frames(
     let [a, b] = joint.markers;
     let first = axes(a).unwrap_or(default);
     let second = match joint.kind {
-        JointKind3::Prismatic | JointKind3::Fixed | JointKind3::Helical => first,
-        JointKind3::Universal => axes(b).unwrap_or(default),
+        JointKind::Prismatic | JointKind::Fixed | JointKind::Helical => first,
+        JointKind::Universal => axes(b).unwrap_or(default),
         _ => match axes(b) {
             // The same axis, pointing as the file drew it.
             Some(s) if dot(s.z, first.z) < 0.0 => {
@@ -231,7 +231,7 @@ pub fn joint_frames(
 
 /// Every equation of a mechanism: joints' primitives in file order, then
 /// constraints, then inputs.
-pub fn equations(m: &Mechanism3) -> Vec<Equation3> {
+pub fn equations(m: &Mechanism) -> Vec<Equation> {
     let mut out = Vec::new();
     let frame = |id: MarkerId| {
         let mk = m.marker(id);
@@ -247,7 +247,7 @@ pub fn equations(m: &Mechanism3) -> Vec<Equation3> {
         let frames = joint_frames(j, |id| m.marker(id).at, |id| m.marker(id).axes);
         for &p in j.kind.primitives() {
             out.push(equation(
-                Kind3::Prim(p),
+                Kind::Prim(p),
                 j.markers,
                 frames,
                 None,
@@ -260,7 +260,7 @@ pub fn equations(m: &Mechanism3) -> Vec<Equation3> {
     for c in &m.constraints {
         let frames = [frame(c.markers[0]), frame(c.markers[1])];
         out.push(equation(
-            Kind3::Prim(c.kind),
+            Kind::Prim(c.kind),
             c.markers,
             frames,
             c.angle.map(f64::to_radians),
@@ -273,8 +273,8 @@ pub fn equations(m: &Mechanism3) -> Vec<Equation3> {
         let j = &m.joints[input.joint];
         let frames = joint_frames(j, |id| m.marker(id).at, |id| m.marker(id).axes);
         let kind = match input.kind {
-            InputKind::Angle => Kind3::Angle { input: ii },
-            InputKind::Slide => Kind3::Slide { input: ii },
+            InputKind::Angle => Kind::Angle { input: ii },
+            InputKind::Slide => Kind::Slide { input: ii },
         };
         out.push(equation(
             kind,
@@ -290,20 +290,20 @@ pub fn equations(m: &Mechanism3) -> Vec<Equation3> {
 }
 
 fn equation(
-    kind: Kind3,
+    kind: Kind,
     markers: [MarkerId; 2],
     frames: [Frame; 2],
     angle: Option<f64>,
     pitch: f64,
     origin: String,
     joint: Option<usize>,
-) -> Equation3 {
+) -> Equation {
     let drawn = match kind {
-        Kind3::Prim(p) => drawn_angle(p, &frames),
-        Kind3::Angle { .. } => rows::angle_about(frames[0].axes.x, frames[0].axes.y(), frames[1].axes.x),
-        Kind3::Slide { .. } => 0.0,
+        Kind::Prim(p) => drawn_angle(p, &frames),
+        Kind::Angle { .. } => rows::angle_about(frames[0].axes.x, frames[0].axes.y(), frames[1].axes.x),
+        Kind::Slide { .. } => 0.0,
     };
-    Equation3 {
+    Equation {
         kind,
         bodies: [markers[0].body, markers[1].body],
         markers,

@@ -15,15 +15,15 @@ pub use dofplan_runtime::spatial::Vec3;
 
 /// A validated spatial mechanism.
 #[derive(Clone, Debug)]
-pub struct Mechanism3 {
+pub struct Mechanism {
     /// Its name (also the generated module's name).
     pub name: String,
     /// Bodies in file order.
-    pub bodies: Vec<Body<Marker3>>,
+    pub bodies: Vec<Body<Marker>>,
     /// Joints in file order.
-    pub joints: Vec<Joint3>,
+    pub joints: Vec<Joint>,
     /// Primitive constraints written directly, in file order.
-    pub constraints: Vec<Constraint3>,
+    pub constraints: Vec<Constraint>,
     /// Driving inputs in file order (angle: degrees about the joint's first
     /// marker's z; slide: length along it).
     pub inputs: Vec<Input>,
@@ -69,7 +69,7 @@ impl Axes {
 
 /// A named point on a body, optionally with axes.
 #[derive(Clone, Debug)]
-pub struct Marker3 {
+pub struct Marker {
     /// Name, unique on its body.
     pub name: String,
     /// World position in the pose as drawn.
@@ -78,7 +78,7 @@ pub struct Marker3 {
     pub axes: Option<Axes>,
 }
 
-impl MarkerLike for Marker3 {
+impl MarkerLike for Marker {
     fn name(&self) -> &str {
         &self.name
     }
@@ -89,11 +89,11 @@ impl MarkerLike for Marker3 {
 
 /// A joint between markers of two bodies.
 #[derive(Clone, Debug)]
-pub struct Joint3 {
+pub struct Joint {
     /// Name, unique among joints and constraints.
     pub name: String,
     /// Kind.
-    pub kind: JointKind3,
+    pub kind: JointKind,
     /// The two markers, in file order; the first owns the joint's axis.
     pub markers: [MarkerId; 2],
     /// The helical joint's advance per turn (> 0 right-handed); 0 otherwise.
@@ -102,7 +102,7 @@ pub struct Joint3 {
 
 /// The kinds of spatial joint, each a set of primitive constraints.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum JointKind3 {
+pub enum JointKind {
     /// Coincident + parallel-z: one rotation about the axis.
     Revolute,
     /// In-line + offset-x as drawn: one slide along the axis.
@@ -122,35 +122,35 @@ pub enum JointKind3 {
     Helical,
 }
 
-impl JointKind3 {
+impl JointKind {
     /// Every kind, in the order errors list them.
-    pub const ALL: [JointKind3; 8] = [
-        JointKind3::Revolute,
-        JointKind3::Prismatic,
-        JointKind3::Cylindrical,
-        JointKind3::Spherical,
-        JointKind3::Universal,
-        JointKind3::Planar,
-        JointKind3::Fixed,
-        JointKind3::Helical,
+    pub const ALL: [JointKind; 8] = [
+        JointKind::Revolute,
+        JointKind::Prismatic,
+        JointKind::Cylindrical,
+        JointKind::Spherical,
+        JointKind::Universal,
+        JointKind::Planar,
+        JointKind::Fixed,
+        JointKind::Helical,
     ];
 
     /// The name used in files.
     pub fn name(self) -> &'static str {
         match self {
-            JointKind3::Revolute => "revolute",
-            JointKind3::Prismatic => "prismatic",
-            JointKind3::Cylindrical => "cylindrical",
-            JointKind3::Spherical => "spherical",
-            JointKind3::Universal => "universal",
-            JointKind3::Planar => "planar",
-            JointKind3::Fixed => "fixed",
-            JointKind3::Helical => "helical",
+            JointKind::Revolute => "revolute",
+            JointKind::Prismatic => "prismatic",
+            JointKind::Cylindrical => "cylindrical",
+            JointKind::Spherical => "spherical",
+            JointKind::Universal => "universal",
+            JointKind::Planar => "planar",
+            JointKind::Fixed => "fixed",
+            JointKind::Helical => "helical",
         }
     }
 
     /// The kind named `name` in a file.
-    pub fn from_name(name: &str) -> Option<JointKind3> {
+    pub fn from_name(name: &str) -> Option<JointKind> {
         Self::ALL.into_iter().find(|k| k.name() == name)
     }
 
@@ -160,14 +160,14 @@ impl JointKind3 {
     pub fn primitives(self) -> &'static [Primitive] {
         use Primitive::*;
         match self {
-            JointKind3::Revolute => &[Coincident, ParallelZ],
-            JointKind3::Prismatic => &[InLine, OffsetX],
-            JointKind3::Cylindrical => &[InLine, ParallelZ],
-            JointKind3::Spherical => &[Coincident],
-            JointKind3::Universal => &[Coincident, PerpendicularZ],
-            JointKind3::Planar => &[InPlane, ParallelZ],
-            JointKind3::Fixed => &[Coincident, OffsetX],
-            JointKind3::Helical => &[InLine, Helical],
+            JointKind::Revolute => &[Coincident, ParallelZ],
+            JointKind::Prismatic => &[InLine, OffsetX],
+            JointKind::Cylindrical => &[InLine, ParallelZ],
+            JointKind::Spherical => &[Coincident],
+            JointKind::Universal => &[Coincident, PerpendicularZ],
+            JointKind::Planar => &[InPlane, ParallelZ],
+            JointKind::Fixed => &[Coincident, OffsetX],
+            JointKind::Helical => &[InLine, Helical],
         }
     }
 
@@ -178,19 +178,19 @@ impl JointKind3 {
 
     /// Whether the first marker must carry a z axis (the joint's axis).
     pub fn needs_axis(self) -> bool {
-        !matches!(self, JointKind3::Spherical | JointKind3::Fixed)
+        !matches!(self, JointKind::Spherical | JointKind::Fixed)
     }
 
     /// Whether an angle input can drive it.
     pub fn takes_angle(self) -> bool {
-        matches!(self, JointKind3::Revolute | JointKind3::Cylindrical)
+        matches!(self, JointKind::Revolute | JointKind::Cylindrical)
     }
 
     /// Whether a slide input can drive it.
     pub fn takes_slide(self) -> bool {
         matches!(
             self,
-            JointKind3::Prismatic | JointKind3::Cylindrical | JointKind3::Helical
+            JointKind::Prismatic | JointKind::Cylindrical | JointKind::Helical
         )
     }
 }
@@ -279,7 +279,7 @@ impl Primitive {
 
 /// A primitive constraint written directly in the file.
 #[derive(Clone, Debug)]
-pub struct Constraint3 {
+pub struct Constraint {
     /// Name, unique among joints and constraints.
     pub name: String,
     /// The primitive.
@@ -293,9 +293,9 @@ pub struct Constraint3 {
     pub pitch: f64,
 }
 
-impl Mechanism3 {
+impl Mechanism {
     /// A marker by id.
-    pub fn marker(&self, id: MarkerId) -> &Marker3 {
+    pub fn marker(&self, id: MarkerId) -> &Marker {
         &self.bodies[id.body].markers[id.marker]
     }
 

@@ -8,31 +8,31 @@
 
 use crate::analysis::spatial::empty_plan;
 use crate::model::spatial::equations::equations;
-use crate::model::spatial::Mechanism3;
-use crate::plan::spatial::{CheckRow, Cluster3, ClusterRow3, Param3, Plan3, Step3, StepKind3};
+use crate::model::spatial::Mechanism;
+use crate::plan::spatial::{CheckRow, Cluster, ClusterRow, Param, Plan, Step, StepKind};
 
 /// The pure-Newton plan of a spatial mechanism: one cluster of every
 /// moving body (6 unknowns each) over every equation.
-pub fn pure_newton(m: &Mechanism3) -> Plan3 {
+pub fn pure_newton(m: &Mechanism) -> Plan {
     let size = m.size();
-    let params: Vec<Param3> = (0..m.bodies.len())
+    let params: Vec<Param> = (0..m.bodies.len())
         .filter(|&b| !m.bodies[b].fixed)
-        .map(|body| Param3::Free { body })
+        .map(|body| Param::Free { body })
         .collect();
-    let rows: Vec<ClusterRow3> = equations(m)
+    let rows: Vec<ClusterRow> = equations(m)
         .iter()
         .filter(|e| e.bodies.iter().any(|&b| !m.bodies[b].fixed))
-        .map(|e| ClusterRow3::Equation(CheckRow::of(e, 0, size)))
+        .map(|e| ClusterRow::Equation(CheckRow::of(e, 0, size)))
         .collect();
-    let cluster = Cluster3 { params, rows, size };
+    let cluster = Cluster { params, rows, size };
     let text = format!(
         "pure Newton: every moving body free ({} unknowns, {} equations)",
         cluster.unknowns(),
         cluster.equations()
     );
-    Plan3 {
-        steps: vec![Step3 {
-            kind: StepKind3::Cluster(Box::new(cluster)),
+    Plan {
+        steps: vec![Step {
+            kind: StepKind::Cluster(Box::new(cluster)),
             text,
             serves: vec![],
         }],

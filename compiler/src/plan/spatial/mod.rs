@@ -13,7 +13,7 @@ use dofplan_runtime::spatial::rows::RowKind;
 use dofplan_runtime::spatial::Vec3;
 use dofplan_runtime::Branch;
 
-use crate::model::spatial::equations::Equation3;
+use crate::model::spatial::equations::Equation;
 use crate::model::InputKind;
 
 /// Index of a body in the mechanism's body order.
@@ -21,7 +21,7 @@ pub type BodyId = usize;
 
 /// A world point a step reads, computed from poses already reached.
 #[derive(Clone, Debug, PartialEq)]
-pub enum P3 {
+pub enum PointRef {
     /// A constant (a marker of a fixed body).
     Fixed(Vec3),
     /// A point of a body, local (= drawn) coordinates.
@@ -51,7 +51,7 @@ pub enum P3 {
 
 /// A world direction a step reads (unit length).
 #[derive(Clone, Debug, PartialEq)]
-pub enum D3 {
+pub enum DirRef {
     /// A constant.
     Fixed(Vec3),
     /// A direction of a body, local.
@@ -62,7 +62,7 @@ pub enum D3 {
         local: Vec3,
     },
     /// The unit direction from one point to another.
-    Between(Box<P3>, Box<P3>),
+    Between(Box<PointRef>, Box<PointRef>),
     /// A pseudo-direction computed by an earlier intersection of cones.
     Temp(usize),
 }
@@ -70,49 +70,49 @@ pub enum D3 {
 /// What an action does to its body (docs/design/spatial.md §2.2). Every rotation is
 /// about the body's pivot, so it keeps the constraints met before.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Action3 {
+pub enum Action {
     /// Translate by `to − from` (`from` a point of the body).
     TranslateOnto {
         /// A point of the body.
-        from: P3,
+        from: PointRef,
         /// Where it goes.
-        to: P3,
+        to: PointRef,
     },
     /// Translate along `dir` by the component of `to − from` along it.
     TranslateAlong {
         /// A point of the body.
-        from: P3,
+        from: PointRef,
         /// Its target.
-        to: P3,
+        to: PointRef,
         /// The direction of motion.
-        dir: D3,
+        dir: DirRef,
     },
     /// Translate across `normal` by the component of `to − from` across it.
     TranslateInPlane {
         /// A point of the body.
-        from: P3,
+        from: PointRef,
         /// Its target.
-        to: P3,
+        to: PointRef,
         /// The plane's normal.
-        normal: D3,
+        normal: DirRef,
     },
     /// Translate `from` to its foot on the line (`through`, `dir`).
     TranslateToLine {
         /// A point of the body.
-        from: P3,
+        from: PointRef,
         /// A point of the line.
-        through: P3,
+        through: PointRef,
         /// The line's direction.
-        dir: D3,
+        dir: DirRef,
     },
     /// Translate `from` along `normal` onto the plane (`through`, `normal`).
     TranslateToPlane {
         /// A point of the body.
-        from: P3,
+        from: PointRef,
         /// A point of the plane.
-        through: P3,
+        through: PointRef,
         /// The plane's normal.
-        normal: D3,
+        normal: DirRef,
     },
     /// Translate along `dir` so that `(from − origin)·dir = axial0 + s` for
     /// the slide input's value `s`: by `sign·(axial0 + s − (from − origin)·dir)`
@@ -120,11 +120,11 @@ pub enum Action3 {
     /// first).
     SlideTo {
         /// The slide's second marker, a point of the body.
-        from: P3,
+        from: PointRef,
         /// The slide's first marker.
-        origin: P3,
+        origin: PointRef,
         /// The slide's direction.
-        dir: D3,
+        dir: DirRef,
         /// The axial distance as drawn.
         axial0: f64,
         /// The slide input.
@@ -136,45 +136,45 @@ pub enum Action3 {
     /// body) toward `to`.
     RotateOnto {
         /// The fixed point.
-        pivot: P3,
+        pivot: PointRef,
         /// A point of the body.
-        from: P3,
+        from: PointRef,
         /// Where it goes (up to its distance from the pivot).
-        to: P3,
+        to: PointRef,
     },
     /// The minimal rotation about `pivot` taking the body's direction `from`
     /// to `to`.
     AlignDir {
         /// The fixed point.
-        pivot: P3,
+        pivot: PointRef,
         /// A direction of the body.
-        from: D3,
+        from: DirRef,
         /// Its target.
-        to: D3,
+        to: DirRef,
     },
     /// The rotation about the line (`pivot`, `axis`) taking the point `from`
     /// of the body onto the half-plane of `to`.
     AxisOnto {
         /// A point of the axis.
-        pivot: P3,
+        pivot: PointRef,
         /// The axis.
-        axis: D3,
+        axis: DirRef,
         /// A point of the body.
-        from: P3,
+        from: PointRef,
         /// Its target.
-        to: P3,
+        to: PointRef,
     },
     /// The rotation about (`pivot`, `axis`) taking the body's direction
     /// `from` to `to` (their components across the axis).
     AxisDir {
         /// A point of the axis.
-        pivot: P3,
+        pivot: PointRef,
         /// The axis.
-        axis: D3,
+        axis: DirRef,
         /// A direction of the body.
-        from: D3,
+        from: DirRef,
         /// Its target.
-        to: D3,
+        to: DirRef,
     },
     /// The rotation about (`pivot`, `axis`) that sets the twist of the
     /// body's `x2` about `axis` from the other marker's `x1` to
@@ -182,13 +182,13 @@ pub enum Action3 {
     /// the x part of an offset-x).
     Twist {
         /// A point of the axis.
-        pivot: P3,
+        pivot: PointRef,
         /// The axis (the first marker's z).
-        axis: D3,
+        axis: DirRef,
         /// The first marker's x.
-        x1: D3,
+        x1: DirRef,
         /// The body's marker's x.
-        x2: D3,
+        x2: DirRef,
         /// The twist as drawn or written (radians).
         angle: f64,
         /// The angle input added, if any.
@@ -200,13 +200,13 @@ pub enum Action3 {
     /// `(Rot(axis, φ)·v)·w = cos` (≤ 2 roots: a branch).
     AxisCondition {
         /// A point of the axis.
-        pivot: P3,
+        pivot: PointRef,
         /// The axis.
-        axis: D3,
+        axis: DirRef,
         /// A direction of the body.
-        v: D3,
+        v: DirRef,
         /// The direction it keeps an angle to.
-        w: D3,
+        w: DirRef,
         /// The cosine of that angle.
         cos: f64,
         /// The branch slot.
@@ -231,17 +231,17 @@ pub enum Action3 {
     /// direction then lies on a cone about `to`.
     Tilt {
         /// The fixed point.
-        pivot: P3,
+        pivot: PointRef,
         /// A direction of the body.
-        from: D3,
+        from: DirRef,
         /// The cone's axis.
-        to: D3,
+        to: DirRef,
         /// cos of the cone's half-angle.
         cos: f64,
     },
 }
 
-/// The angle of an [`Action3::Hinge`], from the drawn pose.
+/// The angle of an [`Action::Hinge`], from the drawn pose.
 #[derive(Clone, Debug, PartialEq)]
 pub enum HingeTurn {
     /// `sign·(offset + input)` degrees (an angle input, or an offset-x
@@ -261,7 +261,7 @@ pub enum HingeTurn {
         /// A point of the body, local.
         from: Vec3,
         /// Its target.
-        to: P3,
+        to: PointRef,
     },
     /// The angle taking the body's direction `from` (local = drawn) to
     /// `to`, across the line.
@@ -269,55 +269,55 @@ pub enum HingeTurn {
         /// A direction of the body, local.
         from: Vec3,
         /// Its target.
-        to: D3,
+        to: DirRef,
     },
 }
 
 /// A locus of a point: where a partly placed body's marker may go.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Locus3 {
+pub enum Locus {
     /// A circle: the point `at` turning about the line (`pivot`, `axis`).
     Circle {
         /// A point of the axis.
-        pivot: P3,
+        pivot: PointRef,
         /// The axis.
-        axis: D3,
+        axis: DirRef,
         /// The point, as its body now is.
-        at: P3,
+        at: PointRef,
     },
     /// A sphere about `centre` of radius |a − b| (two points of one body).
     Sphere {
         /// The centre.
-        centre: P3,
+        centre: PointRef,
         /// One end of the radius.
-        a: P3,
+        a: PointRef,
         /// The other end.
-        b: P3,
+        b: PointRef,
     },
     /// A line through `at` along `dir`.
     Line {
         /// The point, as its body now is.
-        at: P3,
+        at: PointRef,
         /// The line's direction.
-        dir: D3,
+        dir: DirRef,
     },
 }
 
-impl Locus3 {
+impl Locus {
     /// "circle", "sphere" or "line".
     pub fn name(&self) -> &'static str {
         match self {
-            Locus3::Circle { .. } => "circle",
-            Locus3::Sphere { .. } => "sphere",
-            Locus3::Line { .. } => "line",
+            Locus::Circle { .. } => "circle",
+            Locus::Sphere { .. } => "sphere",
+            Locus::Line { .. } => "line",
         }
     }
 
     /// The locus's dimension (1 for curves, 2 for surfaces).
     pub fn dim(&self) -> usize {
         match self {
-            Locus3::Sphere { .. } => 2,
-            Locus3::Circle { .. } | Locus3::Line { .. } => 1,
+            Locus::Sphere { .. } => 2,
+            Locus::Circle { .. } | Locus::Line { .. } => 1,
         }
     }
 }
@@ -348,7 +348,7 @@ impl CheckRow {
     /// An equation as a plan's check or cluster row: `redundant` of its
     /// rows only checked, passing below 1e-9 of `size` (lengths) or 1e-9
     /// (sines).
-    pub fn of(e: &Equation3, redundant: usize, size: f64) -> CheckRow {
+    pub fn of(e: &Equation, redundant: usize, size: f64) -> CheckRow {
         CheckRow {
             kind: e.row_kind(),
             bodies: e.bodies,
@@ -364,20 +364,20 @@ impl CheckRow {
 
 /// What a step does.
 #[derive(Clone, Debug, PartialEq)]
-pub enum StepKind3 {
+pub enum StepKind {
     /// One action on one body.
     Act {
         /// The body moved.
         body: BodyId,
         /// The action.
-        action: Box<Action3>,
+        action: Box<Action>,
     },
     /// A pseudo-marker: a point on both loci.
     Intersect {
-        /// Index into [`Plan3::temps`].
+        /// Index into [`Plan::temps`].
         temp: usize,
         /// The two loci.
-        loci: Box<[Locus3; 2]>,
+        loci: Box<[Locus; 2]>,
         /// The branch slot, when two roots are valid.
         branch: Option<usize>,
         /// Candidates off a locus by more than this are not roots (the
@@ -391,11 +391,11 @@ pub enum StepKind3 {
     /// axes (directions-only loop closure: a spherical linkage drawn with
     /// every joint at the centre).
     IntersectDir {
-        /// Indices into [`Plan3::temps`].
+        /// Indices into [`Plan::temps`].
         temps: [usize; 2],
         /// Each cone: the body's axis and the cosine of the angle kept to
         /// it.
-        cones: Box<[(D3, f64); 2]>,
+        cones: Box<[(DirRef, f64); 2]>,
         /// +1 or −1: the second direction is `sign·d`.
         sign: f64,
         /// The branch slot.
@@ -407,12 +407,12 @@ pub enum StepKind3 {
         rows: Vec<CheckRow>,
     },
     /// Bodies no fragment places, solved together by Newton–Raphson.
-    Cluster(Box<Cluster3>),
+    Cluster(Box<Cluster>),
 }
 
 /// A body of a numeric cluster and its unknowns.
 #[derive(Clone, Debug, PartialEq)]
-pub enum Param3 {
+pub enum Param {
     /// Free: a rotation about its current origin and a translation (6).
     Free {
         /// The body.
@@ -423,33 +423,33 @@ pub enum Param3 {
         /// The body.
         body: BodyId,
         /// The pivot.
-        pivot: P3,
+        pivot: PointRef,
     },
     /// Rotation about a fixed axis (1).
     Axis {
         /// The body.
         body: BodyId,
         /// A point of the axis.
-        pivot: P3,
+        pivot: PointRef,
         /// The axis.
-        axis: D3,
+        axis: DirRef,
     },
 }
 
-impl Param3 {
+impl Param {
     /// The body.
     pub fn body(&self) -> BodyId {
         match self {
-            Param3::Free { body } | Param3::Pivot { body, .. } | Param3::Axis { body, .. } => *body,
+            Param::Free { body } | Param::Pivot { body, .. } | Param::Axis { body, .. } => *body,
         }
     }
 
     /// Number of unknowns.
     pub fn count(&self) -> usize {
         match self {
-            Param3::Free { .. } => 6,
-            Param3::Pivot { .. } => 3,
-            Param3::Axis { .. } => 1,
+            Param::Free { .. } => 6,
+            Param::Pivot { .. } => 3,
+            Param::Axis { .. } => 1,
         }
     }
 }
@@ -457,19 +457,19 @@ impl Param3 {
 /// A row of a cluster: an equation, or a distance kept by a contracted
 /// chain (a leg of fixed length between two points).
 #[derive(Clone, Debug, PartialEq)]
-pub enum ClusterRow3 {
+pub enum ClusterRow {
     /// An equation's rows.
     Equation(CheckRow),
     /// |a − b| = |c − d| (c, d points of a contracted chain: its length).
     Distance {
         /// One end.
-        a: P3,
+        a: PointRef,
         /// The other end.
-        b: P3,
+        b: PointRef,
         /// The chain's first point (its length's).
-        c: P3,
+        c: PointRef,
         /// The chain's last point.
-        d: P3,
+        d: PointRef,
         /// "leg1".
         name: String,
     },
@@ -487,19 +487,19 @@ pub enum ClusterRow3 {
 
 /// A numeric cluster.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Cluster3 {
+pub struct Cluster {
     /// Unknown bodies and their parametrisation.
-    pub params: Vec<Param3>,
+    pub params: Vec<Param>,
     /// Residual rows.
-    pub rows: Vec<ClusterRow3>,
+    pub rows: Vec<ClusterRow>,
     /// The mechanism's size: Newton's tolerance and step bound scale with it.
     pub size: f64,
 }
 
-impl Cluster3 {
+impl Cluster {
     /// Number of unknowns.
     pub fn unknowns(&self) -> usize {
-        self.params.iter().map(Param3::count).sum()
+        self.params.iter().map(Param::count).sum()
     }
 
     /// Number of scalar equations.
@@ -507,9 +507,9 @@ impl Cluster3 {
         self.rows
             .iter()
             .map(|r| match r {
-                ClusterRow3::Equation(c) => c.kind.rows(),
-                ClusterRow3::Distance { .. } => 1,
-                ClusterRow3::Pin { .. } => 3,
+                ClusterRow::Equation(c) => c.kind.rows(),
+                ClusterRow::Distance { .. } => 1,
+                ClusterRow::Pin { .. } => 3,
             })
             .sum()
     }
@@ -517,9 +517,9 @@ impl Cluster3 {
 
 /// One step with its explanation's parts.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Step3 {
+pub struct Step {
     /// What it does.
-    pub kind: StepKind3,
+    pub kind: StepKind,
     /// The one-line explanation.
     pub text: String,
     /// The joints, constraints and inputs it serves ("joint B coincident").
@@ -528,7 +528,7 @@ pub struct Step3 {
 
 /// A pseudo-marker: its drawn position (where the first frame starts).
 #[derive(Clone, Debug, PartialEq)]
-pub struct Temp3 {
+pub struct Temp {
     /// "coupler.C".
     pub name: String,
     /// Drawn world position.
@@ -537,7 +537,7 @@ pub struct Temp3 {
 
 /// A branch slot's initial sign and what it is for.
 #[derive(Clone, Debug, PartialEq)]
-pub struct BranchSlot3 {
+pub struct BranchSlot {
     /// The branch of the drawn pose.
     pub initial: Branch,
     /// The root's last record, as drawn: the sine of the angle (0) for a
@@ -547,7 +547,7 @@ pub struct BranchSlot3 {
 
 /// A spatial plan.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Plan3 {
+pub struct Plan {
     /// The mechanism's name.
     pub name: String,
     /// Body names in file order.
@@ -556,7 +556,7 @@ pub struct Plan3 {
     pub fixed: Vec<bool>,
     /// Input names.
     pub inputs: Vec<String>,
-    /// Each input's kind, in [`Plan3::inputs`] order: an angle (degrees) or
+    /// Each input's kind, in [`Plan::inputs`] order: an angle (degrees) or
     /// a slide (length units). Generated modules list them (`INPUT_KINDS`);
     /// the steps already carry what they need of them.
     pub input_kinds: Vec<InputKind>,
@@ -568,21 +568,21 @@ pub struct Plan3 {
     /// so a plan does not depend on where its file was read from.
     pub source: String,
     /// Steps in order.
-    pub steps: Vec<Step3>,
+    pub steps: Vec<Step>,
     /// Pseudo-markers.
-    pub temps: Vec<Temp3>,
+    pub temps: Vec<Temp>,
     /// Branch slots.
-    pub branches: Vec<BranchSlot3>,
+    pub branches: Vec<BranchSlot>,
     /// Freedoms left at minimum motion, by body: (body, freedoms, why).
     pub idle: Vec<(BodyId, usize, String)>,
 }
 
-impl Plan3 {
+impl Plan {
     /// Rows the plan only checks (redundant), named.
     pub fn redundant(&self) -> Vec<(&str, usize)> {
         let mut out = Vec::new();
         for s in &self.steps {
-            if let StepKind3::Check { rows } = &s.kind {
+            if let StepKind::Check { rows } = &s.kind {
                 for r in rows {
                     if r.redundant > 0 {
                         out.push((r.name.as_str(), r.redundant));
@@ -597,12 +597,12 @@ impl Plan3 {
     /// from last frame's pose), so the back ends correct it once a frame
     /// ([`Pose3::renormalize`](dofplan_runtime::spatial::Pose3::renormalize)):
     /// every moving body some step turns or a cluster solves, except those
-    /// set outright by [`Action3::Hinge`].
+    /// set outright by [`Action::Hinge`].
     pub fn composes(&self, b: BodyId) -> bool {
         !self.fixed[b]
             && self.steps.iter().any(|s| match &s.kind {
-                StepKind3::Act { body, action } => *body == b && !matches!(**action, Action3::Hinge { .. }),
-                StepKind3::Cluster(c) => c.params.iter().any(|p| p.body() == b),
+                StepKind::Act { body, action } => *body == b && !matches!(**action, Action::Hinge { .. }),
+                StepKind::Cluster(c) => c.params.iter().any(|p| p.body() == b),
                 _ => false,
             })
     }
@@ -610,7 +610,7 @@ impl Plan3 {
     /// Unknowns and equations handed to Newton–Raphson.
     pub fn cluster_size(&self) -> (usize, usize) {
         self.steps.iter().fold((0, 0), |(u, e), s| match &s.kind {
-            StepKind3::Cluster(c) => (u + c.unknowns(), e + c.equations()),
+            StepKind::Cluster(c) => (u + c.unknowns(), e + c.equations()),
             _ => (u, e),
         })
     }

@@ -43,7 +43,7 @@ use super::style::{dashed, line, num, points, text_width, trace_colour, GREY, GR
 use super::trace::{self, Reach, Rect};
 use super::view::hull;
 use super::view::{self, BBox, View};
-use crate::model::spatial::{JointKind3, Mechanism3};
+use crate::model::spatial::{JointKind, Mechanism};
 use crate::model::MarkerId;
 use symbol::{hatch_pattern, symbol, HATCH_ID};
 
@@ -177,7 +177,7 @@ impl Projection {
 
 /// A marker's world position at `poses`, if the ids are valid and it is
 /// finite.
-fn world(m: &Mechanism3, poses: &[Pose3], id: MarkerId) -> Option<Vec3> {
+fn world(m: &Mechanism, poses: &[Pose3], id: MarkerId) -> Option<Vec3> {
     let marker = m.bodies.get(id.body)?.markers.get(id.marker)?;
     let p = poses.get(id.body)?.world(marker.at);
     p.iter().all(|v| v.is_finite()).then_some(p)
@@ -185,7 +185,7 @@ fn world(m: &Mechanism3, poses: &[Pose3], id: MarkerId) -> Option<Vec3> {
 
 /// The world direction of a joint's axis (its first marker's z) at
 /// `poses`, if the marker has axes.
-fn joint_axis(m: &Mechanism3, poses: &[Pose3], id: MarkerId) -> Option<Vec3> {
+fn joint_axis(m: &Mechanism, poses: &[Pose3], id: MarkerId) -> Option<Vec3> {
     let z = m.bodies.get(id.body)?.markers.get(id.marker)?.axes?.z;
     let d = poses.get(id.body)?.dir(z);
     d.iter().all(|v| v.is_finite()).then_some(d)
@@ -194,18 +194,16 @@ fn joint_axis(m: &Mechanism3, poses: &[Pose3], id: MarkerId) -> Option<Vec3> {
 /// Where a joint is drawn: the constrained (second) marker of a joint that
 /// slides (it moves along the first marker's line or plane), else the
 /// first marker.
-fn joint_marker(kind: JointKind3, markers: [MarkerId; 2]) -> MarkerId {
+fn joint_marker(kind: JointKind, markers: [MarkerId; 2]) -> MarkerId {
     match kind {
-        JointKind3::Prismatic | JointKind3::Cylindrical | JointKind3::Helical | JointKind3::Planar => {
-            markers[1]
-        }
+        JointKind::Prismatic | JointKind::Cylindrical | JointKind::Helical | JointKind::Planar => markers[1],
         _ => markers[0],
     }
 }
 
 /// Drops pose sets identical to an earlier one (a full turn ends where it
 /// started), keeping the first.
-fn dedupe(m: &Mechanism3, sets: &mut Vec<(usize, &[Pose3])>) {
+fn dedupe(m: &Mechanism, sets: &mut Vec<(usize, &[Pose3])>) {
     let tol = 1e-6 * m.size();
     let mut kept: Vec<(usize, &[Pose3])> = Vec::with_capacity(sets.len());
     for &(i, poses) in sets.iter() {
@@ -235,7 +233,7 @@ struct Detail {
 }
 
 impl Detail {
-    fn new(m: &Mechanism3, scale: f64) -> Detail {
+    fn new(m: &Mechanism, scale: f64) -> Detail {
         let mut spans: Vec<f64> = m
             .bodies
             .iter()
@@ -295,7 +293,7 @@ struct Cell {
 /// solved (or stretched, dashed) frames, never across a limited or
 /// searched one. Never panics: with no frames the drawn pose is shown under
 /// a "no frames" title, and non-finite positions are left out.
-pub fn render_spatial(m: &Mechanism3, frames: &[SpatialFrame]) -> String {
+pub fn render_spatial(m: &Mechanism, frames: &[SpatialFrame]) -> String {
     let drawn = vec![Pose3::IDENTITY; m.bodies.len()];
     // Every frame's poses and how it met its input (the drawn pose alone
     // when there are no frames).
@@ -428,7 +426,7 @@ pub fn render_spatial(m: &Mechanism3, frames: &[SpatialFrame]) -> String {
 /// The legend: traces, the marks of stretched and searched frames, the
 /// joint kinds drawn, then the bodies.
 fn legend_entries(
-    m: &Mechanism3,
+    m: &Mechanism,
     frames: &[SpatialFrame],
     traced: &[MarkerId],
     all: &[(&[Pose3], Reach)],
@@ -478,7 +476,7 @@ fn legend_entries(
             label: "break point found by search".to_string(),
         });
     }
-    for kind in JointKind3::ALL {
+    for kind in JointKind::ALL {
         if m.joints.iter().any(|j| j.kind == kind) {
             entries.push(Entry {
                 key: Key::Joint(kind),
@@ -506,7 +504,7 @@ fn legend_entries(
 /// column of the x range, the front and side views in a row of the z
 /// range, as wide as the page allows and at most `MAX_PLOTS_H` of the
 /// width tall.
-fn layout(m: &Mechanism3, boxes: &[BBox; 4]) -> Vec<Cell> {
+fn layout(m: &Mechanism, boxes: &[BBox; 4]) -> Vec<Cell> {
     let size = m.size();
     // The world box of each view (right, up), with a margin; a flat view
     // still gets some height.
@@ -598,7 +596,7 @@ fn layout(m: &Mechanism3, boxes: &[BBox; 4]) -> Vec<Cell> {
 /// One view: its frame and heading, the ground, the faint poses, the
 /// traces, the opaque pose, the labels, the axes and the scale bar.
 fn draw_view<'a>(
-    m: &Mechanism3,
+    m: &Mechanism,
     cell: &Cell,
     all: &[(&[Pose3], Reach)],
     sets: &[(usize, &[Pose3])],
@@ -807,7 +805,7 @@ fn axes(proj: Projection, origin: Point) -> Group {
 }
 
 /// The page points of a body's markers at `poses`.
-fn body_points(m: &Mechanism3, poses: &[Pose3], b: usize, page: &dyn Fn(Vec3) -> Point) -> Vec<Point> {
+fn body_points(m: &Mechanism, poses: &[Pose3], b: usize, page: &dyn Fn(Vec3) -> Point) -> Vec<Point> {
     (0..m.bodies[b].markers.len())
         .filter_map(|i| world(m, poses, MarkerId { body: b, marker: i }))
         .map(page)
@@ -816,7 +814,7 @@ fn body_points(m: &Mechanism3, poses: &[Pose3], b: usize, page: &dyn Fn(Vec3) ->
 
 /// The outlines of the mobile bodies at `poses` as page segments, for
 /// labels to keep off.
-fn outlines(m: &Mechanism3, poses: &[Pose3], page: &dyn Fn(Vec3) -> Point) -> Vec<[Point; 2]> {
+fn outlines(m: &Mechanism, poses: &[Pose3], page: &dyn Fn(Vec3) -> Point) -> Vec<[Point; 2]> {
     let mut out = Vec::new();
     for (b, body) in m.bodies.iter().enumerate() {
         if body.fixed {
@@ -836,7 +834,7 @@ fn outlines(m: &Mechanism3, poses: &[Pose3], page: &dyn Fn(Vec3) -> Point) -> Ve
 /// and a ground mark under each of its markers. Returns the drawing and
 /// the boxes of the marks (for labels to keep off).
 fn draw_ground(
-    m: &Mechanism3,
+    m: &Mechanism,
     poses: &[Pose3],
     proj: Projection,
     view: &View,
@@ -932,7 +930,7 @@ fn draw_ground(
 /// block for markers on one spot). A `ghost` is drawn lighter: outlines
 /// and thin bars.
 fn draw_bodies(
-    m: &Mechanism3,
+    m: &Mechanism,
     poses: &[Pose3],
     proj: Projection,
     view: &View,
@@ -967,7 +965,7 @@ fn draw_bodies(
     for j in &m.joints {
         if !matches!(
             j.kind,
-            JointKind3::Prismatic | JointKind3::Cylindrical | JointKind3::Helical
+            JointKind::Prismatic | JointKind::Cylindrical | JointKind::Helical
         ) {
             continue;
         }
@@ -1077,7 +1075,7 @@ fn draw_bodies(
 /// Every joint of one pose as its symbol (nearest the viewer last), and
 /// the boxes the symbols take (for labels to keep off).
 fn draw_joints(
-    m: &Mechanism3,
+    m: &Mechanism,
     poses: &[Pose3],
     proj: Projection,
     view: &View,
@@ -1127,7 +1125,7 @@ fn rect_distance(r: &Rect, p: Point) -> f64 {
 /// `taken` boxes, inside the plot, preferably off the `ink`, else it is
 /// left out. Returns the labels and their boxes.
 fn joint_names(
-    m: &Mechanism3,
+    m: &Mechanism,
     poses: &[Pose3],
     page: &dyn Fn(Vec3) -> Point,
     view: &View,
@@ -1237,7 +1235,7 @@ fn joint_names(
 /// Which bodies of `poses` a joint or constraint pulls apart: a row open
 /// by more than 1e-6 of the mechanism's size (lengths) or 1e-6 (sines of
 /// angles). Inputs are not counted (a missed input opens no joint).
-fn open_bodies(m: &Mechanism3, poses: &[Pose3]) -> Vec<bool> {
+fn open_bodies(m: &Mechanism, poses: &[Pose3]) -> Vec<bool> {
     let mut open = vec![false; m.bodies.len()];
     if poses.len() != m.bodies.len() {
         return open;

@@ -4,7 +4,7 @@
 use dofplan_runtime::planar::Point;
 use svg::node::element::{Circle, Group, Line, Path, Pattern, Polygon, Rectangle};
 
-use crate::model::spatial::JointKind3;
+use crate::model::spatial::JointKind;
 use crate::render::style::{line, num, points, GREY, GROUND_COLOUR, INK};
 
 /// The id of the ground's hatching.
@@ -37,7 +37,7 @@ pub(super) fn hatch_pattern() -> Pattern {
 /// dot. Universal: a bold cross. Prismatic: a block along the axis;
 /// cylindrical: the same with the axis through it; helical: the same with
 /// a thread. Planar: a diamond. Fixed: a filled square.
-pub(in crate::render) fn symbol(kind: JointKind3, axis: Point, k: f64) -> Group {
+pub(in crate::render) fn symbol(kind: JointKind, axis: Point, k: f64) -> Group {
     let l = axis[0].hypot(axis[1]);
     let (u, l) = if l.is_finite() && l > 1e-3 {
         ([axis[0] / l, axis[1] / l], l.min(1.0))
@@ -67,7 +67,7 @@ pub(in crate::render) fn symbol(kind: JointKind3, axis: Point, k: f64) -> Group 
             .set("stroke-width", sw.clone())
     };
     match kind {
-        JointKind3::Revolute => {
+        JointKind::Revolute => {
             let g = if l > 0.05 {
                 g.add(axis_line((5.0 + 7.0 * l) * k))
             } else {
@@ -81,14 +81,14 @@ pub(in crate::render) fn symbol(kind: JointKind3, axis: Point, k: f64) -> Group 
                     .set("stroke-width", sw),
             )
         }
-        JointKind3::Spherical => g.add(
+        JointKind::Spherical => g.add(
             Circle::new()
                 .set("r", num(4.5 * k))
                 .set("fill", INK)
                 .set("stroke", "#ffffff")
                 .set("stroke-width", num(k)),
         ),
-        JointKind3::Universal => {
+        JointKind::Universal => {
             let r = 4.5 * k;
             let d = format!(
                 "M{} {}L{} {}M{} {}L{} {}",
@@ -116,9 +116,9 @@ pub(in crate::render) fn symbol(kind: JointKind3, axis: Point, k: f64) -> Group 
                     .set("stroke-linecap", "round"),
             )
         }
-        JointKind3::Prismatic => g.add(block()),
-        JointKind3::Cylindrical => g.add(block()).add(axis_line((7.0 + 6.0 * l) * k)),
-        JointKind3::Helical => {
+        JointKind::Prismatic => g.add(block()),
+        JointKind::Cylindrical => g.add(block()).add(axis_line((7.0 + 6.0 * l) * k)),
+        JointKind::Helical => {
             let hl = (4.0 + 5.0 * l) * k;
             let hw = 3.5 * k;
             let thread = format!(
@@ -139,7 +139,7 @@ pub(in crate::render) fn symbol(kind: JointKind3, axis: Point, k: f64) -> Group 
                     .set("stroke-width", sw),
             )
         }
-        JointKind3::Planar => {
+        JointKind::Planar => {
             let r = 5.5 * k;
             g.add(
                 Polygon::new()
@@ -149,7 +149,7 @@ pub(in crate::render) fn symbol(kind: JointKind3, axis: Point, k: f64) -> Group 
                     .set("stroke-width", sw),
             )
         }
-        JointKind3::Fixed => {
+        JointKind::Fixed => {
             let r = 3.5 * k;
             g.add(
                 Rectangle::new()

@@ -13,7 +13,7 @@ use dofplan_runtime::{Break, BreakKind, Driver, FrameStatus, Options};
 use super::super::tests::{parse, texts, with_class, El};
 use super::*;
 use crate::conflict::load_any_str;
-use crate::interp::spatial::Interpreter3;
+use crate::interp::spatial::Interpreter;
 use crate::model::{Format, Model};
 
 // The bundled files, not copies of them.
@@ -68,7 +68,7 @@ const BUNDLED: [(&str, &str); 14] = [
     ),
 ];
 
-fn load(text: &str) -> Mechanism3 {
+fn load(text: &str) -> Mechanism {
     match load_any_str("t.toml", text, Format::Toml) {
         Ok(Model::Spatial(m)) => m,
         Ok(Model::Planar(_)) => panic!("a planar file"),
@@ -77,16 +77,16 @@ fn load(text: &str) -> Mechanism3 {
 }
 
 /// The file with its sweep cut to `steps` frames.
-fn load_steps(text: &str, steps: usize) -> Mechanism3 {
+fn load_steps(text: &str, steps: usize) -> Mechanism {
     let mut m = load(text);
     m.sweep.as_mut().expect("a sweep").steps = steps;
     m
 }
 
 /// The frames of the file's sweep, as `simulate --svg` makes them.
-fn sweep(m: &Mechanism3) -> Vec<SpatialFrame> {
+fn sweep(m: &Mechanism) -> Vec<SpatialFrame> {
     let plan = crate::analysis::spatial::analyse(m).unwrap_or_else(|e| panic!("{}: {e}", m.name));
-    let mut driver = Driver::new(Interpreter3::new(plan), Options::default());
+    let mut driver = Driver::new(Interpreter::new(plan), Options::default());
     crate::simulate::sweep_requests(m.sweep.as_ref().expect("a sweep"), m.inputs.len())
         .map(|requested| {
             let status = driver.frame(&requested);

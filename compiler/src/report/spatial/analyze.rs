@@ -1,7 +1,7 @@
 //! `dofplan analyze` of a spatial (`dimension = 3`) file: the sweep with
 //! every marker's velocity and acceleration and every body's angular
 //! velocity and acceleration vectors — exact, by forward-mode
-//! differentiation through the plan ([`Interpreter3::rates`]) — printed as
+//! differentiation through the plan ([`Interpreter::rates`]) — printed as
 //! a summary, JSON or CSV (streamed frame by frame), and drawn as plots.
 //! The transmission angle is a planar four-bar notion and is not given.
 //!
@@ -13,13 +13,13 @@ use std::io::Write;
 use std::path::Path;
 
 use crate::format::number;
-use crate::interp::spatial::Interpreter3;
-use crate::model::spatial::Mechanism3;
+use crate::interp::spatial::Interpreter;
+use crate::model::spatial::Mechanism;
 use crate::model::{Input, InputKind, Sweep};
-use crate::plan::spatial::Plan3;
+use crate::plan::spatial::Plan;
 use crate::render::plots::{draw_spatial, Sample3, Traced3};
 use crate::simulate::input_rates;
-use crate::simulate::spatial::{marker_positions, motion3, residual, Motion3};
+use crate::simulate::spatial::{marker_positions, motion, residual, Motion};
 use crate::simulate::sweep_requests;
 use dofplan_runtime::real::RateError;
 use dofplan_runtime::{Driver, Options};
@@ -34,8 +34,8 @@ use crate::report::{Form, FrameProgress, Outcome};
 /// `form`, with plots in `svg`.
 #[allow(clippy::too_many_arguments)]
 pub fn analyze(
-    m: &Mechanism3,
-    plan: &Plan3,
+    m: &Mechanism,
+    plan: &Plan,
     sweep: &Sweep,
     rate: f64,
     form: Form,
@@ -43,7 +43,7 @@ pub fn analyze(
     progress: &mut dyn FrameProgress,
     out: &mut dyn Write,
 ) -> Outcome {
-    let interp = Interpreter3::new(plan.clone());
+    let interp = Interpreter::new(plan.clone());
     let mut driver = Driver::new(interp.clone(), Options::default());
     let rates = input_rates(&m.inputs, sweep, rate);
     let zero = vec![0.0; m.inputs.len()];
@@ -101,9 +101,9 @@ pub fn analyze(
         let reached = driver.inputs().to_vec();
         let res = residual(m, poses, &reached);
         let markers = marker_positions(m, poses);
-        let moving: Result<Motion3, RateError> = interp
+        let moving: Result<Motion, RateError> = interp
             .rates(driver.state(), &reached, &rates, &zero)
-            .map(|j| motion3(m, &j));
+            .map(|j| motion(m, &j));
         match &moving {
             Err(RateError::Singular) => singular.push(i),
             Err(e) if unavailable.is_none() => unavailable = Some(e.clone()),

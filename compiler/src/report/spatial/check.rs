@@ -4,7 +4,7 @@
 
 use crate::analysis::ranges::spatial_assembly_ranges;
 use crate::analysis::spatial::{analyse, count::count};
-use crate::model::spatial::Mechanism3;
+use crate::model::spatial::Mechanism;
 use crate::plan::spatial::step_number;
 use crate::report::ranges::{ranges_json, write_ranges};
 use serde_json::json;
@@ -12,7 +12,7 @@ use std::io::{self, Write};
 
 /// `dofplan check` of a spatial file.
 /// `false` when the analysis found no plan (the command fails).
-pub fn check(m: &Mechanism3, json_out: bool, out: &mut dyn Write) -> io::Result<bool> {
+pub fn check(m: &Mechanism, json_out: bool, out: &mut dyn Write) -> io::Result<bool> {
     let c = count(m);
     let plan = analyse(m);
     // Each input's assembly range, as planar `check` reports them (no

@@ -9,10 +9,10 @@ use dofplan_runtime::{Driver, FrameStatus, Options};
 use serde_json::{json, Map, Value};
 
 use crate::format::{number, rounded};
-use crate::interp::spatial::Interpreter3;
-use crate::model::spatial::Mechanism3;
+use crate::interp::spatial::Interpreter;
+use crate::model::spatial::Mechanism;
 use crate::model::Sweep;
-use crate::plan::spatial::{step_number, Plan3};
+use crate::plan::spatial::{step_number, Plan};
 use crate::render::spatial::{render_spatial, SpatialFrame};
 use crate::simulate::spatial::{marker_positions, residual};
 use crate::simulate::sweep_requests;
@@ -23,8 +23,8 @@ use crate::report::{error, Form, FrameProgress, Outcome};
 /// `dofplan simulate` of a spatial file: frames streamed one by one.
 #[allow(clippy::too_many_arguments)]
 pub fn simulate(
-    m: &Mechanism3,
-    plan: &Plan3,
+    m: &Mechanism,
+    plan: &Plan,
     sweep: &Sweep,
     options: Options,
     form: Form,
@@ -73,7 +73,7 @@ pub fn simulate(
 /// released.
 #[allow(clippy::too_many_arguments)]
 pub fn drag(
-    m: &Mechanism3,
+    m: &Mechanism,
     marker: &str,
     from: Option<[f64; 3]>,
     to: [f64; 3],
@@ -148,20 +148,20 @@ pub fn drag(
 /// Drives `plan` through `requests` and writes each frame as it comes.
 #[allow(clippy::too_many_arguments)]
 fn frames(
-    m: &Mechanism3,
-    plan: &Plan3,
+    m: &Mechanism,
+    plan: &Plan,
     input_names: &[String],
     requests: impl Iterator<Item = Vec<f64>>,
     total: usize,
     options: Options,
     form: Form,
-    svg: Option<(&Path, &Mechanism3)>,
+    svg: Option<(&Path, &Mechanism)>,
     title: &str,
     (value_name, value): (&str, &Describe),
     progress: &mut dyn FrameProgress,
     out: &mut dyn Write,
 ) -> Outcome {
-    let mut driver = Driver::new(Interpreter3::new(plan.clone()), options);
+    let mut driver = Driver::new(Interpreter::new(plan.clone()), options);
     if form == Form::Text {
         writeln!(out, "{title}")?;
     }
@@ -270,7 +270,7 @@ fn frames(
 /// every body's rotation and position, and the largest joint residual.
 #[allow(clippy::too_many_arguments)]
 pub fn frame_value(
-    m: &Mechanism3,
+    m: &Mechanism,
     names: &[String],
     input_names: &[String],
     i: usize,

@@ -4,12 +4,12 @@
 use dofplan_runtime::real::Jet2;
 use dofplan_runtime::spatial::{Pose3, Vec3};
 
-use crate::model::spatial::Mechanism3;
+use crate::model::spatial::Mechanism;
 
 /// One spatial frame's rates.
 #[derive(Clone, Debug, PartialEq)]
-pub struct Motion3 {
-    /// Every marker's velocity, in [`Mechanism3::all_markers`] order.
+pub struct Motion {
+    /// Every marker's velocity, in [`Mechanism::all_markers`] order.
     pub velocity: Vec<Vec3>,
     /// Every marker's acceleration, in the same order.
     pub acceleration: Vec<Vec3>,
@@ -20,10 +20,10 @@ pub struct Motion3 {
 }
 
 /// The rates of `m`'s markers and bodies from the bodies' jets (as
-/// [`Interpreter3::rates`](crate::interp::spatial::Interpreter3::rates)
+/// [`Interpreter::rates`](crate::interp::spatial::Interpreter::rates)
 /// gives them). With R the rotation, `Ṙ·Rᵀ = [ω]×` and `R̈·Rᵀ = [α]× + [ω]×²`,
 /// whose antisymmetric part is `[α]×` (`[ω]×²` is symmetric).
-pub fn motion3(m: &Mechanism3, jets: &[Pose3<Jet2>]) -> Motion3 {
+pub fn motion(m: &Mechanism, jets: &[Pose3<Jet2>]) -> Motion {
     let (mut velocity, mut acceleration) = (Vec::new(), Vec::new());
     for id in m.all_markers() {
         let p = jets[id.body].world(m.marker(id).at);
@@ -45,7 +45,7 @@ pub fn motion3(m: &Mechanism3, jets: &[Pose3<Jet2>]) -> Motion3 {
         omega.push(axial(|x| x.d));
         alpha.push(axial(|x| x.dd));
     }
-    Motion3 {
+    Motion {
         velocity,
         acceleration,
         omega,
@@ -87,7 +87,7 @@ mod tests {
             rot,
             pos: [Jet2::new(0.0, 0.0, 0.0); 3],
         };
-        let mo = motion3(&m, &[still, disc]);
+        let mo = motion(&m, &[still, disc]);
         assert_eq!(mo.omega, vec![[0.0; 3], [0.0, 0.0, 2.0]]);
         assert_eq!(mo.alpha, vec![[0.0; 3], [0.0, 0.0, 3.0]]);
         let p = m

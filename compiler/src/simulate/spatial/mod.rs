@@ -6,14 +6,14 @@
 use dofplan_runtime::spatial::{Pose3, Vec3};
 
 use crate::model::spatial::equations::equations;
-use crate::model::spatial::Mechanism3;
+use crate::model::spatial::Mechanism;
 
 pub mod kinematics;
 
-pub use kinematics::{motion3, Motion3};
+pub use kinematics::{motion, Motion};
 
 /// Every marker's world position, body by body in file order.
-pub fn marker_positions(m: &Mechanism3, poses: &[Pose3]) -> Vec<Vec3> {
+pub fn marker_positions(m: &Mechanism, poses: &[Pose3]) -> Vec<Vec3> {
     m.all_markers()
         .map(|id| poses[id.body].world(m.marker(id).at))
         .collect()
@@ -22,7 +22,7 @@ pub fn marker_positions(m: &Mechanism3, poses: &[Pose3]) -> Vec<Vec3> {
 /// The largest residual of every joint, constraint and input equation at
 /// `poses`, relative: lengths over the mechanism's size, directions as the
 /// sines and cosines the rows are.
-pub fn residual(m: &Mechanism3, poses: &[Pose3], inputs: &[f64]) -> f64 {
+pub fn residual(m: &Mechanism, poses: &[Pose3], inputs: &[f64]) -> f64 {
     let size = m.size();
     equations(m)
         .iter()
