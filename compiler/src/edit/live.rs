@@ -9,7 +9,7 @@ use serde_json::Value;
 
 use super::document::Document;
 use super::session::{self, Session};
-use super::view3::{Session3, READ_ONLY};
+use super::spatial::{self, READ_ONLY};
 use super::workspace::{self, Workspace};
 
 /// The workspace the pages share, even if a page's handler panicked
@@ -63,7 +63,7 @@ pub fn solve(session: &mut Session, doc: &Arc<Document>, request: Result<session
 
 /// The reply of a page showing a spatial document to a text message:
 /// sliders and the sweep run its plan; edits are refused (planar-only).
-pub fn reply3(session: &mut Session3, text: &str) -> Value {
+pub fn reply_spatial(session: &mut spatial::Session, text: &str) -> Value {
     if workspace::is_editing(text) {
         let id = serde_json::from_str::<Value>(text)
             .ok()

@@ -22,7 +22,7 @@ mod names;
 mod ops;
 pub mod save;
 pub mod session;
-pub mod view3;
+pub mod spatial;
 pub mod workspace;
 
 use dofplan_runtime::planar::Pose;

@@ -20,7 +20,7 @@ use crate::model::{Format, Location, Model, ModelError};
 use dofplan_runtime::planar::{Pose, Rot};
 
 use super::document::{Document, Watch, UNTITLED};
-use super::view3::{Document3, READ_ONLY};
+use super::spatial::{self, READ_ONLY};
 
 /// A message from the page that changes the document (the others, for
 /// the pose on screen, are [`super::session::Request`]s).
@@ -173,7 +173,7 @@ pub enum View {
     /// is shown as the empty drawing, its text and diagnostics beside it.)
     Planar(Arc<Document>),
     /// A spatial one: shown with its sliders and sweep only.
-    Spatial(Arc<Document3>),
+    Spatial(Arc<spatial::Document>),
 }
 
 impl Workspace {
@@ -231,7 +231,7 @@ impl Workspace {
             }
             Ok(Model::Spatial(m)) => {
                 w.editor = Err(READ_ONLY.to_string());
-                w.view = View::Spatial(Arc::new(Document3::new(path, m)));
+                w.view = View::Spatial(Arc::new(spatial::Document::new(path, m)));
             }
             Err(e) => w.broken = Some(Broken::of(&text, &e)),
         }

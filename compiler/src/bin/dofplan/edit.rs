@@ -26,7 +26,7 @@ use serde_json::Value;
 
 use dofplan::edit::live::{self, Incoming};
 use dofplan::edit::session::{self, Session};
-use dofplan::edit::view3;
+use dofplan::edit::spatial as spatial_edit;
 use dofplan::edit::workspace::{self, View, Workspace};
 
 /// The page and its script and style, embedded at compile time.
@@ -318,7 +318,7 @@ async fn live(mut socket: WebSocket, server: Arc<Server>) {
     };
     let mut doc = match view {
         View::Planar(doc) => doc,
-        View::Spatial(doc) => return live3(socket, doc, greeting).await,
+        View::Spatial(doc) => return live_spatial(socket, doc, greeting).await,
     };
     let mut session = Session::new(doc.clone());
     for greeting in [greeting, session.current(0)] {
@@ -392,8 +392,8 @@ async fn live(mut socket: WebSocket, server: Arc<Server>) {
 
 /// The live loop of a page showing a spatial document: sliders and the
 /// sweep run its plan; drags and edits are refused (planar-only).
-async fn live3(mut socket: WebSocket, doc: Arc<view3::Document3>, greeting: Value) {
-    let mut session = view3::Session3::new(doc);
+async fn live_spatial(mut socket: WebSocket, doc: Arc<spatial_edit::Document>, greeting: Value) {
+    let mut session = spatial_edit::Session::new(doc);
     for greeting in [greeting, session.current(0)] {
         if send(&mut socket, &greeting).await.is_err() {
             return;
@@ -401,7 +401,9 @@ async fn live3(mut socket: WebSocket, doc: Arc<view3::Document3>, greeting: Valu
     }
     while let Some(Ok(message)) = socket.recv().await {
         let reply = match message {
-            Message::Text(text) => tokio::task::block_in_place(|| live::reply3(&mut session, text.as_str())),
+            Message::Text(text) => {
+                tokio::task::block_in_place(|| live::reply_spatial(&mut session, text.as_str()))
+            }
             Message::Binary(_) => session::error(0, "bad message: expected JSON text"),
             Message::Close(_) => return,
             Message::Ping(_) | Message::Pong(_) => continue,

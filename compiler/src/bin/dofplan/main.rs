@@ -22,8 +22,8 @@ use dofplan::plan::Plan;
 use dofplan::report::planar::analyze;
 use dofplan::report::planar::check::Check;
 use dofplan::report::planar::frames::{self, Solver};
-use dofplan::report::spatial as spatial3;
-use dofplan::report::spatial::analyze as analyze3;
+use dofplan::report::spatial as spatial_report;
+use dofplan::report::spatial::analyze as spatial_analyze;
 use dofplan::report::{Form, Outcome};
 use dofplan::simulate::{sweep_to_run, SweepSource};
 use dofplan_runtime::{BranchPolicy, BreakPolicy, Options, StartPolicy};
@@ -503,7 +503,7 @@ fn spatial_command(
     };
     match command {
         Command::Check { json, .. } => Ok(exit(dofplan::report::spatial::check(m, json, out)?)),
-        Command::Plan { .. } => Ok(match plan3(m) {
+        Command::Plan { .. } => Ok(match spatial_plan(m) {
             Some(plan) => {
                 write!(out, "{}", plan.explain_all())?;
                 ExitCode::SUCCESS
@@ -522,13 +522,13 @@ fn spatial_command(
             let Some(sweep) = sweep_args.of(m) else {
                 return Ok(ExitCode::FAILURE);
             };
-            let Some(plan) = plan3(m) else {
+            let Some(plan) = spatial_plan(m) else {
                 return Ok(ExitCode::FAILURE);
             };
             let options = sweep_options(policy, branch);
             let form = Form::of(json, csv);
             let mut bar = progress::Frames::default();
-            outcome(spatial3::simulate(
+            outcome(spatial_report::simulate(
                 m,
                 &plan,
                 &sweep,
@@ -560,7 +560,7 @@ fn spatial_command(
             };
             let form = Form::of(json, csv);
             let mut bar = progress::Frames::default();
-            outcome(spatial3::drag(
+            outcome(spatial_report::drag(
                 m,
                 &marker,
                 from,
@@ -584,12 +584,12 @@ fn spatial_command(
             let Some(sweep) = sweep_args.of(m) else {
                 return Ok(ExitCode::FAILURE);
             };
-            let Some(plan) = plan3(m) else {
+            let Some(plan) = spatial_plan(m) else {
                 return Ok(ExitCode::FAILURE);
             };
             let form = Form::of(json, csv);
             let mut bar = progress::Frames::default();
-            outcome(analyze3::analyze(
+            outcome(spatial_analyze::analyze(
                 m,
                 &plan,
                 &sweep,
@@ -600,7 +600,7 @@ fn spatial_command(
                 out,
             ))
         }
-        Command::Emit { .. } => Ok(match plan3(m) {
+        Command::Emit { .. } => Ok(match spatial_plan(m) {
             Some(plan) => {
                 write!(out, "{}", dofplan::emit::emit_spatial(&plan))?;
                 ExitCode::SUCCESS
@@ -631,7 +631,7 @@ fn sweep_options(policy: PolicyArg, branch: BranchArg) -> Options {
 
 /// The plan of a spatial file, or `None` when the analysis failed (said on
 /// standard error).
-fn plan3(m: &dofplan::model::spatial::Mechanism) -> Option<dofplan::plan::spatial::Plan> {
+fn spatial_plan(m: &dofplan::model::spatial::Mechanism) -> Option<dofplan::plan::spatial::Plan> {
     dofplan::analysis::spatial::analyse(m)
         .map_err(|e| report(&format!("{}: error: {e}", m.source.name)))
         .ok()

@@ -26,7 +26,7 @@ pub const READ_ONLY: &str =
     "spatial (dimension = 3) files are shown, not edited: editing and dragging are planar-only";
 
 /// A spatial mechanism open in the editor.
-pub struct Document3 {
+pub struct Document {
     /// The mechanism as drawn in the file.
     pub mechanism: Mechanism,
     /// Its plan, or why it has none.
@@ -37,15 +37,15 @@ pub struct Document3 {
     pub description: Value,
 }
 
-impl Document3 {
+impl Document {
     /// The document of `mechanism`, read from `path`.
-    pub fn new(path: &Path, mechanism: Mechanism) -> Document3 {
+    pub fn new(path: &Path, mechanism: Mechanism) -> Document {
         let plan = if mechanism.inputs.is_empty() {
             Err("the mechanism has no inputs, so there is no plan to run".to_string())
         } else {
             analyse(&mechanism).map_err(|e| e.to_string())
         };
-        let mut doc = Document3 {
+        let mut doc = Document {
             mechanism,
             plan,
             description: Value::Null,
@@ -154,18 +154,18 @@ impl Document3 {
 
 /// One page's state of a spatial document: the plan driven by the
 /// sliders.
-pub struct Session3 {
-    doc: Arc<Document3>,
+pub struct Session {
+    doc: Arc<Document>,
     driver: Option<Driver<Interpreter>>,
     policy: BreakPolicy,
 }
 
-impl Session3 {
+impl Session {
     /// A session showing the file's drawing.
-    pub fn new(doc: Arc<Document3>) -> Session3 {
+    pub fn new(doc: Arc<Document>) -> Session {
         let driver = (doc.plan.as_ref().ok())
             .map(|plan| Driver::new(Interpreter::new(plan.clone()), options(BreakPolicy::Limit)));
-        Session3 {
+        Session {
             doc,
             driver,
             policy: BreakPolicy::Limit,
@@ -295,15 +295,15 @@ fn options(breaking: BreakPolicy) -> Options {
 mod tests {
     use super::*;
 
-    fn rssr() -> Session3 {
+    fn rssr() -> Session {
         let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../mechanisms/spatial/rssr.toml");
         let Ok(crate::model::Model::Spatial(m)) = crate::load_any(&path) else {
             panic!("rssr is a spatial file");
         };
-        Session3::new(Arc::new(Document3::new(&path, m)))
+        Session::new(Arc::new(Document::new(&path, m)))
     }
 
-    fn reply(s: &mut Session3, message: &str) -> Value {
+    fn reply(s: &mut Session, message: &str) -> Value {
         s.handle(serde_json::from_str(message).expect("a well-formed request"))
     }
 
