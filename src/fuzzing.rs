@@ -1,5 +1,5 @@
 //! The paths the fuzz targets (`fuzz/`) drive over arbitrary files, shared
-//! with the regression tests (`tests/fuzz_regressions.rs`) so that every
+//! with the regression tests (`tests/inputs/fuzz_regressions.rs`) so that every
 //! input the fuzzer found is replayed through exactly the same code.
 //!
 //! Each function takes the raw bytes of a file and panics only when dofplan

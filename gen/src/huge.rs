@@ -1,6 +1,6 @@
 //! Files of 50 MB that a mechanism loader must answer quickly and briefly:
 //! one line of 50 MB, and a marker with 10 million coordinates. The
-//! huge-input tests load them (`tests/huge_input.rs`); `cargo run --release
+//! huge-input tests load them (`tests/inputs/huge_input.rs`); `cargo run --release
 //! -p dofplan-gen -- huge DIR` writes them for measuring `dofplan check` on
 //! them.
 

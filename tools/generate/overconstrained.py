@@ -16,7 +16,7 @@ from mechanisms import Mech, add, fmt, sub
 
 
 def table():
-    # The geometry of tests/rank.rs (PARALLELOGRAM_EXTRA).
+    # The geometry of tests/planar/rank.rs (PARALLELOGRAM_EXTRA).
     A, E, D = (0, 0), (2, 0), (4, 0)
     link = (1, 1.5)
     B, F, C = add(A, link), add(E, link), add(D, link)

@@ -36,7 +36,7 @@ fn every_mechanism_is_split_into_several_functions() {
             "{module}: one function by default"
         );
         let functions = split.matches("\nmod step").count();
-        // Steps of a rolled run (see `tests/rolled.rs`) are one function,
+        // Steps of a rolled run (see `tests/compiled/rolled.rs`) are one function,
         // its loop, whatever their number.
         let rolled_steps: usize = rolled_runs(&split).iter().map(|r| r.len()).sum();
         assert!(

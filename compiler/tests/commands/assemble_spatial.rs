@@ -53,7 +53,7 @@ fn largest_gap(m: &Mechanism) -> f64 {
 }
 
 /// A text with every number literal replaced by `#`: the part `assemble`
-/// must keep (comments, keys, order, layout). As in `tests/assemble.rs`.
+/// must keep (comments, keys, order, layout). As in `assemble.rs`.
 fn without_numbers(text: &str) -> String {
     let chars: Vec<char> = text.chars().collect();
     let mut out = String::new();

@@ -286,7 +286,7 @@ fn a_cluster_pulled_straight_is_reported_singular() {
     .unwrap();
 }
 
-/// sixbar_b is sixbar_a driven from another joint (tests/mixed.rs): its
+/// sixbar_b is sixbar_a driven from another joint (tests/planar/mixed.rs): its
 /// square cluster's rates, by the implicit function theorem, are the
 /// closed-form plan's rates of sixbar_a driven at the crank angle, rate
 /// and acceleration sixbar_b's jets give its crank (the chain rule), for

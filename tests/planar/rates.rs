@@ -78,7 +78,7 @@ fn a_fourbar_moves_as_its_loop_closure_says() {
 }
 
 /// Every bundled planar sweep without numeric clusters (those with one:
-/// tests/cluster_rates.rs): at frames spread
+/// tests/planar/cluster_rates.rs): at frames spread
 /// over the sweep, each marker's first and second derivatives along the
 /// sweep's direction equal central differences of positions solved by the
 /// plan (h = 1e-3 of the direction), except at dead points, which must be
@@ -236,7 +236,7 @@ fn a_slider_crank_piston_moves_as_its_closed_form_says() {
 
 /// The generated modules' `rates` (the same steps emitted for jets) equal
 /// the interpreter's to 1e-12 on every frame of every bundled sweep, numeric
-/// clusters included (tests/cluster_rates.rs checks those further).
+/// clusters included (tests/planar/cluster_rates.rs checks those further).
 #[test]
 fn compiled_rates_equal_interpreted_rates() {
     use dofplan_runtime::real::Rates;
@@ -246,7 +246,7 @@ fn compiled_rates_equal_interpreted_rates() {
         let Some(sweep) = m.sweep.clone() else { continue };
         let p = plan(&m);
         // A cluster is solved again by `rates`, not bit for bit as the one
-        // pass solved it (tests/cluster_rates.rs compares those two).
+        // pass solved it (tests/planar/cluster_rates.rs compares those two).
         let clusters = p.clusters() > 0;
         let interp = Interpreter::new(p);
         let n = m.inputs.len();

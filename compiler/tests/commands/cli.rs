@@ -471,7 +471,7 @@ fn empty_and_binary_files_say_what_they_are() {
 
 /// 50 MB files get a short error from every command that reads a file: the
 /// one line shown as a window around the error, an array refused at its
-/// first value too many (tests/huge_input.rs tries every form).
+/// first value too many (tests/inputs/huge_input.rs tries every form).
 #[test]
 fn a_50_mb_file_gets_a_short_error() {
     let dir = scratch("huge");

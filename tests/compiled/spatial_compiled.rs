@@ -124,7 +124,7 @@ const EXACT: f64 = 1e-12;
 /// matrix product differently: the last bits differ. (With a fixed-size
 /// Newton in the interpreter the two agree bit for bit, every frame, every
 /// policy.) The bisection of the search policy then ends on poses that
-/// differ by about 1e-11: the tolerance of tests/mixed.rs for planar
+/// differ by about 1e-11: the tolerance of tests/planar/mixed.rs for planar
 /// clusters covers it...
 const AT_A_CLUSTER_BREAK: f64 = 1e-9;
 /// ... and the stretch policy keeps the least-squares point of each broken

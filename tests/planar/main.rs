@@ -1,0 +1,19 @@
+//! Planar mechanisms end to end, one module per concern: closed forms,
+//! breaking policies and circuits, sweeps and batches, rates, numeric
+//! clusters, pure Newton, dragging, rank and over-constrained mechanisms.
+//! One test binary for all of them: each would link dofplan, the runtime
+//! and dofplan-generated on its own.
+
+mod batch;
+mod breaking;
+mod circuits;
+mod classics;
+mod cluster_rates;
+mod drag;
+mod fragments;
+mod mixed;
+mod newton;
+mod overconstrained;
+mod rank;
+mod rates;
+mod sweeps;

@@ -1,0 +1,7 @@
+//! Spatial mechanisms end to end: file to plan to interpreter against
+//! closed forms and raw joint residuals, and their velocities and
+//! accelerations. One test binary for both: each would link dofplan, the
+//! runtime and dofplan-generated on its own.
+
+mod spatial;
+mod spatial_rates;
