@@ -8,12 +8,10 @@
 //! the drawing code then shows up as a failing test until the pictures are
 //! regenerated with those commands.
 
-mod user_docs;
-
 use std::path::Path;
 use std::process::Command;
 
-use user_docs::{root, user_docs};
+use crate::user_docs::{root, user_docs};
 
 /// The commands of a page (README.md or a guide chapter) that write a
 /// picture into `docs/`: every backquoted span that starts with `dofplan `

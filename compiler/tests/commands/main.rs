@@ -6,7 +6,9 @@
 mod assemble;
 mod assemble_spatial;
 mod cli;
+mod docs_links;
 mod docs_pictures;
 mod readme;
 mod spatial_analyze;
 mod spatial_build;
+mod user_docs;

@@ -4,11 +4,9 @@
 //! code block: the command is run from the workspace root and its output
 //! compared with the block, line for line.
 
-mod user_docs;
-
 use std::process::Command;
 
-use user_docs::{root, user_docs};
+use crate::user_docs::{root, user_docs};
 
 /// (command words, the block shown) for every "`dofplan …` prints:".
 fn shown_outputs(text: &str) -> Vec<(Vec<String>, String)> {
