@@ -465,7 +465,7 @@ impl Emitter<'_> {
             s.branches = w.branches;
             real::checked(&*w.poses).map(|_| ())
         };
-        let api = super::rates::rates_functions(&quote!(Pose), &nb, body);
+        let api = super::scaffold::rates_functions(&quote!(Pose), &nb, body);
         quote! {
             #api
 
