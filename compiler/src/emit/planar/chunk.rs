@@ -155,13 +155,7 @@ impl Emitter<'_> {
     /// function is written: the module is never held whole, as tokens or
     /// as a syntax tree, so emitting takes memory in proportion to one
     /// chunk rather than to the plan.
-    pub(super) fn chunked_solve(
-        &self,
-        uses: Vec<Uses>,
-        chunks: &[Chunk],
-        doc_solve: &str,
-        sink: &mut Sink<'_>,
-    ) {
+    pub(super) fn chunked_solve(&self, uses: Vec<Uses>, chunks: &[Chunk], doc_solve: &str, sink: &mut Sink) {
         let jets = self.jets;
         let plan = self.plan;
         // What each chunk's steps use.

@@ -7,7 +7,7 @@
 //! `cluster`, and the steps on jets and lanes by `rates`.
 
 use proc_macro2::{Ident, Span, TokenStream};
-use quote::{format_ident, quote};
+use quote::quote;
 
 mod chunk;
 mod cluster;
@@ -18,7 +18,8 @@ mod step;
 pub use chunk::CHUNK_WEIGHT;
 pub use cluster::FIXED_LIMIT;
 
-use super::{ident_for, index, lit, names, scaffold, uses, Sink};
+use super::scaffold::{self, Dimension, Field, Scaffold};
+use super::{ident_for, index, lit, step_comment, uses, Sink};
 use crate::model::InputKind;
 use crate::plan::{Plan, StepKind};
 
@@ -120,77 +121,6 @@ impl Emitter<'_> {
         }
     }
 
-    /// The constants naming each body and marker, and the state's marker
-    /// reader, into `sink`; the two modules of constants a batch of
-    /// constants at a time (a chain of 20,000 loops has 120,000 markers).
-    fn names(&self, sink: &mut Sink<'_>) {
-        let plan = self.plan;
-        let body_names = names::constants(plan.bodies.iter().map(|b| b.name.as_str()));
-        let bodies = (plan.bodies.iter().zip(&body_names).enumerate()).map(|(i, (b, c))| {
-            let (doc, c, i) = (format!(" `{}`", b.name), format_ident!("{}", c), index(i));
-            quote! {
-                #[doc = #doc]
-                pub const #c: usize = #i;
-            }
-        });
-        let all_markers: Vec<(usize, String, [f64; 2])> = plan
-            .bodies
-            .iter()
-            .enumerate()
-            .flat_map(|(i, b)| {
-                b.markers
-                    .iter()
-                    .map(move |(m, at)| (i, format!("{}.{m}", b.name), *at))
-            })
-            .collect();
-        let marker_names = names::constants(all_markers.iter().map(|(_, n, _)| n.as_str()));
-        let markers = all_markers.iter().zip(&marker_names).map(|((b, name, at), c)| {
-            let doc = format!(" `{name}`");
-            let (c, b, at) = (format_ident!("{}", c), index(*b), point_lit(*at));
-            quote! {
-                #[doc = #doc]
-                pub const #c: Marker = Marker::new(#name, #b, #at);
-            }
-        });
-        let use_marker = if all_markers.is_empty() {
-            quote!()
-        } else {
-            quote!(
-                use dofplan_runtime::Marker;
-            )
-        };
-        sink.push_module(
-            quote! {
-                /// Each body's index in [`BODIES`] and [`State::poses`], by name:
-                /// upper-cased, other characters than ASCII letters and digits
-                /// made `_`, and `_2`, `_3`, … after a name an earlier body took.
-                pub mod body
-            },
-            quote!(),
-            bodies,
-        );
-        sink.push_module(
-            quote! {
-                /// Each marker's body and local coordinates (its drawn position),
-                /// named `BODY_MARKER` by the rule of `body`; read one with
-                /// `State::marker` or `Marker::world`.
-                pub mod marker
-            },
-            use_marker,
-            markers,
-        );
-        sink.push(quote! {
-            impl State {
-                /// The world position of marker `m` (a constant of
-                /// [`marker`]) in this state.
-                #[inline]
-                pub fn marker(&self, m: Marker) -> Point {
-                    m.world(&self.poses)
-                }
-            }
-        });
-    }
-
     /// Whether any step can break the frame (needs `ctx` and returns early).
     fn fallible(&self) -> bool {
         self.plan.steps.iter().any(|s| {
@@ -269,29 +199,13 @@ impl Emitter<'_> {
         }
     }
 
-    /// The module up to `solve`: imports, names, `State`, the constants and
-    /// `Plan` with its trait impls. `real`: whether the steps on jets or
-    /// lanes lift constants (`Jet2::cst`, `Lanes::cst`, which need the
-    /// `Real` trait); `lanes`: whether `solve_batch` runs in lanes.
-    fn prefix(&self, real: bool, lanes: bool, sink: &mut Sink<'_>) {
+    /// The module up to `solve`: imports, then the scaffold (names,
+    /// `State`, the constants and `Plan` with its trait impls). `real`:
+    /// whether the steps on jets or lanes lift constants (`Jet2::cst`,
+    /// `Lanes::cst`, which need the `Real` trait); `lanes`: whether
+    /// `solve_batch` runs in lanes.
+    fn prefix(&self, real: bool, lanes: bool, sink: &mut Sink) {
         let plan = self.plan;
-        let name = &plan.mechanism;
-        let nb = index(plan.bodies.len());
-        let nsteps = index(plan.steps.len());
-        let nk = index(plan.branches.len());
-        let ni = index(plan.inputs.len());
-        let body_names = plan.bodies.iter().map(|b| &b.name);
-        let input_names = plan.inputs.iter().map(|i| &i.name);
-        let input_kinds = plan.inputs.iter().map(|i| match i.kind {
-            InputKind::Angle => quote!(InputKind::Angle),
-            InputKind::Slide => quote!(InputKind::Slide),
-        });
-        let fixed = plan.bodies.iter().map(|b| b.fixed);
-        let drawn = plan.branches.iter().map(|b| point_lit(b.drawn));
-        let initial = plan.branches.iter().map(|b| match b.initial {
-            dofplan_runtime::Branch::Plus => quote!(Branch::Plus),
-            dofplan_runtime::Branch::Minus => quote!(Branch::Minus),
-        });
         let numeric_use = if plan.clusters() > 0 {
             quote!(
                 use dofplan_runtime::numeric::{self, cluster};
@@ -299,152 +213,70 @@ impl Emitter<'_> {
         } else {
             quote!()
         };
-        let rate_methods = scaffold::rates_trait_methods(&quote!(Pose));
         // `Jet2::cst` and `Lanes::cst` need the trait (a plan of large clusters alone, whose
         // rates the runtime computes, has none).
         let real = if real { quote!(Real) } else { quote!() };
-        let rates_use = quote!(
-            use dofplan_runtime::real::{self, Jet2, RateError, #real};
-            use dofplan_runtime::BranchPolicy;
-        );
-        let (lanes_use, batch_impl) = if lanes {
-            (
-                quote!(
-                    use dofplan_runtime::lanes::Lanes;
-                ),
-                quote! {
-                    /// Frames of a closed-form plan are independent: solved in
-                    /// lanes, and on several cores by
-                    /// `dofplan_runtime::batch::solve_batch_parallel`.
-                    impl dofplan_runtime::Batch for Plan {
-                        fn independent(&self) -> bool {
-                            true
-                        }
-
-                        fn solve_batch(&self, inputs: &[f64], out: &mut [Pose], status: &mut [dofplan_runtime::FrameStatus]) {
-                            self::solve_batch(inputs, out, status)
-                        }
-
-                        fn solve_frames(&self, inputs: &[f64], out: &mut [Pose], status: &mut [dofplan_runtime::FrameStatus]) {
-                            self::solve_frames(inputs, out, status)
-                        }
-                    }
-                },
+        let lanes_use = if lanes {
+            quote!(
+                use dofplan_runtime::lanes::Lanes;
             )
         } else {
-            (
-                quote!(),
-                quote! {
-                    /// Frames solved in order, each warm-started from the last.
-                    impl dofplan_runtime::Batch for Plan {}
-                },
-            )
+            quote!()
         };
-        sink.push(quote! {
+        let imports = quote! {
             use dofplan_runtime::planar::{self, Point, Pose, Rot};
             use dofplan_runtime::{Branch, Break, Ctx, Marker, Solver};
             #numeric_use
-            #rates_use
+            use dofplan_runtime::real::{self, Jet2, RateError, #real};
+            use dofplan_runtime::BranchPolicy;
             #lanes_use
-
-            /// Kind of an input.
-            pub use dofplan_runtime::planar::InputKind;
-
-            /// The mechanism's name.
-            pub const NAME: &str = #name;
-            /// Body names, in the order of [`State::poses`].
-            pub const BODIES: [&str; #nb] = [#(#body_names),*];
-            /// Which bodies are fixed (ground).
-            pub const FIXED: [bool; #nb] = [#(#fixed),*];
-            /// Input names, in the order [`solve`] takes them.
-            pub const INPUTS: [&str; #ni] = [#(#input_names),*];
-            /// Input kinds (angles in degrees, slides in length units).
-            pub const INPUT_KINDS: [InputKind; #ni] = [#(#input_kinds),*];
-            /// Number of plan steps.
-            pub const STEPS: usize = #nsteps;
-
-            /// What a frame reads from the previous one and writes.
-            #[derive(Clone, Copy, Debug, PartialEq)]
-            pub struct State {
-                /// Body poses, in [`BODIES`] order.
-                pub poses: [Pose; #nb],
-                /// Each branching step's last root (nearest-root policy).
-                pub last: [Point; #nk],
-                /// Each branching step's branch.
-                pub branches: [Branch; #nk],
-            }
-
-            impl State {
-                /// The drawn pose.
-                pub const DRAWN: State = State {
-                    poses: [Pose::IDENTITY; #nb],
-                    last: [#(#drawn),*],
-                    branches: [#(#initial),*],
-                };
-            }
-
+        };
+        let nk = index(plan.branches.len());
+        let drawn = plan.branches.iter().map(|b| point_lit(b.drawn));
+        let initial = plan.branches.iter().map(|b| match b.initial {
+            dofplan_runtime::Branch::Plus => quote!(Branch::Plus),
+            dofplan_runtime::Branch::Minus => quote!(Branch::Minus),
         });
-        self.names(sink);
-        sink.push(quote! {
-
-            /// The compiled plan, for [`dofplan_runtime::Driver`].
-            #[derive(Clone, Copy, Debug, Default)]
-            pub struct Plan;
-
-            impl Solver for Plan {
-                type Pose = Pose;
-                type State = State;
-                type Inputs = [f64; #ni];
-
-                fn initial_state(&self) -> State {
-                    State::DRAWN
-                }
-
-                fn initial_inputs(&self) -> [f64; #ni] {
-                    [0.0; #ni]
-                }
-
-                fn poses(state: &State) -> &[Pose] {
-                    &state.poses
-                }
-
-                fn solve(&self, s: &mut State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
-                    solve(s, inputs, ctx)
-                }
-            }
-
-            impl dofplan_runtime::real::Rates for Plan {
-                #rate_methods
-            }
-
-            #batch_impl
-        });
+        let scaffold = Scaffold {
+            dim: Dimension::planar(),
+            name: &plan.mechanism,
+            bodies: plan.bodies.iter().map(|b| b.name.as_str()).collect(),
+            fixed: plan.bodies.iter().map(|b| b.fixed).collect(),
+            inputs: plan.inputs.iter().map(|i| (i.name.as_str(), i.kind)).collect(),
+            steps: plan.steps.len(),
+            markers: plan
+                .bodies
+                .iter()
+                .enumerate()
+                .flat_map(|(i, b)| {
+                    b.markers
+                        .iter()
+                        .map(move |(m, at)| (i, format!("{}.{m}", b.name), &at[..]))
+                })
+                .collect(),
+            fields: vec![
+                Field {
+                    doc: &[" Each branching step's last root (nearest-root policy)."],
+                    name: "last",
+                    ty: quote!([Point; #nk]),
+                    drawn: quote!([#(#drawn),*]),
+                },
+                Field {
+                    doc: &[" Each branching step's branch."],
+                    name: "branches",
+                    ty: quote!([Branch; #nk]),
+                    drawn: quote!([#(#initial),*]),
+                },
+            ],
+            independent: lanes.then_some("in lanes"),
+        };
+        scaffold.head(imports, sink);
+        scaffold.plan(sink);
     }
 
     /// The doc comment of `solve`.
     fn doc_solve(&self) -> String {
-        let plan = self.plan;
-        format!(
-            "Places every body for `inputs` ({}), warm-started from `s`. On a break `s` is left unchanged.",
-            if plan.inputs.is_empty() {
-                "none".to_string()
-            } else {
-                plan.inputs
-                    .iter()
-                    .map(|i| {
-                        format!(
-                            "{} in {}",
-                            i.name,
-                            match i.kind {
-                                InputKind::Angle => "degrees",
-                                InputKind::Slide => "length units",
-                            }
-                        )
-                    })
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            }
-        )
+        scaffold::doc_solve(self.plan.inputs.iter().map(|i| (i.name.as_str(), i.kind)))
     }
 
     /// For each body, the last step that writes it (`None`: no step does).
@@ -516,7 +348,19 @@ pub(super) fn module(plan: &Plan, chunk_weight: usize) -> String {
         .collect();
     let weights: Vec<usize> = uses.iter().map(|u| u.weight).collect();
     let chunks = chunk::partition(&kinds, &weights, chunk_weight, || e.runs());
-    let mut sink = Sink::new(plan);
+    let header = scaffold::header(
+        &plan.source,
+        &format!(
+            "mechanism `{}`: {} steps, {} branch slots",
+            plan.mechanism,
+            plan.steps.len(),
+            plan.branches.len()
+        ),
+    );
+    let comments = (plan.steps.iter().zip(plan.explanations()).enumerate())
+        .map(|(i, (step, text))| step_comment(i, &text, &step.serves, &plan.source, &[]))
+        .collect();
+    let mut sink = Sink::new(header, comments);
     let doc_solve = e.doc_solve();
     match chunks {
         None => {
@@ -572,5 +416,5 @@ pub(super) fn module(plan: &Plan, chunk_weight: usize) -> String {
             e.chunked_solve(jet_uses, &chunks, "", &mut sink);
         }
     }
-    sink.out
+    sink.finish()
 }

@@ -20,16 +20,15 @@ use std::cell::{Cell, RefCell};
 use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
-use dofplan_runtime::spatial::Vec3;
 use dofplan_runtime::Branch;
 
 mod cluster;
 mod rates;
 mod step;
 
+use super::scaffold::{self, Dimension, Field, Scaffold};
 use super::uses::Uses;
-use super::{index, lit, names, scaffold};
-use crate::model::InputKind;
+use super::{index, lit, step_comment, Sink};
 use crate::plan::spatial::{Plan3, StepKind3};
 use step::vec_lit;
 
@@ -58,75 +57,6 @@ impl Emitter3<'_> {
 }
 
 impl Emitter3<'_> {
-    /// The constants naming each body and marker, and the state's marker
-    /// reader (as a planar module's, with [`Marker3`](dofplan_runtime::Marker3)).
-    fn names(&self) -> TokenStream {
-        let plan = self.plan;
-        let body_names = names::constants(plan.bodies.iter().map(String::as_str));
-        let bodies = plan
-            .bodies
-            .iter()
-            .zip(&body_names)
-            .enumerate()
-            .map(|(i, (b, c))| {
-                let (doc, c, i) = (format!(" `{b}`"), format_ident!("{}", c), index(i));
-                quote! {
-                    #[doc = #doc]
-                    pub const #c: usize = #i;
-                }
-            });
-        let all_markers: Vec<(usize, String, Vec3)> = plan
-            .markers
-            .iter()
-            .enumerate()
-            .flat_map(|(i, ms)| {
-                ms.iter()
-                    .map(move |(m, at)| (i, format!("{}.{m}", plan.bodies[i]), *at))
-            })
-            .collect();
-        let marker_names = names::constants(all_markers.iter().map(|(_, n, _)| n.as_str()));
-        let markers = all_markers.iter().zip(&marker_names).map(|((b, name, at), c)| {
-            let doc = format!(" `{name}`");
-            let (c, b, at) = (format_ident!("{}", c), index(*b), vec_lit(*at));
-            quote! {
-                #[doc = #doc]
-                pub const #c: Marker3 = Marker3::new(#name, #b, #at);
-            }
-        });
-        let use_marker = if all_markers.is_empty() {
-            quote!()
-        } else {
-            quote!(
-                use dofplan_runtime::Marker3;
-            )
-        };
-        quote! {
-            /// Each body's index in [`BODIES`] and [`State::poses`], by name:
-            /// upper-cased, other characters than ASCII letters and digits
-            /// made `_`, and `_2`, `_3`, … after a name an earlier body took.
-            pub mod body {
-                #(#bodies)*
-            }
-
-            /// Each marker's body and local coordinates (its drawn position),
-            /// named `BODY_MARKER` by the rule of `body`; read one with
-            /// `State::marker` or `Marker3::world`.
-            pub mod marker {
-                #use_marker
-                #(#markers)*
-            }
-
-            impl State {
-                /// The world position of marker `m` (a constant of
-                /// [`marker`]) in this state.
-                #[inline]
-                pub fn marker(&self, m: Marker3) -> Vec3 {
-                    m.world(&self.poses)
-                }
-            }
-        }
-    }
-
     /// `solve`: the steps on a working copy of the state, in one function
     /// or (`chunks`) in functions of a few steps each.
     fn solve(
@@ -205,16 +135,17 @@ impl Emitter3<'_> {
                 }
             };
             let (inputs, ctx) = (param("inputs"), param("ctx"));
-            // Named by the steps' 1-based numbers, as the comments are.
+            // Named by the steps' numbers, as the comments (and a planar
+            // module's chunks) number them, from 0.
             let (f, fdoc) = if first == last {
                 (
-                    format_ident!("step_{}", first + 1),
-                    format!(" Step {} of [`solve`], in place.", first + 1),
+                    format_ident!("step_{}", first),
+                    format!(" Step {first} of [`solve`], in place."),
                 )
             } else {
                 (
-                    format_ident!("steps_{}_to_{}", first + 1, last + 1),
-                    format!(" Steps {} to {} of [`solve`], in place.", first + 1, last + 1),
+                    format_ident!("steps_{}_to_{}", first, last),
+                    format!(" Steps {first} to {last} of [`solve`], in place."),
                 )
             };
             functions.push(quote! {
@@ -263,39 +194,9 @@ impl Emitter3<'_> {
         }
     }
 
-    fn module(
-        &self,
-        steps: Vec<TokenStream>,
-        chunks: Option<Vec<(usize, usize)>>,
-        jet_steps: Vec<TokenStream>,
-    ) -> TokenStream {
-        let plan = self.plan;
-        let code = quote!(#(#steps)*);
-        let u = Uses::of(&code);
-        let rates = self.rates(jet_steps, chunks.as_deref());
-        let rate_methods = super::scaffold::rates_trait_methods(&quote!(Pose3));
-        let name = &plan.name;
-        let nb = index(plan.bodies.len());
-        let nt = index(plan.temps.len());
-        let nk = index(plan.branches.len());
-        let ni = index(plan.inputs.len());
-        let nsteps = index(plan.steps.len());
-        let body_names = &plan.bodies;
-        let input_names = &plan.inputs;
-        let input_kinds = plan.input_kinds.iter().map(|k| match k {
-            InputKind::Angle => quote!(InputKind::Angle),
-            InputKind::Slide => quote!(InputKind::Slide),
-        });
-        let fixed = &plan.fixed;
-        let temps = plan.temps.iter().map(|t| vec_lit(t.drawn));
-        let initial = plan.branches.iter().map(|b| match b.initial {
-            Branch::Plus => quote!(Branch::Plus),
-            Branch::Minus => quote!(Branch::Minus),
-        });
-        let angles = plan.branches.iter().map(|b| lit(b.angle));
-
-        // Import what the steps use, and no more: an unused import would
-        // warn in the user's crate.
+    /// The module's imports: what the steps use, and no more (an unused
+    /// import would warn in the user's crate).
+    fn imports(&self, u: &Uses) -> TokenStream {
         let pick = |names: &[&str]| -> Vec<Ident> {
             names
                 .iter()
@@ -331,110 +232,95 @@ impl Emitter3<'_> {
         imports.push(quote!(
             use dofplan_runtime::BranchPolicy;
         ));
+        quote!(#(#imports)*)
+    }
 
-        let doc_solve = format!(
-            " Places every body for `inputs` ({}), warm-started from `s`. On a break `s` is left unchanged.",
-            if plan.inputs.is_empty() {
-                "none".to_string()
-            } else {
-                plan.inputs
-                    .iter()
-                    .zip(&plan.input_kinds)
-                    .map(|(n, k)| {
-                        format!(
-                            "{n} in {}",
-                            match k {
-                                InputKind::Angle => "degrees",
-                                InputKind::Slide => "length units",
-                            }
-                        )
-                    })
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            }
+    /// The scaffold of the module (see [`scaffold`]).
+    fn scaffold(&self) -> Scaffold<'_> {
+        let plan = self.plan;
+        let (nt, nk) = (index(plan.temps.len()), index(plan.branches.len()));
+        let temps = plan.temps.iter().map(|t| vec_lit(t.drawn));
+        let initial = plan.branches.iter().map(|b| match b.initial {
+            Branch::Plus => quote!(Branch::Plus),
+            Branch::Minus => quote!(Branch::Minus),
+        });
+        let angles = plan.branches.iter().map(|b| lit(b.angle));
+        Scaffold {
+            dim: Dimension::spatial(),
+            name: &plan.name,
+            bodies: plan.bodies.iter().map(String::as_str).collect(),
+            fixed: plan.fixed.clone(),
+            inputs: plan
+                .inputs
+                .iter()
+                .map(String::as_str)
+                .zip(plan.input_kinds.iter().copied())
+                .collect(),
+            steps: plan.steps.len(),
+            markers: plan
+                .markers
+                .iter()
+                .enumerate()
+                .flat_map(|(i, ms)| {
+                    ms.iter()
+                        .map(move |(m, at)| (i, format!("{}.{m}", plan.bodies[i]), &at[..]))
+                })
+                .collect(),
+            fields: vec![
+                Field {
+                    doc: &[
+                        " Each pseudo-marker's last position (nearest-root policy,",
+                        " and the point later steps of the frame read).",
+                    ],
+                    name: "temps",
+                    ty: quote!([Vec3; #nt]),
+                    drawn: quote!([#(#temps),*]),
+                },
+                Field {
+                    doc: &[" Each branch slot's branch."],
+                    name: "branches",
+                    ty: quote!([Branch; #nk]),
+                    drawn: quote!([#(#initial),*]),
+                },
+                Field {
+                    doc: &[
+                        " Each branch slot's last root, by its sine (rotations to",
+                        " a condition).",
+                    ],
+                    name: "angles",
+                    ty: quote!([f64; #nk]),
+                    drawn: quote!([#(#angles),*]),
+                },
+            ],
+            independent: None,
+        }
+    }
+
+    /// The whole module into `sink`: imports, the scaffold, `solve` and
+    /// the rates.
+    fn module(
+        &self,
+        steps: Vec<TokenStream>,
+        chunks: Option<Vec<(usize, usize)>>,
+        jet_steps: Vec<TokenStream>,
+        sink: &mut Sink,
+    ) {
+        let plan = self.plan;
+        let u = Uses::of(&quote!(#(#steps)*));
+        let rates = self.rates(jet_steps, chunks.as_deref());
+        let doc_solve = scaffold::doc_solve(
+            plan.inputs
+                .iter()
+                .map(String::as_str)
+                .zip(plan.input_kinds.iter().copied()),
         );
         let solve = self.solve(steps, &u, chunks, &doc_solve);
-        let names = self.names();
-        quote! {
-            #(#imports)*
-
-            /// Kind of an input.
-            pub use dofplan_runtime::planar::InputKind;
-
-            /// The mechanism's name.
-            pub const NAME: &str = #name;
-            /// Body names, in the order of [`State::poses`].
-            pub const BODIES: [&str; #nb] = [#(#body_names),*];
-            /// Which bodies are fixed (ground).
-            pub const FIXED: [bool; #nb] = [#(#fixed),*];
-            /// Input names, in the order [`solve`] takes them.
-            pub const INPUTS: [&str; #ni] = [#(#input_names),*];
-            /// Input kinds (angles in degrees, slides in length units).
-            pub const INPUT_KINDS: [InputKind; #ni] = [#(#input_kinds),*];
-            /// Number of plan steps.
-            pub const STEPS: usize = #nsteps;
-
-            /// What a frame reads from the previous one and writes.
-            #[derive(Clone, Copy, Debug, PartialEq)]
-            pub struct State {
-                /// Body poses, in [`BODIES`] order.
-                pub poses: [Pose3; #nb],
-                /// Each pseudo-marker's last position (nearest-root policy,
-                /// and the point later steps of the frame read).
-                pub temps: [Vec3; #nt],
-                /// Each branch slot's branch.
-                pub branches: [Branch; #nk],
-                /// Each branch slot's last root, by its sine (rotations to
-                /// a condition).
-                pub angles: [f64; #nk],
-            }
-
-            impl State {
-                /// The drawn pose.
-                pub const DRAWN: State = State {
-                    poses: [Pose3::IDENTITY; #nb],
-                    temps: [#(#temps),*],
-                    branches: [#(#initial),*],
-                    angles: [#(#angles),*],
-                };
-            }
-
-            #names
-
-            /// The compiled plan, for [`dofplan_runtime::Driver`].
-            #[derive(Clone, Copy, Debug, Default)]
-            pub struct Plan;
-
-            impl Solver for Plan {
-                type Pose = Pose3;
-                type State = State;
-                type Inputs = [f64; #ni];
-
-                fn initial_state(&self) -> State {
-                    State::DRAWN
-                }
-
-                fn initial_inputs(&self) -> [f64; #ni] {
-                    [0.0; #ni]
-                }
-
-                fn poses(state: &State) -> &[Pose3] {
-                    &state.poses
-                }
-
-                fn solve(&self, s: &mut State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
-                    solve(s, inputs, ctx)
-                }
-            }
-
-            impl dofplan_runtime::spatial::Rates3 for Plan {
-                #rate_methods
-            }
-
-            #solve
-
-            #rates
-        }
+        let scaffold = self.scaffold();
+        sink.notes = self.notes.take();
+        scaffold.head(self.imports(&u), sink);
+        scaffold.plan(sink);
+        sink.push(solve);
+        sink.push(rates);
     }
 }
 
@@ -471,42 +357,22 @@ pub(super) fn module(plan: &Plan3, chunk_weight: usize) -> String {
     e.jets.set(true);
     let jet_steps = (0..plan.steps.len()).map(|i| e.step(i)).collect();
     e.jets.set(false);
-    let tokens = e.module(steps, chunks, jet_steps);
-    let file = syn::parse2::<syn::File>(tokens).expect("the emitter produces valid Rust");
-    let pretty = prettyplease::unparse(&file);
-    let notes = e.notes.into_inner();
-    let mut out = format!(
-        "// @generated by dofplan from {} — do not edit.\n// Compiled plan of spatial mechanism `{}`: {} steps, {} pseudo-markers, {} branch slots.\n// Regenerate with `dofplan emit {}` or by rebuilding the crate that compiles it.\n\n",
-        plan.source,
-        plan.name,
-        plan.steps.len(),
-        plan.temps.len(),
-        plan.branches.len(),
-        plan.source
+    let header = scaffold::header(
+        &plan.source,
+        &format!(
+            "spatial mechanism `{}`: {} steps, {} pseudo-markers, {} branch slots",
+            plan.name,
+            plan.steps.len(),
+            plan.temps.len(),
+            plan.branches.len()
+        ),
     );
-    // Comments are not tokens: each step and each cluster row was marked by
-    // a macro call that is replaced here by its text.
-    for line in pretty.lines() {
-        let trimmed = line.trim_start();
-        let indent = &line[..line.len() - trimmed.len()];
-        if let Some(rest) = trimmed.strip_prefix("__dofplan_step!(") {
-            let i: usize = rest.trim_end_matches(");").parse().expect("step marker");
-            let step = &plan.steps[i];
-            let serves = if step.serves.is_empty() {
-                String::new()
-            } else {
-                format!("  [{}]", step.serves.join(", "))
-            };
-            out.push_str(&format!("{indent}// {i}: {}{serves}\n", step.text));
-        } else if let Some(rest) = trimmed.strip_prefix("__dofplan_note!(") {
-            let i: usize = rest.trim_end_matches(");").parse().expect("note marker");
-            out.push_str(&format!("{indent}// {}\n", notes[i]));
-        } else {
-            out.push_str(line);
-            out.push('\n');
-        }
-    }
-    out
+    let comments = (plan.steps.iter().enumerate())
+        .map(|(i, step)| step_comment(i, &step.text, &step.serves, &plan.source, &[]))
+        .collect();
+    let mut sink = Sink::new(header, comments);
+    e.module(steps, chunks, jet_steps, &mut sink);
+    sink.finish()
 }
 
 /// Runs of steps `(first, last)` of at most `limit` tokens each (a larger

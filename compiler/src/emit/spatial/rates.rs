@@ -36,17 +36,13 @@ impl Emitter3<'_> {
                     let (inputs, values, ctx) = (param("inputs"), param("input_values"), param("ctx"));
                     let (f, fdoc) = if first == last {
                         (
-                            format_ident!("jets_step_{}", first + 1),
-                            format!(" Step {} of [`solve`] on jets, in place.", first + 1),
+                            format_ident!("jets_step_{}", first),
+                            format!(" Step {first} of [`solve`] on jets, in place."),
                         )
                     } else {
                         (
-                            format_ident!("jets_steps_{}_to_{}", first + 1, last + 1),
-                            format!(
-                                " Steps {} to {} of [`solve`] on jets, in place.",
-                                first + 1,
-                                last + 1
-                            ),
+                            format_ident!("jets_steps_{}_to_{}", first, last),
+                            format!(" Steps {first} to {last} of [`solve`] on jets, in place."),
                         )
                     };
                     functions.push(quote! {
