@@ -14,6 +14,7 @@ use std::fmt::Write;
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::quote;
 
+mod fold;
 mod names;
 mod planar;
 mod scaffold;

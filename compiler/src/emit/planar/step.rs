@@ -5,7 +5,8 @@
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
-use super::Emitter;
+use super::{lit, Emitter};
+use crate::emit::fold::{plus_input, times};
 use crate::plan::{DirRef, PointRef, Rel, StepKind};
 
 impl Emitter<'_> {
@@ -36,20 +37,44 @@ impl Emitter<'_> {
                 let u = if *sign < 0.0 { quote!((-#u)) } else { quote!(#u) };
                 let (lx, ly) = (self.slit(local[0]), self.slit(local[1]));
                 // The slide direction is a constant: on jets and lanes a
-                // multiplication by a plain number.
-                let (dx, dy) = (self.lit(dir[0]), self.lit(dir[1]));
-                let (ux, uy) = if self.jets {
-                    (quote!(#u.mul_f64(#dx)), quote!(#u.mul_f64(#dy)))
+                // multiplication by a plain number. Outside a rolled run
+                // (whose rows share one code) a product by ±1 and a zero
+                // added to the input itself are not written out.
+                let (ux, uy) = if self.row.borrow().is_some() {
+                    let (dx, dy) = (self.lit(dir[0]), self.lit(dir[1]));
+                    let (x, y) = if self.jets {
+                        (quote!(#u.mul_f64(#dx)), quote!(#u.mul_f64(#dy)))
+                    } else {
+                        (quote!(#u * #dx), quote!(#u * #dy))
+                    };
+                    (quote!(#lx + #x), quote!(#ly + #y))
                 } else {
-                    (quote!(#u * #dx), quote!(#u * #dy))
+                    let raw = *sign > 0.0;
+                    let coordinate = |l: f64, lt: TokenStream, d: f64| {
+                        let x = if d.abs() == 1.0 {
+                            times(d, u.clone(), self.jets, false)
+                        } else if self.jets {
+                            let d = lit(d);
+                            quote!(#u.mul_f64(#d))
+                        } else {
+                            let d = lit(d);
+                            quote!(#u * #d)
+                        };
+                        if raw && d == 1.0 {
+                            plus_input(l, lt, x)
+                        } else {
+                            quote!(#lt + #x)
+                        }
+                    };
+                    (coordinate(local[0], lx, dir[0]), coordinate(local[1], ly, dir[1]))
                 };
                 // On a fixed body (at its drawn pose, the identity, as
                 // `PointRef::Fixed` takes it) the carried point is the world
                 // point: no rotation to multiply by.
                 if self.plan.bodies[*body].fixed {
-                    prelude.push(quote!(let #id = [#lx + #ux, #ly + #uy];));
+                    prelude.push(quote!(let #id = [#ux, #uy];));
                 } else {
-                    prelude.push(quote!(let #id = #b.world_carried([#lx + #ux, #ly + #uy]);));
+                    prelude.push(quote!(let #id = #b.world_carried([#ux, #uy]);));
                 }
                 quote!(#id)
             }

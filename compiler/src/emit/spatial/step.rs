@@ -11,6 +11,7 @@ use dofplan_runtime::spatial::rows::RowKind;
 use dofplan_runtime::spatial::Vec3;
 
 use super::Emitter3;
+use crate::emit::fold::{plus_input, times};
 use crate::emit::{ident_for, index, lit};
 use crate::plan::spatial::{Action3, CheckRow, HingeTurn, Locus3, Plan3, StepKind3, D3, P3};
 
@@ -336,8 +337,9 @@ fn act(b: &mut Block, body: usize, action: &Action3, id: &Literal) -> TokenStrea
             sign,
         } => {
             let (f, o, u) = (b.point(from), b.point(origin), b.dir(dir, "dir"));
-            let (axial0, i, sign) = (b.slit(*axial0), index(*input), lit(*sign));
-            quote!(spatial::slide_to(&mut #pose, #o, #f, #u, #axial0 + inputs[#i], #sign);)
+            let (i, sign) = (index(*input), lit(*sign));
+            let at = plus_input(*axial0, b.slit(*axial0), quote!(inputs[#i]));
+            quote!(spatial::slide_to(&mut #pose, #o, #f, #u, #at, #sign);)
         }
         Action3::RotateOnto { pivot, from, to } => {
             let (c, f, t) = (b.point(pivot), b.point(from), b.point(to));
@@ -382,13 +384,14 @@ fn act(b: &mut Block, body: usize, action: &Action3, id: &Literal) -> TokenStrea
             // turned into a cos/sin pair by `Rot::from_degrees`; with no input
             // it adds 0, folded here to the same number.
             let target = match input {
-                Some(i) if b.jets => {
-                    let (degrees, i) = (b.slit(angle.to_degrees()), index(*i));
-                    quote!(dofplan_runtime::Rot::from_degrees_jet(#degrees + inputs[#i]))
-                }
                 Some(i) => {
-                    let (degrees, i) = (lit(angle.to_degrees()), index(*i));
-                    quote!(dofplan_runtime::Rot::from_degrees(#degrees + inputs[#i]))
+                    let (degrees, i) = (angle.to_degrees(), index(*i));
+                    let at = plus_input(degrees, b.slit(degrees), quote!(inputs[#i]));
+                    if b.jets {
+                        quote!(dofplan_runtime::Rot::from_degrees_jet(#at))
+                    } else {
+                        quote!(dofplan_runtime::Rot::from_degrees(#at))
+                    }
                 }
                 None if b.jets => {
                     let degrees = lit(angle.to_degrees() + 0.0);
@@ -437,13 +440,10 @@ fn act(b: &mut Block, body: usize, action: &Action3, id: &Literal) -> TokenStrea
                     // number it computes, folded here).
                     let degrees = match input {
                         // On jets `x.mul_f64(k)`, the same product as `k * x`.
-                        Some(i) if b.jets => {
-                            let (k, o, i) = (lit(*sign), b.slit(*offset), index(*i));
-                            quote!((#o + inputs[#i]).mul_f64(#k))
-                        }
                         Some(i) => {
-                            let (k, o, i) = (lit(*sign), lit(*offset), index(*i));
-                            quote!(#k * (#o + inputs[#i]))
+                            let i = index(*i);
+                            let sum = plus_input(*offset, b.slit(*offset), quote!(inputs[#i]));
+                            times(*sign, sum, b.jets, *offset != 0.0)
                         }
                         None => b.slit(sign * (offset + 0.0)),
                     };
