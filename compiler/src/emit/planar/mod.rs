@@ -358,7 +358,7 @@ pub(super) fn module(plan: &Plan, chunk_weight: usize) -> String {
         ),
     );
     let comments = (plan.steps.iter().zip(plan.explanations()).enumerate())
-        .map(|(i, (step, text))| step_comment(i, &text, &step.serves, &plan.source, &[]))
+        .map(|(i, (step, text))| step_comment(i, &text, &step.serves, &plan.source, &plan.joint_lines))
         .collect();
     let mut sink = Sink::new(header, comments);
     let doc_solve = e.doc_solve();
