@@ -357,8 +357,9 @@ impl Scaffold<'_> {
     }
 
     /// `Plan` and its impls: `Solver` (by the module's `solve`), the rates
-    /// trait (by `solve_rates_into`) and `Batch` (by `solve_batch` and
-    /// `solve_frames` when the frames are independent).
+    /// trait (by `solve_rates_into`) and `Batch` (by the module's
+    /// `solve_batch`, and `solve_frames` when the frames are independent;
+    /// written here when they are not: the frames in order).
     pub fn plan(&self, sink: &mut Sink) {
         let Dimension { pose, rates, .. } = &self.dim;
         let ni = index(self.inputs.len());
@@ -387,7 +388,24 @@ impl Scaffold<'_> {
         } else {
             quote! {
                 /// Frames solved in order, each warm-started from the last.
-                impl dofplan_runtime::Batch for Plan {}
+                impl dofplan_runtime::Batch for Plan {
+                    fn solve_batch(&self, inputs: &[f64], out: &mut [#pose], status: &mut [dofplan_runtime::FrameStatus]) {
+                        self::solve_batch(inputs, out, status)
+                    }
+                }
+
+                /// Every frame of `inputs` (one row of [`INPUTS`] values a
+                /// frame) into `out` (one row of [`BODIES`] poses a frame),
+                /// with the driver's results in `status`: in order, each
+                /// frame warm-started from the last, as a
+                /// [`dofplan_runtime::Driver`] runs them (keep-branch and
+                /// limit policies, from the drawn pose).
+                ///
+                /// # Panics
+                /// If `inputs` or `out` is not `status.len()` rows long.
+                pub fn solve_batch(inputs: &[f64], out: &mut [#pose], status: &mut [dofplan_runtime::FrameStatus]) {
+                    dofplan_runtime::batch::in_order(&Plan, inputs, out, status)
+                }
             }
         };
         sink.push(quote! {

@@ -292,6 +292,8 @@ impl Emitter3<'_> {
                     drawn: quote!([#(#angles),*]),
                 },
             ],
+            // A frame moves each body from its last pose (idle freedoms
+            // and composed rotations carry over): frames in order.
             independent: None,
         }
     }
