@@ -330,10 +330,7 @@ impl Scaffold<'_> {
             quote!(),
             bodies,
         );
-        let doc = format!(
-            " `State::marker` or `{marker}::world`.",
-            marker = marker.to_string()
-        );
+        let doc = format!(" `State::marker` or `{marker}::world`.");
         sink.push_module(
             quote! {
                 /// Each marker's body and local coordinates (its drawn position),

@@ -196,7 +196,9 @@ impl Emitter3<'_> {
 
     /// The module's imports: what the steps use, and no more (an unused
     /// import would warn in the user's crate).
-    fn imports(&self, u: &Uses) -> TokenStream {
+    /// `real`: whether the steps on jets call methods of the `Real` trait
+    /// (`Jet2::cst`, `mul_f64`).
+    fn imports(&self, u: &Uses, real: bool) -> TokenStream {
         let pick = |names: &[&str]| -> Vec<Ident> {
             names
                 .iter()
@@ -226,8 +228,9 @@ impl Emitter3<'_> {
         }
         let kinds = pick(&["BreakKind"]);
         imports.push(quote!(use dofplan_runtime::{Branch, Break, #(#kinds,)* Ctx, Marker3, Solver};));
+        let real = if real { quote!(Real) } else { quote!() };
         imports.push(quote!(
-            use dofplan_runtime::real::{Jet2, RateError, Real};
+            use dofplan_runtime::real::{Jet2, RateError, #real};
         ));
         imports.push(quote!(
             use dofplan_runtime::BranchPolicy;
@@ -319,7 +322,9 @@ impl Emitter3<'_> {
         let solve = self.solve(steps, &u, chunks, &doc_solve);
         let scaffold = self.scaffold();
         sink.notes = self.notes.take();
-        scaffold.head(self.imports(&u), sink);
+        let jets = rates.to_string();
+        let real = ["Jet2 :: cst", "mul_f64"].iter().any(|m| jets.contains(m));
+        scaffold.head(self.imports(&u, real), sink);
         scaffold.plan(sink);
         sink.push(solve);
         sink.push(rates);
