@@ -3,11 +3,16 @@
 //! `prettyplease`).
 //!
 //! Every step becomes one block calling the same runtime function the
-//! interpreter calls, under a comment holding the step's explanation and
-//! the joints it serves. Planar plans are written by `planar`, spatial
-//! ones by `spatial`; this module holds what both use: the entry points,
-//! identifiers and literals, and the [`Sink`] the module's items are laid
-//! out into, one at a time.
+//! interpreter calls, under a comment holding the step's number,
+//! explanation, the joints it serves and the lines they are written on
+//! (`fourbar.toml:28`). Planar plans are written by `planar`, spatial
+//! ones by `spatial`, with the same files for the same roles (`step`,
+//! `rates`, `cluster`); what every module has whatever its dimension (the
+//! constants, `State`, the `body` and `marker` modules, `Plan` and its
+//! trait impls, the rates API) is written once, by `scaffold`, and
+//! constant arithmetic is folded by `fold`. This module holds what both
+//! use: the entry points, identifiers and literals, the step comments,
+//! and the `Sink` the module's items are laid out into, one at a time.
 
 use std::fmt::Write;
 
