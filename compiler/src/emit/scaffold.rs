@@ -196,7 +196,7 @@ fn array_lit(xs: &[f64]) -> TokenStream {
 }
 
 /// The kind of an input, as the generated module writes it.
-pub(super) fn input_kind(kind: InputKind) -> TokenStream {
+fn input_kind(kind: InputKind) -> TokenStream {
     match kind {
         InputKind::Angle => quote!(InputKind::Angle),
         InputKind::Slide => quote!(InputKind::Slide),
