@@ -1,4 +1,4 @@
-//! Large plans rolled into loops (`dofplan::emit`, `emit/roll.rs`): a
+//! Large plans rolled into loops (`dofplan::emit`, `emit/planar/roll.rs`): a
 //! stress chain's repeated steps become one loop over a table of their
 //! numbers. The compiled chains of the user guide's scaling table
 //! ("Plan time by size" in docs/guide/performance.md;

@@ -3,15 +3,22 @@
 //! driver's results: the same statuses, and poses to 1e-12 of the
 //! mechanism's size, on every bundled mechanism's sweep, on sweeps driven
 //! past their limits, and on frames in shuffled order; every solved frame
-//! holds its joints.
+//! holds its joints. Compiled spatial plans solve their batches in order
+//! (a frame is warm-started from the last: see
+//! `compiled_spatial_batches_equal_the_driver`), with the driver's results
+//! to the bit.
 
 use dofplan::interp::Interpreter;
 use dofplan::model::Mechanism;
+use dofplan::plan::spatial::StepKind;
+use dofplan::simulate::sweep_requests;
 use dofplan::simulate::{max_relative_residual, sweep_inputs};
 use dofplan_runtime::batch::solve_batch_parallel;
 use dofplan_runtime::planar::Pose;
+use dofplan_runtime::spatial::Pose3;
 use dofplan_runtime::{Batch, Driver, FrameStatus, Options, Solver};
-use dofplan_tests::{bundled, load, plan};
+use dofplan_runtime::{BranchPolicy, Ctx};
+use dofplan_tests::{bundled, bundled_spatial, load, load_spatial, plan, plan_spatial, spatial_fixtures};
 
 /// Poses and statuses of `rows` through a driver (keep-branch, limit).
 fn driven<S: Solver<Pose = Pose>>(solver: S, rows: &[Vec<f64>]) -> (Vec<Pose>, Vec<FrameStatus>) {
@@ -167,4 +174,79 @@ fn a_short_input_buffer_is_named() {
     let mut out = vec![Pose::IDENTITY; 3 * 4];
     let mut status = vec![FrameStatus::Solved; 3];
     dofplan_generated::fourbar::Plan.solve_batch(&[0.0, 1.0], &mut out, &mut status);
+}
+
+/// The frames of a spatial mechanism's sweep (at most `max`), with its
+/// ranges stretched by `reach` (more than 1 drives the inputs past where the
+/// mechanism assembles).
+fn spatial_rows(m: &dofplan::model::spatial::Mechanism, max: usize, reach: f64) -> Vec<Vec<f64>> {
+    let mut sweep = m.sweep.clone().expect("every spatial file has a sweep");
+    sweep.steps = sweep.steps.min(max);
+    for s in &mut sweep.inputs {
+        s.to = s.from + reach * (s.to - s.from);
+    }
+    sweep_requests(&sweep, m.inputs.len()).collect()
+}
+
+/// Every compiled spatial plan's `solve_batch` (the module's, through the
+/// `Batch` impl) is the driver's run frame by frame, to the bit: every
+/// status and every pose, on its sweep and, for the plans in closed form,
+/// on the sweep stretched past its limits. A spatial frame moves each body
+/// from its last pose (idle freedoms and composed rotations carry over),
+/// so its frames are not independent and are solved in order, not in
+/// lanes: solved from the drawn pose instead, some frames differ.
+#[test]
+fn compiled_spatial_batches_equal_the_driver() {
+    let mut names = bundled_spatial();
+    names.extend(spatial_fixtures());
+    let (mut limited, mut cold_differs) = (0, 0);
+    for name in names {
+        let m = load_spatial(&name);
+        let closed_form = !(plan_spatial(&m).steps.iter()).any(|s| matches!(s.kind, StepKind::Cluster(_)));
+        let max = if name.starts_with("spatial_stress_") {
+            12
+        } else {
+            60
+        };
+        let mut runs = vec![("sweep", spatial_rows(&m, max, 1.0))];
+        if closed_form {
+            runs.push(("past its limits", spatial_rows(&m, max, 2.5)));
+        }
+        for (what, rows) in runs {
+            dofplan_generated::with_spatial_plan!(name.as_str(), |plan| {
+                assert!(!plan.independent(), "{name}: frames in order");
+                let mut d = Driver::new(plan, Options::default());
+                let (mut want, mut want_status) = (Vec::new(), Vec::new());
+                for r in &rows {
+                    want_status.push(d.frame(r));
+                    want.extend_from_slice(d.poses());
+                }
+                let flat: Vec<f64> = rows.iter().flatten().copied().collect();
+                let mut out = vec![Pose3::IDENTITY; want.len()];
+                let mut status = vec![FrameStatus::Solved; rows.len()];
+                plan.solve_batch(&flat, &mut out, &mut status);
+                assert_eq!(status, want_status, "{name} ({what}): statuses");
+                assert!(out == want, "{name} ({what}): poses differ from the driver's");
+                limited += status.iter().filter(|s| !s.is_solved()).count();
+                // Each solved frame again from the drawn pose.
+                let b = want.len() / rows.len().max(1);
+                for (k, r) in rows.iter().enumerate() {
+                    let mut s = plan.initial_state();
+                    let ctx = &mut Ctx::new(BranchPolicy::Keep, false);
+                    if status[k].is_solved()
+                        && plan.solve(&mut s, r, ctx).is_ok()
+                        && s.poses[..] != want[k * b..(k + 1) * b]
+                    {
+                        cold_differs += 1;
+                    }
+                }
+            })
+            .expect("compiled");
+        }
+    }
+    assert!(limited > 0, "some frames break past the limits");
+    assert!(
+        cold_differs > 0,
+        "spatial frames solved from the drawn pose are the driver's: they could run in lanes"
+    );
 }

@@ -102,6 +102,9 @@ pub fn analyse_with(m: &Mechanism, progress: &mut dyn FnMut(Progress)) -> Analys
         let plan = Plan {
             mechanism: m.name.clone(),
             source: file_name(&m.source.name),
+            joint_lines: (m.joints.iter())
+                .filter_map(|j| Some((format!("joint {}", j.name), j.line?)))
+                .collect(),
             bodies: m
                 .bodies
                 .iter()

@@ -52,6 +52,9 @@ pub(crate) fn empty_plan(m: &Mechanism) -> Plan {
             .map(|b| b.markers.iter().map(|mk| (mk.name.clone(), mk.at)).collect())
             .collect(),
         source: super::file_name(&m.source.name),
+        joint_lines: (m.joints.iter())
+            .filter_map(|j| Some((format!("joint {}", j.name), j.line?)))
+            .collect(),
         steps: vec![],
         temps: vec![],
         branches: vec![],

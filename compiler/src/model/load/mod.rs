@@ -564,6 +564,30 @@ impl Validator {
         }
     }
 
+    /// Each of `items` with the line its node is written on given to it by
+    /// `set`: one pass over the text, however many there are.
+    fn with_lines<T>(&self, items: Vec<(T, &Node)>, set: impl Fn(&mut T, Option<usize>)) -> Vec<T> {
+        let mut starts: Vec<(usize, usize)> = (items.iter().enumerate())
+            .filter_map(|(i, (_, n))| n.span().map(|s| (s.start, i)))
+            .collect();
+        starts.sort_unstable();
+        let mut lines = vec![None; items.len()];
+        let (mut line, mut at) = (1, 0);
+        let text = self.file.text.as_bytes();
+        for (start, i) in starts {
+            let start = start.min(text.len());
+            line += text[at..start].iter().filter(|&&b| b == b'\n').count();
+            at = start;
+            lines[i] = Some(line);
+        }
+        (items.into_iter().zip(lines))
+            .map(|((mut item, _), line)| {
+                set(&mut item, line);
+                item
+            })
+            .collect()
+    }
+
     fn loc(&self, node: &Node, path: &str) -> Location {
         match node.span() {
             Some(s) => Location::Span(s),
@@ -874,7 +898,7 @@ impl Validator {
             name: name?,
             dimension: 2,
             bodies,
-            joints: joints.into_iter().map(|(j, _)| j).collect(),
+            joints: self.with_lines(joints, |j, line| j.line = line),
             constraints: constraints.into_iter().map(|(c, _)| c).collect(),
             inputs,
             sweep,
@@ -1293,7 +1317,17 @@ impl Validator {
         );
         found
             .into_iter()
-            .map(|(name, kind, markers, entry)| (Joint { name, kind, markers }, entry))
+            .map(|(name, kind, markers, entry)| {
+                (
+                    Joint {
+                        name,
+                        kind,
+                        markers,
+                        line: None,
+                    },
+                    entry,
+                )
+            })
             .collect()
     }
 

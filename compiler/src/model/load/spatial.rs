@@ -54,7 +54,7 @@ impl Validator {
         Some(Mechanism {
             name: name?,
             bodies,
-            joints: joints.into_iter().map(|(j, _)| j).collect(),
+            joints: self.with_lines(joints, |j, line| j.line = line),
             constraints,
             inputs,
             sweep,
@@ -255,6 +255,7 @@ impl Validator {
                     kind,
                     markers,
                     pitch,
+                    line: None,
                 };
                 let frames = joint_frames(&joint, bodies);
                 for &p in kind.primitives() {
@@ -272,6 +273,7 @@ impl Validator {
                         kind,
                         markers,
                         pitch,
+                        line: None,
                     },
                     entry,
                 )

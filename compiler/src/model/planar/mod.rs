@@ -67,6 +67,9 @@ pub struct Joint {
     pub kind: JointKind,
     /// The two markers, in file order.
     pub markers: [MarkerId; 2],
+    /// The line it is written on (1-based), for a joint read from a TOML
+    /// file; `None` for JSON and for mechanisms built in code.
+    pub line: Option<usize>,
 }
 
 /// The kinds of joint.

@@ -98,6 +98,9 @@ pub struct Joint {
     pub markers: [MarkerId; 2],
     /// The helical joint's advance per turn (> 0 right-handed); 0 otherwise.
     pub pitch: f64,
+    /// The line it is written on (1-based), for a joint read from a TOML
+    /// file; `None` for JSON and for mechanisms built in code.
+    pub line: Option<usize>,
 }
 
 /// The kinds of spatial joint, each a set of primitive constraints.

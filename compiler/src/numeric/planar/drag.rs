@@ -149,16 +149,19 @@ pub fn carriage(m: &Mechanism, marker: MarkerId) -> Option<Mechanism> {
         name: CARRIAGE_X.to_string(),
         kind: JointKind::Prismatic,
         markers: [ground_marker, id(x, 0)],
+        line: None,
     });
     c.joints.push(Joint {
         name: CARRIAGE_Y.to_string(),
         kind: JointKind::Prismatic,
         markers: [id(x, 1), id(y, 0)],
+        line: None,
     });
     c.joints.push(Joint {
         name: DRAG_PIN.to_string(),
         kind: JointKind::Revolute,
         markers: [id(y, 0), marker],
+        line: None,
     });
     for (k, name) in ["drag x", "drag y"].into_iter().enumerate() {
         c.inputs.push(crate::model::Input {

@@ -337,6 +337,11 @@ pub struct Plan {
     pub mechanism: String,
     /// The source file name (for the generated header).
     pub source: String,
+    /// Where each joint read from a file is written: its name as the
+    /// steps' `serves` start with it ("joint B") and its line (the
+    /// generated module's step comments cite `file:line`). Empty for a
+    /// mechanism built in code.
+    pub joint_lines: Vec<(String, usize)>,
     /// Bodies in mechanism order.
     pub bodies: Vec<PlanBody>,
     /// Inputs in mechanism order.

@@ -567,6 +567,11 @@ pub struct Plan {
     /// The file's name without its folder (the generated module's header),
     /// so a plan does not depend on where its file was read from.
     pub source: String,
+    /// Where each joint read from a file is written: its name as the
+    /// steps' `serves` start with it ("joint B") and its line (the
+    /// generated module's step comments cite `file:line`). Empty for a
+    /// mechanism built in code.
+    pub joint_lines: Vec<(String, usize)>,
     /// Steps in order.
     pub steps: Vec<Step>,
     /// Pseudo-markers.

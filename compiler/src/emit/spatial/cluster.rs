@@ -23,8 +23,9 @@
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::quote;
 
-use super::spatial::{frames, row_kind, state_pose, Block, Emitter3};
-use super::{ident_for, index, lit};
+use super::step::{frames, row_kind, state_pose, Block};
+use super::Emitter3;
+use crate::emit::{ident_for, index, lit};
 use crate::plan::spatial::{Cluster, ClusterRow, Param, PointRef};
 
 /// A cluster body: its locals and its first unknown.
@@ -356,7 +357,7 @@ impl Emitter3<'_> {
         let mut values = Block::new(self.plan);
         let solve = self.cluster_solve(&mut values, c, id, true);
         let pre = &values.pre;
-        let uses = super::uses::Uses::of(&quote!(#(#pre)* #solve));
+        let uses = crate::emit::uses::Uses::of(&quote!(#(#pre)* #solve));
         let inputs = if uses.has("inputs") {
             quote!(let inputs = input_values;)
         } else {

@@ -316,7 +316,7 @@ impl Emitter<'_> {
     /// `solve_rates`) as a chunk. The jets' function reads the values'
     /// table when the rows are the same (they are for every kind of step
     /// so far: both write the same constants in the same order).
-    pub(super) fn rolled_chunk(&self, run: &Run, name: &Ident, doc: &str, sink: &mut Sink<'_>) {
+    pub(super) fn rolled_chunk(&self, run: &Run, name: &Ident, doc: &str, sink: &mut Sink) {
         let (body, rows) = self.rolled_body(run);
         let uses = Uses::of(&body);
         let mut take = Vec::new();

@@ -155,13 +155,7 @@ impl Emitter<'_> {
     /// function is written: the module is never held whole, as tokens or
     /// as a syntax tree, so emitting takes memory in proportion to one
     /// chunk rather than to the plan.
-    pub(super) fn chunked_solve(
-        &self,
-        uses: Vec<Uses>,
-        chunks: &[Chunk],
-        doc_solve: &str,
-        sink: &mut Sink<'_>,
-    ) {
+    pub(super) fn chunked_solve(&self, uses: Vec<Uses>, chunks: &[Chunk], doc_solve: &str, sink: &mut Sink) {
         let jets = self.jets;
         let plan = self.plan;
         // What each chunk's steps use.
@@ -465,7 +459,7 @@ impl Emitter<'_> {
             s.branches = w.branches;
             real::checked(&*w.poses).map(|_| ())
         };
-        let api = super::rates::rates_functions(&quote!(Pose), &nb, body);
+        let api = super::scaffold::rates_functions(&quote!(Pose), &nb, body);
         quote! {
             #api
 

@@ -514,7 +514,7 @@ impl Emitter<'_> {
         // (It writes `pre` out itself.)
         let solve = values.fixed_cluster_step(id, params, rows, (n, m), &mut pre, true);
         // The frame's locals the values' code reads, as values.
-        let uses = super::uses::Uses::of(&solve);
+        let uses = crate::emit::uses::Uses::of(&solve);
         let mut shadows = Vec::new();
         for (b, body) in self.plan.bodies.iter().enumerate() {
             let pose = &self.pose_idents[b];

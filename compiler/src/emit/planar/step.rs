@@ -1,0 +1,273 @@
+//! Each planar step's code: one block calling the runtime function the
+//! interpreter calls for it, on the points and directions it reads bound
+//! to named locals.
+
+use proc_macro2::TokenStream;
+use quote::{format_ident, quote};
+
+use super::{lit, Emitter};
+use crate::emit::fold::{plus_input, times};
+use crate::plan::{DirRef, PointRef, Rel, StepKind};
+
+impl Emitter<'_> {
+    /// Binds a point to a local inside a step's block and returns the
+    /// expression that names it.
+    pub(super) fn point(&self, p: &PointRef, prelude: &mut Vec<TokenStream>) -> TokenStream {
+        match p {
+            PointRef::Fixed { at, .. } => self.plit(*at),
+            PointRef::Marker { body, local, name } => {
+                let id = self.local_point(name, prelude);
+                // A marker's local position is a constant of its body: a
+                // plain number even on jets and lanes (`Pose::world`).
+                let (b, l) = (self.pose(*body), self.point_lit(*local));
+                prelude.push(quote!(let #id = #b.world(#l);));
+                quote!(#id)
+            }
+            PointRef::Slid {
+                body,
+                local,
+                dir,
+                input,
+                sign,
+                name,
+            } => {
+                let id = self.local_point(name, prelude);
+                let b = self.pose(*body);
+                let u = &self.input_idents[*input];
+                let u = if *sign < 0.0 { quote!((-#u)) } else { quote!(#u) };
+                let (lx, ly) = (self.slit(local[0]), self.slit(local[1]));
+                // The slide direction is a constant: on jets and lanes a
+                // multiplication by a plain number. Outside a rolled run
+                // (whose rows share one code) a product by ±1 and a zero
+                // added to the input itself are not written out.
+                let (ux, uy) = if self.row.borrow().is_some() {
+                    let (dx, dy) = (self.lit(dir[0]), self.lit(dir[1]));
+                    let (x, y) = if self.jets {
+                        (quote!(#u.mul_f64(#dx)), quote!(#u.mul_f64(#dy)))
+                    } else {
+                        (quote!(#u * #dx), quote!(#u * #dy))
+                    };
+                    (quote!(#lx + #x), quote!(#ly + #y))
+                } else {
+                    let raw = *sign > 0.0;
+                    let coordinate = |l: f64, lt: TokenStream, d: f64| {
+                        let x = if d.abs() == 1.0 {
+                            times(d, u.clone(), self.jets, false)
+                        } else if self.jets {
+                            let d = lit(d);
+                            quote!(#u.mul_f64(#d))
+                        } else {
+                            let d = lit(d);
+                            quote!(#u * #d)
+                        };
+                        if raw && d == 1.0 {
+                            plus_input(l, lt, x)
+                        } else {
+                            quote!(#lt + #x)
+                        }
+                    };
+                    (coordinate(local[0], lx, dir[0]), coordinate(local[1], ly, dir[1]))
+                };
+                // On a fixed body (at its drawn pose, the identity, as
+                // `PointRef::Fixed` takes it) the carried point is the world
+                // point: no rotation to multiply by.
+                if self.plan.bodies[*body].fixed {
+                    prelude.push(quote!(let #id = [#ux, #uy];));
+                } else {
+                    prelude.push(quote!(let #id = #b.world_carried([#ux, #uy]);));
+                }
+                quote!(#id)
+            }
+            PointRef::Temp { id } => {
+                let t = self.temp(*id);
+                quote!(#t)
+            }
+        }
+    }
+
+    pub(super) fn dir(&self, d: &DirRef, name: &str, prelude: &mut Vec<TokenStream>) -> TokenStream {
+        match d {
+            DirRef::Fixed(v) => self.plit(*v),
+            DirRef::Body { body, local } => {
+                let id = format_ident!("{}", name);
+                let (b, l) = (self.pose(*body), self.point_lit(*local));
+                prelude.push(quote!(let #id = #b.world_dir(#l);));
+                quote!(#id)
+            }
+        }
+    }
+
+    pub(super) fn step(&self, i: usize) -> TokenStream {
+        let step = &self.plan.steps[i];
+        let id = self.step_id(i);
+        let mut pre = Vec::new();
+        let marker = self.step_marker(i);
+        match &step.kind {
+            StepKind::Orient { body, from, rel } => {
+                let b = self.pose(*body);
+                let r = match rel {
+                    Rel::Identity if self.jets => quote!(Rot::cst(Rot::IDENTITY)),
+                    Rel::Identity => quote!(Rot::IDENTITY),
+                    Rel::Input { input, inverse } => {
+                        let u = &self.input_idents[*input];
+                        if *inverse {
+                            quote!(#u.inverse())
+                        } else {
+                            quote!(#u)
+                        }
+                    }
+                };
+                match from {
+                    Some(f) => {
+                        let f = self.pose(*f);
+                        quote! {
+                            #marker
+                            planar::orient(&mut #b, #f.rot, #r);
+                        }
+                    }
+                    None => quote! {
+                        #marker
+                        planar::set_rotation(&mut #b, #r);
+                    },
+                }
+            }
+            StepKind::Anchor { body, local, at } => {
+                let at = self.point(at, &mut pre);
+                let (b, l) = (self.pose(*body), self.point_lit(*local));
+                quote! {
+                    #marker
+                    {
+                        #(#pre)*
+                        planar::anchor(&mut #b, #l, #at);
+                    }
+                }
+            }
+            StepKind::Align {
+                body,
+                p,
+                p_at,
+                q,
+                q_at,
+                redundant,
+            } => {
+                let p_at = self.point(p_at, &mut pre);
+                let q_at = self.point(q_at, &mut pre);
+                let (b, p, q) = (self.pose(*body), self.point_lit(*p), self.point_lit(*q));
+                let call = if *redundant {
+                    quote!(planar::align_consistent(ctx, #id, &mut #b, #p, #p_at, #q, #q_at)?;)
+                } else {
+                    quote!(planar::align(&mut #b, #p, #p_at, #q, #q_at);)
+                };
+                quote! {
+                    #marker
+                    {
+                        #(#pre)*
+                        #call
+                    }
+                }
+            }
+            StepKind::CircleCircle {
+                out,
+                c1,
+                r1,
+                c2,
+                r2,
+                branch,
+            } => {
+                let t = &self.temp(*out);
+                let c1 = self.point(c1, &mut pre);
+                let c2 = self.point(c2, &mut pre);
+                let (r1, r2, k) = (self.slit(*r1), self.slit(*r2), self.index(*branch));
+                quote! {
+                    #marker
+                    let #t = {
+                        #(#pre)*
+                        planar::circle_circle(ctx, #id, #c1, #r1, #c2, #r2, &mut branches[#k], &mut last[#k])?
+                    };
+                }
+            }
+            StepKind::CircleLine {
+                out,
+                c,
+                r,
+                line,
+                branch,
+            } => {
+                let t = &self.temp(*out);
+                let c = self.point(c, &mut pre);
+                let p = self.point(&line.through, &mut pre);
+                // A fixed direction stays a pair of plain numbers: the
+                // step multiplies by it at a third of a jet product's cost.
+                let d = match &line.dir {
+                    DirRef::Fixed(v) => self.point_lit(*v),
+                    body => self.dir(body, "line_dir", &mut pre),
+                };
+                let (r, k) = (self.slit(*r), self.index(*branch));
+                quote! {
+                    #marker
+                    let #t = {
+                        #(#pre)*
+                        planar::circle_line(ctx, #id, #c, #r, #p, #d, &mut branches[#k], &mut last[#k])?
+                    };
+                }
+            }
+            StepKind::LineLine { out, a, b } => {
+                let t = &self.temp(*out);
+                let p1 = self.point(&a.through, &mut pre);
+                let d1 = self.dir(&a.dir, "dir_a", &mut pre);
+                let p2 = self.point(&b.through, &mut pre);
+                let d2 = self.dir(&b.dir, "dir_b", &mut pre);
+                quote! {
+                    #marker
+                    let #t = {
+                        #(#pre)*
+                        planar::line_line(ctx, #id, #p1, #d1, #p2, #d2)?
+                    };
+                }
+            }
+            StepKind::Cluster { params, rows, .. }
+                if Self::fixed_cluster(step.kind.cluster_size().0, step.kind.cluster_size().1) =>
+            {
+                let size = step.kind.cluster_size();
+                let code = if self.jets {
+                    self.fixed_cluster_rates(&quote!(#id), params, rows, size)
+                } else {
+                    self.fixed_cluster_step(&quote!(#id), params, rows, size, &mut pre, false)
+                };
+                quote! {
+                    #marker
+                    {
+                        #code
+                    }
+                }
+            }
+            StepKind::Cluster { params, rows, .. } => {
+                self.dynamic_cluster_step(i, &id, &marker, params, rows, &mut pre)
+            }
+            StepKind::TurnLine {
+                body,
+                pivot,
+                target,
+                dir,
+                kappa,
+                branch,
+            } => {
+                let pv = self.point(pivot, &mut pre);
+                let tg = self.point(target, &mut pre);
+                let (b, d, kp, k) = (
+                    self.pose(*body),
+                    self.plit(*dir),
+                    self.slit(*kappa),
+                    self.index(*branch),
+                );
+                quote! {
+                    #marker
+                    {
+                        #(#pre)*
+                        #b.rot = planar::turn_line_through(ctx, #id, #pv, #tg, #d, #kp, &mut branches[#k], &mut last[#k])?;
+                    }
+                }
+            }
+        }
+    }
+}
