@@ -6,6 +6,29 @@
 //! interpreter call exactly the same functions, so both back ends give the
 //! same numbers by construction.
 //!
+//! One step as both back ends run it: the coupler pin of a four-bar is the
+//! point at the coupler's length from the crank pin and the rocker's length
+//! from the rocker's ground pivot (an RRR dyad), on the branch the plan
+//! chose.
+//!
+//! ```
+//! use dofplan_runtime::{planar, Branch, BranchPolicy, Ctx};
+//!
+//! let mut ctx = Ctx::new(BranchPolicy::Keep, false);
+//! let (mut branch, mut last) = (Branch::Plus, [0.0, 0.0]);
+//! let (crank_pin, rocker_pivot) = ([0.0, 1.0], [4.0, 0.0]);
+//! let c = planar::circle_circle(&mut ctx, 2, crank_pin, 3.0, rocker_pivot, 2.5, &mut branch, &mut last)
+//!     .expect("the loop closes");
+//! let dist = |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).hypot(p[1] - q[1]);
+//! assert!((dist(c, crank_pin) - 3.0).abs() < 1e-12);
+//! assert!((dist(c, rocker_pivot) - 2.5).abs() < 1e-12);
+//! // Branch + lies left of the line from the first centre to the second.
+//! let (d, v) = ([4.0 - 0.0, 0.0 - 1.0], [c[0] - 0.0, c[1] - 1.0]);
+//! assert!(d[0] * v[1] - d[1] * v[0] > 0.0);
+//! // Too far apart: the step breaks instead of returning a point.
+//! assert!(planar::circle_circle(&mut ctx, 3, crank_pin, 1.0, rocker_pivot, 1.0, &mut branch, &mut last).is_err());
+//! ```
+//!
 //! - [`planar`]: poses of 2D bodies (rotations carried as cos/sin pairs, so a
 //!   frame needs no trigonometry per body) and the loci steps: placing a body,
 //!   intersecting circles and lines, turning a line through a point.
