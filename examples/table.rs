@@ -407,7 +407,8 @@ fn rates(filter: &[String]) {
 /// (medians of alternating passes over the sweep, as above).
 fn spatial_rates(filter: &[String]) {
     use dofplan_runtime::real::Jet2;
-    use dofplan_runtime::spatial::{Pose3, Rates3};
+    use dofplan_runtime::real::Rates;
+    use dofplan_runtime::spatial::Pose3;
     let names: Vec<String> = bundled_spatial()
         .into_iter()
         .filter(|n| filter.is_empty() || filter.contains(n))

@@ -323,7 +323,8 @@ fn compiled_rates_allocate_nothing() {
 #[test]
 fn compiled_spatial_rates_allocate_nothing() {
     use dofplan_runtime::real::Jet2;
-    use dofplan_runtime::spatial::{Pose3, Rates3};
+    use dofplan_runtime::real::Rates;
+    use dofplan_runtime::spatial::Pose3;
     use dofplan_runtime::Ctx;
     for name in [
         "cardan",

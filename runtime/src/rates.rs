@@ -1,7 +1,8 @@
-//! Rates of planar plans: every body's [`Pose`] on [`Jet2`]s, its first
-//! and second derivatives along given input rates and accelerations, and
-//! why a frame's rates were not computed ([`RateError`], which spatial
-//! plans' [`Rates3`](crate::spatial::Rates3) report too).
+//! Rates of plans of either dimension: every body's pose on [`Jet2`]s, its
+//! first and second derivatives along given input rates and accelerations
+//! ([`Rates`], one trait for planar and spatial plans, whose poses name
+//! their version on jets through [`JetPose`]), and why a frame's rates were
+//! not computed ([`RateError`]).
 //!
 //! They are made of the numbers (`Jet2`), the poses and the solver, so
 //! they stand above all three rather than among the numbers.
@@ -49,10 +50,25 @@ impl std::fmt::Display for RateError {
 
 impl std::error::Error for RateError {}
 
-/// A planar plan that gives its frames' rates: every body's pose with its
-/// first and second derivatives along given input rates and accelerations
-/// (the generated modules' `rates`, the interpreter's).
-pub trait Rates: Solver<Pose = Pose> {
+/// A pose with a version on jets: what a plan's rates are made of.
+/// [`Pose`] is [`Pose<Jet2>`](Pose) on jets; the spatial pose implements it
+/// in [`spatial`](crate::spatial).
+pub trait JetPose {
+    /// The same pose with every entry a [`Jet2`].
+    type Jets;
+}
+
+impl JetPose for Pose {
+    type Jets = Pose<Jet2>;
+}
+
+/// A plan of either dimension that gives its frames' rates: every body's
+/// pose with its first and second derivatives along given input rates and
+/// accelerations (the generated modules' `rates`, the interpreters').
+pub trait Rates: Solver
+where
+    Self::Pose: JetPose,
+{
     /// The rates at the frame `state` was solved to (at `inputs`), into
     /// `out` (one pose a body).
     fn rates_into(
@@ -61,7 +77,7 @@ pub trait Rates: Solver<Pose = Pose> {
         inputs: &[f64],
         rates: &[f64],
         accelerations: &[f64],
-        out: &mut [Pose<Jet2>],
+        out: &mut [<Self::Pose as JetPose>::Jets],
     ) -> Result<(), RateError>;
 
     /// A frame and its rates together: `solve` at `inputs` from `state`
@@ -74,7 +90,7 @@ pub trait Rates: Solver<Pose = Pose> {
         rates: &[f64],
         accelerations: &[f64],
         ctx: &mut Ctx,
-        out: &mut [Pose<Jet2>],
+        out: &mut [<Self::Pose as JetPose>::Jets],
     ) -> Result<(), RateError> {
         self.solve(state, inputs, ctx)?;
         self.rates_into(state, inputs, rates, accelerations, out)

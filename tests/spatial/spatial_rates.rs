@@ -11,8 +11,9 @@ use dofplan::interp::spatial::Interpreter;
 use dofplan::model::spatial::Mechanism;
 use dofplan::simulate::spatial::residual;
 use dofplan::simulate::sweep_requests;
+use dofplan_runtime::real::Rates;
 use dofplan_runtime::real::{Jet2, RateError};
-use dofplan_runtime::spatial::{cross, dot, Pose3, Rates3, Vec3};
+use dofplan_runtime::spatial::{cross, dot, Pose3, Vec3};
 use dofplan_runtime::{Ctx, Driver, FrameStatus, Options, Solver};
 use dofplan_tests::{bundled_spatial, load_spatial, plan_spatial, spatial_fixtures};
 

@@ -6,7 +6,7 @@
 //! `Batch` impls. Each back end writes its imports and steps around it.
 //!
 //! The rates API is written here too: the module functions
-//! `solve_rates_into`, `solve_rates` and `rates`, and the `Rates`/`Rates3`
+//! `solve_rates_into`, `solve_rates` and `rates`, and the `Rates`
 //! trait methods, around each back end's body of `solve_rates_into` (its
 //! steps on jets).
 //!
@@ -84,7 +84,7 @@ pub(super) fn rates_functions(pose: &TokenStream, nb: &Literal, body: TokenStrea
     }
 }
 
-/// The `Rates`/`Rates3` trait methods of the module's `Plan`: the module
+/// The `Rates` trait methods of the module's `Plan`: the module
 /// functions on the trait's slices.
 pub(super) fn rates_trait_methods(pose: &TokenStream) -> TokenStream {
     quote! {
@@ -125,8 +125,6 @@ pub(super) struct Dimension {
     pub point: TokenStream,
     /// A marker constant (`Marker`, `Marker3`).
     pub marker: TokenStream,
-    /// The runtime's trait of plans with rates.
-    pub rates: TokenStream,
 }
 
 impl Dimension {
@@ -136,7 +134,6 @@ impl Dimension {
             pose: quote!(Pose),
             point: quote!(Point),
             marker: quote!(Marker),
-            rates: quote!(dofplan_runtime::real::Rates),
         }
     }
 
@@ -146,7 +143,6 @@ impl Dimension {
             pose: quote!(Pose3),
             point: quote!(Vec3),
             marker: quote!(Marker3),
-            rates: quote!(dofplan_runtime::spatial::Rates3),
         }
     }
 }
@@ -358,7 +354,7 @@ impl Scaffold<'_> {
     /// `solve_batch`, and `solve_frames` when the frames are independent;
     /// written here when they are not: the frames in order).
     pub fn plan(&self, sink: &mut Sink) {
-        let Dimension { pose, rates, .. } = &self.dim;
+        let Dimension { pose, .. } = &self.dim;
         let ni = index(self.inputs.len());
         let rate_methods = rates_trait_methods(pose);
         let batch_impl = if let Some(how) = self.independent {
@@ -432,7 +428,7 @@ impl Scaffold<'_> {
                 }
             }
 
-            impl #rates for Plan {
+            impl dofplan_runtime::real::Rates for Plan {
                 #rate_methods
             }
 

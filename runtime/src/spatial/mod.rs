@@ -19,7 +19,7 @@
 //!   singular poses never flips it.
 //! - the steps are written once, generic over [`Real`]: on `f64` they
 //!   place a frame, on [`Jet2`]s they also carry its velocities and
-//!   accelerations (forward mode through the plan, [`Rates3`]). Every
+//!   accelerations (forward mode through the plan, [`Rates`](crate::rates::Rates)). Every
 //!   decision (which root, whether loci meet, whether a turn is within
 //!   rounding of none) is taken on the values, so a run on jets follows the
 //!   run on `f64` and its values are that run's, bit for bit; a shortcut
@@ -54,7 +54,7 @@ pub use place::{
     rotate_about_axis_onto, rotate_about_point, rotate_about_point_onto, slide_to, translate_along,
     translate_in_plane, translate_onto, translate_to_line, translate_to_plane,
 };
-pub use rates::{checked3, Rates3};
+pub use rates::checked3;
 pub use turn::{tilt, twist_correction};
 
 use crate::scalar::{Factor, Jet2, Real};

@@ -4,9 +4,10 @@
 //! ([`Interpreter::rates`]).
 
 use dofplan_runtime::planar::Degrees;
+use dofplan_runtime::real::Rates;
 use dofplan_runtime::real::{Jet2, RateError, Real};
 use dofplan_runtime::spatial::rows::WorldFrame;
-use dofplan_runtime::spatial::{self, cst, norm, scale, sub, Pose3, Rates3, Vec3};
+use dofplan_runtime::spatial::{self, cst, norm, scale, sub, Pose3, Vec3};
 use dofplan_runtime::{Branch, BranchPolicy, Break, BreakKind, Ctx, Rot, Solver};
 
 use crate::plan::spatial::{Action, CheckRow, DirRef, HingeTurn, Locus, Plan, PointRef, StepKind};
@@ -188,7 +189,7 @@ impl Interpreter {
     }
 }
 
-impl Rates3 for Interpreter {
+impl Rates for Interpreter {
     fn rates_into(
         &self,
         state: &InterpState,
