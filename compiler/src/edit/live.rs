@@ -7,8 +7,8 @@ use std::sync::{Arc, Mutex, MutexGuard};
 
 use serde_json::Value;
 
-use super::document::Document;
-use super::session::{self, Session};
+use super::planar::document::Document;
+use super::planar::session::{self, Session};
 use super::spatial::{self, READ_ONLY};
 use super::workspace::{self, Workspace};
 

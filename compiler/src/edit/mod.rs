@@ -16,12 +16,11 @@
 //! the caller redraws the file at the pose on screen ([`Editor::redraw`]),
 //! so the next edit starts from what the user sees.
 
-pub mod document;
 pub mod live;
 mod names;
 mod ops;
+pub mod planar;
 pub mod save;
-pub mod session;
 pub mod spatial;
 pub mod workspace;
 

@@ -19,11 +19,11 @@ use crate::conflict::{load_any_str, load_str};
 use crate::model::{Format, Location, Model, ModelError};
 use dofplan_runtime::planar::{Pose, Rot};
 
-use super::document::{Document, Watch, UNTITLED};
+use super::planar::document::{Document, Watch, UNTITLED};
 use super::spatial::{self, READ_ONLY};
 
 /// A message from the page that changes the document (the others, for
-/// the pose on screen, are [`super::session::Request`]s).
+/// the pose on screen, are [`super::planar::session::Request`]s).
 #[derive(Deserialize)]
 #[serde(tag = "type", rename_all = "lowercase", deny_unknown_fields)]
 pub enum Request {

@@ -25,7 +25,7 @@ use futures_util::FutureExt;
 use serde_json::Value;
 
 use dofplan::edit::live::{self, Incoming};
-use dofplan::edit::session::{self, Session};
+use dofplan::edit::planar::session::{self, Session};
 use dofplan::edit::spatial as spatial_edit;
 use dofplan::edit::workspace::{self, View, Workspace};
 

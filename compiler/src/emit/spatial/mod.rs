@@ -9,7 +9,7 @@
 //! it reads bound to named locals. The frame runs on a copy of the (`Copy`)
 //! state that is written back only when every step succeeded, so a break
 //! leaves the state as it was. A numeric cluster becomes a fixed-size
-//! closure (see [`super::spatial_cluster`]).
+//! closure (see [`cluster`]).
 //!
 //! Unlike a planar module, the state itself is the working set: poses,
 //! pseudo-markers and branch slots are read and written in place in the

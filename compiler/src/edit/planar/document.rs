@@ -235,7 +235,7 @@ impl Document {
 /// the sweep's when it is swept, otherwise a full turn (angles) or the
 /// mechanism's size either way (slides) — and its `sweep`. Both dimensions
 /// share it (`joint_names` by joint index).
-pub(super) fn inputs_and_sweep(
+pub(crate) fn inputs_and_sweep(
     inputs: &[crate::model::Input],
     joint_names: &[&str],
     sweep: Option<&crate::model::Sweep>,
