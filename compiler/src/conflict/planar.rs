@@ -1,8 +1,8 @@
 //! The conflict diagnosis of a planar file: the least-squares assembly from
 //! the drawn pose, and which joints and constraints cannot all close.
 
-use dofplan_runtime::numeric::cluster::{self, Param, System};
 use dofplan_runtime::numeric::{Equations, Newton, NewtonOptions, NewtonOutcome};
+use dofplan_runtime::planar::cluster::{self, Param, System};
 use dofplan_runtime::planar::Pose;
 use nalgebra::{DMatrix, DVector};
 
@@ -129,7 +129,7 @@ pub fn assemble(m: &Mechanism) -> Assembly {
 }
 
 /// The mechanism if every joint holds in the drawn pose; otherwise the
-/// errors [`load_str`] gives: the open joints, revised by the
+/// errors [`load_str`](super::load_str) gives: the open joints, revised by the
 /// least-squares assembly (the drawing is only off, or the joints named
 /// in conflict).
 pub fn assembled(drawn: Drawn) -> Result<Mechanism, ModelError> {

@@ -1,6 +1,6 @@
 //! Pictures of a mechanism's motion, as standalone SVG.
 //!
-//! [`render`](planar::render) draws a simulated sweep or a drag: the mechanism at a few
+//! [`render`] draws a simulated sweep or a drag: the mechanism at a few
 //! poses, the path of every traced marker through every frame (split at
 //! breaks, thinned to what the page shows, with an arrow of motion and the
 //! marker's name), stretched poses dashed, the drag target, a scale bar, a
@@ -11,7 +11,7 @@
 //! - [`planar`]: the ground, the bodies and pins of one pose (`mechanism`), the
 //!   drag target and its path (`target`), and the whole picture;
 //! - `trace`: runs between breaks, thinning, arrows, labels;
-//! //! - `legend`: the capped legend;
+//! - `legend`: the capped legend;
 //! - `caption`: which poses to draw, the title and subtitle;
 //! - `style`: colours and number formatting;
 //! - [`spatial`]: spatial (3D) mechanisms in four views of one scale (front,

@@ -229,6 +229,34 @@ pub(super) fn scale_bar(view: &View, right: f64, top: f64) -> Option<Group> {
     )
 }
 
+/// Convex hull (monotone chain) of page points, counter-clockwise on the
+/// page, collinear points dropped.
+pub(crate) fn hull(mut ps: Vec<Point>) -> Vec<Point> {
+    ps.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+    ps.dedup_by(|a, b| (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9);
+    if ps.len() < 3 {
+        return ps;
+    }
+    let cross = |o: Point, a: Point, b: Point| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+    let mut out: Vec<Point> = Vec::with_capacity(2 * ps.len());
+    for pass in 0..2 {
+        let start = out.len();
+        let iter: Box<dyn Iterator<Item = &Point>> = if pass == 0 {
+            Box::new(ps.iter())
+        } else {
+            Box::new(ps.iter().rev())
+        };
+        for &p in iter {
+            while out.len() >= start + 2 && cross(out[out.len() - 2], out[out.len() - 1], p) <= 0.0 {
+                out.pop();
+            }
+            out.push(p);
+        }
+        out.pop();
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -263,32 +291,4 @@ mod tests {
         assert_eq!(format_round(2, 0), "2");
         assert_eq!(format_round(2, 3), "2000");
     }
-}
-
-/// Convex hull (monotone chain) of page points, counter-clockwise on the
-/// page, collinear points dropped.
-pub(crate) fn hull(mut ps: Vec<Point>) -> Vec<Point> {
-    ps.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
-    ps.dedup_by(|a, b| (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9);
-    if ps.len() < 3 {
-        return ps;
-    }
-    let cross = |o: Point, a: Point, b: Point| (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
-    let mut out: Vec<Point> = Vec::with_capacity(2 * ps.len());
-    for pass in 0..2 {
-        let start = out.len();
-        let iter: Box<dyn Iterator<Item = &Point>> = if pass == 0 {
-            Box::new(ps.iter())
-        } else {
-            Box::new(ps.iter().rev())
-        };
-        for &p in iter {
-            while out.len() >= start + 2 && cross(out[out.len() - 2], out[out.len() - 1], p) <= 0.0 {
-                out.pop();
-            }
-            out.push(p);
-        }
-        out.pop();
-    }
-    out
 }

@@ -54,13 +54,15 @@ const COMPILER: &[&[&str]] = &[
 /// place bodies (closed form, numeric clusters) on poses.
 const RUNTIME: &[&[&str]] = &[
     &["scalar"],
-    // Newton-Raphson and its linear algebra (the planar cluster step,
-    // `numeric/cluster`, is ranked with the steps).
+    // Newton-Raphson and its linear algebra.
     &["numeric"],
     // What a frame reports: breaks, policies, the context steps write to.
     &["frame"],
+    // What both dimensions' clusters share (their Newton options, how a
+    // solve is reported to the frame).
+    &["numeric/cluster"],
     &["planar"],
-    &["lanes", "numeric/cluster"],
+    &["lanes"],
     &["drive"],
     &["rates"],
     &["spatial"],

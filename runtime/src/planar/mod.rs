@@ -7,6 +7,7 @@
 //! - a rotation is carried as its cosine/sine pair ([`Rot`]); composing two
 //!   rotations is a complex multiplication, never an `atan2` or `sin`.
 
+pub mod cluster;
 mod locus;
 mod place;
 mod turn_table;

@@ -14,7 +14,7 @@
 //! twists.
 //!
 //! A solved cluster's rates follow from the implicit function theorem, as
-//! a planar cluster's ([`crate::numeric::cluster::solve_rates`]): its rows
+//! a planar cluster's ([`crate::planar::cluster::solve_rates`]): its rows
 //! `F(x, upstream) = 0` hold along the motion, so `J·ẋ = −F′` (F's rate
 //! with the unknowns held) and `J·ẍ = −F″` (with them moving at ẋ), solved
 //! by [`Implicit`](crate::numeric::Implicit). The rows are evaluated on

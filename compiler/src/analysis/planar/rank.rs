@@ -14,8 +14,8 @@
 //! quartic). An idle body's freedom is the rank of its own three columns,
 //! from the few rows that touch it.
 
-use dofplan_runtime::numeric::cluster::{Param, System};
 use dofplan_runtime::numeric::{rank, Equations};
+use dofplan_runtime::planar::cluster::{Param, System};
 use dofplan_runtime::planar::Pose;
 use nalgebra::{DMatrix, DVector};
 

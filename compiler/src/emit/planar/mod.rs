@@ -208,7 +208,8 @@ impl Emitter<'_> {
         let plan = self.plan;
         let numeric_use = if plan.clusters() > 0 {
             quote!(
-                use dofplan_runtime::numeric::{self, cluster};
+                use dofplan_runtime::numeric;
+                use dofplan_runtime::planar::cluster;
             )
         } else {
             quote!()

@@ -1,7 +1,8 @@
 //! The planar plan interpreter: each step of a planar plan IR executed by
 //! the runtime function the generated code calls for it.
 
-use dofplan_runtime::numeric::{cluster, Newton};
+use dofplan_runtime::numeric::Newton;
+use dofplan_runtime::planar::cluster;
 use dofplan_runtime::planar::{self, cst, Point, Pose, Rot};
 use dofplan_runtime::real::{Jet2, RateError, Real};
 use dofplan_runtime::{Branch, BranchPolicy, Break, Ctx, Solver};

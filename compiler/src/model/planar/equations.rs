@@ -7,7 +7,7 @@
 //!   rotation; a slide input turns the prismatic's in-line into a coincident
 //!   displaced by the slide (it implies the in-line).
 
-use dofplan_runtime::numeric::cluster::Row as ClusterRow;
+use dofplan_runtime::planar::cluster::Row as ClusterRow;
 use dofplan_runtime::Point;
 
 use crate::model::{ConstraintKind, InputKind, JointKind, MarkerId, Mechanism};

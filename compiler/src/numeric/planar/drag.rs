@@ -28,7 +28,7 @@ use dofplan_runtime::planar::{Point, Pose};
 use dofplan_runtime::{Break, BreakKind, Ctx, Solver};
 use nalgebra::{DMatrix, DVector};
 
-use dofplan_runtime::numeric::cluster;
+use dofplan_runtime::planar::cluster;
 
 use super::PureNewton;
 use crate::analysis::analyse;

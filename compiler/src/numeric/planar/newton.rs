@@ -10,8 +10,8 @@
 //! minimum-norm step then weighs turning and sliding alike, and one step
 //! limit fits all.
 
-use dofplan_runtime::numeric::cluster::{self, Param};
 use dofplan_runtime::numeric::{Equations, Newton, NewtonOptions, NewtonOutcome, NewtonReport};
+use dofplan_runtime::planar::cluster::{self, Param};
 use dofplan_runtime::planar::{Point, Pose, Rot};
 use dofplan_runtime::{Break, BreakKind, Ctx, Solver};
 use nalgebra::{DMatrix, DVector};

@@ -7,7 +7,7 @@ mod explain;
 use dofplan_runtime::{Branch, Point};
 
 /// A primitive equation of a numeric cluster, as the runtime evaluates it.
-pub use dofplan_runtime::numeric::cluster::Row as ClusterRow;
+pub use dofplan_runtime::planar::cluster::Row as ClusterRow;
 
 use crate::model::InputKind;
 
