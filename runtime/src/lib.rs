@@ -17,7 +17,8 @@
 //! let mut ctx = Ctx::new(BranchPolicy::Keep, false);
 //! let (mut branch, mut last) = (Branch::Plus, [0.0, 0.0]);
 //! let (crank_pin, rocker_pivot) = ([0.0, 1.0], [4.0, 0.0]);
-//! let c = planar::circle_circle(&mut ctx, 2, crank_pin, 3.0, rocker_pivot, 2.5, &mut branch, &mut last)
+//! let (coupler, rocker) = (planar::Circle::new(crank_pin, 3.0), planar::Circle::new(rocker_pivot, 2.5));
+//! let c = planar::circle_circle(&mut ctx, 2, coupler, rocker, planar::Slot::new(&mut branch, &mut last))
 //!     .expect("the loop closes");
 //! let dist = |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).hypot(p[1] - q[1]);
 //! assert!((dist(c, crank_pin) - 3.0).abs() < 1e-12);
@@ -26,7 +27,8 @@
 //! let (d, v) = ([4.0 - 0.0, 0.0 - 1.0], [c[0] - 0.0, c[1] - 1.0]);
 //! assert!(d[0] * v[1] - d[1] * v[0] > 0.0);
 //! // Too far apart: the step breaks instead of returning a point.
-//! assert!(planar::circle_circle(&mut ctx, 3, crank_pin, 1.0, rocker_pivot, 1.0, &mut branch, &mut last).is_err());
+//! let (short, too_short) = (planar::Circle::new(crank_pin, 1.0), planar::Circle::new(rocker_pivot, 1.0));
+//! assert!(planar::circle_circle(&mut ctx, 3, short, too_short, planar::Slot::new(&mut branch, &mut last)).is_err());
 //! ```
 //!
 //! - [`planar`]: poses of 2D bodies (rotations carried as cos/sin pairs, so a

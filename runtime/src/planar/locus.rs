@@ -20,6 +20,62 @@ const TANGENT_TOLERANCE: f64 = 1e-12;
 /// pose where the two roots meet, where a break-point search stops.
 const DEAD_FOR_RATES: f64 = 1e-10;
 
+/// A circle: the locus of a point at a fixed distance from a centre (a
+/// pin on a link turning about another pin).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Circle<T = f64> {
+    /// The centre.
+    pub centre: [T; 2],
+    /// The radius.
+    pub radius: T,
+}
+
+impl<T> Circle<T> {
+    /// The circle about `centre` of radius `radius`.
+    #[inline(always)]
+    pub const fn new(centre: [T; 2], radius: T) -> Circle<T> {
+        Circle { centre, radius }
+    }
+}
+
+/// A line through a point along a unit direction (a slide's axis). The
+/// direction is any [`Factor`]: a constant of the plan stays a pair of
+/// plain numbers, which a jet multiplies by at a third of a jet product's
+/// cost.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Line<T = f64, D = T> {
+    /// A point of the line.
+    pub through: [T; 2],
+    /// Its unit direction.
+    pub dir: [D; 2],
+}
+
+impl<T, D> Line<T, D> {
+    /// The line through `through` along the unit direction `dir`.
+    #[inline(always)]
+    pub const fn new(through: [T; 2], dir: [D; 2]) -> Line<T, D> {
+        Line { through, dir }
+    }
+}
+
+/// A branching step's slot: the root it takes ([`Branch`]) and what it
+/// found last frame (a point, or a rotation's cos/sin), which the nearest
+/// policy compares with and a break leaves as it was.
+pub struct Slot<'s, T> {
+    /// The root the step takes.
+    pub branch: &'s mut Branch,
+    /// What the step found last frame.
+    pub last: &'s mut [T; 2],
+}
+
+impl<'s, T> Slot<'s, T> {
+    /// The slot of `branch` and `last`.
+    #[inline(always)]
+    pub fn new(branch: &'s mut Branch, last: &'s mut [T; 2]) -> Slot<'s, T> {
+        Slot { branch, last }
+    }
+}
+
 /// The nearest-root policy compares each frame with its own previous one:
 /// frames solved together in lanes cannot follow it.
 #[inline(always)]
@@ -51,21 +107,30 @@ fn pick<T: Real>(ctx: &Ctx, base: [T; 2], off: [T; 2], branch: &mut Branch, last
     x
 }
 
-/// The point at distance `r1` from `c1` and `r2` from `c2` (RRR dyad).
+/// The point on both circles (RRR dyad): at distance `a.radius` from
+/// `a.centre` and `b.radius` from `b.centre`.
 ///
-/// Branch + lies to the left of the directed line `c1 → c2`.
-#[allow(clippy::too_many_arguments)]
+/// Branch + lies to the left of the directed line from `a`'s centre to
+/// `b`'s.
 #[inline(always)]
 pub fn circle_circle<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    c1: [T; 2],
-    r1: T,
-    c2: [T; 2],
-    r2: T,
-    branch: &mut Branch,
-    last: &mut [T; 2],
+    a: Circle<T>,
+    b: Circle<T>,
+    slot: Slot<'_, T>,
 ) -> Result<[T; 2], Break> {
+    let (
+        Circle {
+            centre: c1,
+            radius: r1,
+        },
+        Circle {
+            centre: c2,
+            radius: r2,
+        },
+    ) = (a, b);
+    let Slot { branch, last } = slot;
     nearest_on_lanes::<T>(ctx, step)?;
     let d_vec = sub(c2, c1);
     let d2 = dot(d_vec, d_vec);
@@ -145,21 +210,18 @@ pub fn circle_circle<T: Real>(
     Ok(pick(ctx, base, scale(perp(d_vec), hd * inv_d2), branch, last))
 }
 
-/// The point at distance `r` from `c` on the line through `p` along the unit
-/// direction `dir` (RRP dyad). Branch + lies ahead of the foot of `c` along
-/// `dir`.
-#[allow(clippy::too_many_arguments)]
+/// The point where `circle` meets `line` (RRP dyad). Branch + lies ahead
+/// of the foot of the circle's centre along the line's direction.
 #[inline(always)]
-pub fn circle_line<T: Real>(
+pub fn circle_line<T: Real, D: Factor<T>>(
     ctx: &mut Ctx,
     step: StepId,
-    c: [T; 2],
-    r: T,
-    p: [T; 2],
-    dir: [impl Factor<T>; 2],
-    branch: &mut Branch,
-    last: &mut [T; 2],
+    circle: Circle<T>,
+    line: Line<T, D>,
+    slot: Slot<'_, T>,
 ) -> Result<[T; 2], Break> {
+    let (Circle { centre: c, radius: r }, Line { through: p, dir }) = (circle, line);
+    let Slot { branch, last } = slot;
     nearest_on_lanes::<T>(ctx, step)?;
     // The direction is often a constant of the plan (a slide on the
     // ground): `Factor` multiplies by it as a plain number then.
@@ -220,7 +282,6 @@ pub fn line_line<T: Real>(
 /// Branch + has the line pointing away from the pivot towards the target
 /// (positive cosine between `R·dir` and `target − pivot`). `last` keeps the
 /// previous (cos, sin) for the nearest policy.
-#[allow(clippy::too_many_arguments)]
 #[inline(always)]
 pub fn turn_line_through<T: Real>(
     ctx: &mut Ctx,
@@ -229,9 +290,9 @@ pub fn turn_line_through<T: Real>(
     target: [T; 2],
     dir: [T; 2],
     kappa: T,
-    branch: &mut Branch,
-    last: &mut [T; 2],
+    slot: Slot<'_, T>,
 ) -> Result<Rot<T>, Break> {
+    let Slot { branch, last } = slot;
     nearest_on_lanes::<T>(ctx, step)?;
     let e_vec = sub(target, pivot);
     let e = dot(e_vec, e_vec).sqrt();
@@ -300,10 +361,24 @@ mod tests {
     fn circles_meet_on_both_sides() {
         let mut last = [0.0; 2];
         let mut b = Branch::Plus;
-        let x = circle_circle(&mut ctx(), 0, [0.0, 0.0], 5.0, [8.0, 0.0], 5.0, &mut b, &mut last).unwrap();
+        let x = circle_circle(
+            &mut ctx(),
+            0,
+            Circle::new([0.0, 0.0], 5.0),
+            Circle::new([8.0, 0.0], 5.0),
+            Slot::new(&mut b, &mut last),
+        )
+        .unwrap();
         assert!((x[0] - 4.0).abs() < 1e-12 && (x[1] - 3.0).abs() < 1e-12);
         let mut b = Branch::Minus;
-        let x = circle_circle(&mut ctx(), 0, [0.0, 0.0], 5.0, [8.0, 0.0], 5.0, &mut b, &mut last).unwrap();
+        let x = circle_circle(
+            &mut ctx(),
+            0,
+            Circle::new([0.0, 0.0], 5.0),
+            Circle::new([8.0, 0.0], 5.0),
+            Slot::new(&mut b, &mut last),
+        )
+        .unwrap();
         assert!((x[1] + 3.0).abs() < 1e-12);
     }
 
@@ -311,12 +386,24 @@ mod tests {
     fn coincident_circles_are_named_as_such_not_apart() {
         let mut last = [0.0; 2];
         let mut b = Branch::Plus;
-        let e =
-            circle_circle(&mut ctx(), 3, [1.0, 2.0], 2.0, [1.0, 2.0], 2.0, &mut b, &mut last).unwrap_err();
+        let e = circle_circle(
+            &mut ctx(),
+            3,
+            Circle::new([1.0, 2.0], 2.0),
+            Circle::new([1.0, 2.0], 2.0),
+            Slot::new(&mut b, &mut last),
+        )
+        .unwrap_err();
         assert_eq!((e.step, e.kind, e.gap), (3, BreakKind::CirclesCoincide, 0.0));
         // Concentric with different radii: apart by their difference.
-        let e =
-            circle_circle(&mut ctx(), 3, [1.0, 2.0], 2.0, [1.0, 2.0], 0.5, &mut b, &mut last).unwrap_err();
+        let e = circle_circle(
+            &mut ctx(),
+            3,
+            Circle::new([1.0, 2.0], 2.0),
+            Circle::new([1.0, 2.0], 0.5),
+            Slot::new(&mut b, &mut last),
+        )
+        .unwrap_err();
         assert_eq!((e.kind, e.gap), (BreakKind::CirclesApart, 1.5));
     }
 
@@ -324,12 +411,25 @@ mod tests {
     fn apart_circles_break_or_stretch() {
         let mut last = [0.0; 2];
         let mut b = Branch::Plus;
-        let e =
-            circle_circle(&mut ctx(), 7, [0.0, 0.0], 1.0, [5.0, 0.0], 1.0, &mut b, &mut last).unwrap_err();
+        let e = circle_circle(
+            &mut ctx(),
+            7,
+            Circle::new([0.0, 0.0], 1.0),
+            Circle::new([5.0, 0.0], 1.0),
+            Slot::new(&mut b, &mut last),
+        )
+        .unwrap_err();
         assert_eq!(e.step, 7);
         assert!((e.gap - 3.0).abs() < 1e-12);
         let mut s = Ctx::new(BranchPolicy::Keep, true);
-        let x = circle_circle(&mut s, 7, [0.0, 0.0], 1.0, [5.0, 0.0], 1.0, &mut b, &mut last).unwrap();
+        let x = circle_circle(
+            &mut s,
+            7,
+            Circle::new([0.0, 0.0], 1.0),
+            Circle::new([5.0, 0.0], 1.0),
+            Slot::new(&mut b, &mut last),
+        )
+        .unwrap();
         assert!((x[0] - 2.5).abs() < 1e-12);
         assert_eq!(s.stretched, Some((7, 3.0)));
     }
@@ -339,7 +439,14 @@ mod tests {
         let mut last = [4.0, -2.9];
         let mut b = Branch::Plus;
         let mut c = Ctx::new(BranchPolicy::Nearest, false);
-        let x = circle_circle(&mut c, 0, [0.0, 0.0], 5.0, [8.0, 0.0], 5.0, &mut b, &mut last).unwrap();
+        let x = circle_circle(
+            &mut c,
+            0,
+            Circle::new([0.0, 0.0], 5.0),
+            Circle::new([8.0, 0.0], 5.0),
+            Slot::new(&mut b, &mut last),
+        )
+        .unwrap();
         assert_eq!(b, Branch::Minus);
         assert!((x[1] + 3.0).abs() < 1e-12);
     }
@@ -348,17 +455,9 @@ mod tests {
     fn circle_meets_line() {
         let mut last = [0.0; 2];
         let mut b = Branch::Plus;
-        let x = circle_line(
-            &mut ctx(),
-            0,
-            [0.0, 0.0],
-            5.0,
-            [-10.0, 3.0],
-            [1.0, 0.0],
-            &mut b,
-            &mut last,
-        )
-        .unwrap();
+        let circle = Circle::new([0.0, 0.0], 5.0);
+        let line = Line::new([-10.0, 3.0], [1.0, 0.0]);
+        let x = circle_line(&mut ctx(), 0, circle, line, Slot::new(&mut b, &mut last)).unwrap();
         assert!((x[0] - 4.0).abs() < 1e-12 && (x[1] - 3.0).abs() < 1e-12);
     }
 
@@ -373,17 +472,22 @@ mod tests {
         let p = [Jet2::cst(-4.0), Jet2::cst(-3.0)];
         let d = [0.6, 0.8];
         let (mut last, mut b) = ([Jet2::cst(0.0); 2], Branch::Plus);
-        let plain = circle_line(&mut ctx(), 0, c, Jet2::cst(5.0), p, d, &mut b, &mut last).unwrap();
+        let circle = Circle::new(c, Jet2::cst(5.0));
+        let plain = circle_line(
+            &mut ctx(),
+            0,
+            circle,
+            Line::new(p, d),
+            Slot::new(&mut b, &mut last),
+        )
+        .unwrap();
         let (mut last, mut b) = ([Jet2::cst(0.0); 2], Branch::Plus);
         let jets = circle_line(
             &mut ctx(),
             0,
-            c,
-            Jet2::cst(5.0),
-            p,
-            d.map(Jet2::cst),
-            &mut b,
-            &mut last,
+            circle,
+            Line::new(p, d.map(Jet2::cst)),
+            Slot::new(&mut b, &mut last),
         )
         .unwrap();
         for k in 0..2 {
@@ -415,8 +519,7 @@ mod tests {
             [0.0, 2.0],
             [1.0, 0.0],
             0.0,
-            &mut b,
-            &mut last,
+            Slot::new(&mut b, &mut last),
         )
         .unwrap();
         let w = r.apply([1.0, 0.0]);
@@ -429,8 +532,7 @@ mod tests {
             [3.0, 0.0],
             [1.0, 0.0],
             1.0,
-            &mut b,
-            &mut last,
+            Slot::new(&mut b, &mut last),
         )
         .unwrap();
         let w = r.apply([1.0, 0.0]);

@@ -12,7 +12,7 @@ mod locus;
 mod place;
 mod turn_table;
 
-pub use locus::{circle_circle, circle_line, line_line, turn_line_through};
+pub use locus::{circle_circle, circle_line, line_line, turn_line_through, Circle, Line, Slot};
 pub use place::{align, align_consistent, anchor, orient, set_rotation};
 
 use crate::scalar::{Jet2, Real};

@@ -182,7 +182,7 @@ impl Emitter<'_> {
                     #marker
                     let #t = {
                         #(#pre)*
-                        planar::circle_circle(ctx, #id, #c1, #r1, #c2, #r2, &mut branches[#k], &mut last[#k])?
+                        planar::circle_circle(ctx, #id, planar::Circle::new(#c1, #r1), planar::Circle::new(#c2, #r2), planar::Slot::new(&mut branches[#k], &mut last[#k]))?
                     };
                 }
             }
@@ -207,7 +207,7 @@ impl Emitter<'_> {
                     #marker
                     let #t = {
                         #(#pre)*
-                        planar::circle_line(ctx, #id, #c, #r, #p, #d, &mut branches[#k], &mut last[#k])?
+                        planar::circle_line(ctx, #id, planar::Circle::new(#c, #r), planar::Line::new(#p, #d), planar::Slot::new(&mut branches[#k], &mut last[#k]))?
                     };
                 }
             }
@@ -264,7 +264,7 @@ impl Emitter<'_> {
                     #marker
                     {
                         #(#pre)*
-                        #b.rot = planar::turn_line_through(ctx, #id, #pv, #tg, #d, #kp, &mut branches[#k], &mut last[#k])?;
+                        #b.rot = planar::turn_line_through(ctx, #id, #pv, #tg, #d, #kp, planar::Slot::new(&mut branches[#k], &mut last[#k]))?;
                     }
                 }
             }

@@ -282,16 +282,12 @@ impl Interpreter {
                 } => {
                     let c1 = self.point(s, inputs, c1);
                     let c2 = self.point(s, inputs, c2);
-                    s.temps[*out] = planar::circle_circle(
-                        ctx,
-                        id,
-                        c1,
-                        T::cst(*r1),
-                        c2,
-                        T::cst(*r2),
-                        &mut s.branches[*branch],
-                        &mut s.last[*branch],
-                    )?;
+                    let (a, b) = (
+                        planar::Circle::new(c1, T::cst(*r1)),
+                        planar::Circle::new(c2, T::cst(*r2)),
+                    );
+                    let slot = planar::Slot::new(&mut s.branches[*branch], &mut s.last[*branch]);
+                    s.temps[*out] = planar::circle_circle(ctx, id, a, b, slot)?;
                 }
                 StepKind::CircleLine {
                     out,
@@ -302,14 +298,16 @@ impl Interpreter {
                 } => {
                     let c = self.point(s, inputs, c);
                     let p = self.point(s, inputs, &line.through);
-                    let (r, k) = (T::cst(*r), *branch);
-                    let (branch, last) = (&mut s.branches[k], &mut s.last[k]);
+                    let (circle, k) = (planar::Circle::new(c, T::cst(*r)), *branch);
+                    let slot = planar::Slot::new(&mut s.branches[k], &mut s.last[k]);
                     // As the emitted code: a fixed direction as plain numbers.
                     s.temps[*out] = match &line.dir {
-                        DirRef::Fixed(d) => planar::circle_line(ctx, id, c, r, p, *d, branch, last),
+                        DirRef::Fixed(d) => {
+                            planar::circle_line(ctx, id, circle, planar::Line::new(p, *d), slot)
+                        }
                         DirRef::Body { body, local } => {
                             let d = s.poses[*body].world_dir(*local);
-                            planar::circle_line(ctx, id, c, r, p, d, branch, last)
+                            planar::circle_line(ctx, id, circle, planar::Line::new(p, d), slot)
                         }
                     }?;
                 }
@@ -340,8 +338,7 @@ impl Interpreter {
                         target,
                         cst(*dir),
                         T::cst(*kappa),
-                        &mut s.branches[*branch],
-                        &mut s.last[*branch],
+                        planar::Slot::new(&mut s.branches[*branch], &mut s.last[*branch]),
                     )?;
                 }
             }
