@@ -18,7 +18,7 @@ use crate::conflict::load_any_str;
 use crate::conflict::spatial::{self as conflict, Assembly};
 use crate::model::spatial::{Mechanism, Primitive};
 use crate::model::{
-    load_str_drawn3, Format, Location, MarkerId, Model, ModelError, Note, SourceFile, DRAWN_TOLERANCE,
+    Format, Location, MarkerId, Model, ModelError, Note, SourceFile, DRAWN_TOLERANCE,
 };
 
 /// Where one marker of a spatial file goes.
@@ -140,7 +140,7 @@ fn angle(p: &Pose3) -> f64 {
 /// joints in conflict when they cannot all close near the drawn pose; an
 /// error when the assembly cannot tell.
 pub fn assemble_str(file_name: &str, text: &str, format: Format) -> Result<Assembled, ModelError> {
-    let drawn = load_str_drawn3(file_name, text, format)?;
+    let drawn = crate::model::spatial::load_str_drawn(file_name, text, format)?;
     let m = &drawn.mechanism;
     let opened = drawn.open_count();
     let unmoved = |inputs_held| {

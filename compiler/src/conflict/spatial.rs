@@ -29,7 +29,8 @@ use super::{list, short, split, CONFLICT_SHARE, MAX_ITERATIONS};
 use crate::interp::spatial::cluster::{system, System};
 use crate::model::spatial::equations::equations;
 use crate::model::spatial::Mechanism;
-use crate::model::{Diagnostic, Drawn3, MarkerId, ModelError, Open, DRAWN_TOLERANCE};
+use crate::model::spatial::Drawn;
+use crate::model::{Diagnostic, MarkerId, ModelError, Open, DRAWN_TOLERANCE};
 use crate::numeric::spatial::released;
 use crate::plan::spatial::{CheckRow, Cluster, ClusterRow, Param};
 
@@ -297,8 +298,8 @@ fn closing(m: &Mechanism, origin: &str, poses: &[Pose3]) -> Option<String> {
 /// errors `load_any_str` gives: the open joints, each with what the
 /// least-squares assembly says (where it closes, or the joints in
 /// conflict).
-pub fn assembled(drawn: Drawn3) -> Result<Mechanism, ModelError> {
-    let Drawn3 {
+pub fn assembled(drawn: Drawn) -> Result<Mechanism, ModelError> {
+    let Drawn {
         mechanism,
         mut open,
         opened,

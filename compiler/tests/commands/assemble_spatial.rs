@@ -203,7 +203,7 @@ fn check_says_where_an_open_spatial_joint_closes() {
         .split(',')
         .map(|s| s.trim().parse().unwrap())
         .collect();
-    let rough = match dofplan::model::load_str_drawn3("r", &read("rough/rssr.toml"), Format::Toml) {
+    let rough = match dofplan::model::spatial::load_str_drawn("r", &read("rough/rssr.toml"), Format::Toml) {
         Ok(d) => d.mechanism,
         Err(e) => panic!("{e}"),
     };

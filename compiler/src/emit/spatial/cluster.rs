@@ -18,13 +18,13 @@
 //! in a closure the implicit function theorem evaluates twice
 //! (`numeric::Implicit` at the Jacobian of the solution), and the cluster
 //! bodies are placed on jets by `cluster::moved_rates`
-//! (`Emitter3::cluster_rates`).
+//! (`Emitter::cluster_rates`).
 
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::quote;
 
 use super::step::{frames, row_kind, state_pose, Block};
-use super::Emitter3;
+use super::Emitter;
 use crate::emit::{ident_for, index, lit};
 use crate::plan::spatial::{Cluster, ClusterRow, Param, PointRef};
 
@@ -74,7 +74,7 @@ struct Pieces {
     zero_used: bool,
 }
 
-impl Emitter3<'_> {
+impl Emitter<'_> {
     /// The code of cluster step `id` inside its block `b`: its Newton
     /// solve, or (a block on jets, in `solve_rates`) the solve on the
     /// values and the rates by the implicit function theorem.

@@ -36,7 +36,7 @@ use step::vec_lit;
 const COPY: &str = "Keep a copy to restore on a break (an early return) and work on `s` itself: a break leaves `s` as it was, no caller has to copy the state per frame to roll back, and a frame copies the state once.";
 
 /// Writes one spatial plan's module.
-pub(super) struct Emitter3<'p> {
+pub(super) struct Emitter<'p> {
     /// The plan.
     pub plan: &'p Plan,
     /// Comments inside a step (a cluster's rows), by the index their
@@ -46,7 +46,7 @@ pub(super) struct Emitter3<'p> {
     pub jets: Cell<bool>,
 }
 
-impl Emitter3<'_> {
+impl Emitter<'_> {
     /// A placeholder statement that becomes the comment `// text`.
     pub fn note(&self, text: String) -> TokenStream {
         let mut notes = self.notes.borrow_mut();
@@ -56,7 +56,7 @@ impl Emitter3<'_> {
     }
 }
 
-impl Emitter3<'_> {
+impl Emitter<'_> {
     /// `solve`: the steps on a working copy of the state, in one function
     /// or (`chunks`) in functions of a few steps each.
     fn solve(
@@ -352,7 +352,7 @@ pub fn spatial_cluster_fits(plan: &Plan) -> Result<(), (usize, usize, usize)> {
 /// at most `chunk_weight` tokens of steps (see
 /// [`super::emit_spatial_chunked`]).
 pub(super) fn module(plan: &Plan, chunk_weight: usize) -> String {
-    let e = Emitter3 {
+    let e = Emitter {
         plan,
         notes: RefCell::new(Vec::new()),
         jets: Cell::new(false),

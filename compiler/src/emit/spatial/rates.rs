@@ -4,11 +4,11 @@
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 
-use super::Emitter3;
+use super::Emitter;
 use crate::emit::index;
 use crate::emit::uses::Uses;
 
-impl Emitter3<'_> {
+impl Emitter<'_> {
     /// `solve_rates` and `rates`: the steps written on jets (`steps`; a
     /// numeric cluster's by the implicit function theorem), run in one
     /// function or, for a plan split into functions (`chunks`), in the

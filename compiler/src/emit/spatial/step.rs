@@ -10,7 +10,7 @@ use quote::quote;
 use dofplan_runtime::spatial::rows::RowKind;
 use dofplan_runtime::spatial::Vec3;
 
-use super::Emitter3;
+use super::Emitter;
 use crate::emit::fold::{plus_input, times};
 use crate::emit::{ident_for, index, lit};
 use crate::plan::spatial::{Action, CheckRow, DirRef, HingeTurn, Locus, Plan, PointRef, StepKind};
@@ -251,7 +251,7 @@ pub(super) fn state_pose(body: usize) -> TokenStream {
     quote!(w.poses[#b])
 }
 
-impl Emitter3<'_> {
+impl Emitter<'_> {
     pub(super) fn step(&self, i: usize) -> TokenStream {
         let step = &self.plan.steps[i];
         // Step ids are 1-based, as the interpreter reports them and

@@ -14,7 +14,7 @@ use super::error::{Diagnostic, Location, ModelError, Note, SourceFile};
 use super::shape;
 use super::source::{parse_json, parse_toml_by_serde, read_toml, At, Key, Node, NodeKind};
 mod planar;
-mod spatial;
+pub(crate) mod spatial;
 
 use super::{
     Body, Constraint, ConstraintKind, Input, InputKind, Joint, JointKind, Marker, MarkerId, MarkerLike,
@@ -228,7 +228,7 @@ pub enum DrawnModel {
     /// A planar mechanism (`dimension` absent or 2).
     Planar(Drawn),
     /// A spatial mechanism (`dimension = 3`).
-    Spatial(Drawn3),
+    Spatial(spatial::Drawn),
 }
 
 /// Reads and validates a mechanism file of either dimension, open joints
@@ -259,7 +259,7 @@ fn load_any_file(file: SourceFile, format: Format) -> Result<DrawnModel, ModelEr
     if !spatial {
         return drawn(file.clone(), &root, format).map(DrawnModel::Planar);
     }
-    drawn3(file.clone(), &root, format).map(DrawnModel::Spatial)
+    spatial::drawn(file.clone(), &root, format).map(DrawnModel::Spatial)
 }
 
 /// A text to parse, named `file_name` in errors.
@@ -267,59 +267,6 @@ fn source_file(file_name: &str, text: &str) -> SourceFile {
     SourceFile {
         name: file_name.to_string(),
         text: Arc::from(text),
-    }
-}
-
-/// A spatial mechanism whose only errors, if any, are joints and
-/// constraints that do not hold in the drawn pose: what `dofplan assemble`
-/// starts from (the spatial [`Drawn`]). With open joints it is not a valid
-/// model: only the assembly (`conflict::spatial::assemble`) may
-/// use it; everything else takes `conflict::spatial::assembled`.
-#[derive(Clone, Debug)]
-pub struct Drawn3 {
-    /// The mechanism, every joint and constraint included, open ones too.
-    pub mechanism: super::spatial::Mechanism,
-    /// The "does not hold in the drawn pose" errors, in file order; empty
-    /// when every joint holds.
-    pub open: Vec<Diagnostic>,
-    /// Which joint or constraint each error is about.
-    pub(crate) opened: Vec<Open>,
-}
-
-impl Drawn3 {
-    /// How many joints and constraints do not hold in the drawn pose (a
-    /// joint may have an error for each of its primitives).
-    pub fn open_count(&self) -> usize {
-        let mut origins: Vec<&str> = self.opened.iter().map(|o| o.origin.as_str()).collect();
-        origins.sort_unstable();
-        origins.dedup();
-        origins.len()
-    }
-}
-
-/// Validates a spatial mechanism given as text like `dofplan::load_any_str`, but
-/// returns it even when joints or constraints do not hold in the drawn pose
-/// (with those errors). Every other error is still an error, and so is a
-/// planar file.
-pub fn load_str_drawn3(file_name: &str, text: &str, format: Format) -> Result<Drawn3, ModelError> {
-    let file = source_file(file_name, text);
-    let root = parse(&file, format)?;
-    drawn3(file.clone(), &root, format)
-}
-
-/// The spatial validation of a parsed file, open joints allowed.
-fn drawn3(file: SourceFile, root: &Node, format: Format) -> Result<Drawn3, ModelError> {
-    let mut v = Validator::new(file, format);
-    match v.mechanism3(root) {
-        // Only joints open in the drawn pose (or none): the least-squares
-        // assembly says whether the drawing is only off or the joints
-        // conflict (`conflict::spatial::assembled`).
-        Some(m) if v.diags.len() == v.open.len() => Ok(Drawn3 {
-            mechanism: m,
-            open: v.diags,
-            opened: v.open,
-        }),
-        _ => Err(ModelError { diagnostics: v.diags }),
     }
 }
 

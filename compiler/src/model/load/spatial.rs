@@ -5,7 +5,8 @@
 
 use dofplan_runtime::spatial::{cross, dot, norm, scale, sub, unit, Vec3};
 
-use super::{join, Validator, MAX_COORDINATE};
+use super::{join, parse, source_file, Open, Validator, MAX_COORDINATE};
+use crate::model::{Diagnostic, Format, ModelError, SourceFile};
 use crate::model::source::{At, Node, NodeKind};
 use crate::model::spatial::equations::{drawn_residual, Frame};
 use crate::model::spatial::{Axes, Constraint, Joint, JointKind, Marker, Mechanism, Primitive};
@@ -14,6 +15,59 @@ use crate::model::{Body, InputKind, MarkerId, DRAWN_TOLERANCE};
 /// Axes closer than this to parallel (or perpendicular), as a sine or a
 /// cosine, count as parallel (or perpendicular) as drawn.
 const AXIS_TOLERANCE: f64 = 1e-9;
+
+/// A spatial mechanism whose only errors, if any, are joints and
+/// constraints that do not hold in the drawn pose: what `dofplan assemble`
+/// starts from (the spatial twin of [`crate::model::Drawn`]). With open joints it is not a valid
+/// model: only the assembly (`conflict::spatial::assemble`) may
+/// use it; everything else takes `conflict::spatial::assembled`.
+#[derive(Clone, Debug)]
+pub struct Drawn {
+    /// The mechanism, every joint and constraint included, open ones too.
+    pub mechanism: Mechanism,
+    /// The "does not hold in the drawn pose" errors, in file order; empty
+    /// when every joint holds.
+    pub open: Vec<Diagnostic>,
+    /// Which joint or constraint each error is about.
+    pub(crate) opened: Vec<Open>,
+}
+
+impl Drawn {
+    /// How many joints and constraints do not hold in the drawn pose (a
+    /// joint may have an error for each of its primitives).
+    pub fn open_count(&self) -> usize {
+        let mut origins: Vec<&str> = self.opened.iter().map(|o| o.origin.as_str()).collect();
+        origins.sort_unstable();
+        origins.dedup();
+        origins.len()
+    }
+}
+
+/// Validates a spatial mechanism given as text like `dofplan::load_any_str`, but
+/// returns it even when joints or constraints do not hold in the drawn pose
+/// (with those errors). Every other error is still an error, and so is a
+/// planar file.
+pub fn load_str_drawn(file_name: &str, text: &str, format: Format) -> Result<Drawn, ModelError> {
+    let file = source_file(file_name, text);
+    let root = parse(&file, format)?;
+    drawn(file.clone(), &root, format)
+}
+
+/// The spatial validation of a parsed file, open joints allowed.
+pub(super) fn drawn(file: SourceFile, root: &Node, format: Format) -> Result<Drawn, ModelError> {
+    let mut v = Validator::new(file, format);
+    match v.mechanism3(root) {
+        // Only joints open in the drawn pose (or none): the least-squares
+        // assembly says whether the drawing is only off or the joints
+        // conflict (`conflict::spatial::assembled`).
+        Some(m) if v.diags.len() == v.open.len() => Ok(Drawn {
+            mechanism: m,
+            open: v.diags,
+            opened: v.open,
+        }),
+        _ => Err(ModelError { diagnostics: v.diags }),
+    }
+}
 
 impl Validator {
     pub(super) fn mechanism3(&mut self, root: &Node) -> Option<Mechanism> {

@@ -13,6 +13,8 @@ pub mod equations;
 
 pub use dofplan_runtime::spatial::Vec3;
 
+pub use super::load::spatial::{load_str_drawn, Drawn};
+
 /// A validated spatial mechanism.
 #[derive(Clone, Debug)]
 pub struct Mechanism {
