@@ -17,9 +17,7 @@ use super::{plain, rewrite_json, rewrite_toml, same_where_joined, short, undecid
 use crate::conflict::load_any_str;
 use crate::conflict::spatial::{self as conflict, Assembly};
 use crate::model::spatial::{Mechanism, Primitive};
-use crate::model::{
-    Format, Location, MarkerId, Model, ModelError, Note, SourceFile, DRAWN_TOLERANCE,
-};
+use crate::model::{Format, Location, MarkerId, Model, ModelError, Note, SourceFile, DRAWN_TOLERANCE};
 
 /// Where one marker of a spatial file goes.
 #[derive(Clone, Debug)]

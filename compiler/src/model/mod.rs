@@ -18,8 +18,8 @@ pub mod spatial;
 pub use error::{Diagnostic, Location, ModelError, Note, SourceFile};
 pub(crate) use load::Open;
 pub use load::{
-    is_spatial_file, load_any_drawn, load_any_str_drawn, load_file_drawn, load_str_drawn,
-    Drawn, DrawnModel, Format, Model, DRAWN_TOLERANCE, MAX_FILE_BYTES, MAX_STEPS,
+    is_spatial_file, load_any_drawn, load_any_str_drawn, load_file_drawn, load_str_drawn, Drawn, DrawnModel,
+    Format, Model, DRAWN_TOLERANCE, MAX_FILE_BYTES, MAX_STEPS,
 };
 pub use planar::{equations, Constraint, ConstraintKind, Joint, JointKind, Marker, Mechanism};
 

@@ -1290,7 +1290,9 @@ fn planar_and_spatial_summaries_share_one_layout() {
     let plan = stdout(&dofplan(&["plan", spatial]));
     let step2 = plan.lines().nth(3).unwrap();
     assert!(
-        step2.starts_with("   2  rocker.C: sphere of coupler ∩ circle of rocker"),
+        step2.starts_with(
+            "   2  rocker.C: sphere of radius 4.7096 about coupler.B ∩ circle of radius 2.5 about "
+        ),
         "{plan}"
     );
     let text = step2.trim_start_matches("   2  ");

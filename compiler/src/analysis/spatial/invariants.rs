@@ -47,7 +47,7 @@ impl Line {
 /// Every body hinged on a fixed line whose later actions are all turns
 /// about it is set outright ([`Action::Hinge`]); the steps that
 /// re-imposed its hinge are dropped (what they served is listed on its
-/// first turn) and the steps after them renumbered. `size` is the
+/// first turn); explanations, derived from the steps, number them anew. `size` is the
 /// mechanism's size: points within 1e-12 of it are one.
 pub(super) fn place_hinged(plan: &mut Plan, size: f64) {
     let tol = 1e-12 * size.max(1.0);
@@ -83,11 +83,6 @@ pub(super) fn place_hinged(plan: &mut Plan, size: f64) {
                 body: b,
                 action: Box::new(action),
             };
-            step.text.push_str(&format!(
-                ", set outright on its fixed hinge ({} along {})",
-                point(line.pivot),
-                point(line.axis)
-            ));
             if k == 0 {
                 for s in std::mem::take(&mut step.serves) {
                     if !serves.contains(&s) {
@@ -102,24 +97,12 @@ pub(super) fn place_hinged(plan: &mut Plan, size: f64) {
     if hinged.iter().all(Option::is_none) {
         return;
     }
-    // Each kept step's new number (from 0, as explanations cite them).
-    let mut new_id = vec![None; plan.steps.len()];
-    let mut next = 0;
-    for (i, d) in dropped.iter().enumerate() {
-        if !d {
-            new_id[i] = Some(next);
-            next += 1;
-        }
-    }
     let steps = std::mem::take(&mut plan.steps);
     plan.steps = steps
         .into_iter()
         .zip(&dropped)
         .filter(|(_, d)| !**d)
-        .map(|(mut s, _)| {
-            s.text = renumber(&s.text, &new_id);
-            s
-        })
+        .map(|(s, _)| s)
         .collect();
     for step in &mut plan.steps {
         read_constants(&mut step.kind, &hinged, tol);
@@ -268,37 +251,6 @@ fn turn(a: &Action, b: BodyId, line: Line, tol: f64) -> Option<Action> {
         _ => return None,
     };
     Some(Action::Hinge { pivot, axis, turn })
-}
-
-/// `[x, y, z]` as plans print numbers.
-fn point(v: Vec3) -> String {
-    format!(
-        "[{}, {}, {}]",
-        crate::plan::num(v[0]),
-        crate::plan::num(v[1]),
-        crate::plan::num(v[2])
-    )
-}
-
-/// `text` with every "step N" citing its new number.
-fn renumber(text: &str, new_id: &[Option<usize>]) -> String {
-    let mut out = String::with_capacity(text.len());
-    let mut rest = text;
-    while let Some(i) = rest.find("step ") {
-        let (head, tail) = rest.split_at(i + "step ".len());
-        out.push_str(head);
-        let digits = tail.bytes().take_while(u8::is_ascii_digit).count();
-        let boundary = i == 0 || !rest.as_bytes()[i - 1].is_ascii_alphanumeric();
-        match tail[..digits].parse::<usize>() {
-            Ok(n) if boundary && new_id.get(n).copied().flatten().is_some() => {
-                out.push_str(&new_id[n].expect("kept").to_string());
-            }
-            _ => out.push_str(&tail[..digits]),
-        }
-        rest = &tail[digits..];
-    }
-    out.push_str(rest);
-    out
 }
 
 /// Reads as constants what the hinged bodies keep fixed (their points on
@@ -508,24 +460,5 @@ fn each_ref(kind: &mut StepKind, f: &mut dyn FnMut(Ref<'_>)) {
                 }
             }
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::renumber;
-
-    #[test]
-    fn renumber_cites_the_new_step_numbers() {
-        // Steps 1 and 2 dropped: 3 → 1, 4 → 2.
-        let ids = [Some(0), None, None, Some(1), Some(2)];
-        assert_eq!(
-            renumber(
-                "rocker: turn onto step 4 (rocker.C), not step 2x or mystep 3",
-                &ids
-            ),
-            "rocker: turn onto step 2 (rocker.C), not step 2x or mystep 3"
-        );
-        assert_eq!(renumber("step 3", &ids), "step 1");
     }
 }

@@ -51,6 +51,7 @@ pub(crate) fn empty_plan(m: &Mechanism) -> Plan {
             .iter()
             .map(|b| b.markers.iter().map(|mk| (mk.name.clone(), mk.at)).collect())
             .collect(),
+        axes: marker_axes(m),
         source: super::file_name(&m.source.name),
         joint_lines: (m.joints.iter())
             .filter_map(|j| Some((format!("joint {}", j.name), j.line?)))
@@ -60,6 +61,29 @@ pub(crate) fn empty_plan(m: &Mechanism) -> Plan {
         branches: vec![],
         idle: vec![],
     }
+}
+
+/// Each marker's axes as the equations read them: the frame of the first
+/// joint naming it (a fixed joint's second marker takes the first's axes),
+/// else its own axes, if it has any.
+fn marker_axes(m: &Mechanism) -> Vec<Vec<Option<[dofplan_runtime::spatial::Vec3; 2]>>> {
+    let mut axes: Vec<Vec<Option<_>>> = (m.bodies.iter()).map(|b| vec![None; b.markers.len()]).collect();
+    for j in &m.joints {
+        let marker = |id: crate::model::MarkerId| &m.bodies[id.body].markers[id.marker];
+        let frames =
+            crate::model::spatial::equations::joint_frames(j, |id| marker(id).at, |id| marker(id).axes);
+        for (id, f) in j.markers.iter().zip(frames) {
+            axes[id.body][id.marker].get_or_insert([f.axes.z, f.axes.x]);
+        }
+    }
+    for (b, body) in m.bodies.iter().enumerate() {
+        for (k, mk) in body.markers.iter().enumerate() {
+            if axes[b][k].is_none() {
+                axes[b][k] = mk.axes.map(|a| [a.z, a.x]);
+            }
+        }
+    }
+    axes
 }
 
 /// Plans a spatial mechanism: the steps, then each branch chosen so the
@@ -137,7 +161,8 @@ pub fn analyse(m: &Mechanism) -> Result<Plan, PlanError> {
 /// Two circles in different planes that do not lie on one sphere meet in
 /// at most one of the two candidate points (a Bennett linkage's skew
 /// circles): where the drawing has only one valid candidate, the step needs
-/// no branch, and its explanation says so with the other's miss.
+/// no branch (its explanation then gives the other's miss,
+/// `Plan::single_root_miss`).
 fn single_roots(plan: &mut Plan, interp: &Interpreter) {
     use crate::plan::spatial::{Locus, StepKind};
     use dofplan_runtime::spatial::{circle_about, circle_circle_candidates};
@@ -164,19 +189,7 @@ fn single_roots(plan: &mut Plan, interp: &Interpreter) {
         let (c2, n2, r2) = circle_about(p(p2), d(a2), p(x2));
         let cand = circle_circle_candidates(c1, n1, r1, c2, n2, r2, *tol);
         if !cand.coplanar && cand.count() == 1 {
-            let other = if cand.passes[0] {
-                cand.misses[1]
-            } else {
-                cand.misses[0]
-            };
             *branch = None;
-            if let Some(i) = step.text.find(", branch slot") {
-                step.text.truncate(i);
-            }
-            step.text.push_str(&format!(
-                ", one valid root (the other misses by {})",
-                crate::plan::num(other)
-            ));
         }
     }
 }

@@ -374,17 +374,16 @@ impl Planner<'_> {
         self.branches.len() - 1
     }
 
-    fn push(&mut self, kind: StepKind, text: String, serves: Vec<String>) {
-        self.steps.push(Step { kind, text, serves });
+    fn push(&mut self, kind: StepKind, serves: Vec<String>) {
+        self.steps.push(Step { kind, serves });
     }
 
-    fn act(&mut self, body: usize, action: Action, text: String, serves: &[String]) {
+    fn act(&mut self, body: usize, action: Action, serves: &[String]) {
         self.push(
             StepKind::Act {
                 body,
                 action: Box::new(action),
             },
-            text,
             serves.to_vec(),
         );
     }
@@ -399,17 +398,8 @@ impl Planner<'_> {
 
     /// A check step of `redundant` rows of equation `i`.
     fn check(&mut self, i: usize, redundant: usize) {
-        let name = self.serves(i);
-        let text = if redundant > 0 {
-            format!(
-                "check {name} ({redundant} row{}) [redundant]",
-                if redundant == 1 { "" } else { "s" }
-            )
-        } else {
-            format!("check {name}")
-        };
         let row = self.check_row(i, redundant);
-        self.push(StepKind::Check { rows: vec![row] }, text, vec![]);
+        self.push(StepKind::Check { rows: vec![row] }, vec![]);
     }
 
     fn name(&self, b: usize) -> &str {
@@ -633,7 +623,7 @@ impl Planner<'_> {
 
     /// `TranslateOnto`: Translate the marker onto the point.
     fn do_translate_onto(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
-        let (b, fm, serves, name, mname) = (a.b, a.fm, a.serves, &a.name, &a.mname);
+        let (b, fm, serves) = (a.b, a.fm, a.serves);
         let m_pt = a.m_pt.clone();
         self.act(
             b,
@@ -641,7 +631,6 @@ impl Planner<'_> {
                 from: m_pt,
                 to: k.clone(),
             },
-            format!("{name}: translate {mname} onto {}", self.describe(k)),
             serves,
         );
         new.t = T::Point { q: fm.at };
@@ -650,7 +639,7 @@ impl Planner<'_> {
 
     /// `TranslateAlong`: Translate along the body's line so the marker reaches the point.
     fn do_translate_along(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
-        let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
+        let (b, fm, serves, st) = (a.b, a.fm, a.serves, &a.st);
         let m_pt = a.m_pt.clone();
         let T::Line { q, dir } = st.t.clone() else {
             return None;
@@ -662,10 +651,6 @@ impl Planner<'_> {
                 to: k.clone(),
                 dir,
             },
-            format!(
-                "{name}: slide along its line until {mname} meets {}",
-                self.describe(k)
-            ),
             serves,
         );
         new.t = T::Point {
@@ -676,7 +661,7 @@ impl Planner<'_> {
 
     /// `SlideTurn`: Translate along the line, then rotate about it onto the point.
     fn do_slide_turn(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
-        let (b, serves, st, name, mname) = (a.b, a.serves, &a.st, &a.name, &a.mname);
+        let (b, serves, st) = (a.b, a.serves, &a.st);
         let m_pt = a.m_pt.clone();
         let (T::Line { q, dir }, R::Axis { al }) = (st.t.clone(), st.r.clone()) else {
             return None;
@@ -688,10 +673,6 @@ impl Planner<'_> {
                 to: k.clone(),
                 dir,
             },
-            format!(
-                "{name}: slide along its axis to the height of {}",
-                self.describe(k)
-            ),
             serves,
         );
         self.act(
@@ -702,10 +683,6 @@ impl Planner<'_> {
                 from: m_pt,
                 to: k.clone(),
             },
-            format!(
-                "{name}: turn about its axis taking {mname} onto {}",
-                self.describe(k)
-            ),
             serves,
         );
         *new = State {
@@ -717,7 +694,7 @@ impl Planner<'_> {
 
     /// `TranslateInPlane`: Translate in the body's plane so the marker reaches the point.
     fn do_translate_in_plane(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
-        let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
+        let (b, fm, serves, st) = (a.b, a.fm, a.serves, &a.st);
         let m_pt = a.m_pt.clone();
         let normal = match st.r {
             R::Axis { al } => self.body_dir(b, al),
@@ -730,10 +707,6 @@ impl Planner<'_> {
                 to: k.clone(),
                 normal,
             },
-            format!(
-                "{name}: translate in its plane, {mname} onto {}",
-                self.describe(k)
-            ),
             serves,
         );
         new.t = T::Point { q: fm.at };
@@ -742,7 +715,7 @@ impl Planner<'_> {
 
     /// `TranslateToLine`: Translate the marker to its foot on the line.
     fn do_translate_to_line(&mut self, a: &Applied, k: &PointRef, d: &DirRef, new: &mut State) -> Option<()> {
-        let (b, fm, serves, name, mname) = (a.b, a.fm, a.serves, &a.name, &a.mname);
+        let (b, fm, serves) = (a.b, a.fm, a.serves);
         let m_pt = a.m_pt.clone();
         self.act(
             b,
@@ -751,10 +724,6 @@ impl Planner<'_> {
                 through: k.clone(),
                 dir: d.clone(),
             },
-            format!(
-                "{name}: translate {mname} onto the line through {}",
-                self.describe(k)
-            ),
             serves,
         );
         new.t = T::Line {
@@ -772,7 +741,7 @@ impl Planner<'_> {
         n: &DirRef,
         new: &mut State,
     ) -> Option<()> {
-        let (b, fm, serves, name, mname) = (a.b, a.fm, a.serves, &a.name, &a.mname);
+        let (b, fm, serves) = (a.b, a.fm, a.serves);
         let m_pt = a.m_pt.clone();
         self.act(
             b,
@@ -781,10 +750,6 @@ impl Planner<'_> {
                 through: k.clone(),
                 normal: n.clone(),
             },
-            format!(
-                "{name}: translate {mname} onto the plane through {}",
-                self.describe(k)
-            ),
             serves,
         );
         new.t = T::Plane { q: fm.at };
@@ -793,7 +758,7 @@ impl Planner<'_> {
 
     /// `OwnerLineThrough`: Translate the body's line (its z known) through the point.
     fn do_owner_line_through(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
-        let (b, fm, serves, name, mname) = (a.b, a.fm, a.serves, &a.name, &a.mname);
+        let (b, fm, serves) = (a.b, a.fm, a.serves);
         let m_pt = a.m_pt.clone();
         let d = self.body_dir(b, fm.axes.z);
         self.act(
@@ -803,10 +768,6 @@ impl Planner<'_> {
                 through: k.clone(),
                 dir: d.clone(),
             },
-            format!(
-                "{name}: translate its line ({mname}) through {}",
-                self.describe(k)
-            ),
             serves,
         );
         new.t = T::Line { q: fm.at, dir: d };
@@ -815,7 +776,7 @@ impl Planner<'_> {
 
     /// `OwnerPlaneThrough`: Translate the body's plane (its z known) through the point.
     fn do_owner_plane_through(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
-        let (b, fm, serves, name, mname) = (a.b, a.fm, a.serves, &a.name, &a.mname);
+        let (b, fm, serves) = (a.b, a.fm, a.serves);
         let m_pt = a.m_pt.clone();
         let n = self.body_dir(b, fm.axes.z);
         self.act(
@@ -825,10 +786,6 @@ impl Planner<'_> {
                 through: k.clone(),
                 normal: n,
             },
-            format!(
-                "{name}: translate its plane ({mname}) through {}",
-                self.describe(k)
-            ),
             serves,
         );
         new.t = T::Plane { q: fm.at };
@@ -837,11 +794,11 @@ impl Planner<'_> {
 
     /// `RotateOnto`: Minimal rotation about the pivot taking the marker toward the point.
     fn do_rotate_onto(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
-        let (b, fm, serves, st, mname) = (a.b, a.fm, a.serves, &a.st, &a.mname);
+        let (b, fm, serves, st) = (a.b, a.fm, a.serves, &a.st);
         let m_pt = a.m_pt.clone();
         let pivot = a.pivot.clone();
         let q = st.pivot()?;
-        self.rotate_onto(b, &pivot, m_pt, k, mname, serves);
+        self.rotate_onto(b, &pivot, m_pt, k, serves);
         new.r = R::Axis {
             al: unit(sub(fm.at, q)),
         };
@@ -850,7 +807,7 @@ impl Planner<'_> {
 
     /// `AxisOnto`: Rotation about the axis taking the marker onto the point.
     fn do_axis_onto(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
-        let (b, serves, st, name, mname) = (a.b, a.serves, &a.st, &a.name, &a.mname);
+        let (b, serves, st) = (a.b, a.serves, &a.st);
         let m_pt = a.m_pt.clone();
         let pivot = a.pivot.clone();
         let R::Axis { al } = st.r else { return None };
@@ -862,10 +819,6 @@ impl Planner<'_> {
                 from: m_pt,
                 to: k.clone(),
             },
-            format!(
-                "{name}: turn about its axis taking {mname} onto {}",
-                self.describe(k)
-            ),
             serves,
         );
         new.r = R::Fixed;
@@ -874,7 +827,7 @@ impl Planner<'_> {
 
     /// `RotateOntoCone`: Rotate onto the point, then about the new axis onto the cone (a branch).
     fn do_rotate_onto_cone(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
-        let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
+        let (b, fm, serves, st) = (a.b, a.fm, a.serves, &a.st);
         let m_pt = a.m_pt.clone();
         let pivot = a.pivot.clone();
         let R::Cone { u, w, cos } = st.r.clone() else {
@@ -884,7 +837,7 @@ impl Planner<'_> {
         if parallel(sub(fm.at, q), u) {
             return None;
         }
-        self.rotate_onto(b, &pivot, m_pt, k, mname, serves);
+        self.rotate_onto(b, &pivot, m_pt, k, serves);
         let slot = self.slot();
         self.act(
             b,
@@ -896,10 +849,6 @@ impl Planner<'_> {
                 cos,
                 branch: slot,
             },
-            format!(
-                "{name}: spin about {}–{mname} until its cone holds, branch slot {slot}",
-                self.describe(&pivot)
-            ),
             serves,
         );
         new.r = R::Fixed;
@@ -908,7 +857,7 @@ impl Planner<'_> {
 
     /// `LineSphere`: Pivot onto line ∩ sphere (a branch), then rotate onto the point.
     fn do_line_sphere(&mut self, a: &Applied, k: &PointRef, new: &mut State) -> Option<()> {
-        let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
+        let (b, fm, serves, st, name) = (a.b, a.fm, a.serves, &a.st, &a.name);
         let m_pt = a.m_pt.clone();
         let T::Line { q, dir } = st.t.clone() else {
             return None;
@@ -930,10 +879,6 @@ impl Planner<'_> {
                 branch: Some(slot),
                 tol: 1e-9 * self.size,
             },
-            format!(
-                "{name} pivot: its line ∩ sphere about {}, branch slot {slot}",
-                self.describe(k)
-            ),
             serves.to_vec(),
         );
         self.act(
@@ -942,7 +887,6 @@ impl Planner<'_> {
                 from: qp.clone(),
                 to: PointRef::Temp(t),
             },
-            format!("{name}: slide its pivot to step {}", self.steps.len() - 1),
             serves,
         );
         self.act(
@@ -952,10 +896,6 @@ impl Planner<'_> {
                 from: m_pt,
                 to: k.clone(),
             },
-            format!(
-                "{name}: rotate about its pivot taking {mname} onto {}",
-                self.describe(k)
-            ),
             serves,
         );
         *new = State {
@@ -975,7 +915,7 @@ impl Planner<'_> {
         d: &DirRef,
         new: &mut State,
     ) -> Option<()> {
-        let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
+        let (b, fm, serves, st, mname) = (a.b, a.fm, a.serves, &a.st, &a.mname);
         let m_pt = a.m_pt.clone();
         let pivot = a.pivot.clone();
         let q = st.pivot()?;
@@ -993,7 +933,6 @@ impl Planner<'_> {
         };
         let t = self.temp(mname.clone(), fm.at);
         let slot = self.slot();
-        let lname = locus.name();
         self.push(
             StepKind::Intersect {
                 temp: t,
@@ -1007,11 +946,6 @@ impl Planner<'_> {
                 branch: Some(slot),
                 tol: 1e-9 * self.size,
             },
-            format!(
-                "{mname}: {lname} about {} ∩ line through {}, branch slot {slot}",
-                self.describe(&pivot),
-                self.describe(k)
-            ),
             serves.to_vec(),
         );
         let to = PointRef::Temp(t);
@@ -1024,10 +958,6 @@ impl Planner<'_> {
                     from: m_pt,
                     to,
                 },
-                format!(
-                    "{name}: turn about its axis taking {mname} onto step {}",
-                    self.steps.len() - 1
-                ),
                 serves,
             );
             new.r = R::Fixed;
@@ -1039,10 +969,6 @@ impl Planner<'_> {
                     from: m_pt,
                     to,
                 },
-                format!(
-                    "{name}: rotate about its pivot taking {mname} onto step {}",
-                    self.steps.len() - 1
-                ),
                 serves,
             );
             new.r = R::Axis {
@@ -1054,16 +980,16 @@ impl Planner<'_> {
 
     /// `AlignDir`: Minimal rotation taking z_m to the direction.
     fn do_align_dir(&mut self, a: &Applied, t: &DirRef, new: &mut State) -> Option<()> {
-        let (b, fm, serves, mname) = (a.b, a.fm, a.serves, &a.mname);
+        let (b, fm, serves) = (a.b, a.fm, a.serves);
         let pivot = a.pivot.clone();
-        self.align_z(b, &pivot, fm.axes.z, t, mname, serves);
+        self.align_z(b, &pivot, fm.axes.z, t, serves);
         new.r = R::Axis { al: fm.axes.z };
         Some(())
     }
 
     /// `AxisDir`: Rotation about the axis taking z_m to the direction.
     fn do_axis_dir(&mut self, a: &Applied, t: &DirRef, new: &mut State) -> Option<()> {
-        let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
+        let (b, fm, serves, st) = (a.b, a.fm, a.serves, &a.st);
         let pivot = a.pivot.clone();
         let R::Axis { al } = st.r else { return None };
         self.act(
@@ -1074,7 +1000,6 @@ impl Planner<'_> {
                 from: self.body_dir(b, fm.axes.z),
                 to: t.clone(),
             },
-            format!("{name}: turn about its axis aligning {mname}'s z"),
             serves,
         );
         new.r = R::Fixed;
@@ -1083,12 +1008,12 @@ impl Planner<'_> {
 
     /// `AlignOntoCone`: Align z_m, then turn about it until the cone's direction is on its cone (a branch).
     fn do_align_onto_cone(&mut self, a: &Applied, t: &DirRef, new: &mut State) -> Option<()> {
-        let (b, fm, serves, st, name, mname) = (a.b, a.fm, a.serves, &a.st, &a.name, &a.mname);
+        let (b, fm, serves, st) = (a.b, a.fm, a.serves, &a.st);
         let pivot = a.pivot.clone();
         let R::Cone { u, w, cos } = st.r.clone() else {
             return None;
         };
-        self.align_z(b, &pivot, fm.axes.z, t, mname, serves);
+        self.align_z(b, &pivot, fm.axes.z, t, serves);
         let slot = self.slot();
         self.act(
             b,
@@ -1100,7 +1025,6 @@ impl Planner<'_> {
                 cos,
                 branch: slot,
             },
-            format!("{name}: spin about {mname}'s z until its cone holds, branch slot {slot}"),
             serves,
         );
         new.r = R::Fixed;
@@ -1109,7 +1033,7 @@ impl Planner<'_> {
 
     /// `AxisCondition`: Rotation about the axis making the angle to the direction (a branch).
     fn do_axis_condition(&mut self, a: &Applied, t: &DirRef, new: &mut State) -> Option<()> {
-        let (b, fm, serves, e, st, name, mname) = (a.b, a.fm, a.serves, &a.e, &a.st, &a.name, &a.mname);
+        let (b, fm, serves, e, st) = (a.b, a.fm, a.serves, &a.e, &a.st);
         let pivot = a.pivot.clone();
         let R::Axis { al } = st.r else { return None };
         let cos = match e.kind {
@@ -1127,10 +1051,6 @@ impl Planner<'_> {
                 cos,
                 branch: slot,
             },
-            format!(
-                "{name}: turn about its axis until {mname}'s z is at {}° to the other, branch slot {slot}",
-                crate::plan::num(cos.clamp(-1.0, 1.0).acos().to_degrees())
-            ),
             serves,
         );
         new.r = R::Fixed;
@@ -1139,7 +1059,7 @@ impl Planner<'_> {
 
     /// `Tilt`: Tilt z_m to the angle: the cone state.
     fn do_tilt(&mut self, a: &Applied, t: &DirRef, new: &mut State) -> Option<()> {
-        let (b, fm, serves, e, name, mname) = (a.b, a.fm, a.serves, &a.e, &a.name, &a.mname);
+        let (b, fm, serves, e) = (a.b, a.fm, a.serves, &a.e);
         let pivot = a.pivot.clone();
         let cos = match e.kind {
             Kind::Prim(Primitive::PerpendicularZ) => 0.0,
@@ -1153,10 +1073,6 @@ impl Planner<'_> {
                 to: t.clone(),
                 cos,
             },
-            format!(
-                "{name}: tilt {mname}'s z to {}° from the other (a cone)",
-                crate::plan::num(cos.clamp(-1.0, 1.0).acos().to_degrees())
-            ),
             serves,
         );
         new.r = R::Cone {
@@ -1169,8 +1085,7 @@ impl Planner<'_> {
 
     /// `AlignTwist`, `Twist`: Align z, then twist x: orientation known. / Twist about the axis (the input's angle, or offset-x's).
     fn do_twist(&mut self, a: &Applied, frag: &Fragment, target: &Target, new: &mut State) -> Option<()> {
-        let (mover, b, fm, sign, serves, e, name, mname) =
-            (a.mover, a.b, a.fm, a.sign, a.serves, &a.e, &a.name, &a.mname);
+        let (mover, b, fm, sign, serves, e) = (a.mover, a.b, a.fm, a.sign, a.serves, &a.e);
         let pivot = a.pivot.clone();
         // The twist is measured about the first marker's z from its x
         // to the second's.
@@ -1178,7 +1093,7 @@ impl Planner<'_> {
         let [f1, f2] = e.frames;
         if frag.action == Do::AlignTwist {
             let Target::Dir(t) = target else { return None };
-            self.align_z(b, &pivot, fm.axes.z, t, mname, serves);
+            self.align_z(b, &pivot, fm.axes.z, t, serves);
         }
         let input = match e.kind {
             Kind::Angle { input } => Some(input),
@@ -1201,13 +1116,6 @@ impl Planner<'_> {
                 input,
                 sign,
             },
-            match input {
-                Some(k) => format!(
-                    "{name}: turn about the joint axis by input {}",
-                    self.m.inputs[k].name
-                ),
-                None => format!("{name}: turn about the joint axis to the offset-x angle"),
-            },
             serves,
         );
         new.r = R::Fixed;
@@ -1216,7 +1124,7 @@ impl Planner<'_> {
 
     /// `SlideTo`: Slide along the line to the input's distance.
     fn do_slide_to(&mut self, a: &Applied, new: &mut State) -> Option<()> {
-        let (b, sign, serves, e, st, name) = (a.b, a.sign, a.serves, &a.e, &a.st, &a.name);
+        let (b, sign, serves, e, st) = (a.b, a.sign, a.serves, &a.e, &a.st);
         let Kind::Slide { input } = e.kind else {
             return None;
         };
@@ -1234,10 +1142,6 @@ impl Planner<'_> {
                 input,
                 sign,
             },
-            format!(
-                "{name}: slide along the joint axis by input {}",
-                self.m.inputs[input].name
-            ),
             serves,
         );
         new.t = T::Point { q };
@@ -1246,12 +1150,7 @@ impl Planner<'_> {
 
     /// Rotates body `b` about `pivot` so its marker `mname`'s z (local `z`)
     /// points along `to`.
-    fn align_z(&mut self, b: usize, pivot: &PointRef, z: Vec3, to: &DirRef, mname: &str, serves: &[String]) {
-        let text = format!(
-            "{}: rotate about {} aligning {mname}'s z",
-            self.name(b),
-            self.describe(pivot)
-        );
+    fn align_z(&mut self, b: usize, pivot: &PointRef, z: Vec3, to: &DirRef, serves: &[String]) {
         self.act(
             b,
             Action::AlignDir {
@@ -1259,28 +1158,13 @@ impl Planner<'_> {
                 from: self.body_dir(b, z),
                 to: to.clone(),
             },
-            text,
             serves,
         );
     }
 
     /// Rotates body `b` about `pivot` taking its point `from` (the marker
     /// `mname`) onto `to`.
-    fn rotate_onto(
-        &mut self,
-        b: usize,
-        pivot: &PointRef,
-        from: PointRef,
-        to: &PointRef,
-        mname: &str,
-        serves: &[String],
-    ) {
-        let text = format!(
-            "{}: rotate about {} taking {mname} onto {}",
-            self.name(b),
-            self.describe(pivot),
-            self.describe(to)
-        );
+    fn rotate_onto(&mut self, b: usize, pivot: &PointRef, from: PointRef, to: &PointRef, serves: &[String]) {
         self.act(
             b,
             Action::RotateOnto {
@@ -1288,35 +1172,8 @@ impl Planner<'_> {
                 from,
                 to: to.clone(),
             },
-            text,
             serves,
         );
-    }
-
-    fn describe(&self, p: &PointRef) -> String {
-        match p {
-            PointRef::Fixed(v) => format!(
-                "[{}, {}, {}]",
-                crate::plan::num(v[0]),
-                crate::plan::num(v[1]),
-                crate::plan::num(v[2])
-            ),
-            PointRef::Body { body, local } | PointRef::Slid { body, local, .. } => {
-                let b = &self.m.bodies[*body];
-                match b.markers.iter().find(|m| self.same_point(m.at, *local)) {
-                    Some(m) => format!("{}.{}", b.name, m.name),
-                    None => format!("a point of {}", b.name),
-                }
-            }
-            PointRef::Temp(t) => format!("step {} ({})", self.temp_step(*t), self.temps[*t].name),
-        }
-    }
-
-    fn temp_step(&self, t: usize) -> usize {
-        self.steps
-            .iter()
-            .position(|s| matches!(s.kind, StepKind::Intersect { temp, .. } if temp == t))
-            .unwrap_or(0)
     }
 
     /// The locus of body point `local` of `b` (or of the point it is on a
@@ -1412,13 +1269,6 @@ impl Planner<'_> {
         let t = self.temp(mname.clone(), e.frames[1].at);
         let slot = self.slot();
         let serves = vec![self.serves(i)];
-        let text = format!(
-            "{mname}: {} of {} ∩ {} of {}, branch slot {slot}",
-            la.name(),
-            self.name(ba),
-            lb.name(),
-            self.name(bb)
-        );
         self.push(
             StepKind::Intersect {
                 temp: t,
@@ -1426,7 +1276,6 @@ impl Planner<'_> {
                 branch: Some(slot),
                 tol: 1e-7 * self.size,
             },
-            text,
             serves.clone(),
         );
         for (body, pt) in [(ba, pa), (bb, pb)] {
@@ -1488,16 +1337,10 @@ impl Planner<'_> {
                 sign: e.sign,
                 branch: slot,
             },
-            format!(
-                "{name1} z: cone about {}'s axis ∩ cone about {}'s axis, branch slot {slot}",
-                self.name(b1),
-                self.name(b2)
-            ),
             serves.clone(),
         );
         for (b, al, z, t) in [(b1, al1, z1, t1), (b2, al2, z2, t2)] {
             let pivot = self.pivot_point(b, &self.state[b].clone(), e.frames[0].at);
-            let name = self.name(b).to_string();
             self.act(
                 b,
                 Action::AxisDir {
@@ -1506,10 +1349,6 @@ impl Planner<'_> {
                     from: self.body_dir(b, z),
                     to: DirRef::Temp(t),
                 },
-                format!(
-                    "{name}: turn about its axis onto the direction of step {}",
-                    self.steps.len() - 1 - (b != b1) as usize
-                ),
                 &serves,
             );
             self.state[b].r = R::Fixed;
@@ -1522,8 +1361,6 @@ impl Planner<'_> {
     /// Moves a partly placed body so its point `pt` meets a known point.
     fn meet(&mut self, b: usize, pt: PointRef, to: PointRef, serves: &[String]) {
         let st = self.state[b].clone();
-        let name = self.name(b).to_string();
-        let step = self.describe(&to);
         match (&st.t, &st.r) {
             (T::Point { q }, R::Axis { al }) => {
                 self.act(
@@ -1534,7 +1371,6 @@ impl Planner<'_> {
                         from: pt,
                         to,
                     },
-                    format!("{name}: turn about its axis onto {step}"),
                     serves,
                 );
                 self.state[b].r = R::Fixed;
@@ -1552,7 +1388,6 @@ impl Planner<'_> {
                         from: pt,
                         to,
                     },
-                    format!("{name}: rotate about its pivot onto {step}"),
                     serves,
                 );
                 self.state[b].r = R::Axis {
@@ -1564,12 +1399,7 @@ impl Planner<'_> {
                 let T::Line { q, dir } = st.t.clone() else {
                     unreachable!()
                 };
-                self.act(
-                    b,
-                    Action::TranslateAlong { from: pt, to, dir },
-                    format!("{name}: slide along its line onto {step}"),
-                    serves,
-                );
+                self.act(b, Action::TranslateAlong { from: pt, to, dir }, serves);
                 self.state[b].t = T::Point { q };
                 self.changed.push(b);
             }
@@ -1583,7 +1413,6 @@ impl Planner<'_> {
                         from: pt,
                         to: to.clone(),
                     },
-                    format!("{name}: rotate about its pivot onto {step}"),
                     serves,
                 );
                 let slot = self.slot();
@@ -1597,7 +1426,6 @@ impl Planner<'_> {
                         cos,
                         branch: slot,
                     },
-                    format!("{name}: spin about the line to {step} until its cone holds, branch slot {slot}"),
                     serves,
                 );
                 self.state[b].r = R::Fixed;
@@ -1740,15 +1568,8 @@ impl Planner<'_> {
             rows,
             size: self.size,
         };
-        let names: Vec<String> = members.iter().map(|&b| self.name(b).to_string()).collect();
-        let text = format!(
-            "numeric cluster: {} ({} unknowns, {} equations), Newton-Raphson",
-            names.join(", "),
-            cluster.unknowns(),
-            cluster.equations()
-        );
         let serves: Vec<String> = used.iter().map(|&i| self.serves(i)).collect();
-        self.push(StepKind::Cluster(Box::new(cluster)), text, serves);
+        self.push(StepKind::Cluster(Box::new(cluster)), serves);
         for &i in &used {
             self.used[i] = true;
         }

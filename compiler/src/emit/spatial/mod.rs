@@ -375,7 +375,7 @@ pub(super) fn module(plan: &Plan, chunk_weight: usize) -> String {
         ),
     );
     let comments = (plan.steps.iter().enumerate())
-        .map(|(i, step)| step_comment(i, &step.text, &step.serves, &plan.source, &plan.joint_lines))
+        .map(|(i, step)| step_comment(i, &plan.explain(i), &step.serves, &plan.source, &plan.joint_lines))
         .collect();
     let mut sink = Sink::new(header, comments);
     e.module(steps, chunks, jet_steps, &mut sink);

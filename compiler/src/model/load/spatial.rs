@@ -6,11 +6,11 @@
 use dofplan_runtime::spatial::{cross, dot, norm, scale, sub, unit, Vec3};
 
 use super::{join, parse, source_file, Open, Validator, MAX_COORDINATE};
-use crate::model::{Diagnostic, Format, ModelError, SourceFile};
 use crate::model::source::{At, Node, NodeKind};
 use crate::model::spatial::equations::{drawn_residual, Frame};
 use crate::model::spatial::{Axes, Constraint, Joint, JointKind, Marker, Mechanism, Primitive};
 use crate::model::{Body, InputKind, MarkerId, DRAWN_TOLERANCE};
+use crate::model::{Diagnostic, Format, ModelError, SourceFile};
 
 /// Axes closer than this to parallel (or perpendicular), as a sine or a
 /// cosine, count as parallel (or perpendicular) as drawn.

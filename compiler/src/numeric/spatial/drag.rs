@@ -24,11 +24,6 @@ pub fn drag_plan(m: &Mechanism, marker: MarkerId) -> Plan {
         local: m.marker(marker).at,
         name: name.clone(),
     });
-    plan.steps[0].text = format!(
-        "drag {name}: every moving body free, {name} pinned to the target ({} unknowns, {} equations)",
-        c.unknowns(),
-        c.equations()
-    );
     plan.inputs = vec!["x".into(), "y".into(), "z".into()];
     plan.input_kinds = vec![crate::model::InputKind::Slide; 3];
     plan

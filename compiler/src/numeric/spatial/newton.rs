@@ -25,15 +25,9 @@ pub fn pure_newton(m: &Mechanism) -> Plan {
         .map(|e| ClusterRow::Equation(CheckRow::of(e, 0, size)))
         .collect();
     let cluster = Cluster { params, rows, size };
-    let text = format!(
-        "pure Newton: every moving body free ({} unknowns, {} equations)",
-        cluster.unknowns(),
-        cluster.equations()
-    );
     Plan {
         steps: vec![Step {
             kind: StepKind::Cluster(Box::new(cluster)),
-            text,
             serves: vec![],
         }],
         ..empty_plan(m)

@@ -16,6 +16,8 @@ use dofplan_runtime::Branch;
 use crate::model::spatial::equations::Equation;
 use crate::model::InputKind;
 
+mod explain;
+
 /// Index of a body in the mechanism's body order.
 pub type BodyId = usize;
 
@@ -515,13 +517,12 @@ impl Cluster {
     }
 }
 
-/// One step with its explanation's parts.
+/// One step and what it serves; its explanation is derived from it
+/// ([`Plan::explain`]).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Step {
     /// What it does.
     pub kind: StepKind,
-    /// The one-line explanation.
-    pub text: String,
     /// The joints, constraints and inputs it serves ("joint B coincident").
     pub serves: Vec<String>,
 }
@@ -564,6 +565,11 @@ pub struct Plan {
     /// coordinates. The generated module names them (`marker::CRANK_B`);
     /// no step reads them.
     pub markers: Vec<Vec<(String, Vec3)>>,
+    /// Each marker's local z and x axes as its first joint's equations
+    /// read them (none for a marker in no joint and without axes), as
+    /// [`Plan::markers`] lists the markers: explanations name a body's
+    /// direction by the marker axis it is ("rocker.D z").
+    pub axes: Vec<Vec<Option<[Vec3; 2]>>>,
     /// The file's name without its folder (the generated module's header),
     /// so a plan does not depend on where its file was read from.
     pub source: String,
@@ -618,34 +624,6 @@ impl Plan {
             StepKind::Cluster(c) => (u + c.unknowns(), e + c.equations()),
             _ => (u, e),
         })
-    }
-
-    /// The plan as `dofplan plan` prints it, in the planar plan's layout:
-    /// a header, then one line a step numbered from 0 (the number its
-    /// explanations cite; a break's runtime id is one more, see
-    /// [`step_number`]), then the idle freedoms.
-    pub fn explain_all(&self) -> String {
-        let mut out = crate::plan::explain::header(
-            &self.name,
-            &self.source,
-            self.steps.len(),
-            self.branches.len(),
-            self.inputs
-                .iter()
-                .map(String::as_str)
-                .zip(self.input_kinds.iter().copied()),
-        );
-        for (i, s) in self.steps.iter().enumerate() {
-            out.push_str(&crate::plan::explain::step_line(i, &s.text, &s.serves));
-        }
-        for (b, dof, why) in &self.idle {
-            out.push_str(&format!(
-                "      idle: {} keeps {dof} freedom{} at minimum motion ({why})\n",
-                self.bodies[*b],
-                if *dof == 1 { "" } else { "s" }
-            ));
-        }
-        out
     }
 }
 

@@ -170,7 +170,11 @@ fn frames(
         let shown = step_number(step);
         (
             shown,
-            plan.steps.get(shown).map_or(String::new(), |s| s.text.clone()),
+            if shown < plan.steps.len() {
+                plan.explain(shown)
+            } else {
+                String::new()
+            },
         )
     };
     let mut summary = Summary::new(value_name, value, &explain);
