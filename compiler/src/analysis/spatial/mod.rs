@@ -154,42 +154,20 @@ pub fn analyse(m: &Mechanism) -> Result<Plan, PlanError> {
     for (slot, b) in plan.branches.iter_mut().zip(&state.branches) {
         slot.initial = *b;
     }
-    single_roots(&mut plan, &interp);
+    single_roots(&mut plan);
     Ok(plan)
 }
 
 /// Two circles in different planes that do not lie on one sphere meet in
 /// at most one of the two candidate points (a Bennett linkage's skew
 /// circles): where the drawing has only one valid candidate, the step needs
-/// no branch (its explanation then gives the other's miss,
-/// `Plan::single_root_miss`).
-fn single_roots(plan: &mut Plan, interp: &Interpreter) {
-    use crate::plan::spatial::{Locus, StepKind};
-    use dofplan_runtime::spatial::{circle_about, circle_circle_candidates};
-    let state = interp.initial_state();
-    let inputs = vec![0.0; plan.inputs.len()];
-    let p = |q: &crate::plan::spatial::PointRef| crate::interp::spatial::point(&state, q, &inputs);
-    let d = |v: &crate::plan::spatial::DirRef| crate::interp::spatial::dir(&state, v, &inputs);
-    for step in &mut plan.steps {
-        let StepKind::Intersect {
-            loci, branch, tol, ..
-        } = &mut step.kind
-        else {
-            continue;
-        };
-        let [Locus::Circle { pivot, axis, at }, Locus::Circle {
-            pivot: p2,
-            axis: a2,
-            at: x2,
-        }] = loci.as_ref()
-        else {
-            continue;
-        };
-        let (c1, n1, r1) = circle_about(p(pivot), d(axis), p(at));
-        let (c2, n2, r2) = circle_about(p(p2), d(a2), p(x2));
-        let cand = circle_circle_candidates(c1, n1, r1, c2, n2, r2, *tol);
-        if !cand.coplanar && cand.count() == 1 {
-            *branch = None;
+/// no branch (its explanation then gives the other's miss).
+fn single_roots(plan: &mut Plan) {
+    for i in 0..plan.steps.len() {
+        if plan.single_root_miss(i).is_some() {
+            if let crate::plan::spatial::StepKind::Intersect { branch, .. } = &mut plan.steps[i].kind {
+                *branch = None;
+            }
         }
     }
 }

@@ -16,7 +16,7 @@ pub mod cluster;
 mod state;
 
 pub use state::InterpState;
-pub(crate) use state::{dir, dir_at, point, point_at};
+pub(crate) use state::{dir_at, point_at};
 
 /// Executes a [`Plan`].
 #[derive(Clone, Debug)]

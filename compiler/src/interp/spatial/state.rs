@@ -33,11 +33,6 @@ pub(super) struct Undo {
     pub(super) angles: Vec<f64>,
 }
 
-/// A world point.
-pub(crate) fn point(s: &InterpState, p: &PointRef, inputs: &[f64]) -> Vec3 {
-    point_at(&s.poses, &s.temps, p, inputs)
-}
-
 /// A world point at given poses and pseudo-markers.
 pub(crate) fn point_at<T: Real>(
     poses: &[Pose3<T>],
@@ -58,11 +53,6 @@ pub(crate) fn point_at<T: Real>(
         } => poses[*body].world_of(add(cst(*local), scale(cst(*dir), inputs[*input].mul_f64(*sign)))),
         PointRef::Temp(t) => temps[*t],
     }
-}
-
-/// A world direction (unit).
-pub(crate) fn dir(s: &InterpState, d: &DirRef, inputs: &[f64]) -> Vec3 {
-    dir_at(&s.poses, &s.temps, d, inputs)
 }
 
 /// A world direction (unit) at given poses and pseudo-markers.

@@ -383,16 +383,10 @@ impl Plan {
 
     /// Where step `i` intersects two circles in different planes and only
     /// one candidate is valid in the drawn pose (a Bennett linkage's skew
-    /// circles; the planner then keeps no branch): the other candidate's
-    /// miss, evaluated on the drawing (every body as drawn, inputs 0).
+    /// circles; analysis then keeps no branch): the other candidate's miss,
+    /// evaluated on the drawing (every body as drawn, inputs 0).
     pub(crate) fn single_root_miss(&self, i: usize) -> Option<f64> {
-        let StepKind::Intersect {
-            loci,
-            branch: None,
-            tol,
-            ..
-        } = &self.steps[i].kind
-        else {
+        let StepKind::Intersect { loci, tol, .. } = &self.steps[i].kind else {
             return None;
         };
         let [Locus::Circle { pivot, axis, at }, Locus::Circle {
