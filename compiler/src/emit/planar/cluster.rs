@@ -143,13 +143,32 @@ impl Emitter<'_> {
             o += p.count();
         }
         let layout = Layout { params, offsets };
+        let mut code = ClusterCode {
+            warm: Vec::new(),
+            place: Vec::new(),
+            residuals: Vec::new(),
+            jacobian: Vec::new(),
+        };
+        self.placing(&layout, pre, &mut code);
+        // Residuals, then the Jacobian's non-zero entries.
+        let mut row = 0;
+        for (k, r) in rows.iter().enumerate() {
+            row += match *r {
+                ClusterRow::Coincident { .. } => self.coincident_row(&layout, (k, row), r, pre, &mut code),
+                ClusterRow::InLine { .. } => self.in_line_row(&layout, row, r, &mut code),
+                ClusterRow::Parallel { .. } => self.parallel_row(&layout, row, r, &mut code),
+            };
+        }
+        code
+    }
 
-        // Before the solve: where each pinned body is pinned, each slide's
-        // direction and base, and the warm start read from the standing pose.
-        let mut warm = Vec::new();
-        // (pose, expression) in param order: a hinge's parent comes first.
-        let mut place: Vec<(TokenStream, TokenStream)> = Vec::new();
-        for (k, p) in params.iter().enumerate() {
+    /// Before the solve: where each pinned body is pinned, each slide's
+    /// direction and base, and the warm start read from the standing pose;
+    /// then each body's placement from the unknowns (a hinge's parent
+    /// first, as the params come).
+    fn placing(&self, layout: &Layout, pre: &mut Vec<TokenStream>, code: &mut ClusterCode) {
+        let (warm, place) = (&mut code.warm, &mut code.place);
+        for (k, p) in layout.params.iter().enumerate() {
             let b = p.body();
             let pose = self.pose(b);
             let o = layout.offsets[k];
@@ -204,127 +223,140 @@ impl Emitter<'_> {
                 }
             }
         }
+    }
 
-        // Residuals, then the Jacobian's non-zero entries.
-        let mut residuals = Vec::new();
-        let mut jacobian = Vec::new();
-        let mut row = 0;
-        for (k, r) in rows.iter().enumerate() {
-            let (i, i1) = (index(row), index(row + 1));
-            match *r {
-                ClusterRow::Coincident { a, la, slide, b, lb } => {
-                    let (pa, pb) = (self.pose(a), self.pose(b));
-                    // A slid marker moves with `a` like any of its points,
-                    // at its slid position: the slide is an input, not an
-                    // unknown.
-                    let (la_tokens, la_local) = match slide {
-                        Some((input, d)) => {
-                            let name = format_ident!("slid_{}", k);
-                            let u = &self.input_idents[input];
-                            let (lx, ly, dx, dy) = (
-                                self.slit(la[0]),
-                                self.slit(la[1]),
-                                self.slit(d[0]),
-                                self.slit(d[1]),
-                            );
-                            pre.push(quote!(let #name = [#lx + #u * #dx, #ly + #u * #dy];));
-                            (quote!(#name), Local::Slid(quote!(#name)))
-                        }
-                        None => (self.plit(la), Local::Drawn(la)),
-                    };
-                    let lb_tokens = self.plit(lb);
-                    residuals.push(quote! {
-                        let p = #pa.world(#la_tokens);
-                        let q = #pb.world(#lb_tokens);
-                        r[#i] = p[0] - q[0];
-                        r[#i1] = p[1] - q[1];
-                    });
-                    let mut terms = Vec::new();
-                    self.terms(&layout, a, &la_local, &mut terms);
-                    jacobian.extend(
-                        terms
-                            .drain(..)
-                            .map(|(col, t)| coincident_entry(row, col, &t, true)),
-                    );
-                    self.terms(&layout, b, &Local::Drawn(lb), &mut terms);
-                    jacobian.extend(
-                        terms
-                            .drain(..)
-                            .map(|(col, t)| coincident_entry(row, col, &t, false)),
-                    );
-                    row += 2;
-                }
-                ClusterRow::InLine { a, la, dir, b, lb } => {
-                    let (pa, pb) = (self.pose(a), self.pose(b));
-                    let (la_t, lb_t, dir_t) = (self.plit(la), self.plit(lb), self.plit(dir));
-                    let (d, v) = (format_ident!("d_{}", row), format_ident!("v_{}", row));
-                    let turns = layout.angle(a);
-                    let v_bind = if turns.is_some() && !self.jets {
-                        quote!(#v)
-                    } else {
-                        quote!(_)
-                    };
-                    residuals.push(quote! {
-                        let #d = #pa.world_dir(#dir_t);
-                        let (residual, #v_bind) = cluster::in_line(#d, #pa.world(#la_t), #pb.world(#lb_t));
-                        r[#i] = residual;
-                    });
-                    let mut terms = Vec::new();
-                    self.terms(&layout, b, &Local::Drawn(lb), &mut terms);
-                    for (col, t) in terms.drain(..) {
-                        let (c, t) = (index(col), t.tokens());
-                        jacobian.push(quote!(j[(#i, #c)] += cluster::cross(#d, #t);));
-                    }
-                    self.terms(&layout, a, &Local::Drawn(la), &mut terms);
-                    for (col, t) in terms.drain(..) {
-                        let (c, t) = (index(col), t.tokens());
-                        jacobian.push(quote!(j[(#i, #c)] -= cluster::cross(#d, #t);));
-                    }
-                    if let Some(col) = turns {
-                        let c = index(col);
-                        jacobian.push(quote!(j[(#i, #c)] += cluster::line_turn(#d, #v, SIZE);));
-                    }
-                    row += 1;
-                }
-                ClusterRow::Parallel { a, b, input } => {
-                    let (pa, pb) = (self.pose(a), self.pose(b));
-                    let rel = match input {
-                        Some(u) => {
-                            let u = &self.input_idents[u];
-                            quote!(#u)
-                        }
-                        None if self.jets => quote!(Rot::cst(Rot::IDENTITY)),
-                        None => quote!(Rot::IDENTITY),
-                    };
-                    let slope = format_ident!("slope_{}", row);
-                    let (ta, tb) = (layout.angle(a), layout.angle(b));
-                    let bind = if (ta.is_some() || tb.is_some()) && !self.jets {
-                        quote!(#slope)
-                    } else {
-                        quote!(_)
-                    };
-                    residuals.push(quote! {
-                        let (residual, #bind) = cluster::parallel(#pa.rot, #rel, #pb.rot, SIZE);
-                        r[#i] = residual;
-                    });
-                    if let Some(col) = tb {
-                        let c = index(col);
-                        jacobian.push(quote!(j[(#i, #c)] += #slope;));
-                    }
-                    if let Some(col) = ta {
-                        let c = index(col);
-                        jacobian.push(quote!(j[(#i, #c)] -= #slope;));
-                    }
-                    row += 1;
-                }
+    /// A coincident row pair (`k`th row, first residual `row`): the two
+    /// markers' world points differ by nothing. Returns its row count.
+    fn coincident_row(
+        &self,
+        layout: &Layout,
+        (k, row): (usize, usize),
+        r: &ClusterRow,
+        pre: &mut Vec<TokenStream>,
+        code: &mut ClusterCode,
+    ) -> usize {
+        let ClusterRow::Coincident { a, la, slide, b, lb } = *r else {
+            unreachable!("a coincident row")
+        };
+        let (i, i1) = (index(row), index(row + 1));
+        let (pa, pb) = (self.pose(a), self.pose(b));
+        // A slid marker moves with `a` like any of its points,
+        // at its slid position: the slide is an input, not an
+        // unknown.
+        let (la_tokens, la_local) = match slide {
+            Some((input, d)) => {
+                let name = format_ident!("slid_{}", k);
+                let u = &self.input_idents[input];
+                let (lx, ly, dx, dy) = (
+                    self.slit(la[0]),
+                    self.slit(la[1]),
+                    self.slit(d[0]),
+                    self.slit(d[1]),
+                );
+                pre.push(quote!(let #name = [#lx + #u * #dx, #ly + #u * #dy];));
+                (quote!(#name), Local::Slid(quote!(#name)))
             }
+            None => (self.plit(la), Local::Drawn(la)),
+        };
+        let lb_tokens = self.plit(lb);
+        code.residuals.push(quote! {
+            let p = #pa.world(#la_tokens);
+            let q = #pb.world(#lb_tokens);
+            r[#i] = p[0] - q[0];
+            r[#i1] = p[1] - q[1];
+        });
+        let mut terms = Vec::new();
+        self.terms(layout, a, &la_local, &mut terms);
+        code.jacobian.extend(
+            terms
+                .drain(..)
+                .map(|(col, t)| coincident_entry(row, col, &t, true)),
+        );
+        self.terms(layout, b, &Local::Drawn(lb), &mut terms);
+        code.jacobian.extend(
+            terms
+                .drain(..)
+                .map(|(col, t)| coincident_entry(row, col, &t, false)),
+        );
+        2
+    }
+
+    /// An in-line row: marker `lb` of `b` on the line of `a` through `la`
+    /// along `dir`. Returns its row count.
+    fn in_line_row(&self, layout: &Layout, row: usize, r: &ClusterRow, code: &mut ClusterCode) -> usize {
+        let ClusterRow::InLine { a, la, dir, b, lb } = *r else {
+            unreachable!("an in-line row")
+        };
+        let i = index(row);
+        let (pa, pb) = (self.pose(a), self.pose(b));
+        let (la_t, lb_t, dir_t) = (self.plit(la), self.plit(lb), self.plit(dir));
+        let (d, v) = (format_ident!("d_{}", row), format_ident!("v_{}", row));
+        let turns = layout.angle(a);
+        let v_bind = if turns.is_some() && !self.jets {
+            quote!(#v)
+        } else {
+            quote!(_)
+        };
+        code.residuals.push(quote! {
+            let #d = #pa.world_dir(#dir_t);
+            let (residual, #v_bind) = cluster::in_line(#d, #pa.world(#la_t), #pb.world(#lb_t));
+            r[#i] = residual;
+        });
+        let mut terms = Vec::new();
+        self.terms(layout, b, &Local::Drawn(lb), &mut terms);
+        for (col, t) in terms.drain(..) {
+            let (c, t) = (index(col), t.tokens());
+            code.jacobian.push(quote!(j[(#i, #c)] += cluster::cross(#d, #t);));
         }
-        ClusterCode {
-            warm,
-            place,
-            residuals,
-            jacobian,
+        self.terms(layout, a, &Local::Drawn(la), &mut terms);
+        for (col, t) in terms.drain(..) {
+            let (c, t) = (index(col), t.tokens());
+            code.jacobian.push(quote!(j[(#i, #c)] -= cluster::cross(#d, #t);));
         }
+        if let Some(col) = turns {
+            let c = index(col);
+            code.jacobian
+                .push(quote!(j[(#i, #c)] += cluster::line_turn(#d, #v, SIZE);));
+        }
+        1
+    }
+
+    /// A parallel row: `b`'s rotation is `a`'s turned by the input (or
+    /// equal). Returns its row count.
+    fn parallel_row(&self, layout: &Layout, row: usize, r: &ClusterRow, code: &mut ClusterCode) -> usize {
+        let ClusterRow::Parallel { a, b, input } = *r else {
+            unreachable!("a parallel row")
+        };
+        let i = index(row);
+        let (pa, pb) = (self.pose(a), self.pose(b));
+        let rel = match input {
+            Some(u) => {
+                let u = &self.input_idents[u];
+                quote!(#u)
+            }
+            None if self.jets => quote!(Rot::cst(Rot::IDENTITY)),
+            None => quote!(Rot::IDENTITY),
+        };
+        let slope = format_ident!("slope_{}", row);
+        let (ta, tb) = (layout.angle(a), layout.angle(b));
+        let bind = if (ta.is_some() || tb.is_some()) && !self.jets {
+            quote!(#slope)
+        } else {
+            quote!(_)
+        };
+        code.residuals.push(quote! {
+            let (residual, #bind) = cluster::parallel(#pa.rot, #rel, #pb.rot, SIZE);
+            r[#i] = residual;
+        });
+        if let Some(col) = tb {
+            let c = index(col);
+            code.jacobian.push(quote!(j[(#i, #c)] += #slope;));
+        }
+        if let Some(col) = ta {
+            let c = index(col);
+            code.jacobian.push(quote!(j[(#i, #c)] -= #slope;));
+        }
+        1
     }
 
     /// A numeric cluster too large for fixed-size matrices: the runtime's

@@ -7,7 +7,7 @@ use quote::{format_ident, quote};
 
 use super::{lit, Emitter};
 use crate::emit::fold::{plus_input, times};
-use crate::plan::{DirRef, PointRef, Rel, StepKind};
+use crate::plan::{DirRef, Line, PointRef, Rel, StepKind};
 
 impl Emitter<'_> {
     /// Binds a point to a local inside a step's block and returns the
@@ -97,51 +97,15 @@ impl Emitter<'_> {
         }
     }
 
+    /// The code of step `i`: its marker comment, then the runtime call of
+    /// its kind.
     pub(super) fn step(&self, i: usize) -> TokenStream {
         let step = &self.plan.steps[i];
         let id = self.step_id(i);
-        let mut pre = Vec::new();
         let marker = self.step_marker(i);
-        match &step.kind {
-            StepKind::Orient { body, from, rel } => {
-                let b = self.pose(*body);
-                let r = match rel {
-                    Rel::Identity if self.jets => quote!(Rot::cst(Rot::IDENTITY)),
-                    Rel::Identity => quote!(Rot::IDENTITY),
-                    Rel::Input { input, inverse } => {
-                        let u = &self.input_idents[*input];
-                        if *inverse {
-                            quote!(#u.inverse())
-                        } else {
-                            quote!(#u)
-                        }
-                    }
-                };
-                match from {
-                    Some(f) => {
-                        let f = self.pose(*f);
-                        quote! {
-                            #marker
-                            planar::orient(&mut #b, #f.rot, #r);
-                        }
-                    }
-                    None => quote! {
-                        #marker
-                        planar::set_rotation(&mut #b, #r);
-                    },
-                }
-            }
-            StepKind::Anchor { body, local, at } => {
-                let at = self.point(at, &mut pre);
-                let (b, l) = (self.pose(*body), self.point_lit(*local));
-                quote! {
-                    #marker
-                    {
-                        #(#pre)*
-                        planar::anchor(&mut #b, #l, #at);
-                    }
-                }
-            }
+        let code = match &step.kind {
+            StepKind::Orient { body, from, rel } => self.orient(*body, *from, rel),
+            StepKind::Anchor { body, local, at } => self.anchor(*body, *local, at),
             StepKind::Align {
                 body,
                 p,
@@ -149,23 +113,7 @@ impl Emitter<'_> {
                 q,
                 q_at,
                 redundant,
-            } => {
-                let p_at = self.point(p_at, &mut pre);
-                let q_at = self.point(q_at, &mut pre);
-                let (b, p, q) = (self.pose(*body), self.point_lit(*p), self.point_lit(*q));
-                let call = if *redundant {
-                    quote!(planar::align_consistent(ctx, #id, &mut #b, #p, #p_at, #q, #q_at)?;)
-                } else {
-                    quote!(planar::align(&mut #b, #p, #p_at, #q, #q_at);)
-                };
-                quote! {
-                    #marker
-                    {
-                        #(#pre)*
-                        #call
-                    }
-                }
-            }
+            } => self.align(&id, *body, [*p, *q], [p_at, q_at], *redundant),
             StepKind::CircleCircle {
                 out,
                 c1,
@@ -173,58 +121,15 @@ impl Emitter<'_> {
                 c2,
                 r2,
                 branch,
-            } => {
-                let t = &self.temp(*out);
-                let c1 = self.point(c1, &mut pre);
-                let c2 = self.point(c2, &mut pre);
-                let (r1, r2, k) = (self.slit(*r1), self.slit(*r2), self.index(*branch));
-                quote! {
-                    #marker
-                    let #t = {
-                        #(#pre)*
-                        planar::circle_circle(ctx, #id, planar::Circle::new(#c1, #r1), planar::Circle::new(#c2, #r2), planar::Slot::new(&mut branches[#k], &mut last[#k]))?
-                    };
-                }
-            }
+            } => self.circle_circle(&id, *out, [(c1, *r1), (c2, *r2)], *branch),
             StepKind::CircleLine {
                 out,
                 c,
                 r,
                 line,
                 branch,
-            } => {
-                let t = &self.temp(*out);
-                let c = self.point(c, &mut pre);
-                let p = self.point(&line.through, &mut pre);
-                // A fixed direction stays a pair of plain numbers: the
-                // step multiplies by it at a third of a jet product's cost.
-                let d = match &line.dir {
-                    DirRef::Fixed(v) => self.point_lit(*v),
-                    body => self.dir(body, "line_dir", &mut pre),
-                };
-                let (r, k) = (self.slit(*r), self.index(*branch));
-                quote! {
-                    #marker
-                    let #t = {
-                        #(#pre)*
-                        planar::circle_line(ctx, #id, planar::Circle::new(#c, #r), planar::Line::new(#p, #d), planar::Slot::new(&mut branches[#k], &mut last[#k]))?
-                    };
-                }
-            }
-            StepKind::LineLine { out, a, b } => {
-                let t = &self.temp(*out);
-                let p1 = self.point(&a.through, &mut pre);
-                let d1 = self.dir(&a.dir, "dir_a", &mut pre);
-                let p2 = self.point(&b.through, &mut pre);
-                let d2 = self.dir(&b.dir, "dir_b", &mut pre);
-                quote! {
-                    #marker
-                    let #t = {
-                        #(#pre)*
-                        planar::line_line(ctx, #id, #p1, #d1, #p2, #d2)?
-                    };
-                }
-            }
+            } => self.circle_line(&id, *out, (c, *r), line, *branch),
+            StepKind::LineLine { out, a, b } => self.line_line(&id, *out, a, b),
             StepKind::Cluster { params, rows, .. }
                 if Self::fixed_cluster(step.kind.cluster_size().0, step.kind.cluster_size().1) =>
             {
@@ -232,17 +137,12 @@ impl Emitter<'_> {
                 let code = if self.jets {
                     self.fixed_cluster_rates(&quote!(#id), params, rows, size)
                 } else {
-                    self.fixed_cluster_step(&quote!(#id), params, rows, size, &mut pre, false)
+                    self.fixed_cluster_step(&quote!(#id), params, rows, size, &mut Vec::new(), false)
                 };
-                quote! {
-                    #marker
-                    {
-                        #code
-                    }
-                }
+                quote!({ #code })
             }
             StepKind::Cluster { params, rows, .. } => {
-                self.dynamic_cluster_step(i, &id, &marker, params, rows, &mut pre)
+                return self.dynamic_cluster_step(i, &id, &marker, params, rows, &mut Vec::new());
             }
             StepKind::TurnLine {
                 body,
@@ -251,23 +151,163 @@ impl Emitter<'_> {
                 dir,
                 kappa,
                 branch,
-            } => {
-                let pv = self.point(pivot, &mut pre);
-                let tg = self.point(target, &mut pre);
-                let (b, d, kp, k) = (
-                    self.pose(*body),
-                    self.plit(*dir),
-                    self.slit(*kappa),
-                    self.index(*branch),
-                );
-                quote! {
-                    #marker
-                    {
-                        #(#pre)*
-                        #b.rot = planar::turn_line_through(ctx, #id, #pv, #tg, #d, #kp, planar::Slot::new(&mut branches[#k], &mut last[#k]))?;
-                    }
+            } => self.turn_line(&id, *body, [pivot, target], *dir, *kappa, *branch),
+        };
+        quote! {
+            #marker
+            #code
+        }
+    }
+
+    /// Sets a body's rotation: from another body's (`from`), turned by
+    /// `rel`, or outright.
+    fn orient(&self, body: usize, from: Option<usize>, rel: &Rel) -> TokenStream {
+        let b = self.pose(body);
+        let r = match rel {
+            Rel::Identity if self.jets => quote!(Rot::cst(Rot::IDENTITY)),
+            Rel::Identity => quote!(Rot::IDENTITY),
+            Rel::Input { input, inverse } => {
+                let u = &self.input_idents[*input];
+                if *inverse {
+                    quote!(#u.inverse())
+                } else {
+                    quote!(#u)
                 }
             }
+        };
+        match from {
+            Some(f) => {
+                let f = self.pose(f);
+                quote!(planar::orient(&mut #b, #f.rot, #r);)
+            }
+            None => quote!(planar::set_rotation(&mut #b, #r);),
         }
+    }
+
+    /// Translates a body so its point `local` lands on `at`.
+    fn anchor(&self, body: usize, local: [f64; 2], at: &PointRef) -> TokenStream {
+        let mut pre = Vec::new();
+        let at = self.point(at, &mut pre);
+        let (b, l) = (self.pose(body), self.point_lit(local));
+        quote!({
+            #(#pre)*
+            planar::anchor(&mut #b, #l, #at);
+        })
+    }
+
+    /// Places a body by two of its points; a redundant alignment checks
+    /// the distance between them.
+    fn align(
+        &self,
+        id: &TokenStream,
+        body: usize,
+        [p, q]: [[f64; 2]; 2],
+        [p_at, q_at]: [&PointRef; 2],
+        redundant: bool,
+    ) -> TokenStream {
+        let mut pre = Vec::new();
+        let p_at = self.point(p_at, &mut pre);
+        let q_at = self.point(q_at, &mut pre);
+        let (b, p, q) = (self.pose(body), self.point_lit(p), self.point_lit(q));
+        let call = if redundant {
+            quote!(planar::align_consistent(ctx, #id, &mut #b, #p, #p_at, #q, #q_at)?;)
+        } else {
+            quote!(planar::align(&mut #b, #p, #p_at, #q, #q_at);)
+        };
+        quote!({
+            #(#pre)*
+            #call
+        })
+    }
+
+    /// A pseudo-marker on two circles, on its branch.
+    fn circle_circle(
+        &self,
+        id: &TokenStream,
+        out: usize,
+        [(c1, r1), (c2, r2)]: [(&PointRef, f64); 2],
+        branch: usize,
+    ) -> TokenStream {
+        let mut pre = Vec::new();
+        let t = &self.temp(out);
+        let c1 = self.point(c1, &mut pre);
+        let c2 = self.point(c2, &mut pre);
+        let (r1, r2, k) = (self.slit(r1), self.slit(r2), self.index(branch));
+        quote! {
+            let #t = {
+                #(#pre)*
+                planar::circle_circle(ctx, #id, planar::Circle::new(#c1, #r1), planar::Circle::new(#c2, #r2), planar::Slot::new(&mut branches[#k], &mut last[#k]))?
+            };
+        }
+    }
+
+    /// A pseudo-marker on a circle and a line, on its branch.
+    fn circle_line(
+        &self,
+        id: &TokenStream,
+        out: usize,
+        (c, r): (&PointRef, f64),
+        line: &Line,
+        branch: usize,
+    ) -> TokenStream {
+        let mut pre = Vec::new();
+        let t = &self.temp(out);
+        let c = self.point(c, &mut pre);
+        let p = self.point(&line.through, &mut pre);
+        // A fixed direction stays a pair of plain numbers: the
+        // step multiplies by it at a third of a jet product's cost.
+        let d = match &line.dir {
+            DirRef::Fixed(v) => self.point_lit(*v),
+            body => self.dir(body, "line_dir", &mut pre),
+        };
+        let (r, k) = (self.slit(r), self.index(branch));
+        quote! {
+            let #t = {
+                #(#pre)*
+                planar::circle_line(ctx, #id, planar::Circle::new(#c, #r), planar::Line::new(#p, #d), planar::Slot::new(&mut branches[#k], &mut last[#k]))?
+            };
+        }
+    }
+
+    /// A pseudo-marker where two lines cross.
+    fn line_line(&self, id: &TokenStream, out: usize, a: &Line, b: &Line) -> TokenStream {
+        let mut pre = Vec::new();
+        let t = &self.temp(out);
+        let p1 = self.point(&a.through, &mut pre);
+        let d1 = self.dir(&a.dir, "dir_a", &mut pre);
+        let p2 = self.point(&b.through, &mut pre);
+        let d2 = self.dir(&b.dir, "dir_b", &mut pre);
+        quote! {
+            let #t = {
+                #(#pre)*
+                planar::line_line(ctx, #id, #p1, #d1, #p2, #d2)?
+            };
+        }
+    }
+
+    /// Turns a body about `pivot` until its line (at angle `dir`, offset
+    /// `kappa`) passes through `target`, on its branch.
+    fn turn_line(
+        &self,
+        id: &TokenStream,
+        body: usize,
+        [pivot, target]: [&PointRef; 2],
+        dir: [f64; 2],
+        kappa: f64,
+        branch: usize,
+    ) -> TokenStream {
+        let mut pre = Vec::new();
+        let pv = self.point(pivot, &mut pre);
+        let tg = self.point(target, &mut pre);
+        let (b, d, kp, k) = (
+            self.pose(body),
+            self.plit(dir),
+            self.slit(kappa),
+            self.index(branch),
+        );
+        quote!({
+            #(#pre)*
+            #b.rot = planar::turn_line_through(ctx, #id, #pv, #tg, #d, #kp, planar::Slot::new(&mut branches[#k], &mut last[#k]))?;
+        })
     }
 }
