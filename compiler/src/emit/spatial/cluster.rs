@@ -26,7 +26,7 @@ use quote::quote;
 use super::step::{frames, row_kind, state_pose, Block};
 use super::Emitter;
 use crate::emit::{ident_for, index, lit};
-use crate::plan::spatial::{Cluster, ClusterRow, Param, PointRef};
+use crate::plan::spatial::{CheckRow, Cluster, ClusterRow, Param, PointRef};
 
 /// A cluster body: its locals and its first unknown.
 struct Member {
@@ -74,6 +74,18 @@ struct Pieces {
     zero_used: bool,
 }
 
+/// A body's pose in a cluster's closure: its trial pose if it is a cluster
+/// body, else the state's.
+fn trial_pose(members: &[Member], body: usize) -> TokenStream {
+    match members.iter().find(|mb| mb.body == body) {
+        Some(mb) => {
+            let p = &mb.pose;
+            quote!(#p)
+        }
+        None => state_pose(body),
+    }
+}
+
 impl Emitter<'_> {
     /// The code of cluster step `id` inside its block `b`: its Newton
     /// solve, or (a block on jets, in `solve_rates`) the solve on the
@@ -89,14 +101,36 @@ impl Emitter<'_> {
     /// The pieces of a cluster's code, with the bindings they read pushed
     /// onto `b` (on jets when `b` is).
     fn pieces(&self, b: &mut Block, c: &Cluster) -> Pieces {
-        let m = c.equations();
         for name in [
             "x", "r", "j", "c", "t", "d", "u", "v", "zero", "system", "report", "SIZE",
         ] {
             b.fresh(name);
         }
+        let members = self.members(b, c);
+        let mut p = Pieces {
+            used_columns: vec![false; members.len()],
+            members,
+            residuals: Vec::new(),
+            jacobian: Vec::new(),
+            zero_used: false,
+        };
+        // The rows, then their Jacobian entries.
+        let mut row = 0;
+        for r in &c.rows {
+            row += match r {
+                ClusterRow::Equation(e) => self.equation_rows(b, &mut p, row, e),
+                ClusterRow::Distance { .. } => self.distance_row(b, &mut p, row, r),
+                // Drags are run by the interpreter (`numeric::spatial::
+                // drag_plan`); no plan the analysis makes pins a marker.
+                ClusterRow::Pin { .. } => unreachable!("drag plans are not emitted"),
+            };
+        }
+        debug_assert_eq!(row, c.equations());
+        p
+    }
 
-        // Before the solve: each cluster body's unknowns and warm start.
+    /// Before the solve: each cluster body's unknowns and warm start.
+    fn members(&self, b: &mut Block, c: &Cluster) -> Vec<Member> {
         let mut members: Vec<Member> = Vec::new();
         let mut first = 0;
         for p in &c.params {
@@ -132,136 +166,117 @@ impl Emitter<'_> {
             });
             first += p.count();
         }
-        let member = |body: usize| members.iter().find(|mb| mb.body == body);
-        // A body's pose in the closure: its trial pose if it is a cluster
-        // body, else the state's.
-        let trial = |body: usize| match member(body) {
-            Some(mb) => {
-                let p = &mb.pose;
-                quote!(#p)
-            }
-            None => state_pose(body),
-        };
+        members
+    }
 
-        // The rows, then their Jacobian entries.
-        let mut residuals = Vec::new();
-        let mut jacobian = Vec::new();
-        let mut used_columns = vec![false; members.len()];
-        let mut zero_used = false;
-        let mut row = 0;
-        for r in &c.rows {
-            match r {
-                ClusterRow::Equation(e) => {
-                    let rows = e.kind.rows();
-                    let (f1, f2) = frames(e, &trial);
-                    let (f1_id, f2_id) = (b.fresh(&format!("f1_{row}")), b.fresh(&format!("f2_{row}")));
-                    let v = b.fresh(&format!("v_{row}"));
-                    let kind = row_kind(&e.kind);
-                    let writes = (0..rows).map(|i| {
-                        let (ri, vi) = (index(row + i), index(i));
-                        quote!(r[#ri] = #v[#vi];)
-                    });
-                    residuals.push(self.note(e.name.clone()));
-                    residuals.push(quote! {
-                        let #f1_id = #f1;
-                        let #f2_id = #f2;
-                        let #v = #kind.eval(&#f1_id, &#f2_id, inputs);
-                        #(#writes)*
-                    });
-                    for side in 0..2 {
-                        let body = e.bodies[side];
-                        if side == 1 && e.bodies[0] == body {
-                            continue;
-                        }
-                        let Some(k) = members.iter().position(|mb| mb.body == body) else {
-                            continue;
-                        };
-                        let mb = &members[k];
-                        used_columns[k] = true;
-                        let rate1 = quote!(t.rate(&#f1_id));
-                        let rate2 = quote!(t.rate(&#f2_id));
-                        let (d1, d2) = if side == 0 {
-                            if e.bodies[1] == body {
-                                (rate1, rate2)
-                            } else {
-                                zero_used = true;
-                                (rate1, quote!(zero))
-                            }
-                        } else {
-                            zero_used = true;
-                            (quote!(zero), rate2)
-                        };
-                        let adds = (0..rows).map(|i| {
-                            let (at, di) = (entry(row + i, mb.first), index(i));
-                            quote!(#at += d[#di];)
-                        });
-                        let (cols, count) = (&mb.columns, index(mb.count));
-                        jacobian.push(quote! {
-                            for (c, t) in #cols.iter().take(#count).enumerate() {
-                                let d = #kind.deriv(&#f1_id, &#f2_id, &#d1, &#d2, inputs);
-                                #(#adds)*
-                            }
-                        });
-                    }
-                    row += rows;
-                }
-                ClusterRow::Distance {
-                    a,
-                    b: pb,
-                    c: pc,
-                    d: pd,
-                    name,
-                } => {
-                    // The far end and the length are read once, before the
-                    // solve, as the interpreter does.
-                    let end = b.point(pb);
-                    let (qc, qd) = (b.point(pc), b.point(pd));
-                    let len = b.bind(
-                        &format!("len_{row}"),
-                        quote!(spatial::norm(spatial::sub(#qd, #qc))),
-                    );
-                    let (pa, ab) = (b.fresh(&format!("a_{row}")), b.fresh(&format!("ab_{row}")));
-                    let a_expr = match b.point_expr(a, &trial) {
-                        Some((_, e)) => e,
-                        None => b.point(a),
-                    };
-                    let ri = index(row);
-                    residuals.push(self.note(format!("{name}: its length, kept")));
-                    residuals.push(quote! {
-                        let #pa = #a_expr;
-                        let #ab = spatial::sub(#pa, #end);
-                        r[#ri] = spatial::norm(#ab) - #len;
-                    });
-                    let body = match a {
-                        PointRef::Body { body, .. } | PointRef::Slid { body, .. } => Some(*body),
-                        _ => None,
-                    };
-                    if let Some(k) = body.and_then(|body| members.iter().position(|mb| mb.body == body)) {
-                        let mb = &members[k];
-                        used_columns[k] = true;
-                        let (at, cols, count) = (entry(row, mb.first), &mb.columns, index(mb.count));
-                        jacobian.push(quote! {
-                            let u = spatial::unit(#ab);
-                            for (c, t) in #cols.iter().take(#count).enumerate() {
-                                #at = spatial::dot(u, t.velocity(#pa));
-                            }
-                        });
-                    }
-                    row += 1;
-                }
-                // Drags are run by the interpreter (`numeric::spatial::
-                // drag_plan`); no plan the analysis makes pins a marker.
-                ClusterRow::Pin { .. } => unreachable!("drag plans are not emitted"),
+    /// An equation's rows from `row` on, and their Jacobian entries.
+    /// Returns its row count.
+    fn equation_rows(&self, b: &mut Block, p: &mut Pieces, row: usize, e: &CheckRow) -> usize {
+        let trial = |body: usize| trial_pose(&p.members, body);
+        let rows = e.kind.rows();
+        let (f1, f2) = frames(e, &trial);
+        let (f1_id, f2_id) = (b.fresh(&format!("f1_{row}")), b.fresh(&format!("f2_{row}")));
+        let v = b.fresh(&format!("v_{row}"));
+        let kind = row_kind(&e.kind);
+        let writes = (0..rows).map(|i| {
+            let (ri, vi) = (index(row + i), index(i));
+            quote!(r[#ri] = #v[#vi];)
+        });
+        p.residuals.push(self.note(e.name.clone()));
+        p.residuals.push(quote! {
+            let #f1_id = #f1;
+            let #f2_id = #f2;
+            let #v = #kind.eval(&#f1_id, &#f2_id, inputs);
+            #(#writes)*
+        });
+        for side in 0..2 {
+            let body = e.bodies[side];
+            if side == 1 && e.bodies[0] == body {
+                continue;
             }
+            let Some(k) = p.members.iter().position(|mb| mb.body == body) else {
+                continue;
+            };
+            let mb = &p.members[k];
+            p.used_columns[k] = true;
+            let rate1 = quote!(t.rate(&#f1_id));
+            let rate2 = quote!(t.rate(&#f2_id));
+            let (d1, d2) = if side == 0 {
+                if e.bodies[1] == body {
+                    (rate1, rate2)
+                } else {
+                    p.zero_used = true;
+                    (rate1, quote!(zero))
+                }
+            } else {
+                p.zero_used = true;
+                (quote!(zero), rate2)
+            };
+            let adds = (0..rows).map(|i| {
+                let (at, di) = (entry(row + i, mb.first), index(i));
+                quote!(#at += d[#di];)
+            });
+            let (cols, count) = (&mb.columns, index(mb.count));
+            p.jacobian.push(quote! {
+                for (c, t) in #cols.iter().take(#count).enumerate() {
+                    let d = #kind.deriv(&#f1_id, &#f2_id, &#d1, &#d2, inputs);
+                    #(#adds)*
+                }
+            });
         }
-        debug_assert_eq!(row, m);
-        Pieces {
-            members,
-            residuals,
-            jacobian,
-            used_columns,
-            zero_used,
+        rows
+    }
+
+    /// A contracted chain's length kept (row `row`), and its Jacobian
+    /// entries. Returns its row count.
+    fn distance_row(&self, b: &mut Block, p: &mut Pieces, row: usize, r: &ClusterRow) -> usize {
+        let ClusterRow::Distance {
+            a,
+            b: pb,
+            c: pc,
+            d: pd,
+            name,
+        } = r
+        else {
+            unreachable!("a distance row")
+        };
+        let trial = |body: usize| trial_pose(&p.members, body);
+        // The far end and the length are read once, before the
+        // solve, as the interpreter does.
+        let end = b.point(pb);
+        let (qc, qd) = (b.point(pc), b.point(pd));
+        let len = b.bind(
+            &format!("len_{row}"),
+            quote!(spatial::norm(spatial::sub(#qd, #qc))),
+        );
+        let (pa, ab) = (b.fresh(&format!("a_{row}")), b.fresh(&format!("ab_{row}")));
+        let a_expr = match b.point_expr(a, &trial) {
+            Some((_, e)) => e,
+            None => b.point(a),
+        };
+        let ri = index(row);
+        p.residuals.push(self.note(format!("{name}: its length, kept")));
+        p.residuals.push(quote! {
+            let #pa = #a_expr;
+            let #ab = spatial::sub(#pa, #end);
+            r[#ri] = spatial::norm(#ab) - #len;
+        });
+        let body = match a {
+            PointRef::Body { body, .. } | PointRef::Slid { body, .. } => Some(*body),
+            _ => None,
+        };
+        if let Some(k) = body.and_then(|body| p.members.iter().position(|mb| mb.body == body)) {
+            let mb = &p.members[k];
+            p.used_columns[k] = true;
+            let (at, cols, count) = (entry(row, mb.first), &mb.columns, index(mb.count));
+            p.jacobian.push(quote! {
+                let u = spatial::unit(#ab);
+                for (c, t) in #cols.iter().take(#count).enumerate() {
+                    #at = spatial::dot(u, t.velocity(#pa));
+                }
+            });
         }
+        1
     }
 
     /// The Newton solve of cluster step `id` on `f64`s, then the cluster
