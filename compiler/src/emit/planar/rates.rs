@@ -133,6 +133,7 @@ impl Emitter<'_> {
         };
         let bind_inputs = (0..plan.inputs.len()).map(|k| self.bind_input(k));
         let (nb, ni) = (index(plan.bodies.len()), index(plan.inputs.len()));
+        let batch = batch_functions();
         quote! {
         /// [`solve`] of [`LANES`](dofplan_runtime::lanes::LANES) frames
         /// side by side (lane `l` of every input is frame `l`'s; frame
@@ -156,6 +157,15 @@ impl Emitter<'_> {
             Ok(())
         }
 
+        #batch        }
+    }
+}
+
+/// `solve_batch` and what it calls, the same for every planar plan: the
+/// frames through `solve_lanes` a lane group at a time (AVX2 where the CPU
+/// has it), the rest one at a time, then the holds past limits.
+fn batch_functions() -> TokenStream {
+    quote! {
         /// Every frame of `inputs` (one row of [`INPUTS`] values a
         /// frame) into `out` (one row of [`BODIES`] poses a frame),
         /// with the driver's results (keep-branch and limit policies,
@@ -225,6 +235,6 @@ impl Emitter<'_> {
                 }
             }
             batch::finish(&Plan, groups * dofplan_runtime::lanes::LANES, inputs, out, status);
-        }        }
+        }
     }
 }
