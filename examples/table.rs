@@ -8,9 +8,9 @@
 //!
 //! `cargo run --release --example table` (add mechanism names to restrict;
 //! `spatial`, `planar`, `rates` or `batch` for one table). The batch table
-//! times each sweep through the driver and `solve_batch`, and the sweep
-//! repeated to 20,000 frames through `solve_batch` and
-//! `solve_batch_parallel`.
+//! times each sweep, planar and spatial, through the driver and
+//! `solve_batch`, and the sweep repeated to 20,000 frames through
+//! `solve_batch` and `solve_batch_parallel`.
 //! Each figure is the median over repeated timed passes of the mechanism's
 //! sweep, driven frame by frame through `dofplan_runtime::Driver` exactly as
 //! an animation would (warm start, keep-branch, limit policy).
@@ -88,104 +88,129 @@ fn main() {
     }
 }
 
-/// The batch table: per compiled planar plan, its sweep (one pass, a few
-/// hundred frames, whose poses stay in the caches) frame by frame through
-/// the driver against `solve_batch` on one core (lanes of frames for
-/// closed-form plans); then the sweep repeated to 20,000 frames (poses
-/// written to main memory) through `solve_batch` and
-/// `solve_batch_parallel` on every core. Medians of alternating passes.
+/// The batch table: per compiled plan, planar then spatial, its sweep (one
+/// pass, a few hundred frames, whose poses stay in the caches) frame by
+/// frame through the driver against `solve_batch` on one core (lanes of
+/// frames for closed-form planar plans; a spatial plan's frames in order);
+/// then the sweep repeated to 20,000 frames (poses written to main memory)
+/// through `solve_batch` and `solve_batch_parallel` on every core. Medians
+/// of alternating passes.
 fn batch(filter: &[String]) {
-    use dofplan_runtime::batch::solve_batch_parallel;
     use dofplan_runtime::planar::Pose;
-    use dofplan_runtime::{Batch, FrameStatus};
+    use dofplan_runtime::spatial::Pose3;
     // `BATCH_LONG=N` for another length of the long run.
     let long_frames: usize = std::env::var("BATCH_LONG")
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(20_000);
-    let names: Vec<String> = bundled()
-        .into_iter()
-        .filter(|n| filter.is_empty() || filter.contains(n))
-        .collect();
+    let wanted = |n: &String| filter.is_empty() || filter.contains(n);
     println!();
     println!(
         "| mechanism | plan steps | lanes | sweep frames | driver ns/frame | solve_batch ns/frame (one core) | speed-up | {long_frames} frames: solve_batch ns/frame | solve_batch_parallel ns/frame ({} cores) |",
         std::thread::available_parallelism().map_or(1, |n| n.get())
     );
     println!("|---|---:|---|---:|---:|---:|---:|---:|---:|");
-    for name in names {
+    for name in bundled().into_iter().filter(wanted) {
         let m = load(&name);
-        let p = plan(&m);
+        let steps = plan(&m).steps.len();
         let sweep = sweep_inputs(&m, None);
-        let long: Vec<Vec<f64>> = sweep.iter().cycle().take(long_frames).cloned().collect();
-        let flat = |rows: &[Vec<f64>]| -> Vec<f64> { rows.iter().flatten().copied().collect() };
-        let (short_in, long_in) = (flat(&sweep), flat(&long));
         let row = dofplan_generated::with_plan!(name.as_str(), |plan| {
-            let mut driver = Driver::new(plan, Options::default());
-            let mut out = vec![Pose::IDENTITY; long_frames * m.bodies.len()];
-            let mut status = vec![FrameStatus::Solved; long_frames];
-            let short = sweep.len();
-            // Sweeps repeated to about 5 ms a pass.
-            let reps = (5e6 / (40.0 * (m.bodies.len() * short) as f64)).max(1.0) as usize;
-            let time = |frames: usize, reps: usize, f: &mut dyn FnMut()| {
-                let t = Instant::now();
-                for _ in 0..reps {
-                    f();
-                }
-                t.elapsed().as_secs_f64() * 1e9 / (frames * reps) as f64
-            };
-            // Warm up first: on this VM, memory the process has just been
-            // given is slow to write for the first tens of milliseconds
-            // (the first passes over the long run's 32 MB took twice the
-            // later ones), which is not what a design study sees.
-            let warm = Instant::now();
-            while warm.elapsed().as_secs_f64() < 0.3 {
-                plan.solve_batch(
-                    &short_in,
-                    &mut out[..short * m.bodies.len()],
-                    &mut status[..short],
-                );
-                plan.solve_batch(&long_in, &mut out, &mut status);
-            }
-            let mut v: [Vec<f64>; 4] = Default::default();
-            for _ in 0..11 {
-                v[0].push(time(short, reps, &mut || {
-                    driver.reset();
-                    for i in &sweep {
-                        black_box(driver.frame(black_box(i)));
-                    }
-                }));
-                v[1].push(time(short, reps, &mut || {
-                    plan.solve_batch(
-                        black_box(&short_in),
-                        &mut out[..short * m.bodies.len()],
-                        &mut status[..short],
-                    )
-                }));
-                v[2].push(time(long_frames, 1, &mut || {
-                    plan.solve_batch(black_box(&long_in), &mut out, &mut status)
-                }));
-            }
-            // The parallel runs after every one-core run: rayon's workers
-            // spin a while after their work, and on a machine whose cores
-            // share a physical core that slows the thread being timed.
-            for _ in 0..11 {
-                v[3].push(time(long_frames, 1, &mut || {
-                    solve_batch_parallel(&plan, black_box(&long_in), &mut out, &mut status)
-                }));
-            }
-            (v.map(median), plan.independent())
+            time_batch(plan, Pose::IDENTITY, m.bodies.len(), &sweep, long_frames)
         })
         .expect("compiled");
-        let ([c, b, long_b, par], lanes) = row;
-        println!(
-            "| {name} | {} | {} | {} | {c:.1} | {b:.1} | {:.2} | {long_b:.1} | {par:.1} |",
-            p.steps.len(),
-            if lanes { "yes" } else { "no (in order)" },
-            sweep.len(),
-            c / b
-        );
+        print_batch_row(&name, steps, sweep.len(), row);
     }
+    for name in bundled_spatial().into_iter().filter(wanted) {
+        let m = load_spatial(&name);
+        let steps = analyse3(&m).expect("plans").steps.len();
+        let s = m.sweep.as_ref().expect("a sweep");
+        let sweep: Vec<Vec<f64>> = sweep_requests(s, m.inputs.len()).collect();
+        let row = dofplan_generated::with_spatial_plan!(name.as_str(), |plan| {
+            time_batch(plan, Pose3::IDENTITY, m.bodies.len(), &sweep, long_frames)
+        })
+        .expect("compiled");
+        print_batch_row(&name, steps, sweep.len(), row);
+    }
+}
+
+/// One row of the batch table.
+fn print_batch_row(name: &str, steps: usize, frames: usize, ([c, b, long_b, par], lanes): ([f64; 4], bool)) {
+    println!(
+        "| {name} | {steps} | {} | {frames} | {c:.1} | {b:.1} | {:.2} | {long_b:.1} | {par:.1} |",
+        if lanes { "yes" } else { "no (in order)" },
+        c / b
+    );
+}
+
+/// The batch table's four timings of one compiled plan (driver, one-core
+/// batch of the sweep, one-core and parallel batches of `long_frames`
+/// frames, ns/frame) and whether its frames run in lanes.
+fn time_batch<P>(
+    plan: P,
+    identity: P::Pose,
+    bodies: usize,
+    sweep: &[Vec<f64>],
+    long_frames: usize,
+) -> ([f64; 4], bool)
+where
+    P: dofplan_runtime::Batch + Copy + Sync,
+    P::Pose: Send,
+{
+    use dofplan_runtime::batch::solve_batch_parallel;
+    use dofplan_runtime::FrameStatus;
+    let long: Vec<Vec<f64>> = sweep.iter().cycle().take(long_frames).cloned().collect();
+    let flat = |rows: &[Vec<f64>]| -> Vec<f64> { rows.iter().flatten().copied().collect() };
+    let (short_in, long_in) = (flat(sweep), flat(&long));
+    let mut driver = Driver::new(plan, Options::default());
+    let mut out = vec![identity; long_frames * bodies];
+    let mut status = vec![FrameStatus::Solved; long_frames];
+    let short = sweep.len();
+    // Sweeps repeated to about 5 ms a pass.
+    let reps = (5e6 / (40.0 * (bodies * short) as f64)).max(1.0) as usize;
+    let time = |frames: usize, reps: usize, f: &mut dyn FnMut()| {
+        let t = Instant::now();
+        for _ in 0..reps {
+            f();
+        }
+        t.elapsed().as_secs_f64() * 1e9 / (frames * reps) as f64
+    };
+    // Warm up first: on this VM, memory the process has just been
+    // given is slow to write for the first tens of milliseconds
+    // (the first passes over the long run's 32 MB took twice the
+    // later ones), which is not what a design study sees.
+    let warm = Instant::now();
+    while warm.elapsed().as_secs_f64() < 0.3 {
+        plan.solve_batch(&short_in, &mut out[..short * bodies], &mut status[..short]);
+        plan.solve_batch(&long_in, &mut out, &mut status);
+    }
+    let mut v: [Vec<f64>; 4] = Default::default();
+    for _ in 0..11 {
+        v[0].push(time(short, reps, &mut || {
+            driver.reset();
+            for i in sweep {
+                black_box(driver.frame(black_box(i)));
+            }
+        }));
+        v[1].push(time(short, reps, &mut || {
+            plan.solve_batch(
+                black_box(&short_in),
+                &mut out[..short * bodies],
+                &mut status[..short],
+            )
+        }));
+        v[2].push(time(long_frames, 1, &mut || {
+            plan.solve_batch(black_box(&long_in), &mut out, &mut status)
+        }));
+    }
+    // The parallel runs after every one-core run: rayon's workers
+    // spin a while after their work, and on a machine whose cores
+    // share a physical core that slows the thread being timed.
+    for _ in 0..11 {
+        v[3].push(time(long_frames, 1, &mut || {
+            solve_batch_parallel(&plan, black_box(&long_in), &mut out, &mut status)
+        }));
+    }
+    (v.map(median), plan.independent())
 }
 
 /// The spatial table.
