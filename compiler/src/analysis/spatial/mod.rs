@@ -140,7 +140,7 @@ pub fn analyse(m: &Mechanism) -> Result<Plan, PlanError> {
 /// no branch, and its explanation says so with the other's miss.
 fn single_roots(plan: &mut Plan, interp: &Interpreter) {
     use crate::plan::spatial::{Locus, StepKind};
-    use dofplan_runtime::spatial::{circle_about, circle_circle_candidates};
+    use dofplan_runtime::spatial::{circle_about, circle_circle_candidates, Circle};
     let state = interp.initial_state();
     let inputs = vec![0.0; plan.inputs.len()];
     let p = |q: &crate::plan::spatial::PointRef| crate::interp::spatial::point(&state, q, &inputs);
@@ -162,7 +162,7 @@ fn single_roots(plan: &mut Plan, interp: &Interpreter) {
         };
         let (c1, n1, r1) = circle_about(p(pivot), d(axis), p(at));
         let (c2, n2, r2) = circle_about(p(p2), d(a2), p(x2));
-        let cand = circle_circle_candidates(c1, n1, r1, c2, n2, r2, *tol);
+        let cand = circle_circle_candidates(Circle::new(c1, n1, r1), Circle::new(c2, n2, r2), *tol);
         if !cand.coplanar && cand.count() == 1 {
             let other = if cand.passes[0] {
                 cand.misses[1]
