@@ -6,11 +6,16 @@
 //! comes closest (or the most reasonable one) and records the gap. Roots are
 //! chosen by a geometric [`Branch`] sign, documented per function, so that
 //! the branch of the drawn pose is kept along smooth motions. Every function
-//! writes the root it returns into `last`; under [`BranchPolicy::Nearest`]
-//! the root nearest `last` is taken and its sign written back to `branch`.
+//! writes the root it returns into its [`Slot`]'s `last`; under
+//! [`BranchPolicy::Nearest`] the root nearest `last` is taken and its sign
+//! written back to the slot's `branch`.
 //!
-//! Radii are non-negative; normals, axes and line directions are unit
-//! vectors (the compiler normalises them once, at plan time).
+//! The loci are small values: a [`Circle`] (centre, normal, radius), a
+//! [`Sphere`], a [`Line`], a [`Plane`] and a [`Cone`] of directions, so a
+//! step reads as what it intersects: `circle_circle(ctx, id, Circle::new(c1,
+//! n1, r1), Circle::new(c2, n2, r2), tol, Slot::new(branch, last))`. Radii
+//! are non-negative; normals, axes and line directions are unit vectors (the
+//! compiler normalises them once, at plan time).
 
 use super::{
     add, cross, cross_by, cst, dot, dot_by, norm, norm2, perpendicular, reject, scale, scale_by, sub, unit,
@@ -36,6 +41,123 @@ const PARALLEL: f64 = 1e-12;
 /// Squared half-chords below this (relative to the squared radii) are dead
 /// points for rates ([`Real::sqrt_dead`]), as in the planar steps.
 const DEAD_FOR_RATES: f64 = 1e-10;
+
+/// A circle in space: the locus of a point of a body turning about an
+/// axis (the circle [`circle_about`] finds). The normal is of its own type
+/// `N`, so that [`sphere_circle`] can take a constant of the plan (a fixed
+/// hinge's) as three plain numbers, which a jet multiplies by at a third of
+/// a jet product's cost; the other steps take `N = T`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Circle<T = f64, N = T> {
+    /// The centre.
+    pub centre: Vec3<T>,
+    /// The unit normal of its plane.
+    pub normal: [N; 3],
+    /// The radius.
+    pub radius: T,
+}
+
+impl<T, N> Circle<T, N> {
+    /// The circle about `centre` in the plane of unit normal `normal`, of
+    /// radius `radius`.
+    #[inline(always)]
+    pub const fn new(centre: Vec3<T>, normal: [N; 3], radius: T) -> Circle<T, N> {
+        Circle {
+            centre,
+            normal,
+            radius,
+        }
+    }
+}
+
+/// A sphere: the locus of a point at a fixed distance from a centre (a ball
+/// joint's centre on a link about another ball joint).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere<T = f64> {
+    /// The centre.
+    pub centre: Vec3<T>,
+    /// The radius.
+    pub radius: T,
+}
+
+impl<T> Sphere<T> {
+    /// The sphere about `centre` of radius `radius`.
+    #[inline(always)]
+    pub const fn new(centre: Vec3<T>, radius: T) -> Sphere<T> {
+        Sphere { centre, radius }
+    }
+}
+
+/// A line through a point along a unit direction (a slide's axis).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Line<T = f64> {
+    /// A point of the line.
+    pub through: Vec3<T>,
+    /// Its unit direction.
+    pub dir: Vec3<T>,
+}
+
+impl<T> Line<T> {
+    /// The line through `through` along the unit direction `dir`.
+    #[inline(always)]
+    pub const fn new(through: Vec3<T>, dir: Vec3<T>) -> Line<T> {
+        Line { through, dir }
+    }
+}
+
+/// A plane through a point, of a unit normal.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plane<T = f64> {
+    /// A point of the plane.
+    pub through: Vec3<T>,
+    /// Its unit normal.
+    pub normal: Vec3<T>,
+}
+
+impl<T> Plane<T> {
+    /// The plane through `through` of unit normal `normal`.
+    #[inline(always)]
+    pub const fn new(through: Vec3<T>, normal: Vec3<T>) -> Plane<T> {
+        Plane { through, normal }
+    }
+}
+
+/// A cone of directions about a unit axis through the origin: the unit
+/// vectors `v` with `v·axis = cos` (a link of a spherical mechanism held at
+/// a fixed angle from a hinge's axis).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cone<T = f64> {
+    /// The unit axis.
+    pub axis: Vec3<T>,
+    /// The cosine of the angle between the axis and the cone's directions.
+    pub cos: f64,
+}
+
+impl<T> Cone<T> {
+    /// The cone of the unit vectors `v` with `v·axis = cos`.
+    #[inline(always)]
+    pub const fn new(axis: Vec3<T>, cos: f64) -> Cone<T> {
+        Cone { axis, cos }
+    }
+}
+
+/// A branching step's slot: the root it takes ([`Branch`]) and what it
+/// found last frame (a point, or the sine of a turn for
+/// [`rotation_to_condition`]), which the nearest policy compares with.
+pub struct Slot<'s, L> {
+    /// The root the step takes.
+    pub branch: &'s mut Branch,
+    /// What the step found last frame.
+    pub last: &'s mut L,
+}
+
+impl<'s, L> Slot<'s, L> {
+    /// The slot of `branch` and `last`.
+    #[inline(always)]
+    pub fn new(branch: &'s mut Branch, last: &'s mut L) -> Slot<'s, L> {
+        Slot { branch, last }
+    }
+}
 
 /// A root within round-off of tangency: the value 0 exactly (as the `f64`
 /// steps take it), with infinite rates if the squared half-chord `h2`
@@ -234,41 +356,23 @@ impl<T> CircleCandidates<T> {
     }
 }
 
-/// The candidates for a point on the circle (centre `c1`, unit normal `n1`,
-/// radius `r1`) and the circle (`c2`, `n2`, `r2`), with their misses, for a
-/// step whose tolerance is `tol` (an absolute distance). See
+/// The candidates for a point on the circles `a` and `b`, with their
+/// misses, for a step whose tolerance is `tol` (an absolute distance). See
 /// [`circle_circle`] for how they are found and signed.
-#[allow(clippy::too_many_arguments)]
-pub fn circle_circle_candidates(
-    c1: Vec3,
-    n1: Vec3,
-    r1: f64,
-    c2: Vec3,
-    n2: Vec3,
-    r2: f64,
-    tol: f64,
-) -> CircleCandidates {
-    candidates(c1, n1, r1, c2, n2, r2, tol, c1)
+pub fn circle_circle_candidates(a: Circle, b: Circle, tol: f64) -> CircleCandidates {
+    candidates(a, b, tol, a.centre)
 }
 
 /// [`circle_circle_candidates`], with the point `toward` whose direction
-/// from `c1` the concentric fallback takes (the last frame's point).
-#[allow(clippy::too_many_arguments)]
+/// from `a.centre` the concentric fallback takes (the last frame's point).
 #[inline]
-fn candidates<T: Real>(
-    c1: Vec3<T>,
-    n1: Vec3<T>,
-    r1: T,
-    c2: Vec3<T>,
-    n2: Vec3<T>,
-    r2: T,
-    tol: f64,
-    toward: Vec3<T>,
-) -> CircleCandidates<T> {
+fn candidates<T: Real>(a: Circle<T>, b: Circle<T>, tol: f64, toward: Vec3<T>) -> CircleCandidates<T> {
+    let (c1, n1, r1) = (a.centre, a.normal, a.radius);
+    let (c2, n2, r2) = (b.centre, b.normal, b.radius);
     let m = cross(n1, n2);
     let m2 = norm2(m);
     if m2.value() > COPLANAR * COPLANAR {
-        return skew_candidates(c1, n1, r1, c2, n2, r2, tol, m, m2);
+        return skew_candidates(a, b, tol, m, m2);
     }
     // Parallel planes: solve in circle 1's plane, then lift the result
     // halfway to circle 2's plane so that a small offset between the planes
@@ -300,21 +404,12 @@ fn candidates<T: Real>(
 }
 
 /// The candidates of two circles in planes that are not parallel: the
-/// points of the planes' common line ℓ on circle 2, checked against circle
-/// 1. `m = n1 × n2`, `m2 = |m|²`.
-#[allow(clippy::too_many_arguments)]
+/// points of the planes' common line ℓ on circle `b`, checked against
+/// circle `a`. `m = n1 × n2` (`a.normal × b.normal`), `m2 = |m|²`.
 #[inline]
-fn skew_candidates<T: Real>(
-    c1: Vec3<T>,
-    n1: Vec3<T>,
-    r1: T,
-    c2: Vec3<T>,
-    n2: Vec3<T>,
-    r2: T,
-    tol: f64,
-    m: Vec3<T>,
-    m2: T,
-) -> CircleCandidates<T> {
+fn skew_candidates<T: Real>(a: Circle<T>, b: Circle<T>, tol: f64, m: Vec3<T>, m2: T) -> CircleCandidates<T> {
+    let (c1, n1, r1) = (a.centre, a.normal, a.radius);
+    let (c2, n2, r2) = (b.centre, b.normal, b.radius);
     // The misses decide, on values.
     let (c1v, n1v, r1v, c2v, n2v, r2v) = (value(c1), value(n1), r1.value(), value(c2), value(n2), r2.value());
     let miss =
@@ -393,47 +488,43 @@ fn skew_candidates<T: Real>(
     }
 }
 
-/// A point on both the circle (centre `c1`, unit normal `n1`, radius `r1`)
-/// and the circle (`c2`, `n2`, `r2`): the spatial dyad. `tol` is the
-/// distance within which a candidate counts as on both circles.
+/// A point on both the circle `a` and the circle `b`: the spatial dyad.
+/// `tol` is the distance within which a candidate counts as on both
+/// circles.
 ///
-/// - **Coplanar** (`|n1 × n2| ≤ 1e-9`): the planar dyad in circle 1's plane
-///   (circle 2's centre projected into it; a small offset between the
-///   planes is split between them). Branch + lies along `n1 × e`, `e` the
-///   direction from `c1` to the projected `c2`. Circles that do not meet,
-///   planes further apart than `tol` or concentric circles break
-///   ([`BreakKind::CirclesApart`]); stretching takes the midpoint of the
-///   closest points (concentric: the point of circle 1 toward `last`).
+/// - **Coplanar** (`|a.normal × b.normal| ≤ 1e-9`): the planar dyad in
+///   `a`'s plane (`b.centre` projected into it; a small offset between the
+///   planes is split between them). Branch + lies along `a.normal × e`, `e`
+///   the direction from `a.centre` to the projected `b.centre`. Circles that
+///   do not meet, planes further apart than `tol` or concentric circles
+///   break ([`BreakKind::CirclesApart`]); stretching takes the midpoint of
+///   the closest points (concentric: the point of `a` toward the slot's
+///   `last`).
 /// - **Not coplanar**: the point lies on the planes' common line ℓ (along
-///   `t = unit(n1 × n2)`). The candidates are where ℓ cuts circle 2; a
-///   candidate passes if it is also within `tol` of circle 1.
+///   `t = unit(a.normal × b.normal)`). The candidates are where ℓ cuts `b`;
+///   a candidate passes if it is also within `tol` of `a`.
 ///   - both pass (the circles lie on one sphere, as in spherical
 ///     mechanisms): branch + is the candidate further along `t`;
 ///   - one passes (two circles that touch at one point): it is taken and
-///     `branch` is left unchanged;
+///     the slot's `branch` is left unchanged;
 ///   - none: the step breaks ([`BreakKind::CirclesApart`], gap = the
 ///     smaller miss); stretching returns the candidate that misses least
-///     (circle 1's chord ends stand in when ℓ misses circle 2, the feet of
-///     the centres on ℓ when it misses both).
+///     (`a`'s chord ends stand in when ℓ misses `b`, the feet of the
+///     centres on ℓ when it misses both).
 ///
-/// A passing candidate is refined against circle 1's chord of ℓ so that it
-/// lies on both circles as accurately as their conditioning allows.
-#[allow(clippy::too_many_arguments)]
+/// A passing candidate is refined against `a`'s chord of ℓ so that it lies
+/// on both circles as accurately as their conditioning allows.
 #[inline]
 pub fn circle_circle<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    c1: Vec3<T>,
-    n1: Vec3<T>,
-    r1: T,
-    c2: Vec3<T>,
-    n2: Vec3<T>,
-    r2: T,
+    a: Circle<T>,
+    b: Circle<T>,
     tol: f64,
-    branch: &mut Branch,
-    last: &mut Vec3<T>,
+    slot: Slot<'_, Vec3<T>>,
 ) -> Result<Vec3<T>, Break> {
-    let cand = candidates(c1, n1, r1, c2, n2, r2, tol, *last);
+    let Slot { branch, last } = slot;
+    let cand = candidates(a, b, tol, *last);
     let [p, m] = cand.passes;
     let gap = cand.misses[0].min(cand.misses[1]);
     if cand.concentric {
@@ -463,7 +554,7 @@ pub fn circle_circle<T: Real>(
     Ok(x)
 }
 
-/// A point on the sphere (centre `cs`, radius `rs`) and the circle (centre
+/// A point on `sphere` (centre `cs`, radius `rs`) and on `circle` (centre
 /// `c`, unit normal `n`, radius `r`).
 ///
 /// The sphere cuts the circle's plane in the circle of centre `cs − s·n`
@@ -475,19 +566,20 @@ pub fn circle_circle<T: Real>(
 /// itself) the step breaks ([`BreakKind::CirclesApart`]) with the distance
 /// between the sphere and the circle as its gap; stretching returns the
 /// midpoint between the circle's point nearest the sphere and the sphere.
-#[allow(clippy::too_many_arguments)]
+///
+/// The circle's normal may be any [`Factor`] (a fixed hinge's, as plain
+/// numbers).
 #[inline]
 pub fn sphere_circle<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    cs: Vec3<T>,
-    rs: T,
-    c: Vec3<T>,
-    n: [impl Factor<T>; 3],
-    r: T,
-    branch: &mut Branch,
-    last: &mut Vec3<T>,
+    sphere: Sphere<T>,
+    circle: Circle<T, impl Factor<T>>,
+    slot: Slot<'_, Vec3<T>>,
 ) -> Result<Vec3<T>, Break> {
+    let (cs, rs) = (sphere.centre, sphere.radius);
+    let (c, n, r) = (circle.centre, circle.normal, circle.radius);
+    let Slot { branch, last } = slot;
     // The normal is a constant of the plan when the circle is (a fixed
     // hinge's): `Factor` multiplies by it as plain numbers then.
     let s = dot_by(sub(cs, c), n);
@@ -508,28 +600,27 @@ pub fn sphere_circle<T: Real>(
             return Ok(pick(ctx, base, off, branch, last));
         }
     }
-    sphere_circle_miss(ctx, step, cs, rs, c, n.map(Factor::lift), r, s, cp, last)
+    let circle: Circle<T> = Circle::new(c, n.map(Factor::lift), r);
+    sphere_circle_miss(ctx, step, sphere, circle, s, cp, last)
 }
 
 /// [`sphere_circle`] when the sphere misses the circle: the distances from
 /// `cs` to the circle's points range over `[√(s² + (e − r)²), √(s² + (e +
-/// r)²)]` (`e` the distance of the projected centre from `c`); the gap is
-/// how far `rs` is outside that range.
-#[allow(clippy::too_many_arguments)]
+/// r)²)]` (`e` the distance of the projected centre `cp` from `c`); the gap
+/// is how far `rs` is outside that range.
 #[cold]
 #[inline(never)]
 fn sphere_circle_miss<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    cs: Vec3<T>,
-    rs: T,
-    c: Vec3<T>,
-    n: Vec3<T>,
-    r: T,
+    sphere: Sphere<T>,
+    circle: Circle<T>,
     s: T,
     cp: Vec3<T>,
     last: &mut Vec3<T>,
 ) -> Result<Vec3<T>, Break> {
+    let (cs, rs) = (sphere.centre, sphere.radius);
+    let (c, n, r) = (circle.centre, circle.normal, circle.radius);
     let e_vec = sub(cp, c);
     let e = norm(e_vec);
     let (sv, ev, rv, rs_t, rs) = (s.value(), e.value(), r.value(), rs, rs.value());
@@ -572,25 +663,24 @@ fn sphere_circle_miss<T: Real>(
     Ok(x)
 }
 
-/// A point on the line through `p` along the unit vector `d` at distance `r`
-/// from `c` (the line and the sphere). Branch + is the root further along
-/// `d`. A line missing the sphere by round-off (1e-12 relative, on the
-/// squared half-chord) touches it; otherwise the step breaks
-/// ([`BreakKind::LineMissesCircle`], gap = how far the line passes outside
-/// the sphere) and stretching returns the midpoint between the line's point
-/// nearest `c` and the sphere.
-#[allow(clippy::too_many_arguments)]
+/// A point on `line` (through `p` along the unit vector `d`) at distance
+/// `r` from `c` (on `sphere`, of centre `c` and radius `r`). Branch + is the
+/// root further along `d`. A line missing the sphere by round-off
+/// (1e-12 relative, on the squared half-chord) touches it; otherwise the
+/// step breaks ([`BreakKind::LineMissesCircle`], gap = how far the line
+/// passes outside the sphere) and stretching returns the midpoint between
+/// the line's point nearest `c` and the sphere.
 #[inline]
 pub fn line_sphere<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    p: Vec3<T>,
-    d: Vec3<T>,
-    c: Vec3<T>,
-    r: T,
-    branch: &mut Branch,
-    last: &mut Vec3<T>,
+    line: Line<T>,
+    sphere: Sphere<T>,
+    slot: Slot<'_, Vec3<T>>,
 ) -> Result<Vec3<T>, Break> {
+    let (p, d) = (line.through, line.dir);
+    let (c, r) = (sphere.centre, sphere.radius);
+    let Slot { branch, last } = slot;
     let foot = add(p, scale(d, dot(sub(c, p), d)));
     let v = sub(foot, c);
     let off = norm(v);
@@ -610,8 +700,8 @@ pub fn line_sphere<T: Real>(
     Ok(pick(ctx, foot, scale(d, h), branch, last))
 }
 
-/// A point on the line through `p` along the unit vector `d` and on the
-/// circle (centre `c`, unit normal `n`, radius `r`); `tol` is the distance
+/// A point on `line` (through `p` along the unit vector `d`) and on
+/// `circle` (centre `c`, unit normal `n`, radius `r`); `tol` is the distance
 /// within which a point counts as on the circle.
 ///
 /// - The line parallel to the plane (`|d·n| ≤ 1e-9`): it must lie in the
@@ -621,22 +711,21 @@ pub fn line_sphere<T: Real>(
 ///   distance between the line and the circle); stretching moves the point
 ///   halfway to the circle.
 /// - Otherwise the line crosses the plane at one point, which is taken if it
-///   is within `tol` of the circle (`branch` is left unchanged), and breaks
-///   otherwise; stretching returns the midpoint between it and the circle.
-#[allow(clippy::too_many_arguments)]
+///   is within `tol` of the circle (the slot's `branch` is left unchanged),
+///   and breaks otherwise; stretching returns the midpoint between it and
+///   the circle.
 #[inline]
 pub fn line_circle<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    p: Vec3<T>,
-    d: Vec3<T>,
-    c: Vec3<T>,
-    n: Vec3<T>,
-    r: T,
+    line: Line<T>,
+    circle: Circle<T>,
     tol: f64,
-    branch: &mut Branch,
-    last: &mut Vec3<T>,
+    slot: Slot<'_, Vec3<T>>,
 ) -> Result<Vec3<T>, Break> {
+    let (p, d) = (line.through, line.dir);
+    let (c, n, r) = (circle.centre, circle.normal, circle.radius);
+    let Slot { branch, last } = slot;
     let dn = dot(d, n);
     if dn.value().abs() > COPLANAR {
         let x = add(p, scale(d, dot(sub(c, p), n) / dn));
@@ -680,20 +769,20 @@ pub fn line_circle<T: Real>(
     Ok(pick(ctx, base, scale(d, h), branch, last))
 }
 
-/// The point where the line through `p` along the unit vector `d` crosses
-/// the plane through `q` of unit normal `n`. A line parallel to the plane
-/// (`|d·n| ≤ 1e-12`) breaks ([`BreakKind::ParallelLines`], gap = its
-/// distance from the plane); stretching returns the point halfway from `p`
-/// to the plane.
+/// The point where `line` (through `p` along the unit vector `d`) crosses
+/// `plane` (through `q`, of unit normal `n`). A line parallel to
+/// the plane (`|d·n| ≤ 1e-12`) breaks ([`BreakKind::ParallelLines`], gap =
+/// its distance from the plane); stretching returns the point halfway from
+/// `p` to the plane.
 #[inline]
 pub fn line_plane<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    p: Vec3<T>,
-    d: Vec3<T>,
-    q: Vec3<T>,
-    n: Vec3<T>,
+    line: Line<T>,
+    plane: Plane<T>,
 ) -> Result<Vec3<T>, Break> {
+    let (p, d) = (line.through, line.dir);
+    let (q, n) = (plane.through, plane.normal);
     let dn = dot(d, n);
     let z = dot(sub(q, p), n);
     if dn.value().abs() <= PARALLEL {
@@ -703,29 +792,28 @@ pub fn line_plane<T: Real>(
     Ok(add(p, scale(d, z / dn)))
 }
 
-/// A point on the plane through `q` of unit normal `nq` and on the circle
-/// (centre `c`, unit normal `n`, radius `r`): the circle's points on the
-/// line the two planes share. Branch + lies along `nq × n`.
+/// A point on `plane` (through `q`, of unit normal `nq`) and on `circle`
+/// (centre `c`, unit normal `n`, radius `r`): the circle's points on
+/// the line the two planes share. Branch + lies along `nq × n`.
 ///
 /// A plane parallel to the circle's (`|nq × n| ≤ 1e-12`) breaks
 /// ([`BreakKind::ParallelLines`], gap = the planes' distance; stretching
-/// returns the circle's point toward `last`, halfway to the plane). A plane
-/// that misses the circle breaks ([`BreakKind::LineMissesCircle`], gap = the
-/// distance from the plane to the circle's nearest point; stretching returns
-/// that point moved halfway to the plane).
-#[allow(clippy::too_many_arguments)]
+/// returns the circle's point toward the slot's `last`, halfway to the
+/// plane). A plane that misses the circle breaks
+/// ([`BreakKind::LineMissesCircle`], gap = the distance from the plane to
+/// the circle's nearest point; stretching returns that point moved halfway
+/// to the plane).
 #[inline]
 pub fn plane_circle<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    q: Vec3<T>,
-    nq: Vec3<T>,
-    c: Vec3<T>,
-    n: Vec3<T>,
-    r: T,
-    branch: &mut Branch,
-    last: &mut Vec3<T>,
+    plane: Plane<T>,
+    circle: Circle<T>,
+    slot: Slot<'_, Vec3<T>>,
 ) -> Result<Vec3<T>, Break> {
+    let (q, nq) = (plane.through, plane.normal);
+    let (c, n, r) = (circle.centre, circle.normal, circle.radius);
+    let Slot { branch, last } = slot;
     let t = cross(nq, n);
     let t2 = norm2(t);
     // Height of the circle's centre above the plane.
@@ -762,9 +850,10 @@ pub fn plane_circle<T: Real>(
     Ok(pick(ctx, base, scale(t, h * inv_t2), branch, last))
 }
 
-/// A unit vector `v` on two cones about the unit axes `w1` and `w2` through
-/// the origin: `v·w1 = cos1` and `v·w2 = cos2` (the direction of a link of
-/// a spherical mechanism, or the axis of a body held at two angles).
+/// A unit vector `v` on the cones `a` (axis `w1`, `v·w1 = cos1`) and `b`
+/// (axis `w2`, `v·w2 = cos2`) about unit axes through the origin (the
+/// direction of a link of a spherical mechanism, or the axis of a body held
+/// at two angles).
 ///
 /// With `c = w1·w2` and `m = w1 × w2`,
 /// `v = ((cos1 − c·cos2)·w1 + (cos2 − c·cos1)·w2 ± √D·m)/|m|²`, where
@@ -776,24 +865,22 @@ pub fn plane_circle<T: Real>(
 /// angle in radians between them, the arc length on the unit sphere);
 /// stretching returns the direction midway between their closest
 /// directions. Axes parallel or opposite (`|m| ≤ 1e-9`) give no isolated
-/// root and break too (stretching: midway toward `last`).
-#[allow(clippy::too_many_arguments)]
+/// root and break too (stretching: midway toward the slot's `last`).
 #[inline]
 pub fn cone_cone<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    w1: Vec3<T>,
-    cos1: f64,
-    w2: Vec3<T>,
-    cos2: f64,
-    branch: &mut Branch,
-    last: &mut Vec3<T>,
+    a: Cone<T>,
+    b: Cone<T>,
+    slot: Slot<'_, Vec3<T>>,
 ) -> Result<Vec3<T>, Break> {
+    let (w1, cos1, w2, cos2) = (a.axis, a.cos, b.axis, b.cos);
+    let Slot { branch, last } = slot;
     let c = dot(w1, w2);
     let m = cross(w1, w2);
     let m2 = norm2(m);
     if m2.value() <= COPLANAR * COPLANAR {
-        return cone_cone_coaxial(ctx, step, w1, cos1, c, cos2, last);
+        return cone_cone_coaxial(ctx, step, a, b, c, last);
     }
     let xp = T::cst(cos1) - c.mul_f64(cos2);
     let yp = T::cst(cos2) - c.mul_f64(cos1);
@@ -804,7 +891,7 @@ pub fn cone_cone<T: Real>(
     } else if det.value() >= -TANGENT_TOLERANCE * m2v {
         tangent(det)
     } else {
-        return cone_cone_apart(ctx, step, w1, cos1, cos2, c, m, m2, last);
+        return cone_cone_apart(ctx, step, a, b, Axes { c, m, m2 }, last);
     };
     let inv_m2 = m2.recip();
     let base = scale(add(scale(w1, xp), scale(w2, yp)), inv_m2);
@@ -822,24 +909,32 @@ fn wrap(a: f64, b: f64) -> f64 {
     }
 }
 
+/// How the axes `w1` and `w2` of two cones lie, as [`cone_cone`] computes
+/// it once for its roots and its misses: `c = w1·w2`, `m = w1 × w2`,
+/// `m2 = |m|²`.
+#[derive(Clone, Copy)]
+struct Axes<T> {
+    c: T,
+    m: Vec3<T>,
+    m2: T,
+}
+
 /// [`cone_cone`] for cones that do not meet. Their closest directions lie
 /// in the plane of the axes (the configuration is symmetric about it): in
-/// that plane, at angles ±α from `w1` (cone 1) and γ ± β (cone 2), γ the
-/// angle from `w1` to `w2`.
-#[allow(clippy::too_many_arguments)]
+/// that plane, at angles ±α from `w1` (cone `a`) and γ ± β (cone `b`), γ
+/// the angle from `w1` to `w2`.
 #[cold]
 #[inline(never)]
 fn cone_cone_apart<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    w1: Vec3<T>,
-    cos1: f64,
-    cos2: f64,
-    c: T,
-    m: Vec3<T>,
-    m2: T,
+    a: Cone<T>,
+    b: Cone<T>,
+    axes: Axes<T>,
     last: &mut Vec3<T>,
 ) -> Result<Vec3<T>, Break> {
+    let (w1, cos1, cos2) = (a.axis, a.cos, b.cos);
+    let Axes { c, m, m2 } = axes;
     let mn = m2.sqrt();
     let alpha = cos1.clamp(-1.0, 1.0).acos();
     let beta = cos2.clamp(-1.0, 1.0).acos();
@@ -863,19 +958,20 @@ fn cone_cone_apart<T: Real>(
     Ok(x)
 }
 
-/// [`cone_cone`] for parallel or opposite axes: cone 2 is a cone about `w1`
-/// (of angle β or π − β), so the cones coincide or miss entirely.
+/// [`cone_cone`] for parallel or opposite axes (`c = w1·w2`): cone `b` is a
+/// cone about `w1` (of angle β or π − β), so the cones coincide or miss
+/// entirely.
 #[cold]
 #[inline(never)]
 fn cone_cone_coaxial<T: Real>(
     ctx: &mut Ctx,
     step: StepId,
-    w1: Vec3<T>,
-    cos1: f64,
+    a: Cone<T>,
+    b: Cone<T>,
     c: T,
-    cos2: f64,
     last: &mut Vec3<T>,
 ) -> Result<Vec3<T>, Break> {
+    let (w1, cos1, cos2) = (a.axis, a.cos, b.cos);
     let alpha = cos1.clamp(-1.0, 1.0).acos();
     let beta = (c.value().signum() * cos2).clamp(-1.0, 1.0).acos();
     ctx.fail(step, BreakKind::CirclesApart, (alpha - beta).abs())?;
@@ -901,15 +997,15 @@ fn cone_cone_coaxial<T: Real>(
 ///
 /// - [`BranchPolicy::Nearest`] takes the root nearest φ = 0 (the larger
 ///   cosine): the step turns a body that is still in its previous frame's
-///   pose, so the nearest root is the smaller turn. `last` is only written:
-///   sin φ of the chosen root (a record for reports; no frame needs the
-///   angle itself, and an `atan2` per frame would cost more than the step).
+///   pose, so the nearest root is the smaller turn. The slot's `last` is
+///   only written: sin φ of the chosen root (a record for reports; no frame
+///   needs the angle itself, and an `atan2` per frame would cost more than
+///   the step).
 /// - `√(A² + B²)` ≈ 0 (1e-12 of `|v||w|`): the condition does not depend
 ///   on φ; it returns the identity (1, 0) if it holds, else breaks.
 /// - `|C| > √(A² + B²)` beyond round-off: [`BreakKind::LineCannotReach`],
 ///   gap = `|C| − √(A² + B²)` (in the units of `c`); stretching returns the
 ///   closest angle, atan2(B, A) (or that plus π when C < 0).
-#[allow(clippy::too_many_arguments)]
 #[inline]
 pub fn rotation_to_condition<T: Real>(
     ctx: &mut Ctx,
@@ -918,9 +1014,9 @@ pub fn rotation_to_condition<T: Real>(
     v: Vec3<T>,
     w: Vec3<T>,
     c: f64,
-    branch: &mut Branch,
-    last: &mut f64,
+    slot: Slot<'_, f64>,
 ) -> Result<(T, T), Break> {
+    let Slot { branch, last } = slot;
     let va = dot(v, axis);
     let a = dot(reject(v, axis), w);
     let b = dot(cross(axis, v), w);
@@ -986,7 +1082,7 @@ pub fn rotation_to_condition<T: Real>(
 
 /// The circle a point `at` traces turning about the line (`pivot`, unit
 /// `axis`): its centre (the foot of `at` on the axis), normal and radius,
-/// as the intersections take them.
+/// in the order [`Circle::new`] takes them.
 #[inline]
 pub fn circle_about<T: Real>(pivot: Vec3<T>, axis: Vec3<T>, at: Vec3<T>) -> (Vec3<T>, Vec3<T>, T) {
     let centre = add(pivot, scale(axis, dot(sub(at, pivot), axis)));

@@ -31,9 +31,10 @@
 //! Besides the vector helpers, [`Rot3`], [`Pose3`] and [`joint_pose`], the
 //! module holds the actions on one body (rotating it about a point or an
 //! axis, translating it: [`rotate_about_point`], [`rotate_about_axis_onto`],
-//! ...) and the loci intersections (circles, spheres, lines, planes, cones,
-//! and the rotation about an axis that meets a condition: [`circle_circle`],
-//! [`rotation_to_condition`], ...).
+//! ...) and the loci intersections (a [`Circle`], [`Sphere`], [`Line`],
+//! [`Plane`] or [`Cone`] with another, and the rotation about an axis that
+//! meets a condition: [`circle_circle`], [`rotation_to_condition`], ...),
+//! each step with two roots keeping its choice in a [`Slot`].
 
 pub mod cluster;
 mod locus;
@@ -47,7 +48,8 @@ mod tests;
 
 pub use locus::{
     circle_about, circle_circle, circle_circle_candidates, circle_distance, cone_cone, line_circle,
-    line_plane, line_sphere, plane_circle, rotation_to_condition, sphere_circle, CircleCandidates,
+    line_plane, line_sphere, plane_circle, rotation_to_condition, sphere_circle, Circle, CircleCandidates,
+    Cone, Line, Plane, Slot, Sphere,
 };
 pub use place::{
     hinge, hinge_degrees, hinge_dir, hinge_onto, rotate_about_axis_angle, rotate_about_axis_dir,

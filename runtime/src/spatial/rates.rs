@@ -75,15 +75,10 @@ mod tests {
         circle_circle(
             &mut ctx(),
             1,
-            c1,
-            n1,
-            r1,
-            c2,
-            n2,
-            r2,
+            Circle::new(c1, n1, r1),
+            Circle::new(c2, n2, r2),
             1e-9,
-            &mut Branch::Plus,
-            &mut last,
+            Slot::new(&mut Branch::Plus, &mut last),
         )
         .unwrap()
         .to_vec()
@@ -96,15 +91,10 @@ mod tests {
         circle_circle(
             &mut ctx(),
             1,
-            cst([0.0; 3]),
-            n,
-            T::cst(1.5),
-            c2,
-            n,
-            T::cst(1.2),
+            Circle::new(cst([0.0; 3]), n, T::cst(1.5)),
+            Circle::new(c2, n, T::cst(1.2)),
             1e-9,
-            &mut Branch::Minus,
-            &mut last,
+            Slot::new(&mut Branch::Minus, &mut last),
         )
         .unwrap()
         .to_vec()
@@ -117,13 +107,9 @@ mod tests {
         sphere_circle(
             &mut ctx(),
             1,
-            cs,
-            T::cst(1.3),
-            cst([0.0; 3]),
-            n,
-            T::cst(1.1),
-            &mut Branch::Plus,
-            &mut last,
+            Sphere::new(cs, T::cst(1.3)),
+            Circle::new(cst([0.0; 3]), n, T::cst(1.1)),
+            Slot::new(&mut Branch::Plus, &mut last),
         )
         .unwrap()
         .to_vec()
@@ -137,14 +123,10 @@ mod tests {
         let mut x = line_circle(
             &mut ctx(),
             1,
-            p,
-            d,
-            c,
-            n,
-            T::cst(1.0),
+            Line::new(p, d),
+            Circle::new(c, n, T::cst(1.0)),
             1e-9,
-            &mut Branch::Plus,
-            &mut last,
+            Slot::new(&mut Branch::Plus, &mut last),
         )
         .unwrap()
         .to_vec();
@@ -153,12 +135,9 @@ mod tests {
             line_sphere(
                 &mut ctx(),
                 2,
-                p,
-                d,
-                cst([0.1, 0.2, 0.3]),
-                T::cst(1.4),
-                &mut Branch::Minus,
-                &mut last,
+                Line::new(p, d),
+                Sphere::new(cst([0.1, 0.2, 0.3]), T::cst(1.4)),
+                Slot::new(&mut Branch::Minus, &mut last),
             )
             .unwrap(),
         );
@@ -169,13 +148,9 @@ mod tests {
             plane_circle(
                 &mut ctx(),
                 3,
-                q,
-                nq,
-                cst([0.1; 3]),
-                unit(cst([1.0, 0.2, 0.1])),
-                T::cst(0.9),
-                &mut Branch::Plus,
-                &mut last,
+                Plane::new(q, nq),
+                Circle::new(cst([0.1; 3]), unit(cst([1.0, 0.2, 0.1])), T::cst(0.9)),
+                Slot::new(&mut Branch::Plus, &mut last),
             )
             .unwrap(),
         );
@@ -186,14 +161,28 @@ mod tests {
         let w1 = unit(moving(t, [1.0, 0.0, 0.2], [0.0, 0.3, 0.0]));
         let w2 = cst([0.0, 1.0, 0.0]);
         let mut last = cst([0.0; 3]);
-        let mut x = cone_cone(&mut ctx(), 1, w1, 0.3, w2, 0.4, &mut Branch::Plus, &mut last)
-            .unwrap()
-            .to_vec();
+        let mut x = cone_cone(
+            &mut ctx(),
+            1,
+            Cone::new(w1, 0.3),
+            Cone::new(w2, 0.4),
+            Slot::new(&mut Branch::Plus, &mut last),
+        )
+        .unwrap()
+        .to_vec();
         let axis = cst([0.0, 0.0, 1.0]);
         let v = moving(t, [1.0, 0.0, 0.3], [0.0, 0.5, 0.0]);
         let w = unit(moving(t, [0.5, 0.5, 0.5], [0.0, 0.0, 0.4]));
-        let (c, s) =
-            rotation_to_condition(&mut ctx(), 2, axis, v, w, 0.2, &mut Branch::Plus, &mut 0.0).unwrap();
+        let (c, s) = rotation_to_condition(
+            &mut ctx(),
+            2,
+            axis,
+            v,
+            w,
+            0.2,
+            Slot::new(&mut Branch::Plus, &mut 0.0),
+        )
+        .unwrap();
         x.extend([c, s]);
         let x1 = cst([1.0, 0.0, 0.0]);
         let x2 = unit(moving(t, [0.6, 0.8, 0.0], [-0.2, 0.1, 0.0]));
@@ -300,15 +289,10 @@ mod tests {
         let x = circle_circle(
             &mut Ctx::new(BranchPolicy::Keep, false),
             1,
-            cst([0.0; 3]),
-            n,
-            Jet2::cst(1.5),
-            c2,
-            n,
-            Jet2::cst(1.0),
+            Circle::new(cst([0.0; 3]), n, Jet2::cst(1.5)),
+            Circle::new(c2, n, Jet2::cst(1.0)),
             1e-9,
-            &mut Branch::Plus,
-            &mut last,
+            Slot::new(&mut Branch::Plus, &mut last),
         )
         .unwrap();
         assert!((x[0].v - 1.5).abs() < 1e-12 && x[1].v.abs() < 1e-6);

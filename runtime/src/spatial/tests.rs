@@ -107,18 +107,19 @@ fn poses_close(a: &Pose3, b: &Pose3, tol: f64) -> bool {
     (0..3).all(|i| close(a.rot.m[i], b.rot.m[i], tol)) && close(a.pos, b.pos, tol)
 }
 
-/// A circle: centre, unit normal, radius.
-type Circle = (Vec3, Vec3, f64);
+/// A circle in parts: centre, unit normal, radius (the arguments of
+/// [`Circle::new`]).
+type CircleParts = (Vec3, Vec3, f64);
 
 /// A random circle through the point `x`.
-fn circle_through(g: &mut Lcg, x: Vec3) -> Circle {
+fn circle_through(g: &mut Lcg, x: Vec3) -> CircleParts {
     let n = g.unit();
     let r = g.range(0.5, 5.0);
     let c = sub(x, scale(g.unit_perp(n), r));
     (c, n, r)
 }
 
-fn on_circle(x: Vec3, (c, n, r): Circle) -> f64 {
+fn on_circle(x: Vec3, (c, n, r): CircleParts) -> f64 {
     circle_distance(x, c, n, r)
 }
 
@@ -403,15 +404,10 @@ fn coplanar_circles_meet_on_both_sides() {
             let y = circle_circle(
                 &mut keep(),
                 0,
-                c1,
-                n,
-                r1,
-                c2,
-                n2,
-                r2,
+                Circle::new(c1, n, r1),
+                Circle::new(c2, n2, r2),
                 1e-9,
-                &mut branch,
-                &mut last,
+                Slot::new(&mut branch, &mut last),
             )
             .unwrap();
             assert_eq!(branch, b);
@@ -423,7 +419,7 @@ fn coplanar_circles_meet_on_both_sides() {
             found |= close(y, x, 1e-9);
         }
         assert!(found, "the constructed point is one of the roots");
-        let cand = circle_circle_candidates(c1, n, r1, c2, n2, r2, 1e-9);
+        let cand = circle_circle_candidates(Circle::new(c1, n, r1), Circle::new(c2, n2, r2), 1e-9);
         assert!(cand.coplanar && cand.count() == 2);
     }
 }
@@ -436,15 +432,10 @@ fn coplanar_circles_apart_break_or_stretch() {
     let e = circle_circle(
         &mut keep(),
         7,
-        [0.0; 3],
-        z,
-        1.0,
-        [5.0, 0.0, 0.0],
-        z,
-        1.0,
+        Circle::new([0.0; 3], z, 1.0),
+        Circle::new([5.0, 0.0, 0.0], z, 1.0),
         1e-9,
-        &mut b,
-        &mut last,
+        Slot::new(&mut b, &mut last),
     )
     .unwrap_err();
     assert_eq!((e.step, e.kind), (7, BreakKind::CirclesApart));
@@ -453,15 +444,10 @@ fn coplanar_circles_apart_break_or_stretch() {
     let x = circle_circle(
         &mut s,
         7,
-        [0.0; 3],
-        z,
-        1.0,
-        [5.0, 0.0, 0.0],
-        z,
-        1.0,
+        Circle::new([0.0; 3], z, 1.0),
+        Circle::new([5.0, 0.0, 0.0], z, 1.0),
         1e-9,
-        &mut b,
-        &mut last,
+        Slot::new(&mut b, &mut last),
     )
     .unwrap();
     assert_close(x, [2.5, 0.0, 0.0], 1e-12);
@@ -470,15 +456,10 @@ fn coplanar_circles_apart_break_or_stretch() {
     let e = circle_circle(
         &mut keep(),
         1,
-        [0.0; 3],
-        z,
-        5.0,
-        [1.0, 0.0, 0.0],
-        z,
-        1.0,
+        Circle::new([0.0; 3], z, 5.0),
+        Circle::new([1.0, 0.0, 0.0], z, 1.0),
         1e-9,
-        &mut b,
-        &mut last,
+        Slot::new(&mut b, &mut last),
     )
     .unwrap_err();
     assert!((e.gap - 3.0).abs() < 1e-12);
@@ -486,15 +467,10 @@ fn coplanar_circles_apart_break_or_stretch() {
     let e = circle_circle(
         &mut keep(),
         2,
-        [0.0; 3],
-        z,
-        5.0,
-        [8.0, 0.0, 0.5],
-        z,
-        5.0,
+        Circle::new([0.0; 3], z, 5.0),
+        Circle::new([8.0, 0.0, 0.5], z, 5.0),
         1e-9,
-        &mut b,
-        &mut last,
+        Slot::new(&mut b, &mut last),
     )
     .unwrap_err();
     assert!((e.gap - 0.5).abs() < 1e-12);
@@ -502,15 +478,10 @@ fn coplanar_circles_apart_break_or_stretch() {
     let x = circle_circle(
         &mut s,
         2,
-        [0.0; 3],
-        z,
-        5.0,
-        [8.0, 0.0, 0.5],
-        z,
-        5.0,
+        Circle::new([0.0; 3], z, 5.0),
+        Circle::new([8.0, 0.0, 0.5], z, 5.0),
         1e-9,
-        &mut b,
-        &mut last,
+        Slot::new(&mut b, &mut last),
     )
     .unwrap();
     assert_close(x, [4.0, 3.0, 0.25], 1e-12);
@@ -518,15 +489,10 @@ fn coplanar_circles_apart_break_or_stretch() {
     let e = circle_circle(
         &mut keep(),
         3,
-        [0.0; 3],
-        z,
-        2.0,
-        [0.0; 3],
-        z,
-        2.0,
+        Circle::new([0.0; 3], z, 2.0),
+        Circle::new([0.0; 3], z, 2.0),
         1e-9,
-        &mut b,
-        &mut last,
+        Slot::new(&mut b, &mut last),
     )
     .unwrap_err();
     assert_eq!(e.gap, 0.0);
@@ -534,15 +500,10 @@ fn coplanar_circles_apart_break_or_stretch() {
     let x = circle_circle(
         &mut stretch(),
         3,
-        [0.0; 3],
-        z,
-        2.0,
-        [0.0; 3],
-        z,
-        3.0,
+        Circle::new([0.0; 3], z, 2.0),
+        Circle::new([0.0; 3], z, 3.0),
         1e-9,
-        &mut b,
-        &mut last,
+        Slot::new(&mut b, &mut last),
     )
     .unwrap();
     assert_close(x, [0.0, -2.0, 0.0], 1e-15);
@@ -558,15 +519,10 @@ fn tangent_circles_are_accepted() {
     let x = circle_circle(
         &mut c,
         0,
-        [0.0; 3],
-        z,
-        1.0,
-        [0.1 + 0.2 + 1.7, 0.0, 0.0],
-        z,
-        1.0 + 1e-16,
+        Circle::new([0.0; 3], z, 1.0),
+        Circle::new([0.1 + 0.2 + 1.7, 0.0, 0.0], z, 1.0 + 1e-16),
         1e-9,
-        &mut b,
-        &mut last,
+        Slot::new(&mut b, &mut last),
     )
     .unwrap();
     assert_close(x, [1.0, 0.0, 0.0], 1e-7);
@@ -576,12 +532,9 @@ fn tangent_circles_are_accepted() {
     let x = line_sphere(
         &mut keep(),
         0,
-        [-5.0, 2.0 * (1.0 + 1e-14), 0.0],
-        [1.0, 0.0, 0.0],
-        [0.0; 3],
-        2.0,
-        &mut b,
-        &mut last,
+        Line::new([-5.0, 2.0 * (1.0 + 1e-14), 0.0], [1.0, 0.0, 0.0]),
+        Sphere::new([0.0; 3], 2.0),
+        Slot::new(&mut b, &mut last),
     )
     .unwrap();
     assert_close(x, [0.0, 2.0, 0.0], 1e-12);
@@ -590,7 +543,7 @@ fn tangent_circles_are_accepted() {
 /// Two circles in different planes that meet at `x` only: both contain the
 /// chord of their planes' common line from `x`, circle 1's ending at
 /// `x + l1·t`, circle 2's at `x + l2·t`, `l2 − l1 = apart`.
-fn touching_circles(g: &mut Lcg, x: Vec3, apart: f64) -> (Circle, Circle, Vec3) {
+fn touching_circles(g: &mut Lcg, x: Vec3, apart: f64) -> (CircleParts, CircleParts, Vec3) {
     let t = g.unit();
     let l1 = g.range(0.5, 4.0) * if g.next() < 0.5 { 1.0 } else { -1.0 };
     let l2 = l1 + apart;
@@ -621,7 +574,7 @@ fn skew_circles_with_one_common_point() {
             continue;
         }
         checked += 1;
-        let cand = circle_circle_candidates(c1, n1, r1, c2, n2, r2, 1e-9);
+        let cand = circle_circle_candidates(Circle::new(c1, n1, r1), Circle::new(c2, n2, r2), 1e-9);
         assert!(!cand.coplanar);
         assert_eq!(cand.count(), 1, "{cand:?}");
         for policy in [BranchPolicy::Keep, BranchPolicy::Nearest] {
@@ -629,8 +582,15 @@ fn skew_circles_with_one_common_point() {
                 let mut branch = b;
                 let mut last = g.point(10.0);
                 let mut ctx = Ctx::new(policy, false);
-                let y =
-                    circle_circle(&mut ctx, 0, c1, n1, r1, c2, n2, r2, 1e-9, &mut branch, &mut last).unwrap();
+                let y = circle_circle(
+                    &mut ctx,
+                    0,
+                    Circle::new(c1, n1, r1),
+                    Circle::new(c2, n2, r2),
+                    1e-9,
+                    Slot::new(&mut branch, &mut last),
+                )
+                .unwrap();
                 assert_close(y, x, 1e-12);
                 assert!(on_circle(y, (c1, n1, r1)) < 1e-12 && on_circle(y, (c2, n2, r2)) < 1e-12);
                 assert_eq!(branch, b, "a single candidate leaves the branch alone");
@@ -652,15 +612,31 @@ fn skew_circles_that_miss_break_or_stretch() {
         }
         // Shrinking circle 2 about its centre opens the common point.
         let r2 = r2 * 0.9;
-        let cand = circle_circle_candidates(c1, n1, r1, c2, n2, r2, 1e-9);
+        let cand = circle_circle_candidates(Circle::new(c1, n1, r1), Circle::new(c2, n2, r2), 1e-9);
         let gap = cand.misses[0].min(cand.misses[1]);
         assert!(cand.count() == 0 && gap > 1e-9);
         let mut b = Branch::Plus;
         let mut last = [0.0; 3];
-        let e = circle_circle(&mut keep(), 4, c1, n1, r1, c2, n2, r2, 1e-9, &mut b, &mut last).unwrap_err();
+        let e = circle_circle(
+            &mut keep(),
+            4,
+            Circle::new(c1, n1, r1),
+            Circle::new(c2, n2, r2),
+            1e-9,
+            Slot::new(&mut b, &mut last),
+        )
+        .unwrap_err();
         assert_eq!((e.step, e.kind, e.gap), (4, BreakKind::CirclesApart, gap));
         let mut s = stretch();
-        let y = circle_circle(&mut s, 4, c1, n1, r1, c2, n2, r2, 1e-9, &mut b, &mut last).unwrap();
+        let y = circle_circle(
+            &mut s,
+            4,
+            Circle::new(c1, n1, r1),
+            Circle::new(c2, n2, r2),
+            1e-9,
+            Slot::new(&mut b, &mut last),
+        )
+        .unwrap();
         assert_eq!(s.stretched, Some((4, gap)));
         // The returned point misses by the gap.
         let miss = on_circle(y, (c1, n1, r1)) + on_circle(y, (c2, n2, r2));
@@ -669,22 +645,21 @@ fn skew_circles_that_miss_break_or_stretch() {
     }
     // Planes crossing in a line that misses both circles: the feet.
     let (z, x) = ([0.0, 0.0, 1.0], [1.0, 0.0, 0.0]);
-    let cand = circle_circle_candidates([0.0, 0.0, 0.0], z, 1.0, [3.0, 0.0, 5.0], x, 1.0, 1e-9);
+    let cand = circle_circle_candidates(
+        Circle::new([0.0, 0.0, 0.0], z, 1.0),
+        Circle::new([3.0, 0.0, 5.0], x, 1.0),
+        1e-9,
+    );
     assert_eq!(cand.count(), 0);
     let mut b = Branch::Plus;
     let mut last = [0.0; 3];
     let y = circle_circle(
         &mut stretch(),
         0,
-        [0.0; 3],
-        z,
-        1.0,
-        [3.0, 0.0, 5.0],
-        x,
-        1.0,
+        Circle::new([0.0; 3], z, 1.0),
+        Circle::new([3.0, 0.0, 5.0], x, 1.0),
         1e-9,
-        &mut b,
-        &mut last,
+        Slot::new(&mut b, &mut last),
     )
     .unwrap();
     assert!(y.iter().all(|v| v.is_finite()));
@@ -692,7 +667,7 @@ fn skew_circles_that_miss_break_or_stretch() {
 }
 
 /// Two circles cut from one sphere by two random planes.
-fn spherical_pair(g: &mut Lcg, centre: Vec3, radius: f64) -> (Circle, Circle) {
+fn spherical_pair(g: &mut Lcg, centre: Vec3, radius: f64) -> (CircleParts, CircleParts) {
     let mut cut = || {
         let n = g.unit();
         let h = g.range(-0.6, 0.6) * radius;
@@ -708,7 +683,7 @@ fn circles_on_one_sphere_have_two_branches() {
     for _ in 0..3000 {
         let (o, rad) = (g.point(5.0), g.range(1.0, 5.0));
         let ((c1, n1, r1), (c2, n2, r2)) = spherical_pair(&mut g, o, rad);
-        let cand = circle_circle_candidates(c1, n1, r1, c2, n2, r2, 1e-9);
+        let cand = circle_circle_candidates(Circle::new(c1, n1, r1), Circle::new(c2, n2, r2), 1e-9);
         let t = unit(cross(n1, n2));
         // Keep well away from coplanarity and tangency, where the roots are
         // ill-conditioned: the circles meet where the planes' common line
@@ -730,15 +705,10 @@ fn circles_on_one_sphere_have_two_branches() {
             let y = circle_circle(
                 &mut keep(),
                 0,
-                c1,
-                n1,
-                r1,
-                c2,
-                n2,
-                r2,
+                Circle::new(c1, n1, r1),
+                Circle::new(c2, n2, r2),
                 1e-9,
-                &mut branch,
-                &mut last,
+                Slot::new(&mut branch, &mut last),
             )
             .unwrap();
             assert!(on_circle(y, (c1, n1, r1)) < 1e-12 && on_circle(y, (c2, n2, r2)) < 1e-12);
@@ -753,15 +723,10 @@ fn circles_on_one_sphere_have_two_branches() {
         let y = circle_circle(
             &mut nearest(),
             0,
-            c1,
-            n1,
-            r1,
-            c2,
-            n2,
-            r2,
+            Circle::new(c1, n1, r1),
+            Circle::new(c2, n2, r2),
             1e-9,
-            &mut branch,
-            &mut last,
+            Slot::new(&mut branch, &mut last),
         )
         .unwrap();
         assert_eq!((y, branch, last), (roots[1], Branch::Minus, roots[1]));
@@ -792,7 +757,7 @@ fn branches_stay_continuous_along_a_sweep() {
                 let a = 0.2 * (k as f64 / 400.0) * std::f64::consts::TAU;
                 let n2 = Rot3::about_axis(spin, a.cos(), a.sin()).apply(n2_0);
                 let (c2, r2) = (add(o, scale(n2, -0.1 * rad)), rad * (1.0f64 - 0.01).sqrt());
-                let cand = circle_circle_candidates(c1, n1, r1, c2, n2, r2, 1e-9);
+                let cand = circle_circle_candidates(Circle::new(c1, n1, r1), Circle::new(c2, n2, r2), 1e-9);
                 if norm(cross(n1, n2)) < 0.1
                     || cand.count() != 2
                     || dist(cand.points[0], cand.points[1]) < 0.05 * rad
@@ -803,15 +768,10 @@ fn branches_stay_continuous_along_a_sweep() {
                 let y = circle_circle(
                     &mut keep(),
                     0,
-                    c1,
-                    n1,
-                    r1,
-                    c2,
-                    n2,
-                    r2,
+                    Circle::new(c1, n1, r1),
+                    Circle::new(c2, n2, r2),
                     1e-9,
-                    &mut kept,
-                    &mut scratch,
+                    Slot::new(&mut kept, &mut scratch),
                 )
                 .unwrap();
                 if let Some(p) = prev {
@@ -823,15 +783,10 @@ fn branches_stay_continuous_along_a_sweep() {
                 let z = circle_circle(
                     &mut nearest(),
                     0,
-                    c1,
-                    n1,
-                    r1,
-                    c2,
-                    n2,
-                    r2,
+                    Circle::new(c1, n1, r1),
+                    Circle::new(c2, n2, r2),
                     1e-9,
-                    &mut near,
-                    &mut last_near,
+                    Slot::new(&mut near, &mut last_near),
                 )
                 .unwrap();
                 assert_eq!((z, near), (y, start));
@@ -859,29 +814,19 @@ fn coplanar_branch_is_continuous_along_a_sweep() {
         let y = circle_circle(
             &mut keep(),
             0,
-            [0.0; 3],
-            z,
-            5.0,
-            c2,
-            z,
-            5.0,
+            Circle::new([0.0; 3], z, 5.0),
+            Circle::new(c2, z, 5.0),
             1e-9,
-            &mut b,
-            &mut last,
+            Slot::new(&mut b, &mut last),
         )
         .unwrap();
         let yn = circle_circle(
             &mut nearest(),
             0,
-            [0.0; 3],
-            z,
-            5.0,
-            c2,
-            z,
-            5.0,
+            Circle::new([0.0; 3], z, 5.0),
+            Circle::new(c2, z, 5.0),
             1e-9,
-            &mut bn,
-            &mut last_n,
+            Slot::new(&mut bn, &mut last_n),
         )
         .unwrap();
         assert_eq!((y, bn), (yn, Branch::Plus));
@@ -913,7 +858,14 @@ fn sphere_meets_circle() {
         for b in [Branch::Plus, Branch::Minus] {
             let mut branch = b;
             let mut last = [0.0; 3];
-            let y = sphere_circle(&mut keep(), 0, cs, rs, c, n, r, &mut branch, &mut last).unwrap();
+            let y = sphere_circle(
+                &mut keep(),
+                0,
+                Sphere::new(cs, rs),
+                Circle::new(c, n, r),
+                Slot::new(&mut branch, &mut last),
+            )
+            .unwrap();
             assert!((dist(y, cs) - rs).abs() < 1e-12 && on_circle(y, k) < 1e-12);
             assert!(dot(sub(y, c), cross(n, e)) * b.sign() >= -1e-12);
             found |= close(y, x, 1e-8);
@@ -927,13 +879,9 @@ fn sphere_meets_circle() {
     let e = sphere_circle(
         &mut keep(),
         3,
-        [3.0, 0.0, 0.0],
-        1.0,
-        [0.0; 3],
-        z,
-        1.0,
-        &mut b,
-        &mut last,
+        Sphere::new([3.0, 0.0, 0.0], 1.0),
+        Circle::new([0.0; 3], z, 1.0),
+        Slot::new(&mut b, &mut last),
     )
     .unwrap_err();
     assert_eq!((e.step, e.kind), (3, BreakKind::CirclesApart));
@@ -942,13 +890,9 @@ fn sphere_meets_circle() {
     let y = sphere_circle(
         &mut s,
         3,
-        [3.0, 0.0, 0.0],
-        1.0,
-        [0.0; 3],
-        z,
-        1.0,
-        &mut b,
-        &mut last,
+        Sphere::new([3.0, 0.0, 0.0], 1.0),
+        Circle::new([0.0; 3], z, 1.0),
+        Slot::new(&mut b, &mut last),
     )
     .unwrap();
     assert_close(y, [1.5, 0.0, 0.0], 1e-15);
@@ -957,13 +901,9 @@ fn sphere_meets_circle() {
     let e = sphere_circle(
         &mut keep(),
         3,
-        [0.0, 3.0, 4.0],
-        12.0,
-        [0.0; 3],
-        z,
-        3.0,
-        &mut b,
-        &mut last,
+        Sphere::new([0.0, 3.0, 4.0], 12.0),
+        Circle::new([0.0; 3], z, 3.0),
+        Slot::new(&mut b, &mut last),
     )
     .unwrap_err();
     assert!((e.gap - (12.0 - 52.0f64.sqrt())).abs() < 1e-14);
@@ -971,13 +911,9 @@ fn sphere_meets_circle() {
     let e = sphere_circle(
         &mut keep(),
         3,
-        [0.0, 0.0, 4.0],
-        2.0,
-        [0.0; 3],
-        z,
-        3.0,
-        &mut b,
-        &mut last,
+        Sphere::new([0.0, 0.0, 4.0], 2.0),
+        Circle::new([0.0; 3], z, 3.0),
+        Slot::new(&mut b, &mut last),
     )
     .unwrap_err();
     assert!((e.gap - 3.0).abs() < 1e-15);
@@ -995,7 +931,14 @@ fn line_meets_sphere() {
         for b in [Branch::Plus, Branch::Minus] {
             let mut branch = b;
             let mut last = [0.0; 3];
-            let y = line_sphere(&mut keep(), 0, p, d, c, r, &mut branch, &mut last).unwrap();
+            let y = line_sphere(
+                &mut keep(),
+                0,
+                Line::new(p, d),
+                Sphere::new(c, r),
+                Slot::new(&mut branch, &mut last),
+            )
+            .unwrap();
             assert!((dist(y, c) - r).abs() < 1e-12);
             assert!(norm(cross(sub(y, p), d)) < 1e-12);
             assert!(dot(sub(y, foot), d) * b.sign() >= 0.0);
@@ -1007,12 +950,9 @@ fn line_meets_sphere() {
     let y = line_sphere(
         &mut c,
         0,
-        [0.0; 3],
-        [1.0, 0.0, 0.0],
-        [0.0; 3],
-        2.0,
-        &mut b,
-        &mut last,
+        Line::new([0.0; 3], [1.0, 0.0, 0.0]),
+        Sphere::new([0.0; 3], 2.0),
+        Slot::new(&mut b, &mut last),
     )
     .unwrap();
     assert_eq!((y, b), ([2.0, 0.0, 0.0], Branch::Plus));
@@ -1020,12 +960,9 @@ fn line_meets_sphere() {
     let y = line_sphere(
         &mut c,
         0,
-        [0.0; 3],
-        [1.0, 0.0, 0.0],
-        [0.0; 3],
-        2.0,
-        &mut b,
-        &mut last,
+        Line::new([0.0; 3], [1.0, 0.0, 0.0]),
+        Sphere::new([0.0; 3], 2.0),
+        Slot::new(&mut b, &mut last),
     )
     .unwrap();
     assert_eq!((y, b, last), ([-2.0, 0.0, 0.0], Branch::Minus, [-2.0, 0.0, 0.0]));
@@ -1033,12 +970,9 @@ fn line_meets_sphere() {
     let e = line_sphere(
         &mut keep(),
         5,
-        [0.0, 3.0, 0.0],
-        [1.0, 0.0, 0.0],
-        [0.0; 3],
-        2.0,
-        &mut b,
-        &mut last,
+        Line::new([0.0, 3.0, 0.0], [1.0, 0.0, 0.0]),
+        Sphere::new([0.0; 3], 2.0),
+        Slot::new(&mut b, &mut last),
     )
     .unwrap_err();
     assert_eq!((e.step, e.kind, e.gap), (5, BreakKind::LineMissesCircle, 1.0));
@@ -1046,12 +980,9 @@ fn line_meets_sphere() {
     let y = line_sphere(
         &mut s,
         5,
-        [0.0, 3.0, 0.0],
-        [1.0, 0.0, 0.0],
-        [0.0; 3],
-        2.0,
-        &mut b,
-        &mut last,
+        Line::new([0.0, 3.0, 0.0], [1.0, 0.0, 0.0]),
+        Sphere::new([0.0; 3], 2.0),
+        Slot::new(&mut b, &mut last),
     )
     .unwrap();
     assert_eq!(y, [0.0, 2.5, 0.0]);
@@ -1075,7 +1006,15 @@ fn line_meets_circle() {
         for b in [Branch::Plus, Branch::Minus] {
             let mut branch = b;
             let mut last = [0.0; 3];
-            let y = line_circle(&mut keep(), 0, p, d, c, n, r, 1e-9, &mut branch, &mut last).unwrap();
+            let y = line_circle(
+                &mut keep(),
+                0,
+                Line::new(p, d),
+                Circle::new(c, n, r),
+                1e-9,
+                Slot::new(&mut branch, &mut last),
+            )
+            .unwrap();
             assert!(on_circle(y, k) < 1e-12 && norm(cross(sub(y, p), d)) < 1e-12);
             assert!(dot(sub(y, foot), d) * b.sign() >= 0.0);
         }
@@ -1088,12 +1027,28 @@ fn line_meets_circle() {
         let mut branch = Branch::Minus;
         let mut last = [0.0; 3];
         let mut ctx = nearest();
-        let y = line_circle(&mut ctx, 0, p, d, c, n, r, 1e-9, &mut branch, &mut last).unwrap();
+        let y = line_circle(
+            &mut ctx,
+            0,
+            Line::new(p, d),
+            Circle::new(c, n, r),
+            1e-9,
+            Slot::new(&mut branch, &mut last),
+        )
+        .unwrap();
         assert_close(y, x, 1e-12);
         assert_eq!((branch, last), (Branch::Minus, y));
         // Moved off the circle: a break whose gap is the distance.
         let q = add(p, scale(g.unit_perp(d), 0.1));
-        let e = line_circle(&mut keep(), 2, q, d, c, n, r, 1e-9, &mut branch, &mut last).unwrap_err();
+        let e = line_circle(
+            &mut keep(),
+            2,
+            Line::new(q, d),
+            Circle::new(c, n, r),
+            1e-9,
+            Slot::new(&mut branch, &mut last),
+        )
+        .unwrap_err();
         let xq = add(q, scale(d, dot(sub(c, q), n) / dot(d, n)));
         assert_eq!(e.kind, BreakKind::LineMissesCircle);
         assert!((e.gap - on_circle(xq, k)).abs() < 1e-12);
@@ -1105,28 +1060,20 @@ fn line_meets_circle() {
     let e = line_circle(
         &mut keep(),
         1,
-        [0.0, 0.0, 0.5],
-        [1.0, 0.0, 0.0],
-        [0.0; 3],
-        z,
-        2.0,
+        Line::new([0.0, 0.0, 0.5], [1.0, 0.0, 0.0]),
+        Circle::new([0.0; 3], z, 2.0),
         1e-9,
-        &mut b,
-        &mut last,
+        Slot::new(&mut b, &mut last),
     )
     .unwrap_err();
     assert_eq!((e.kind, e.gap), (BreakKind::LineMissesCircle, 0.5));
     let y = line_circle(
         &mut stretch(),
         1,
-        [0.0, 0.0, 0.5],
-        [1.0, 0.0, 0.0],
-        [0.0; 3],
-        z,
-        2.0,
+        Line::new([0.0, 0.0, 0.5], [1.0, 0.0, 0.0]),
+        Circle::new([0.0; 3], z, 2.0),
         1e-9,
-        &mut b,
-        &mut last,
+        Slot::new(&mut b, &mut last),
     )
     .unwrap();
     assert_eq!(y, [2.0, 0.0, 0.25]);
@@ -1134,14 +1081,10 @@ fn line_meets_circle() {
     let e = line_circle(
         &mut keep(),
         1,
-        [0.0, 3.0, 0.0],
-        [1.0, 0.0, 0.0],
-        [0.0; 3],
-        z,
-        2.0,
+        Line::new([0.0, 3.0, 0.0], [1.0, 0.0, 0.0]),
+        Circle::new([0.0; 3], z, 2.0),
         1e-9,
-        &mut b,
-        &mut last,
+        Slot::new(&mut b, &mut last),
     )
     .unwrap_err();
     assert_eq!(e.gap, 1.0);
@@ -1155,14 +1098,26 @@ fn line_meets_plane() {
         if dot(d, n).abs() < 0.1 {
             continue;
         }
-        let y = line_plane(&mut keep(), 0, p, d, q, n).unwrap();
+        let y = line_plane(&mut keep(), 0, Line::new(p, d), Plane::new(q, n)).unwrap();
         assert!(dot(sub(y, q), n).abs() < 1e-12 && norm(cross(sub(y, p), d)) < 1e-11);
     }
     let z = [0.0, 0.0, 1.0];
-    let e = line_plane(&mut keep(), 8, [0.0, 0.0, 2.0], [1.0, 0.0, 0.0], [0.0; 3], z).unwrap_err();
+    let e = line_plane(
+        &mut keep(),
+        8,
+        Line::new([0.0, 0.0, 2.0], [1.0, 0.0, 0.0]),
+        Plane::new([0.0; 3], z),
+    )
+    .unwrap_err();
     assert_eq!((e.step, e.kind, e.gap), (8, BreakKind::ParallelLines, 2.0));
     let mut s = stretch();
-    let y = line_plane(&mut s, 8, [0.0, 0.0, 2.0], [1.0, 0.0, 0.0], [0.0; 3], z).unwrap();
+    let y = line_plane(
+        &mut s,
+        8,
+        Line::new([0.0, 0.0, 2.0], [1.0, 0.0, 0.0]),
+        Plane::new([0.0; 3], z),
+    )
+    .unwrap();
     assert_eq!(y, [0.0, 0.0, 1.0]);
     assert_eq!(s.stretched, Some((8, 2.0)));
 }
@@ -1182,14 +1137,28 @@ fn plane_meets_circle() {
         for b in [Branch::Plus, Branch::Minus] {
             let mut branch = b;
             let mut last = [0.0; 3];
-            let y = plane_circle(&mut keep(), 0, x, nq, c, n, r, &mut branch, &mut last).unwrap();
+            let y = plane_circle(
+                &mut keep(),
+                0,
+                Plane::new(x, nq),
+                Circle::new(c, n, r),
+                Slot::new(&mut branch, &mut last),
+            )
+            .unwrap();
             assert!(dot(sub(y, x), nq).abs() < 1e-12 && on_circle(y, k) < 1e-12);
             // The two roots differ along nq × n, + ahead.
             let mut other = match b {
                 Branch::Plus => Branch::Minus,
                 Branch::Minus => Branch::Plus,
             };
-            let z = plane_circle(&mut keep(), 0, x, nq, c, n, r, &mut other, &mut last).unwrap();
+            let z = plane_circle(
+                &mut keep(),
+                0,
+                Plane::new(x, nq),
+                Circle::new(c, n, r),
+                Slot::new(&mut other, &mut last),
+            )
+            .unwrap();
             assert!(dot(sub(y, z), t) * b.sign() >= -1e-12);
         }
     }
@@ -1200,13 +1169,9 @@ fn plane_meets_circle() {
     let y = plane_circle(
         &mut keep(),
         0,
-        [1.0, 0.0, 0.0],
-        xn,
-        [0.0; 3],
-        z,
-        2.0,
-        &mut b,
-        &mut last,
+        Plane::new([1.0, 0.0, 0.0], xn),
+        Circle::new([0.0; 3], z, 2.0),
+        Slot::new(&mut b, &mut last),
     )
     .unwrap();
     // nq × n = x × z = −y: branch + has negative y.
@@ -1215,26 +1180,18 @@ fn plane_meets_circle() {
     let e = plane_circle(
         &mut keep(),
         6,
-        [3.0, 0.0, 0.0],
-        xn,
-        [0.0; 3],
-        z,
-        2.0,
-        &mut b,
-        &mut last,
+        Plane::new([3.0, 0.0, 0.0], xn),
+        Circle::new([0.0; 3], z, 2.0),
+        Slot::new(&mut b, &mut last),
     )
     .unwrap_err();
     assert_eq!((e.step, e.kind, e.gap), (6, BreakKind::LineMissesCircle, 1.0));
     let y = plane_circle(
         &mut stretch(),
         6,
-        [3.0, 0.0, 0.0],
-        xn,
-        [0.0; 3],
-        z,
-        2.0,
-        &mut b,
-        &mut last,
+        Plane::new([3.0, 0.0, 0.0], xn),
+        Circle::new([0.0; 3], z, 2.0),
+        Slot::new(&mut b, &mut last),
     )
     .unwrap();
     assert_close(y, [2.5, 0.0, 0.0], 1e-15);
@@ -1242,13 +1199,9 @@ fn plane_meets_circle() {
     let e = plane_circle(
         &mut keep(),
         6,
-        [0.0, 0.0, 1.0],
-        z,
-        [0.0; 3],
-        z,
-        2.0,
-        &mut b,
-        &mut last,
+        Plane::new([0.0, 0.0, 1.0], z),
+        Circle::new([0.0; 3], z, 2.0),
+        Slot::new(&mut b, &mut last),
     )
     .unwrap_err();
     assert_eq!((e.kind, e.gap), (BreakKind::ParallelLines, 1.0));
@@ -1271,7 +1224,14 @@ fn cones_meet() {
         for (i, b) in [Branch::Plus, Branch::Minus].into_iter().enumerate() {
             let mut branch = b;
             let mut last = [0.0; 3];
-            let y = cone_cone(&mut keep(), 0, w1, cos1, w2, cos2, &mut branch, &mut last).unwrap();
+            let y = cone_cone(
+                &mut keep(),
+                0,
+                Cone::new(w1, cos1),
+                Cone::new(w2, cos2),
+                Slot::new(&mut branch, &mut last),
+            )
+            .unwrap();
             assert!((norm(y) - 1.0).abs() < 1e-12);
             assert!((dot(y, w1) - cos1).abs() < 1e-12 && (dot(y, w2) - cos2).abs() < 1e-12);
             roots[i] = y;
@@ -1284,18 +1244,46 @@ fn cones_meet() {
     let c30 = 30.0f64.to_radians().cos();
     let mut b = Branch::Plus;
     let mut last = [0.0; 3];
-    let e = cone_cone(&mut keep(), 9, x, c30, y, c30, &mut b, &mut last).unwrap_err();
+    let e = cone_cone(
+        &mut keep(),
+        9,
+        Cone::new(x, c30),
+        Cone::new(y, c30),
+        Slot::new(&mut b, &mut last),
+    )
+    .unwrap_err();
     assert_eq!((e.step, e.kind), (9, BreakKind::CirclesApart));
     assert!((e.gap - 30.0f64.to_radians()).abs() < 1e-15);
     let mut s = stretch();
-    let v = cone_cone(&mut s, 9, x, c30, y, c30, &mut b, &mut last).unwrap();
+    let v = cone_cone(
+        &mut s,
+        9,
+        Cone::new(x, c30),
+        Cone::new(y, c30),
+        Slot::new(&mut b, &mut last),
+    )
+    .unwrap();
     let h = 0.5f64.sqrt();
     assert_close(v, [h, h, 0.0], 1e-15);
     assert!(s.stretched.is_some());
     // Coaxial: no isolated root.
-    assert!(cone_cone(&mut keep(), 9, x, 0.5, x, 0.5, &mut b, &mut last).is_err());
+    assert!(cone_cone(
+        &mut keep(),
+        9,
+        Cone::new(x, 0.5),
+        Cone::new(x, 0.5),
+        Slot::new(&mut b, &mut last)
+    )
+    .is_err());
     // Tangent cones (60° + 30° = 90°) meet at the one direction.
-    let v = cone_cone(&mut keep(), 9, x, 0.5, y, c30, &mut b, &mut last).unwrap();
+    let v = cone_cone(
+        &mut keep(),
+        9,
+        Cone::new(x, 0.5),
+        Cone::new(y, c30),
+        Slot::new(&mut b, &mut last),
+    )
+    .unwrap();
     assert_close(v, [0.5, c30, 0.0], 1e-7);
 }
 
@@ -1317,8 +1305,16 @@ fn rotation_meets_its_condition() {
         for (i, b) in [Branch::Plus, Branch::Minus].into_iter().enumerate() {
             let mut branch = b;
             let mut last = 0.0;
-            let (c, s) =
-                rotation_to_condition(&mut keep(), 0, axis, v, w, target, &mut branch, &mut last).unwrap();
+            let (c, s) = rotation_to_condition(
+                &mut keep(),
+                0,
+                axis,
+                v,
+                w,
+                target,
+                Slot::new(&mut branch, &mut last),
+            )
+            .unwrap();
             assert!((c * c + s * s - 1.0).abs() < 1e-15);
             let got = dot(Rot3::about_axis(axis, c, s).apply(v), w);
             assert!((got - target).abs() < 1e-12 * (1.0 + norm(v) * norm(w)));
@@ -1336,7 +1332,16 @@ fn rotation_meets_its_condition() {
         // Nearest: the smaller turn.
         let mut branch = Branch::Plus;
         let mut last = 0.0;
-        let r = rotation_to_condition(&mut nearest(), 0, axis, v, w, target, &mut branch, &mut last).unwrap();
+        let r = rotation_to_condition(
+            &mut nearest(),
+            0,
+            axis,
+            v,
+            w,
+            target,
+            Slot::new(&mut branch, &mut last),
+        )
+        .unwrap();
         let best = if roots[0].0 >= roots[1].0 { 0 } else { 1 };
         assert_eq!(r, roots[best]);
         assert_eq!(branch, [Branch::Plus, Branch::Minus][best]);
@@ -1346,27 +1351,46 @@ fn rotation_meets_its_condition() {
     let mut last = 0.0;
     // Turning x about z until it has 0.5 along y: atan2(B, A) = 90° and
     // acos(C/R) = 60°, so branch + is 150° and branch − is 30°.
-    let (c, s) = rotation_to_condition(&mut keep(), 0, z, x, y, 0.5, &mut b, &mut last).unwrap();
+    let (c, s) = rotation_to_condition(&mut keep(), 0, z, x, y, 0.5, Slot::new(&mut b, &mut last)).unwrap();
     assert!((c + 0.75f64.sqrt()).abs() < 1e-15 && (s - 0.5).abs() < 1e-15);
     b = Branch::Minus;
-    let (c, s) = rotation_to_condition(&mut keep(), 0, z, x, y, 0.5, &mut b, &mut last).unwrap();
+    let (c, s) = rotation_to_condition(&mut keep(), 0, z, x, y, 0.5, Slot::new(&mut b, &mut last)).unwrap();
     assert!((c - 0.75f64.sqrt()).abs() < 1e-15 && (s - 0.5).abs() < 1e-15);
     assert_eq!(last, s, "the record of the root is its sine");
     // Out of reach: y component 2 for a unit vector.
-    let e = rotation_to_condition(&mut keep(), 4, z, x, y, 2.0, &mut b, &mut last).unwrap_err();
+    let e = rotation_to_condition(&mut keep(), 4, z, x, y, 2.0, Slot::new(&mut b, &mut last)).unwrap_err();
     assert_eq!((e.step, e.kind, e.gap), (4, BreakKind::LineCannotReach, 1.0));
     let mut s = stretch();
-    let r = rotation_to_condition(&mut s, 4, z, x, y, -2.0, &mut b, &mut last).unwrap();
+    let r = rotation_to_condition(&mut s, 4, z, x, y, -2.0, Slot::new(&mut b, &mut last)).unwrap();
     assert!(r.0.abs() < 1e-15 && (r.1 + 1.0).abs() < 1e-15);
     assert_eq!(s.stretched, Some((4, 1.0)));
     // Tangent: exactly reachable at one angle.
-    let r = rotation_to_condition(&mut keep(), 4, z, x, y, 1.0 + 1e-15, &mut b, &mut last).unwrap();
+    let r =
+        rotation_to_condition(&mut keep(), 4, z, x, y, 1.0 + 1e-15, Slot::new(&mut b, &mut last)).unwrap();
     assert!(r.0.abs() < 1e-15 && (r.1 - 1.0).abs() < 1e-15);
     // Independent of the angle (v along the axis): identity when it holds,
     // a break when it does not.
-    let r = rotation_to_condition(&mut keep(), 4, z, z, [0.0, 1.0, 1.0], 1.0, &mut b, &mut last).unwrap();
+    let r = rotation_to_condition(
+        &mut keep(),
+        4,
+        z,
+        z,
+        [0.0, 1.0, 1.0],
+        1.0,
+        Slot::new(&mut b, &mut last),
+    )
+    .unwrap();
     assert_eq!((r, last), ((1.0, 0.0), 0.0));
-    let e = rotation_to_condition(&mut keep(), 4, z, z, [0.0, 1.0, 1.0], 0.5, &mut b, &mut last).unwrap_err();
+    let e = rotation_to_condition(
+        &mut keep(),
+        4,
+        z,
+        z,
+        [0.0, 1.0, 1.0],
+        0.5,
+        Slot::new(&mut b, &mut last),
+    )
+    .unwrap_err();
     assert_eq!(e.gap, 0.5);
 }
 
@@ -1537,18 +1561,20 @@ fn sphere_circle_takes_a_plain_normal() {
         let (mut last, mut b) = (cst([2.0, 0.5, 0.2]), Branch::Plus);
         let rs = Jet2::cst(1.8);
         if plain {
-            locus::sphere_circle(&mut keep(), 0, cs, rs, cst(c), n, Jet2::cst(r), &mut b, &mut last)
+            locus::sphere_circle(
+                &mut keep(),
+                0,
+                Sphere::new(cs, rs),
+                Circle::new(cst(c), n, Jet2::cst(r)),
+                Slot::new(&mut b, &mut last),
+            )
         } else {
             locus::sphere_circle(
                 &mut keep(),
                 0,
-                cs,
-                rs,
-                cst(c),
-                cst::<Jet2>(n),
-                Jet2::cst(r),
-                &mut b,
-                &mut last,
+                Sphere::new(cs, rs),
+                Circle::new(cst(c), cst::<Jet2>(n), Jet2::cst(r)),
+                Slot::new(&mut b, &mut last),
             )
         }
         .unwrap()

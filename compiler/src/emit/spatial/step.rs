@@ -282,7 +282,7 @@ impl Emitter<'_> {
                 let (t0, t1, k) = (index(temps[0]), index(temps[1]), index(*branch));
                 quote! {
                     let mut last = w.temps[#t0];
-                    let d = spatial::cone_cone(ctx, #id, #w1, #c1, #w2, #c2s, &mut w.branches[#k], &mut last)?;
+                    let d = spatial::cone_cone(ctx, #id, spatial::Cone::new(#w1, #c1), spatial::Cone::new(#w2, #c2s), spatial::Slot::new(&mut w.branches[#k], &mut last))?;
                     w.temps[#t0] = d;
                     w.temps[#t1] = spatial::scale(d, #sg);
                 }
@@ -425,7 +425,7 @@ fn act(b: &mut Block, body: usize, action: &Action, id: &Literal) -> TokenStream
             let (cos, k) = (lit(*cos), index(*branch));
             quote! {
                 let (cos, sin) = spatial::rotation_to_condition(
-                    ctx, #id, #a, #vv, #ww, #cos, &mut w.branches[#k], &mut w.angles[#k],
+                    ctx, #id, #a, #vv, #ww, #cos, spatial::Slot::new(&mut w.branches[#k], &mut w.angles[#k]),
                 )?;
                 spatial::rotate_about_axis_angle(&mut #pose, #c, #a, cos, sin);
             }
@@ -467,7 +467,7 @@ fn act(b: &mut Block, body: usize, action: &Action, id: &Literal) -> TokenStream
 }
 
 /// `(centre, normal, radius)` of a circle locus, bound as `c<k>`, `n<k>`,
-/// `r<k>`.
+/// `r<k>` (the step takes them as `spatial::Circle::new(c<k>, n<k>, r<k>)`).
 ///
 /// A circle of constants (a fixed hinge's) is the runtime's
 /// `circle_about` evaluated here, once, rather than every frame: the same
@@ -518,8 +518,8 @@ fn sphere(b: &mut Block, centre: &PointRef, a: &PointRef, bb: &PointRef) -> (Tok
 }
 
 /// A pseudo-marker: the intersection `interp::spatial::intersect` computes,
-/// with its last position (the nearest-root policy's reference) and
-/// branch read from and written to the working copy.
+/// with its slot (its last position, the nearest-root policy's reference,
+/// and its branch) read from and written to the working copy.
 fn intersect(
     b: &mut Block,
     temp: usize,
@@ -538,7 +538,7 @@ fn intersect(
         // frame reads.
         None => quote!(&mut Branch::Plus),
     };
-    let last = quote!(&mut w.temps[#t]);
+    let slot = quote!(spatial::Slot::new(#br, &mut w.temps[#t]));
     let tol = lit(tol);
     let call = match loci {
         [Locus::Circle { pivot, axis, at }, Locus::Circle {
@@ -548,25 +548,25 @@ fn intersect(
         }] => {
             let (c1, n1, r1) = circle(b, pivot, axis, at, "1", false);
             let (c2, n2, r2) = circle(b, p2, a2, x2, "2", false);
-            quote!(spatial::circle_circle(ctx, #id, #c1, #n1, #r1, #c2, #n2, #r2, #tol, #br, #last)?)
+            quote!(spatial::circle_circle(ctx, #id, spatial::Circle::new(#c1, #n1, #r1), spatial::Circle::new(#c2, #n2, #r2), #tol, #slot)?)
         }
         [Locus::Sphere { centre, a, b: pb }, Locus::Circle { pivot, axis, at: x }]
         | [Locus::Circle { pivot, axis, at: x }, Locus::Sphere { centre, a, b: pb }] => {
             let (cs, rs) = sphere(b, centre, a, pb);
             let (c, n, r) = circle(b, pivot, axis, x, "", true);
-            quote!(spatial::sphere_circle(ctx, #id, #cs, #rs, #c, #n, #r, #br, #last)?)
+            quote!(spatial::sphere_circle(ctx, #id, spatial::Sphere::new(#cs, #rs), spatial::Circle::new(#c, #n, #r), #slot)?)
         }
         [Locus::Line { at, dir }, Locus::Sphere { centre, a, b: pb }]
         | [Locus::Sphere { centre, a, b: pb }, Locus::Line { at, dir }] => {
             let (cs, rs) = sphere(b, centre, a, pb);
             let (p, d) = (b.point(at), b.dir(dir, "line_dir"));
-            quote!(spatial::line_sphere(ctx, #id, #p, #d, #cs, #rs, #br, #last)?)
+            quote!(spatial::line_sphere(ctx, #id, spatial::Line::new(#p, #d), spatial::Sphere::new(#cs, #rs), #slot)?)
         }
         [Locus::Line { at, dir }, Locus::Circle { pivot, axis, at: x }]
         | [Locus::Circle { pivot, axis, at: x }, Locus::Line { at, dir }] => {
             let (c, n, r) = circle(b, pivot, axis, x, "", false);
             let (p, d) = (b.point(at), b.dir(dir, "line_dir"));
-            quote!(spatial::line_circle(ctx, #id, #p, #d, #c, #n, #r, #tol, #br, #last)?)
+            quote!(spatial::line_circle(ctx, #id, spatial::Line::new(#p, #d), spatial::Circle::new(#c, #n, #r), #tol, #slot)?)
         }
         _ => unreachable!("the planner intersects only the pairs above"),
     };

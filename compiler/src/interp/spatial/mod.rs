@@ -92,7 +92,8 @@ impl Interpreter {
                 } => {
                     let mut br = branch.map_or(Branch::Plus, |k| w.branches[k]);
                     let mut last = w.temps[*temp];
-                    let x = intersect(w, loci, *tol, inputs, ctx, id, &mut br, &mut last)?;
+                    let slot = spatial::Slot::new(&mut br, &mut last);
+                    let x = intersect(w, loci, *tol, inputs, ctx, id, slot)?;
                     if let Some(k) = branch {
                         w.branches[*k] = br;
                     }
@@ -108,7 +109,8 @@ impl Interpreter {
                     let (w1, w2) = (w.dir(a1, inputs), w.dir(a2, inputs));
                     let mut br = w.branches[*branch];
                     let mut last = w.temps[temps[0]];
-                    let d = spatial::cone_cone(ctx, id, w1, *c1, w2, sign * c2, &mut br, &mut last)?;
+                    let (a, b) = (spatial::Cone::new(w1, *c1), spatial::Cone::new(w2, sign * c2));
+                    let d = spatial::cone_cone(ctx, id, a, b, spatial::Slot::new(&mut br, &mut last))?;
                     w.branches[*branch] = br;
                     w.temps[temps[0]] = d;
                     w.temps[temps[1]] = scale(d, T::cst(*sign));
@@ -347,7 +349,8 @@ fn act<T: Degrees>(
             let (c, a, vv, ww) = (p(s, pivot), d(s, axis), d(s, v), d(s, w));
             let mut br = s.branches[*branch];
             let mut last = s.angles[*branch];
-            let (co, si) = spatial::rotation_to_condition(ctx, id, a, vv, ww, *cos, &mut br, &mut last)?;
+            let slot = spatial::Slot::new(&mut br, &mut last);
+            let (co, si) = spatial::rotation_to_condition(ctx, id, a, vv, ww, *cos, slot)?;
             s.branches[*branch] = br;
             s.angles[*branch] = last;
             spatial::rotate_about_axis_angle(&mut s.poses[body], c, a, co, si);
@@ -376,7 +379,8 @@ fn act<T: Degrees>(
     Ok(())
 }
 
-#[allow(clippy::too_many_arguments)]
+/// The point on both `loci` at the working poses: the runtime step for the
+/// pair, called on the loci as the generated code calls it.
 fn intersect<T: Real>(
     s: &Work<T>,
     loci: &[Locus; 2],
@@ -384,40 +388,38 @@ fn intersect<T: Real>(
     inputs: &[T],
     ctx: &mut Ctx,
     id: u32,
-    branch: &mut Branch,
-    last: &mut Vec3<T>,
+    slot: spatial::Slot<'_, Vec3<T>>,
 ) -> Result<Vec3<T>, Break> {
     let p = |q: &PointRef| s.point(q, inputs);
     let d = |v: &DirRef| s.dir(v, inputs);
-    let circ =
-        |pivot: &PointRef, axis: &DirRef, at: &PointRef| spatial::circle_about(p(pivot), d(axis), p(at));
+    let circle = |pivot: &PointRef, axis: &DirRef, at: &PointRef| {
+        let (c, n, r) = spatial::circle_about(p(pivot), d(axis), p(at));
+        spatial::Circle::new(c, n, r)
+    };
+    let sphere = |centre: &PointRef, a: &PointRef, b: &PointRef| {
+        spatial::Sphere::new(p(centre), norm(sub(p(b), p(a))))
+    };
+    let line = |at: &PointRef, l: &DirRef| spatial::Line::new(p(at), d(l));
     match loci {
         [Locus::Circle { pivot, axis, at }, Locus::Circle {
             pivot: p2,
             axis: a2,
             at: x2,
         }] => {
-            let (c1, n1, r1) = circ(pivot, axis, at);
-            let (c2, n2, r2) = circ(p2, a2, x2);
-            spatial::circle_circle(ctx, id, c1, n1, r1, c2, n2, r2, tol, branch, last)
+            let (a, b) = (circle(pivot, axis, at), circle(p2, a2, x2));
+            spatial::circle_circle(ctx, id, a, b, tol, slot)
         }
         [Locus::Sphere { centre, a, b }, Locus::Circle { pivot, axis, at: x }]
         | [Locus::Circle { pivot, axis, at: x }, Locus::Sphere { centre, a, b }] => {
-            let cs = p(centre);
-            let rs = norm(sub(p(b), p(a)));
-            let (c, n, r) = circ(pivot, axis, x);
-            spatial::sphere_circle(ctx, id, cs, rs, c, n, r, branch, last)
+            spatial::sphere_circle(ctx, id, sphere(centre, a, b), circle(pivot, axis, x), slot)
         }
         [Locus::Line { at, dir: l }, Locus::Sphere { centre, a, b }]
         | [Locus::Sphere { centre, a, b }, Locus::Line { at, dir: l }] => {
-            let cs = p(centre);
-            let rs = norm(sub(p(b), p(a)));
-            spatial::line_sphere(ctx, id, p(at), d(l), cs, rs, branch, last)
+            spatial::line_sphere(ctx, id, line(at, l), sphere(centre, a, b), slot)
         }
         [Locus::Line { at, dir: l }, Locus::Circle { pivot, axis, at: x }]
         | [Locus::Circle { pivot, axis, at: x }, Locus::Line { at, dir: l }] => {
-            let (c, n, r) = circ(pivot, axis, x);
-            spatial::line_circle(ctx, id, p(at), d(l), c, n, r, tol, branch, last)
+            spatial::line_circle(ctx, id, line(at, l), circle(pivot, axis, x), tol, slot)
         }
         _ => unreachable!("the planner intersects only the pairs above"),
     }

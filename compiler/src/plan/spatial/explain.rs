@@ -8,7 +8,7 @@
 //! it is (`rocker.D z`), a pseudo-marker by the step that computes it
 //! (`step 2 (rocker.C)`); what no marker names is given by coordinates.
 
-use dofplan_runtime::spatial::{circle_about, circle_circle_candidates, norm, sub, unit, Vec3};
+use dofplan_runtime::spatial::{circle_about, circle_circle_candidates, norm, sub, unit, Circle, Vec3};
 
 use super::{Action, Cluster, ClusterRow, DirRef, HingeTurn, Locus, Plan, PointRef, StepKind};
 use crate::plan::explain::{header, step_line};
@@ -403,7 +403,7 @@ impl Plan {
             self.drawn_point(at),
         );
         let (c2, n2, r2) = circle_about(self.drawn_point(p2), self.drawn_dir(a2), self.drawn_point(x2));
-        let cand = circle_circle_candidates(c1, n1, r1, c2, n2, r2, *tol);
+        let cand = circle_circle_candidates(Circle::new(c1, n1, r1), Circle::new(c2, n2, r2), *tol);
         (!cand.coplanar && cand.count() == 1).then(|| {
             if cand.passes[0] {
                 cand.misses[1]
