@@ -1,11 +1,13 @@
 //! Which poses to draw, and the title and subtitle that say what the
-//! picture shows.
+//! picture shows, on the page they head.
 
 use dofplan_runtime::planar::Pose;
 use dofplan_runtime::FrameStatus;
+use svg::node::element::{Rectangle, Text, Title};
+use svg::Document;
 
 use super::planar::mechanism::world;
-use super::style::num;
+use super::style::{num, GREY, INK};
 use crate::model::{Input, InputKind, Mechanism, Sweep};
 use crate::simulate::Frame;
 
@@ -163,6 +165,42 @@ pub(super) fn titles_of(
     };
     let subtitle = format!("{} {poses} at {at}{order}", picked.len());
     (title, subtitle)
+}
+
+/// A blank page of `width` × `height` pixels named `title` (what a viewer
+/// shows as the file's name), on a white ground.
+pub(super) fn page(width: f64, height: f64, title: &str) -> Document {
+    Document::new()
+        .set("width", num(width))
+        .set("height", num(height))
+        .set("viewBox", format!("0 0 {} {}", num(width), num(height)))
+        .set("font-family", "Helvetica, Arial, sans-serif")
+        .add(Title::new(title.to_string()))
+        .add(
+            Rectangle::new()
+                .set("x", 0)
+                .set("y", 0)
+                .set("width", num(width))
+                .set("height", num(height))
+                .set("fill", "#ffffff"),
+        )
+}
+
+/// The title and subtitle written at the page's top, from `left`.
+pub(super) fn heading(title: String, subtitle: String, left: f64) -> [Text; 2] {
+    [
+        Text::new(title)
+            .set("x", num(left))
+            .set("y", 26)
+            .set("font-size", 18)
+            .set("font-weight", "bold")
+            .set("fill", INK),
+        Text::new(subtitle)
+            .set("x", num(left))
+            .set("y", 45)
+            .set("font-size", 12)
+            .set("fill", GREY),
+    ]
 }
 
 #[cfg(test)]

@@ -3,13 +3,16 @@
 //! `check.rs` (`dofplan check`), `frames.rs` (the frames of `simulate` and
 //! `drag` as a summary, JSON or CSV) and `analyze.rs` (`analyze`'s rates,
 //! with the `plots` feature). What both share is here: the run summary
-//! ([`summary`]), the assembly ranges ([`ranges`]), the forms and errors.
+//! ([`summary`]), the assembly ranges ([`ranges`]), what the two `check`
+//! reports write alike (`check.rs`) and the two `analyze` reports
+//! (`rates.rs`), the forms and errors.
 //! The editor shows the same `check` texts in its panels.
 //!
 //! Reports are written to any [`std::io::Write`] and say whether the
 //! command succeeded; printing, exit codes and progress displays are the
 //! caller's.
 
+mod check;
 pub mod planar;
 pub mod ranges;
 #[cfg(feature = "plots")]

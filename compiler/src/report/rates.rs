@@ -1,8 +1,14 @@
-//! What `analyze` prints in either dimension: input rates, the summary's
-//! header, the extremes of a traced marker and the rate keys of a JSON
-//! frame.
+//! What `analyze` does alike in either dimension: input rates, the
+//! summary's header, the extremes of a traced marker and its dead points,
+//! the rates of a JSON report's head and the rate keys of its frames, the
+//! traced markers' series and the plots written from them.
+
+use std::io::{self, Write};
+use std::path::Path;
 
 use serde_json::{json, Value};
+
+use super::{Form, Outcome};
 
 use crate::interp::RateError;
 use crate::model::{Input, InputKind};
@@ -107,4 +113,84 @@ pub(crate) fn rate_keys<'a, P: serde::Serialize, W: serde::Serialize>(
             o[key] = json!(e.to_string());
         }
     }
+}
+
+/// The input rates of a JSON report's head, by input name.
+pub(crate) fn rates_json(inputs: &[Input], rates: &[f64]) -> Value {
+    Value::Object(
+        (inputs.iter().zip(rates))
+            .map(|(i, r)| (i.name.clone(), json!(r)))
+            .collect(),
+    )
+}
+
+/// One traced marker's samples over the sweep (planar or spatial), for the
+/// summary and the plots.
+pub(crate) struct Series<S> {
+    /// "body.marker".
+    pub name: String,
+    /// One sample a frame.
+    pub points: Vec<S>,
+}
+
+impl<S> Series<S> {
+    /// The series of the traced markers (indices into `names`), empty.
+    pub fn traced(names: &[String], traced: &[usize]) -> Vec<Series<S>> {
+        (traced.iter())
+            .map(|&k| Series {
+                name: names[k].clone(),
+                points: Vec::new(),
+            })
+            .collect()
+    }
+}
+
+/// The summary's line on dead points, when the sweep met any: how many
+/// frames and the first.
+pub(crate) fn write_dead_points(out: &mut dyn Write, singular: &[usize]) -> io::Result<()> {
+    if let Some(first) = singular.first() {
+        writeln!(
+            out,
+            "  {} frame(s) at a dead point (rates singular), the first frame {first}",
+            singular.len()
+        )?;
+    }
+    Ok(())
+}
+
+/// Draws the plots with `draw` (given the swept input's axis label and its
+/// rate as text) to `path`, and says so in a text report; or the error why
+/// they could not be drawn or written.
+pub(crate) fn write_plots(
+    path: &Path,
+    input: &Input,
+    rate: f64,
+    form: Form,
+    out: &mut dyn Write,
+    draw: impl FnOnce(&str, &str) -> Result<String, String>,
+) -> Outcome {
+    let axis = match input.kind {
+        InputKind::Angle => format!("{} (degrees)", input.name),
+        InputKind::Slide => format!("{} (length)", input.name),
+    };
+    match draw(&axis, &rate_text(input.kind, rate)) {
+        Ok(text) => {
+            if let Err(e) = std::fs::write(path, text) {
+                return Ok(Err(format!(
+                    "{}: error: cannot write the plots: {e}",
+                    path.display()
+                )));
+            }
+        }
+        Err(e) => {
+            return Ok(Err(format!(
+                "{}: error: cannot draw the plots: {e}",
+                path.display()
+            )));
+        }
+    }
+    if form == Form::Text {
+        writeln!(out, "wrote {}", path.display())?;
+    }
+    Ok(Ok(()))
 }

@@ -302,7 +302,6 @@ pub(super) fn draw_pose(
     traced: &[(MarkerId, &str)],
     style: PoseStyle,
 ) -> Group {
-    let k = detail.k;
     let class = if style.stretched.contains(&true) {
         "pose stretched"
     } else {
@@ -324,104 +323,12 @@ pub(super) fn draw_pose(
         }
     }
     for (b, body) in m.bodies.iter().enumerate() {
-        if body.fixed {
-            continue;
-        }
-        let colour = body_colour(m, b);
-        let stitched = style.stretched.get(b).copied().unwrap_or(false);
-        let ps: Vec<Point> = (0..body.markers.len())
-            .filter_map(|i| world(m, poses, MarkerId { body: b, marker: i }))
-            .map(|p| view.px(p))
-            .collect();
-        if ps.is_empty() {
-            continue;
-        }
-        let h = hull(ps.clone());
-        let spread = h
-            .iter()
-            .flat_map(|a| h.iter().map(move |c| (a[0] - c[0]).hypot(a[1] - c[1])))
-            .fold(0.0, f64::max);
-        if spread < 4.0 {
-            // Markers (nearly) on one spot: a slider block.
-            let c = [
-                ps.iter().map(|p| p[0]).sum::<f64>() / ps.len() as f64,
-                ps.iter().map(|p| p[1]).sum::<f64>() / ps.len() as f64,
-            ];
-            let u = block_axis(m, poses, b);
-            let v = [-u[1], u[0]];
-            let corner = |su: f64, sv: f64| {
-                [
-                    c[0] + (u[0] * 12.0 * su + v[0] * 7.0 * sv) * k,
-                    c[1] + (u[1] * 12.0 * su + v[1] * 7.0 * sv) * k,
-                ]
-            };
-            let quad = [
-                corner(1.0, 1.0),
-                corner(-1.0, 1.0),
-                corner(-1.0, -1.0),
-                corner(1.0, -1.0),
-            ];
-            let w = detail.px(2.0, 1.0);
-            g = g.add(
-                Polygon::new()
-                    .set("points", points(&quad))
-                    .set("fill", colour)
-                    .set("fill-opacity", 0.6)
-                    .set("stroke", colour)
-                    .set("stroke-width", num(w)),
-            );
-            if stitched {
-                g = g.add(stitch(Polygon::new().set("points", points(&quad)), detail));
-            }
-        } else if h.len() >= 3 {
-            let w = detail.px(3.0, 1.0);
-            g = g.add(
-                Polygon::new()
-                    .set("points", points(&h))
-                    .set("fill", colour)
-                    .set("fill-opacity", 0.25)
-                    .set("stroke", colour)
-                    .set("stroke-width", num(w))
-                    .set("stroke-linejoin", "round"),
-            );
-            if stitched {
-                g = g.add(stitch(Polygon::new().set("points", points(&h)), detail));
-            }
-        } else {
-            // Two markers, or several on one line: a bar.
-            let w = detail.px(6.0, 1.5);
-            g = g.add(
-                Polyline::new()
-                    .set("points", points(&h))
-                    .set("fill", "none")
-                    .set("stroke", colour)
-                    .set("stroke-width", num(w))
-                    .set("stroke-linecap", "round"),
-            );
-            if stitched {
-                g = g.add(stitch(Polyline::new().set("points", points(&h)), detail));
-            }
+        if !body.fixed {
+            let stitched = style.stretched.get(b).copied().unwrap_or(false);
+            g = add_body(g, m, poses, b, view, detail, stitched);
         }
     }
-    let mut pins = Group::new()
-        .set("fill", "#ffffff")
-        .set("stroke", INK)
-        .set("stroke-width", num(detail.px(1.5, 0.5)));
-    for j in &m.joints {
-        if j.kind != JointKind::Revolute || !detail.pins {
-            continue;
-        }
-        if let Some(p) = world(m, poses, j.markers[0]) {
-            let q = view.px(p);
-            pins = pins.add(
-                Circle::new()
-                    .set("cx", num(q[0]))
-                    .set("cy", num(q[1]))
-                    .set("r", num(detail.px(4.0, 1.0))),
-            );
-        }
-    }
-    g = g.add(pins);
+    g = g.add(pins(m, poses, view, detail));
     if style.highlighted {
         for &(id, colour) in traced {
             if let Some(p) = world(m, poses, id) {
@@ -440,6 +347,126 @@ pub(super) fn draw_pose(
         }
     }
     g
+}
+
+/// Adds mobile body `b` of one pose to `g`, shaped by how its markers lie
+/// on the page: a slider block (on one spot), a filled hull, or a bar (two
+/// markers, or several on one line); `stitched` when a stretched frame
+/// pulled it apart.
+fn add_body(
+    g: Group,
+    m: &Mechanism,
+    poses: &[Pose],
+    b: usize,
+    view: &View,
+    detail: Detail,
+    stitched: bool,
+) -> Group {
+    let colour = body_colour(m, b);
+    let ps: Vec<Point> = (0..m.bodies[b].markers.len())
+        .filter_map(|i| world(m, poses, MarkerId { body: b, marker: i }))
+        .map(|p| view.px(p))
+        .collect();
+    if ps.is_empty() {
+        return g;
+    }
+    let h = hull(ps.clone());
+    let spread = h
+        .iter()
+        .flat_map(|a| h.iter().map(move |c| (a[0] - c[0]).hypot(a[1] - c[1])))
+        .fold(0.0, f64::max);
+    if spread < 4.0 {
+        // Markers (nearly) on one spot: a slider block.
+        let quad = block_corners(&ps, block_axis(m, poses, b), detail.k);
+        let w = detail.px(2.0, 1.0);
+        let g = g.add(
+            Polygon::new()
+                .set("points", points(&quad))
+                .set("fill", colour)
+                .set("fill-opacity", 0.6)
+                .set("stroke", colour)
+                .set("stroke-width", num(w)),
+        );
+        if stitched {
+            return g.add(stitch(Polygon::new().set("points", points(&quad)), detail));
+        }
+        g
+    } else if h.len() >= 3 {
+        let w = detail.px(3.0, 1.0);
+        let g = g.add(
+            Polygon::new()
+                .set("points", points(&h))
+                .set("fill", colour)
+                .set("fill-opacity", 0.25)
+                .set("stroke", colour)
+                .set("stroke-width", num(w))
+                .set("stroke-linejoin", "round"),
+        );
+        if stitched {
+            return g.add(stitch(Polygon::new().set("points", points(&h)), detail));
+        }
+        g
+    } else {
+        let w = detail.px(6.0, 1.5);
+        let g = g.add(
+            Polyline::new()
+                .set("points", points(&h))
+                .set("fill", "none")
+                .set("stroke", colour)
+                .set("stroke-width", num(w))
+                .set("stroke-linecap", "round"),
+        );
+        if stitched {
+            return g.add(stitch(Polyline::new().set("points", points(&h)), detail));
+        }
+        g
+    }
+}
+
+/// The corners of a slider block around the centre of its page points
+/// `ps`, long along its axis `u`, at detail `k`.
+fn block_corners(ps: &[Point], u: Point, k: f64) -> [Point; 4] {
+    let c = [
+        ps.iter().map(|p| p[0]).sum::<f64>() / ps.len() as f64,
+        ps.iter().map(|p| p[1]).sum::<f64>() / ps.len() as f64,
+    ];
+    let v = [-u[1], u[0]];
+    let corner = |su: f64, sv: f64| {
+        [
+            c[0] + (u[0] * 12.0 * su + v[0] * 7.0 * sv) * k,
+            c[1] + (u[1] * 12.0 * su + v[1] * 7.0 * sv) * k,
+        ]
+    };
+    [
+        corner(1.0, 1.0),
+        corner(-1.0, 1.0),
+        corner(-1.0, -1.0),
+        corner(1.0, -1.0),
+    ]
+}
+
+/// The revolute joints' pins of one pose, when the detail has room for
+/// them.
+fn pins(m: &Mechanism, poses: &[Pose], view: &View, detail: Detail) -> Group {
+    let mut pins = Group::new()
+        .set("fill", "#ffffff")
+        .set("stroke", INK)
+        .set("stroke-width", num(detail.px(1.5, 0.5)));
+    for j in &m.joints {
+        if j.kind != JointKind::Revolute || !detail.pins {
+            continue;
+        }
+        if let Some(p) = world(m, poses, j.markers[0]) {
+            let q = view.px(p);
+            pins = pins.add(
+                Circle::new()
+                    .set("cx", num(q[0]))
+                    .set("cy", num(q[1]))
+                    .set("r", num(detail.px(4.0, 1.0))),
+            );
+        }
+    }
+    pins
 }
 
 /// A white dashed line over a body's outline (or bar): the mark of a

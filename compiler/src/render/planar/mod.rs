@@ -9,12 +9,11 @@ mod tests;
 
 use dofplan_runtime::planar::{Point, Pose};
 use dofplan_runtime::FrameStatus;
-use svg::node::element::{Group, Rectangle, Text, Title};
-use svg::Document;
+use svg::node::element::Group;
 
-use super::caption::{dedupe_identical, pick_poses, titles};
+use super::caption::{dedupe_identical, heading, page, pick_poses, titles};
 use super::legend::{self, Entry, Key, Layout};
-use super::style::{num, short, trace_colour, INK};
+use super::style::{num, short, trace_colour};
 use super::trace::{self, Reach};
 use super::view::{self, BBox, View};
 use crate::model::{MarkerId, Mechanism};
@@ -224,48 +223,174 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
             .map(|f| (&f.poses[..], Reach::of(&f.status)))
             .collect()
     };
-
-    // The pose sets to draw.
     let mobile = m.bodies.iter().filter(|b| !b.fixed).count().max(1);
-    let wanted = options.poses.min((POSE_BUDGET / mobile).max(1));
-    let picked = pick_poses(frames, wanted);
-    let mut pose_sets: Vec<&[Pose]> = if frames.is_empty() {
-        vec![&drawn[..]]
-    } else {
-        picked.iter().map(|&i| &frames[i].poses[..]).collect()
-    };
-    let mut picked_frames: Vec<usize> = picked.clone();
-    dedupe_identical(m, &mut pose_sets, &mut picked_frames, size);
-    // Per drawn pose, the bodies a stretched frame pulled apart (those of
-    // its open joints); none when the frame is not stretched, or when its
-    // joints hold and only the input or the drag target was missed.
-    let open_sets: Vec<Vec<bool>> = (0..pose_sets.len())
-        .map(|k| match picked_frames.get(k) {
-            Some(&i) if matches!(frames[i].status, FrameStatus::Stretched { .. }) => {
-                open_bodies(m, &frames[i].poses)
-            }
-            _ => vec![false; m.bodies.len()],
-        })
-        .collect();
-    // Opaque first, then fainter and fainter: along the sweep, or back from
-    // the end of a drag.
-    let order: Vec<usize> = if drag {
-        (0..pose_sets.len()).rev().collect()
-    } else {
-        (0..pose_sets.len()).collect()
-    };
-
+    let picked = Picked::new(
+        m,
+        frames,
+        &drawn,
+        options.poses.min((POSE_BUDGET / mobile).max(1)),
+        drag,
+    );
     let slides = slide_ranges(m, all.iter().map(|(p, _)| *p), size);
-
-    let bbox = drawn_box(m, &all, &pose_sets, &slides, targets);
-
+    let bbox = drawn_box(m, &all, &picked.sets, &slides, targets);
     let plot_w = width - 2.0 * PAD;
     let view = View::fit(&bbox, size, plot_w, PAD, HEADER);
     let detail = Detail::new(m, &view);
 
     // Traces, through every frame.
     let trace: Vec<MarkerId> = trace.iter().copied().filter(|&id| valid(m, id)).collect();
-    let traces: Vec<trace::Trace> = trace
+    let traces = build_traces(m, &all, &trace, &view);
+    let arrows: Vec<Vec<trace::Arrow>> = traces.iter().map(trace::arrows).collect();
+    let entries = legend::cap(legend_entries(m, frames, &traces, targets));
+
+    // Layout: header, plot, the scale bar's strip, legend.
+    let layout = Layout::new(&entries, plot_w);
+    let strip_top = HEADER + view.plot_h + 4.0;
+    let legend_top = strip_top + view::SCALE_STRIP + 6.0;
+    let height = legend_top + layout.height() + PAD;
+    let (title, subtitle) = titles(m, frames, &picked.frames, drag && picked.frames.len() > 1);
+    let mut doc = page(width, height, &title);
+
+    let traced: Vec<(MarkerId, &str)> = trace
+        .iter()
+        .copied()
+        .zip(traces.iter().map(|t| t.colour))
+        .collect();
+    for g in ground_and_faint_poses(
+        m,
+        &picked.sets,
+        &picked.order,
+        &picked.open,
+        &slides,
+        &view,
+        detail,
+    ) {
+        doc = doc.add(g);
+    }
+    for (t, a) in traces.iter().zip(&arrows) {
+        doc = doc.add(trace::draw(t, a));
+    }
+    if let Some(pose) = opaque_pose(m, &picked, &slides, &view, detail, &traced) {
+        doc = doc.add(pose);
+    }
+    if drag {
+        let reached = match (frames.last(), trace.first()) {
+            (Some(f), Some(&id)) => world(m, &f.poses, id),
+            _ => None,
+        };
+        doc = doc.add(target::draw(targets, reached, &view));
+    }
+    for g in labels(m, &picked, &view, detail, &traces, &arrows, centre(&bbox, &view)) {
+        doc = doc.add(g);
+    }
+
+    // Title, scale bar and legend.
+    for text in heading(title, subtitle, PAD) {
+        doc = doc.add(text);
+    }
+    if let Some(bar) = view::scale_bar(&view, width - PAD, strip_top) {
+        doc = doc.add(bar);
+    }
+    doc = doc.add(legend::draw(&entries, &layout, PAD, legend_top));
+    doc.to_string()
+}
+
+/// The poses drawn: which frames, the bodies each pulled apart, and the
+/// order they are drawn in.
+struct Picked<'a> {
+    /// The pose sets drawn (the drawn pose alone when there are no frames).
+    sets: Vec<&'a [Pose]>,
+    /// The frame of each set (none when there are no frames).
+    frames: Vec<usize>,
+    /// Per set, the bodies a stretched frame pulled apart (those of its
+    /// open joints); none when the frame is not stretched, or when its
+    /// joints hold and only the input or the drag target was missed.
+    open: Vec<Vec<bool>>,
+    /// Opaque first, then fainter and fainter: along the sweep, or back
+    /// from the end of a drag.
+    order: Vec<usize>,
+}
+
+impl<'a> Picked<'a> {
+    /// Up to `wanted` frames evenly spaced through `frames` ([`pick_poses`]),
+    /// those identical to an earlier one dropped; `drawn` when there are no
+    /// frames.
+    fn new(m: &Mechanism, frames: &'a [Frame], drawn: &'a [Pose], wanted: usize, drag: bool) -> Picked<'a> {
+        let picked = pick_poses(frames, wanted);
+        let mut sets: Vec<&[Pose]> = if frames.is_empty() {
+            vec![drawn]
+        } else {
+            picked.iter().map(|&i| &frames[i].poses[..]).collect()
+        };
+        let mut picked_frames: Vec<usize> = picked;
+        dedupe_identical(m, &mut sets, &mut picked_frames, m.size());
+        let open: Vec<Vec<bool>> = (0..sets.len())
+            .map(|k| match picked_frames.get(k) {
+                Some(&i) if matches!(frames[i].status, FrameStatus::Stretched { .. }) => {
+                    open_bodies(m, &frames[i].poses)
+                }
+                _ => vec![false; m.bodies.len()],
+            })
+            .collect();
+        let order: Vec<usize> = if drag {
+            (0..sets.len()).rev().collect()
+        } else {
+            (0..sets.len()).collect()
+        };
+        Picked {
+            sets,
+            frames: picked_frames,
+            open,
+            order,
+        }
+    }
+}
+
+/// The opaque pose (the first of the order), with the traced markers in
+/// their colours; none when no pose is drawn.
+fn opaque_pose(
+    m: &Mechanism,
+    picked: &Picked,
+    slides: &[Slide],
+    view: &View,
+    detail: Detail,
+    traced: &[(MarkerId, &str)],
+) -> Option<Group> {
+    let &first = picked.order.first()?;
+    let style = PoseStyle {
+        highlighted: true,
+        stretched: &picked.open[first],
+    };
+    Some(draw_pose(
+        m,
+        picked.sets[first],
+        slides,
+        view,
+        detail,
+        traced,
+        style,
+    ))
+}
+
+/// The page point the trace labels are placed around: the middle of what
+/// is drawn, or of the plot when nothing finite is.
+fn centre(bbox: &BBox, view: &View) -> Point {
+    if bbox.lo[0] <= bbox.hi[0] {
+        view.px([0.5 * (bbox.lo[0] + bbox.hi[0]), 0.5 * (bbox.lo[1] + bbox.hi[1])])
+    } else {
+        [view.left + 0.5 * view.plot_w, view.top + 0.5 * view.plot_h]
+    }
+}
+
+/// The path of every marker of `trace` through every frame of `all`, on
+/// the page of `view`.
+fn build_traces(
+    m: &Mechanism,
+    all: &[(&[Pose], Reach)],
+    trace: &[MarkerId],
+    view: &View,
+) -> Vec<trace::Trace> {
+    trace
         .iter()
         .enumerate()
         .map(|(k, &id)| {
@@ -276,78 +401,26 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
                     .map(|(poses, reach)| (world(m, poses, id).map(|p| view.px(p)), *reach)),
             )
         })
-        .collect();
-    let arrows: Vec<Vec<trace::Arrow>> = traces.iter().map(trace::arrows).collect();
+        .collect()
+}
 
-    let entries = legend::cap(legend_entries(m, frames, &traces, targets));
-
-    // Layout: header, plot, the scale bar's strip, legend.
-    let layout = Layout::new(&entries, plot_w);
-    let strip_top = HEADER + view.plot_h + 4.0;
-    let legend_top = strip_top + view::SCALE_STRIP + 6.0;
-    let height = legend_top + layout.height() + PAD;
-
-    let mut doc = Document::new()
-        .set("width", num(width))
-        .set("height", num(height))
-        .set("viewBox", format!("0 0 {} {}", num(width), num(height)))
-        .set("font-family", "Helvetica, Arial, sans-serif");
-    let (title, subtitle) = titles(m, frames, &picked_frames, drag && picked_frames.len() > 1);
-    doc = doc.add(Title::new(title.clone()));
-    doc = doc.add(
-        Rectangle::new()
-            .set("x", 0)
-            .set("y", 0)
-            .set("width", num(width))
-            .set("height", num(height))
-            .set("fill", "#ffffff"),
-    );
-
-    let traced: Vec<(MarkerId, &str)> = trace
-        .iter()
-        .copied()
-        .zip(traces.iter().map(|t| t.colour))
-        .collect();
-    for g in ground_and_faint_poses(m, &pose_sets, &order, &open_sets, &slides, &view, detail) {
-        doc = doc.add(g);
-    }
-    for (t, a) in traces.iter().zip(&arrows) {
-        doc = doc.add(trace::draw(t, a));
-    }
-    if let Some(&first) = order.first() {
-        let style = PoseStyle {
-            highlighted: true,
-            stretched: &open_sets[first],
-        };
-        doc = doc.add(draw_pose(
-            m,
-            pose_sets[first],
-            &slides,
-            &view,
-            detail,
-            &traced,
-            style,
-        ));
-    }
-    if drag {
-        let reached = match (frames.last(), trace.first()) {
-            (Some(f), Some(&id)) => world(m, &f.poses, id),
-            _ => None,
-        };
-        doc = doc.add(target::draw(targets, reached, &view));
-    }
-    let centre = if bbox.lo[0] <= bbox.hi[0] {
-        view.px([0.5 * (bbox.lo[0] + bbox.hi[0]), 0.5 * (bbox.lo[1] + bbox.hi[1])])
-    } else {
-        [view.left + 0.5 * view.plot_w, view.top + 0.5 * view.plot_h]
-    };
-    let arrow_boxes: Vec<trace::Rect> = arrows.iter().flatten().map(trace::arrow_box).collect();
-    // Labels keep off the drawn bodies (unless there are very many) and
-    // the traces.
-    let mut ink: Vec<[Point; 2]> = if mobile * pose_sets.len() <= LABEL_INK_BODIES {
-        pose_sets
-            .iter()
-            .flat_map(|poses| outlines(m, poses, &view))
+/// The labels: the pins' names first (they have few places to go), then
+/// the traces' names off them, the pins and the arrows, around `centre`.
+/// Both keep off the drawn bodies (unless there are very many) and the
+/// traces.
+fn labels(
+    m: &Mechanism,
+    picked: &Picked,
+    view: &View,
+    detail: Detail,
+    traces: &[trace::Trace],
+    arrows: &[Vec<trace::Arrow>],
+    centre: Point,
+) -> Vec<Group> {
+    let mobile = m.bodies.iter().filter(|b| !b.fixed).count().max(1);
+    let mut ink: Vec<[Point; 2]> = if mobile * picked.sets.len() <= LABEL_INK_BODIES {
+        (picked.sets.iter())
+            .flat_map(|poses| outlines(m, poses, view))
             .collect()
     } else {
         Vec::new()
@@ -355,43 +428,20 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
     let bodies: Vec<Vec<Point>> = if ink.is_empty() {
         Vec::new()
     } else {
-        pose_sets
-            .iter()
-            .flat_map(|poses| hulls(m, poses, &view))
+        (picked.sets.iter())
+            .flat_map(|poses| hulls(m, poses, view))
             .collect()
     };
-    for t in &traces {
+    for t in traces {
         ink.extend(trace::segments(t, 1000));
     }
-    // Pin labels first (they have few places to go), then the trace labels
-    // off them, the pins and the arrows.
-    let mut taken = arrow_boxes;
-    if let (Some(&first), true) = (order.first(), detail.names) {
-        doc = doc.add(pin_labels(m, pose_sets[first], &view, &bodies, &ink, &mut taken));
+    let mut taken: Vec<trace::Rect> = arrows.iter().flatten().map(trace::arrow_box).collect();
+    let mut out = Vec::new();
+    if let (Some(&first), true) = (picked.order.first(), detail.names) {
+        out.push(pin_labels(m, picked.sets[first], view, &bodies, &ink, &mut taken));
     }
-    doc = doc.add(trace::labels(&traces, &view, centre, &taken, &ink));
-
-    // Title, scale bar and legend.
-    doc = doc.add(
-        Text::new(title)
-            .set("x", num(PAD))
-            .set("y", 26)
-            .set("font-size", 18)
-            .set("font-weight", "bold")
-            .set("fill", INK),
-    );
-    doc = doc.add(
-        Text::new(subtitle)
-            .set("x", num(PAD))
-            .set("y", 45)
-            .set("font-size", 12)
-            .set("fill", "#555555"),
-    );
-    if let Some(bar) = view::scale_bar(&view, width - PAD, strip_top) {
-        doc = doc.add(bar);
-    }
-    doc = doc.add(legend::draw(&entries, &layout, PAD, legend_top));
-    doc.to_string()
+    out.push(trace::labels(traces, view, centre, &taken, &ink));
+    out
 }
 
 /// A joint or constraint open by more than this, relative to the

@@ -33,10 +33,9 @@ mod tests;
 use dofplan_runtime::planar::Point;
 use dofplan_runtime::spatial::{dot, Pose3, Vec3};
 use dofplan_runtime::FrameStatus;
-use svg::node::element::{Circle, Definitions, Group, Path, Polygon, Polyline, Rectangle, Text, Title};
-use svg::Document;
+use svg::node::element::{Circle, Definitions, Group, Path, Polygon, Polyline, Rectangle, Text};
 
-use super::caption::{pick_of, titles_of, Shown};
+use super::caption::{heading, page, pick_of, titles_of, Shown};
 use super::legend::{self, Entry, Key, Layout};
 use super::style::colour_of;
 use super::style::{dashed, line, num, points, text_width, trace_colour, GREY, GROUND_COLOUR, INK};
@@ -305,54 +304,8 @@ pub fn render_spatial(m: &Mechanism, frames: &[SpatialFrame]) -> String {
             .map(|f| (&f.poses[..], Reach::of(&f.status)))
             .collect()
     };
-
-    // The pose sets to draw, the opaque one first.
-    let mobile = m.moving().max(1);
-    let wanted = POSES.min((POSE_BUDGET / mobile).max(1));
-    let mut sets: Vec<(usize, &[Pose3])> = if frames.is_empty() {
-        vec![(0, &drawn[..])]
-    } else {
-        pick_of(frames.iter().map(|f| &f.status), wanted)
-            .into_iter()
-            .map(|i| (i, &frames[i].poses[..]))
-            .collect()
-    };
-    dedupe(m, &mut sets);
-    // Per frame drawn, the bodies it pulled apart (those of its open
-    // joints and constraints): a stretched frame whose joints hold (a
-    // drag's target out of reach) stitches none.
-    let opened: Vec<(usize, Vec<bool>)> = (sets.iter())
-        .map(|&(i, poses)| {
-            let stretched = frames
-                .get(i)
-                .is_some_and(|f| matches!(f.status, FrameStatus::Stretched { .. }));
-            let open = if stretched {
-                open_bodies(m, poses)
-            } else {
-                vec![false; m.bodies.len()]
-            };
-            (i, open)
-        })
-        .collect();
-    let stretched = |i: usize| -> &[bool] {
-        opened
-            .iter()
-            .find(|(k, _)| *k == i)
-            .map_or(&[][..], |(_, open)| &open[..])
-    };
-
-    // The box of everything drawn, in each view's plane.
-    let mut boxes: [BBox; 4] = std::array::from_fn(|_| BBox::new());
-    for (poses, _) in &all {
-        for id in m.all_markers() {
-            if let Some(p) = world(m, poses, id) {
-                for (b, proj) in boxes.iter_mut().zip(Projection::GRID) {
-                    b.add(proj.project(p));
-                }
-            }
-        }
-    }
-    let cells = layout(m, &boxes);
+    let picked = Picked::new(m, frames, &drawn);
+    let cells = layout(m, &view_boxes(m, &all));
     let detail = Detail::new(m, cells[0].view.scale);
 
     // Traces and legend.
@@ -378,49 +331,96 @@ pub fn render_spatial(m: &Mechanism, frames: &[SpatialFrame]) -> String {
             requested: &f.requested,
         })
         .collect();
-    let picked: Vec<usize> = if frames.is_empty() {
+    let picked_frames: Vec<usize> = if frames.is_empty() {
         Vec::new()
     } else {
-        sets.iter().map(|&(i, _)| i).collect()
+        picked.sets.iter().map(|&(i, _)| i).collect()
     };
-    let (title, subtitle) = titles_of(&m.name, &m.inputs, m.sweep.as_ref(), &shown, &picked, false);
+    let (title, subtitle) = titles_of(
+        &m.name,
+        &m.inputs,
+        m.sweep.as_ref(),
+        &shown,
+        &picked_frames,
+        false,
+    );
 
-    let mut doc = Document::new()
-        .set("width", num(WIDTH))
-        .set("height", num(height))
-        .set("viewBox", format!("0 0 {} {}", num(WIDTH), num(height)))
-        .set("font-family", "Helvetica, Arial, sans-serif")
-        .add(Title::new(title.clone()))
-        .add(
-            Rectangle::new()
-                .set("x", 0)
-                .set("y", 0)
-                .set("width", num(WIDTH))
-                .set("height", num(height))
-                .set("fill", "#ffffff"),
-        )
-        .add(Definitions::new().add(hatch_pattern()));
-    doc = doc
-        .add(
-            Text::new(title)
-                .set("x", num(PAD))
-                .set("y", 26)
-                .set("font-size", 18)
-                .set("font-weight", "bold")
-                .set("fill", INK),
-        )
-        .add(
-            Text::new(format!("{subtitle}; the four views share one scale"))
-                .set("x", num(PAD))
-                .set("y", 45)
-                .set("font-size", 12)
-                .set("fill", GREY),
-        );
+    let mut doc = page(WIDTH, height, &title).add(Definitions::new().add(hatch_pattern()));
+    for text in heading(title, format!("{subtitle}; the four views share one scale"), PAD) {
+        doc = doc.add(text);
+    }
     for cell in &cells {
-        doc = doc.add(draw_view(m, cell, &all, &sets, &stretched, &traced, detail));
+        doc = doc.add(draw_view(m, cell, &all, &picked, &traced, detail));
     }
     doc = doc.add(legend::draw(&entries, &layout, PAD, legend_top));
     doc.to_string()
+}
+
+/// The poses drawn, the opaque one first, with the bodies each pulled
+/// apart.
+struct Picked<'a> {
+    /// The frame of each pose drawn, and its poses.
+    sets: Vec<(usize, &'a [Pose3])>,
+    /// Per frame drawn, the bodies it pulled apart (those of its open
+    /// joints and constraints): a stretched frame whose joints hold (a
+    /// drag's target out of reach) stitches none.
+    opened: Vec<(usize, Vec<bool>)>,
+}
+
+impl<'a> Picked<'a> {
+    /// Up to [`POSES`] frames evenly spaced through `frames` (fewer for
+    /// many bodies), those identical to an earlier one dropped; `drawn`
+    /// when there are no frames.
+    fn new(m: &Mechanism, frames: &'a [SpatialFrame], drawn: &'a [Pose3]) -> Picked<'a> {
+        let mobile = m.moving().max(1);
+        let wanted = POSES.min((POSE_BUDGET / mobile).max(1));
+        let mut sets: Vec<(usize, &[Pose3])> = if frames.is_empty() {
+            vec![(0, drawn)]
+        } else {
+            pick_of(frames.iter().map(|f| &f.status), wanted)
+                .into_iter()
+                .map(|i| (i, &frames[i].poses[..]))
+                .collect()
+        };
+        dedupe(m, &mut sets);
+        let opened: Vec<(usize, Vec<bool>)> = (sets.iter())
+            .map(|&(i, poses)| {
+                let stretched = frames
+                    .get(i)
+                    .is_some_and(|f| matches!(f.status, FrameStatus::Stretched { .. }));
+                let open = if stretched {
+                    open_bodies(m, poses)
+                } else {
+                    vec![false; m.bodies.len()]
+                };
+                (i, open)
+            })
+            .collect();
+        Picked { sets, opened }
+    }
+
+    /// The bodies frame `i` pulled apart (none when it is not drawn).
+    fn stretched(&self, i: usize) -> &[bool] {
+        (self.opened.iter())
+            .find(|(k, _)| *k == i)
+            .map_or(&[][..], |(_, open)| &open[..])
+    }
+}
+
+/// The box of everything drawn (every marker in every frame), in each
+/// view's plane.
+fn view_boxes(m: &Mechanism, all: &[(&[Pose3], Reach)]) -> [BBox; 4] {
+    let mut boxes: [BBox; 4] = std::array::from_fn(|_| BBox::new());
+    for (poses, _) in all {
+        for id in m.all_markers() {
+            if let Some(p) = world(m, poses, id) {
+                for (b, proj) in boxes.iter_mut().zip(Projection::GRID) {
+                    b.add(proj.project(p));
+                }
+            }
+        }
+    }
+    boxes
 }
 
 /// The legend: traces, the marks of stretched and searched frames, the
@@ -595,77 +595,27 @@ fn layout(m: &Mechanism, boxes: &[BBox; 4]) -> Vec<Cell> {
 
 /// One view: its frame and heading, the ground, the faint poses, the
 /// traces, the opaque pose, the labels, the axes and the scale bar.
-fn draw_view<'a>(
+fn draw_view(
     m: &Mechanism,
     cell: &Cell,
     all: &[(&[Pose3], Reach)],
-    sets: &[(usize, &[Pose3])],
-    stretched: &dyn Fn(usize) -> &'a [bool],
+    picked: &Picked,
     traced: &[MarkerId],
     detail: Detail,
 ) -> Group {
     let proj = cell.proj;
     let view = &cell.view;
     let page = |p: Vec3| view.px(proj.project(p));
-    let mut g = Group::new().set("class", "view").set("data-view", proj.name());
-    g = g.add(
-        Rectangle::new()
-            .set("class", "view-frame")
-            .set("x", num(cell.left))
-            .set("y", num(cell.top))
-            .set("width", num(cell.width))
-            .set("height", num(cell.height))
-            .set("rx", 4)
-            .set("fill", "#fcfcfc")
-            .set("stroke", "#d0d0d0")
-            .set("stroke-width", 1),
+    let mut g = add_heading(
+        Group::new().set("class", "view").set("data-view", proj.name()),
+        cell,
     );
-    let (name, plane) = proj.heading();
-    g = g.add(
-        Text::new(name)
-            .set("class", "view-title")
-            .set("x", num(cell.left + 10.0))
-            .set("y", num(cell.top + 18.0))
-            .set("font-size", 14)
-            .set("font-weight", "bold")
-            .set("fill", INK),
-    );
-    g = g.add(
-        Text::new(plane)
-            .set("class", "view-plane")
-            .set("x", num(cell.left + 18.0 + text_width(name, 14.0) * 0.95))
-            .set("y", num(cell.top + 18.0))
-            .set("font-size", 12)
-            .set("fill", GREY),
-    );
-
-    let Some(&(first_frame, first)) = sets.first() else {
+    let Some(&(first_frame, first)) = picked.sets.first() else {
         return g;
     };
     let (ground, ground_boxes) = draw_ground(m, first, proj, view, detail);
     g = g.add(ground);
-
-    // Faint poses, latest (faintest) first so that nearer ones lie on top.
-    let n = sets.len();
-    for (rank, &(i, poses)) in sets.iter().enumerate().skip(1).rev() {
-        let opacity = if n > 2 {
-            0.42 - 0.22 * (rank - 1) as f64 / (n - 2) as f64
-        } else {
-            0.4
-        };
-        g = g.add(
-            draw_bodies(m, poses, proj, view, detail, true, stretched(i))
-                .set(
-                    "class",
-                    if stretched(i).contains(&true) {
-                        "pose ghost stretched"
-                    } else {
-                        "pose ghost"
-                    },
-                )
-                .set("opacity", num(opacity)),
-        );
-    }
+    g = add_ghosts(g, m, picked, proj, view, detail);
 
     // Traces through every frame.
     let traces: Vec<trace::Trace> = traced
@@ -686,38 +636,13 @@ fn draw_view<'a>(
     }
 
     // The opaque pose, its joints and traced markers.
-    let pose = draw_bodies(m, first, proj, view, detail, false, stretched(first_frame)).set(
-        "class",
-        if stretched(first_frame).contains(&true) {
-            "pose stretched"
-        } else {
-            "pose"
-        },
-    );
-    let (joints, mut symbols) = draw_joints(m, first, proj, view, detail);
+    let (pose, mut symbols) = opaque_pose(m, first, picked.stretched(first_frame), cell, traced, detail);
     symbols.extend(ground_boxes);
-    let mut pose = pose.add(joints);
-    for (k, &id) in traced.iter().enumerate() {
-        if let Some(p) = world(m, first, id) {
-            let q = page(p);
-            pose = pose.add(
-                Circle::new()
-                    .set("class", "traced")
-                    .set("data-marker", m.marker_name(id))
-                    .set("cx", num(q[0]))
-                    .set("cy", num(q[1]))
-                    .set("r", num(detail.px(3.5, 1.5)))
-                    .set("fill", trace_colour(k))
-                    .set("stroke", "#ffffff")
-                    .set("stroke-width", 1),
-            );
-        }
-    }
     g = g.add(pose);
 
     // Labels keep off the bodies, the joints and the traces.
-    let mut ink: Vec<[Point; 2]> = if m.moving() * sets.len() <= 200 {
-        sets.iter()
+    let mut ink: Vec<[Point; 2]> = if m.moving() * picked.sets.len() <= 200 {
+        (picked.sets.iter())
             .flat_map(|(_, poses)| outlines(m, poses, &page))
             .collect()
     } else {
@@ -750,6 +675,116 @@ fn draw_view<'a>(
         g = g.add(bar);
     }
     g
+}
+
+/// Adds a view's frame and heading (its name, then its plane and
+/// direction) to `g`.
+fn add_heading(g: Group, cell: &Cell) -> Group {
+    let (name, plane) = cell.proj.heading();
+    g.add(
+        Rectangle::new()
+            .set("class", "view-frame")
+            .set("x", num(cell.left))
+            .set("y", num(cell.top))
+            .set("width", num(cell.width))
+            .set("height", num(cell.height))
+            .set("rx", 4)
+            .set("fill", "#fcfcfc")
+            .set("stroke", "#d0d0d0")
+            .set("stroke-width", 1),
+    )
+    .add(
+        Text::new(name)
+            .set("class", "view-title")
+            .set("x", num(cell.left + 10.0))
+            .set("y", num(cell.top + 18.0))
+            .set("font-size", 14)
+            .set("font-weight", "bold")
+            .set("fill", INK),
+    )
+    .add(
+        Text::new(plane)
+            .set("class", "view-plane")
+            .set("x", num(cell.left + 18.0 + text_width(name, 14.0) * 0.95))
+            .set("y", num(cell.top + 18.0))
+            .set("font-size", 12)
+            .set("fill", GREY),
+    )
+}
+
+/// Adds the faint poses (all but the first) to `g`, latest (faintest)
+/// first so that nearer ones lie on top.
+fn add_ghosts(
+    mut g: Group,
+    m: &Mechanism,
+    picked: &Picked,
+    proj: Projection,
+    view: &View,
+    detail: Detail,
+) -> Group {
+    let n = picked.sets.len();
+    for (rank, &(i, poses)) in picked.sets.iter().enumerate().skip(1).rev() {
+        let opacity = if n > 2 {
+            0.42 - 0.22 * (rank - 1) as f64 / (n - 2) as f64
+        } else {
+            0.4
+        };
+        let stretched = picked.stretched(i);
+        g = g.add(
+            draw_bodies(m, poses, proj, view, detail, true, stretched)
+                .set(
+                    "class",
+                    if stretched.contains(&true) {
+                        "pose ghost stretched"
+                    } else {
+                        "pose ghost"
+                    },
+                )
+                .set("opacity", num(opacity)),
+        );
+    }
+    g
+}
+
+/// The opaque pose of a view: its bodies (`stretched` those pulled
+/// apart), its joints and the traced markers in their colours; with the
+/// boxes the joint symbols take (for labels to keep off).
+fn opaque_pose(
+    m: &Mechanism,
+    poses: &[Pose3],
+    stretched: &[bool],
+    cell: &Cell,
+    traced: &[MarkerId],
+    detail: Detail,
+) -> (Group, Vec<Rect>) {
+    let (proj, view) = (cell.proj, &cell.view);
+    let pose = draw_bodies(m, poses, proj, view, detail, false, stretched).set(
+        "class",
+        if stretched.contains(&true) {
+            "pose stretched"
+        } else {
+            "pose"
+        },
+    );
+    let (joints, symbols) = draw_joints(m, poses, proj, view, detail);
+    let mut pose = pose.add(joints);
+    for (k, &id) in traced.iter().enumerate() {
+        if let Some(p) = world(m, poses, id) {
+            let q = view.px(proj.project(p));
+            pose = pose.add(
+                Circle::new()
+                    .set("class", "traced")
+                    .set("data-marker", m.marker_name(id))
+                    .set("cx", num(q[0]))
+                    .set("cy", num(q[1]))
+                    .set("r", num(detail.px(3.5, 1.5)))
+                    .set("fill", trace_colour(k))
+                    .set("stroke", "#ffffff")
+                    .set("stroke-width", 1),
+            );
+        }
+    }
+    (pose, symbols)
 }
 
 /// The axes of a view, from `origin`: an arrow per world axis that is not
@@ -939,6 +974,17 @@ fn draw_bodies(
     stretched: &[bool],
 ) -> Group {
     let page = |p: Vec3| view.px(proj.project(p));
+    let mut g = slide_lines(Group::new(), m, poses, &page, detail, ghost);
+    for b in far_first(m, poses, proj) {
+        let stretched = stretched.get(b).copied().unwrap_or(false);
+        g = g.add(draw_body(m, poses, b, &page, detail, ghost, stretched));
+    }
+    g
+}
+
+/// The mobile bodies of `poses`, those far from the viewer first (by the
+/// mean depth of their markers; ties in body order).
+fn far_first(m: &Mechanism, poses: &[Pose3], proj: Projection) -> Vec<usize> {
     let mut order: Vec<(f64, usize)> = m
         .bodies
         .iter()
@@ -958,10 +1004,20 @@ fn draw_bodies(
         })
         .collect();
     order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    let mut g = Group::new();
-    // The line of every sliding joint, from its first marker to where the
-    // second is, dashed in the first body's colour (the planar drawing's
-    // slide lines): it joins a cylinder's barrel to its rod.
+    order.into_iter().map(|(_, b)| b).collect()
+}
+
+/// Adds to `g` the line of every sliding joint, from its first marker to
+/// where the second is, dashed in the first body's colour (the planar
+/// drawing's slide lines): it joins a cylinder's barrel to its rod.
+fn slide_lines(
+    mut g: Group,
+    m: &Mechanism,
+    poses: &[Pose3],
+    page: &dyn Fn(Vec3) -> Point,
+    detail: Detail,
+    ghost: bool,
+) -> Group {
     for j in &m.joints {
         if !matches!(
             j.kind,
@@ -988,88 +1044,97 @@ fn draw_bodies(
                 .set("stroke-dasharray", "6 4"),
         );
     }
-    for (_, b) in order {
-        let colour = colour_of(&m.bodies, b);
-        let stretched = stretched.get(b).copied().unwrap_or(false);
-        let ps = body_points(m, poses, b, &page);
-        let mut bg = Group::new()
-            .set("class", "body")
-            .set("data-body", m.bodies[b].name.as_str());
-        if ps.is_empty() {
-            g = g.add(bg);
-            continue;
-        }
-        let h = hull(ps.clone());
-        let spread = h
-            .iter()
-            .flat_map(|a| h.iter().map(move |c| (a[0] - c[0]).hypot(a[1] - c[1])))
-            .fold(0.0, f64::max);
-        let stitch = |w: f64| {
-            move |node: Polygon| {
-                if stretched {
-                    dashed(node, w, true)
-                } else {
-                    node
-                }
-            }
-        };
-        if spread < 4.0 {
-            // Markers (nearly) on one spot: a block.
-            let c = [
-                ps.iter().map(|p| p[0]).sum::<f64>() / ps.len() as f64,
-                ps.iter().map(|p| p[1]).sum::<f64>() / ps.len() as f64,
-            ];
-            let r = detail.px(6.0, 2.5);
-            let quad = [
-                [c[0] - r, c[1] - r],
-                [c[0] + r, c[1] - r],
-                [c[0] + r, c[1] + r],
-                [c[0] - r, c[1] + r],
-            ];
-            bg = bg.add(stitch(1.5)(
-                Polygon::new()
-                    .set("points", points(&quad))
-                    .set("fill", colour)
-                    .set("fill-opacity", if ghost { 0.2 } else { 0.6 })
-                    .set("stroke", colour)
-                    .set("stroke-width", num(detail.px(2.0, 1.0))),
-            ));
-        } else if h.len() >= 3 {
-            let w = if ghost {
-                detail.px(1.5, 0.75)
-            } else {
-                detail.px(2.5, 1.0)
-            };
-            bg = bg.add(stitch(w)(
-                Polygon::new()
-                    .set("points", points(&h))
-                    .set("fill", colour)
-                    .set("fill-opacity", if ghost { 0.08 } else { 0.22 })
-                    .set("stroke", colour)
-                    .set("stroke-width", num(w))
-                    .set("stroke-linejoin", "round"),
-            ));
-        } else {
-            // Two markers, or several on one line: a bar.
-            let w = if ghost {
-                detail.px(3.0, 1.0)
-            } else {
-                detail.px(6.0, 1.5)
-            };
-            bg = bg.add(dashed(
-                Polyline::new()
-                    .set("points", points(&h))
-                    .set("fill", "none")
-                    .set("stroke", colour)
-                    .set("stroke-width", num(w))
-                    .set("stroke-linecap", "round"),
-                w,
-                stretched,
-            ));
-        }
-        g = g.add(bg);
-    }
     g
+}
+
+/// Mobile body `b` of one pose, in its colour: a block for markers on one
+/// spot, the hull of its markers, or a bar for markers on a line; lighter
+/// for a `ghost`, stitched when `stretched` (pulled apart).
+fn draw_body(
+    m: &Mechanism,
+    poses: &[Pose3],
+    b: usize,
+    page: &dyn Fn(Vec3) -> Point,
+    detail: Detail,
+    ghost: bool,
+    stretched: bool,
+) -> Group {
+    let colour = colour_of(&m.bodies, b);
+    let ps = body_points(m, poses, b, page);
+    let bg = Group::new()
+        .set("class", "body")
+        .set("data-body", m.bodies[b].name.as_str());
+    if ps.is_empty() {
+        return bg;
+    }
+    let h = hull(ps.clone());
+    let spread = h
+        .iter()
+        .flat_map(|a| h.iter().map(move |c| (a[0] - c[0]).hypot(a[1] - c[1])))
+        .fold(0.0, f64::max);
+    let stitch = |w: f64| {
+        move |node: Polygon| {
+            if stretched {
+                dashed(node, w, true)
+            } else {
+                node
+            }
+        }
+    };
+    if spread < 4.0 {
+        // Markers (nearly) on one spot: a block.
+        let c = [
+            ps.iter().map(|p| p[0]).sum::<f64>() / ps.len() as f64,
+            ps.iter().map(|p| p[1]).sum::<f64>() / ps.len() as f64,
+        ];
+        let r = detail.px(6.0, 2.5);
+        let quad = [
+            [c[0] - r, c[1] - r],
+            [c[0] + r, c[1] - r],
+            [c[0] + r, c[1] + r],
+            [c[0] - r, c[1] + r],
+        ];
+        bg.add(stitch(1.5)(
+            Polygon::new()
+                .set("points", points(&quad))
+                .set("fill", colour)
+                .set("fill-opacity", if ghost { 0.2 } else { 0.6 })
+                .set("stroke", colour)
+                .set("stroke-width", num(detail.px(2.0, 1.0))),
+        ))
+    } else if h.len() >= 3 {
+        let w = if ghost {
+            detail.px(1.5, 0.75)
+        } else {
+            detail.px(2.5, 1.0)
+        };
+        bg.add(stitch(w)(
+            Polygon::new()
+                .set("points", points(&h))
+                .set("fill", colour)
+                .set("fill-opacity", if ghost { 0.08 } else { 0.22 })
+                .set("stroke", colour)
+                .set("stroke-width", num(w))
+                .set("stroke-linejoin", "round"),
+        ))
+    } else {
+        // Two markers, or several on one line: a bar.
+        let w = if ghost {
+            detail.px(3.0, 1.0)
+        } else {
+            detail.px(6.0, 1.5)
+        };
+        bg.add(dashed(
+            Polyline::new()
+                .set("points", points(&h))
+                .set("fill", "none")
+                .set("stroke", colour)
+                .set("stroke-width", num(w))
+                .set("stroke-linecap", "round"),
+            w,
+            stretched,
+        ))
+    }
 }
 
 /// Every joint of one pose as its symbol (nearest the viewer last), and

@@ -11,8 +11,9 @@ use crate::analysis::planar::rank::{idle_freedoms, rank_mobility_with, RankMobil
 use crate::analysis::ranges::assembly_ranges;
 use crate::analysis::{analyse_with, Analysis, Class, Mobility, Progress};
 use crate::model::Mechanism;
-use crate::plan::num;
+use crate::plan::{num, Plan};
 
+use crate::report::check::{redundant_json, write_json, write_rank_mobility};
 use crate::report::ranges::{ranges_json, write_ranges};
 
 /// What `dofplan check` reports of a planar mechanism: its analysis (none
@@ -54,120 +55,10 @@ impl Check {
         if json_out {
             return check_json(m, &mob, &by_rank, analysis.as_ref(), out);
         }
-        let fixed = m.bodies.iter().filter(|b| b.fixed).count();
-        writeln!(out, "{} ({})", m.name, place)?;
-        writeln!(
-            out,
-            "  bodies: {} ({} fixed, {} mobile), joints: {}, constraints: {}, inputs: {}",
-            m.bodies.len(),
-            fixed,
-            m.bodies.len() - fixed,
-            m.joints.len(),
-            m.constraints.len(),
-            m.inputs.len()
-        )?;
-        for input in &m.inputs {
-            writeln!(
-                out,
-                "    input {}: {} at joint {}",
-                input.name,
-                input.kind.name(),
-                m.joints[input.joint].name
-            )?;
-        }
-        let extra = if mob.constraint_equations > 0 {
-            format!(" − {}", mob.constraint_equations)
-        } else {
-            String::new()
-        };
-        writeln!(
-            out,
-            "  mobility (Grübler): D = 3(L−1) − 2J{} = 3·{} − 2·{}{} = {}",
-            if mob.constraint_equations > 0 {
-                " − (constraint equations)"
-            } else {
-                ""
-            },
-            mob.links - 1,
-            mob.joints,
-            extra,
-            mob.dof
-        )?;
-        writeln!(
-            out,
-            "  mobility (Jacobian rank at the drawn pose): {} unknowns − rank {} = {}",
-            by_rank.unknowns, by_rank.rank, by_rank.dof
-        )?;
-        if by_rank.dof == mob.dof {
-            writeln!(out, "  Grübler's count and the Jacobian agree")?;
-        } else {
-            let dependent: usize = by_rank.redundant.iter().map(|(_, n)| n).sum();
-            writeln!(
-                out,
-                "  they differ by {}: the mechanism is non-generic — {} equation(s) depend on the others, \
-                 which Grübler's count takes as independent",
-                by_rank.dof - mob.dof,
-                dependent
-            )?;
-        }
-        if !by_rank.redundant.is_empty() {
-            let list: Vec<String> = by_rank
-                .redundant
-                .iter()
-                .map(|(o, n)| {
-                    if *n == 1 {
-                        o.clone()
-                    } else {
-                        format!("{o} ({n} equations)")
-                    }
-                })
-                .collect();
-            writeln!(
-                out,
-                "  redundant (dependent on the joints before them in the file): {}",
-                list.join(", ")
-            )?;
-        }
-        if by_rank.dof < m.inputs.len() as i64 {
-            writeln!(
-                out,
-                "  locked: the joints leave {} DOF for {} input(s), so the mechanism cannot move and driving it breaks \
-                 at once (inconsistent); remove a joint, or make a redundant link consistent (e.g. parallel)",
-                by_rank.dof,
-                m.inputs.len()
-            )?;
-        }
-        for (body, n) in &by_rank.idle {
-            writeln!(
-                out,
-                "  idle: body {body} can move on its own ({n} DOF) while every other body stays put"
-            )?;
-        }
-        if by_rank.dof == mob.dof {
-            writeln!(
-                out,
-                "  with {} input(s): {} ({} free DOF)",
-                mob.inputs,
-                mob.class().name(),
-                mob.free()
-            )?;
-        } else {
-            // A non-generic mechanism: the rank says how it really moves.
-            let free = by_rank.dof - mob.inputs as i64;
-            let class = match free {
-                0 => Class::Well,
-                f if f > 0 => Class::Under,
-                _ => Class::Over,
-            };
-            writeln!(
-                out,
-                "  with {} input(s): {} by Grübler's count ({} free DOF), {} by the Jacobian's rank ({free} free DOF)",
-                mob.inputs,
-                mob.class().name(),
-                mob.free(),
-                class.name(),
-            )?;
-        }
+        write_counts(m, place, out)?;
+        write_mobility(&mob, &by_rank, out)?;
+        write_dependencies(m, &by_rank, out)?;
+        write_class(&mob, &by_rank, out)?;
         let Some(Analysis { plan, unused, .. }) = analysis else {
             // Valid: a file meant for dragging only.
             writeln!(
@@ -180,36 +71,7 @@ impl Check {
         };
         let code = match &plan {
             Ok(p) => {
-                let (u, e) = p.numeric_size();
-                let kind = if p.clusters() == 0 {
-                    "closed form".to_string()
-                } else {
-                    format!(
-                        "mixed: {} numeric cluster(s) with {u} unknowns and {e} equations for Newton–Raphson",
-                        p.clusters()
-                    )
-                };
-                writeln!(
-                    out,
-                    "  plan: {kind}, {} steps, {} branch slot(s) — `dofplan plan {}` explains it",
-                    p.steps.len(),
-                    p.branches.len(),
-                    place
-                )?;
-                // The DOF analysis's own view of redundancy, beside the rank's:
-                // steps that can only check what earlier steps decided.
-                let checks: Vec<String> = (p.steps.iter().enumerate())
-                    .filter(|(_, s)| s.kind.only_checks())
-                    .map(|(i, s)| format!("step {i} [{}]", s.serves.join(", ")))
-                    .collect();
-                if !checks.is_empty() {
-                    writeln!(
-                        out,
-                        "  redundant by the plan (steps that only check a distance earlier steps decided): {}",
-                        checks.join("; ")
-                    )?;
-                }
-                write_ranges(&m.inputs, &assembly_ranges(m, p), &|id| id as usize, out)?;
+                write_plan(m, p, place, out)?;
                 true
             }
             Err(e) => {
@@ -227,6 +89,174 @@ impl Check {
         write_four_bars(m, out)?;
         Ok(code)
     }
+}
+
+/// The report's head: the mechanism and its file, what it is made of, and
+/// its inputs.
+fn write_counts(m: &Mechanism, place: &str, out: &mut dyn Write) -> io::Result<()> {
+    let fixed = m.bodies.iter().filter(|b| b.fixed).count();
+    writeln!(out, "{} ({})", m.name, place)?;
+    writeln!(
+        out,
+        "  bodies: {} ({} fixed, {} mobile), joints: {}, constraints: {}, inputs: {}",
+        m.bodies.len(),
+        fixed,
+        m.bodies.len() - fixed,
+        m.joints.len(),
+        m.constraints.len(),
+        m.inputs.len()
+    )?;
+    for input in &m.inputs {
+        writeln!(
+            out,
+            "    input {}: {} at joint {}",
+            input.name,
+            input.kind.name(),
+            m.joints[input.joint].name
+        )?;
+    }
+    Ok(())
+}
+
+/// The mobility counted two ways, by Grübler's formula and by the
+/// Jacobian's rank, and whether they agree: where they do not, the
+/// mechanism is non-generic.
+fn write_mobility(mob: &Mobility, by_rank: &RankMobility, out: &mut dyn Write) -> io::Result<()> {
+    let extra = if mob.constraint_equations > 0 {
+        format!(" − {}", mob.constraint_equations)
+    } else {
+        String::new()
+    };
+    writeln!(
+        out,
+        "  mobility (Grübler): D = 3(L−1) − 2J{} = 3·{} − 2·{}{} = {}",
+        if mob.constraint_equations > 0 {
+            " − (constraint equations)"
+        } else {
+            ""
+        },
+        mob.links - 1,
+        mob.joints,
+        extra,
+        mob.dof
+    )?;
+    write_rank_mobility(out, by_rank.unknowns, by_rank.rank, by_rank.dof)?;
+    if by_rank.dof == mob.dof {
+        writeln!(out, "  Grübler's count and the Jacobian agree")?;
+    } else {
+        let dependent: usize = by_rank.redundant.iter().map(|(_, n)| n).sum();
+        writeln!(
+            out,
+            "  they differ by {}: the mechanism is non-generic — {} equation(s) depend on the others, \
+             which Grübler's count takes as independent",
+            by_rank.dof - mob.dof,
+            dependent
+        )?;
+    }
+    Ok(())
+}
+
+/// What the rank finds beyond the count: the redundant equations, a
+/// mechanism locked with fewer freedoms than inputs, and idle bodies.
+fn write_dependencies(m: &Mechanism, by_rank: &RankMobility, out: &mut dyn Write) -> io::Result<()> {
+    if !by_rank.redundant.is_empty() {
+        let list: Vec<String> = by_rank
+            .redundant
+            .iter()
+            .map(|(o, n)| {
+                if *n == 1 {
+                    o.clone()
+                } else {
+                    format!("{o} ({n} equations)")
+                }
+            })
+            .collect();
+        writeln!(
+            out,
+            "  redundant (dependent on the joints before them in the file): {}",
+            list.join(", ")
+        )?;
+    }
+    if by_rank.dof < m.inputs.len() as i64 {
+        writeln!(
+            out,
+            "  locked: the joints leave {} DOF for {} input(s), so the mechanism cannot move and driving it breaks \
+             at once (inconsistent); remove a joint, or make a redundant link consistent (e.g. parallel)",
+            by_rank.dof,
+            m.inputs.len()
+        )?;
+    }
+    for (body, n) in &by_rank.idle {
+        writeln!(
+            out,
+            "  idle: body {body} can move on its own ({n} DOF) while every other body stays put"
+        )?;
+    }
+    Ok(())
+}
+
+/// The class with the inputs given: by the count alone when the rank
+/// agrees, else by both (the rank says how a non-generic mechanism really
+/// moves).
+fn write_class(mob: &Mobility, by_rank: &RankMobility, out: &mut dyn Write) -> io::Result<()> {
+    if by_rank.dof == mob.dof {
+        return writeln!(
+            out,
+            "  with {} input(s): {} ({} free DOF)",
+            mob.inputs,
+            mob.class().name(),
+            mob.free()
+        );
+    }
+    let free = by_rank.dof - mob.inputs as i64;
+    let class = match free {
+        0 => Class::Well,
+        f if f > 0 => Class::Under,
+        _ => Class::Over,
+    };
+    writeln!(
+        out,
+        "  with {} input(s): {} by Grübler's count ({} free DOF), {} by the Jacobian's rank ({free} free DOF)",
+        mob.inputs,
+        mob.class().name(),
+        mob.free(),
+        class.name(),
+    )
+}
+
+/// The plan found: its kind and size, the steps that only check what
+/// earlier ones decided, and the inputs' assembly ranges.
+fn write_plan(m: &Mechanism, p: &Plan, place: &str, out: &mut dyn Write) -> io::Result<()> {
+    let (u, e) = p.numeric_size();
+    let kind = if p.clusters() == 0 {
+        "closed form".to_string()
+    } else {
+        format!(
+            "mixed: {} numeric cluster(s) with {u} unknowns and {e} equations for Newton–Raphson",
+            p.clusters()
+        )
+    };
+    writeln!(
+        out,
+        "  plan: {kind}, {} steps, {} branch slot(s) — `dofplan plan {}` explains it",
+        p.steps.len(),
+        p.branches.len(),
+        place
+    )?;
+    // The DOF analysis's own view of redundancy, beside the rank's:
+    // steps that can only check what earlier steps decided.
+    let checks: Vec<String> = (p.steps.iter().enumerate())
+        .filter(|(_, s)| s.kind.only_checks())
+        .map(|(i, s)| format!("step {i} [{}]", s.serves.join(", ")))
+        .collect();
+    if !checks.is_empty() {
+        writeln!(
+            out,
+            "  redundant by the plan (steps that only check a distance earlier steps decided): {}",
+            checks.join("; ")
+        )?;
+    }
+    write_ranges(&m.inputs, &assembly_ranges(m, p), &|id| id as usize, out)
 }
 
 /// The four-bar loops of `check` with their Grashof class (at most 12
@@ -294,12 +324,7 @@ fn check_json(
         "equations": by_rank.equations,
         "mobility": {"grubler": mob.dof, "rank": by_rank.dof},
         "redundant_equations": by_rank.equations - by_rank.rank,
-        "redundant": by_rank.redundant_rows.iter().map(|(o, p, n)| json!({
-            "joint": o.split_once(' ').map_or(o.as_str(), |x| x.1),
-            "origin": o,
-            "primitive": p,
-            "rows": n,
-        })).collect::<Vec<_>>(),
+        "redundant": redundant_json(&by_rank.redundant_rows),
         "idle_freedoms": idle_freedoms(m),
         "plan": plan_json,
         "ranges": match plan {
@@ -313,10 +338,6 @@ fn check_json(
             "lengths": f.lengths,
         })).collect::<Vec<_>>(),
     });
-    writeln!(
-        out,
-        "{}",
-        serde_json::to_string_pretty(&value).unwrap_or_default()
-    )?;
+    write_json(out, &value)?;
     Ok(!matches!(plan, Some(Err(_))))
 }

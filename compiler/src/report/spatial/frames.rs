@@ -162,43 +162,20 @@ fn frames(
     out: &mut dyn Write,
 ) -> Outcome {
     let mut driver = Driver::new(Interpreter::new(plan.clone()), options);
-    if form == Form::Text {
-        writeln!(out, "{title}")?;
-    }
-    // The summary's steps as `dofplan plan` numbers and explains them.
-    let explain = |step: u32| {
-        let shown = step_number(step);
-        (
-            shown,
-            if shown < plan.steps.len() {
-                plan.explain(shown)
-            } else {
-                String::new()
-            },
-        )
-    };
-    let mut summary = Summary::new(value_name, value, &explain);
-    let mut kept: Vec<SpatialFrame> = Vec::new();
     let names: Vec<String> = m.all_markers().map(|id| m.marker_name(id)).collect();
-    if form == Form::Csv {
-        let mut head: Vec<String> = vec!["frame".into(), "status".into()];
-        head.extend(input_names.iter().cloned());
-        for n in &names {
-            for c in ["x", "y", "z"] {
-                head.push(format!("{n}.{c}"));
-            }
-        }
-        head.push("residual".into());
-        writeln!(out, "{}", head.join(","))?;
-    }
-    let mut worst: f64 = 0.0;
-    if form == Form::Json {
-        writeln!(
+    match form {
+        Form::Text => writeln!(out, "{title}")?,
+        Form::Csv => writeln!(out, "{}", csv_head(input_names, &names).join(","))?,
+        Form::Json => writeln!(
             out,
             "{{\"name\": {}, \"dimension\": 3, \"frames\": [",
             json!(m.name)
-        )?;
+        )?,
     }
+    let explain = |step: u32| explained(plan, step);
+    let mut summary = Summary::new(value_name, value, &explain);
+    let mut kept: Vec<SpatialFrame> = Vec::new();
+    let mut worst: f64 = 0.0;
     progress.start(Some(total));
     for (i, requested) in requests.enumerate() {
         progress.tick(i);
@@ -216,12 +193,7 @@ fn frames(
         }
         match form {
             Form::Csv => {
-                let mut row = vec![i.to_string(), status.name().to_string()];
-                row.extend(driver.inputs().iter().map(|v| number(*v)));
-                for p in &markers {
-                    row.extend(p.iter().map(|v| number(*v)));
-                }
-                row.push(number(res));
+                let row = csv_row(i, status, driver.inputs(), &markers, res);
                 writeln!(out, "{}", row.join(","))?;
             }
             Form::Json => {
@@ -240,10 +212,7 @@ fn frames(
                 let sep = if i + 1 < total { "," } else { "" };
                 writeln!(out, "  {frame}{sep}")?;
             }
-            Form::Text => {}
-        }
-        if form == Form::Text {
-            summary.frame(out, i, &requested, driver.inputs(), &status)?;
+            Form::Text => summary.frame(out, i, &requested, driver.inputs(), &status)?,
         }
     }
     progress.finish();
@@ -267,6 +236,43 @@ fn frames(
         }
     }
     Ok(Ok(()))
+}
+
+/// A step as the summary cites it: numbered and explained as `dofplan
+/// plan` does.
+fn explained(plan: &Plan, step: u32) -> (usize, String) {
+    let shown = step_number(step);
+    if shown < plan.steps.len() {
+        (shown, plan.explain(shown))
+    } else {
+        (shown, String::new())
+    }
+}
+
+/// The header of `simulate --csv` and `drag --csv`: the frame, its status
+/// and the inputs (or the drag's target), every marker's position, the
+/// joint residual.
+fn csv_head(input_names: &[String], names: &[String]) -> Vec<String> {
+    let mut head: Vec<String> = vec!["frame".into(), "status".into()];
+    head.extend(input_names.iter().cloned());
+    for n in names {
+        for c in ["x", "y", "z"] {
+            head.push(format!("{n}.{c}"));
+        }
+    }
+    head.push("residual".into());
+    head
+}
+
+/// Frame `i`'s row of the CSV, in the columns of [`csv_head`].
+fn csv_row(i: usize, status: FrameStatus, inputs: &[f64], markers: &[Vec3], res: f64) -> Vec<String> {
+    let mut row = vec![i.to_string(), status.name().to_string()];
+    row.extend(inputs.iter().map(|v| number(*v)));
+    for p in markers {
+        row.extend(p.iter().map(|v| number(*v)));
+    }
+    row.push(number(res));
+    row
 }
 
 /// One frame as `simulate --json` writes it: its number, status, the
