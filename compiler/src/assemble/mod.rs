@@ -20,7 +20,7 @@
 //! spatial loader's assembly.
 
 use crate::format::length;
-use crate::model::{Diagnostic, Location, MarkerId, ModelError, Note, SourceFile};
+use crate::model::{Diagnostic, Format, Location, MarkerId, ModelError, Note, SourceFile, DRAWN_TOLERANCE};
 
 pub mod planar;
 pub mod spatial;
@@ -117,6 +117,151 @@ fn same_where_joined<P: Copy>(
             to[i] = to[r];
         }
     }
+}
+
+/// A mechanism with the body poses at which its joints close: what the
+/// steps both dimensions share ([`rewrite_closed`]) ask of either.
+trait Closing {
+    /// A point: `[x, y]` in the plane, `[x, y, z]` in space.
+    type Point: Copy;
+    /// The mechanism's size (what the tolerances scale with).
+    fn size(&self) -> f64;
+    /// How many bodies it has.
+    fn bodies(&self) -> usize;
+    /// Whether body `b` is fixed.
+    fn fixed(&self, b: usize) -> bool;
+    /// Every marker, body by body, in file order.
+    fn markers(&self) -> Vec<MarkerId>;
+    /// A marker's position as drawn.
+    fn drawn(&self, id: MarkerId) -> Self::Point;
+    /// A marker's position in the assembly (its body moved rigidly).
+    fn assembled(&self, id: MarkerId) -> Self::Point;
+    /// How far the assembly moves a marker from where it is drawn.
+    fn moved(&self, id: MarkerId) -> f64;
+    /// How far the assembly turns body `b`, in radians.
+    fn turn(&self, b: usize) -> f64;
+    /// The marker pairs a joint or constraint makes coincident.
+    fn joined(&self) -> impl Iterator<Item = [MarkerId; 2]> + '_;
+    /// The new numbers for marker `id`, written at `to` unless its body
+    /// `stays` as written.
+    fn edit(&self, id: MarkerId, to: Self::Point, stays: bool) -> Edit;
+}
+
+/// What [`rewrite_closed`] gives back: where each marker goes, and the text
+/// written.
+struct Rewritten<P> {
+    /// Every marker's target, body by body, in file order.
+    targets: Vec<Target<P>>,
+    /// The rewritten file.
+    text: String,
+}
+
+/// Where one marker goes, as [`rewrite_closed`] decided it.
+struct Target<P> {
+    /// The marker.
+    id: MarkerId,
+    /// Its position in the file written.
+    to: P,
+    /// Whether its body was left as written.
+    stays: bool,
+    /// Whether the file's text for it changed.
+    changed: bool,
+}
+
+/// The steps of `dofplan assemble` both dimensions share once the poses at
+/// which the joints close are found: where each marker goes, and the file
+/// (`text`, from `source`) rewritten with it.
+///
+/// A body is left as written when the assembly moves it less than a
+/// quarter of the loader's tolerance (fixed bodies always are); the others
+/// move rigidly. The rewritten file must load back (`loads_back`): a safety
+/// net, so a file is never written back worse than it was.
+fn rewrite_closed<C: Closing>(
+    closed: &C,
+    text: &str,
+    format: Format,
+    source: &SourceFile,
+    loads_back: impl FnOnce(&str) -> Result<(), ModelError>,
+) -> Result<Rewritten<C::Point>, ModelError> {
+    let size = closed.size();
+    let kept = UNCHANGED_SHARE * DRAWN_TOLERANCE * size;
+    let ids = closed.markers();
+    let stays: Vec<bool> = (0..closed.bodies())
+        .map(|b| {
+            closed.fixed(b)
+                || (ids
+                    .iter()
+                    .filter(|id| id.body == b)
+                    .all(|&id| closed.moved(id) <= kept)
+                    && closed.turn(b) * size <= kept)
+        })
+        .collect();
+    let mut to: Vec<C::Point> = ids
+        .iter()
+        .map(|&id| {
+            if stays[id.body] {
+                closed.drawn(id)
+            } else {
+                closed.assembled(id)
+            }
+        })
+        .collect();
+    same_where_joined(closed.joined(), &ids, &stays, &mut to);
+    let edits: Vec<Edit> = ids
+        .iter()
+        .zip(&to)
+        .map(|(&id, &to)| closed.edit(id, to, stays[id.body]))
+        .collect();
+    let (rewritten, changed) = match format {
+        Format::Toml => rewrite_toml(text, &edits),
+        Format::Json => rewrite_json(text, &edits),
+    }
+    .map_err(|e| ModelError {
+        diagnostics: vec![plain(source.clone(), format!("cannot rewrite the file: {e}"))],
+    })?;
+    if let Err(e) = loads_back(&rewritten) {
+        let mut d = plain(
+            source.clone(),
+            "the assembled coordinates do not load back (a bug in `dofplan assemble`): the file is left as it is"
+                .into(),
+        );
+        d.notes = e
+            .diagnostics
+            .iter()
+            .map(|d| Note {
+                location: Location::File,
+                message: d.message.clone(),
+            })
+            .collect();
+        return Err(ModelError { diagnostics: vec![d] });
+    }
+    let targets = ids
+        .iter()
+        .zip(to)
+        .zip(changed)
+        .map(|((&id, to), changed)| Target {
+            id,
+            to,
+            stays: stays[id.body],
+            changed,
+        })
+        .collect();
+    Ok(Rewritten {
+        targets,
+        text: rewritten,
+    })
+}
+
+/// The error when the joints cannot all close near the drawn pose: the
+/// loader's own diagnostics (`assembled`: the joints in conflict, named at
+/// their positions), or a plain one should the loader find none.
+fn conflicting<T>(file: SourceFile, assembled: Result<T, ModelError>) -> ModelError {
+    assembled.err().unwrap_or_else(|| ModelError {
+        diagnostics: vec![plain(
+            file,
+            "the joints cannot all close near the drawn pose".into(),
+        )],
+    })
 }
 
 /// The error when the assembly cannot tell whether the joints close.

@@ -3,19 +3,15 @@
 
 use std::path::Path;
 
+use dofplan_runtime::planar::Pose;
 use dofplan_runtime::Point;
 
 use crate::conflict::{self, Assembly};
 use crate::conflict::{load_file, load_str};
 use crate::format::length;
-use crate::model::{
-    load_str_drawn, Format, Location, MarkerId, Mechanism, ModelError, Note, SourceFile, DRAWN_TOLERANCE,
-};
+use crate::model::{load_str_drawn, Format, MarkerId, Mechanism, ModelError, SourceFile};
 
-use super::{
-    headline, plain, rewrite_json, rewrite_toml, same_where_joined, short, table, undecided, Edit,
-    UNCHANGED_SHARE,
-};
+use super::{conflicting, headline, plain, rewrite_closed, short, table, undecided, Closing, Edit, Target};
 
 /// Where one marker goes.
 #[derive(Clone, Debug)]
@@ -139,57 +135,78 @@ pub fn assemble_str(file_name: &str, text: &str, format: Format) -> Result<Assem
     }
     let poses = match conflict::assemble(m) {
         Assembly::Closes { poses, .. } => poses,
-        Assembly::Conflict { .. } => {
-            // The loader's own diagnostics: the joints in conflict, named at
-            // their positions.
-            let file = m.source.clone();
-            return Err(conflict::assembled(drawn).err().unwrap_or_else(|| ModelError {
-                diagnostics: vec![plain(
-                    file,
-                    "the joints cannot all close near the drawn pose".into(),
-                )],
-            }));
-        }
+        Assembly::Conflict { .. } => return Err(conflicting(m.source.clone(), conflict::assembled(drawn))),
         Assembly::Undecided => return Err(undecided(&drawn.open)),
     };
-    let size = m.size();
-    let kept = UNCHANGED_SHARE * DRAWN_TOLERANCE * size;
-    let ids: Vec<MarkerId> = m.all_markers().collect();
-    let moved = |id: MarkerId| {
-        let (from, to) = (m.marker(id).at, poses[id.body].world(m.marker(id).at));
-        (from[0] - to[0]).hypot(from[1] - to[1])
+    let closed = Closed {
+        m,
+        poses: &poses,
+        size: m.size(),
     };
-    // A body is left as written when the assembly moves it less than
-    // `kept` (fixed bodies always are); the others move rigidly.
-    let stays: Vec<bool> = m
-        .bodies
-        .iter()
-        .enumerate()
-        .map(|(b, body)| {
-            body.fixed
-                || (ids.iter().filter(|id| id.body == b).all(|&id| moved(id) <= kept)
-                    && poses[b].rot.degrees().to_radians().abs() * size <= kept)
-        })
-        .collect();
-    let mut to: Vec<Point> = ids
-        .iter()
-        .map(|&id| {
-            let at = m.marker(id).at;
-            if stays[id.body] {
-                at
-            } else {
-                poses[id.body].world(at)
-            }
-        })
-        .collect();
-    same_where_joined(m.coincident_pairs(), &ids, &stays, &mut to);
-    let mut moves = Vec::new();
-    let mut edits = Vec::new();
-    for (&id, &to) in ids.iter().zip(&to) {
-        let (body, marker) = (&m.bodies[id.body], m.marker(id));
-        let pose = poses[id.body];
-        let stays = stays[id.body];
-        edits.push(Edit {
+    let loads_back = |rewritten: &str| load_str(file_name, rewritten, format).map(|_| ());
+    let rewritten = rewrite_closed(&closed, text, format, &m.source, loads_back)?;
+    let moves = rewritten.targets.iter().map(|t| closed.to_move(t)).collect();
+    Ok(Assembled {
+        mechanism: drawn.mechanism,
+        moves,
+        text: rewritten.text,
+        opened,
+    })
+}
+
+/// A planar mechanism with the body poses at which its joints close.
+struct Closed<'a> {
+    m: &'a Mechanism,
+    poses: &'a [Pose],
+    /// The mechanism's size, once.
+    size: f64,
+}
+
+impl Closing for Closed<'_> {
+    type Point = Point;
+
+    fn size(&self) -> f64 {
+        self.size
+    }
+
+    fn bodies(&self) -> usize {
+        self.m.bodies.len()
+    }
+
+    fn fixed(&self, b: usize) -> bool {
+        self.m.bodies[b].fixed
+    }
+
+    fn markers(&self) -> Vec<MarkerId> {
+        self.m.all_markers().collect()
+    }
+
+    fn drawn(&self, id: MarkerId) -> Point {
+        self.m.marker(id).at
+    }
+
+    fn assembled(&self, id: MarkerId) -> Point {
+        self.poses[id.body].world(self.m.marker(id).at)
+    }
+
+    fn moved(&self, id: MarkerId) -> f64 {
+        let (from, to) = (self.drawn(id), self.assembled(id));
+        (from[0] - to[0]).hypot(from[1] - to[1])
+    }
+
+    fn turn(&self, b: usize) -> f64 {
+        self.poses[b].rot.degrees().to_radians().abs()
+    }
+
+    fn joined(&self) -> impl Iterator<Item = [MarkerId; 2]> + '_ {
+        self.m.coincident_pairs()
+    }
+
+    /// A moved marker's point, and its `dir` turned with its body.
+    fn edit(&self, id: MarkerId, to: Point, stays: bool) -> Edit {
+        let (body, marker) = (&self.m.bodies[id.body], self.m.marker(id));
+        let pose = self.poses[id.body];
+        Edit {
             body: body.name.clone(),
             marker: marker.name.clone(),
             at: (!stays).then(|| to.to_vec()),
@@ -200,53 +217,31 @@ pub fn assemble_str(file_name: &str, text: &str, format: Format) -> Result<Assem
             .into_iter()
             .collect(),
             keep_length: false,
-            size,
-        });
-        moves.push(Move {
+            size: self.size,
+        }
+    }
+}
+
+impl Closed<'_> {
+    /// The report's move of a marker to its target.
+    fn to_move(&self, target: &Target<Point>) -> Move {
+        let (id, to) = (target.id, target.to);
+        let marker = self.m.marker(id);
+        Move {
             marker: id,
             from: marker.at,
             to,
-            distance: if stays {
-                moved(id)
+            distance: if target.stays {
+                self.moved(id)
             } else {
                 (to[0] - marker.at[0]).hypot(to[1] - marker.at[1])
             },
-            turn: if stays { 0.0 } else { pose.rot.degrees() },
-            changed: false,
-        });
+            turn: if target.stays {
+                0.0
+            } else {
+                self.poses[id.body].rot.degrees()
+            },
+            changed: target.changed,
+        }
     }
-    let (rewritten, changed) = match format {
-        Format::Toml => rewrite_toml(text, &edits),
-        Format::Json => rewrite_json(text, &edits),
-    }
-    .map_err(|e| ModelError {
-        diagnostics: vec![plain(m.source.clone(), format!("cannot rewrite the file: {e}"))],
-    })?;
-    for (mv, c) in moves.iter_mut().zip(changed) {
-        mv.changed = c;
-    }
-    // The rewritten file must hold every joint: a safety net, so a file is
-    // never written back worse than it was.
-    if let Err(e) = load_str(file_name, &rewritten, format) {
-        let mut d = plain(
-            m.source.clone(),
-            "the assembled coordinates do not load back (a bug in `dofplan assemble`): the file is left as it is"
-                .into(),
-        );
-        d.notes = e
-            .diagnostics
-            .iter()
-            .map(|d| Note {
-                location: Location::File,
-                message: d.message.clone(),
-            })
-            .collect();
-        return Err(ModelError { diagnostics: vec![d] });
-    }
-    Ok(Assembled {
-        mechanism: drawn.mechanism,
-        moves,
-        text: rewritten,
-        opened,
-    })
 }

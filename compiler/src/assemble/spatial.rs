@@ -13,11 +13,11 @@ use std::path::Path;
 
 use dofplan_runtime::spatial::{norm, sub, Pose3, Vec3};
 
-use super::{plain, rewrite_json, rewrite_toml, same_where_joined, short, undecided, Edit, UNCHANGED_SHARE};
+use super::{conflicting, plain, rewrite_closed, short, undecided, Closing, Edit, Target};
 use crate::conflict::load_any_str;
 use crate::conflict::spatial::{self as conflict, Assembly};
 use crate::model::spatial::{Mechanism, Primitive};
-use crate::model::{Format, Location, MarkerId, Model, ModelError, Note, SourceFile, DRAWN_TOLERANCE};
+use crate::model::{Format, MarkerId, Model, ModelError, SourceFile};
 
 /// Where one marker of a spatial file goes.
 #[derive(Clone, Debug)]
@@ -141,7 +141,7 @@ pub fn assemble_str(file_name: &str, text: &str, format: Format) -> Result<Assem
     let drawn = crate::model::spatial::load_str_drawn(file_name, text, format)?;
     let m = &drawn.mechanism;
     let opened = drawn.open_count();
-    let unmoved = |inputs_held| {
+    if opened == 0 {
         let moves = m
             .all_markers()
             .map(|id| Move {
@@ -153,136 +153,135 @@ pub fn assemble_str(file_name: &str, text: &str, format: Format) -> Result<Assem
                 changed: false,
             })
             .collect();
-        Assembled {
+        return Ok(Assembled {
             mechanism: m.clone(),
             moves,
             text: text.to_string(),
             opened,
-            inputs_held,
-        }
-    };
-    if opened == 0 {
-        return Ok(unmoved(!m.inputs.is_empty()));
+            inputs_held: !m.inputs.is_empty(),
+        });
     }
     let (poses, inputs_held) = match conflict::assemble(m) {
         Assembly::Closes {
             poses, inputs_held, ..
         } => (poses, inputs_held),
-        Assembly::Conflict { .. } => {
-            // The loader's own diagnostics: each open joint with the joints
-            // in conflict named.
-            let file = m.source.clone();
-            return Err(conflict::assembled(drawn).err().unwrap_or_else(|| ModelError {
-                diagnostics: vec![plain(
-                    file,
-                    "the joints cannot all close near the drawn pose".into(),
-                )],
-            }));
-        }
+        // The loader's own diagnostics: each open joint with the joints in
+        // conflict named.
+        Assembly::Conflict { .. } => return Err(conflicting(m.source.clone(), conflict::assembled(drawn))),
         Assembly::Undecided => return Err(undecided(&drawn.open)),
     };
-    let size = m.size();
-    let kept = UNCHANGED_SHARE * DRAWN_TOLERANCE * size;
-    let ids: Vec<MarkerId> = m.all_markers().collect();
-    let moved = |id: MarkerId| {
-        let at = m.marker(id).at;
-        norm(sub(poses[id.body].world(at), at))
+    let closed = Closed {
+        m,
+        poses: &poses,
+        size: m.size(),
     };
-    // A body is left as written when the assembly moves it less than
-    // `kept` (fixed bodies always are); the others move rigidly.
-    let stays: Vec<bool> = m
-        .bodies
-        .iter()
-        .enumerate()
-        .map(|(b, body)| {
-            body.fixed
-                || (ids.iter().filter(|id| id.body == b).all(|&id| moved(id) <= kept)
-                    && angle(&poses[b]) * size <= kept)
-        })
-        .collect();
-    let mut to: Vec<Vec3> = ids
-        .iter()
-        .map(|&id| {
-            let at = m.marker(id).at;
-            if stays[id.body] {
-                at
-            } else {
-                poses[id.body].world(at)
-            }
-        })
-        .collect();
-    same_where_joined(coincident_pairs(m), &ids, &stays, &mut to);
-    let mut moves = Vec::new();
-    let mut edits = Vec::new();
-    for (&id, &to) in ids.iter().zip(&to) {
-        let (body, marker) = (&m.bodies[id.body], m.marker(id));
-        let pose = poses[id.body];
-        let stays = stays[id.body];
+    let loads_back = |rewritten: &str| -> Result<(), ModelError> {
+        match load_any_str(file_name, rewritten, format)? {
+            Model::Spatial(_) => Ok(()),
+            Model::Planar(_) => unreachable!("a spatial file stays spatial: only numbers change"),
+        }
+    };
+    let rewritten = rewrite_closed(&closed, text, format, &m.source, loads_back)?;
+    let moves = rewritten.targets.iter().map(|t| closed.to_move(t)).collect();
+    Ok(Assembled {
+        mechanism: drawn.mechanism,
+        moves,
+        text: rewritten.text,
+        opened,
+        inputs_held,
+    })
+}
+
+/// A spatial mechanism with the body poses at which its joints close.
+struct Closed<'a> {
+    m: &'a Mechanism,
+    poses: &'a [Pose3],
+    /// The mechanism's size, once.
+    size: f64,
+}
+
+impl Closing for Closed<'_> {
+    type Point = Vec3;
+
+    fn size(&self) -> f64 {
+        self.size
+    }
+
+    fn bodies(&self) -> usize {
+        self.m.bodies.len()
+    }
+
+    fn fixed(&self, b: usize) -> bool {
+        self.m.bodies[b].fixed
+    }
+
+    fn markers(&self) -> Vec<MarkerId> {
+        self.m.all_markers().collect()
+    }
+
+    fn drawn(&self, id: MarkerId) -> Vec3 {
+        self.m.marker(id).at
+    }
+
+    fn assembled(&self, id: MarkerId) -> Vec3 {
+        self.poses[id.body].world(self.m.marker(id).at)
+    }
+
+    fn moved(&self, id: MarkerId) -> f64 {
+        let at = self.drawn(id);
+        norm(sub(self.poses[id.body].world(at), at))
+    }
+
+    fn turn(&self, b: usize) -> f64 {
+        angle(&self.poses[b])
+    }
+
+    fn joined(&self) -> impl Iterator<Item = [MarkerId; 2]> + '_ {
+        coincident_pairs(self.m)
+    }
+
+    /// A moved marker's point, and the `z` and `x` it writes turned with
+    /// its body.
+    fn edit(&self, id: MarkerId, to: Vec3, stays: bool) -> Edit {
+        let (body, marker) = (&self.m.bodies[id.body], self.m.marker(id));
+        let pose = self.poses[id.body];
         let dirs = match marker.axes.filter(|_| !stays) {
             Some(axes) => vec![("z", pose.dir(axes.z).to_vec()), ("x", pose.dir(axes.x).to_vec())],
             None => vec![],
         };
-        edits.push(Edit {
+        Edit {
             body: body.name.clone(),
             marker: marker.name.clone(),
             at: (!stays).then(|| to.to_vec()),
             dirs,
             keep_length: true,
-            size,
-        });
-        moves.push(Move {
+            size: self.size,
+        }
+    }
+}
+
+impl Closed<'_> {
+    /// The report's move of a marker to its target.
+    fn to_move(&self, target: &Target<Vec3>) -> Move {
+        let (id, to) = (target.id, target.to);
+        let marker = self.m.marker(id);
+        Move {
             marker: id,
             from: marker.at,
             to,
-            distance: if stays {
-                moved(id)
+            distance: if target.stays {
+                self.moved(id)
             } else {
                 norm(sub(to, marker.at))
             },
-            turn: if stays { 0.0 } else { angle(&pose).to_degrees() },
-            changed: false,
-        });
-    }
-    let (rewritten, changed) = match format {
-        Format::Toml => rewrite_toml(text, &edits),
-        Format::Json => rewrite_json(text, &edits),
-    }
-    .map_err(|e| ModelError {
-        diagnostics: vec![plain(m.source.clone(), format!("cannot rewrite the file: {e}"))],
-    })?;
-    for (mv, c) in moves.iter_mut().zip(changed) {
-        mv.changed = c;
-    }
-    // The rewritten file must hold every joint: a safety net, so a file is
-    // never written back worse than it was.
-    match load_any_str(file_name, &rewritten, format) {
-        Ok(Model::Spatial(_)) => {}
-        Ok(Model::Planar(_)) => unreachable!("a spatial file stays spatial: only numbers change"),
-        Err(e) => {
-            let mut d = plain(
-                m.source.clone(),
-                "the assembled coordinates do not load back (a bug in `dofplan assemble`): the file is left as \
-                 it is"
-                    .into(),
-            );
-            d.notes = e
-                .diagnostics
-                .iter()
-                .map(|d| Note {
-                    location: Location::File,
-                    message: d.message.clone(),
-                })
-                .collect();
-            return Err(ModelError { diagnostics: vec![d] });
+            turn: if target.stays {
+                0.0
+            } else {
+                angle(&self.poses[id.body]).to_degrees()
+            },
+            changed: target.changed,
         }
     }
-    Ok(Assembled {
-        mechanism: drawn.mechanism,
-        moves,
-        text: rewritten,
-        opened,
-        inputs_held,
-    })
 }
 
 /// The marker pairs a coincident primitive joins (revolute, spherical,

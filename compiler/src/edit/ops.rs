@@ -141,92 +141,21 @@ fn refused(why: String) -> EditError {
 /// Makes `edit` on `doc`, which `m` was loaded from; returns the summary.
 pub(super) fn apply(doc: &mut DocumentMut, m: &Mechanism, edit: &Edit) -> Result<String, EditError> {
     match edit {
-        Edit::AddBody { name, markers } => {
-            if markers.len() < 2 {
-                return Err(refused(format!(
-                    "a body needs two or more markers to be a link, {} given: click at least twice",
-                    markers.len()
-                )));
-            }
-            let name = name.clone().unwrap_or_else(|| names::body(m));
-            if m.bodies.iter().any(|b| b.name == name) {
-                return Err(refused(format!("there is already a body named {name}")));
-            }
-            let mnames = names::markers(&[], markers.len());
-            let mut table = InlineTable::new();
-            for (n, p) in mnames.iter().zip(markers) {
-                table.insert(n, point(*p));
-            }
-            let mut body = Table::new();
-            body.insert("markers", Item::Value(Value::InlineTable(table)));
-            section(doc, "bodies")?.insert(&name, Item::Table(body));
-            Ok(format!("added body {name} with markers {}", mnames.join(", ")))
-        }
-        Edit::AddMarker { body, name, at } => {
-            let b = body_index(m, body)?;
-            let taken: Vec<String> = m.bodies[b].markers.iter().map(|k| k.name.clone()).collect();
-            let name = match name {
-                Some(n) if taken.contains(n) => {
-                    return Err(refused(format!("{body} already has a marker {n}")))
-                }
-                Some(n) => n.clone(),
-                None => names::markers(&taken, 1).remove(0),
-            };
-            markers_of(doc, body)?.insert(&name, Item::Value(point(*at)));
-            Ok(format!("added marker {body}.{name} at {}", show(*at)))
-        }
+        Edit::AddBody { name, markers } => add_body(doc, m, name.as_deref(), markers),
+        Edit::AddMarker { body, name, at } => add_marker(doc, m, body, name.as_deref(), *at),
         Edit::MoveMarker { marker, to } => {
             let id = marker_id(m, marker)?;
             let moved = move_group(doc, m, id, *to)?;
             Ok(format!("moved {} to {}", moved.join(", "), show(*to)))
         }
-        Edit::Join { a, b, name, snap } => {
-            let (ia, ib) = (marker_id(m, a)?, marker_id(m, b)?);
-            if ia.body == ib.body {
-                return Err(refused(format!(
-                    "{a} and {b} are on the same body: a joint joins two bodies"
-                )));
-            }
-            let name = name.clone().unwrap_or_else(|| names::joint(m));
-            if m.joints.iter().any(|j| j.name == name) || m.constraints.iter().any(|c| c.name == name) {
-                return Err(refused(format!(
-                    "there is already a joint or constraint named {name}"
-                )));
-            }
-            let mut moved = String::new();
-            if *snap {
-                let to = m.marker(ia).at;
-                moved = format!("; moved {} onto {a}", move_group(doc, m, ib, to)?.join(", "));
-            }
-            let mut joint = Table::new();
-            joint.insert("kind", toml_edit::value("revolute"));
-            let mut pair = Array::new();
-            pair.push(a.as_str());
-            pair.push(b.as_str());
-            joint.insert("markers", toml_edit::value(pair));
-            section(doc, "joints")?.insert(&name, Item::Table(joint));
-            Ok(format!("joined {a} and {b} by revolute joint {name}{moved}"))
-        }
+        Edit::Join { a, b, name, snap } => join(doc, m, a, b, name.as_deref(), *snap),
         Edit::Toggle { joint } => toggle(doc, m, joint),
         Edit::SetDir { marker, dir } => {
             let id = marker_id(m, marker)?;
             set_dir(doc, m, id, *dir)?;
             Ok(format!("{marker} now points along {}", show(*dir)))
         }
-        Edit::AddInput { joint, name } => {
-            let j = joint_index(m, joint)?;
-            let angle = m.joints[j].kind == JointKind::Revolute;
-            let name = name.clone().unwrap_or_else(|| names::input(m, angle));
-            if m.inputs.iter().any(|i| i.name == name) {
-                return Err(refused(format!("there is already an input named {name}")));
-            }
-            let kind = if angle { "angle" } else { "slide" };
-            let mut input = Table::new();
-            input.insert("kind", toml_edit::value(kind));
-            input.insert("joint", toml_edit::value(joint.as_str()));
-            section(doc, "inputs")?.insert(&name, Item::Table(input));
-            Ok(format!("joint {joint} is driven by {kind} input {name}"))
-        }
+        Edit::AddInput { joint, name } => add_input(doc, m, joint, name.as_deref()),
         Edit::DeleteInput { input } => {
             if !m.inputs.iter().any(|i| &i.name == input) {
                 return Err(refused(format!("there is no input named {input}")));
@@ -245,20 +174,7 @@ pub(super) fn apply(doc: &mut DocumentMut, m: &Mechanism, edit: &Edit) -> Result
             delete_joint(doc, m, joint, &mut removed);
             Ok(summary_of_deletion(&format!("joint {joint}"), &removed))
         }
-        Edit::DeleteMarker { marker } => {
-            let id = marker_id(m, marker)?;
-            let mut removed = Vec::new();
-            delete_uses(doc, m, id, &mut removed);
-            let body = &m.bodies[id.body];
-            if body.markers.len() == 1 {
-                return Err(refused(format!(
-                    "{marker} is {}'s only marker: delete the body instead",
-                    body.name
-                )));
-            }
-            markers_of(doc, &body.name)?.remove(&body.markers[id.marker].name);
-            Ok(summary_of_deletion(&format!("marker {marker}"), &removed))
-        }
+        Edit::DeleteMarker { marker } => delete_marker(doc, m, marker),
         Edit::Rename { name } => {
             if name.trim().is_empty() {
                 return Err(refused("a mechanism's name cannot be empty".into()));
@@ -274,21 +190,151 @@ pub(super) fn apply(doc: &mut DocumentMut, m: &Mechanism, edit: &Edit) -> Result
             Ok("deleted the sweep".into())
         }
         Edit::Trace { marker, on } => trace(doc, m, marker, *on),
-        Edit::DeleteBody { body } => {
-            let b = body_index(m, body)?;
-            if m.bodies[b].fixed && m.bodies.iter().filter(|x| x.fixed).count() == 1 {
-                return Err(refused(format!(
-                    "{body} is the only fixed body: every mechanism needs a ground"
-                )));
-            }
-            let mut removed = Vec::new();
-            for k in 0..m.bodies[b].markers.len() {
-                delete_uses(doc, m, MarkerId { body: b, marker: k }, &mut removed);
-            }
-            section(doc, "bodies")?.remove(body);
-            Ok(summary_of_deletion(&format!("body {body}"), &removed))
-        }
+        Edit::DeleteBody { body } => delete_body(doc, m, body),
     }
+}
+
+/// [`Edit::AddBody`]: a new `[bodies]` table whose markers are named `A`,
+/// `B`, … in the order given.
+fn add_body(
+    doc: &mut DocumentMut,
+    m: &Mechanism,
+    name: Option<&str>,
+    markers: &[Point],
+) -> Result<String, EditError> {
+    if markers.len() < 2 {
+        return Err(refused(format!(
+            "a body needs two or more markers to be a link, {} given: click at least twice",
+            markers.len()
+        )));
+    }
+    let name = name.map_or_else(|| names::body(m), str::to_string);
+    if m.bodies.iter().any(|b| b.name == name) {
+        return Err(refused(format!("there is already a body named {name}")));
+    }
+    let mnames = names::markers(&[], markers.len());
+    let mut table = InlineTable::new();
+    for (n, p) in mnames.iter().zip(markers) {
+        table.insert(n, point(*p));
+    }
+    let mut body = Table::new();
+    body.insert("markers", Item::Value(Value::InlineTable(table)));
+    section(doc, "bodies")?.insert(&name, Item::Table(body));
+    Ok(format!("added body {name} with markers {}", mnames.join(", ")))
+}
+
+/// [`Edit::AddMarker`]: a new key in the body's `markers`.
+fn add_marker(
+    doc: &mut DocumentMut,
+    m: &Mechanism,
+    body: &str,
+    name: Option<&str>,
+    at: Point,
+) -> Result<String, EditError> {
+    let b = body_index(m, body)?;
+    let taken: Vec<String> = m.bodies[b].markers.iter().map(|k| k.name.clone()).collect();
+    let name = match name {
+        Some(n) if taken.iter().any(|t| t == n) => {
+            return Err(refused(format!("{body} already has a marker {n}")))
+        }
+        Some(n) => n.to_string(),
+        None => names::markers(&taken, 1).remove(0),
+    };
+    markers_of(doc, body)?.insert(&name, Item::Value(point(at)));
+    Ok(format!("added marker {body}.{name} at {}", show(at)))
+}
+
+/// [`Edit::Join`]: a new revolute joint, after moving `b` (and what is
+/// joined to it) onto `a` when `snap` asks for it.
+fn join(
+    doc: &mut DocumentMut,
+    m: &Mechanism,
+    a: &str,
+    b: &str,
+    name: Option<&str>,
+    snap: bool,
+) -> Result<String, EditError> {
+    let (ia, ib) = (marker_id(m, a)?, marker_id(m, b)?);
+    if ia.body == ib.body {
+        return Err(refused(format!(
+            "{a} and {b} are on the same body: a joint joins two bodies"
+        )));
+    }
+    let name = name.map_or_else(|| names::joint(m), str::to_string);
+    if m.joints.iter().any(|j| j.name == name) || m.constraints.iter().any(|c| c.name == name) {
+        return Err(refused(format!(
+            "there is already a joint or constraint named {name}"
+        )));
+    }
+    let mut moved = String::new();
+    if snap {
+        let to = m.marker(ia).at;
+        moved = format!("; moved {} onto {a}", move_group(doc, m, ib, to)?.join(", "));
+    }
+    let mut joint = Table::new();
+    joint.insert("kind", toml_edit::value("revolute"));
+    let mut pair = Array::new();
+    pair.push(a);
+    pair.push(b);
+    joint.insert("markers", toml_edit::value(pair));
+    section(doc, "joints")?.insert(&name, Item::Table(joint));
+    Ok(format!("joined {a} and {b} by revolute joint {name}{moved}"))
+}
+
+/// [`Edit::AddInput`]: an angle input on a revolute joint, a slide on a
+/// prismatic one.
+fn add_input(
+    doc: &mut DocumentMut,
+    m: &Mechanism,
+    joint: &str,
+    name: Option<&str>,
+) -> Result<String, EditError> {
+    let j = joint_index(m, joint)?;
+    let angle = m.joints[j].kind == JointKind::Revolute;
+    let name = name.map_or_else(|| names::input(m, angle), str::to_string);
+    if m.inputs.iter().any(|i| i.name == name) {
+        return Err(refused(format!("there is already an input named {name}")));
+    }
+    let kind = if angle { "angle" } else { "slide" };
+    let mut input = Table::new();
+    input.insert("kind", toml_edit::value(kind));
+    input.insert("joint", toml_edit::value(joint));
+    section(doc, "inputs")?.insert(&name, Item::Table(input));
+    Ok(format!("joint {joint} is driven by {kind} input {name}"))
+}
+
+/// [`Edit::DeleteMarker`]: the marker, with the joints, constraints and
+/// inputs on it; a body's last marker is refused (delete the body).
+fn delete_marker(doc: &mut DocumentMut, m: &Mechanism, marker: &str) -> Result<String, EditError> {
+    let id = marker_id(m, marker)?;
+    let mut removed = Vec::new();
+    delete_uses(doc, m, id, &mut removed);
+    let body = &m.bodies[id.body];
+    if body.markers.len() == 1 {
+        return Err(refused(format!(
+            "{marker} is {}'s only marker: delete the body instead",
+            body.name
+        )));
+    }
+    markers_of(doc, &body.name)?.remove(&body.markers[id.marker].name);
+    Ok(summary_of_deletion(&format!("marker {marker}"), &removed))
+}
+
+/// [`Edit::DeleteBody`]: the body with what uses its markers; the last
+/// fixed body is refused (a mechanism needs a ground).
+fn delete_body(doc: &mut DocumentMut, m: &Mechanism, body: &str) -> Result<String, EditError> {
+    let b = body_index(m, body)?;
+    if m.bodies[b].fixed && m.bodies.iter().filter(|x| x.fixed).count() == 1 {
+        return Err(refused(format!(
+            "{body} is the only fixed body: every mechanism needs a ground"
+        )));
+    }
+    let mut removed = Vec::new();
+    for k in 0..m.bodies[b].markers.len() {
+        delete_uses(doc, m, MarkerId { body: b, marker: k }, &mut removed);
+    }
+    section(doc, "bodies")?.remove(body);
+    Ok(summary_of_deletion(&format!("body {body}"), &removed))
 }
 
 /// The sweep's table, if the file has one.

@@ -211,8 +211,6 @@ const MAX_HALVINGS: i32 = 30;
 /// at most about 100 with the default cut-off, are reached before this).
 const MAX_TRIALS: i32 = 200;
 
-/// A step is negligible when `‖δ‖ ≤ NEGLIGIBLE_STEP · (1 + ‖x‖)`: it could
-/// not change `x` in floating point.
 /// The share of the residual left in the range of the Jacobian below which
 /// the residual counts as orthogonal to it (a least-squares minimum).
 const STATIONARY: f64 = 1e-6;
@@ -223,6 +221,8 @@ const STAGNATION_WINDOW: usize = 6;
 /// Iterations before the stagnation rule applies.
 const STAGNATION_AFTER: u32 = 12;
 
+/// A step is negligible when `‖δ‖ ≤ NEGLIGIBLE_STEP · (1 + ‖x‖)`: it could
+/// not change `x` in floating point.
 const NEGLIGIBLE_STEP: f64 = 1e-15;
 
 /// A trial point is accepted when its residual norm is below
@@ -356,105 +356,155 @@ where
                 return report(NewtonOutcome::Converged, iterations, residual, rank);
             }
 
-            // The SVD is only needed when the Jacobian is not of full rank
-            // and well conditioned (or to damp a rejected step): otherwise
-            // the minimum-norm step is the same through a Cholesky solve of
-            // the (much cheaper) normal equations.
-            let mut spectrum: Option<Spectrum<R, C>> = None;
-            match full_rank_step(&self.jacobian, &self.r, &mut self.step) {
-                Some(full) => rank = full,
-                None => {
-                    let Some(s) = Spectrum::new(&self.jacobian, &self.r, options.rank_cutoff) else {
-                        // A non-finite Jacobian (or an SVD that did not
-                        // converge): no direction to go.
-                        return report(NewtonOutcome::NoSolution, iterations, residual, 0);
-                    };
-                    rank = s.rank;
-                    s.min_norm(&self.r, &mut self.step);
-                    spectrum = Some(s);
-                }
-            }
-            // J·δ is minus the part of r in the range of J. When that part
-            // is a vanishing share of r, r is (numerically) orthogonal to
-            // the range: a least-squares minimum above the tolerance. Far
-            // from the solution Gauss–Newton only creeps toward such a
-            // minimum, so waiting for a negligible step would use up the
-            // budget and report "not converged" where the truth is "no
-            // solution within reach".
-            let in_range = (&self.jacobian * &self.step).norm();
-            if in_range <= STATIONARY * residual {
-                return report(NewtonOutcome::NoSolution, iterations, residual, rank);
-            }
-            // Stagnation: once past the first iterations (where a far warm
-            // start may need line-search steps), a residual that has not
-            // halved over the last few iterations is creeping toward a
-            // least-squares minimum, not toward zero: convergence to a
-            // solution, even a singular one (a change point), at least
-            // halves it every iteration. Telling the two apart is what
-            // Brunkhart (§5.1) found hard; this is the rule we use.
-            let slot = iterations as usize % STAGNATION_WINDOW;
-            let old = history[slot];
-            history[slot] = residual;
-            if iterations >= STAGNATION_AFTER && residual > 0.5 * old {
-                return report(NewtonOutcome::NoSolution, iterations, residual, rank);
-            }
+            let Some((step_rank, spectrum)) = self.min_norm_step(options.rank_cutoff) else {
+                // A non-finite Jacobian (or an SVD that did not converge):
+                // no direction to go.
+                return report(NewtonOutcome::NoSolution, iterations, residual, 0);
+            };
+            rank = step_rank;
             let mut limit = options.max_step;
-            if !clamp(&mut self.step, &mut limit) {
+            if self.orthogonal_to_range(residual)
+                || stagnant(&mut history, iterations, residual)
+                || !clamp(&mut self.step, &mut limit)
+                || self.negligible(x)
+            {
                 return report(NewtonOutcome::NoSolution, iterations, residual, rank);
             }
-            if self.step.norm() <= NEGLIGIBLE_STEP * (1.0 + x.norm()) {
-                // J⁺·r ≈ 0 means Jᵀ·r ≈ 0: the gradient of ‖r‖² vanishes,
-                // so this is a least-squares minimum above the tolerance.
-                return report(NewtonOutcome::NoSolution, iterations, residual, rank);
-            }
-
-            // Backtracking on the residual norm: the full min-norm step,
-            // then ever more damped ones (see `Spectrum::damped`).
-            let target = residual * (1.0 - MIN_DECREASE);
-            let mut accepted = false;
-            for trial in 0..MAX_TRIALS {
-                if trial > 0 {
-                    if spectrum.is_none() {
-                        spectrum = Spectrum::new(&self.jacobian, &self.r, options.rank_cutoff);
-                    }
-                    let Some(sp) = spectrum.as_ref() else { break };
-                    let low = sp.smallest();
-                    let lambda_limit = sp.largest().powi(2) * 2f64.powi(MAX_HALVINGS);
-                    let lambda = low * low * (2f64.powi(trial) - 1.0);
-                    if lambda > lambda_limit {
-                        break;
-                    }
-                    sp.damped(lambda, &mut self.step);
-                    if !clamp(&mut self.step, &mut limit)
-                        || self.step.norm() <= NEGLIGIBLE_STEP * (1.0 + x.norm())
-                    {
-                        break;
-                    }
-                }
-                self.trial.copy_from(x);
-                self.trial += &self.step;
-                system.eval(&self.trial, &mut self.r_trial, None);
-                let trial_residual = self.r_trial.norm();
-                // `<` is false for NaN, so a non-finite trial is rejected.
-                if trial_residual < target {
-                    x.copy_from(&self.trial);
-                    std::mem::swap(&mut self.r, &mut self.r_trial);
-                    residual = trial_residual;
-                    accepted = true;
-                    break;
-                }
-            }
-            if !accepted {
+            match self.line_search(system, x, options.rank_cutoff, spectrum, limit, residual) {
+                Some(accepted) => residual = accepted,
                 // Every trial is a descent direction for ‖r‖² whenever
                 // Jᵀ·r ≠ 0; if not even a tiny one helps, the residual is at
                 // a least-squares minimum (to rounding).
-                return report(NewtonOutcome::NoSolution, iterations, residual, rank);
+                None => return report(NewtonOutcome::NoSolution, iterations, residual, rank),
             }
             if residual <= options.tolerance {
                 return report(NewtonOutcome::Converged, iterations, residual, rank);
             }
         }
     }
+
+    /// The minimum-norm step `δ = −J⁺·r` at the current point into `step`,
+    /// with the Jacobian's numerical rank and, when the step needed it, the
+    /// SVD's spectrum (kept to damp a rejected step). `None` when the
+    /// Jacobian gives no direction: non-finite, or an SVD that did not
+    /// converge.
+    #[inline]
+    fn min_norm_step(&mut self, rank_cutoff: f64) -> Option<(usize, Option<Spectrum<R, C>>)> {
+        // The SVD is only needed when the Jacobian is not of full rank
+        // and well conditioned (or to damp a rejected step): otherwise
+        // the minimum-norm step is the same through a Cholesky solve of
+        // the (much cheaper) normal equations.
+        match full_rank_step(&self.jacobian, &self.r, &mut self.step) {
+            Some(full) => Some((full, None)),
+            None => {
+                let s = Spectrum::new(&self.jacobian, &self.r, rank_cutoff)?;
+                s.min_norm(&self.r, &mut self.step);
+                Some((s.rank, Some(s)))
+            }
+        }
+    }
+
+    /// Whether the residual (of norm `residual`) is numerically orthogonal
+    /// to the range of the Jacobian: a least-squares minimum above the
+    /// tolerance.
+    ///
+    /// J·δ is minus the part of r in the range of J; this tests whether that
+    /// part is a vanishing share of r. Far from the solution Gauss–Newton
+    /// only creeps toward such a minimum, so waiting for a negligible step
+    /// would use up the budget and report "not converged" where the truth is
+    /// "no solution within reach".
+    #[inline]
+    fn orthogonal_to_range(&self, residual: f64) -> bool {
+        let in_range = (&self.jacobian * &self.step).norm();
+        in_range <= STATIONARY * residual
+    }
+
+    /// Whether the step could not change `x` in floating point. For the
+    /// full step, J⁺·r ≈ 0 means Jᵀ·r ≈ 0: the gradient of ‖r‖² vanishes,
+    /// so this is a least-squares minimum above the tolerance.
+    #[inline]
+    fn negligible(&self, x: &OVector<f64, C>) -> bool {
+        self.step.norm() <= NEGLIGIBLE_STEP * (1.0 + x.norm())
+    }
+
+    /// Backtracking on the residual norm (`residual` at `x`): the full
+    /// min-norm step, then ever more damped ones (see `Spectrum::damped`).
+    /// On the first trial that decreases the residual enough, moves `x`
+    /// there and returns its residual; `None` when none does.
+    #[inline]
+    fn line_search<E: Equations<R, C>>(
+        &mut self,
+        system: &mut E,
+        x: &mut OVector<f64, C>,
+        rank_cutoff: f64,
+        mut spectrum: Option<Spectrum<R, C>>,
+        mut limit: f64,
+        residual: f64,
+    ) -> Option<f64> {
+        let target = residual * (1.0 - MIN_DECREASE);
+        for trial in 0..MAX_TRIALS {
+            if trial > 0 && !self.damp(x, rank_cutoff, &mut spectrum, trial, &mut limit) {
+                break;
+            }
+            self.trial.copy_from(x);
+            self.trial += &self.step;
+            system.eval(&self.trial, &mut self.r_trial, None);
+            let trial_residual = self.r_trial.norm();
+            // `<` is false for NaN, so a non-finite trial is rejected.
+            if trial_residual < target {
+                x.copy_from(&self.trial);
+                std::mem::swap(&mut self.r, &mut self.r_trial);
+                return Some(trial_residual);
+            }
+        }
+        None
+    }
+
+    /// The step of line-search trial `trial` (from 1): each singular
+    /// component damped with `λ = σ_min²·(2ʲ − 1)`, then clamped to `limit`.
+    /// The spectrum is computed here if the full step did without it. False
+    /// when no further trial is worth making: no spectrum, a damping that
+    /// has shrunk even the strongest component below `2^-MAX_HALVINGS`, or a
+    /// step that is not finite or negligible.
+    #[inline]
+    fn damp(
+        &mut self,
+        x: &OVector<f64, C>,
+        rank_cutoff: f64,
+        spectrum: &mut Option<Spectrum<R, C>>,
+        trial: i32,
+        limit: &mut f64,
+    ) -> bool {
+        if spectrum.is_none() {
+            *spectrum = Spectrum::new(&self.jacobian, &self.r, rank_cutoff);
+        }
+        let Some(sp) = spectrum.as_ref() else { return false };
+        let low = sp.smallest();
+        let lambda_limit = sp.largest().powi(2) * 2f64.powi(MAX_HALVINGS);
+        let lambda = low * low * (2f64.powi(trial) - 1.0);
+        if lambda > lambda_limit {
+            return false;
+        }
+        sp.damped(lambda, &mut self.step);
+        clamp(&mut self.step, limit) && !self.negligible(x)
+    }
+}
+
+/// Records `residual` for iteration `iterations` in the window `history`
+/// and tells whether the iteration has stagnated.
+///
+/// Once past the first iterations (where a far warm start may need
+/// line-search steps), a residual that has not halved over the last few
+/// iterations is creeping toward a least-squares minimum, not toward zero:
+/// convergence to a solution, even a singular one (a change point), at
+/// least halves it every iteration. Telling the two apart is what Brunkhart
+/// (§5.1) found hard; this is the rule we use.
+#[inline]
+fn stagnant(history: &mut [f64; STAGNATION_WINDOW], iterations: u32, residual: f64) -> bool {
+    let slot = iterations as usize % STAGNATION_WINDOW;
+    let old = history[slot];
+    history[slot] = residual;
+    iterations >= STAGNATION_AFTER && residual > 0.5 * old
 }
 
 /// Scales `step` down so its max-norm is at most `limit`; when it had to,

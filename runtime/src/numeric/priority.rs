@@ -353,47 +353,202 @@ fn closest<E: Equations>(
     options: &NewtonOptions,
     iterations: &mut u32,
 ) -> NewtonOutcome {
-    let mut damping = 0.0_f64;
-    let mut trial = x.clone();
-    let mut previous = (f64::INFINITY, f64::INFINITY);
-    let mut stalled = 0;
+    let mut phase = Closest {
+        damping: 0.0,
+        trial: x.clone(),
+        previous: (f64::INFINITY, f64::INFINITY),
+        stalled: 0,
+    };
     for _ in 0..options.max_iterations {
-        let Local {
-            drag,
-            jd,
-            rd,
-            z,
-            multipliers,
-            a,
-            g,
-            cosine,
-        } = Local::at(system, w, x, options);
+        let local = Local::at(system, w, x, options);
         *iterations += 1;
-        if drag <= options.tolerance {
+        if local.drag <= options.tolerance {
             return NewtonOutcome::Converged;
         }
-        if z.ncols() == 0 {
+        if local.z.ncols() == 0 {
             // Nothing the first task lets move: the pose is the answer.
             return NewtonOutcome::NoSolution;
         }
-        // A target out of reach by less than about the step the curvature
-        // can be resolved at (a chain all but straight at the edge of its
-        // reach) leaves a minimum so flat that the differenced curvature is
-        // noise: the residual then improves by less than the tolerance
-        // while the reduced gradient wanders. Within the tolerance that is
-        // the least-squares minimum.
-        if previous.0 - drag <= options.tolerance && cosine > 0.5 * previous.1 {
-            stalled += 1;
-            if stalled >= STALL_ITERATIONS {
+        if phase.flat(local.drag, local.cosine, options.tolerance) {
+            return NewtonOutcome::NoSolution;
+        }
+        let curvature = Curvature::at(system, w, x, &local);
+
+        // The residual is known to about the tolerance, so its direction
+        // (hence the cosine) only to tolerance/‖r₂‖: the floor of both tests.
+        let floor = options.tolerance / local.drag;
+        if local.cosine <= STATIONARY + floor {
+            if curvature.lowest >= -CURVATURE * curvature.scale {
                 return NewtonOutcome::NoSolution;
             }
-        } else {
-            stalled = 0;
+            if !phase.leave_saddle(system, w, x, options, &local, &curvature) {
+                return NewtonOutcome::NoSolution;
+            }
+            continue;
         }
-        previous = (drag, cosine);
-        let grad = jd.tr_mul(&rd);
-        let mu = -multipliers.solve(&grad);
-        let b = reduced_hessian(system, w, x, &z, &mu);
+        if !phase.damped_newton(system, w, x, options, &local, &curvature) {
+            return if local.cosine <= STALLED + floor {
+                NewtonOutcome::NoSolution
+            } else {
+                NewtonOutcome::NotConverged
+            };
+        }
+    }
+    NewtonOutcome::NotConverged
+}
+
+/// What phase 2 carries from one iteration to the next.
+struct Closest {
+    /// The Levenberg–Marquardt shift, relative to `‖B‖`.
+    damping: f64,
+    /// The trial point (a buffer).
+    trial: DVector<f64>,
+    /// The previous iteration's residual norm and cosine.
+    previous: (f64, f64),
+    /// Iterations in a row that left the minimum flat (see [`Closest::flat`]).
+    stalled: u32,
+}
+
+impl Closest {
+    /// Whether the minimum is too flat to resolve, given this iteration's
+    /// residual norm `drag` and `cosine` (see [`Local`]).
+    ///
+    /// A target out of reach by less than about the step the curvature
+    /// can be resolved at (a chain all but straight at the edge of its
+    /// reach) leaves a minimum so flat that the differenced curvature is
+    /// noise: the residual then improves by less than the tolerance
+    /// while the reduced gradient wanders. Within the tolerance that is
+    /// the least-squares minimum.
+    fn flat(&mut self, drag: f64, cosine: f64, tolerance: f64) -> bool {
+        if self.previous.0 - drag <= tolerance && cosine > 0.5 * self.previous.1 {
+            self.stalled += 1;
+            if self.stalled >= STALL_ITERATIONS {
+                return true;
+            }
+        } else {
+            self.stalled = 0;
+        }
+        self.previous = (drag, cosine);
+        false
+    }
+
+    /// At a stationary point with negative curvature (a saddle or a
+    /// maximum): leaves it along the negative curvature, either way (both
+    /// descend to second order). Whether either way lowered the residual
+    /// (`x` moved there).
+    fn leave_saddle<E: Equations>(
+        &mut self,
+        system: &mut E,
+        w: &mut Work,
+        x: &mut DVector<f64>,
+        options: &NewtonOptions,
+        local: &Local,
+        curvature: &Curvature,
+    ) -> bool {
+        let length = if options.max_step.is_finite() && options.max_step > 0.0 {
+            0.1 * options.max_step
+        } else {
+            1e-3 * (1.0 + x.amax())
+        };
+        let mut direction = &local.z * curvature.eigen.eigenvectors.column(curvature.low_at);
+        direction *= length / direction.amax();
+        for sign in [1.0, -1.0] {
+            self.trial.copy_from(x);
+            self.trial.axpy(sign, &direction, 1.0);
+            if w.restore(system, &mut self.trial, options)
+                && w.eval(system, &self.trial, false).1 < local.drag
+            {
+                x.copy_from(&self.trial);
+                return true;
+            }
+        }
+        false
+    }
+
+    /// Damped Newton trials: the shift keeps B + λI positive definite,
+    /// the damping grows while the model promises more than the pose
+    /// delivers. Whether a trial was accepted (`x` moved there).
+    fn damped_newton<E: Equations>(
+        &mut self,
+        system: &mut E,
+        w: &mut Work,
+        x: &mut DVector<f64>,
+        options: &NewtonOptions,
+        local: &Local,
+        curvature: &Curvature,
+    ) -> bool {
+        let (lowest, scale) = (curvature.lowest, curvature.scale);
+        let f0 = 0.5 * local.drag * local.drag;
+        if lowest < 0.0 {
+            self.damping = self.damping.max(1e-3);
+        }
+        while self.damping <= MAX_DAMPING {
+            let lambda = (-lowest).max(0.0) + self.damping * scale;
+            let mut reduced = curvature.shifted_step(&local.g, lambda, local.z.ncols());
+            let mut step = &local.z * &reduced;
+            let longest = step.amax();
+            if longest > options.max_step {
+                let cut = options.max_step / longest;
+                step *= cut;
+                reduced *= cut;
+            }
+            if longest <= f64::EPSILON * (1.0 + x.amax()) {
+                // No step can move the pose: a minimum to rounding.
+                return false;
+            }
+            let predicted = -(local.g.dot(&reduced) + 0.5 * reduced.dot(&(&curvature.b * &reduced)));
+            self.trial.copy_from(x);
+            self.trial += &step;
+            if w.restore(system, &mut self.trial, options) {
+                let f = 0.5 * w.eval(system, &self.trial, false).1.powi(2);
+                let gain = f0 - f;
+                // Close to the minimum the change of ½‖r₂‖² is of the
+                // order of the step squared, below its rounding: judge the
+                // step by the reduced gradient (first order) instead.
+                let better = if gain.abs() <= ROUNDING * f0 {
+                    Local::at(system, w, &self.trial, options).cosine < 0.5 * local.cosine
+                } else {
+                    gain > 0.0 && (predicted <= 0.0 || gain >= 1e-4 * predicted)
+                };
+                if better {
+                    x.copy_from(&self.trial);
+                    if predicted > 0.0 && gain >= 0.75 * predicted {
+                        self.damping = if self.damping < 1e-10 {
+                            0.0
+                        } else {
+                            self.damping / 4.0
+                        };
+                    }
+                    return true;
+                }
+            }
+            self.damping = (4.0 * self.damping).max(1e-8);
+        }
+        false
+    }
+}
+
+/// The second-order picture at a point where the first task holds: the
+/// reduced Hessian of the Lagrangian and its eigen-decomposition.
+struct Curvature {
+    /// The reduced Hessian B.
+    b: DMatrix<f64>,
+    /// Its eigenvalues and eigenvectors.
+    eigen: SymmetricEigen<f64, nalgebra::Dyn>,
+    /// Its lowest eigenvalue, and that eigenvalue's index.
+    lowest: f64,
+    low_at: usize,
+    /// ‖B‖ (or ‖J₂ Z‖² when larger): what the shift and the cut-offs are
+    /// relative to.
+    scale: f64,
+}
+
+impl Curvature {
+    /// The curvature at `x`, whose first-order picture is `local`.
+    fn at<E: Equations>(system: &mut E, w: &mut Work, x: &DVector<f64>, local: &Local) -> Curvature {
+        let grad = local.jd.tr_mul(&local.rd);
+        let mu = -local.multipliers.solve(&grad);
+        let b = reduced_hessian(system, w, x, &local.z, &mu);
         let eigen = SymmetricEigen::new(b.clone());
         let (lowest, low_at) =
             eigen
@@ -405,103 +560,33 @@ fn closest<E: Equations>(
                     |acc, (i, &v)| if v < acc.0 { (v, i) } else { acc },
                 );
         let largest = eigen.eigenvalues.amax();
-        let scale = largest.max(a.norm_squared()).max(f64::MIN_POSITIVE);
-        let f0 = 0.5 * drag * drag;
-
-        // The residual is known to about the tolerance, so its direction
-        // (hence the cosine) only to tolerance/‖r₂‖: the floor of both tests.
-        let floor = options.tolerance / drag;
-        if cosine <= STATIONARY + floor {
-            if lowest >= -CURVATURE * scale {
-                return NewtonOutcome::NoSolution;
-            }
-            // A saddle or a maximum: leave it along the negative curvature,
-            // either way (both descend to second order).
-            let length = if options.max_step.is_finite() && options.max_step > 0.0 {
-                0.1 * options.max_step
-            } else {
-                1e-3 * (1.0 + x.amax())
-            };
-            let mut direction = &z * eigen.eigenvectors.column(low_at);
-            direction *= length / direction.amax();
-            let mut moved = false;
-            for sign in [1.0, -1.0] {
-                trial.copy_from(x);
-                trial.axpy(sign, &direction, 1.0);
-                if w.restore(system, &mut trial, options) && w.eval(system, &trial, false).1 < drag {
-                    x.copy_from(&trial);
-                    moved = true;
-                    break;
-                }
-            }
-            if !moved {
-                return NewtonOutcome::NoSolution;
-            }
-            continue;
-        }
-
-        // Damped Newton trials: the shift keeps B + λI positive definite,
-        // the damping grows while the model promises more than the pose
-        // delivers.
-        if lowest < 0.0 {
-            damping = damping.max(1e-3);
-        }
-        let mut accepted = false;
-        while damping <= MAX_DAMPING {
-            let lambda = (-lowest).max(0.0) + damping * scale;
-            let coefficients = eigen.eigenvectors.tr_mul(&g);
-            let mut reduced = DVector::zeros(z.ncols());
-            for (i, &value) in eigen.eigenvalues.iter().enumerate() {
-                let shifted = value + lambda;
-                if shifted > EIGEN_CUTOFF * scale {
-                    reduced.axpy(-coefficients[i] / shifted, &eigen.eigenvectors.column(i), 1.0);
-                }
-            }
-            let mut step = &z * &reduced;
-            let longest = step.amax();
-            if longest > options.max_step {
-                let cut = options.max_step / longest;
-                step *= cut;
-                reduced *= cut;
-            }
-            if longest <= f64::EPSILON * (1.0 + x.amax()) {
-                // No step can move the pose: a minimum to rounding.
-                break;
-            }
-            let predicted = -(g.dot(&reduced) + 0.5 * reduced.dot(&(&b * &reduced)));
-            trial.copy_from(x);
-            trial += &step;
-            if w.restore(system, &mut trial, options) {
-                let f = 0.5 * w.eval(system, &trial, false).1.powi(2);
-                let gain = f0 - f;
-                // Close to the minimum the change of ½‖r₂‖² is of the
-                // order of the step squared, below its rounding: judge the
-                // step by the reduced gradient (first order) instead.
-                let better = if gain.abs() <= ROUNDING * f0 {
-                    Local::at(system, w, &trial, options).cosine < 0.5 * cosine
-                } else {
-                    gain > 0.0 && (predicted <= 0.0 || gain >= 1e-4 * predicted)
-                };
-                if better {
-                    x.copy_from(&trial);
-                    accepted = true;
-                    if predicted > 0.0 && gain >= 0.75 * predicted {
-                        damping = if damping < 1e-10 { 0.0 } else { damping / 4.0 };
-                    }
-                    break;
-                }
-            }
-            damping = (4.0 * damping).max(1e-8);
-        }
-        if !accepted {
-            return if cosine <= STALLED + floor {
-                NewtonOutcome::NoSolution
-            } else {
-                NewtonOutcome::NotConverged
-            };
+        let scale = largest.max(local.a.norm_squared()).max(f64::MIN_POSITIVE);
+        Curvature {
+            b,
+            eigen,
+            lowest,
+            low_at,
+            scale,
         }
     }
-    NewtonOutcome::NotConverged
+
+    /// The reduced step `s = −(B + λI)⁻¹ g` (of length `n`), over the
+    /// eigen-directions whose shifted eigenvalue is above the cut-off.
+    fn shifted_step(&self, g: &DVector<f64>, lambda: f64, n: usize) -> DVector<f64> {
+        let coefficients = self.eigen.eigenvectors.tr_mul(g);
+        let mut reduced = DVector::zeros(n);
+        for (i, &value) in self.eigen.eigenvalues.iter().enumerate() {
+            let shifted = value + lambda;
+            if shifted > EIGEN_CUTOFF * self.scale {
+                reduced.axpy(
+                    -coefficients[i] / shifted,
+                    &self.eigen.eigenvectors.column(i),
+                    1.0,
+                );
+            }
+        }
+        reduced
+    }
 }
 
 /// The first-order picture at a point where the first task holds.

@@ -34,7 +34,7 @@ use std::collections::BTreeSet;
 use dofplan_runtime::{Branch, Point};
 
 use super::Progress;
-use crate::model::planar::equations::{Equation, Sourced};
+use crate::model::planar::equations::{End, Equation, Sourced};
 use crate::model::Mechanism;
 use crate::plan::{BodyId, BranchSlot, ClusterParam, DirRef, Line, PointRef, Rel, Step, StepKind, Temp};
 
@@ -200,6 +200,16 @@ fn cross(a: Point, b: Point) -> f64 {
 
 fn sub(a: Point, b: Point) -> Point {
     [a[0] - b[0], a[1] - b[1]]
+}
+
+/// A marker of a body not yet placed, read at its provisional pose (a
+/// sliding body's marker is a point of its own line locus there).
+fn moving_marker(end: &End) -> PointRef {
+    PointRef::Marker {
+        body: end.body,
+        local: end.local,
+        name: end.name.clone(),
+    }
 }
 
 impl Planner<'_> {
@@ -444,170 +454,152 @@ impl Planner<'_> {
         };
         let (line, dir, point) = (line.clone(), *dir, point.clone());
         if self.placed(line.body) && !self.placed(point.body) {
-            let through = self.marker_point(line.body, line.local, &line.name);
-            let ldir = self.dir_ref(line.body, dir);
-            let body = point.body;
-            match self.know[body].clone() {
-                Know::Oriented => {
-                    let origin = self.consume(i);
-                    self.push(
-                        StepKind::Anchor {
-                            body,
-                            local: point.local,
-                            at: through,
-                        },
-                        vec![origin],
-                    );
-                    self.set(body, Know::Sliding { dir: ldir });
-                }
-                Know::Sliding { dir: d1 } => {
-                    let origin = self.consume(i);
-                    let out = self.temp(&point.name);
-                    let own = Line {
-                        through: PointRef::Marker {
-                            body,
-                            local: point.local,
-                            name: point.name.clone(),
-                        },
-                        dir: d1,
-                    };
-                    self.push(
-                        StepKind::LineLine {
-                            out,
-                            a: own,
-                            b: Line { through, dir: ldir },
-                        },
-                        vec![origin],
-                    );
-                    self.push(
-                        StepKind::Anchor {
-                            body,
-                            local: point.local,
-                            at: PointRef::Temp { id: out },
-                        },
-                        vec![],
-                    );
-                    self.set(body, Know::Placed);
-                }
-                Know::Pinned { local: l0, at: at0 } if dist(l0, point.local) > self.tol => {
-                    let origin = self.consume(i);
-                    let out = self.temp(&point.name);
-                    let branch = self.branch_slot(point.local);
-                    self.push(
-                        StepKind::CircleLine {
-                            out,
-                            c: at0.clone(),
-                            r: dist(l0, point.local),
-                            line: Line { through, dir: ldir },
-                            branch,
-                        },
-                        vec![origin],
-                    );
-                    self.push(
-                        StepKind::Align {
-                            body,
-                            p: l0,
-                            p_at: at0,
-                            q: point.local,
-                            q_at: PointRef::Temp { id: out },
-                            redundant: false,
-                        },
-                        vec![],
-                    );
-                    self.set(body, Know::Placed);
-                }
-                _ => return false,
-            }
-            return true;
+            return self.point_onto_line(i, &line, dir, &point);
         }
         if !self.placed(line.body) {
-            let Some(q) = self.known_point(point.body, point.local, &point.name) else {
-                return false;
-            };
-            if !self.placed(point.body) {
-                return false; // the point is known but its body still turns
-            }
-            let body = line.body;
-            match self.know[body].clone() {
-                Know::Oriented => {
-                    let origin = self.consume(i);
-                    self.push(
-                        StepKind::Anchor {
-                            body,
-                            local: line.local,
-                            at: q,
-                        },
-                        vec![origin],
-                    );
-                    self.set(
-                        body,
-                        Know::Sliding {
-                            dir: DirRef::Body { body, local: dir },
-                        },
-                    );
-                }
-                Know::Sliding { dir: d1 } => {
-                    let origin = self.consume(i);
-                    let out = self.temp(&line.name);
-                    let own = Line {
-                        through: PointRef::Marker {
-                            body,
-                            local: line.local,
-                            name: line.name.clone(),
-                        },
-                        dir: d1,
-                    };
-                    let through_q = Line {
-                        through: q,
-                        dir: DirRef::Body { body, local: dir },
-                    };
-                    self.push(
-                        StepKind::LineLine {
-                            out,
-                            a: own,
-                            b: through_q,
-                        },
-                        vec![origin],
-                    );
-                    self.push(
-                        StepKind::Anchor {
-                            body,
-                            local: line.local,
-                            at: PointRef::Temp { id: out },
-                        },
-                        vec![],
-                    );
-                    self.set(body, Know::Placed);
-                }
-                Know::Pinned { local: l0, at: at0 } => {
-                    let origin = self.consume(i);
-                    let branch = self.branch_slot([1.0, 0.0]);
-                    self.push(
-                        StepKind::TurnLine {
-                            body,
-                            pivot: at0.clone(),
-                            target: q,
-                            dir,
-                            kappa: cross(sub(line.local, l0), dir),
-                            branch,
-                        },
-                        vec![origin],
-                    );
-                    self.push(
-                        StepKind::Anchor {
-                            body,
-                            local: l0,
-                            at: at0,
-                        },
-                        vec![],
-                    );
-                    self.set(body, Know::Placed);
-                }
-                _ => return false,
-            }
-            return true;
+            return self.line_through_point(i, &line, dir, &point);
         }
         false
+    }
+
+    /// In-line whose line is known (its body placed): the point's body
+    /// slides along it, or is placed where its own locus meets it.
+    fn point_onto_line(&mut self, i: usize, line: &End, dir: Point, point: &End) -> bool {
+        let known = Line {
+            through: self.marker_point(line.body, line.local, &line.name),
+            dir: self.dir_ref(line.body, dir),
+        };
+        let body = point.body;
+        match self.know[body].clone() {
+            Know::Oriented => self.start_sliding(i, body, point.local, known.through, known.dir),
+            Know::Sliding { dir: own } => self.slide_to_crossing(i, point, own, known),
+            Know::Pinned { local: l0, at: at0 } if dist(l0, point.local) > self.tol => {
+                self.circle_line_place(i, l0, at0, point, known);
+                self.set(body, Know::Placed);
+            }
+            _ => return false,
+        }
+        true
+    }
+
+    /// In-line whose point is known (a marker of a placed body): the line's
+    /// body slides through it, or is placed by crossing or turning its line
+    /// onto it.
+    fn line_through_point(&mut self, i: usize, line: &End, dir: Point, point: &End) -> bool {
+        let Some(q) = self.known_point(point.body, point.local, &point.name) else {
+            return false;
+        };
+        if !self.placed(point.body) {
+            return false; // the point is known but its body still turns
+        }
+        let body = line.body;
+        let along = DirRef::Body { body, local: dir };
+        match self.know[body].clone() {
+            Know::Oriented => self.start_sliding(i, body, line.local, q, along),
+            Know::Sliding { dir: own } => self.slide_to_crossing(
+                i,
+                line,
+                own,
+                Line {
+                    through: q,
+                    dir: along,
+                },
+            ),
+            Know::Pinned { local: l0, at: at0 } => {
+                let origin = self.consume(i);
+                let branch = self.branch_slot([1.0, 0.0]);
+                self.push(
+                    StepKind::TurnLine {
+                        body,
+                        pivot: at0.clone(),
+                        target: q,
+                        dir,
+                        kappa: cross(sub(line.local, l0), dir),
+                        branch,
+                    },
+                    vec![origin],
+                );
+                self.push(
+                    StepKind::Anchor {
+                        body,
+                        local: l0,
+                        at: at0,
+                    },
+                    vec![],
+                );
+                self.set(body, Know::Placed);
+            }
+            _ => return false,
+        }
+        true
+    }
+
+    /// An oriented body's marker `local` put on the known point `at`: the
+    /// body is left sliding along `dir` (1 TDOF).
+    fn start_sliding(&mut self, i: usize, body: BodyId, local: Point, at: PointRef, dir: DirRef) {
+        let origin = self.consume(i);
+        self.push(StepKind::Anchor { body, local, at }, vec![origin]);
+        self.set(body, Know::Sliding { dir });
+    }
+
+    /// A sliding body placed where its own line (through its marker `end`,
+    /// along `along`) crosses the line `other`.
+    fn slide_to_crossing(&mut self, i: usize, end: &End, along: DirRef, other: Line) {
+        let origin = self.consume(i);
+        let out = self.temp(&end.name);
+        let own = Line {
+            through: moving_marker(end),
+            dir: along,
+        };
+        self.push(
+            StepKind::LineLine {
+                out,
+                a: own,
+                b: other,
+            },
+            vec![origin],
+        );
+        self.push(
+            StepKind::Anchor {
+                body: end.body,
+                local: end.local,
+                at: PointRef::Temp { id: out },
+            },
+            vec![],
+        );
+        self.set(end.body, Know::Placed);
+    }
+
+    /// Turns a pinned body (its marker `pin` at `at`) so that its marker
+    /// `end` lies where the circle it draws about the pin meets `line`;
+    /// returns that point. The caller records the body's new state.
+    fn circle_line_place(&mut self, i: usize, pin: Point, at: PointRef, end: &End, line: Line) -> PointRef {
+        let origin = self.consume(i);
+        let out = self.temp(&end.name);
+        let branch = self.branch_slot(end.local);
+        self.push(
+            StepKind::CircleLine {
+                out,
+                c: at.clone(),
+                r: dist(pin, end.local),
+                line,
+                branch,
+            },
+            vec![origin],
+        );
+        let x = PointRef::Temp { id: out };
+        self.push(
+            StepKind::Align {
+                body: end.body,
+                p: pin,
+                p_at: at,
+                q: end.local,
+                q_at: x.clone(),
+                redundant: false,
+            },
+            vec![],
+        );
+        x
     }
 
     /// Contraction of a three-node loop: two bodies with one freedom each,
@@ -619,173 +611,191 @@ impl Planner<'_> {
         match &self.eqs[i].eq {
             Equation::Coincident { a, b, slide: None } if !self.placed(a.body) && !self.placed(b.body) => {
                 let (a, b) = (a.clone(), b.clone());
-                let (ka, kb) = (self.know[a.body].clone(), self.know[b.body].clone());
-                let (la, lb) = (a.local, b.local);
-                match (ka, kb) {
-                    (Know::Pinned { local: l1, at: p1 }, Know::Pinned { local: l2, at: p2 })
-                        if dist(l1, la) > self.tol && dist(l2, lb) > self.tol =>
-                    {
-                        let origin = self.consume(i);
-                        let out = self.temp(&a.name);
-                        let branch = self.branch_slot(la);
-                        self.push(
-                            StepKind::CircleCircle {
-                                out,
-                                c1: p1.clone(),
-                                r1: dist(l1, la),
-                                c2: p2.clone(),
-                                r2: dist(l2, lb),
-                                branch,
-                            },
-                            vec![origin],
-                        );
-                        let x = PointRef::Temp { id: out };
-                        self.push(
-                            StepKind::Align {
-                                body: a.body,
-                                p: l1,
-                                p_at: p1,
-                                q: la,
-                                q_at: x.clone(),
-                                redundant: false,
-                            },
-                            vec![],
-                        );
-                        self.push(
-                            StepKind::Align {
-                                body: b.body,
-                                p: l2,
-                                p_at: p2,
-                                q: lb,
-                                q_at: x,
-                                redundant: false,
-                            },
-                            vec![],
-                        );
-                    }
-                    (Know::Pinned { local: l1, at: p1 }, Know::Sliding { dir })
-                        if dist(l1, la) > self.tol =>
-                    {
-                        self.pinned_sliding(i, a.body, l1, p1, la, &a.name, b.body, lb, &b.name, dir);
-                    }
-                    (Know::Sliding { dir }, Know::Pinned { local: l2, at: p2 })
-                        if dist(l2, lb) > self.tol =>
-                    {
-                        self.pinned_sliding(i, b.body, l2, p2, lb, &b.name, a.body, la, &a.name, dir);
-                    }
-                    (Know::Sliding { dir: d1 }, Know::Sliding { dir: d2 }) => {
-                        let origin = self.consume(i);
-                        let out = self.temp(&a.name);
-                        let la_ref = PointRef::Marker {
-                            body: a.body,
-                            local: la,
-                            name: a.name.clone(),
-                        };
-                        let lb_ref = PointRef::Marker {
-                            body: b.body,
-                            local: lb,
-                            name: b.name.clone(),
-                        };
-                        self.push(
-                            StepKind::LineLine {
-                                out,
-                                a: Line {
-                                    through: la_ref,
-                                    dir: d1,
-                                },
-                                b: Line {
-                                    through: lb_ref,
-                                    dir: d2,
-                                },
-                            },
-                            vec![origin],
-                        );
-                        let x = PointRef::Temp { id: out };
-                        self.push(
-                            StepKind::Anchor {
-                                body: a.body,
-                                local: la,
-                                at: x.clone(),
-                            },
-                            vec![],
-                        );
-                        self.push(
-                            StepKind::Anchor {
-                                body: b.body,
-                                local: lb,
-                                at: x,
-                            },
-                            vec![],
-                        );
-                    }
-                    _ => return false,
-                }
-                self.set(a.body, Know::Placed);
-                self.set(b.body, Know::Placed);
-                return true;
+                self.coincident_dyad(i, &a, &b)
             }
             Equation::InLine { line, dir, point } => {
                 let (line, dir, point) = (line.clone(), *dir, point.clone());
-                let (Know::Pinned { local: l1, at: p1 }, Know::Pinned { local: l2, at: p2 }) =
-                    (self.know[line.body].clone(), self.know[point.body].clone())
-                else {
-                    return false;
-                };
-                // An RPR dyad also needs the prismatic's parallel
-                // equation between the same two bodies.
-                let Some(par) = self.on[line.body].iter().copied().find(|&j| {
-                    !self.used[j]
-                        && matches!(self.eqs[j].eq, Equation::Parallel { a, b, input: None }
-                            if (a == line.body && b == point.body) || (a == point.body && b == line.body))
-                }) else {
-                    return false;
-                };
-                let o1 = self.consume(i);
-                let o2 = self.consume(par);
-                let branch = self.branch_slot([1.0, 0.0]);
-                let kappa = cross(sub(sub(line.local, l1), sub(point.local, l2)), dir);
-                self.push(
-                    StepKind::TurnLine {
-                        body: line.body,
-                        pivot: p1.clone(),
-                        target: p2.clone(),
-                        dir,
-                        kappa,
-                        branch,
-                    },
-                    vec![o1, o2],
-                );
-                self.push(
-                    StepKind::Orient {
-                        body: point.body,
-                        from: Some(line.body),
-                        rel: Rel::Identity,
-                    },
-                    vec![],
-                );
-                self.push(
-                    StepKind::Anchor {
-                        body: line.body,
-                        local: l1,
-                        at: p1,
-                    },
-                    vec![],
-                );
-                self.push(
-                    StepKind::Anchor {
-                        body: point.body,
-                        local: l2,
-                        at: p2,
-                    },
-                    vec![],
-                );
-                self.set(line.body, Know::Placed);
-                self.set(point.body, Know::Placed);
-                return true;
+                self.rpr_dyad(i, &line, dir, &point)
             }
-            _ => {}
+            _ => false,
         }
-        false
+    }
+
+    /// RRR, RRP or PRP: the markers `a` and `b` of two bodies with one
+    /// freedom each meet; both bodies are placed.
+    fn coincident_dyad(&mut self, i: usize, a: &End, b: &End) -> bool {
+        let (la, lb) = (a.local, b.local);
+        match (self.know[a.body].clone(), self.know[b.body].clone()) {
+            (Know::Pinned { local: l1, at: p1 }, Know::Pinned { local: l2, at: p2 })
+                if dist(l1, la) > self.tol && dist(l2, lb) > self.tol =>
+            {
+                self.circle_circle_dyad(i, a, (l1, p1), b, (l2, p2));
+            }
+            (Know::Pinned { local: l1, at: p1 }, Know::Sliding { dir }) if dist(l1, la) > self.tol => {
+                self.pinned_sliding(i, l1, p1, a, b, dir);
+            }
+            (Know::Sliding { dir }, Know::Pinned { local: l2, at: p2 }) if dist(l2, lb) > self.tol => {
+                self.pinned_sliding(i, l2, p2, b, a, dir);
+            }
+            (Know::Sliding { dir: d1 }, Know::Sliding { dir: d2 }) => {
+                self.line_line_dyad(i, a, d1, b, d2);
+            }
+            _ => return false,
+        }
+        self.set(a.body, Know::Placed);
+        self.set(b.body, Know::Placed);
+        true
+    }
+
+    /// RRR: two pinned bodies (each pin given as its marker and the known
+    /// point it sits at) whose markers `a` and `b` meet where the circles
+    /// they draw about their pins cross.
+    fn circle_circle_dyad(
+        &mut self,
+        i: usize,
+        a: &End,
+        (l1, p1): (Point, PointRef),
+        b: &End,
+        (l2, p2): (Point, PointRef),
+    ) {
+        let (la, lb) = (a.local, b.local);
+        let origin = self.consume(i);
+        let out = self.temp(&a.name);
+        let branch = self.branch_slot(la);
+        self.push(
+            StepKind::CircleCircle {
+                out,
+                c1: p1.clone(),
+                r1: dist(l1, la),
+                c2: p2.clone(),
+                r2: dist(l2, lb),
+                branch,
+            },
+            vec![origin],
+        );
+        let x = PointRef::Temp { id: out };
+        self.push(
+            StepKind::Align {
+                body: a.body,
+                p: l1,
+                p_at: p1,
+                q: la,
+                q_at: x.clone(),
+                redundant: false,
+            },
+            vec![],
+        );
+        self.push(
+            StepKind::Align {
+                body: b.body,
+                p: l2,
+                p_at: p2,
+                q: lb,
+                q_at: x,
+                redundant: false,
+            },
+            vec![],
+        );
+    }
+
+    /// PRP: two sliding bodies whose markers `a` and `b` meet where their
+    /// lines (along `d1` and `d2`) cross.
+    fn line_line_dyad(&mut self, i: usize, a: &End, d1: DirRef, b: &End, d2: DirRef) {
+        let origin = self.consume(i);
+        let out = self.temp(&a.name);
+        self.push(
+            StepKind::LineLine {
+                out,
+                a: Line {
+                    through: moving_marker(a),
+                    dir: d1,
+                },
+                b: Line {
+                    through: moving_marker(b),
+                    dir: d2,
+                },
+            },
+            vec![origin],
+        );
+        let x = PointRef::Temp { id: out };
+        self.push(
+            StepKind::Anchor {
+                body: a.body,
+                local: a.local,
+                at: x.clone(),
+            },
+            vec![],
+        );
+        self.push(
+            StepKind::Anchor {
+                body: b.body,
+                local: b.local,
+                at: x,
+            },
+            vec![],
+        );
+    }
+
+    /// RPR: two pinned bodies joined by a prismatic (this in-line with its
+    /// parallel equation): the line's body turns until its line passes
+    /// through the other's pin, and the other takes its rotation.
+    fn rpr_dyad(&mut self, i: usize, line: &End, dir: Point, point: &End) -> bool {
+        let (Know::Pinned { local: l1, at: p1 }, Know::Pinned { local: l2, at: p2 }) =
+            (self.know[line.body].clone(), self.know[point.body].clone())
+        else {
+            return false;
+        };
+        // An RPR dyad also needs the prismatic's parallel
+        // equation between the same two bodies.
+        let Some(par) = self.on[line.body].iter().copied().find(|&j| {
+            !self.used[j]
+                && matches!(self.eqs[j].eq, Equation::Parallel { a, b, input: None }
+                    if (a == line.body && b == point.body) || (a == point.body && b == line.body))
+        }) else {
+            return false;
+        };
+        let o1 = self.consume(i);
+        let o2 = self.consume(par);
+        let branch = self.branch_slot([1.0, 0.0]);
+        let kappa = cross(sub(sub(line.local, l1), sub(point.local, l2)), dir);
+        self.push(
+            StepKind::TurnLine {
+                body: line.body,
+                pivot: p1.clone(),
+                target: p2.clone(),
+                dir,
+                kappa,
+                branch,
+            },
+            vec![o1, o2],
+        );
+        self.push(
+            StepKind::Orient {
+                body: point.body,
+                from: Some(line.body),
+                rel: Rel::Identity,
+            },
+            vec![],
+        );
+        self.push(
+            StepKind::Anchor {
+                body: line.body,
+                local: l1,
+                at: p1,
+            },
+            vec![],
+        );
+        self.push(
+            StepKind::Anchor {
+                body: point.body,
+                local: l2,
+                at: p2,
+            },
+            vec![],
+        );
+        self.set(line.body, Know::Placed);
+        self.set(point.body, Know::Placed);
+        true
     }
 
     /// Unknowns of a body in a cluster: the fewest its locus allows.
@@ -1022,55 +1032,27 @@ impl Planner<'_> {
         }
     }
 
-    /// RRP: a pinned body's marker meets a sliding body's marker.
-    #[allow(clippy::too_many_arguments)]
+    /// RRP: a pinned body (its marker `pin` at `at`) and a sliding body
+    /// whose markers meet where the circle the pinned one's draws crosses
+    /// the sliding one's line (along `dir`).
     fn pinned_sliding(
         &mut self,
         i: usize,
-        pinned: BodyId,
-        l1: Point,
-        p1: PointRef,
-        local1: Point,
-        name1: &str,
-        sliding: BodyId,
-        local2: Point,
-        name2: &str,
+        pin: Point,
+        at: PointRef,
+        pinned: &End,
+        sliding: &End,
         dir: DirRef,
     ) {
-        let origin = self.consume(i);
-        let out = self.temp(name1);
-        let branch = self.branch_slot(local1);
-        let through = PointRef::Marker {
-            body: sliding,
-            local: local2,
-            name: name2.to_string(),
+        let line = Line {
+            through: moving_marker(sliding),
+            dir,
         };
-        self.push(
-            StepKind::CircleLine {
-                out,
-                c: p1.clone(),
-                r: dist(l1, local1),
-                line: Line { through, dir },
-                branch,
-            },
-            vec![origin],
-        );
-        let x = PointRef::Temp { id: out };
-        self.push(
-            StepKind::Align {
-                body: pinned,
-                p: l1,
-                p_at: p1,
-                q: local1,
-                q_at: x.clone(),
-                redundant: false,
-            },
-            vec![],
-        );
+        let x = self.circle_line_place(i, pin, at, pinned, line);
         self.push(
             StepKind::Anchor {
-                body: sliding,
-                local: local2,
+                body: sliding.body,
+                local: sliding.local,
                 at: x,
             },
             vec![],

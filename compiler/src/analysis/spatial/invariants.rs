@@ -21,7 +21,7 @@ use dofplan_runtime::spatial::{cross, dist, norm, reject, sub, twist_correction,
 use dofplan_runtime::Rot;
 
 use crate::plan::spatial::{
-    Action, BodyId, ClusterRow, DirRef, HingeTurn, Locus, Param, Plan, PointRef, StepKind,
+    Action, BodyId, Cluster, ClusterRow, DirRef, HingeTurn, Locus, Param, Plan, PointRef, StepKind,
 };
 
 /// Directions parallel to this (the cross product of unit vectors) are one.
@@ -316,149 +316,167 @@ enum Ref<'a> {
 /// Calls `f` on every point and direction a step reads (inside a
 /// [`DirRef::Between`] too).
 fn each_ref(kind: &mut StepKind, f: &mut dyn FnMut(Ref<'_>)) {
-    fn p(q: &mut PointRef, f: &mut dyn FnMut(Ref<'_>)) {
-        f(Ref::P(q));
-    }
-    fn d(v: &mut DirRef, f: &mut dyn FnMut(Ref<'_>)) {
-        if let DirRef::Between(a, b) = v {
-            f(Ref::P(a));
-            f(Ref::P(b));
-        } else {
-            f(Ref::D(v));
-        }
-    }
     match kind {
-        StepKind::Act { action, .. } => match &mut **action {
-            Action::TranslateOnto { from, to } => {
-                p(from, f);
-                p(to, f);
-            }
-            Action::TranslateAlong { from, to, dir: n }
-            | Action::TranslateInPlane { from, to, normal: n } => {
-                p(from, f);
-                p(to, f);
-                d(n, f);
-            }
-            Action::TranslateToLine {
-                from,
-                through,
-                dir: n,
-            }
-            | Action::TranslateToPlane {
-                from,
-                through,
-                normal: n,
-            } => {
-                p(from, f);
-                p(through, f);
-                d(n, f);
-            }
-            Action::SlideTo {
-                from, origin, dir, ..
-            } => {
-                p(from, f);
-                p(origin, f);
-                d(dir, f);
-            }
-            Action::RotateOnto { pivot, from, to } => {
-                p(pivot, f);
-                p(from, f);
-                p(to, f);
-            }
-            Action::AlignDir { pivot, from, to } | Action::Tilt { pivot, from, to, .. } => {
-                p(pivot, f);
-                d(from, f);
-                d(to, f);
-            }
-            Action::AxisOnto {
-                pivot,
-                axis,
-                from,
-                to,
-            } => {
-                p(pivot, f);
-                d(axis, f);
-                p(from, f);
-                p(to, f);
-            }
-            Action::AxisDir {
-                pivot,
-                axis,
-                from,
-                to,
-            } => {
-                p(pivot, f);
-                d(axis, f);
-                d(from, f);
-                d(to, f);
-            }
-            Action::Twist {
-                pivot, axis, x1, x2, ..
-            } => {
-                p(pivot, f);
-                d(axis, f);
-                d(x1, f);
-                d(x2, f);
-            }
-            Action::AxisCondition {
-                pivot, axis, v, w, ..
-            } => {
-                p(pivot, f);
-                d(axis, f);
-                d(v, f);
-                d(w, f);
-            }
-            Action::Hinge { turn, .. } => match turn {
-                HingeTurn::Degrees { .. } => {}
-                HingeTurn::Onto { to, .. } => p(to, f),
-                HingeTurn::Dir { to, .. } => d(to, f),
-            },
-        },
+        StepKind::Act { action, .. } => action_refs(action, f),
         StepKind::Intersect { loci, .. } => {
             for locus in loci.iter_mut() {
-                match locus {
-                    Locus::Circle { pivot, axis, at } => {
-                        p(pivot, f);
-                        d(axis, f);
-                        p(at, f);
-                    }
-                    Locus::Sphere { centre, a, b } => {
-                        p(centre, f);
-                        p(a, f);
-                        p(b, f);
-                    }
-                    Locus::Line { at, dir } => {
-                        p(at, f);
-                        d(dir, f);
-                    }
-                }
+                locus_refs(locus, f);
             }
         }
         StepKind::IntersectDir { cones, .. } => {
             for (axis, _) in cones.iter_mut() {
-                d(axis, f);
+                read_dir(axis, f);
             }
         }
         StepKind::Check { .. } => {}
-        StepKind::Cluster(c) => {
-            for param in &mut c.params {
-                match param {
-                    Param::Free { .. } => {}
-                    Param::Pivot { pivot, .. } => p(pivot, f),
-                    Param::Axis { pivot, axis, .. } => {
-                        p(pivot, f);
-                        d(axis, f);
-                    }
-                }
+        StepKind::Cluster(c) => cluster_refs(c, f),
+    }
+}
+
+/// Calls `f` on a point a step reads.
+fn read_point(q: &mut PointRef, f: &mut dyn FnMut(Ref<'_>)) {
+    f(Ref::P(q));
+}
+
+/// Calls `f` on a direction a step reads, or on its two points when it is
+/// the direction between them.
+fn read_dir(v: &mut DirRef, f: &mut dyn FnMut(Ref<'_>)) {
+    if let DirRef::Between(a, b) = v {
+        f(Ref::P(a));
+        f(Ref::P(b));
+    } else {
+        f(Ref::D(v));
+    }
+}
+
+/// [`each_ref`] for the action of an act step.
+fn action_refs(action: &mut Action, f: &mut dyn FnMut(Ref<'_>)) {
+    match action {
+        Action::TranslateOnto { from, to } => {
+            read_point(from, f);
+            read_point(to, f);
+        }
+        Action::TranslateAlong { from, to, dir: n } | Action::TranslateInPlane { from, to, normal: n } => {
+            read_point(from, f);
+            read_point(to, f);
+            read_dir(n, f);
+        }
+        Action::TranslateToLine {
+            from,
+            through,
+            dir: n,
+        }
+        | Action::TranslateToPlane {
+            from,
+            through,
+            normal: n,
+        } => {
+            read_point(from, f);
+            read_point(through, f);
+            read_dir(n, f);
+        }
+        Action::SlideTo {
+            from, origin, dir, ..
+        } => {
+            read_point(from, f);
+            read_point(origin, f);
+            read_dir(dir, f);
+        }
+        Action::RotateOnto { pivot, from, to } => {
+            read_point(pivot, f);
+            read_point(from, f);
+            read_point(to, f);
+        }
+        Action::AlignDir { pivot, from, to } | Action::Tilt { pivot, from, to, .. } => {
+            read_point(pivot, f);
+            read_dir(from, f);
+            read_dir(to, f);
+        }
+        Action::AxisOnto {
+            pivot,
+            axis,
+            from,
+            to,
+        } => {
+            read_point(pivot, f);
+            read_dir(axis, f);
+            read_point(from, f);
+            read_point(to, f);
+        }
+        Action::AxisDir {
+            pivot,
+            axis,
+            from,
+            to,
+        } => {
+            read_point(pivot, f);
+            read_dir(axis, f);
+            read_dir(from, f);
+            read_dir(to, f);
+        }
+        Action::Twist {
+            pivot, axis, x1, x2, ..
+        } => {
+            read_point(pivot, f);
+            read_dir(axis, f);
+            read_dir(x1, f);
+            read_dir(x2, f);
+        }
+        Action::AxisCondition {
+            pivot, axis, v, w, ..
+        } => {
+            read_point(pivot, f);
+            read_dir(axis, f);
+            read_dir(v, f);
+            read_dir(w, f);
+        }
+        Action::Hinge { turn, .. } => match turn {
+            HingeTurn::Degrees { .. } => {}
+            HingeTurn::Onto { to, .. } => read_point(to, f),
+            HingeTurn::Dir { to, .. } => read_dir(to, f),
+        },
+    }
+}
+
+/// [`each_ref`] for one locus of an intersect step.
+fn locus_refs(locus: &mut Locus, f: &mut dyn FnMut(Ref<'_>)) {
+    match locus {
+        Locus::Circle { pivot, axis, at } => {
+            read_point(pivot, f);
+            read_dir(axis, f);
+            read_point(at, f);
+        }
+        Locus::Sphere { centre, a, b } => {
+            read_point(centre, f);
+            read_point(a, f);
+            read_point(b, f);
+        }
+        Locus::Line { at, dir } => {
+            read_point(at, f);
+            read_dir(dir, f);
+        }
+    }
+}
+
+/// [`each_ref`] for a cluster step: its parameters' pivots and axes and its
+/// distance rows' points.
+fn cluster_refs(c: &mut Cluster, f: &mut dyn FnMut(Ref<'_>)) {
+    for param in &mut c.params {
+        match param {
+            Param::Free { .. } => {}
+            Param::Pivot { pivot, .. } => read_point(pivot, f),
+            Param::Axis { pivot, axis, .. } => {
+                read_point(pivot, f);
+                read_dir(axis, f);
             }
-            for row in &mut c.rows {
-                if let ClusterRow::Distance { a, b, c, d: e, .. } = row {
-                    p(a, f);
-                    p(b, f);
-                    p(c, f);
-                    p(e, f);
-                }
-            }
+        }
+    }
+    for row in &mut c.rows {
+        if let ClusterRow::Distance { a, b, c, d: e, .. } = row {
+            read_point(a, f);
+            read_point(b, f);
+            read_point(c, f);
+            read_point(e, f);
         }
     }
 }

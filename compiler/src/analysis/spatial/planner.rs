@@ -1448,14 +1448,36 @@ impl Planner<'_> {
         if open.is_empty() {
             return false;
         }
-        // Contraction: a coincident equation between a point on a body
-        // turning about a pivot (directly, or through a driven slide) and a
-        // point of another body is the distance from the pivot.
+        let (contracted, mut gathered) = self.contract(&open);
+        let hanging = self.hanging(&open, &contracted, &gathered.used);
+        let mut members: Vec<usize> = unplaced.iter().copied().filter(|&b| !hanging[b]).collect();
+        if members.is_empty() || gathered.rows.is_empty() {
+            // No contraction: every unplaced body with open equations.
+            members = unplaced
+                .iter()
+                .copied()
+                .filter(|&b| open.iter().any(|&i| self.eqs[i].bodies.contains(&b)))
+                .collect();
+            gathered = Gathered::default();
+        }
+        if members.is_empty() {
+            return false;
+        }
+        self.gather_inside(&open, &members, &mut gathered);
+        let params = self.cluster_params(&members, &mut gathered);
+        self.place_cluster(members, params, gathered);
+        true
+    }
+
+    /// Contraction: a coincident equation between a point on a body
+    /// turning about a pivot (directly, or through a driven slide) and a
+    /// point of another body is the distance from the pivot. Returns which
+    /// bodies were contracted, and the distance rows with the legs to swing
+    /// into place afterwards.
+    fn contract(&self, open: &[usize]) -> (Vec<bool>, Gathered) {
         let mut contracted = vec![false; self.m.bodies.len()];
-        let mut meets = Vec::new();
-        let mut rows = Vec::new();
-        let mut used = Vec::new();
-        for &i in &open {
+        let mut gathered = Gathered::default();
+        for &i in open {
             let e = &self.eqs[i];
             if e.kind != Kind::Prim(Primitive::Coincident) {
                 continue;
@@ -1476,26 +1498,32 @@ impl Planner<'_> {
                     contracted[b] = true;
                 }
                 let (_, _, carried) = self.locus_of(b, e.frames[side].at, true).expect("found above");
-                meets.push((
-                    a,
+                gathered.meets.push(Meet {
+                    body: a,
                     carried,
-                    self.body_point(o, e.frames[1 - side].at),
-                    self.serves(i),
-                ));
-                rows.push(ClusterRow::Distance {
+                    target: self.body_point(o, e.frames[1 - side].at),
+                    serves: self.serves(i),
+                });
+                gathered.rows.push(ClusterRow::Distance {
                     a: self.body_point(o, e.frames[1 - side].at),
                     b: pa.clone(),
                     c: pa,
                     d: pb,
                     name: self.serves(i),
                 });
-                used.push(i);
+                gathered.used.push(i);
                 break;
             }
         }
-        // Bodies joined to a contracted one are placed after it, not solved.
-        let mut hanging = contracted.clone();
-        for &i in &open {
+        (contracted, gathered)
+    }
+
+    /// The contracted bodies and the bodies joined to one by an equation
+    /// not contracted (`used`): these are placed after the cluster, not
+    /// solved in it.
+    fn hanging(&self, open: &[usize], contracted: &[bool], used: &[usize]) -> Vec<bool> {
+        let mut hanging = contracted.to_vec();
+        for &i in open {
             let [b1, b2] = self.eqs[i].bodies;
             if used.contains(&i) {
                 continue;
@@ -1507,36 +1535,31 @@ impl Planner<'_> {
                 hanging[b1] = true;
             }
         }
-        let mut members: Vec<usize> = unplaced.iter().copied().filter(|&b| !hanging[b]).collect();
-        if members.is_empty() || rows.is_empty() {
-            // No contraction: every unplaced body with open equations.
-            members = unplaced
-                .iter()
-                .copied()
-                .filter(|&b| open.iter().any(|&i| self.eqs[i].bodies.contains(&b)))
-                .collect();
-            rows.clear();
-            used.clear();
-            meets.clear();
-        }
-        if members.is_empty() {
-            return false;
-        }
+        hanging
+    }
+
+    /// Adds as rows the open equations on a member whose bodies are all
+    /// members, placed or fixed.
+    fn gather_inside(&self, open: &[usize], members: &[usize], gathered: &mut Gathered) {
         let member = |b: usize| members.contains(&b);
-        for &i in &open {
-            if used.contains(&i) {
+        for &i in open {
+            if gathered.used.contains(&i) {
                 continue;
             }
             let [b1, b2] = self.eqs[i].bodies;
             let inside = |b: usize| member(b) || self.placed(b) || self.fixed(b);
             if (member(b1) || member(b2)) && inside(b1) && inside(b2) {
-                rows.push(ClusterRow::Equation(self.check_row(i, 0)));
-                used.push(i);
+                gathered.rows.push(ClusterRow::Equation(self.check_row(i, 0)));
+                gathered.used.push(i);
             }
         }
-        // Unknowns from each body's state.
+    }
+
+    /// Unknowns from each member's state. A state that no parameter keeps
+    /// by construction gives the equations that narrowed it back as rows.
+    fn cluster_params(&self, members: &[usize], gathered: &mut Gathered) -> Vec<Param> {
         let mut params = Vec::new();
-        for &b in &members {
+        for &b in members {
             let st = &self.state[b];
             params.push(match (&st.t, &st.r) {
                 (T::Point { q }, R::Axis { al }) => Param::Axis {
@@ -1556,13 +1579,20 @@ impl Planner<'_> {
             ) {
                 // The state's own constraints become rows again.
                 for (i, e) in self.eqs.iter().enumerate() {
-                    if self.used[i] && e.bodies.contains(&b) && !used.contains(&i) {
-                        rows.push(ClusterRow::Equation(self.check_row(i, 0)));
-                        used.push(i);
+                    if self.used[i] && e.bodies.contains(&b) && !gathered.used.contains(&i) {
+                        gathered.rows.push(ClusterRow::Equation(self.check_row(i, 0)));
+                        gathered.used.push(i);
                     }
                 }
             }
         }
+        params
+    }
+
+    /// Records the cluster's step, marks its equations used and its members
+    /// placed, then swings each contracted leg onto the point it holds.
+    fn place_cluster(&mut self, members: Vec<usize>, params: Vec<Param>, gathered: Gathered) {
+        let Gathered { rows, used, meets } = gathered;
         let cluster = Cluster {
             params,
             rows,
@@ -1580,12 +1610,41 @@ impl Planner<'_> {
             };
             self.changed.push(b);
         }
-        // Each contracted leg now swings onto the point it holds.
-        for (a, carried, target, serves) in meets {
-            self.meet(a, carried, target, &[serves]);
+        for Meet {
+            body,
+            carried,
+            target,
+            serves,
+        } in meets
+        {
+            self.meet(body, carried, target, &[serves]);
         }
-        true
     }
+}
+
+/// A numeric cluster as it is gathered: its rows, the equations they take,
+/// and the contracted legs to swing into place once it is solved.
+#[derive(Default)]
+struct Gathered {
+    /// The cluster's rows, in the order they are taken.
+    rows: Vec<ClusterRow>,
+    /// The equations the rows take.
+    used: Vec<usize>,
+    /// The contracted legs.
+    meets: Vec<Meet>,
+}
+
+/// A contracted leg: once the cluster is solved, `body` swings so that the
+/// point it carries meets `target`.
+struct Meet {
+    /// The body that swings.
+    body: usize,
+    /// The point it carries.
+    carried: PointRef,
+    /// The point that point must reach.
+    target: PointRef,
+    /// The equation it serves.
+    serves: String,
 }
 
 /// What a fragment acts on, worked out once by `apply` and read by the

@@ -510,96 +510,9 @@ fn spatial_command(
             }
             None => ExitCode::FAILURE,
         }),
-        Command::Simulate {
-            sweep: sweep_args,
-            policy,
-            branch,
-            json,
-            csv,
-            svg,
-            ..
-        } => {
-            let Some(sweep) = sweep_args.of(m) else {
-                return Ok(ExitCode::FAILURE);
-            };
-            let Some(plan) = spatial_plan(m) else {
-                return Ok(ExitCode::FAILURE);
-            };
-            let options = sweep_options(policy, branch);
-            let form = Form::of(json, csv);
-            let mut bar = progress::Frames::default();
-            outcome(spatial_report::simulate(
-                m,
-                &plan,
-                &sweep,
-                options,
-                form,
-                svg.as_deref(),
-                &mut bar,
-                out,
-            ))
-        }
-        Command::Drag {
-            marker,
-            to,
-            from,
-            steps,
-            policy,
-            json,
-            csv,
-            svg,
-            ..
-        } => {
-            let place = m.source.name.clone();
-            let (Ok(to), Ok(from)) = (to.of(3, &place), from.map(|f| f.of(3, &place)).transpose()) else {
-                return Ok(ExitCode::FAILURE);
-            };
-            let options = Options {
-                breaking: policy.into(),
-                ..Options::default()
-            };
-            let form = Form::of(json, csv);
-            let mut bar = progress::Frames::default();
-            outcome(spatial_report::drag(
-                m,
-                &marker,
-                from,
-                to,
-                steps as usize,
-                options,
-                form,
-                svg.as_deref(),
-                &mut bar,
-                out,
-            ))
-        }
-        Command::Analyze {
-            sweep: sweep_args,
-            rate,
-            json,
-            csv,
-            svg,
-            ..
-        } => {
-            let Some(sweep) = sweep_args.of(m) else {
-                return Ok(ExitCode::FAILURE);
-            };
-            let Some(plan) = spatial_plan(m) else {
-                return Ok(ExitCode::FAILURE);
-            };
-            let form = Form::of(json, csv);
-            let mut bar = progress::Frames::default();
-            outcome(spatial_analyze::analyze(
-                m,
-                &plan,
-                &sweep,
-                rate,
-                form,
-                svg.as_deref(),
-                &mut bar,
-                out,
-            ))
-        }
+        Command::Simulate { .. } => simulate_spatial(m, command, out),
+        Command::Drag { .. } => drag_spatial(m, command, out),
+        Command::Analyze { .. } => analyze_spatial(m, command, out),
         Command::Emit { .. } => Ok(match spatial_plan(m) {
             Some(plan) => {
                 write!(out, "{}", dofplan::emit::emit_spatial(&plan))?;
@@ -613,6 +526,126 @@ fn spatial_command(
         // Never a spatial file here (`spatial_file` leaves it to the editor).
         Command::Edit { file, port, open } => edit::run(file.as_deref(), port, open, out),
     }
+}
+
+/// `dofplan simulate` on a spatial file.
+fn simulate_spatial(
+    m: &dofplan::model::spatial::Mechanism,
+    command: Command,
+    out: &mut dyn Write,
+) -> io::Result<ExitCode> {
+    let Command::Simulate {
+        sweep: sweep_args,
+        policy,
+        branch,
+        json,
+        csv,
+        svg,
+        ..
+    } = command
+    else {
+        unreachable!("simulate_spatial is given a Simulate")
+    };
+    let Some(sweep) = sweep_args.of(m) else {
+        return Ok(ExitCode::FAILURE);
+    };
+    let Some(plan) = spatial_plan(m) else {
+        return Ok(ExitCode::FAILURE);
+    };
+    let options = sweep_options(policy, branch);
+    let form = Form::of(json, csv);
+    let mut bar = progress::Frames::default();
+    outcome(spatial_report::simulate(
+        m,
+        &plan,
+        &sweep,
+        options,
+        form,
+        svg.as_deref(),
+        &mut bar,
+        out,
+    ))
+}
+
+/// `dofplan drag` on a spatial file.
+fn drag_spatial(
+    m: &dofplan::model::spatial::Mechanism,
+    command: Command,
+    out: &mut dyn Write,
+) -> io::Result<ExitCode> {
+    let Command::Drag {
+        marker,
+        to,
+        from,
+        steps,
+        policy,
+        json,
+        csv,
+        svg,
+        ..
+    } = command
+    else {
+        unreachable!("drag_spatial is given a Drag")
+    };
+    let place = m.source.name.clone();
+    let (Ok(to), Ok(from)) = (to.of(3, &place), from.map(|f| f.of(3, &place)).transpose()) else {
+        return Ok(ExitCode::FAILURE);
+    };
+    let options = Options {
+        breaking: policy.into(),
+        ..Options::default()
+    };
+    let form = Form::of(json, csv);
+    let mut bar = progress::Frames::default();
+    outcome(spatial_report::drag(
+        m,
+        &marker,
+        from,
+        to,
+        steps as usize,
+        options,
+        form,
+        svg.as_deref(),
+        &mut bar,
+        out,
+    ))
+}
+
+/// `dofplan analyze` on a spatial file.
+fn analyze_spatial(
+    m: &dofplan::model::spatial::Mechanism,
+    command: Command,
+    out: &mut dyn Write,
+) -> io::Result<ExitCode> {
+    let Command::Analyze {
+        sweep: sweep_args,
+        rate,
+        json,
+        csv,
+        svg,
+        ..
+    } = command
+    else {
+        unreachable!("analyze_spatial is given an Analyze")
+    };
+    let Some(sweep) = sweep_args.of(m) else {
+        return Ok(ExitCode::FAILURE);
+    };
+    let Some(plan) = spatial_plan(m) else {
+        return Ok(ExitCode::FAILURE);
+    };
+    let form = Form::of(json, csv);
+    let mut bar = progress::Frames::default();
+    outcome(spatial_analyze::analyze(
+        m,
+        &plan,
+        &sweep,
+        rate,
+        form,
+        svg.as_deref(),
+        &mut bar,
+        out,
+    ))
 }
 
 /// The options of a sweep's frames: one that starts out of reach has no

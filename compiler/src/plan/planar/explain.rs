@@ -130,20 +130,7 @@ impl Plan {
     fn explain_in(&self, i: usize, lookup: &Lookup) -> String {
         let body = |b: &usize| self.bodies[*b].name.as_str();
         match &self.steps[i].kind {
-            StepKind::Orient { body: b, from, rel } => match rel {
-                Rel::Identity => format!(
-                    "{}: rotation of {}",
-                    body(b),
-                    from.as_ref().map_or("the ground", body)
-                ),
-                Rel::Input { input, inverse } => format!(
-                    "{}: rotation of {} {} input {}",
-                    body(b),
-                    from.as_ref().map_or("the ground", body),
-                    if *inverse { "minus" } else { "plus" },
-                    self.inputs[*input].name
-                ),
-            },
+            StepKind::Orient { body: b, from, rel } => self.orient_line(*b, *from, rel),
             StepKind::Anchor { body: b, local, at } => {
                 // An anchor followed by another write of the same body puts
                 // it on its line locus for now (Kramer's 1-TDOF state).
@@ -216,30 +203,11 @@ impl Plan {
                 self.line_name(a, lookup),
                 self.line_name(b, lookup)
             ),
-            StepKind::Cluster { params, .. } => {
+            StepKind::Cluster { index, params, .. } => {
                 let (u, e) = self.steps[i].kind.cluster_size();
-                let bodies: Vec<String> = params
-                    .iter()
-                    .map(|p| match p {
-                        ClusterParam::Free { body: b } => format!("{} (free)", body(b)),
-                        ClusterParam::Angle { body: b, at, .. } => {
-                            format!("{} (angle about {})", body(b), self.point_name_in(at, lookup))
-                        }
-                        ClusterParam::Hinge { body: b, name, .. } => {
-                            format!("{} (angle about {name})", body(b))
-                        }
-                        ClusterParam::Slide { body: b, dir } => {
-                            format!("{} (slide along {})", body(b), self.dir_name(dir))
-                        }
-                        ClusterParam::Translate { body: b } => format!("{} (translation)", body(b)),
-                    })
-                    .collect();
+                let bodies: Vec<String> = params.iter().map(|p| self.param_name(p, lookup)).collect();
                 format!(
-                    "cluster {}: {} by Newton–Raphson, {u} unknowns, {e} equations",
-                    match &self.steps[i].kind {
-                        StepKind::Cluster { index, .. } => *index,
-                        _ => 0,
-                    },
+                    "cluster {index}: {} by Newton–Raphson, {u} unknowns, {e} equations",
                     bodies.join(", ")
                 )
             }
@@ -259,6 +227,45 @@ impl Plan {
                 num(*kappa),
                 self.branch_symbol(*branch)
             ),
+        }
+    }
+
+    /// The explanation of an orient step: whose rotation body `b` takes,
+    /// and the input that turns it from there, if any.
+    fn orient_line(&self, b: usize, from: Option<usize>, rel: &Rel) -> String {
+        let body = |b: &usize| self.bodies[*b].name.as_str();
+        match rel {
+            Rel::Identity => format!(
+                "{}: rotation of {}",
+                body(&b),
+                from.as_ref().map_or("the ground", body)
+            ),
+            Rel::Input { input, inverse } => format!(
+                "{}: rotation of {} {} input {}",
+                body(&b),
+                from.as_ref().map_or("the ground", body),
+                if *inverse { "minus" } else { "plus" },
+                self.inputs[*input].name
+            ),
+        }
+    }
+
+    /// A cluster's unknown as its explanation names it: the body, and what
+    /// of its pose the unknown is.
+    fn param_name(&self, p: &ClusterParam, lookup: &Lookup) -> String {
+        let body = |b: &usize| self.bodies[*b].name.as_str();
+        match p {
+            ClusterParam::Free { body: b } => format!("{} (free)", body(b)),
+            ClusterParam::Angle { body: b, at, .. } => {
+                format!("{} (angle about {})", body(b), self.point_name_in(at, lookup))
+            }
+            ClusterParam::Hinge { body: b, name, .. } => {
+                format!("{} (angle about {name})", body(b))
+            }
+            ClusterParam::Slide { body: b, dir } => {
+                format!("{} (slide along {})", body(b), self.dir_name(dir))
+            }
+            ClusterParam::Translate { body: b } => format!("{} (translation)", body(b)),
         }
     }
 
