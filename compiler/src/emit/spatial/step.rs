@@ -304,8 +304,25 @@ impl Emitter<'_> {
     }
 }
 
-/// One action on `body`: the runtime call `interp::spatial::act` makes.
+/// One action on `body` (step `id`): the runtime call
+/// `interp::spatial::act` makes, a translation, a rotation, or a hinged
+/// body's pose set outright.
 fn act(b: &mut Block, body: usize, action: &Action, id: &Literal) -> TokenStream {
+    match action {
+        Action::TranslateOnto { .. }
+        | Action::TranslateAlong { .. }
+        | Action::TranslateInPlane { .. }
+        | Action::TranslateToLine { .. }
+        | Action::TranslateToPlane { .. }
+        | Action::SlideTo { .. } => translate(b, body, action),
+        Action::Twist { .. } => twist(b, body, action),
+        Action::Hinge { .. } => hinge(b, body, action),
+        _ => rotate(b, body, action, id),
+    }
+}
+
+/// A translation: the body keeps its rotation.
+fn translate(b: &mut Block, body: usize, action: &Action) -> TokenStream {
     let pose = state_pose(body);
     match action {
         Action::TranslateOnto { from, to } => {
@@ -345,6 +362,15 @@ fn act(b: &mut Block, body: usize, action: &Action, id: &Literal) -> TokenStream
             let at = plus_input(*axial0, b.slit(*axial0), quote!(inputs[#i]));
             quote!(spatial::slide_to(&mut #pose, #o, #f, #u, #at, #sign);)
         }
+        _ => unreachable!("not a translation"),
+    }
+}
+
+/// A rotation about a point or an axis (a branch for a rotation to a
+/// condition, whose sine the slot keeps).
+fn rotate(b: &mut Block, body: usize, action: &Action, id: &Literal) -> TokenStream {
+    let pose = state_pose(body);
+    match action {
         Action::RotateOnto { pivot, from, to } => {
             let (c, f, t) = (b.point(pivot), b.point(from), b.point(to));
             quote!(spatial::rotate_about_point(&mut #pose, #c, spatial::sub(#f, #c), spatial::sub(#t, #c));)
@@ -373,45 +399,6 @@ fn act(b: &mut Block, body: usize, action: &Action, id: &Literal) -> TokenStream
             let (f, t) = (b.dir(from, "from_dir"), b.dir(to, "to_dir"));
             quote!(spatial::rotate_about_axis_dir(&mut #pose, #c, #a, #f, #t);)
         }
-        Action::Twist {
-            pivot,
-            axis,
-            x1,
-            x2,
-            angle,
-            input,
-            sign,
-        } => {
-            let (c, a) = (b.point(pivot), b.dir(axis, "axis"));
-            let (u1, u2) = (b.dir(x1, "x1"), b.dir(x2, "x2"));
-            // The interpreter's target: the angle in degrees plus the input,
-            // turned into a cos/sin pair by `Rot::from_degrees`; with no input
-            // it adds 0, folded here to the same number.
-            let target = match input {
-                Some(i) => {
-                    let (degrees, i) = (angle.to_degrees(), index(*i));
-                    let at = plus_input(degrees, b.slit(degrees), quote!(inputs[#i]));
-                    if b.jets {
-                        quote!(dofplan_runtime::Rot::from_degrees_jet(#at))
-                    } else {
-                        quote!(dofplan_runtime::Rot::from_degrees(#at))
-                    }
-                }
-                None if b.jets => {
-                    let degrees = lit(angle.to_degrees() + 0.0);
-                    quote!(dofplan_runtime::Rot::cst(dofplan_runtime::Rot::from_degrees(#degrees)))
-                }
-                None => {
-                    let degrees = lit(angle.to_degrees() + 0.0);
-                    quote!(dofplan_runtime::Rot::from_degrees(#degrees))
-                }
-            };
-            let sign = lit(*sign);
-            quote! {
-                let (sin, cos) = spatial::twist_correction(#a, #u1, #u2, #target, #sign);
-                spatial::rotate_about_axis_angle(&mut #pose, #c, #a, cos, sin);
-            }
-        }
         Action::AxisCondition {
             pivot,
             axis,
@@ -435,33 +422,86 @@ fn act(b: &mut Block, body: usize, action: &Action, id: &Literal) -> TokenStream
             let cos = lit(*cos);
             quote!(spatial::tilt(&mut #pose, #c, #f, #t, #cos);)
         }
-        Action::Hinge { pivot, axis, turn } => {
-            let (c, a) = (vec_lit(*pivot), vec_lit(*axis));
-            match turn {
-                HingeTurn::Degrees { offset, input, sign } => {
-                    // The interpreter's `sign·(offset + input)`, the same
-                    // operations in the same order (with no input, the
-                    // number it computes, folded here).
-                    let degrees = match input {
-                        // On jets `x.mul_f64(k)`, the same product as `k * x`.
-                        Some(i) => {
-                            let i = index(*i);
-                            let sum = plus_input(*offset, b.slit(*offset), quote!(inputs[#i]));
-                            times(*sign, sum, b.jets, *offset != 0.0)
-                        }
-                        None => b.slit(sign * (offset + 0.0)),
-                    };
-                    quote!(spatial::hinge_degrees(&mut #pose, #c, #a, #degrees);)
-                }
-                HingeTurn::Onto { from, to } => {
-                    let (f, t) = (vec_lit(*from), b.point(to));
-                    quote!(spatial::hinge_onto(&mut #pose, #c, #a, #f, #t);)
-                }
-                HingeTurn::Dir { from, to } => {
-                    let (f, t) = (vec_lit(*from), b.dir(to, "to_dir"));
-                    quote!(spatial::hinge_dir(&mut #pose, #c, #a, #f, #t);)
-                }
+        _ => unreachable!("not a rotation"),
+    }
+}
+
+/// A twist about a joint's axis to its angle, plus the input's.
+fn twist(b: &mut Block, body: usize, action: &Action) -> TokenStream {
+    let pose = state_pose(body);
+    let Action::Twist {
+        pivot,
+        axis,
+        x1,
+        x2,
+        angle,
+        input,
+        sign,
+    } = action
+    else {
+        unreachable!("a twist")
+    };
+    let (c, a) = (b.point(pivot), b.dir(axis, "axis"));
+    let (u1, u2) = (b.dir(x1, "x1"), b.dir(x2, "x2"));
+    // The interpreter's target: the angle in degrees plus the input,
+    // turned into a cos/sin pair by `Rot::from_degrees`; with no input
+    // it adds 0, folded here to the same number.
+    let target = match input {
+        Some(i) => {
+            let (degrees, i) = (angle.to_degrees(), index(*i));
+            let at = plus_input(degrees, b.slit(degrees), quote!(inputs[#i]));
+            if b.jets {
+                quote!(dofplan_runtime::Rot::from_degrees_jet(#at))
+            } else {
+                quote!(dofplan_runtime::Rot::from_degrees(#at))
             }
+        }
+        None if b.jets => {
+            let degrees = lit(angle.to_degrees() + 0.0);
+            quote!(dofplan_runtime::Rot::cst(dofplan_runtime::Rot::from_degrees(#degrees)))
+        }
+        None => {
+            let degrees = lit(angle.to_degrees() + 0.0);
+            quote!(dofplan_runtime::Rot::from_degrees(#degrees))
+        }
+    };
+    let sign = lit(*sign);
+    quote! {
+        let (sin, cos) = spatial::twist_correction(#a, #u1, #u2, #target, #sign);
+        spatial::rotate_about_axis_angle(&mut #pose, #c, #a, cos, sin);
+    }
+}
+
+/// A body hinged on a fixed line, its pose set outright from the drawn one.
+fn hinge(b: &mut Block, body: usize, action: &Action) -> TokenStream {
+    let pose = state_pose(body);
+    let Action::Hinge { pivot, axis, turn } = action else {
+        unreachable!("a hinge")
+    };
+    let (c, a) = (vec_lit(*pivot), vec_lit(*axis));
+    match turn {
+        HingeTurn::Degrees { offset, input, sign } => {
+            // The interpreter's `sign·(offset + input)`, the same
+            // operations in the same order (with no input, the
+            // number it computes, folded here).
+            let degrees = match input {
+                // On jets `x.mul_f64(k)`, the same product as `k * x`.
+                Some(i) => {
+                    let i = index(*i);
+                    let sum = plus_input(*offset, b.slit(*offset), quote!(inputs[#i]));
+                    times(*sign, sum, b.jets, *offset != 0.0)
+                }
+                None => b.slit(sign * (offset + 0.0)),
+            };
+            quote!(spatial::hinge_degrees(&mut #pose, #c, #a, #degrees);)
+        }
+        HingeTurn::Onto { from, to } => {
+            let (f, t) = (vec_lit(*from), b.point(to));
+            quote!(spatial::hinge_onto(&mut #pose, #c, #a, #f, #t);)
+        }
+        HingeTurn::Dir { from, to } => {
+            let (f, t) = (vec_lit(*from), b.dir(to, "to_dir"));
+            quote!(spatial::hinge_dir(&mut #pose, #c, #a, #f, #t);)
         }
     }
 }

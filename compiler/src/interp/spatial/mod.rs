@@ -240,6 +240,8 @@ fn check_gap_at<T: Real>(poses: &[Pose3<T>], r: &CheckRow, inputs: &[f64]) -> f6
     r.kind.gap(&f1, &f2, inputs)
 }
 
+/// Moves body `body` by one action of step `id`: a translation, a
+/// rotation, or a hinged body's pose set outright.
 fn act<T: Degrees>(
     s: &mut Work<T>,
     body: usize,
@@ -248,6 +250,21 @@ fn act<T: Degrees>(
     ctx: &mut Ctx,
     id: u32,
 ) -> Result<(), Break> {
+    match a {
+        Action::TranslateOnto { .. }
+        | Action::TranslateAlong { .. }
+        | Action::TranslateInPlane { .. }
+        | Action::TranslateToLine { .. }
+        | Action::TranslateToPlane { .. }
+        | Action::SlideTo { .. } => translate(s, body, a, inputs),
+        Action::Hinge { .. } => hinge(s, body, a, inputs),
+        _ => rotate(s, body, a, inputs, ctx, id)?,
+    }
+    Ok(())
+}
+
+/// The translations: the body keeps its rotation.
+fn translate<T: Degrees>(s: &mut Work<T>, body: usize, a: &Action, inputs: &[T]) {
     let p = |s: &Work<T>, q: &PointRef| s.point(q, inputs);
     let d = |s: &Work<T>, v: &DirRef| s.dir(v, inputs);
     match a {
@@ -297,6 +314,23 @@ fn act<T: Degrees>(
                 *sign,
             );
         }
+        _ => unreachable!("not a translation"),
+    }
+}
+
+/// The rotations about a point or an axis (a branch for a rotation to a
+/// condition, whose sine the slot keeps).
+fn rotate<T: Degrees>(
+    s: &mut Work<T>,
+    body: usize,
+    a: &Action,
+    inputs: &[T],
+    ctx: &mut Ctx,
+    id: u32,
+) -> Result<(), Break> {
+    let p = |s: &Work<T>, q: &PointRef| s.point(q, inputs);
+    let d = |s: &Work<T>, v: &DirRef| s.dir(v, inputs);
+    match a {
         Action::RotateOnto { pivot, from, to } => {
             let (c, f, t) = (p(s, pivot), p(s, from), p(s, to));
             spatial::rotate_about_point(&mut s.poses[body], c, sub(f, c), sub(t, c));
@@ -359,24 +393,34 @@ fn act<T: Degrees>(
             let (c, f, t) = (p(s, pivot), d(s, from), d(s, to));
             spatial::tilt(&mut s.poses[body], c, f, t, *cos);
         }
-        Action::Hinge { pivot, axis, turn } => match turn {
-            HingeTurn::Degrees { offset, input, sign } => {
-                // `(offset + input)·sign`, the same product as the
-                // generated `sign * (offset + input)`.
-                let degrees = (T::cst(*offset) + input.map_or(T::cst(0.0), |i| inputs[i])).mul_f64(*sign);
-                spatial::hinge_degrees(&mut s.poses[body], *pivot, *axis, degrees);
-            }
-            HingeTurn::Onto { from, to } => {
-                let t = p(s, to);
-                spatial::hinge_onto(&mut s.poses[body], *pivot, *axis, *from, t);
-            }
-            HingeTurn::Dir { from, to } => {
-                let t = d(s, to);
-                spatial::hinge_dir(&mut s.poses[body], *pivot, *axis, *from, t);
-            }
-        },
+        _ => unreachable!("not a rotation"),
     }
     Ok(())
+}
+
+/// A body hinged on a fixed line, its pose set outright from the drawn one.
+fn hinge<T: Degrees>(s: &mut Work<T>, body: usize, a: &Action, inputs: &[T]) {
+    let p = |s: &Work<T>, q: &PointRef| s.point(q, inputs);
+    let d = |s: &Work<T>, v: &DirRef| s.dir(v, inputs);
+    let Action::Hinge { pivot, axis, turn } = a else {
+        unreachable!("a hinge")
+    };
+    match turn {
+        HingeTurn::Degrees { offset, input, sign } => {
+            // `(offset + input)·sign`, the same product as the
+            // generated `sign * (offset + input)`.
+            let degrees = (T::cst(*offset) + input.map_or(T::cst(0.0), |i| inputs[i])).mul_f64(*sign);
+            spatial::hinge_degrees(&mut s.poses[body], *pivot, *axis, degrees);
+        }
+        HingeTurn::Onto { from, to } => {
+            let t = p(s, to);
+            spatial::hinge_onto(&mut s.poses[body], *pivot, *axis, *from, t);
+        }
+        HingeTurn::Dir { from, to } => {
+            let t = d(s, to);
+            spatial::hinge_dir(&mut s.poses[body], *pivot, *axis, *from, t);
+        }
+    }
 }
 
 /// The point on both `loci` at the working poses: the runtime step for the
