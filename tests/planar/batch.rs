@@ -189,7 +189,8 @@ fn spatial_rows(m: &dofplan::model::spatial::Mechanism, max: usize, reach: f64) 
 }
 
 /// Every compiled spatial plan's `solve_batch` (the module's, through the
-/// `Batch` impl) is the driver's run frame by frame, to the bit: every
+/// `Batch` impl) is the driver's run frame by frame, to the bit, and the
+/// interpreter's batch the same to round-off: every
 /// status and every pose, on its sweep and, for the plans in closed form,
 /// on the sweep stretched past its limits. A spatial frame moves each body
 /// from its last pose (idle freedoms and composed rotations carry over),
@@ -227,6 +228,30 @@ fn compiled_spatial_batches_equal_the_driver() {
                 plan.solve_batch(&flat, &mut out, &mut status);
                 assert_eq!(status, want_status, "{name} ({what}): statuses");
                 assert!(out == want, "{name} ({what}): poses differ from the driver's");
+                // The interpreter's batch is the compiled one's, to 1e-12
+                // of the size (the two back ends agree to round-off).
+                let interp = dofplan::interp::spatial::Interpreter::new(plan_spatial(&m));
+                let mut again = vec![Pose3::IDENTITY; want.len()];
+                let mut again_status = vec![FrameStatus::Solved; rows.len()];
+                interp.solve_batch(&flat, &mut again, &mut again_status);
+                assert_eq!(
+                    again_status, status,
+                    "{name} ({what}): the interpreter's statuses"
+                );
+                // Each pose by its origin and two of its axes, scaled.
+                let size = m.size().max(1.0);
+                let gap = (again.iter().zip(&out))
+                    .flat_map(|(a, b)| {
+                        let (ex, ey) = (a.dir([1.0, 0.0, 0.0]), a.dir([0.0, 1.0, 0.0]));
+                        let (fx, fy) = (b.dir([1.0, 0.0, 0.0]), b.dir([0.0, 1.0, 0.0]));
+                        (0..3).map(move |k| {
+                            ((a.pos[k] - b.pos[k]).abs())
+                                .max(size * (ex[k] - fx[k]).abs())
+                                .max(size * (ey[k] - fy[k]).abs())
+                        })
+                    })
+                    .fold(0.0_f64, f64::max);
+                assert!(gap <= 1e-12 * size, "{name} ({what}): interpreter off by {gap:e}");
                 limited += status.iter().filter(|s| !s.is_solved()).count();
                 // Each solved frame again from the drawn pose.
                 let b = want.len() / rows.len().max(1);

@@ -510,3 +510,8 @@ impl Solver for Interpreter {
         result
     }
 }
+
+/// A spatial plan's frames depend on each other (each action moves a body
+/// from its last pose), so a batch runs them in order, as the driver
+/// would: the `Batch` defaults.
+impl dofplan_runtime::Batch for Interpreter {}
