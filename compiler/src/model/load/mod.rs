@@ -222,7 +222,7 @@ pub fn is_spatial_file(path: &Path) -> bool {
     }
 }
 
-/// A mechanism of either dimension as drawn: [`Drawn`] or [`Drawn3`].
+/// A mechanism of either dimension as drawn: [`Drawn`] or [`spatial::Drawn`].
 #[derive(Clone, Debug)]
 pub enum DrawnModel {
     /// A planar mechanism (`dimension` absent or 2).
