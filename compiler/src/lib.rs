@@ -71,6 +71,8 @@
 //! - [`render`]: the SVG picture of a sweep or a drag.
 //! - [`edit`]: the editor's documents, sessions and edits (`dofplan edit`).
 //! - [`simulate`]: sweeps, frames and the kinematics `analyze` reports.
+//! - [`synth`]: design parameters (the drawn joint positions), candidates
+//!   planned from them, and exact derivatives with respect to them.
 //! - [`report`]: the reports of the CLI's commands (`check`, …), as text
 //!   or JSON.
 //! - [`mod@format`]: how numbers are printed, the same in every output.
@@ -89,5 +91,6 @@ pub mod plan;
 pub mod render;
 pub mod report;
 pub mod simulate;
+pub mod synth;
 
 pub use conflict::{load_any, load_any_str, load_file, load_str};

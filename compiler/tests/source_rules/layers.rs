@@ -40,7 +40,7 @@ const COMPILER: &[&[&str]] = &[
     // the loader's callers.
     &["conflict"],
     // What users run on top of plans.
-    &["assemble", "simulate"],
+    &["assemble", "simulate", "synth"],
     &["render", "build"],
     // The commands' reports: they may draw (`analyze --svg`).
     &["report"],

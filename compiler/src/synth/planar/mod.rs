@@ -1,0 +1,12 @@
+//! Synthesis of planar mechanisms: [`Design`] (parameters and candidates)
+//! and [`sensitivity`] (the exact derivatives of a frame's poses with
+//! respect to the parameters), [`worst_case`] and [`monte_carlo`] (what
+//! tolerances on the dimensions do to a marker).
+
+mod gradient;
+mod params;
+mod tolerance;
+
+pub use gradient::{sensitivity, Sensitivity};
+pub use params::{Candidate, Design, Node};
+pub use tolerance::{monte_carlo, worst_case, Spread};

@@ -1,0 +1,253 @@
+//! A planar mechanism's design parameters and the candidates made from
+//! them.
+
+use dofplan_runtime::{Point, Solver};
+
+use crate::analysis::analyse;
+use crate::interp::Interpreter;
+use crate::model::{ConstraintKind, MarkerId, Mechanism};
+use crate::plan::Plan;
+use crate::synth::SynthError;
+
+/// Markers that move together when a parameter changes: those a joint (or
+/// a coincident or in-line constraint) ties, each kept at its drawn offset
+/// from the node's position — zero for a revolute joint's markers, the
+/// drawn offset along the slide for a prismatic joint's.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Node {
+    /// The joint that names it, or "body.marker" for a free marker.
+    pub name: String,
+    /// Its drawn position (its first marker's).
+    pub at: Point,
+    /// Its markers and their drawn offsets from `at`.
+    pub markers: Vec<(MarkerId, Point)>,
+}
+
+/// A planar mechanism seen as a function of its design parameters.
+#[derive(Clone, Debug)]
+pub struct Design {
+    base: Mechanism,
+    plan: Plan,
+    nodes: Vec<Node>,
+    /// Each marker's node, body by body.
+    node_of: Vec<Vec<usize>>,
+    names: Vec<String>,
+}
+
+/// A candidate drawing, planned and ready to run frames.
+#[derive(Clone, Debug)]
+pub struct Candidate {
+    /// The mechanism with the candidate's marker positions.
+    pub mechanism: Mechanism,
+    /// Its plan's interpreter (the original plan's steps, the candidate's
+    /// constants and branches).
+    pub interpreter: Interpreter,
+}
+
+impl Design {
+    /// The design of `m`, whose drawing must have a plan (the original
+    /// every candidate keeps the topology and step order of).
+    pub fn new(m: &Mechanism) -> Result<Design, SynthError> {
+        let plan = analyse(m).plan.map_err(|e| SynthError::Plan {
+            reason: e.to_string(),
+        })?;
+        let mut node_of: Vec<Vec<usize>> = m
+            .bodies
+            .iter()
+            .map(|b| vec![usize::MAX; b.markers.len()])
+            .collect();
+        let mut nodes: Vec<Node> = Vec::new();
+        let ties = (m.joints.iter()).map(|j| (j.name.clone(), j.markers)).chain(
+            (m.constraints.iter())
+                .filter(|c| matches!(c.kind, ConstraintKind::Coincident | ConstraintKind::InLine))
+                .map(|c| (c.name.clone(), c.markers)),
+        );
+        for (name, [a, b]) in ties {
+            let (na, nb) = (node_of[a.body][a.marker], node_of[b.body][b.marker]);
+            let keep = match (na, nb) {
+                (usize::MAX, usize::MAX) => {
+                    nodes.push(Node {
+                        name,
+                        at: m.marker(a).at,
+                        markers: Vec::new(),
+                    });
+                    nodes.len() - 1
+                }
+                (usize::MAX, n) | (n, usize::MAX) => n,
+                (x, y) => x.min(y),
+            };
+            for id in [a, b] {
+                let old = node_of[id.body][id.marker];
+                if old == keep {
+                    continue;
+                }
+                // Merging two nodes: every marker of the later one moves over.
+                let members: Vec<MarkerId> = if old == usize::MAX {
+                    vec![id]
+                } else {
+                    std::mem::take(&mut nodes[old].markers)
+                        .into_iter()
+                        .map(|(k, _)| k)
+                        .collect()
+                };
+                for k in members {
+                    node_of[k.body][k.marker] = keep;
+                    let at = m.marker(k).at;
+                    let base = nodes[keep].at;
+                    nodes[keep].markers.push((k, [at[0] - base[0], at[1] - base[1]]));
+                }
+            }
+        }
+        for id in m.all_markers() {
+            if node_of[id.body][id.marker] == usize::MAX {
+                node_of[id.body][id.marker] = nodes.len();
+                nodes.push(Node {
+                    name: m.marker_name(id),
+                    at: m.marker(id).at,
+                    markers: vec![(id, [0.0, 0.0])],
+                });
+            }
+        }
+        // Nodes emptied by merges are dropped, the indices renumbered.
+        let mut renumber = vec![usize::MAX; nodes.len()];
+        let mut kept = Vec::new();
+        for (i, n) in nodes.into_iter().enumerate() {
+            if !n.markers.is_empty() {
+                renumber[i] = kept.len();
+                kept.push(n);
+            }
+        }
+        for row in &mut node_of {
+            for n in row.iter_mut() {
+                *n = renumber[*n];
+            }
+        }
+        let names = kept
+            .iter()
+            .flat_map(|n| [format!("{}.x", n.name), format!("{}.y", n.name)])
+            .collect();
+        Ok(Design {
+            base: m.clone(),
+            plan,
+            nodes: kept,
+            node_of,
+            names,
+        })
+    }
+
+    /// The mechanism as drawn.
+    pub fn mechanism(&self) -> &Mechanism {
+        &self.base
+    }
+
+    /// The plan every candidate follows.
+    pub fn plan(&self) -> &Plan {
+        &self.plan
+    }
+
+    /// The nodes, in parameter order (node `n` is parameters `2n`, `2n + 1`).
+    pub fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+
+    /// The parameters' names, in order: `NAME.x`, `NAME.y` per node.
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// The index of a parameter by name.
+    pub fn index(&self, name: &str) -> Result<usize, SynthError> {
+        self.names
+            .iter()
+            .position(|n| n == name)
+            .ok_or_else(|| SynthError::UnknownParameter {
+                name: name.to_string(),
+                known: self.names.clone(),
+            })
+    }
+
+    /// The node a marker moves with.
+    pub fn node_of(&self, id: MarkerId) -> usize {
+        self.node_of[id.body][id.marker]
+    }
+
+    /// The parameters' drawn values.
+    pub fn drawn(&self) -> Vec<f64> {
+        self.nodes.iter().flat_map(|n| n.at).collect()
+    }
+
+    /// The mechanism with the markers where `values` put them.
+    pub fn drawing(&self, values: &[f64]) -> Result<Mechanism, SynthError> {
+        if values.len() != self.names.len() {
+            return Err(SynthError::WrongLength {
+                given: values.len(),
+                expected: self.names.len(),
+            });
+        }
+        if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+            return Err(SynthError::NotFinite {
+                name: self.names[k].clone(),
+            });
+        }
+        let mut m = self.base.clone();
+        for (n, node) in self.nodes.iter().enumerate() {
+            let at = [values[2 * n], values[2 * n + 1]];
+            for (id, off) in &node.markers {
+                // A coordinate left as drawn keeps the drawn marker exactly
+                // (node + offset may differ from it in the last bit).
+                let marker = &mut m.bodies[id.body].markers[id.marker].at;
+                for k in 0..2 {
+                    if at[k] != node.at[k] {
+                        marker[k] = at[k] + off[k];
+                    }
+                }
+            }
+        }
+        Ok(m)
+    }
+
+    /// The candidate drawn at `values`: planned as a file is (constants from
+    /// the new drawing, branches chosen so the plan reproduces it), with the
+    /// original plan's steps in the original order.
+    pub fn prepare(&self, values: &[f64]) -> Result<Candidate, SynthError> {
+        let mechanism = self.drawing(values)?;
+        let plan = analyse(&mechanism).plan.map_err(|e| SynthError::Plan {
+            reason: e.to_string(),
+        })?;
+        if let Some(i) = first_difference(&self.plan, &plan) {
+            return Err(SynthError::PlanChanged {
+                step: self.plan.explain(i),
+            });
+        }
+        Ok(Candidate {
+            mechanism,
+            interpreter: Interpreter::new(plan),
+        })
+    }
+}
+
+/// The first step at which `b` is not the same plan as `a` up to its
+/// constants (`Some(steps)` when `b` has another length).
+fn first_difference(a: &Plan, b: &Plan) -> Option<usize> {
+    let same = |i: usize| {
+        let (x, y) = (&a.steps[i], &b.steps[i]);
+        std::mem::discriminant(&x.kind) == std::mem::discriminant(&y.kind)
+            && x.kind.writes() == y.kind.writes()
+            && x.kind.computes() == y.kind.computes()
+            && x.kind.branch() == y.kind.branch()
+            && x.kind.cluster_size() == y.kind.cluster_size()
+            && x.serves == y.serves
+    };
+    let n = a.steps.len().min(b.steps.len());
+    (0..n)
+        .find(|&i| !same(i))
+        .or((a.steps.len() != b.steps.len()).then_some(n.min(a.steps.len().saturating_sub(1))))
+}
+
+impl Candidate {
+    /// The frame at the drawn pose (every input 0), which a candidate
+    /// reproduces by construction: the state to run its frames from.
+    pub fn initial_state(&self) -> <Interpreter as Solver>::State {
+        self.interpreter.initial_state()
+    }
+}

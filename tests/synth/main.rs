@@ -1,0 +1,6 @@
+//! Design synthesis: parameters, candidates and the derivatives with
+//! respect to the dimensions, checked against hand derivations and central
+//! differences.
+
+mod gradients;
+mod tolerance;
