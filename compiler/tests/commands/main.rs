@@ -9,6 +9,7 @@ mod cli;
 mod docs_links;
 mod docs_pictures;
 mod readme;
+mod sensitivity;
 mod spatial_analyze;
 mod spatial_build;
 mod user_docs;

@@ -22,6 +22,7 @@ use dofplan::plan::Plan;
 use dofplan::report::planar::analyze;
 use dofplan::report::planar::check::Check;
 use dofplan::report::planar::frames::{self, Solver};
+use dofplan::report::planar::sensitivity::{self, Study};
 use dofplan::report::spatial as spatial_report;
 use dofplan::report::spatial::analyze as spatial_analyze;
 use dofplan::report::{Form, Outcome};
@@ -206,6 +207,28 @@ enum Command {
         /// --svg` draws the paths in space).
         #[arg(long, value_name = "OUT")]
         svg: Option<PathBuf>,
+        /// Instead of rates: how each traced marker's path depends on the
+        /// design parameters (every joint's drawn position, JOINT.x and
+        /// JOINT.y, and every free marker's, body.marker.x): its exact
+        /// derivative with respect to each over the sweep, the parameters
+        /// ranked by their largest effect. With --json, every frame's
+        /// derivatives. Planar files.
+        #[arg(long, conflicts_with_all = ["csv", "svg"])]
+        sensitivity: bool,
+        /// With --sensitivity: the worst-case first-order deviation of
+        /// each traced marker when every parameter may be off by ±T
+        /// (length units).
+        #[arg(long, value_name = "T", requires = "sensitivity", allow_hyphen_values = true, value_parser = parse_positive)]
+        tolerance: Option<f64>,
+        /// With --tolerance: also run N candidates with every parameter
+        /// drawn uniformly within ±T and report the largest and mean
+        /// deviation they reach, beside the first-order bound.
+        #[arg(long, value_name = "N", requires = "tolerance")]
+        monte_carlo: Option<usize>,
+        /// The Monte-Carlo candidates' seed (the same seed, the same
+        /// candidates).
+        #[arg(long, default_value_t = 1, requires = "monte_carlo")]
+        seed: u64,
     },
     /// Open the mechanism in the interactive editor: a local web page that
     /// draws it, animates its inputs and lets any moving body be dragged.
@@ -443,12 +466,24 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
             json,
             csv,
             svg,
+            sensitivity,
+            tolerance,
+            monte_carlo,
+            seed,
         } => with_plan(&file, |m, plan| {
             let Some(sweep) = sweep_args.of(m) else {
                 return Ok(ExitCode::FAILURE);
             };
-            let mut bar = progress::Frames::default();
             let form = Form::of(json, csv);
+            if sensitivity {
+                let study = Study {
+                    tolerance,
+                    monte_carlo,
+                    seed,
+                };
+                return outcome(sensitivity::run(m, &sweep, study, form, out));
+            }
+            let mut bar = progress::Frames::default();
             outcome(analyze::analyze(
                 m,
                 plan,
@@ -512,6 +547,15 @@ fn spatial_command(
         }),
         Command::Simulate { .. } => simulate_spatial(m, command, out),
         Command::Drag { .. } => drag_spatial(m, command, out),
+        Command::Analyze {
+            sensitivity: true, ..
+        } => {
+            report(&format!(
+                "{}: error: --sensitivity works on planar files for now; a spatial plan's derivatives with respect to its dimensions are not computed yet",
+                m.source.name
+            ));
+            Ok(ExitCode::FAILURE)
+        }
         Command::Analyze { .. } => analyze_spatial(m, command, out),
         Command::Emit { .. } => Ok(match spatial_plan(m) {
             Some(plan) => {
@@ -827,6 +871,13 @@ impl Target {
 }
 
 /// Parses a finite number.
+fn parse_positive(text: &str) -> Result<f64, String> {
+    match parse_finite(text)? {
+        x if x > 0.0 => Ok(x),
+        _ => Err(format!("`{text}` is not a positive number")),
+    }
+}
+
 fn parse_finite(text: &str) -> Result<f64, String> {
     let x: f64 = text
         .trim()

@@ -5,3 +5,4 @@
 pub mod analyze;
 pub mod check;
 pub mod frames;
+pub mod sensitivity;
