@@ -252,6 +252,34 @@ fn rewrite_closed<C: Closing>(
     })
 }
 
+/// A mechanism file's text with markers moved to new positions (`(body,
+/// marker, position)`), nothing else changed: in TOML comments, key order
+/// and layout are kept; JSON keeps its key order. Numbers are written with
+/// the fewest decimals within [`WRITTEN_PRECISION`] of `size`. Synthesis
+/// writes its solutions with it.
+pub fn rewrite_positions(
+    text: &str,
+    format: Format,
+    size: f64,
+    moved: &[(String, String, Vec<f64>)],
+) -> Result<String, String> {
+    let edits: Vec<Edit> = (moved.iter())
+        .map(|(body, marker, at)| Edit {
+            body: body.clone(),
+            marker: marker.clone(),
+            at: Some(at.clone()),
+            dirs: Vec::new(),
+            keep_length: false,
+            size,
+        })
+        .collect();
+    let written = match format {
+        Format::Toml => rewrite_toml(text, &edits),
+        Format::Json => rewrite_json(text, &edits),
+    };
+    written.map(|(text, _)| text)
+}
+
 /// The error when the joints cannot all close near the drawn pose: the
 /// loader's own diagnostics (`assembled`: the joints in conflict, named at
 /// their positions), or a plain one should the loader find none.

@@ -17,6 +17,8 @@
 //! derivatives).
 
 pub mod planar;
+pub mod search;
+pub mod target;
 
 use std::fmt;
 
@@ -63,6 +65,21 @@ pub enum SynthError {
         /// Independent equations among them.
         equations: usize,
     },
+    /// A varied parameter's box does not hold its drawn value: the search
+    /// starts from the drawing, which must be a candidate.
+    Bounds {
+        /// The parameter.
+        name: String,
+        /// Its drawn value.
+        value: f64,
+        /// The box asked for.
+        bounds: [f64; 2],
+    },
+    /// The goal cannot be set up on this mechanism.
+    Goal {
+        /// Why.
+        reason: String,
+    },
     /// The derivatives do not exist at this frame: the mechanism is at a
     /// dead point (or has a freedom the equations leave open), where a
     /// change of dimensions moves it by an unbounded amount.
@@ -94,6 +111,12 @@ impl fmt::Display for SynthError {
                 "the inputs leave {} freedom(s) open ({unknowns} unknowns, {equations} independent equations): the poses depend on the path taken, not only on the dimensions, so they have no derivatives with respect to them; add inputs for the idle freedoms",
                 unknowns - equations
             ),
+            SynthError::Bounds { name, value, bounds } => write!(
+                f,
+                "the bounds of {name}, [{}, {}], exclude its drawn value {}: widen them, or move the drawing inside",
+                bounds[0], bounds[1], value
+            ),
+            SynthError::Goal { reason } => write!(f, "{reason}"),
             SynthError::Singular { ratio } => write!(
                 f,
                 "the derivatives with respect to the dimensions do not exist here: the equations are singular (smallest/largest singular value {ratio:.2e}), a dead point or a freedom left open"

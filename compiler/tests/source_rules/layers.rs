@@ -40,7 +40,9 @@ const COMPILER: &[&[&str]] = &[
     // the loader's callers.
     &["conflict"],
     // What users run on top of plans.
-    &["assemble", "simulate", "synth"],
+    &["assemble", "simulate"],
+    // Synthesis writes its solutions as `assemble` rewrites a file.
+    &["synth"],
     &["render", "build"],
     // The commands' reports: they may draw (`analyze --svg`).
     &["report"],

@@ -5,8 +5,12 @@
 
 mod gradient;
 mod params;
+mod problem;
+mod solve;
 mod tolerance;
 
 pub use gradient::{sensitivity, Sensitivity};
 pub use params::{Candidate, Design, Node};
+pub use problem::{link_ratio, output, Constraints, Goal, Margin, Problem};
+pub use solve::{problem, stats, synthesize, ErrorStats, Kind, Request, Solution, Synthesis};
 pub use tolerance::{monte_carlo, worst_case, Spread};
