@@ -3,4 +3,5 @@
 //! differences.
 
 mod gradients;
+mod recovery;
 mod tolerance;
