@@ -12,4 +12,5 @@ mod readme;
 mod sensitivity;
 mod spatial_analyze;
 mod spatial_build;
+mod synth;
 mod user_docs;

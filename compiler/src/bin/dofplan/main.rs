@@ -30,6 +30,7 @@ use dofplan::simulate::{sweep_to_run, SweepSource};
 use dofplan_runtime::{BranchPolicy, BreakPolicy, Options, StartPolicy};
 
 mod progress;
+mod synth;
 
 mod edit;
 
@@ -249,6 +250,17 @@ enum Command {
         #[arg(long)]
         open: bool,
     },
+    /// Find dimensions: path, function or motion generation on the file's
+    /// topology, by a global search over a box of joint positions polished
+    /// with exact gradients; the best solutions verified from the file
+    /// written.
+    ///
+    /// Path: `--marker BODY.M --path TARGET.csv [--timing given|free]`;
+    /// function: `--function PAIRS.csv --output JOINT`; motion: `--motion
+    /// POSES.csv --body NAME [--marker BODY.M]`. Every parameter the
+    /// drawing has is varied unless `--vary` names some; the drawing must
+    /// lie inside `--bounds`.
+    Synth(synth::SynthArgs),
     /// Move every marker to where the joints close: author a file from
     /// approximate coordinates.
     ///
@@ -386,14 +398,8 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
     match command {
         Command::Fragments => fragments(out),
         Command::Check { file, json } => check(&file, json, out),
-        Command::Plan { file } => with_plan(&file, |_, plan| {
-            write!(out, "{}", plan.explain_all())?;
-            Ok(ExitCode::SUCCESS)
-        }),
-        Command::Emit { file } => with_plan(&file, |_, plan| {
-            write!(out, "{}", emit(plan))?;
-            Ok(ExitCode::SUCCESS)
-        }),
+        Command::Plan { file } => with_plan(&file, |_, plan| print(out, &plan.explain_all())),
+        Command::Emit { file } => with_plan(&file, |_, plan| print(out, &emit(plan))),
         Command::Drag {
             file,
             marker,
@@ -497,6 +503,7 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
         }),
         Command::Assemble { file, write } => assemble(&file, write, out),
         Command::Edit { file, port, open } => edit::run(file.as_deref(), port, open, out),
+        Command::Synth(args) => synth::run(args, out),
     }
 }
 
@@ -512,7 +519,9 @@ fn spatial_file(command: &Command) -> Option<Result<dofplan::model::spatial::Mec
         | Command::Drag { file, .. } => file,
         // A spatial drawing with open joints is what it assembles: it
         // loads the file itself (`assemble`).
-        Command::Fragments | Command::Edit { .. } | Command::Assemble { .. } => return None,
+        Command::Fragments | Command::Edit { .. } | Command::Assemble { .. } | Command::Synth(_) => {
+            return None
+        }
     };
     if !dofplan::model::is_spatial_file(file) {
         return None;
@@ -567,8 +576,10 @@ fn spatial_command(
         // Never a spatial file here (`spatial_file` leaves it to `assemble`).
         Command::Assemble { file, write } => assemble(&file, write, out),
         Command::Fragments => fragments(out),
-        // Never a spatial file here (`spatial_file` leaves it to the editor).
+        // Never a spatial file here (`spatial_file` leaves them to the
+        // editor and synth).
         Command::Edit { file, port, open } => edit::run(file.as_deref(), port, open, out),
+        Command::Synth(args) => synth::run(args, out),
     }
 }
 
@@ -784,6 +795,12 @@ fn error(place: &str, message: &str, help: &str) {
 /// reports why not (once, with the source snippet).
 fn load(bar: &progress::Bar, file: &Path) -> Option<Mechanism> {
     bar.load(file).map_err(|e| report(&e.render(colour()))).ok()
+}
+
+/// Writes a command's whole output.
+fn print(out: &mut dyn Write, text: &str) -> io::Result<ExitCode> {
+    write!(out, "{text}")?;
+    Ok(ExitCode::SUCCESS)
 }
 
 fn with_plan(file: &Path, f: impl FnOnce(&Mechanism, &Plan) -> io::Result<ExitCode>) -> io::Result<ExitCode> {
