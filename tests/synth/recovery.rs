@@ -108,7 +108,7 @@ fn a_slider_crank_path_is_recovered() {
 #[test]
 fn a_watt_sixbar_path_is_recovered() {
     let inputs = (0..18).map(|k| 20.0 * k as f64).collect();
-    path_recovery("tests/fixtures/watt_sixbar.toml", "link4.Q", inputs, 0.1, 0.5);
+    path_recovery("tests/synth/watt_sixbar.toml", "link4.Q", inputs, 0.1, 0.5);
 }
 
 #[test]

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Path synthesis on the standard targets (../shared/synthesis or $TARGETS):
+# Path synthesis on the standard targets (tests/synth/targets, or $TARGETS):
 # mkh_18 to the error of the linkage published with it (4.96e-3), ten seeds,
 # the median and range of the time it takes; yu_20 for a fixed time, three
 # seeds, the error reached. Free timing, the crank turning fully; every
@@ -8,7 +8,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 BIN=${1:-target/release/dofplan}
-TARGETS=${TARGETS:-../shared/synthesis}
+TARGETS=${TARGETS:-tests/synth/targets}
 [ -x "$BIN" ] || cargo build --release -q -p dofplan
 field() { python3 -c "import json,sys; d=json.load(sys.stdin); print(d$1)"; }
 echo "mkh_18, free timing, --full-turn, until sum of squares <= 4.96e-3:"

@@ -60,8 +60,8 @@ pub struct Options {
     pub target: f64,
     /// The population (default: ten per variable, 40 to 200).
     pub population: Option<usize>,
-    /// Stop when the best fitness has not improved by a relative 1e-9 for
-    /// this many generations.
+    /// Restart from a new population when the best fitness has not
+    /// improved by a relative 1e-6 for this many generations.
     pub stagnation: u64,
     /// Polish the best candidate every this many generations.
     pub polish_every: u64,
@@ -78,7 +78,7 @@ impl Default for Options {
             time_limit: Duration::from_secs(10),
             target: 0.0,
             population: None,
-            stagnation: 200,
+            stagnation: 100,
             polish_every: 10,
             keep: 5,
             cancel: None,
@@ -93,7 +93,9 @@ pub enum Stop {
     Target,
     /// The time limit.
     Time,
-    /// No progress for [`Options::stagnation`] generations.
+    /// No progress for [`Options::stagnation`] generations (the last
+    /// restart's; the search restarts until the time limit, so this is
+    /// only reported when nothing else stopped it).
     Stagnation,
     /// Cancelled through [`Options::cancel`].
     Cancelled,
@@ -117,7 +119,7 @@ pub struct Outcome {
     /// Fitness evaluations of the global search, plus residual
     /// evaluations of the polish.
     pub evaluations: usize,
-    /// Generations of the global search.
+    /// Generations of the global search, over every restart.
     pub generations: u64,
     /// Why it stopped.
     pub stop: Stop,
@@ -154,33 +156,102 @@ impl<O: Objective + ?Sized> mh::ObjFunc for Func<'_, O> {
     }
 }
 
-/// Runs the search on `objective`.
+/// Runs the search on `objective`: differential evolution until the
+/// target, the time limit or a cancel; a run that stagnates has its best
+/// candidates polished and the search restarts from a new population (the
+/// next seed of a sequence the seed fixes).
 pub fn run<O: Objective + ?Sized>(
     objective: &O,
     options: &Options,
     progress: &mut (dyn FnMut(Progress) + Send),
 ) -> Outcome {
-    let start = Instant::now();
-    let deadline = start + options.time_limit;
-    // The final population's polish may run past the limit by a tenth of
-    // it: the best candidates are worth polishing.
-    let grace = options.time_limit / 10;
+    let clock = Clock {
+        start: Instant::now(),
+        deadline: Instant::now() + options.time_limit,
+    };
     let evaluations = AtomicUsize::new(0);
+    let polished: Mutex<Vec<Found>> = Mutex::new(Vec::new());
+    let (mut generations, mut stop) = (0, Stop::Stagnation);
+    for restart in 0u64.. {
+        let seed = options
+            .seed
+            .wrapping_add(restart.wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        let (why, gens, pool) = one_run(
+            objective,
+            options,
+            seed,
+            &clock,
+            &evaluations,
+            &polished,
+            progress,
+        );
+        generations += gens;
+        stop = why;
+        if why == Stop::Target || why == Stop::Cancelled {
+            break;
+        }
+        // The run's final population: its best few polished too (a tenth
+        // of the time limit past it at most: they are worth it).
+        let mut ranked: Vec<(f64, &Vec<f64>)> = pool.iter().map(|x| (objective.fitness(x), x)).collect();
+        ranked.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let grace = clock.deadline + options.time_limit / 10;
+        let mut found = polished.lock().expect("no panic holds it");
+        for (_, x) in ranked.iter().take(3 * options.keep) {
+            if let Some(f) = polish(objective, x, options.target, &evaluations, grace) {
+                found.push(f);
+            }
+        }
+        if why == Stop::Time || found.iter().any(|f| f.sum_sq <= options.target) {
+            break;
+        }
+    }
+    let found = distinct(
+        polished.into_inner().expect("no panic holds it"),
+        objective.bounds(),
+        options.keep,
+    );
+    Outcome {
+        found,
+        evaluations: evaluations.into_inner(),
+        generations,
+        stop,
+    }
+}
+
+/// When the search started and must stop.
+struct Clock {
+    start: Instant,
+    deadline: Instant,
+}
+
+/// One run of differential evolution from a population seeded by `seed`,
+/// polishing as it goes into `polished`: why it stopped, its generations
+/// and its final population.
+fn one_run<O: Objective + ?Sized>(
+    objective: &O,
+    options: &Options,
+    seed: u64,
+    clock: &Clock,
+    evaluations: &AtomicUsize,
+    polished: &Mutex<Vec<Found>>,
+    progress: &mut (dyn FnMut(Progress) + Send),
+) -> (Stop, u64, Vec<Vec<f64>>) {
     let dim = objective.bounds().len();
     let population = options.population.unwrap_or((10 * dim).clamp(40, 200));
-    let polished: Mutex<Vec<Found>> = Mutex::new(Vec::new());
     let mut stop = Stop::Stagnation;
     let mut last = (f64::INFINITY, 0u64);
+    let mut generations = 0;
     let func = Func {
         objective,
-        evaluations: &evaluations,
+        evaluations,
     };
     let solver = mh::Solver::build(mh::De::default(), func)
-        .seed(options.seed)
+        .seed(seed)
         .pop_num(population)
         .task(|ctx| {
+            generations = ctx.gen;
             let best = ctx.best.get_eval();
-            if best < last.0 * (1.0 - 1e-9) {
+            if best < last.0 * (1.0 - 1e-6) {
                 last = (best, ctx.gen);
             }
             let mut found = polished.lock().expect("no panic holds it");
@@ -188,31 +259,24 @@ pub fn run<O: Objective + ?Sized>(
                 // Besides the best, one other member in turn: the best
                 // may sit in a basin whose floor is not the target's.
                 let k = (ctx.gen / options.polish_every) as usize % ctx.pool.len();
-                if let Some(f) = polish(objective, &ctx.pool[k], options.target, &evaluations, deadline) {
-                    found.push(f);
-                }
-                if let Some(f) = polish(
-                    objective,
-                    ctx.best.get_xs(),
-                    options.target,
-                    &evaluations,
-                    deadline,
-                ) {
-                    found.push(f);
+                for x in [&ctx.pool[k][..], ctx.best.get_xs()] {
+                    if let Some(f) = polish(objective, x, options.target, evaluations, clock.deadline) {
+                        found.push(f);
+                    }
                 }
             }
             let best_polished = found.iter().map(|f| f.sum_sq).fold(f64::INFINITY, f64::min);
             progress(Progress {
                 generation: ctx.gen,
                 best: best_polished,
-                elapsed: start.elapsed(),
+                elapsed: clock.start.elapsed(),
             });
             let cancelled = options.cancel.as_ref().is_some_and(|c| c.load(Ordering::Relaxed));
             let reason = if best_polished <= options.target {
                 Some(Stop::Target)
             } else if cancelled {
                 Some(Stop::Cancelled)
-            } else if start.elapsed() >= options.time_limit {
+            } else if Instant::now() >= clock.deadline {
                 Some(Stop::Time)
             } else if ctx.gen - last.1 >= options.stagnation {
                 Some(Stop::Stagnation)
@@ -225,26 +289,7 @@ pub fn run<O: Objective + ?Sized>(
             reason.is_some()
         })
         .solve();
-    let mut found = polished.into_inner().expect("no panic holds it");
-    // The final population's best few, polished too.
-    if stop != Stop::Target && stop != Stop::Cancelled {
-        let mut pool: Vec<(f64, &Vec<f64>)> = (solver.pool().iter())
-            .map(|x| (objective.fitness(x), x))
-            .collect();
-        pool.sort_by(|a, b| a.0.total_cmp(&b.0));
-        for (_, x) in pool.iter().take(3 * options.keep) {
-            if let Some(f) = polish(objective, x, options.target, &evaluations, deadline + grace) {
-                found.push(f);
-            }
-        }
-    }
-    let found = distinct(found, objective.bounds(), options.keep);
-    Outcome {
-        found,
-        evaluations: evaluations.into_inner(),
-        generations: last.1.max(1),
-        stop,
-    }
+    (stop, generations, solver.pool().to_vec())
 }
 
 /// The best `keep` of `found` that differ: two solutions whose varied

@@ -46,7 +46,8 @@ fn targets(path: &Path) -> Vec<[f64; 2]> {
 fn mkh_18_with_constraints_is_met_and_the_file_confirms_it() {
     let dir = scratch("mkh");
     let best = dir.join("best.toml");
-    let mkh = root().join("../shared/synthesis/mkh_18.csv");
+    let picture = dir.join("best.svg");
+    let mkh = root().join("tests/synth/targets/mkh_18.csv");
     let args = [
         "synth",
         "mechanisms/fourbar.toml",
@@ -64,6 +65,8 @@ fn mkh_18_with_constraints_is_met_and_the_file_confirms_it() {
         "--json",
         "--out",
         best.to_str().unwrap(),
+        "--svg",
+        picture.to_str().unwrap(),
     ];
     let o = dofplan(&args);
     assert!(o.status.success(), "{}", text(&o.stderr));
@@ -77,6 +80,14 @@ fn mkh_18_with_constraints_is_met_and_the_file_confirms_it() {
     for c in doc["constraints"].as_array().unwrap() {
         assert!(c["margin"].as_f64().unwrap() >= 0.0, "{c}");
     }
+    // The picture marks the 18 targets.
+    let svg = std::fs::read_to_string(&picture).unwrap();
+    let marks = svg
+        .split("class=\"target-points\"")
+        .nth(1)
+        .expect("the targets' group");
+    let marks = &marks[..marks.find("</g>").unwrap()];
+    assert_eq!(marks.matches("<circle").count(), 18);
     // `check` and `analyze` on the written file confirm both constraints.
     let o = dofplan(&["check", best.to_str().unwrap()]);
     assert!(o.status.success(), "{}", text(&o.stderr));

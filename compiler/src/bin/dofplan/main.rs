@@ -260,7 +260,7 @@ enum Command {
     /// POSES.csv --body NAME [--marker BODY.M]`. Every parameter the
     /// drawing has is varied unless `--vary` names some; the drawing must
     /// lie inside `--bounds`.
-    Synth(synth::SynthArgs),
+    Synth(Box<synth::SynthArgs>),
     /// Move every marker to where the joints close: author a file from
     /// approximate coordinates.
     ///
@@ -503,7 +503,7 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
         }),
         Command::Assemble { file, write } => assemble(&file, write, out),
         Command::Edit { file, port, open } => edit::run(file.as_deref(), port, open, out),
-        Command::Synth(args) => synth::run(args, out),
+        Command::Synth(args) => synth::run(*args, out),
     }
 }
 
@@ -579,7 +579,7 @@ fn spatial_command(
         // Never a spatial file here (`spatial_file` leaves them to the
         // editor and synth).
         Command::Edit { file, port, open } => edit::run(file.as_deref(), port, open, out),
-        Command::Synth(args) => synth::run(args, out),
+        Command::Synth(args) => synth::run(*args, out),
     }
 }
 

@@ -82,6 +82,10 @@ pub struct SynthArgs {
     /// The search's seed: the same seed gives the same search.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// The global search's population (default: ten per varied
+    /// parameter, 40 to 200).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u32).range(5..=100_000))]
+    population: Option<u32>,
     /// Stop after this many seconds.
     #[arg(long, value_name = "S", default_value_t = 10.0, value_parser = positive)]
     time_limit: f64,
@@ -92,6 +96,10 @@ pub struct SynthArgs {
     /// (comments and key order kept).
     #[arg(long, value_name = "BEST.toml")]
     out: Option<PathBuf>,
+    /// Draw the best solution into this SVG file: the mechanism over the
+    /// input's range, the marker's path and the targets.
+    #[arg(long, value_name = "OUT.svg")]
+    svg: Option<PathBuf>,
     /// One JSON document: "error" (sum_sq, rms, max, from the written
     /// file), "parameters", "constraints" (name, value, margin),
     /// "inputs" (free timing), "evaluations", "seconds", "stopped" and
@@ -212,6 +220,7 @@ pub fn run(args: SynthArgs, out: &mut dyn Write) -> io::Result<ExitCode> {
         seed: args.seed,
         time_limit: Duration::from_secs_f64(args.time_limit),
         target: args.target.unwrap_or(0.0),
+        population: args.population.map(|n| n as usize),
         ..Options::default()
     };
     let bar = std::io::stderr().is_terminal().then(|| {
@@ -248,6 +257,13 @@ pub fn run(args: SynthArgs, out: &mut dyn Write) -> io::Result<ExitCode> {
         },
         None => None,
     };
+    if let Some(path) = &args.svg {
+        let drawn = report::picture(&m, &problem, &s.solutions[0], format)
+            .and_then(|svg| std::fs::write(path, svg).map_err(|e| format!("cannot write it: {e}")));
+        if let Err(e) = drawn {
+            return fail(format!("{}: error: {e}", path.display()));
+        }
+    }
     if args.json {
         report::write_json(&m, &problem, &s, out)?;
     } else {

@@ -37,6 +37,9 @@ pub struct SvgOptions {
     /// that reached for the final target) is drawn opaque. Empty for a
     /// sweep.
     pub targets: Vec<[f64; 2]>,
+    /// Points to mark, in world coordinates: a synthesis's targets, drawn
+    /// as rings over the traces.
+    pub points: Vec<[f64; 2]>,
 }
 
 impl Default for SvgOptions {
@@ -45,6 +48,7 @@ impl Default for SvgOptions {
             poses: 6,
             width: 800.0,
             targets: Vec::new(),
+            points: Vec::new(),
         }
     }
 }
@@ -232,7 +236,8 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
         drag,
     );
     let slides = slide_ranges(m, all.iter().map(|(p, _)| *p), size);
-    let bbox = drawn_box(m, &all, &picked.sets, &slides, targets);
+    let boxed: Vec<Point> = targets.iter().chain(&options.points).copied().collect();
+    let bbox = drawn_box(m, &all, &picked.sets, &slides, &boxed);
     let plot_w = width - 2.0 * PAD;
     let view = View::fit(&bbox, size, plot_w, PAD, HEADER);
     let detail = Detail::new(m, &view);
@@ -241,7 +246,18 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
     let trace: Vec<MarkerId> = trace.iter().copied().filter(|&id| valid(m, id)).collect();
     let traces = build_traces(m, &all, &trace, &view);
     let arrows: Vec<Vec<trace::Arrow>> = traces.iter().map(trace::arrows).collect();
-    let entries = legend::cap(legend_entries(m, frames, &traces, targets));
+    let mut entries = legend_entries(m, frames, &traces, targets);
+    if !options.points.is_empty() {
+        let label = format!("targets ({} points)", options.points.len());
+        entries.insert(
+            traces.len(),
+            Entry {
+                key: Key::Target,
+                label,
+            },
+        );
+    }
+    let entries = legend::cap(entries);
 
     // Layout: header, plot, the scale bar's strip, legend.
     let layout = Layout::new(&entries, plot_w);
@@ -272,6 +288,9 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
     }
     if let Some(pose) = opaque_pose(m, &picked, &slides, &view, detail, &traced) {
         doc = doc.add(pose);
+    }
+    if !options.points.is_empty() {
+        doc = doc.add(target::marks(&options.points, &view));
     }
     if drag {
         let reached = match (frames.last(), trace.first()) {

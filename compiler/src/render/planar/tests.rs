@@ -388,6 +388,7 @@ fn handmade_frames_with_breaks_and_nan() {
         poses: 3,
         width: 300.0,
         targets: vec![[f64::NAN, 1.0]],
+        points: vec![[f64::NAN, 0.0]],
     };
     let els = parse(&render(&m, &frames, &bogus, &options));
     assert!(texts(&els).contains(&"fourbar \u{2014} 10 frames, 10 limited"));
@@ -411,6 +412,7 @@ fn no_frames_still_draws() {
             poses: 0,
             width: f64::NAN,
             targets: Vec::new(),
+            points: Vec::new(),
         },
     );
     parse(&none);

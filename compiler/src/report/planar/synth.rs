@@ -7,7 +7,10 @@ use std::io::{self, Write};
 use serde_json::{json, Map, Value};
 
 use crate::format::{length, rounded};
-use crate::model::Mechanism;
+use crate::interp::Interpreter;
+use crate::model::{Format, Mechanism, Sweep};
+use crate::render::planar::{render, SvgOptions};
+use crate::simulate::{run, sweep_requests};
 use crate::synth::planar::{ErrorStats, Goal, Problem, Solution, Synthesis};
 use crate::synth::search::Stop;
 
@@ -176,4 +179,37 @@ fn short(x: f64) -> String {
     } else {
         format!("{x:.3e}")
     }
+}
+
+/// The picture of a solution: the mechanism its file holds, run over the
+/// search's input range, the goal's marker traced, the targets marked.
+pub fn picture(
+    m: &Mechanism,
+    problem: &Problem,
+    solution: &Solution,
+    format: Format,
+) -> Result<String, String> {
+    let solved = crate::load_str(&m.source.name, &solution.text, format).map_err(|e| {
+        e.diagnostics
+            .first()
+            .map_or_else(String::new, |d| d.message.clone())
+    })?;
+    let plan = crate::analysis::analyse(&solved)
+        .plan
+        .map_err(|e| e.to_string())?;
+    let [from, to] = problem.range();
+    let (marker, points) = match problem.goal() {
+        Goal::Path { marker, points, .. } => (Some(*marker), points.clone()),
+        Goal::Motion { marker, poses, .. } => (Some(*marker), poses.iter().map(|p| [p[0], p[1]]).collect()),
+        Goal::Function { .. } => (None, Vec::new()),
+    };
+    let trace: Vec<_> = marker.into_iter().collect();
+    let sweep = Sweep::single(problem.input(), from, to, 361, trace.clone());
+    let requests: Vec<Vec<f64>> = sweep_requests(&sweep, solved.inputs.len()).collect();
+    let frames = run(Interpreter::new(plan), Default::default(), &requests);
+    let options = SvgOptions {
+        points,
+        ..SvgOptions::default()
+    };
+    Ok(render(&solved, &frames, &trace, &options))
 }

@@ -208,6 +208,11 @@ impl Problem {
         self.input
     }
 
+    /// The range of the driving input the search reads curves over.
+    pub fn range(&self) -> [f64; 2] {
+        self.range
+    }
+
     /// The constraints.
     pub fn constraints(&self) -> Constraints {
         self.constraints
