@@ -12,9 +12,78 @@
 //! would change them (two joints of a body moved onto one point) is
 //! refused, not silently planned otherwise.
 //!
-//! Each dimension has its own folder with the same file names:
-//! `params.rs` (the parameters and candidates), `gradient.rs` (the
-//! derivatives).
+//! On top of them, synthesis: a [`planar::Problem`] (path, function or
+//! motion generation) searched by [`search::run`] — differential evolution
+//! polished by Levenberg–Marquardt with the exact Jacobian — and
+//! [`planar::synthesize`], which writes every solution into the file and
+//! verifies it from there (`dofplan synth` is a thin layer over it).
+//!
+//! Planar only for now: `planar/` has `params.rs` (the parameters and
+//! candidates), `gradient.rs` (the derivatives), `tolerance.rs`,
+//! `problem.rs` and `solve.rs`; `search.rs` and `target.rs` serve both
+//! dimensions.
+//!
+//! A design loop of your own — candidates, their frames and the
+//! derivatives of a marker with respect to every parameter:
+//!
+//! ```
+//! use dofplan::synth::planar::{sensitivity, Design};
+//! use dofplan_runtime::{Driver, Options};
+//!
+//! let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../mechanisms/fourbar.toml");
+//! let m = dofplan::load_file(std::path::Path::new(path))?;
+//! let design = Design::new(&m)?;
+//! assert_eq!(design.names()[..4], ["A.x", "A.y", "B.x", "B.y"]);
+//! let p = m.find_marker("coupler.P").unwrap();
+//! let mut values = design.drawn();
+//! values[design.index("B.x")?] += 0.1; // a longer crank
+//! let candidate = design.prepare(&values)?;
+//! let mut driver = Driver::new(candidate.interpreter.clone(), Options::default());
+//! for theta in [0.0, 30.0, 60.0, 90.0] {
+//!     assert!(driver.frame(&[theta]).is_solved());
+//! }
+//! let s = sensitivity(&design, &candidate, driver.poses(), &[90.0])?;
+//! let d = s.marker(p); // d(coupler.P)/d(parameter), one [dx, dy] each
+//! assert_eq!(d.len(), design.names().len());
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
+//! A synthesis, cancellable from another thread through
+//! [`search::Options::cancel`]:
+//!
+//! ```
+//! use std::sync::{atomic::AtomicBool, Arc};
+//! use dofplan::synth::planar::{problem, synthesize, Constraints, Kind, Request};
+//! use dofplan::synth::search::Options;
+//!
+//! let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../mechanisms/fourbar.toml");
+//! let text = std::fs::read_to_string(path)?;
+//! let m = dofplan::load_str(path, &text, dofplan::model::Format::Toml)?;
+//! // Given timing: the coupler point at three crank angles.
+//! let targets = "input,x,y\n0,3,3.5\n90,1.2,4.1\n180,0.5,2.2\n".to_string();
+//! let request = Request {
+//!     kind: Kind::Path { marker: "coupler.P".into(), given: None },
+//!     targets: ("targets.csv".into(), targets),
+//!     input: None,
+//!     vary: Some(vec!["B".into(), "coupler.P".into()]),
+//!     bounds: None,
+//!     point_bounds: Vec::new(),
+//!     constraints: Constraints::default(),
+//! };
+//! let problem = problem(&m, &request)?;
+//! let cancel = Arc::new(AtomicBool::new(false));
+//! let options = Options {
+//!     cancel: Some(cancel.clone()),
+//!     time_limit: std::time::Duration::from_secs(1),
+//!     ..Options::default()
+//! };
+//! let found = synthesize(&m, &text, dofplan::model::Format::Toml, &problem, &options, &mut |_| {})?;
+//! let best = &found.solutions[0];
+//! // The error reported is the written file's, the search's own to rounding.
+//! assert!((best.error.sum_sq - best.searched.sum_sq).abs() < 1e-9);
+//! assert!(best.text.contains("[bodies.coupler]")); // the file, rewritten
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 pub mod planar;
 pub mod search;

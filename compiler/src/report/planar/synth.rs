@@ -33,6 +33,7 @@ fn solution_json(s: &Synthesis, sol: &Solution) -> Value {
     });
     if let Some(inputs) = &sol.inputs {
         v["inputs"] = json!(inputs);
+        v["order_kept"] = json!(sol.order_kept);
     }
     v
 }
@@ -127,6 +128,11 @@ pub fn write_text(
         length(e.rms),
         length(e.max)
     )?;
+    match best.order_kept {
+        Some(true) => writeln!(out, "  the inputs found pass the targets in their order")?,
+        Some(false) => writeln!(out, "  the inputs found do not pass the targets in their order")?,
+        None => {}
+    }
     let design = problem.design();
     for (n, node) in design.nodes().iter().enumerate() {
         let (x, y) = (best.values[2 * n], best.values[2 * n + 1]);

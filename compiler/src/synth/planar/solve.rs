@@ -82,6 +82,10 @@ pub struct Solution {
     pub error: ErrorStats,
     /// The error in the search's own state (before writing).
     pub searched: ErrorStats,
+    /// Free timing: whether the inputs found pass the targets in the
+    /// file's order (for an angle input, once around in one sense; for a
+    /// slide, monotonically).
+    pub order_kept: Option<bool>,
     /// Each constraint's margin, from the written file.
     pub margins: Vec<super::Margin>,
     /// The mechanism file with the solution's coordinates.
@@ -396,9 +400,50 @@ fn verify(
     Ok(Solution {
         values: file_values,
         inputs: (z.len() > nv).then(|| z[nv..].to_vec()),
+        order_kept: (z.len() > nv).then(|| {
+            let angle = m.inputs[problem.input()].kind == crate::model::InputKind::Angle;
+            in_order(&z[nv..], angle)
+        }),
         error,
         searched: searched.unwrap_or(error),
         margins: from_file.margins(&z2).unwrap_or_default(),
         text: written,
     })
+}
+
+/// Whether `inputs` pass their targets in order: for an angle, each step
+/// to the next (and from the last back to the first) turns the same way
+/// and the steps add up to one turn; otherwise they only increase or only
+/// decrease.
+pub fn in_order(inputs: &[f64], angle: bool) -> bool {
+    if inputs.len() < 2 {
+        return true;
+    }
+    if angle {
+        let around = |sign: f64| {
+            let n = inputs.len();
+            let total: f64 = (0..n)
+                .map(|i| (sign * (inputs[(i + 1) % n] - inputs[i])).rem_euclid(360.0))
+                .sum();
+            (total - 360.0).abs() < 1e-6
+        };
+        around(1.0) || around(-1.0)
+    } else {
+        inputs.windows(2).all(|w| w[1] >= w[0]) || inputs.windows(2).all(|w| w[1] <= w[0])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::in_order;
+
+    #[test]
+    fn order_once_around_either_way() {
+        assert!(in_order(&[10.0, 100.0, 200.0, 350.0], true));
+        assert!(in_order(&[350.0, 10.0, 100.0, 200.0], true));
+        assert!(in_order(&[200.0, 100.0, -10.0], true));
+        assert!(!in_order(&[10.0, 200.0, 100.0, 300.0], true));
+        assert!(in_order(&[1.0, 2.0, 3.0], false));
+        assert!(!in_order(&[1.0, 3.0, 2.0], false));
+    }
 }
