@@ -4,4 +4,5 @@
 
 mod gradients;
 mod recovery;
+mod spatial_gradients;
 mod tolerance;

@@ -54,7 +54,9 @@ fn recovers(problem: &Problem, n: usize, what: &str) {
         let options = Options {
             seed,
             target: 1e-18 * n as f64,
-            time_limit: std::time::Duration::from_secs(60),
+            // A budget, not a time limit: the same search on any machine.
+            time_limit: std::time::Duration::from_secs(3600),
+            evaluations: Some(100_000),
             ..Options::default()
         };
         let out = search::run(problem, &options, &mut |_| {});

@@ -255,7 +255,7 @@ fn rewrite_closed<C: Closing>(
 /// A mechanism file's text with markers moved to new positions (`(body,
 /// marker, position)`), nothing else changed: in TOML comments, key order
 /// and layout are kept; JSON keeps its key order. Numbers are written with
-/// the fewest decimals within [`WRITTEN_PRECISION`] of `size`. Synthesis
+/// the fewest decimals within 1e-12 of `size`. Synthesis
 /// writes its solutions with it.
 pub fn rewrite_positions(
     text: &str,

@@ -18,10 +18,10 @@
 //! [`planar::synthesize`], which writes every solution into the file and
 //! verifies it from there (`dofplan synth` is a thin layer over it).
 //!
-//! Planar only for now: `planar/` has `params.rs` (the parameters and
-//! candidates), `gradient.rs` (the derivatives), `tolerance.rs`,
-//! `problem.rs` and `solve.rs`; `search.rs` and `target.rs` serve both
-//! dimensions.
+//! `planar/` has `params.rs` (the parameters and candidates),
+//! `gradient.rs` (the derivatives), `tolerance.rs`, `problem.rs` and
+//! `solve.rs`; `spatial/` has `params.rs` and `gradient.rs` so far;
+//! `nodes.rs`, `search.rs` and `target.rs` serve both dimensions.
 //!
 //! A design loop of your own — candidates, their frames and the
 //! derivatives of a marker with respect to every parameter:
@@ -85,8 +85,10 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod nodes;
 pub mod planar;
 pub mod search;
+pub mod spatial;
 pub mod target;
 
 use std::fmt;
@@ -131,7 +133,7 @@ pub enum SynthError {
     Underconstrained {
         /// Unknowns of the mobile bodies.
         unknowns: usize,
-        /// Independent equations among them.
+        /// Equations among them.
         equations: usize,
     },
     /// A varied parameter's box does not hold its drawn value: the search
@@ -177,7 +179,7 @@ impl fmt::Display for SynthError {
             ),
             SynthError::Underconstrained { unknowns, equations } => write!(
                 f,
-                "the inputs leave {} freedom(s) open ({unknowns} unknowns, {equations} independent equations): the poses depend on the path taken, not only on the dimensions, so they have no derivatives with respect to them; add inputs for the idle freedoms",
+                "the inputs leave {} freedom(s) open ({unknowns} unknowns, {equations} equations): the poses depend on the path taken (or, for an idle spin such as a spherical–spherical link's about its own axis, on nothing), not only on the dimensions, so they have no derivatives with respect to them; drive the freedoms no input drives",
                 unknowns - equations
             ),
             SynthError::Bounds { name, value, bounds } => write!(

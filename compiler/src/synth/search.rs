@@ -56,6 +56,10 @@ pub struct Options {
     pub seed: u64,
     /// Stop after this long.
     pub time_limit: Duration,
+    /// Stop after this many evaluations (the global search's and the
+    /// polish's): a budget that, unlike the time limit, gives the same
+    /// result on any machine.
+    pub evaluations: Option<usize>,
     /// Stop once a polished candidate's sum of squares is at most this.
     pub target: f64,
     /// The population (default: ten per variable, 40 to 200).
@@ -76,6 +80,7 @@ impl Default for Options {
         Options {
             seed: 1,
             time_limit: Duration::from_secs(10),
+            evaluations: None,
             target: 0.0,
             population: None,
             stagnation: 100,
@@ -99,6 +104,8 @@ pub enum Stop {
     Stagnation,
     /// Cancelled through [`Options::cancel`].
     Cancelled,
+    /// The evaluation budget ([`Options::evaluations`]).
+    Budget,
 }
 
 /// A polished solution: the polish's unknowns and its sum of squares.
@@ -201,7 +208,7 @@ pub fn run<O: Objective + ?Sized>(
                 found.push(f);
             }
         }
-        if why == Stop::Time || found.iter().any(|f| f.sum_sq <= options.target) {
+        if why == Stop::Time || why == Stop::Budget || found.iter().any(|f| f.sum_sq <= options.target) {
             break;
         }
     }
@@ -278,6 +285,11 @@ fn one_run<O: Objective + ?Sized>(
                 Some(Stop::Cancelled)
             } else if Instant::now() >= clock.deadline {
                 Some(Stop::Time)
+            } else if options
+                .evaluations
+                .is_some_and(|n| evaluations.load(Ordering::Relaxed) >= n)
+            {
+                Some(Stop::Budget)
             } else if ctx.gen - last.1 >= options.stagnation {
                 Some(Stop::Stagnation)
             } else {

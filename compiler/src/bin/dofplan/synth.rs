@@ -89,6 +89,10 @@ pub struct SynthArgs {
     /// Stop after this many seconds.
     #[arg(long, value_name = "S", default_value_t = 10.0, value_parser = positive)]
     time_limit: f64,
+    /// Stop after about N evaluations of candidates: unlike the time
+    /// limit, the same result on any machine.
+    #[arg(long, value_name = "N")]
+    evaluations: Option<usize>,
     /// Stop once the sum of squares is at most E.
     #[arg(long, value_name = "E", value_parser = positive)]
     target: Option<f64>,
@@ -221,6 +225,7 @@ pub fn run(args: SynthArgs, out: &mut dyn Write) -> io::Result<ExitCode> {
         time_limit: Duration::from_secs_f64(args.time_limit),
         target: args.target.unwrap_or(0.0),
         population: args.population.map(|n| n as usize),
+        evaluations: args.evaluations,
         ..Options::default()
     };
     let bar = std::io::stderr().is_terminal().then(|| {

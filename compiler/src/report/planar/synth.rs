@@ -77,6 +77,7 @@ fn stop_words(stop: Stop) -> &'static str {
         Stop::Time => "the time limit",
         Stop::Stagnation => "no progress",
         Stop::Cancelled => "cancelled",
+        Stop::Budget => "the evaluation budget",
     }
 }
 

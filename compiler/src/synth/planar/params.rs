@@ -1,27 +1,16 @@
 //! A planar mechanism's design parameters and the candidates made from
 //! them.
 
-use dofplan_runtime::{Point, Solver};
+use dofplan_runtime::Solver;
 
 use crate::analysis::analyse;
 use crate::interp::Interpreter;
 use crate::model::{ConstraintKind, MarkerId, Mechanism};
 use crate::plan::Plan;
-use crate::synth::SynthError;
+use crate::synth::{nodes, SynthError};
 
-/// Markers that move together when a parameter changes: those a joint (or
-/// a coincident or in-line constraint) ties, each kept at its drawn offset
-/// from the node's position — zero for a revolute joint's markers, the
-/// drawn offset along the slide for a prismatic joint's.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Node {
-    /// The joint that names it, or "body.marker" for a free marker.
-    pub name: String,
-    /// Its drawn position (its first marker's).
-    pub at: Point,
-    /// Its markers and their drawn offsets from `at`.
-    pub markers: Vec<(MarkerId, Point)>,
-}
+/// A planar design's node: markers that move together.
+pub type Node = crate::synth::nodes::Node<2>;
 
 /// A planar mechanism seen as a function of its design parameters.
 #[derive(Clone, Debug)]
@@ -51,81 +40,15 @@ impl Design {
         let plan = analyse(m).plan.map_err(|e| SynthError::Plan {
             reason: e.to_string(),
         })?;
-        let mut node_of: Vec<Vec<usize>> = m
-            .bodies
-            .iter()
-            .map(|b| vec![usize::MAX; b.markers.len()])
-            .collect();
-        let mut nodes: Vec<Node> = Vec::new();
         let ties = (m.joints.iter()).map(|j| (j.name.clone(), j.markers)).chain(
             (m.constraints.iter())
                 .filter(|c| matches!(c.kind, ConstraintKind::Coincident | ConstraintKind::InLine))
                 .map(|c| (c.name.clone(), c.markers)),
         );
-        for (name, [a, b]) in ties {
-            let (na, nb) = (node_of[a.body][a.marker], node_of[b.body][b.marker]);
-            let keep = match (na, nb) {
-                (usize::MAX, usize::MAX) => {
-                    nodes.push(Node {
-                        name,
-                        at: m.marker(a).at,
-                        markers: Vec::new(),
-                    });
-                    nodes.len() - 1
-                }
-                (usize::MAX, n) | (n, usize::MAX) => n,
-                (x, y) => x.min(y),
-            };
-            for id in [a, b] {
-                let old = node_of[id.body][id.marker];
-                if old == keep {
-                    continue;
-                }
-                // Merging two nodes: every marker of the later one moves over.
-                let members: Vec<MarkerId> = if old == usize::MAX {
-                    vec![id]
-                } else {
-                    std::mem::take(&mut nodes[old].markers)
-                        .into_iter()
-                        .map(|(k, _)| k)
-                        .collect()
-                };
-                for k in members {
-                    node_of[k.body][k.marker] = keep;
-                    let at = m.marker(k).at;
-                    let base = nodes[keep].at;
-                    nodes[keep].markers.push((k, [at[0] - base[0], at[1] - base[1]]));
-                }
-            }
-        }
-        for id in m.all_markers() {
-            if node_of[id.body][id.marker] == usize::MAX {
-                node_of[id.body][id.marker] = nodes.len();
-                nodes.push(Node {
-                    name: m.marker_name(id),
-                    at: m.marker(id).at,
-                    markers: vec![(id, [0.0, 0.0])],
-                });
-            }
-        }
-        // Nodes emptied by merges are dropped, the indices renumbered.
-        let mut renumber = vec![usize::MAX; nodes.len()];
-        let mut kept = Vec::new();
-        for (i, n) in nodes.into_iter().enumerate() {
-            if !n.markers.is_empty() {
-                renumber[i] = kept.len();
-                kept.push(n);
-            }
-        }
-        for row in &mut node_of {
-            for n in row.iter_mut() {
-                *n = renumber[*n];
-            }
-        }
-        let names = kept
-            .iter()
-            .flat_map(|n| [format!("{}.x", n.name), format!("{}.y", n.name)])
-            .collect();
+        let sizes: Vec<usize> = m.bodies.iter().map(|b| b.markers.len()).collect();
+        let all: Vec<MarkerId> = m.all_markers().collect();
+        let (kept, node_of) = nodes::group(&sizes, &all, |id| m.marker(id).at, |id| m.marker_name(id), ties);
+        let names = nodes::names(&kept);
         Ok(Design {
             base: m.clone(),
             plan,
@@ -190,19 +113,15 @@ impl Design {
             });
         }
         let mut m = self.base.clone();
-        for (n, node) in self.nodes.iter().enumerate() {
-            let at = [values[2 * n], values[2 * n + 1]];
-            for (id, off) in &node.markers {
-                // A coordinate left as drawn keeps the drawn marker exactly
-                // (node + offset may differ from it in the last bit).
-                let marker = &mut m.bodies[id.body].markers[id.marker].at;
-                for k in 0..2 {
-                    if at[k] != node.at[k] {
-                        marker[k] = at[k] + off[k];
-                    }
-                }
-            }
-        }
+        let base = &self.base;
+        nodes::place(
+            &self.nodes,
+            values,
+            |id| base.marker(id).at,
+            |id, k, v| {
+                m.bodies[id.body].markers[id.marker].at[k] = v;
+            },
+        );
         Ok(m)
     }
 

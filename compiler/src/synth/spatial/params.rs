@@ -1,0 +1,152 @@
+//! A spatial mechanism's design parameters and the candidates made from
+//! them: as the planar ones (`synth/planar/params.rs`), three coordinates
+//! a point.
+
+use crate::analysis::spatial::analyse;
+use crate::interp::spatial::Interpreter;
+use crate::model::spatial::{Mechanism, Primitive};
+use crate::model::MarkerId;
+use crate::plan::spatial::Plan;
+use crate::synth::{nodes, SynthError};
+
+/// A spatial design's node: markers that move together.
+pub type Node = nodes::Node<3>;
+
+/// A spatial mechanism seen as a function of its design parameters.
+#[derive(Clone, Debug)]
+pub struct Design {
+    base: Mechanism,
+    plan: Plan,
+    nodes: Vec<Node>,
+    node_of: Vec<Vec<usize>>,
+    names: Vec<String>,
+}
+
+/// A candidate drawing, planned and ready to run frames.
+#[derive(Clone, Debug)]
+pub struct Candidate {
+    /// The mechanism with the candidate's marker positions.
+    pub mechanism: Mechanism,
+    /// Its plan's interpreter.
+    pub interpreter: Interpreter,
+}
+
+impl Design {
+    /// The design of `m`, whose drawing must have a plan.
+    pub fn new(m: &Mechanism) -> Result<Design, SynthError> {
+        let plan = analyse(m).map_err(|e| SynthError::Plan {
+            reason: e.to_string(),
+        })?;
+        // Joints tie their markers; so do constraints that hold a point on
+        // a point, a line or a plane.
+        let ties = (m.joints.iter()).map(|j| (j.name.clone(), j.markers)).chain(
+            (m.constraints.iter())
+                .filter(|c| {
+                    matches!(
+                        c.kind,
+                        Primitive::Coincident | Primitive::InLine | Primitive::InPlane
+                    )
+                })
+                .map(|c| (c.name.clone(), c.markers)),
+        );
+        let sizes: Vec<usize> = m.bodies.iter().map(|b| b.markers.len()).collect();
+        let all: Vec<MarkerId> = m.all_markers().collect();
+        let (kept, node_of) = nodes::group(&sizes, &all, |id| m.marker(id).at, |id| m.marker_name(id), ties);
+        let names = nodes::names(&kept);
+        Ok(Design {
+            base: m.clone(),
+            plan,
+            nodes: kept,
+            node_of,
+            names,
+        })
+    }
+
+    /// The mechanism as drawn.
+    pub fn mechanism(&self) -> &Mechanism {
+        &self.base
+    }
+
+    /// The nodes, in parameter order (node `n` is parameters `3n` to `3n + 2`).
+    pub fn nodes(&self) -> &[Node] {
+        &self.nodes
+    }
+
+    /// The parameters' names: `NAME.x`, `NAME.y`, `NAME.z` per node.
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// The index of a parameter by name.
+    pub fn index(&self, name: &str) -> Result<usize, SynthError> {
+        self.names
+            .iter()
+            .position(|n| n == name)
+            .ok_or_else(|| SynthError::UnknownParameter {
+                name: name.to_string(),
+                known: self.names.clone(),
+            })
+    }
+
+    /// The node a marker moves with.
+    pub fn node_of(&self, id: MarkerId) -> usize {
+        self.node_of[id.body][id.marker]
+    }
+
+    /// The parameters' drawn values.
+    pub fn drawn(&self) -> Vec<f64> {
+        self.nodes.iter().flat_map(|n| n.at).collect()
+    }
+
+    /// The mechanism with the markers where `values` put them.
+    pub fn drawing(&self, values: &[f64]) -> Result<Mechanism, SynthError> {
+        if values.len() != self.names.len() {
+            return Err(SynthError::WrongLength {
+                given: values.len(),
+                expected: self.names.len(),
+            });
+        }
+        if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+            return Err(SynthError::NotFinite {
+                name: self.names[k].clone(),
+            });
+        }
+        let mut m = self.base.clone();
+        let base = &self.base;
+        nodes::place(
+            &self.nodes,
+            values,
+            |id| base.marker(id).at,
+            |id, k, v| {
+                m.bodies[id.body].markers[id.marker].at[k] = v;
+            },
+        );
+        Ok(m)
+    }
+
+    /// The candidate drawn at `values`, planned as a file is, with the
+    /// original plan's steps in the original order.
+    pub fn prepare(&self, values: &[f64]) -> Result<Candidate, SynthError> {
+        let mechanism = self.drawing(values)?;
+        let plan = analyse(&mechanism).map_err(|e| SynthError::Plan {
+            reason: e.to_string(),
+        })?;
+        let n = self.plan.steps.len().min(plan.steps.len());
+        let same = |i: usize| {
+            let (x, y) = (&self.plan.steps[i], &plan.steps[i]);
+            std::mem::discriminant(&x.kind) == std::mem::discriminant(&y.kind) && x.serves == y.serves
+        };
+        if let Some(i) = (0..n)
+            .find(|&i| !same(i))
+            .or((self.plan.steps.len() != plan.steps.len()).then_some(n.saturating_sub(1)))
+        {
+            return Err(SynthError::PlanChanged {
+                step: self.plan.explain(i),
+            });
+        }
+        Ok(Candidate {
+            mechanism,
+            interpreter: Interpreter::new(plan),
+        })
+    }
+}
