@@ -2,7 +2,10 @@
 //! tied by joints (and by constraints that hold them on one point, line or
 //! plane) move together, each kept at its drawn offset.
 
+use nalgebra::DMatrix;
+
 use crate::model::MarkerId;
+use crate::synth::SynthError;
 
 /// Markers that move together when a parameter changes, each kept at its
 /// drawn offset from the node's position — zero for a revolute joint's
@@ -123,4 +126,125 @@ pub fn place<const N: usize>(
             }
         }
     }
+}
+
+/// A design's parameters, for either dimension: its nodes, each marker's
+/// node and the parameters' names (`N` coordinates a node).
+#[derive(Clone, Debug)]
+pub struct Parameters<const N: usize> {
+    nodes: Vec<Node<N>>,
+    node_of: Vec<Vec<usize>>,
+    names: Vec<String>,
+}
+
+impl<const N: usize> Parameters<N> {
+    /// The parameters of the nodes [`group`] made.
+    pub fn new(nodes: Vec<Node<N>>, node_of: Vec<Vec<usize>>) -> Parameters<N> {
+        let names = names(&nodes);
+        Parameters {
+            nodes,
+            node_of,
+            names,
+        }
+    }
+
+    /// The nodes, in parameter order (node `n` is parameters `N·n` to
+    /// `N·n + N − 1`).
+    pub fn nodes(&self) -> &[Node<N>] {
+        &self.nodes
+    }
+
+    /// The parameters' names, in order.
+    pub fn names(&self) -> &[String] {
+        &self.names
+    }
+
+    /// The index of a parameter by name.
+    pub fn index(&self, name: &str) -> Result<usize, SynthError> {
+        self.names
+            .iter()
+            .position(|n| n == name)
+            .ok_or_else(|| SynthError::UnknownParameter {
+                name: name.to_string(),
+                known: self.names.clone(),
+            })
+    }
+
+    /// The node a marker moves with.
+    pub fn node_of(&self, id: MarkerId) -> usize {
+        self.node_of[id.body][id.marker]
+    }
+
+    /// Every marker's node, body by body.
+    pub fn node_table(&self) -> &[Vec<usize>] {
+        &self.node_of
+    }
+
+    /// The parameters' drawn values.
+    pub fn drawn(&self) -> Vec<f64> {
+        self.nodes.iter().flat_map(|n| n.at).collect()
+    }
+
+    /// Checks `values` (one per parameter, finite) and writes each
+    /// marker's position for them through `set(id, k, v)`.
+    pub fn place(
+        &self,
+        values: &[f64],
+        drawn: impl Fn(MarkerId) -> [f64; N],
+        set: impl FnMut(MarkerId, usize, f64),
+    ) -> Result<(), SynthError> {
+        if values.len() != self.names.len() {
+            return Err(SynthError::WrongLength {
+                given: values.len(),
+                expected: self.names.len(),
+            });
+        }
+        if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+            return Err(SynthError::NotFinite {
+                name: self.names[k].clone(),
+            });
+        }
+        place(&self.nodes, values, drawn, set);
+        Ok(())
+    }
+}
+
+/// The implicit function theorem on a frame's equations, for either
+/// dimension: `dq/dp = −Φ_q⁺ Φ_p` with `Φ_q` the equations' Jacobian in
+/// the poses (turns scaled by `size`) and `Φ_p` in the parameters. Returns
+/// `dq/dp`, the conditioning of `Φ_q` (smallest over largest singular
+/// value) and, per parameter, the share of `Φ_p` the poses cannot follow
+/// (relative to `size`). Errors where the derivatives do not exist: fewer
+/// equations than unknowns (a freedom left open), or `Φ_q` singular (a
+/// dead point).
+pub fn implicit(
+    phi_q: &DMatrix<f64>,
+    phi_p: &DMatrix<f64>,
+    size: f64,
+) -> Result<(DMatrix<f64>, f64, Vec<f64>), SynthError> {
+    let (rows, unknowns) = (phi_q.nrows(), phi_q.ncols());
+    if unknowns == 0 {
+        return Ok((DMatrix::zeros(0, phi_p.ncols()), 1.0, vec![0.0; phi_p.ncols()]));
+    }
+    if rows < unknowns {
+        return Err(SynthError::Underconstrained {
+            unknowns,
+            equations: rows,
+        });
+    }
+    let svd = phi_q.clone().svd(true, true);
+    let (lo, hi) =
+        (svd.singular_values.iter()).fold((f64::INFINITY, 0.0f64), |(lo, hi), &s| (lo.min(s), hi.max(s)));
+    let conditioning = if hi > 0.0 { lo / hi } else { 0.0 };
+    if conditioning < 1e-12 {
+        return Err(SynthError::Singular { ratio: conditioning });
+    }
+    let dq = svd
+        .solve(&(-phi_p), 0.0)
+        .map_err(|_| SynthError::Singular { ratio: conditioning })?;
+    let left = phi_q * &dq + phi_p;
+    let misfit = (0..phi_p.ncols())
+        .map(|k| left.column(k).norm() / size.max(f64::MIN_POSITIVE))
+        .collect();
+    Ok((dq, conditioning, misfit))
 }

@@ -17,10 +17,7 @@ pub type Node = crate::synth::nodes::Node<2>;
 pub struct Design {
     base: Mechanism,
     plan: Plan,
-    nodes: Vec<Node>,
-    /// Each marker's node, body by body.
-    node_of: Vec<Vec<usize>>,
-    names: Vec<String>,
+    params: nodes::Parameters<2>,
 }
 
 /// A candidate drawing, planned and ready to run frames.
@@ -48,13 +45,10 @@ impl Design {
         let sizes: Vec<usize> = m.bodies.iter().map(|b| b.markers.len()).collect();
         let all: Vec<MarkerId> = m.all_markers().collect();
         let (kept, node_of) = nodes::group(&sizes, &all, |id| m.marker(id).at, |id| m.marker_name(id), ties);
-        let names = nodes::names(&kept);
         Ok(Design {
             base: m.clone(),
             plan,
-            nodes: kept,
-            node_of,
-            names,
+            params: nodes::Parameters::new(kept, node_of),
         })
     }
 
@@ -70,58 +64,40 @@ impl Design {
 
     /// The nodes, in parameter order (node `n` is parameters `2n`, `2n + 1`).
     pub fn nodes(&self) -> &[Node] {
-        &self.nodes
+        self.params.nodes()
     }
 
     /// The parameters' names, in order: `NAME.x`, `NAME.y` per node.
     pub fn names(&self) -> &[String] {
-        &self.names
+        self.params.names()
     }
 
     /// The index of a parameter by name.
     pub fn index(&self, name: &str) -> Result<usize, SynthError> {
-        self.names
-            .iter()
-            .position(|n| n == name)
-            .ok_or_else(|| SynthError::UnknownParameter {
-                name: name.to_string(),
-                known: self.names.clone(),
-            })
+        self.params.index(name)
     }
 
     /// The node a marker moves with.
     pub fn node_of(&self, id: MarkerId) -> usize {
-        self.node_of[id.body][id.marker]
+        self.params.node_of(id)
     }
 
     /// The parameters' drawn values.
     pub fn drawn(&self) -> Vec<f64> {
-        self.nodes.iter().flat_map(|n| n.at).collect()
+        self.params.drawn()
     }
 
     /// The mechanism with the markers where `values` put them.
     pub fn drawing(&self, values: &[f64]) -> Result<Mechanism, SynthError> {
-        if values.len() != self.names.len() {
-            return Err(SynthError::WrongLength {
-                given: values.len(),
-                expected: self.names.len(),
-            });
-        }
-        if let Some(k) = values.iter().position(|v| !v.is_finite()) {
-            return Err(SynthError::NotFinite {
-                name: self.names[k].clone(),
-            });
-        }
         let mut m = self.base.clone();
         let base = &self.base;
-        nodes::place(
-            &self.nodes,
+        self.params.place(
             values,
             |id| base.marker(id).at,
             |id, k, v| {
                 m.bodies[id.body].markers[id.marker].at[k] = v;
             },
-        );
+        )?;
         Ok(m)
     }
 

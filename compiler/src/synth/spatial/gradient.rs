@@ -175,35 +175,8 @@ fn solve(
     design: &Design,
     m: &crate::model::spatial::Mechanism,
 ) -> Result<Sensitivity, SynthError> {
-    let (rows, unknowns, params) = (phi_q.nrows(), phi_q.ncols(), phi_p.ncols());
-    if rows < unknowns {
-        return Err(SynthError::Underconstrained {
-            unknowns,
-            equations: rows,
-        });
-    }
-    let svd = phi_q.clone().svd(true, true);
-    let (lo, hi) = svd
-        .singular_values
-        .iter()
-        .fold((f64::INFINITY, 0.0f64), |(lo, hi), &s| (lo.min(s), hi.max(s)));
-    let conditioning = if mobile.is_empty() {
-        1.0
-    } else if hi > 0.0 {
-        lo / hi
-    } else {
-        0.0
-    };
-    if conditioning < 1e-12 {
-        return Err(SynthError::Singular { ratio: conditioning });
-    }
-    let dq = svd
-        .solve(&(-&phi_p), 0.0)
-        .map_err(|_| SynthError::Singular { ratio: conditioning })?;
-    let left = &phi_q * &dq + &phi_p;
-    let misfit = (0..params)
-        .map(|k| left.column(k).norm() / size.max(f64::MIN_POSITIVE))
-        .collect();
+    let params = phi_p.ncols();
+    let (dq, conditioning, misfit) = crate::synth::nodes::implicit(&phi_q, &phi_p, size)?;
     let mut out = DMatrix::zeros(6 * bodies, params);
     for (c, &b) in mobile.iter().enumerate() {
         for k in 0..params {
