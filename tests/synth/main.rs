@@ -5,4 +5,5 @@
 mod gradients;
 mod recovery;
 mod spatial_gradients;
+mod spatial_recovery;
 mod tolerance;

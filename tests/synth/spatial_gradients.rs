@@ -31,11 +31,15 @@ fn spatial_derivatives_match_central_differences_on_every_sweep() {
         .filter(|p| p.extension().is_some_and(|x| x == "toml"))
         .collect();
     files.sort();
-    let (mut checked, mut skipped, mut compared) = (Vec::new(), Vec::new(), 0);
+    let (mut checked, mut skipped, mut compared, mut determined) = (Vec::new(), Vec::new(), 0, 0);
     for path in files {
         let name = path.file_name().unwrap().to_string_lossy().to_string();
         let m = load(&path);
         let Some(sweep) = m.sweep.clone() else { continue };
+        // The larger stress chains repeat the loops of the smaller ones.
+        if m.bodies.len() > 60 {
+            continue;
+        }
         let design = Design::new(&m).unwrap_or_else(|e| panic!("{name}: {e}"));
         let base = design.prepare(&design.drawn()).unwrap();
         let requested: Vec<Vec<f64>> = (0..25)
@@ -86,7 +90,10 @@ fn spatial_derivatives_match_central_differences_on_every_sweep() {
                     ));
                     continue;
                 };
-                for id in m.all_markers() {
+                // An idle spin's markers have no derivatives; the others
+                // (on the spin's axis, and every other body's) do.
+                for id in m.all_markers().filter(|&id| s.determined(id)) {
+                    determined += 1;
                     let exact = s.marker(id)[k];
                     let a = pp[id.body].world(cp.mechanism.marker(id).at);
                     let b = pm[id.body].world(cm.mechanism.marker(id).at);
@@ -106,10 +113,17 @@ fn spatial_derivatives_match_central_differences_on_every_sweep() {
         }
     }
     eprintln!(
-        "checked {checked:?}; skipped {} of {compared}: {skipped:?}",
+        "checked {checked:?} ({determined} marker derivatives); skipped {} of {compared}: {skipped:?}",
         skipped.len()
     );
-    assert!(checked.len() >= 15, "{checked:?}; skipped {skipped:?}");
+    assert!(checked.len() >= 25, "{checked:?}; skipped {skipped:?}");
+    assert!(determined >= 2000, "{determined} marker derivatives compared");
+    // An RSSR's coupler spins idly about its axis; its markers, on that
+    // axis, have derivatives all the same.
+    assert!(
+        checked.iter().filter(|c| c.starts_with("rssr.toml")).count() == 3,
+        "{checked:?}"
+    );
     // Most parameters move the drawing without re-planning it.
     assert!(
         skipped.len() * 4 <= compared,

@@ -20,7 +20,8 @@
 //!
 //! `planar/` has `params.rs` (the parameters and candidates),
 //! `gradient.rs` (the derivatives), `tolerance.rs`, `problem.rs` and
-//! `solve.rs`; `spatial/` has `params.rs` and `gradient.rs` so far;
+//! `solve.rs`; `spatial/` has `params.rs`, `gradient.rs` and, for function
+//! generation so far, `problem.rs`;
 //! `nodes.rs`, `search.rs` and `target.rs` serve both dimensions.
 //!
 //! A design loop of your own — candidates, their frames and the

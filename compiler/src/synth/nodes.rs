@@ -209,42 +209,100 @@ impl<const N: usize> Parameters<N> {
     }
 }
 
+/// What [`implicit`] found.
+#[derive(Clone, Debug)]
+pub struct Implicit {
+    /// `dq/dp`, one column per parameter (the minimum-norm one where
+    /// freedoms are idle).
+    pub dq: DMatrix<f64>,
+    /// Smallest over largest singular value of `Φ_q`, the idle freedoms'
+    /// left out.
+    pub conditioning: f64,
+    /// Per parameter, the share of `Φ_p` the poses cannot follow
+    /// (relative to the size).
+    pub misfit: Vec<f64>,
+    /// The idle freedoms: a basis of `Φ_q`'s null space, one column each
+    /// (no columns when the equations fix the poses).
+    pub idle: DMatrix<f64>,
+}
+
 /// The implicit function theorem on a frame's equations, for either
 /// dimension: `dq/dp = −Φ_q⁺ Φ_p` with `Φ_q` the equations' Jacobian in
-/// the poses (turns scaled by `size`) and `Φ_p` in the parameters. Returns
-/// `dq/dp`, the conditioning of `Φ_q` (smallest over largest singular
-/// value) and, per parameter, the share of `Φ_p` the poses cannot follow
-/// (relative to `size`). Errors where the derivatives do not exist: fewer
-/// equations than unknowns (a freedom left open), or `Φ_q` singular (a
-/// dead point).
+/// the poses (turns scaled by `size`) and `Φ_p` in the parameters.
+///
+/// Where the equations leave freedoms open, the poses are not functions of
+/// the dimensions: an error, unless `idle` allows them — a spatial
+/// spherical–spherical link spins about its own axis without moving
+/// anything else, and what does not move with such a spin (see
+/// [`Implicit::idle`]) still has exact derivatives. `Φ_q` singular
+/// otherwise (a dead point) is an error.
 pub fn implicit(
     phi_q: &DMatrix<f64>,
     phi_p: &DMatrix<f64>,
     size: f64,
-) -> Result<(DMatrix<f64>, f64, Vec<f64>), SynthError> {
+    idle: bool,
+) -> Result<Implicit, SynthError> {
     let (rows, unknowns) = (phi_q.nrows(), phi_q.ncols());
     if unknowns == 0 {
-        return Ok((DMatrix::zeros(0, phi_p.ncols()), 1.0, vec![0.0; phi_p.ncols()]));
+        return Ok(Implicit {
+            dq: DMatrix::zeros(0, phi_p.ncols()),
+            conditioning: 1.0,
+            misfit: vec![0.0; phi_p.ncols()],
+            idle: DMatrix::zeros(0, 0),
+        });
     }
-    if rows < unknowns {
+    if rows < unknowns && !idle {
         return Err(SynthError::Underconstrained {
             unknowns,
             equations: rows,
         });
     }
-    let svd = phi_q.clone().svd(true, true);
-    let (lo, hi) =
-        (svd.singular_values.iter()).fold((f64::INFINITY, 0.0f64), |(lo, hi), &s| (lo.min(s), hi.max(s)));
-    let conditioning = if hi > 0.0 { lo / hi } else { 0.0 };
+    // Square or tall, so that the SVD's V spans every unknown.
+    let mut a = phi_q.clone();
+    if rows < unknowns {
+        a = a.insert_rows(rows, unknowns - rows, 0.0);
+    }
+    let svd = a.svd(true, true);
+    let hi = svd.singular_values.iter().fold(0.0f64, |m, &s| m.max(s));
+    let tol = 1e-9 * hi;
+    let open: Vec<usize> = (0..svd.singular_values.len())
+        .filter(|&k| svd.singular_values[k] <= tol)
+        .collect();
+    if !open.is_empty() && !idle {
+        return Err(SynthError::Underconstrained {
+            unknowns,
+            equations: unknowns - open.len(),
+        });
+    }
+    let lo = (svd.singular_values.iter())
+        .filter(|&&s| s > tol)
+        .fold(f64::INFINITY, |m, &s| m.min(s));
+    let conditioning = if hi > 0.0 && lo.is_finite() { lo / hi } else { 0.0 };
     if conditioning < 1e-12 {
         return Err(SynthError::Singular { ratio: conditioning });
     }
+    let mut p = phi_p.clone();
+    if rows < unknowns {
+        p = p.insert_rows(rows, unknowns - rows, 0.0);
+    }
     let dq = svd
-        .solve(&(-phi_p), 0.0)
+        .solve(&(-&p), tol)
         .map_err(|_| SynthError::Singular { ratio: conditioning })?;
     let left = phi_q * &dq + phi_p;
     let misfit = (0..phi_p.ncols())
         .map(|k| left.column(k).norm() / size.max(f64::MIN_POSITIVE))
         .collect();
-    Ok((dq, conditioning, misfit))
+    let v_t = svd.v_t.as_ref().expect("asked for V");
+    let mut basis = DMatrix::zeros(unknowns, open.len());
+    for (c, &k) in open.iter().enumerate() {
+        for j in 0..unknowns {
+            basis[(j, c)] = v_t[(k, j)];
+        }
+    }
+    Ok(Implicit {
+        dq,
+        conditioning,
+        misfit,
+        idle: basis,
+    })
 }

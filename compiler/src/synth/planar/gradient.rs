@@ -96,7 +96,12 @@ pub fn sensitivity(
         }
     }
 
-    let (dq, conditioning, misfit) = crate::synth::nodes::implicit(&phi_q, &phi_p, size)?;
+    let crate::synth::nodes::Implicit {
+        dq,
+        conditioning,
+        misfit,
+        ..
+    } = crate::synth::nodes::implicit(&phi_q, &phi_p, size, false)?;
     let mut out = DMatrix::zeros(3 * m.bodies.len(), params);
     for (c, &b) in columns.iter().enumerate() {
         for k in 0..params {

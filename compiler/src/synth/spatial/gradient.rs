@@ -28,6 +28,11 @@ pub struct Sensitivity {
     /// Per parameter, what the poses cannot follow, relative to the size
     /// (0 unless moving it breaks a redundancy).
     pub misfit: Vec<f64>,
+    /// The idle freedoms the equations leave (a spherical–spherical link's
+    /// spin about its own axis), as twists of the bodies laid out as
+    /// `poses`' rows: the derivatives are the minimum-norm ones, exact for
+    /// whatever such a spin does not move ([`Sensitivity::determined`]).
+    pub idle: DMatrix<f64>,
     frame: Vec<Pose3>,
     locals: Vec<Vec<Vec3>>,
     node_of: Vec<Vec<usize>>,
@@ -176,7 +181,18 @@ fn solve(
     m: &crate::model::spatial::Mechanism,
 ) -> Result<Sensitivity, SynthError> {
     let params = phi_p.ncols();
-    let (dq, conditioning, misfit) = crate::synth::nodes::implicit(&phi_q, &phi_p, size)?;
+    let found = crate::synth::nodes::implicit(&phi_q, &phi_p, size, true)?;
+    let (dq, conditioning, misfit) = (found.dq, found.conditioning, found.misfit);
+    // The idle spins, as twists of the bodies (turns unscaled).
+    let mut idle = DMatrix::zeros(6 * bodies, found.idle.ncols());
+    for (c, &b) in mobile.iter().enumerate() {
+        for k in 0..found.idle.ncols() {
+            for j in 0..3 {
+                idle[(6 * b + j, k)] = found.idle[(6 * c + j, k)];
+                idle[(6 * b + 3 + j, k)] = found.idle[(6 * c + 3 + j, k)] / size;
+            }
+        }
+    }
     let mut out = DMatrix::zeros(6 * bodies, params);
     for (c, &b) in mobile.iter().enumerate() {
         for k in 0..params {
@@ -190,6 +206,7 @@ fn solve(
         poses: out,
         conditioning,
         misfit,
+        idle,
         frame: poses.to_vec(),
         locals: m
             .bodies
@@ -233,6 +250,36 @@ impl Sensitivity {
                 d
             })
             .collect()
+    }
+
+    /// Whether the marker's position is fixed by the equations: no idle
+    /// spin moves it (then its derivatives are exact; otherwise they are
+    /// those of one choice of the spin).
+    pub fn determined(&self, id: MarkerId) -> bool {
+        let (b, pose) = (id.body, self.frame[id.body]);
+        let w = pose.world(self.locals[b][id.marker]);
+        let arm = [w[0] - pose.pos[0], w[1] - pose.pos[1], w[2] - pose.pos[2]];
+        (0..self.idle.ncols()).all(|k| {
+            let v = [
+                self.idle[(6 * b, k)],
+                self.idle[(6 * b + 1, k)],
+                self.idle[(6 * b + 2, k)],
+            ];
+            let omega = [
+                self.idle[(6 * b + 3, k)],
+                self.idle[(6 * b + 4, k)],
+                self.idle[(6 * b + 5, k)],
+            ];
+            let d = add(v, cross(omega, arm));
+            d.iter().map(|x| x * x).sum::<f64>().sqrt()
+                <= 1e-9 * (1.0 + arm.iter().map(|x| x * x).sum::<f64>().sqrt())
+        })
+    }
+
+    /// Whether a body's rotation is fixed by the equations (no idle spin
+    /// turns it).
+    pub fn turn_determined(&self, body: usize) -> bool {
+        (0..self.idle.ncols()).all(|k| (3..6).all(|j| self.idle[(6 * body + j, k)].abs() <= 1e-9))
     }
 
     /// The derivative of a body's rotation (angular velocity, radians, in
