@@ -122,9 +122,16 @@ pub fn write_text(
     )?;
     let from = written.map_or("from the solution's file".to_string(), |f| format!("from {f}"));
     let e = &best.error;
+    // A revolute joint's output is compared in degrees; the rest in lengths.
+    let unit = match problem.goal() {
+        Goal::Function { joint, .. } if m.joints[*joint].kind == crate::model::JointKind::Revolute => {
+            " (degrees)"
+        }
+        _ => "",
+    };
     writeln!(
         out,
-        "best: sum of squares {}, rms {}, max {} ({from})",
+        "best: sum of squares {}, rms {}, max {}{unit} ({from})",
         short(e.sum_sq),
         length(e.rms),
         length(e.max)
