@@ -60,8 +60,11 @@ fn mkh_18_with_constraints_is_met_and_the_file_confirms_it() {
         "40",
         "--target",
         "4.96e-3",
+        // A budget rather than a time: the same search on a loaded machine.
+        "--evaluations",
+        "200000",
         "--time-limit",
-        "60",
+        "3600",
         "--json",
         "--out",
         best.to_str().unwrap(),
@@ -198,8 +201,10 @@ fn bad_input_is_a_clear_error() {
         "89.9",
         "--max-ratio",
         "1.0001",
+        "--evaluations",
+        "3000",
         "--time-limit",
-        "2",
+        "3600",
     ]);
     assert!(
         e.contains("no candidate in the box met the targets and the constraints"),
