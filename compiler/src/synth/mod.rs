@@ -88,6 +88,7 @@
 
 pub mod nodes;
 pub mod planar;
+pub mod reach;
 pub mod search;
 pub mod spatial;
 pub mod target;

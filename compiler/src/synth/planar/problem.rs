@@ -238,26 +238,7 @@ impl Problem {
     /// negative ones: the frames (poses and state) in `at`'s order, or
     /// `None` if one is not reached.
     fn reach(&self, c: &Candidate, at: &[f64]) -> Option<Vec<(Vec<Pose>, InterpState)>> {
-        let mut order: Vec<usize> = (0..at.len()).collect();
-        order.sort_by(|&a, &b| at[a].total_cmp(&at[b]));
-        let mut out: Vec<Option<(Vec<Pose>, InterpState)>> = vec![None; at.len()];
-        let (down, up): (Vec<usize>, Vec<usize>) = order.into_iter().partition(|&i| at[i] < 0.0);
-        for side in [up, down.into_iter().rev().collect::<Vec<_>>()] {
-            let mut driver = Driver::new(c.interpreter.clone(), Options::default());
-            let mut now = 0.0f64;
-            for i in side {
-                let n = ((at[i] - now).abs() / self.step).ceil().max(1.0) as usize;
-                for s in 1..=n {
-                    let v = now + (at[i] - now) * s as f64 / n as f64;
-                    if !driver.frame(&self.request(v)).is_solved() {
-                        return None;
-                    }
-                }
-                now = at[i];
-                out[i] = Some((driver.poses().to_vec(), driver.state().clone()));
-            }
-        }
-        out.into_iter().collect()
+        crate::synth::reach::reach(&c.interpreter, at, self.step, |v| self.request(v))
     }
 
     /// The candidate's frames over the input's range, `SAMPLES + 1` of

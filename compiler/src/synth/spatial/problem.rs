@@ -5,7 +5,6 @@
 
 use dofplan_runtime::spatial::rows::WorldFrame;
 use dofplan_runtime::spatial::{cross, dot, Pose3, Vec3};
-use dofplan_runtime::{Driver, Options};
 use nalgebra::{DMatrix, DVector};
 
 use super::{sensitivity, Candidate, Design};
@@ -132,28 +131,8 @@ impl Function {
     /// drawing in steps of at most 5° (down for negative inputs).
     fn reach(&self, c: &Candidate) -> Option<Vec<Vec<Pose3>>> {
         let at: Vec<f64> = self.pairs.iter().map(|p| p[0]).collect();
-        let mut order: Vec<usize> = (0..at.len()).collect();
-        order.sort_by(|&a, &b| at[a].total_cmp(&at[b]));
-        let (down, up): (Vec<usize>, Vec<usize>) = order.into_iter().partition(|&i| at[i] < 0.0);
-        let mut out: Vec<Option<Vec<Pose3>>> = vec![None; at.len()];
-        for side in [up, down.into_iter().rev().collect()] {
-            let mut driver = Driver::new(c.interpreter.clone(), Options::default());
-            let mut now = 0.0f64;
-            for i in side {
-                let n = ((at[i] - now).abs() / 5.0).ceil().max(1.0) as usize;
-                for s in 1..=n {
-                    if !driver
-                        .frame(&self.request(now + (at[i] - now) * s as f64 / n as f64))
-                        .is_solved()
-                    {
-                        return None;
-                    }
-                }
-                now = at[i];
-                out[i] = Some(driver.poses().to_vec());
-            }
-        }
-        out.into_iter().collect()
+        let frames = crate::synth::reach::reach(&c.interpreter, &at, 5.0, |v| self.request(v))?;
+        Some(frames.into_iter().map(|(poses, _)| poses).collect())
     }
 }
 
