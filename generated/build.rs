@@ -35,9 +35,24 @@ fn main() {
     let mut spatial = files(&mechanisms.join("spatial"));
     spatial.extend(files(&root.join("tests/fixtures/spatial")));
     let compiled: Vec<&PathBuf> = all.iter().chain(&spatial).collect();
-    let result = dofplan::build::Config::new()
-        .drag(mechanisms.join("drag/open_chain_15.toml"), "link_15.E")
-        .compile(&compiled);
+    let mut config = dofplan::build::Config::new();
+    config.drag(mechanisms.join("drag/open_chain_15.toml"), "link_15.E");
+    // Every closed-form bundled planar mechanism also gets its design
+    // module (`Config::design`); the stress chains are left out for the
+    // build's time.
+    for file in files(&mechanisms) {
+        let stress = file
+            .file_stem()
+            .is_some_and(|s| s.to_string_lossy().starts_with("stress_"));
+        let closed = dofplan::load_file(&file)
+            .ok()
+            .and_then(|m| dofplan::analysis::analyse(&m).plan.ok())
+            .is_some_and(|p| p.clusters() == 0);
+        if closed && !stress {
+            config.design(file);
+        }
+    }
+    let result = config.compile(&compiled);
     if let Err(e) = result {
         // Cargo shows build-script output on failure; the error names the
         // file, line and column.

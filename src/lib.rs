@@ -32,6 +32,28 @@ pub fn bundled() -> Vec<String> {
     names
 }
 
+/// Whether dofplan-generated compiles a design module for the bundled
+/// mechanism `name` (its build.rs: every closed-form one but the stress
+/// chains).
+pub fn designed(name: &str) -> bool {
+    !name.starts_with("stress_") && plan(&load(name)).clusters() == 0
+}
+
+/// The source dofplan-generated compiles for the bundled mechanism `name`:
+/// its module, and its design module when it has one.
+pub fn generated_source(name: &str) -> String {
+    let m = load(name);
+    let p = plan(&m);
+    let mut source = dofplan::emit::emit(&p);
+    if designed(name) {
+        let design = dofplan::synth::planar::Design::new(&m).unwrap_or_else(|e| panic!("{name}: {e}"));
+        source.push_str(
+            &dofplan::emit::emit_design(&p, &design.table()).unwrap_or_else(|e| panic!("{name}: {e}")),
+        );
+    }
+    source
+}
+
 /// Loads a bundled mechanism by name, panicking with the diagnostics.
 pub fn load(name: &str) -> Mechanism {
     let path = mechanisms_dir().join(format!("{name}.toml"));

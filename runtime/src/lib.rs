@@ -55,6 +55,7 @@
 //!   mechanism's poses ([`Marker`] in the plane, [`Marker3`] in space).
 
 pub mod batch;
+pub mod design;
 pub mod drive;
 pub mod frame;
 pub mod lanes;

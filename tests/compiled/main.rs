@@ -5,6 +5,7 @@
 //! dofplan-generated on its own.
 
 mod chunked;
+mod design;
 mod rolled;
 mod snapshots;
 mod spatial_compiled;

@@ -5,7 +5,7 @@
 //! not compile fails the build.
 
 use dofplan::emit::{emit, emit_spatial};
-use dofplan_tests::{bundled, bundled_spatial, load, load_spatial, plan, plan_spatial};
+use dofplan_tests::{bundled, bundled_spatial, generated_source, load, load_spatial, plan, plan_spatial};
 
 fn settings() -> insta::Settings {
     let mut s = insta::Settings::clone_current();
@@ -34,12 +34,26 @@ fn generated_rust() {
     });
 }
 
+/// The four-bar's design module (`Config::design`): the same steps as its
+/// `solve`, every number the drawing fixes read from the candidate's
+/// geometry, and `prepare`, which computes them from the parameters.
+#[test]
+fn the_fourbar_design_module_is_snapshotted() {
+    let m = load("fourbar");
+    let design = dofplan::synth::planar::Design::new(&m).expect("a design");
+    let code = dofplan::emit::emit_design(&plan(&m), &design.table()).expect("closed form");
+    settings().bind(|| insta::assert_snapshot!("design_fourbar", code));
+}
+
 #[test]
 fn compiled_crate_holds_exactly_the_snapshotted_source() {
     for name in bundled() {
-        let p = plan(&load(&name));
         let compiled = dofplan_generated::source(&name).expect("compiled");
-        assert_eq!(compiled, emit(&p), "{name}: dofplan-generated is stale");
+        assert_eq!(
+            compiled,
+            generated_source(&name),
+            "{name}: dofplan-generated is stale"
+        );
     }
 }
 

@@ -77,6 +77,14 @@ pub enum BuildError {
     },
     /// `OUT_DIR` is not set and no output directory was given.
     NoOutDir,
+    /// A design module cannot be compiled for a file (see
+    /// [`Config::design`]).
+    Design {
+        /// The file.
+        file: PathBuf,
+        /// Why.
+        why: String,
+    },
     /// A drag names a marker the file does not have, or one on a fixed
     /// body.
     Drag {
@@ -125,6 +133,9 @@ impl fmt::Display for BuildError {
             BuildError::NoOutDir => {
                 write!(f, "OUT_DIR is not set: call Config::out_dir or run from build.rs")
             }
+            BuildError::Design { file, why } => {
+                write!(f, "{}: cannot compile its design module: {why}", file.display())
+            }
         }
     }
 }
@@ -142,6 +153,7 @@ impl std::error::Error for BuildError {}
 pub struct Config {
     out_dir: Option<PathBuf>,
     drags: Vec<(PathBuf, String)>,
+    designs: Vec<PathBuf>,
 }
 
 impl Config {
@@ -166,6 +178,18 @@ impl Config {
     /// library's `Drag` falls back to the closest approach instead).
     pub fn drag(&mut self, file: impl Into<PathBuf>, marker: impl Into<String>) -> &mut Config {
         self.drags.push((file.into(), marker.into()));
+        self
+    }
+
+    /// Also writes, into the module of the planar mechanism in `file` (one
+    /// of the files compiled), `pub mod design`: its design parameters
+    /// (`Params`, with `Params::DRAWN`), `prepare(&Params)`, which makes a
+    /// candidate drawing's `Geometry` once, and `solve_with(&Geometry, …)`,
+    /// which runs the candidate's frames as `solve` runs the drawing's —
+    /// for an optimisation loop of one's own (see the synthesis guide).
+    /// Closed-form plans only.
+    pub fn design(&mut self, file: impl Into<PathBuf>) -> &mut Config {
+        self.designs.push(file.into());
         self
     }
 
@@ -211,12 +235,26 @@ impl Config {
             println!("cargo:rerun-if-changed={}", file.display());
         }
         let (mut mechanisms, spatial) = load_files(files)?;
+        for d in &self.designs {
+            if !mechanisms.iter().any(|(f, _)| same_file(f, d)) {
+                let why = if spatial.iter().any(|(f, _)| same_file(f, d)) {
+                    "design modules are compiled for planar mechanisms only so far"
+                } else {
+                    "the file is not among the files compiled"
+                };
+                return Err(BuildError::Design {
+                    file: d.clone(),
+                    why: why.to_string(),
+                });
+            }
+        }
         self.load_drags(&mut mechanisms)?;
         // Each module's name and source, planar first: the name is checked
         // against every module before it, of either dimension.
         let mut modules = Modules {
             out_dir: &out_dir,
             written: Vec::new(),
+            designs: &self.designs,
         };
         for (file, m) in &mechanisms {
             modules.add_planar(file, m)?;
@@ -255,6 +293,11 @@ impl Config {
     }
 }
 
+/// Whether two paths name one file (as written, or once resolved).
+fn same_file(a: &Path, b: &Path) -> bool {
+    a == b || matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y)
+}
+
 /// A module written: its name, the file it is compiled from, and the
 /// `<module>.rs` it is written to.
 type Written = (String, PathBuf, PathBuf);
@@ -288,6 +331,8 @@ fn load_files(
 struct Modules<'a> {
     out_dir: &'a Path,
     written: Vec<Written>,
+    /// The files whose modules get a design module.
+    designs: &'a [PathBuf],
 }
 
 impl Modules<'_> {
@@ -297,7 +342,16 @@ impl Modules<'_> {
             file: file.to_path_buf(),
             error,
         })?;
-        self.add(ident_for(&m.name), file, emit(&plan))
+        let mut source = emit(&plan);
+        if self.designs.iter().any(|d| same_file(d, file)) {
+            let why = |why: String| BuildError::Design {
+                file: file.to_path_buf(),
+                why,
+            };
+            let design = crate::synth::planar::Design::new(m).map_err(|e| why(e.to_string()))?;
+            source.push_str(&crate::emit::emit_design(&plan, &design.table()).map_err(why)?);
+        }
+        self.add(ident_for(&m.name), file, source)
     }
 
     /// Plans and emits a spatial mechanism, whose numeric clusters must fit

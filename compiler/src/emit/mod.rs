@@ -75,6 +75,19 @@ pub fn emit_chunked(plan: &Plan, chunk_weight: usize) -> String {
     planar::module(plan, chunk_weight)
 }
 
+/// Rust source of `pub mod design` for the module [`emit`] writes of
+/// `plan`, to be appended to it: `Params` (with `Params::DRAWN`),
+/// `prepare(&Params) -> Result<Geometry, PrepareError>` and
+/// `solve_with(&Geometry, …)`, the plan's numbers computed from the design
+/// parameters of `table` (see [`crate::plan::design`]).
+///
+/// # Errors
+/// A plan with a numeric cluster (compiled for closed-form plans only), or
+/// one whose numbers the table does not describe: the reason.
+pub fn emit_design(plan: &Plan, table: &crate::plan::design::DesignTable<2>) -> Result<String, String> {
+    planar::design_module(plan, table)
+}
+
 /// Rust source of the compiled plan module of the spatial plan `plan`.
 ///
 /// A numeric cluster is written over fixed-size matrices whatever its

@@ -7,6 +7,7 @@
 //! coordinates, radii, unit directions, branch slots) is in the IR. One
 //! folder per dimension: [`planar::Plan`] and [`spatial::Plan`].
 
+pub mod design;
 mod explain;
 pub mod planar;
 pub mod spatial;

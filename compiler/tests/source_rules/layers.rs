@@ -69,6 +69,8 @@ const RUNTIME: &[&[&str]] = &[
     &["rates"],
     &["spatial"],
     &["marker", "batch"],
+    // What a compiled design module's `prepare` calls.
+    &["design"],
 ];
 
 /// A module path inside its crate (`["analysis", "spatial", "planner"]`).

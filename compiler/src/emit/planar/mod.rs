@@ -11,12 +11,14 @@ use quote::quote;
 
 mod chunk;
 mod cluster;
+mod design;
 mod rates;
 mod roll;
 mod step;
 
 pub use chunk::CHUNK_WEIGHT;
 pub use cluster::FIXED_LIMIT;
+pub(super) use design::design_module;
 
 use super::scaffold::{self, Dimension, Field, Scaffold};
 use super::{ident_for, index, lit, step_comment, uses, Sink};
@@ -68,6 +70,10 @@ struct Emitter<'p> {
     /// The tables of the rolled runs written so far, by first step: their
     /// module and rows, for the jets' functions to share.
     tables: std::cell::RefCell<std::collections::HashMap<usize, (Ident, Vec<roll::Row>)>>,
+    /// While the design module is written (see [`design`]): the design
+    /// parameters, and each number of the plan the code reads from the
+    /// candidate's geometry instead of a literal, with where it comes from.
+    design: Option<design::Recording<'p>>,
 }
 
 impl Emitter<'_> {
@@ -181,10 +187,23 @@ impl Emitter<'_> {
         } else {
             quote!()
         };
+        // The design module's frame reads the candidate's numbers from
+        // its geometry (`g.f`), all else as `solve`.
+        let head = if self.design.is_some() {
+            quote!(pub fn solve_with(g: &Geometry, s: &mut State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break>)
+        } else {
+            quote!(pub fn solve(s: &mut State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break>)
+        };
+        let unused_g = if self.design.as_ref().is_some_and(|d| d.is_empty()) {
+            quote!(let _ = g;)
+        } else {
+            quote!()
+        };
         quote! {
             #[doc = #doc_solve]
             #[inline]
-            pub fn solve(s: &mut State, inputs: &[f64], ctx: &mut Ctx) -> Result<(), Break> {
+            #head {
+                #unused_g
                 #unused_ctx
                 #unused_inputs
                 // Work on copies and commit at the end: a break (an early
@@ -301,46 +320,54 @@ impl Emitter<'_> {
     }
 }
 
+impl<'p> Emitter<'p> {
+    /// The emitter of `plan`'s module, its identifiers chosen.
+    fn new(plan: &'p Plan) -> Emitter<'p> {
+        let mut used = std::collections::HashSet::new();
+        let mut unique = |base: String| {
+            let mut name = base.clone();
+            let mut n = 2;
+            while !used.insert(name.clone()) {
+                name = format!("{base}_{n}");
+                n += 1;
+            }
+            Ident::new(&name, Span::call_site())
+        };
+        let input_idents = plan
+            .inputs
+            .iter()
+            .map(|i| unique(format!("input_{}", ident_for(&i.name))))
+            .collect();
+        let temp_idents = plan
+            .temps
+            .iter()
+            .map(|t| unique(format!("at_{}", ident_for(&t.name))))
+            .collect();
+        let pose_idents = plan
+            .bodies
+            .iter()
+            .map(|b| unique(format!("pose_{}", ident_for(&b.name))))
+            .collect();
+        Emitter {
+            plan,
+            input_idents,
+            temp_idents,
+            pose_idents,
+            chunked: false,
+            jets: false,
+            lanes: false,
+            row: Default::default(),
+            temp_steps: chunk::temp_steps(plan),
+            tables: Default::default(),
+            design: None,
+        }
+    }
+}
+
 /// Rust source of the compiled plan module of `plan`, with functions of
 /// at most `chunk_weight` tokens of steps (see [`super::emit_chunked`]).
 pub(super) fn module(plan: &Plan, chunk_weight: usize) -> String {
-    let mut used = std::collections::HashSet::new();
-    let mut unique = |base: String| {
-        let mut name = base.clone();
-        let mut n = 2;
-        while !used.insert(name.clone()) {
-            name = format!("{base}_{n}");
-            n += 1;
-        }
-        Ident::new(&name, Span::call_site())
-    };
-    let input_idents = plan
-        .inputs
-        .iter()
-        .map(|i| unique(format!("input_{}", ident_for(&i.name))))
-        .collect();
-    let temp_idents = plan
-        .temps
-        .iter()
-        .map(|t| unique(format!("at_{}", ident_for(&t.name))))
-        .collect();
-    let pose_idents = plan
-        .bodies
-        .iter()
-        .map(|b| unique(format!("pose_{}", ident_for(&b.name))))
-        .collect();
-    let mut e = Emitter {
-        plan,
-        input_idents,
-        temp_idents,
-        pose_idents,
-        chunked: false,
-        jets: false,
-        lanes: false,
-        row: Default::default(),
-        temp_steps: chunk::temp_steps(plan),
-        tables: Default::default(),
-    };
+    let mut e = Emitter::new(plan);
     // Each step's code is made to be measured and then dropped: a large
     // plan's steps are made again, chunk by chunk, as they are written.
     let kinds: Vec<&StepKind> = plan.steps.iter().map(|s| &s.kind).collect();

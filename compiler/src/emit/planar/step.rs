@@ -14,12 +14,13 @@ impl Emitter<'_> {
     /// expression that names it.
     pub(super) fn point(&self, p: &PointRef, prelude: &mut Vec<TokenStream>) -> TokenStream {
         match p {
+            PointRef::Fixed { at, name } if self.design.is_some() => self.drawn_point(0, *at, Some(name)),
             PointRef::Fixed { at, .. } => self.plit(*at),
             PointRef::Marker { body, local, name } => {
                 let id = self.local_point(name, prelude);
                 // A marker's local position is a constant of its body: a
                 // plain number even on jets and lanes (`Pose::world`).
-                let (b, l) = (self.pose(*body), self.point_lit(*local));
+                let (b, l) = (self.pose(*body), self.drawn_point(*body, *local, Some(name)));
                 prelude.push(quote!(let #id = #b.world(#l);));
                 quote!(#id)
             }
@@ -35,7 +36,7 @@ impl Emitter<'_> {
                 let b = self.pose(*body);
                 let u = &self.input_idents[*input];
                 let u = if *sign < 0.0 { quote!((-#u)) } else { quote!(#u) };
-                let (lx, ly) = (self.slit(local[0]), self.slit(local[1]));
+                let [lx, ly] = self.drawn_coords(*body, *local, Some(name));
                 // The slide direction is a constant: on jets and lanes a
                 // multiplication by a plain number. Outside a rolled run
                 // (whose rows share one code) a product by ±1 and a zero
@@ -49,7 +50,9 @@ impl Emitter<'_> {
                     };
                     (quote!(#lx + #x), quote!(#ly + #y))
                 } else {
-                    let raw = *sign > 0.0;
+                    // A zero coordinate is folded away only where it is a
+                    // constant, not a candidate's number.
+                    let raw = *sign > 0.0 && self.design.is_none();
                     let coordinate = |l: f64, lt: TokenStream, d: f64| {
                         let x = if d.abs() == 1.0 {
                             times(d, u.clone(), self.jets, false)
@@ -186,9 +189,10 @@ impl Emitter<'_> {
 
     /// Translates a body so its point `local` lands on `at`.
     fn anchor(&self, body: usize, local: [f64; 2], at: &PointRef) -> TokenStream {
+        let at_ref = at;
         let mut pre = Vec::new();
         let at = self.point(at, &mut pre);
-        let (b, l) = (self.pose(body), self.point_lit(local));
+        let (b, l) = (self.pose(body), self.drawn_point_at(body, local, at_ref));
         quote!({
             #(#pre)*
             planar::anchor(&mut #b, #l, #at);
@@ -206,9 +210,14 @@ impl Emitter<'_> {
         redundant: bool,
     ) -> TokenStream {
         let mut pre = Vec::new();
+        let (p_ref, q_ref) = (p_at, q_at);
         let p_at = self.point(p_at, &mut pre);
         let q_at = self.point(q_at, &mut pre);
-        let (b, p, q) = (self.pose(body), self.point_lit(p), self.point_lit(q));
+        let (b, p, q) = (
+            self.pose(body),
+            self.drawn_point_at(body, p, p_ref),
+            self.drawn_point_at(body, q, q_ref),
+        );
         let call = if redundant {
             quote!(planar::align_consistent(ctx, #id, &mut #b, #p, #p_at, #q, #q_at)?;)
         } else {
@@ -230,9 +239,14 @@ impl Emitter<'_> {
     ) -> TokenStream {
         let mut pre = Vec::new();
         let t = &self.temp(out);
+        let (c1_ref, c2_ref) = (c1, c2);
         let c1 = self.point(c1, &mut pre);
         let c2 = self.point(c2, &mut pre);
-        let (r1, r2, k) = (self.slit(r1), self.slit(r2), self.index(branch));
+        let (r1, r2, k) = (
+            self.radius(r1, c1_ref, out),
+            self.radius(r2, c2_ref, out),
+            self.index(branch),
+        );
         quote! {
             let #t = {
                 #(#pre)*
@@ -252,6 +266,7 @@ impl Emitter<'_> {
     ) -> TokenStream {
         let mut pre = Vec::new();
         let t = &self.temp(out);
+        let c_ref = c;
         let c = self.point(c, &mut pre);
         let p = self.point(&line.through, &mut pre);
         // A fixed direction stays a pair of plain numbers: the
@@ -260,7 +275,7 @@ impl Emitter<'_> {
             DirRef::Fixed(v) => self.point_lit(*v),
             body => self.dir(body, "line_dir", &mut pre),
         };
-        let (r, k) = (self.slit(r), self.index(branch));
+        let (r, k) = (self.radius(r, c_ref, out), self.index(branch));
         quote! {
             let #t = {
                 #(#pre)*
@@ -302,7 +317,7 @@ impl Emitter<'_> {
         let (b, d, kp, k) = (
             self.pose(body),
             self.plit(dir),
-            self.slit(kappa),
+            self.line_offset(kappa, pivot, target, dir),
             self.index(branch),
         );
         quote!({

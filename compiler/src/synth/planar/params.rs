@@ -6,6 +6,7 @@ use dofplan_runtime::Solver;
 use crate::analysis::analyse;
 use crate::interp::Interpreter;
 use crate::model::{ConstraintKind, MarkerId, Mechanism};
+use crate::plan::design::{DesignTable, PlacedMarker};
 use crate::plan::Plan;
 use crate::synth::{nodes, SynthError};
 
@@ -85,6 +86,29 @@ impl Design {
     /// The parameters' drawn values.
     pub fn drawn(&self) -> Vec<f64> {
         self.params.drawn()
+    }
+
+    /// The parameters as a back end needs them: each marker's node and
+    /// drawn offset ([`crate::emit::emit_design`] writes a compiled
+    /// module's `prepare` from it).
+    pub fn table(&self) -> DesignTable<2> {
+        let markers = (self.params.nodes().iter().enumerate())
+            .flat_map(|(node, n)| {
+                n.markers.iter().map(move |(id, offset)| {
+                    let placed = PlacedMarker {
+                        node,
+                        offset: *offset,
+                        drawn: self.base.marker(*id).at,
+                    };
+                    (self.base.marker_name(*id), placed)
+                })
+            })
+            .collect();
+        DesignTable {
+            names: self.names().to_vec(),
+            drawn: self.drawn(),
+            markers,
+        }
     }
 
     /// The mechanism with the markers where `values` put them.
