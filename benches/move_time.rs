@@ -7,6 +7,9 @@
 
 use std::hint::black_box;
 
+#[path = "shared/design_path.rs"]
+mod design_path;
+
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use dofplan::interp::Interpreter;
 use dofplan::load_file;
@@ -107,5 +110,29 @@ fn spatial(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, move_time, drag, spatial);
+/// One four-bar candidate on an 18-point given-timing path (prepare, 18
+/// frames, the error): compiled (`design::prepare` + `solve_with`) and
+/// through the library (`Design::prepare` + the interpreter).
+fn design(c: &mut Criterion) {
+    let library = dofplan::synth::planar::Design::new(&load("fourbar")).expect("a design");
+    let targets = design_path::path_targets();
+    let [a, b] = design_path::two_candidates();
+    let mut group = c.benchmark_group("design_fourbar_18_points");
+    let mut flip = false;
+    group.bench_function("compiled", |bench| {
+        bench.iter(|| {
+            flip = !flip;
+            design_path::compiled_candidate(black_box(if flip { &a } else { &b }), &targets)
+        })
+    });
+    group.bench_function("library", |bench| {
+        bench.iter(|| {
+            flip = !flip;
+            design_path::interpreted_candidate(&library, black_box(if flip { &a } else { &b }), &targets)
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, move_time, drag, spatial, design);
 criterion_main!(benches);

@@ -7,7 +7,7 @@
 //! stress chains.
 //!
 //! `cargo run --release --example table` (add mechanism names to restrict;
-//! `spatial`, `planar`, `rates` or `batch` for one table). The batch table
+//! `spatial`, `planar`, `rates`, `batch` or `design` for one table). The batch table
 //! times each sweep, planar and spatial, through the driver and
 //! `solve_batch`, and the sweep repeated to 20,000 frames through
 //! `solve_batch` and `solve_batch_parallel`.
@@ -16,6 +16,10 @@
 //! an animation would (warm start, keep-branch, limit policy).
 
 use std::hint::black_box;
+
+#[path = "../benches/shared/design_path.rs"]
+mod design_path;
+use design_path::{compiled_candidate, interpreted_candidate, path_targets, two_candidates};
 use std::time::Instant;
 
 use dofplan::analysis::spatial::{analyse as analyse3, count::count};
@@ -71,7 +75,7 @@ fn main() {
     let only = |table: &str| args.is_empty() || args.iter().any(|a| a == table);
     let filter: Vec<String> = args
         .iter()
-        .filter(|a| !["spatial", "planar", "rates", "batch"].contains(&a.as_str()))
+        .filter(|a| !["spatial", "planar", "rates", "batch", "design"].contains(&a.as_str()))
         .cloned()
         .collect();
     if only("planar") || !filter.is_empty() {
@@ -86,6 +90,94 @@ fn main() {
     if only("batch") || !filter.is_empty() {
         batch(&filter);
     }
+    if only("design") {
+        design();
+    }
+}
+
+/// Median ns of `f` over passes of about 5 ms each.
+fn time_ns(mut f: impl FnMut()) -> f64 {
+    let t = Instant::now();
+    f();
+    let once = t.elapsed().as_secs_f64().max(1e-9);
+    let reps = ((5e-3 / once) as usize).max(1);
+    median(
+        (0..15)
+            .map(|_| {
+                let t = Instant::now();
+                for _ in 0..reps {
+                    f();
+                }
+                t.elapsed().as_secs_f64() * 1e9 / reps as f64
+            })
+            .collect(),
+    )
+}
+
+/// The design table: the four-bar's design module against its own
+/// `solve`, and one candidate on an 18-point given-timing path (prepare, 18
+/// frames, the error) compiled and through the library.
+fn design() {
+    use dofplan_generated::fourbar::{self as module, design as d};
+    use dofplan_runtime::{BranchPolicy, Ctx};
+    let m = load("fourbar");
+    let library = dofplan::synth::planar::Design::new(&m).expect("a design");
+    let targets = path_targets();
+    let [a, b] = two_candidates();
+    let mut s = module::State::DRAWN;
+    let mut ctx = Ctx::new(BranchPolicy::Keep, false);
+    let g = d::prepare(&d::Params(a)).expect("a small move");
+    let frames: Vec<[f64; 1]> = (0..360).map(|i| [f64::from(i)]).collect();
+    let per_frame = |f: &mut dyn FnMut(&[f64; 1])| {
+        time_ns(|| {
+            for u in &frames {
+                f(black_box(u));
+            }
+        }) / frames.len() as f64
+    };
+    let solve = per_frame(&mut |u| {
+        let _ = black_box(module::solve(&mut s, u, &mut ctx));
+    });
+    let mut sw = g.state();
+    let solve_with = per_frame(&mut |u| {
+        let _ = black_box(d::solve_with(&g, &mut sw, u, &mut ctx));
+    });
+    let mut flip = false;
+    let prepare = time_ns(|| {
+        flip = !flip;
+        let _ = black_box(d::prepare(&d::Params(black_box(if flip { a } else { b }))));
+    });
+    let compiled = time_ns(|| {
+        flip = !flip;
+        black_box(compiled_candidate(
+            black_box(if flip { &a } else { &b }),
+            &targets,
+        ));
+    });
+    let interpreted = time_ns(|| {
+        flip = !flip;
+        black_box(interpreted_candidate(
+            &library,
+            black_box(if flip { &a } else { &b }),
+            &targets,
+        ));
+    });
+    println!("| fourbar | ns |");
+    println!("|---|---:|");
+    println!("| `solve`, a frame of the drawing | {solve:.1} |");
+    println!("| `design::solve_with`, a frame of a candidate | {solve_with:.1} |");
+    println!("| `design::prepare`, a candidate | {prepare:.1} |");
+    println!("| a candidate on an 18-point path (prepare + 18 frames + error), compiled | {compiled:.1} |");
+    println!("| the same through the library (`Design::prepare` + interpreter) | {interpreted:.1} |");
+    // The two paths give the same error: the figure is of the same work.
+    let (ec, ei) = (
+        compiled_candidate(&a, &targets),
+        interpreted_candidate(&library, &a, &targets),
+    );
+    assert!(
+        (ec - ei).abs() <= 1e-9 * ei.max(1.0),
+        "compiled {ec} and library {ei} differ"
+    );
 }
 
 /// The batch table: per compiled plan, planar then spatial, its sweep (one

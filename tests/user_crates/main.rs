@@ -7,3 +7,4 @@
 
 mod big_module;
 mod build_script;
+mod design_loop;

@@ -1,7 +1,8 @@
 //! Design parameters of spatial mechanisms: [`Design`] (parameters and
 //! candidates) and [`sensitivity`] (the exact derivatives of a frame with
 //! respect to them), the same files as `synth/planar/`; `problem.rs`
-//! has function generation so far ([`Function`]).
+//! has function generation ([`Function`]) and motion generation
+//! ([`Motion`]), given timing.
 
 mod gradient;
 mod params;
@@ -9,4 +10,4 @@ mod problem;
 
 pub use gradient::{sensitivity, Sensitivity};
 pub use params::{Candidate, Design, Node};
-pub use problem::{output, Function};
+pub use problem::{output, BodyPose, Function, Motion};

@@ -1,14 +1,16 @@
-//! A spatial synthesis problem: for now function generation — a revolute
-//! joint's angle at given input values — searched as the planar problems
-//! are (`synth/search.rs`), with the exact Jacobian of
-//! `synth/spatial/gradient.rs`.
+//! Spatial synthesis problems, given timing: function generation (a
+//! revolute joint's angle at given input values) and motion generation (a
+//! body's marker position and the body's turn at given input values),
+//! searched as the planar problems are (`synth/search.rs`), with the exact
+//! Jacobians of `synth/spatial/gradient.rs`.
 
 use dofplan_runtime::spatial::rows::WorldFrame;
 use dofplan_runtime::spatial::{cross, dot, Pose3, Vec3};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DVector, Matrix3, Rotation3, Vector3};
 
 use super::{sensitivity, Candidate, Design};
 use crate::model::spatial::{JointKind, Mechanism};
+use crate::model::MarkerId;
 use crate::synth::search::{Objective, FAILED};
 use crate::synth::SynthError;
 
@@ -17,13 +19,72 @@ use crate::synth::SynthError;
 /// first marker's z, 0 as drawn) is the target's.
 #[derive(Clone, Debug)]
 pub struct Function {
-    design: Design,
+    varied: Varied,
     joint: usize,
     pairs: Vec<[f64; 2]>,
+}
+
+/// What both problems share: the design, the input the targets are given
+/// for (the others at 0), the parameters varied within their box, and the
+/// drawn values of the rest.
+#[derive(Clone, Debug)]
+struct Varied {
+    design: Design,
     input: usize,
     vary: Vec<usize>,
     bounds: Vec<[f64; 2]>,
     base: Vec<f64>,
+}
+
+impl Varied {
+    /// Checks that the box holds the drawing.
+    fn new(
+        design: Design,
+        input: usize,
+        vary: Vec<usize>,
+        bounds: Vec<[f64; 2]>,
+    ) -> Result<Varied, SynthError> {
+        let base = design.drawn();
+        for (k, &v) in vary.iter().enumerate() {
+            let [lo, hi] = bounds[k];
+            if !(lo <= base[v] && base[v] <= hi) {
+                return Err(SynthError::Bounds {
+                    name: design.names()[v].clone(),
+                    value: base[v],
+                    bounds: [lo, hi],
+                });
+            }
+        }
+        Ok(Varied {
+            design,
+            input,
+            vary,
+            bounds,
+            base,
+        })
+    }
+
+    /// Every parameter's value for the varied ones at `x`.
+    fn values(&self, x: &[f64]) -> Vec<f64> {
+        let mut p = self.base.clone();
+        for (k, &v) in self.vary.iter().enumerate() {
+            p[v] = x[k];
+        }
+        p
+    }
+
+    fn request(&self, value: f64) -> Vec<f64> {
+        let mut inputs = vec![0.0; self.design.mechanism().inputs.len()];
+        inputs[self.input] = value;
+        inputs
+    }
+
+    /// The candidate's poses at the inputs `at`, run up from its drawing
+    /// in steps of at most 5° (down for negative inputs).
+    fn reach(&self, c: &Candidate, at: &[f64]) -> Option<Vec<Vec<Pose3>>> {
+        let frames = crate::synth::reach::reach(&c.interpreter, at, 5.0, |v| self.request(v))?;
+        Some(frames.into_iter().map(|(poses, _)| poses).collect())
+    }
 }
 
 /// The output angle of a revolute joint at `poses`, degrees, 0 as drawn.
@@ -90,55 +151,22 @@ impl Function {
                 ),
             });
         }
-        let base = design.drawn();
-        for (k, &v) in vary.iter().enumerate() {
-            let [lo, hi] = bounds[k];
-            if !(lo <= base[v] && base[v] <= hi) {
-                return Err(SynthError::Bounds {
-                    name: design.names()[v].clone(),
-                    value: base[v],
-                    bounds: [lo, hi],
-                });
-            }
-        }
         Ok(Function {
-            design,
+            varied: Varied::new(design, input, vary, bounds)?,
             joint,
             pairs,
-            input,
-            vary,
-            bounds,
-            base,
         })
     }
 
     /// Every parameter's value for the varied ones at `x`.
     pub fn values(&self, x: &[f64]) -> Vec<f64> {
-        let mut p = self.base.clone();
-        for (k, &v) in self.vary.iter().enumerate() {
-            p[v] = x[k];
-        }
-        p
-    }
-
-    fn request(&self, value: f64) -> Vec<f64> {
-        let mut inputs = vec![0.0; self.design.mechanism().inputs.len()];
-        inputs[self.input] = value;
-        inputs
-    }
-
-    /// The candidate's poses at every target's input, run up from its
-    /// drawing in steps of at most 5° (down for negative inputs).
-    fn reach(&self, c: &Candidate) -> Option<Vec<Vec<Pose3>>> {
-        let at: Vec<f64> = self.pairs.iter().map(|p| p[0]).collect();
-        let frames = crate::synth::reach::reach(&c.interpreter, &at, 5.0, |v| self.request(v))?;
-        Some(frames.into_iter().map(|(poses, _)| poses).collect())
+        self.varied.values(x)
     }
 }
 
 impl Objective for Function {
     fn bounds(&self) -> &[[f64; 2]] {
-        &self.bounds
+        &self.varied.bounds
     }
 
     fn fitness(&self, x: &[f64]) -> f64 {
@@ -150,8 +178,10 @@ impl Objective for Function {
     }
 
     fn residuals(&self, z: &[f64], jacobian: bool) -> Option<(DVector<f64>, Option<DMatrix<f64>>)> {
-        let c = self.design.prepare(&self.values(z)).ok()?;
-        let frames = self.reach(&c)?;
+        let v = &self.varied;
+        let c = v.design.prepare(&v.values(z)).ok()?;
+        let at: Vec<f64> = self.pairs.iter().map(|p| p[0]).collect();
+        let frames = v.reach(&c, &at)?;
         let m = &c.mechanism;
         let r: Vec<f64> = (frames.iter().zip(&self.pairs))
             .map(|(poses, p)| {
@@ -164,18 +194,156 @@ impl Objective for Function {
             return Some((DVector::from_vec(r), None));
         }
         let [a, b] = m.joints[self.joint].markers;
-        let mut j = DMatrix::zeros(r.len(), self.vary.len());
+        let mut j = DMatrix::zeros(r.len(), v.vary.len());
         for (i, poses) in frames.iter().enumerate() {
-            let s = sensitivity(&self.design, &c, poses, &self.request(self.pairs[i][0])).ok()?;
+            let s = sensitivity(&v.design, &c, poses, &v.request(self.pairs[i][0])).ok()?;
             if !(s.turn_determined(a.body) && s.turn_determined(b.body)) {
                 return None;
             }
             let (ta, tb) = (s.turn(a.body), s.turn(b.body));
-            for (k, &v) in self.vary.iter().enumerate() {
-                j[(i, k)] = output_rate(m, self.joint, poses, ta[v], tb[v]);
+            for (k, &p) in v.vary.iter().enumerate() {
+                j[(i, k)] = output_rate(m, self.joint, poses, ta[p], tb[p]);
             }
         }
         Some((DVector::from_vec(r), Some(j)))
+    }
+
+    fn feasible(&self, _: &[f64]) -> bool {
+        true
+    }
+}
+
+/// One target pose of a spatial body: at input value `input`, its marker
+/// at `at` and the body turned from its drawn pose by the rotation vector
+/// `turn` (axis times angle, degrees).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BodyPose {
+    /// The input value.
+    pub input: f64,
+    /// The marker's world position.
+    pub at: [f64; 3],
+    /// The body's turn from its drawn pose, as a rotation vector in
+    /// degrees.
+    pub turn: [f64; 3],
+}
+
+/// A spatial motion-generation problem: at each target's input value, the
+/// body's marker is at the target's position and the body is turned as
+/// the target says. Six residuals a target: the position error, and the
+/// turn error (the rotation vector of the target's rotation to the body's,
+/// radians) times the drawing's size, so a radian weighs as much as the
+/// mechanism's size, as in the plane.
+#[derive(Clone, Debug)]
+pub struct Motion {
+    varied: Varied,
+    marker: MarkerId,
+    poses: Vec<BodyPose>,
+    weight: f64,
+}
+
+/// The rotation of the rotation vector `v` (radians).
+fn rotation(v: [f64; 3]) -> Matrix3<f64> {
+    Rotation3::from_scaled_axis(Vector3::from(v)).into_inner()
+}
+
+/// The inverse of SO(3)'s left Jacobian at the rotation vector `r`: how a
+/// rotation vector moves when its rotation turns by a small world rotation
+/// (`d r = J⁻¹(r) dω`).
+fn inverse_left_jacobian(r: Vector3<f64>) -> Matrix3<f64> {
+    let theta = r.norm();
+    let k = r.cross_matrix();
+    // (1/θ² − (1 + cos θ)/(2θ sin θ)), 1/12 + θ²/720 near 0.
+    let c = if theta < 1e-4 {
+        1.0 / 12.0 + theta * theta / 720.0
+    } else {
+        1.0 / (theta * theta) - (1.0 + theta.cos()) / (2.0 * theta * theta.sin())
+    };
+    Matrix3::identity() - 0.5 * k + c * k * k
+}
+
+impl Motion {
+    /// The problem of moving the body of `marker` through `poses` as input
+    /// `input` moves, varying the parameters `vary` within `bounds`.
+    pub fn new(
+        design: Design,
+        marker: MarkerId,
+        poses: Vec<BodyPose>,
+        input: usize,
+        vary: Vec<usize>,
+        bounds: Vec<[f64; 2]>,
+    ) -> Result<Motion, SynthError> {
+        let m = design.mechanism();
+        if m.bodies[marker.body].fixed {
+            return Err(SynthError::Goal {
+                reason: format!(
+                    "body {} is fixed: it has no motion to generate",
+                    m.bodies[marker.body].name
+                ),
+            });
+        }
+        let weight = m.size();
+        Ok(Motion {
+            varied: Varied::new(design, input, vary, bounds)?,
+            marker,
+            poses,
+            weight,
+        })
+    }
+
+    /// Every parameter's value for the varied ones at `x`.
+    pub fn values(&self, x: &[f64]) -> Vec<f64> {
+        self.varied.values(x)
+    }
+}
+
+impl Objective for Motion {
+    fn bounds(&self) -> &[[f64; 2]] {
+        &self.varied.bounds
+    }
+
+    fn fitness(&self, x: &[f64]) -> f64 {
+        self.residuals(x, false).map_or(FAILED, |(r, _)| r.norm_squared())
+    }
+
+    fn start(&self, x: &[f64]) -> Option<Vec<f64>> {
+        Some(x.to_vec())
+    }
+
+    fn residuals(&self, z: &[f64], jacobian: bool) -> Option<(DVector<f64>, Option<DMatrix<f64>>)> {
+        let v = &self.varied;
+        let c = v.design.prepare(&v.values(z)).ok()?;
+        let at: Vec<f64> = self.poses.iter().map(|p| p.input).collect();
+        let frames = v.reach(&c, &at)?;
+        let (body, local) = (self.marker.body, c.mechanism.marker(self.marker).at);
+        let n = self.poses.len();
+        let mut r = DVector::zeros(6 * n);
+        let mut j = jacobian.then(|| DMatrix::zeros(6 * n, v.vary.len()));
+        for (i, (poses, target)) in frames.iter().zip(&self.poses).enumerate() {
+            let pose = poses[body];
+            let w = pose.world(local);
+            let rt = rotation(target.turn.map(f64::to_radians));
+            let turned = Matrix3::from_fn(|a, b| pose.rot.m[a][b]);
+            let e = Rotation3::from_matrix_unchecked(rt.transpose() * turned).scaled_axis();
+            for k in 0..3 {
+                r[6 * i + k] = w[k] - target.at[k];
+                r[6 * i + 3 + k] = self.weight * e[k];
+            }
+            let Some(j) = j.as_mut() else { continue };
+            let s = sensitivity(&v.design, &c, poses, &v.request(target.input)).ok()?;
+            if !(s.determined(self.marker) && s.turn_determined(body)) {
+                return None;
+            }
+            let (dm, dt) = (s.marker(self.marker), s.turn(body));
+            let turn_rate = self.weight * inverse_left_jacobian(e) * rt.transpose();
+            for (k, &p) in v.vary.iter().enumerate() {
+                let de = turn_rate * Vector3::from(dt[p]);
+                for a in 0..3 {
+                    j[(6 * i + a, k)] = dm[p][a];
+                    j[(6 * i + 3 + a, k)] = de[a];
+                }
+            }
+        }
+        Some((r, j))
     }
 
     fn feasible(&self, _: &[f64]) -> bool {
