@@ -174,18 +174,7 @@ impl Mechanism {
 
 /// [`Mechanism::size`] of a mechanism with these bodies.
 pub(crate) fn size_of(bodies: &[Body]) -> f64 {
-    let mut lo = [f64::INFINITY; 2];
-    let mut hi = [f64::NEG_INFINITY; 2];
-    for p in bodies.iter().flat_map(|b| &b.markers).map(|m| m.at) {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    let d = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2)).sqrt();
-    if d.is_finite() && d > 0.0 {
-        d
-    } else {
-        1.0
-    }
+    // The runtime measures a compiled candidate's drawing the same way.
+    let points: Vec<[f64; 2]> = bodies.iter().flat_map(|b| &b.markers).map(|m| m.at).collect();
+    dofplan_runtime::design::size(&points)
 }
