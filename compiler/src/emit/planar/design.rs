@@ -296,8 +296,8 @@ pub(in crate::emit) fn design_module(plan: &Plan, table: &DesignTable<2>) -> Res
     sink.push(quote! {
         /// The mechanism as a function of its design parameters: every
         /// joint's drawn position and every free marker's, per coordinate.
-        /// [`prepare`] makes a candidate drawing's [`Geometry`] once;
-        /// [`solve_with`] runs its frames as fast as `solve` runs the
+        /// `design::prepare` makes a candidate drawing's `Geometry` once;
+        /// `design::solve_with` runs its frames as `solve` runs the
         /// drawing's. Topology and step order are the drawing's.
         pub mod design {
             use super::State;
