@@ -111,8 +111,9 @@ fn spatial(c: &mut Criterion) {
 }
 
 /// One four-bar candidate on an 18-point given-timing path (prepare, 18
-/// frames, the error): compiled (`design::prepare` + `solve_with`) and
-/// through the library (`Design::prepare` + the interpreter).
+/// frames, the error): compiled (`design::prepare` + `solve_with`), the
+/// same with its Jacobian (`design::gradient`), and through the library
+/// (`Design::prepare` + the interpreter).
 fn design(c: &mut Criterion) {
     let library = dofplan::synth::planar::Design::new(&load("fourbar")).expect("a design");
     let targets = design_path::path_targets();
@@ -123,6 +124,17 @@ fn design(c: &mut Criterion) {
         bench.iter(|| {
             flip = !flip;
             design_path::compiled_candidate(black_box(if flip { &a } else { &b }), &targets)
+        })
+    });
+    let mut jacobian = [[0.0; 10]; 36];
+    group.bench_function("compiled_with_jacobian", |bench| {
+        bench.iter(|| {
+            flip = !flip;
+            design_path::compiled_candidate_with_jacobian(
+                black_box(if flip { &a } else { &b }),
+                &targets,
+                &mut jacobian,
+            )
         })
     });
     group.bench_function("library", |bench| {

@@ -19,7 +19,9 @@ use std::hint::black_box;
 
 #[path = "../benches/shared/design_path.rs"]
 mod design_path;
-use design_path::{compiled_candidate, interpreted_candidate, path_targets, two_candidates};
+use design_path::{
+    compiled_candidate, compiled_candidate_with_jacobian, interpreted_candidate, path_targets, two_candidates,
+};
 use std::time::Instant;
 
 use dofplan::analysis::spatial::{analyse as analyse3, count::count};
@@ -154,6 +156,15 @@ fn design() {
             &targets,
         ));
     });
+    let mut jacobian = [[0.0; 10]; 36];
+    let with_jacobian = time_ns(|| {
+        flip = !flip;
+        black_box(compiled_candidate_with_jacobian(
+            black_box(if flip { &a } else { &b }),
+            &targets,
+            &mut jacobian,
+        ));
+    });
     let interpreted = time_ns(|| {
         flip = !flip;
         black_box(interpreted_candidate(
@@ -168,6 +179,7 @@ fn design() {
     println!("| `design::solve_with`, a frame of a candidate | {solve_with:.1} |");
     println!("| `design::prepare`, a candidate | {prepare:.1} |");
     println!("| a candidate on an 18-point path (prepare + 18 frames + error), compiled | {compiled:.1} |");
+    println!("| the same with its 36 × 10 Jacobian (`design::gradient` at each frame), compiled | {with_jacobian:.1} |");
     println!("| the same through the library (`Design::prepare` + interpreter) | {interpreted:.1} |");
     // The two paths give the same error: the figure is of the same work.
     let (ec, ei) = (
@@ -178,6 +190,7 @@ fn design() {
         (ec - ei).abs() <= 1e-9 * ei.max(1.0),
         "compiled {ec} and library {ei} differ"
     );
+    assert_eq!(ec, compiled_candidate_with_jacobian(&a, &targets, &mut jacobian));
 }
 
 /// The batch table: per compiled plan, planar then spatial, its sweep (one

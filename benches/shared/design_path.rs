@@ -38,6 +38,42 @@ pub fn compiled_candidate(values: &[f64; 10], targets: &[[f64; 2]; 18]) -> f64 {
     e
 }
 
+/// One candidate with its full Jacobian through the compiled design
+/// module: prepare, 18 frames with their derivatives with respect to all
+/// 10 parameters (`design::gradient`), the error, and the Jacobian of the
+/// 36 residuals (x and y of each point) written to `jacobian` — what a
+/// Gauss–Newton or Levenberg–Marquardt step needs.
+pub fn compiled_candidate_with_jacobian(
+    values: &[f64; 10],
+    targets: &[[f64; 2]; 18],
+    jacobian: &mut [[f64; 10]; 36],
+) -> f64 {
+    use dofplan_generated::fourbar::{design, marker};
+    use dofplan_runtime::{BranchPolicy, Ctx};
+    let Ok(g) = design::prepare(&design::Params(*values)) else {
+        return f64::INFINITY;
+    };
+    let t = g.tangents();
+    let mut s = g.state();
+    let mut ctx = Ctx::new(BranchPolicy::Keep, false);
+    let mut e = 0.0;
+    for (i, (u, target)) in PATH_INPUTS.iter().zip(targets).enumerate() {
+        if design::solve_with(&g, &mut s, u, &mut ctx).is_err() {
+            return f64::INFINITY;
+        }
+        let Ok(poses) = design::gradient(&t, &s, u) else {
+            return f64::INFINITY;
+        };
+        let Some(w) = t.marker(&poses, marker::COUPLER_P) else {
+            return f64::INFINITY;
+        };
+        e += (w[0].v - target[0]).powi(2) + (w[1].v - target[1]).powi(2);
+        jacobian[2 * i] = w[0].d;
+        jacobian[2 * i + 1] = w[1].d;
+    }
+    e
+}
+
 /// The same candidate through the library: re-planned (`Design::prepare`)
 /// and run by the interpreter.
 pub fn interpreted_candidate(

@@ -13,6 +13,7 @@
 use std::fmt;
 
 use crate::planar::Point;
+use crate::scalar::{Real, Tangent};
 
 /// A marker coordinate for parameter value `v` of its node, drawn at `at`:
 /// the drawn coordinate itself while the node is where it was drawn (so
@@ -28,9 +29,10 @@ pub fn place(v: f64, at: f64, drawn: f64, offset: f64) -> f64 {
 }
 
 /// A circle's radius: the drawn distance between its centre and the point
-/// on it.
+/// on it (on `f64`, or on [`Tangent`]s for its derivatives with respect
+/// to the design parameters).
 #[inline(always)]
-pub fn radius(centre: Point, on: Point) -> f64 {
+pub fn radius<T: Real>(centre: [T; 2], on: [T; 2]) -> T {
     let (dx, dy) = (on[0] - centre[0], on[1] - centre[1]);
     (dx * dx + dy * dy).sqrt()
 }
@@ -39,8 +41,16 @@ pub fn radius(centre: Point, on: Point) -> f64 {
 /// `pivot`) passes `target` in the drawing, where the body is unturned:
 /// `cross(target − pivot, dir)`.
 #[inline(always)]
-pub fn line_offset(pivot: Point, target: Point, dir: Point) -> f64 {
-    (target[0] - pivot[0]) * dir[1] - (target[1] - pivot[1]) * dir[0]
+pub fn line_offset<T: Real>(pivot: [T; 2], target: [T; 2], dir: Point) -> T {
+    (target[0] - pivot[0]).mul_f64(dir[1]) - (target[1] - pivot[1]).mul_f64(dir[0])
+}
+
+/// A candidate's marker drawn at `at` as [`Tangent`]s: its coordinates
+/// are its node's parameters `2·node` and `2·node + 1` plus constant
+/// offsets ([`place`]), so each has derivative 1 with respect to its own.
+#[inline(always)]
+pub fn seeded<const N: usize>(at: Point, node: usize) -> [Tangent<N>; 2] {
+    [Tangent::var(at[0], 2 * node), Tangent::var(at[1], 2 * node + 1)]
 }
 
 /// The size of a drawing, as the compiler measures a mechanism's (the

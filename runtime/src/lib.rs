@@ -75,7 +75,7 @@ pub mod spatial;
 pub mod real {
     pub use crate::frame::{lanes_break, lanes_differ};
     pub use crate::rates::{checked, JetPose, RateError, Rates};
-    pub use crate::scalar::{Factor, Jet2, Real};
+    pub use crate::scalar::{Factor, Jet2, Real, Tangent};
 }
 
 pub use batch::Batch;

@@ -1,7 +1,9 @@
 //! The numbers plan steps compute with: `f64` for positions, and [`Jet2`]
 //! — a value with its first and second derivatives along one direction of
 //! the inputs (time, or one input) — for velocities and accelerations by
-//! forward-mode differentiation through the very same step functions.
+//! forward-mode differentiation through the very same step functions —
+//! and [`Tangent`], first derivatives along many directions at once (a
+//! candidate's design parameters).
 //!
 //! The planar steps are written once, generic over [`Real`]; every
 //! decision they take (which root, whether circles meet) is taken on
@@ -14,6 +16,9 @@
 
 use std::fmt::Debug;
 use std::ops::{Add, Div, Mul, Neg, Sub};
+
+mod tangent;
+pub use tangent::Tangent;
 
 /// A number a plan step computes with.
 pub trait Real:
@@ -138,12 +143,23 @@ pub trait Factor<T>: Copy {
     fn times(self, x: T) -> T;
     /// `self` as a number of the step's kind (a constant: derivatives 0).
     fn lift(self) -> T;
+    /// `x·self` as the planar steps multiply a body's local point: for a
+    /// constant, [`Real::mul_f64`] (whose points LLVM packs by pairs of
+    /// coordinates already, see [`Real::vadd`]); otherwise [`times`](Self::times).
+    #[inline(always)]
+    fn scale(self, x: T) -> T {
+        self.times(x)
+    }
 }
 
 impl<T: Real> Factor<T> for f64 {
     #[inline(always)]
     fn times(self, x: T) -> T {
         x.vmul_f64(self)
+    }
+    #[inline(always)]
+    fn scale(self, x: T) -> T {
+        x.mul_f64(self)
     }
     #[inline(always)]
     fn lift(self) -> T {

@@ -6,6 +6,7 @@
 
 mod chunked;
 mod design;
+mod design_gradient;
 mod rolled;
 mod snapshots;
 mod spatial_compiled;

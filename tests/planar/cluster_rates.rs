@@ -27,7 +27,7 @@ fn with_clusters() -> Vec<(String, Mechanism)> {
 
 /// The jet of marker `local` on a body.
 fn marker(pose: &Pose<Jet2>, local: [f64; 2]) -> [Jet2; 2] {
-    pose.world(dofplan_runtime::planar::cst(local))
+    pose.world(local)
 }
 
 /// On every sweep whose plan has a cluster, at frames spread over it: each

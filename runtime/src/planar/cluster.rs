@@ -511,7 +511,7 @@ pub fn place<T: Real>(poses: &mut [Pose<T>], base: &[Pose<T>], params: &[Param<T
             Param::Free { .. } => free_pose(x[o], x[o + 1], x[o + 2], size),
             Param::Angle { pin, at, .. } => pinned_pose(x[o], size, cst(pin), at),
             Param::Hinge { pin, parent, at, .. } => {
-                pinned_pose(x[o], size, cst(pin), poses[parent].world(cst(at)))
+                pinned_pose(x[o], size, cst(pin), poses[parent].world(at))
             }
             Param::Slide { dir, .. } => slide_pose(base[k], dir, x[o]),
             Param::Translate { .. } => translate_pose(base[k], x[o], x[o + 1]),

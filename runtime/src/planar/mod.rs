@@ -15,7 +15,7 @@ mod turn_table;
 pub use locus::{circle_circle, circle_line, line_line, turn_line_through, Circle, Line, Slot};
 pub use place::{align, align_consistent, anchor, orient, set_rotation};
 
-use crate::scalar::{Jet2, Real};
+use crate::scalar::{Factor, Jet2, Real};
 
 /// A point or a vector in the plane.
 pub type Point = [f64; 2];
@@ -73,17 +73,17 @@ impl Rot<Jet2> {
             s: Jet2::new(r.s, r.c * w, r.c * a - r.s * w * w),
         }
     }
-
-    /// The values alone.
-    pub fn value(self) -> Rot {
-        Rot {
-            c: self.c.v,
-            s: self.s.v,
-        }
-    }
 }
 
 impl<T: Real> Rot<T> {
+    /// The values alone (of jets or tangents).
+    pub fn value(self) -> Rot {
+        Rot {
+            c: self.c.value(),
+            s: self.s.value(),
+        }
+    }
+
     /// `self` followed by `other` (angles add).
     #[inline]
     pub fn then(self, other: Rot<T>) -> Rot<T> {
@@ -117,6 +117,19 @@ impl<T: Real> Rot<T> {
         [
             self.c.mul_f64(v[0]) - self.s.mul_f64(v[1]),
             self.s.mul_f64(v[0]) + self.c.mul_f64(v[1]),
+        ]
+    }
+
+    /// Rotates a body's local vector: [`apply_cst`](Self::apply_cst) for
+    /// constants (`f64`), [`apply`](Self::apply) for a candidate's local
+    /// points, which move with its design parameters ([`Tangent`]s).
+    ///
+    /// [`Tangent`]: crate::scalar::Tangent
+    #[inline(always)]
+    pub fn apply_local<L: Factor<T>>(self, v: [L; 2]) -> [T; 2] {
+        [
+            v[0].scale(self.c) - v[1].scale(self.s),
+            v[0].scale(self.s) + v[1].scale(self.c),
         ]
     }
 
@@ -226,17 +239,15 @@ impl Pose {
     }
 }
 
-impl Pose<Jet2> {
-    /// The values alone.
+impl<T: Real> Pose<T> {
+    /// The values alone (of jets or tangents).
     pub fn value(&self) -> Pose {
         Pose {
-            at: [self.at[0].v, self.at[1].v],
+            at: [self.at[0].value(), self.at[1].value()],
             rot: self.rot.value(),
         }
     }
-}
 
-impl<T: Real> Pose<T> {
     /// A pose of constants.
     #[inline(always)]
     pub fn cst(p: Pose) -> Pose<T> {
@@ -247,10 +258,12 @@ impl<T: Real> Pose<T> {
     }
 
     /// World position of a marker given in local (= drawn) coordinates:
-    /// a body's markers are constants of its geometry.
+    /// a body's markers are constants of its geometry (`f64`), or of a
+    /// candidate's, with their derivatives with respect to its design
+    /// parameters.
     #[inline(always)]
-    pub fn world(&self, local: Point) -> [T; 2] {
-        let r = self.rot.apply_cst(local);
+    pub fn world<L: Factor<T>>(&self, local: [L; 2]) -> [T; 2] {
+        let r = self.rot.apply_local(local);
         [self.at[0] + r[0], self.at[1] + r[1]]
     }
 

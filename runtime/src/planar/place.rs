@@ -1,8 +1,8 @@
 //! Placing a body once its loci are met.
 
-use super::{dot, sub, Point, Pose, Rot};
+use super::{dot, sub, Pose, Rot};
 use crate::frame::{lanes_differ, Break, BreakKind, Ctx, StepId};
-use crate::scalar::Real;
+use crate::scalar::{Factor, Real};
 
 /// Sets a body's rotation to `from` followed by `rel` (a relative rotation
 /// carried by a joint: the identity for a prismatic joint or an offset
@@ -20,19 +20,28 @@ pub fn set_rotation<T: Real>(pose: &mut Pose<T>, rot: Rot<T>) {
 }
 
 /// Translates a body whose rotation is known so that its marker `local`
-/// lands on the world point `at`.
+/// lands on the world point `at`. The marker is a constant of the body
+/// (`f64`) or a candidate's, with its derivatives with respect to the
+/// design parameters (a [`Tangent`](crate::scalar::Tangent), as `T`).
 #[inline(always)]
-pub fn anchor<T: Real>(pose: &mut Pose<T>, local: Point, at: [T; 2]) {
-    let r = pose.rot.apply_cst(local);
+pub fn anchor<T: Real, L: Factor<T>>(pose: &mut Pose<T>, local: [L; 2], at: [T; 2]) {
+    let r = pose.rot.apply_local(local);
     pose.at = [at[0] - r[0], at[1] - r[1]];
 }
 
 /// Places a body by two of its markers: `p` lands on `p_at` and `q` lies on
 /// the ray from `p_at` through `q_at` (exactly on `q_at` when the distances
 /// agree, which the step that computed `q_at` guarantees unless it was
-/// stretched).
+/// stretched). The markers are constants or a candidate's, as in
+/// [`anchor`].
 #[inline(always)]
-pub fn align<T: Real>(pose: &mut Pose<T>, p: Point, p_at: [T; 2], q: Point, q_at: [T; 2]) {
+pub fn align<T: Real, L: Real + Factor<T>>(
+    pose: &mut Pose<T>,
+    p: [L; 2],
+    p_at: [T; 2],
+    q: [L; 2],
+    q_at: [T; 2],
+) {
     // The markers are constants of the body: their span and its length
     // are plain numbers, which jets and lanes multiply by for a third of a
     // product's cost.
@@ -48,20 +57,20 @@ pub fn align<T: Real>(pose: &mut Pose<T>, p: Point, p_at: [T; 2], q: Point, q_at
     // previous frame's pose.
     // (|w2 − l2| ≤ tol as two comparisons, which lanes make side by side;
     // for finite numbers a − b ≤ 0 exactly when a ≤ b.)
-    let tol = T::cst(1e-12 * l2);
-    let dev = w2 - T::cst(l2);
-    if l2 > 0.0 && (dev - tol).all(|v| v <= 0.0) && (dev + tol).all(|v| v >= 0.0) {
+    let tol = T::cst(1e-12 * l2.value());
+    let dev = w2 - l2.lift();
+    if l2.value() > 0.0 && (dev - tol).all(|v| v <= 0.0) && (dev + tol).all(|v| v >= 0.0) {
         let k = [dl[0] / l2, dl[1] / l2];
         pose.rot = Rot {
-            c: dw[0].mul_f64(k[0]) + dw[1].mul_f64(k[1]),
-            s: dw[1].mul_f64(k[0]) - dw[0].mul_f64(k[1]),
+            c: k[0].scale(dw[0]) + k[1].scale(dw[1]),
+            s: k[0].scale(dw[1]) - k[1].scale(dw[0]),
         };
     } else {
         let (c, s) = (
-            dw[0].mul_f64(dl[0]) + dw[1].mul_f64(dl[1]),
-            dw[1].mul_f64(dl[0]) - dw[0].mul_f64(dl[1]),
+            dl[0].scale(dw[0]) + dl[1].scale(dw[1]),
+            dl[0].scale(dw[1]) - dl[1].scale(dw[0]),
         );
-        align_rotation_slow(pose, T::cst(l2), w2, c, s);
+        align_rotation_slow(pose, l2.lift(), w2, c, s);
     }
     anchor(pose, p, p_at);
 }
@@ -72,20 +81,20 @@ pub fn align<T: Real>(pose: &mut Pose<T>, p: Point, p_at: [T; 2], q: Point, q_at
 /// contraction — or the step breaks (or, stretching, places the body
 /// anyway and reports the gap).
 #[inline(always)]
-pub fn align_consistent<T: Real>(
+pub fn align_consistent<T: Real, L: Real + Factor<T>>(
     ctx: &mut Ctx,
     step: StepId,
     pose: &mut Pose<T>,
-    p: Point,
+    p: [L; 2],
     p_at: [T; 2],
-    q: Point,
+    q: [L; 2],
     q_at: [T; 2],
 ) -> Result<(), Break> {
     let dl = sub(q, p);
     let dw = sub(q_at, p_at);
     // The local span is the same in every lane (constants); the world
     // span is checked in each.
-    let l = dot(dl, dl).sqrt();
+    let l = dot(dl, dl).value().sqrt();
     let tol = 1e-9 * l.max(1.0);
     let w = dot(dw, dw).sqrt();
     if w.any(|w| (w - l).abs() > tol) {

@@ -191,7 +191,7 @@ impl Emitter<'_> {
                 }
                 ClusterParam::Hinge { pin, parent, at, .. } => {
                     let parent = self.pose(*parent);
-                    let (pin, at) = (self.plit(*pin), self.plit(*at));
+                    let (pin, at) = (self.plit(*pin), self.point_lit(*at));
                     warm.push(quote!(cluster::scaled_angle(#pose, SIZE)));
                     place.push((
                         pose,
@@ -256,9 +256,11 @@ impl Emitter<'_> {
                 pre.push(quote!(let #name = [#lx + #u * #dx, #ly + #u * #dy];));
                 (quote!(#name), Local::Slid(quote!(#name)))
             }
-            None => (self.plit(la), Local::Drawn(la)),
+            // A marker's local position: a constant of its body, a plain
+            // number even on jets (`Pose::world`).
+            None => (self.point_lit(la), Local::Drawn(la)),
         };
-        let lb_tokens = self.plit(lb);
+        let lb_tokens = self.point_lit(lb);
         code.residuals.push(quote! {
             let p = #pa.world(#la_tokens);
             let q = #pb.world(#lb_tokens);
@@ -289,7 +291,7 @@ impl Emitter<'_> {
         };
         let i = index(row);
         let (pa, pb) = (self.pose(a), self.pose(b));
-        let (la_t, lb_t, dir_t) = (self.plit(la), self.plit(lb), self.plit(dir));
+        let (la_t, lb_t, dir_t) = (self.point_lit(la), self.point_lit(lb), self.plit(dir));
         let (d, v) = (format_ident!("d_{}", row), format_ident!("v_{}", row));
         let turns = layout.angle(a);
         let v_bind = if turns.is_some() && !self.jets {

@@ -272,14 +272,15 @@ pub(in crate::emit) fn design_module(plan: &Plan, table: &DesignTable<2>) -> Res
     if let Some(missing) = names.iter().find(|n| !table.markers.contains_key(*n)) {
         return Err(format!("marker {missing} has no design parameter"));
     }
-    let mut e = Emitter::new(plan);
-    e.design = Some(Recording {
+    let recording = || Recording {
         table,
-        names,
-        of_body,
+        names: names.clone(),
+        of_body: of_body.clone(),
         recipes: RefCell::new(Vec::new()),
         problem: RefCell::new(None),
-    });
+    };
+    let mut e = Emitter::new(plan);
+    e.design = Some(recording());
     let steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
     let doc = " The frame at `inputs` of the candidate `g` (made by [`prepare`]), from `s`: the module's `solve` with the candidate's numbers.";
     let solve_with = e.single_solve(steps, doc);
@@ -289,6 +290,16 @@ pub(in crate::emit) fn design_module(plan: &Plan, table: &DesignTable<2>) -> Res
     }
     check_at_drawing(plan, table, rec)?;
     let prepare = prepare_items(plan, table, rec);
+    // The same steps on tangents: they must read the same numbers.
+    let mut t = Emitter::new(plan);
+    (t.jets, t.dual, t.design) = (true, true, Some(recording()));
+    let steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| t.step(i)).collect();
+    let gradient = t.gradient_fn(steps);
+    let rec_t = t.design.as_ref().expect("set above");
+    if *rec_t.recipes.borrow() != *rec.recipes.borrow() {
+        return Err("the steps on tangents read other numbers than the steps on values".to_string());
+    }
+    let tangents = tangent_items(plan, table, rec);
     let comments = (plan.steps.iter().zip(plan.explanations()).enumerate())
         .map(|(i, (step, text))| step_comment(i, &text, &step.serves, &plan.source, &plan.joint_lines))
         .collect();
@@ -298,15 +309,21 @@ pub(in crate::emit) fn design_module(plan: &Plan, table: &DesignTable<2>) -> Res
         /// joint's drawn position and every free marker's, per coordinate.
         /// `design::prepare` makes a candidate drawing's `Geometry` once;
         /// `design::solve_with` runs its frames as `solve` runs the
-        /// drawing's. Topology and step order are the drawing's.
+        /// drawing's, and `design::gradient` gives a frame's derivatives
+        /// with respect to every parameter. Topology and step order are
+        /// the drawing's.
         pub mod design {
             use super::State;
             use dofplan_runtime::design::{self as d, PrepareError};
             #[allow(unused_imports)]
             use dofplan_runtime::planar::{self, Point, Pose, Rot};
+            #[allow(unused_imports)]
+            use dofplan_runtime::real::{RateError, Real, Tangent};
             use dofplan_runtime::{Branch, BranchPolicy, Break, Ctx, Marker};
             #prepare
             #solve_with
+            #tangents
+            #gradient
         }
     });
     Ok(sink.finish())
@@ -398,12 +415,19 @@ fn geometry_items(plan: &Plan, rec: &Recording) -> TokenStream {
             /// Marker `m` (a constant of the module's `marker`) as the
             /// candidate draws it; read it with `State::marker`.
             pub fn marker(&self, m: Marker) -> Marker {
-                let k = match m.name {
-                    #(#marker_arms)*
-                    _ => return m,
-                };
-                Marker::new(m.name, m.body, self.markers[k])
+                match slot(m.name) {
+                    Some(k) => Marker::new(m.name, m.body, self.markers[k]),
+                    None => m,
+                }
             }
+        }
+
+        /// The place of marker `name` ("body.marker") in [`BODY_OF`].
+        fn slot(name: &str) -> Option<usize> {
+            Some(match name {
+                #(#marker_arms)*
+                _ => return None,
+            })
         }
 
     }
@@ -498,6 +522,114 @@ fn prepare_fn(plan: &Plan, table: &DesignTable<2>, rec: &Recording) -> TokenStre
             }
             g.state.branches = s.branches;
             Ok(g)
+        }
+    }
+}
+
+/// `Dual`, `Tangents` and `Geometry::tangents`: a candidate's numbers and
+/// markers with their derivatives, computed once per candidate as
+/// `prepare` computes the numbers.
+fn tangent_items(plan: &Plan, table: &DesignTable<2>, rec: &Recording) -> TokenStream {
+    let np = index(table.names.len());
+    let (nm, nk, nb) = (
+        index(rec.names.len()),
+        index(rec.recipes.borrow().len()),
+        index(plan.bodies.len()),
+    );
+    let seeded = rec.names.iter().enumerate().map(|(k, n)| {
+        let (k, node) = (index(k), index(table.markers[n].node));
+        quote!(d::seeded(self.markers[#k], #node))
+    });
+    let numbers: Vec<TokenStream> = (rec.recipes.borrow().iter())
+        .map(|(r, _)| expression(r))
+        .collect();
+    quote! {
+        /// A number with its derivatives with respect to every design
+        /// parameter, in [`NAMES`] order.
+        pub type Dual = Tangent<#np>;
+
+        /// A prepared candidate's numbers and markers with their
+        /// derivatives with respect to every design parameter: what
+        /// [`gradient`] runs on.
+        #[derive(Clone, Debug, PartialEq)]
+        pub struct Tangents {
+            f: [Dual; #nk],
+            markers: [[Dual; 2]; #nm],
+        }
+
+        impl Geometry {
+            /// The candidate's numbers and markers with their
+            /// derivatives (once per candidate, as [`prepare`]).
+            pub fn tangents(&self) -> Tangents {
+                let markers: [[Dual; 2]; #nm] = [#(#seeded),*];
+                let f: [Dual; #nk] = [#(#numbers),*];
+                Tangents { f, markers }
+            }
+        }
+
+        impl Tangents {
+            /// Marker `m` (a constant of the module's `marker`) in the
+            /// frame `poses` (from [`gradient`]), with its derivatives
+            /// with respect to every parameter; `None` for a marker of
+            /// another mechanism.
+            pub fn marker(&self, poses: &[Pose<Dual>; #nb], m: Marker) -> Option<[Dual; 2]> {
+                let k = slot(m.name)?;
+                Some(poses[BODY_OF[k]].world(self.markers[k]))
+            }
+        }
+    }
+}
+
+impl Emitter<'_> {
+    /// `gradient`: the steps once more on `Dual`s, from the branches a
+    /// frame took (keep-branch), the candidate's numbers read from its
+    /// `Tangents`.
+    fn gradient_fn(&self, steps: Vec<TokenStream>) -> TokenStream {
+        let plan = self.plan;
+        let written = self.written_bodies();
+        let steps = self.declared_late(steps, quote!(Dual), |_| quote!());
+        let out = (0..plan.bodies.len()).map(|b| {
+            let i = index(b);
+            if written.contains(&b) {
+                let id = &self.pose_idents[b];
+                quote!(out[#i] = #id;)
+            } else {
+                quote!(out[#i] = Pose::<Dual>::cst(s.poses[#i]);)
+            }
+        });
+        let take_branches = if plan.branches.is_empty() {
+            quote!()
+        } else {
+            let last = self.lifted_last(quote!(Dual));
+            quote!(let mut last = #last; let mut branches = s.branches;)
+        };
+        let bind_inputs = (0..plan.inputs.len()).map(|k| self.bind_input(k));
+        let unused_g = if self.design.as_ref().is_some_and(|d| d.is_empty()) {
+            quote!(let _ = g;)
+        } else {
+            quote!()
+        };
+        let nb = index(plan.bodies.len());
+        quote! {
+            /// Every body's pose in the frame `s` holds (solved by
+            /// [`solve_with`] at `inputs`, for the candidate `g` comes
+            /// from), with its derivatives with respect to every design
+            /// parameter: the steps run again on [`Dual`]s with the
+            /// branches the frame took — forward-mode differentiation
+            /// through `prepare`'s numbers and the plan. A dead point,
+            /// where a derivative is infinite, is [`RateError::Singular`].
+            pub fn gradient(g: &Tangents, s: &State, inputs: &[f64]) -> Result<[Pose<Dual>; #nb], RateError> {
+                #unused_g
+                let ctx = &mut Ctx::new(BranchPolicy::Keep, false);
+                let _ = (&inputs, &ctx);
+                #take_branches
+                #(#bind_inputs)*
+                #(#steps)*
+                let mut out = [Pose::<Dual>::cst(Pose::IDENTITY); #nb];
+                #(#out)*
+                let finite = out.iter().all(|p| p.at[0].finite() && p.at[1].finite() && p.rot.c.finite() && p.rot.s.finite());
+                if finite { Ok(out) } else { Err(RateError::Singular) }
+            }
         }
     }
 }

@@ -62,6 +62,10 @@ struct Emitter<'p> {
     /// With `jets`: the steps are written for `solve_lanes`, on
     /// [`Lanes`](dofplan_runtime::lanes::Lanes) of frames instead of jets.
     lanes: bool,
+    /// With `jets` and `design`: the steps are written for the design
+    /// module's `gradient`, on `Dual`s (a
+    /// [`Tangent`](dofplan_runtime::real::Tangent) per design parameter).
+    dual: bool,
     /// While a step is written for a rolled run (see [`roll`]): its
     /// constants go to a table row instead of the code.
     row: std::cell::RefCell<Option<roll::Recording>>,
@@ -81,6 +85,8 @@ impl Emitter<'_> {
     fn num(&self) -> TokenStream {
         if self.lanes {
             quote!(Lanes)
+        } else if self.dual {
+            quote!(Dual)
         } else {
             quote!(Jet2)
         }
@@ -147,6 +153,11 @@ impl Emitter<'_> {
         let id = &self.input_idents[k];
         let i = index(k);
         match self.plan.inputs[k].kind {
+            // The inputs are held: constants of the parameters' derivatives.
+            InputKind::Angle if self.dual => {
+                quote!(let #id = Rot::<Dual>::cst(Rot::from_degrees(inputs[#i]));)
+            }
+            InputKind::Slide if self.dual => quote!(let #id = Dual::cst(inputs[#i]);),
             InputKind::Angle if self.lanes => quote!(let #id = Rot::from_degrees_lanes(inputs[#i]);),
             InputKind::Angle if self.jets => quote!(let #id = Rot::from_degrees_jet(inputs[#i]);),
             InputKind::Angle => quote!(let #id = Rot::from_degrees(inputs[#i]);),
@@ -356,6 +367,7 @@ impl<'p> Emitter<'p> {
             chunked: false,
             jets: false,
             lanes: false,
+            dual: false,
             row: Default::default(),
             temp_steps: chunk::temp_steps(plan),
             tables: Default::default(),
