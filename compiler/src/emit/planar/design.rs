@@ -586,17 +586,8 @@ impl Emitter<'_> {
     /// `Tangents`.
     fn gradient_fn(&self, steps: Vec<TokenStream>) -> TokenStream {
         let plan = self.plan;
-        let written = self.written_bodies();
         let steps = self.declared_late(steps, quote!(Dual), |_| quote!());
-        let out = (0..plan.bodies.len()).map(|b| {
-            let i = index(b);
-            if written.contains(&b) {
-                let id = &self.pose_idents[b];
-                quote!(out[#i] = #id;)
-            } else {
-                quote!(out[#i] = Pose::<Dual>::cst(s.poses[#i]);)
-            }
-        });
+        let out = self.pose_outputs(quote!(Dual));
         let take_branches = if plan.branches.is_empty() {
             quote!()
         } else {

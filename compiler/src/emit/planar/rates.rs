@@ -53,6 +53,24 @@ impl Emitter<'_> {
             .collect()
     }
 
+    /// `out[b] = …` for every body at the end of a pass on `real` (`Jet2`
+    /// or the design module's `Dual`): its working pose, or the state's
+    /// for a body no step places.
+    pub(super) fn pose_outputs(&self, real: TokenStream) -> Vec<TokenStream> {
+        let written = self.written_bodies();
+        (0..self.plan.bodies.len())
+            .map(|b| {
+                let i = index(b);
+                if written.contains(&b) {
+                    let id = &self.pose_idents[b];
+                    quote!(out[#i] = #id;)
+                } else {
+                    quote!(out[#i] = Pose::<#real>::cst(s.poses[#i]);)
+                }
+            })
+            .collect()
+    }
+
     /// `solve_rates`: a frame and its rates in one pass on jets (their
     /// values are `solve`'s, the same operations on the same numbers),
     /// committed to `s` as `solve` commits.
@@ -64,15 +82,7 @@ impl Emitter<'_> {
             let (id, i) = (&self.pose_idents[b], index(b));
             quote!(s.poses[#i] = #id.value();)
         });
-        let out = (0..plan.bodies.len()).map(|b| {
-            let i = index(b);
-            if written.contains(&b) {
-                let id = &self.pose_idents[b];
-                quote!(out[#i] = #id;)
-            } else {
-                quote!(out[#i] = Pose::<Jet2>::cst(s.poses[#i]);)
-            }
-        });
+        let out = self.pose_outputs(quote!(Jet2));
         let (take_branches, commit_branches) = if plan.branches.is_empty() {
             (quote!(), quote!())
         } else {
