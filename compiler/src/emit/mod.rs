@@ -14,11 +14,13 @@
 //! use: the entry points, identifiers and literals, the step comments,
 //! and the `Sink` the module's items are laid out into, one at a time.
 
+use std::collections::HashMap;
 use std::fmt::Write;
 
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::quote;
 
+mod constants;
 mod fold;
 mod names;
 mod planar;
@@ -111,6 +113,23 @@ pub fn emit_spatial_chunked(plan: &crate::plan::spatial::Plan, chunk_weight: usi
     spatial::module(plan, chunk_weight)
 }
 
+/// Every step's comment (see [`step_comment`]), from each step's serves
+/// and explanation. The joints' lines are indexed by name once, so a plan
+/// of n steps over m joints costs n + m lookups, not n × m comparisons
+/// (a 20,000-loop chain has 60,000 of each).
+fn step_comments<'a>(
+    steps: impl Iterator<Item = (&'a [String], String)>,
+    source: &str,
+    joint_lines: &[(String, usize)],
+) -> Vec<String> {
+    // A later entry of the same origin wins, as the scan it replaces did.
+    let origins: HashMap<&str, usize> = joint_lines.iter().map(|(o, l)| (o.as_str(), *l)).collect();
+    steps
+        .enumerate()
+        .map(|(i, (serves, text))| step_comment(i, &text, serves, source, &origins))
+        .collect()
+}
+
 /// A step's comment: its number (as the plan lists it, from 0), its
 /// explanation, what it serves and, for a plan read from a file, the
 /// lines of the joints it serves (`fourbar.toml:14, 23`).
@@ -119,7 +138,7 @@ fn step_comment(
     text: &str,
     serves: &[String],
     source: &str,
-    joint_lines: &[(String, usize)],
+    origins: &HashMap<&str, usize>,
 ) -> String {
     let mut out = format!("{i}: {text}");
     if !serves.is_empty() {
@@ -127,17 +146,7 @@ fn step_comment(
     }
     let mut lines: Vec<usize> = Vec::new();
     for s in serves {
-        // The joint a serve names ("joint B coincident"): the longest
-        // origin it starts with.
-        let line = joint_lines
-            .iter()
-            .filter(|(origin, _)| {
-                s.strip_prefix(origin.as_str())
-                    .is_some_and(|r| r.is_empty() || r.starts_with(' '))
-            })
-            .max_by_key(|(origin, _)| origin.len())
-            .map(|&(_, line)| line);
-        if let Some(line) = line.filter(|l| !lines.contains(l)) {
+        if let Some(line) = joint_line(s, origins).filter(|l| !lines.contains(l)) {
             lines.push(line);
         }
     }
@@ -148,8 +157,16 @@ fn step_comment(
     out
 }
 
-/// Constants of `body` and `marker` laid out at a time.
-const NAMES_BATCH: usize = 1000;
+/// The line of the joint a serve names ("joint B coincident" names the
+/// origin "joint B"): the longest origin the serve starts with, ending at
+/// a space or at the serve's end.
+fn joint_line(serve: &str, origins: &HashMap<&str, usize>) -> Option<usize> {
+    let ends = serve.match_indices(' ').map(|(k, _)| k).chain([serve.len()]);
+    let ends: Vec<usize> = ends.collect();
+    ends.into_iter()
+        .rev()
+        .find_map(|end| origins.get(&serve[..end]).copied())
+}
 
 /// The generated module's text, written item by item: each item is parsed
 /// by `syn` and laid out by `prettyplease` as soon as it is made, so that
@@ -180,35 +197,15 @@ impl Sink {
     }
 
     /// Appends the module `head { first items }` (`head`: its attributes,
-    /// visibility and name), laid out as one item would be, but parsed
-    /// and laid out [`NAMES_BATCH`] items at a time.
-    fn push_module(
-        &mut self,
-        head: TokenStream,
-        first: TokenStream,
-        items: impl Iterator<Item = TokenStream>,
-    ) {
-        let mut items = items.peekable();
-        let batch: Vec<TokenStream> = items.by_ref().take(NAMES_BATCH).collect();
-        if items.peek().is_none() {
-            return self.push(quote!(#head { #first #(#batch)* }));
-        }
-        // The module's first lines, up to its closing brace; then each
-        // further batch in a stand-in module, which lays its items out at
-        // the same depth, without that module's first and last lines.
-        let text = Self::lay_out(quote!(#head { #first #(#batch)* }));
-        self.out
-            .push_str(text.strip_suffix("}\n").expect("a module ends with its brace"));
-        while items.peek().is_some() {
-            let batch = items.by_ref().take(NAMES_BATCH);
-            let text = Self::lay_out(quote!(mod batch { #(#batch)* }));
-            let inner = text
-                .strip_prefix("mod batch {\n")
-                .and_then(|t| t.strip_suffix("}\n"))
-                .expect("a module of items");
-            self.out.push_str(inner);
-        }
-        self.out.push_str("}\n");
+    /// visibility and name), each of `items` already laid out one level
+    /// inside it (see [`constants`]).
+    fn push_module(&mut self, head: TokenStream, first: TokenStream, items: impl Iterator<Item = String>) {
+        let text = Self::lay_out(quote!(#head { #first __dofplan_items!(); }));
+        let (before, after) =
+            (text.split_once("    __dofplan_items!();\n")).expect("the module holds its items' mark");
+        self.out.push_str(before);
+        items.for_each(|item| self.out.push_str(&item));
+        self.out.push_str(after);
     }
 
     /// The items of `tokens` laid out by prettyplease.

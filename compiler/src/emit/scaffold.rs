@@ -18,7 +18,8 @@
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 
-use super::{index, lit, names, Sink};
+use super::constants::{Constant, Value};
+use super::{index, names, Sink};
 use crate::model::InputKind;
 
 /// The module functions around `body`, which has `s: &mut State`,
@@ -185,12 +186,6 @@ pub(super) struct Scaffold<'a> {
     pub independent: Option<&'static str>,
 }
 
-/// A number array literal (`[1.0, 2.5]`).
-fn array_lit(xs: &[f64]) -> TokenStream {
-    let xs = xs.iter().map(|&x| lit(x));
-    quote!([#(#xs),*])
-}
-
 /// The kind of an input, as the generated module writes it.
 fn input_kind(kind: InputKind) -> TokenStream {
     match kind {
@@ -294,20 +289,28 @@ impl Scaffold<'_> {
         let Dimension { point, marker, .. } = &self.dim;
         let body_names = names::constants(self.bodies.iter().copied());
         let bodies = (self.bodies.iter().zip(&body_names).enumerate()).map(|(i, (b, c))| {
-            let (doc, c, i) = (format!(" `{b}`"), format_ident!("{}", c), index(i));
-            quote! {
-                #[doc = #doc]
-                pub const #c: usize = #i;
+            let value = Value::Index(i);
+            Constant {
+                name: b,
+                ident: c,
+                value,
             }
+            .laid_out()
         });
         let marker_names = names::constants(self.markers.iter().map(|(_, n, _)| n.as_str()));
+        let ty = marker.to_string();
         let markers = self.markers.iter().zip(&marker_names).map(|((b, name, at), c)| {
-            let doc = format!(" `{name}`");
-            let (c, b, at) = (format_ident!("{}", c), index(*b), array_lit(at));
-            quote! {
-                #[doc = #doc]
-                pub const #c: #marker = #marker::new(#name, #b, #at);
+            let value = Value::Marker {
+                ty: &ty,
+                body: *b,
+                at,
+            };
+            Constant {
+                name,
+                ident: c,
+                value,
             }
+            .laid_out()
         });
         let use_marker = if self.markers.is_empty() {
             quote!()

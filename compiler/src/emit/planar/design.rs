@@ -18,7 +18,7 @@ use std::cell::RefCell;
 use proc_macro2::{Literal, TokenStream};
 use quote::quote;
 
-use super::{index, lit, point_lit, step_comment, Emitter, Sink};
+use super::{index, lit, point_lit, step_comments, Emitter, Sink};
 use crate::plan::design::DesignTable;
 use crate::plan::{Plan, PointRef, StepKind};
 
@@ -300,9 +300,8 @@ pub(in crate::emit) fn design_module(plan: &Plan, table: &DesignTable<2>) -> Res
         return Err("the steps on tangents read other numbers than the steps on values".to_string());
     }
     let tangents = tangent_items(plan, table, rec);
-    let comments = (plan.steps.iter().zip(plan.explanations()).enumerate())
-        .map(|(i, (step, text))| step_comment(i, &text, &step.serves, &plan.source, &plan.joint_lines))
-        .collect();
+    let serves = plan.steps.iter().map(|s| s.serves.as_slice());
+    let comments = step_comments(serves.zip(plan.explanations()), &plan.source, &plan.joint_lines);
     let mut sink = Sink::new(String::new(), comments);
     sink.push(quote! {
         /// The mechanism as a function of its design parameters: every

@@ -21,7 +21,7 @@ pub use cluster::FIXED_LIMIT;
 pub(super) use design::design_module;
 
 use super::scaffold::{self, Dimension, Field, Scaffold};
-use super::{ident_for, index, lit, step_comment, uses, Sink};
+use super::{ident_for, index, lit, step_comments, uses, Sink};
 use crate::model::InputKind;
 use crate::plan::{Plan, StepKind};
 
@@ -397,9 +397,8 @@ pub(super) fn module(plan: &Plan, chunk_weight: usize) -> String {
             plan.branches.len()
         ),
     );
-    let comments = (plan.steps.iter().zip(plan.explanations()).enumerate())
-        .map(|(i, (step, text))| step_comment(i, &text, &step.serves, &plan.source, &plan.joint_lines))
-        .collect();
+    let serves = plan.steps.iter().map(|s| s.serves.as_slice());
+    let comments = step_comments(serves.zip(plan.explanations()), &plan.source, &plan.joint_lines);
     let mut sink = Sink::new(header, comments);
     let doc_solve = e.doc_solve();
     match chunks {

@@ -28,7 +28,7 @@ mod step;
 
 use super::scaffold::{self, Dimension, Field, Scaffold};
 use super::uses::Uses;
-use super::{index, lit, step_comment, Sink};
+use super::{index, lit, step_comments, Sink};
 use crate::plan::spatial::{Plan, StepKind};
 use step::vec_lit;
 
@@ -374,9 +374,9 @@ pub(super) fn module(plan: &Plan, chunk_weight: usize) -> String {
             plan.branches.len()
         ),
     );
-    let comments = (plan.steps.iter().enumerate())
-        .map(|(i, step)| step_comment(i, &plan.explain(i), &step.serves, &plan.source, &plan.joint_lines))
-        .collect();
+    let serves = plan.steps.iter().enumerate();
+    let serves = serves.map(|(i, s)| (s.serves.as_slice(), plan.explain(i)));
+    let comments = step_comments(serves, &plan.source, &plan.joint_lines);
     let mut sink = Sink::new(header, comments);
     e.module(steps, chunks, jet_steps, &mut sink);
     sink.finish()
