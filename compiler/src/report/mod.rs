@@ -19,6 +19,7 @@ pub mod ranges;
 mod rates;
 pub mod spatial;
 pub mod summary;
+pub mod synth;
 
 use std::io;
 

@@ -20,9 +20,11 @@
 //!
 //! `planar/` has `params.rs` (the parameters and candidates),
 //! `gradient.rs` (the derivatives), `tolerance.rs`, `problem.rs` and
-//! `solve.rs`; `spatial/` has `params.rs`, `gradient.rs` and, for function
-//! generation so far, `problem.rs`;
-//! `nodes.rs`, `search.rs` and `target.rs` serve both dimensions.
+//! `solve.rs`; `spatial/` has `params.rs`, `gradient.rs`, `problem.rs`
+//! (function and motion generation, given timing) and `solve.rs`;
+//! `nodes.rs`, `request.rs` (names, inputs and boxes resolved),
+//! `search.rs`, `solution.rs` (what a synthesis returns) and `target.rs`
+//! serve both dimensions.
 //!
 //! A design loop of your own — candidates, their frames and the
 //! derivatives of a marker with respect to every parameter:
@@ -89,7 +91,9 @@
 pub mod nodes;
 pub mod planar;
 pub mod reach;
+mod request;
 pub mod search;
+pub mod solution;
 pub mod spatial;
 pub mod target;
 

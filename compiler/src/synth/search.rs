@@ -18,18 +18,26 @@ pub trait Objective: Sync {
     /// The box of the varied parameters: the global search's variables.
     fn bounds(&self) -> &[[f64; 2]];
     /// The global search's fitness of the varied parameters `x`: the error
-    /// plus penalties (see [`penalised`]).
-    fn fitness(&self, x: &[f64]) -> f64;
+    /// plus penalties (see [`penalised`]). By default (no constraints, no
+    /// unknowns but the parameters) the residuals' sum of squares.
+    fn fitness(&self, x: &[f64]) -> f64 {
+        self.residuals(x, false).map_or(FAILED, |(r, _)| r.norm_squared())
+    }
     /// The polish's unknowns for `x`: the parameters, then any further
     /// unknowns of the problem (free timing's input values), started from
-    /// where `x` puts them; `None` for a candidate that fails.
-    fn start(&self, x: &[f64]) -> Option<Vec<f64>>;
+    /// where `x` puts them; `None` for a candidate that fails. By default
+    /// the parameters alone.
+    fn start(&self, x: &[f64]) -> Option<Vec<f64>> {
+        Some(x.to_vec())
+    }
     /// The residuals at the polish's unknowns `z` (the error is their sum
     /// of squares) and, when asked, their exact Jacobian; `None` for a
     /// candidate that fails.
     fn residuals(&self, z: &[f64], jacobian: bool) -> Option<(DVector<f64>, Option<DMatrix<f64>>)>;
-    /// Whether the constraints hold at `z`.
-    fn feasible(&self, z: &[f64]) -> bool;
+    /// Whether the constraints hold at `z` (by default there are none).
+    fn feasible(&self, _z: &[f64]) -> bool {
+        true
+    }
 }
 
 /// A fitness that keeps every candidate meeting the constraints ahead of

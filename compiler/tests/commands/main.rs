@@ -13,4 +13,5 @@ mod sensitivity;
 mod spatial_analyze;
 mod spatial_build;
 mod synth;
+mod synth_spatial;
 mod user_docs;

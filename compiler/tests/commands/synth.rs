@@ -210,7 +210,7 @@ fn bad_input_is_a_clear_error() {
         e.contains("no candidate in the box met the targets and the constraints"),
         "{e}"
     );
-    // A goal is required; spatial files are not covered yet.
+    // A goal is required; a spatial file names its own markers.
     let o = dofplan(&["synth", "mechanisms/fourbar.toml"]);
     assert!(
         !o.status.success() && text(&o.stderr).contains("--path"),
@@ -226,7 +226,9 @@ fn bad_input_is_a_clear_error() {
         &good,
     ]);
     assert!(
-        !o.status.success() && text(&o.stderr).contains("planar files for now"),
+        !o.status.success()
+            && text(&o.stderr).contains("no marker 'coupler.P'")
+            && text(&o.stderr).contains("coupler.M"),
         "{}",
         text(&o.stderr)
     );

@@ -4,39 +4,13 @@
 
 use std::io::{self, Write};
 
-use serde_json::{json, Map, Value};
-
 use crate::format::{length, rounded};
 use crate::interp::Interpreter;
 use crate::model::{Format, Mechanism, Sweep};
 use crate::render::planar::{render, SvgOptions};
+use crate::report::synth::{self as shared, short};
 use crate::simulate::{run, sweep_requests};
-use crate::synth::planar::{ErrorStats, Goal, Problem, Solution, Synthesis};
-use crate::synth::search::Stop;
-
-fn error_json(e: &ErrorStats) -> Value {
-    json!({ "sum_sq": e.sum_sq, "rms": e.rms, "max": e.max })
-}
-
-fn solution_json(s: &Synthesis, sol: &Solution) -> Value {
-    let parameters: Map<String, Value> = (s.names.iter().zip(&sol.values))
-        .map(|(n, v)| (n.clone(), json!(v)))
-        .collect();
-    let constraints: Vec<Value> = (sol.margins.iter())
-        .map(|m| json!({ "name": m.name, "value": m.value, "margin": m.margin }))
-        .collect();
-    let mut v = json!({
-        "error": error_json(&sol.error),
-        "search_error": error_json(&sol.searched),
-        "parameters": parameters,
-        "constraints": constraints,
-    });
-    if let Some(inputs) = &sol.inputs {
-        v["inputs"] = json!(inputs);
-        v["order_kept"] = json!(sol.order_kept);
-    }
-    v
-}
+use crate::synth::planar::{Goal, Problem, Solution, Synthesis};
 
 /// What a goal is, in words: "path generation of coupler.P through 18
 /// points (free timing)".
@@ -71,36 +45,9 @@ pub fn describe(m: &Mechanism, goal: &Goal) -> String {
     }
 }
 
-fn stop_words(stop: Stop) -> &'static str {
-    match stop {
-        Stop::Target => "the target error was reached",
-        Stop::Time => "the time limit",
-        Stop::Stagnation => "no progress",
-        Stop::Cancelled => "cancelled",
-        Stop::Budget => "the evaluation budget",
-    }
-}
-
 /// Prints the synthesis as JSON.
 pub fn write_json(m: &Mechanism, problem: &Problem, s: &Synthesis, out: &mut dyn Write) -> io::Result<()> {
-    let best = &s.solutions[0];
-    let mut doc = solution_json(s, best);
-    doc["mechanism"] = json!(m.name);
-    doc["goal"] = json!(describe(m, problem.goal()));
-    doc["varied"] = json!(s.varied.iter().map(|&k| s.names[k].clone()).collect::<Vec<_>>());
-    doc["evaluations"] = json!(s.evaluations);
-    doc["seconds"] = json!(s.seconds);
-    doc["stopped"] = json!(stop_words(s.stop));
-    doc["solutions"] = json!(s
-        .solutions
-        .iter()
-        .map(|sol| solution_json(s, sol))
-        .collect::<Vec<_>>());
-    writeln!(
-        out,
-        "{}",
-        serde_json::to_string_pretty(&doc).expect("JSON of plain values")
-    )
+    shared::write_json(&m.name, &describe(m, problem.goal()), s, out)
 }
 
 /// Prints the synthesis as text.
@@ -164,35 +111,7 @@ pub fn write_text(
             rounded(c.margin, 4)
         )?;
     }
-    if s.solutions.len() > 1 {
-        let others: Vec<String> = s.solutions[1..].iter().map(|o| short(o.error.sum_sq)).collect();
-        writeln!(
-            out,
-            "other distinct solutions: sum of squares {}",
-            others.join(", ")
-        )?;
-    }
-    for r in &s.rejected {
-        writeln!(out, "left out: {r}")?;
-    }
-    writeln!(
-        out,
-        "{} evaluations in {} s (stopped: {})",
-        s.evaluations,
-        rounded(s.seconds, 2),
-        stop_words(s.stop)
-    )
-}
-
-/// A sum of squares for people: four significant digits.
-fn short(x: f64) -> String {
-    if x == 0.0 {
-        "0".into()
-    } else if (1e-3..1e6).contains(&x.abs()) {
-        rounded(x, (3 - x.abs().log10().floor() as i64).max(0) as usize)
-    } else {
-        format!("{x:.3e}")
-    }
+    shared::write_tail(s, out)
 }
 
 /// The picture of a solution: the mechanism its file holds, run over the

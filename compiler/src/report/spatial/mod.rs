@@ -5,6 +5,7 @@
 pub mod analyze;
 pub mod check;
 pub mod frames;
+pub mod synth;
 
 pub use check::check;
 pub use frames::{drag, frame_value, simulate};

@@ -11,6 +11,8 @@ mod tolerance;
 
 pub use gradient::{sensitivity, Sensitivity};
 pub use params::{Candidate, Design, Node};
-pub use problem::{link_ratio, output, Constraints, Goal, Margin, Problem};
-pub use solve::{problem, stats, synthesize, ErrorStats, Kind, Request, Solution, Synthesis};
+pub use problem::{link_ratio, output, Constraints, Goal, Problem};
+pub use solve::{problem, synthesize, Kind, Request};
+// What a synthesis returns is the same in both dimensions.
+pub use crate::synth::solution::{stats, ErrorStats, Margin, Solution, Synthesis};
 pub use tolerance::{monte_carlo, worst_case, Spread};

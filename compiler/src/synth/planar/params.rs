@@ -68,6 +68,11 @@ impl Design {
         self.params.nodes()
     }
 
+    /// The parameters: nodes, names and drawn values.
+    pub fn parameters(&self) -> &nodes::Parameters<2> {
+        &self.params
+    }
+
     /// The parameters' names, in order: `NAME.x`, `NAME.y` per node.
     pub fn names(&self) -> &[String] {
         self.params.names()

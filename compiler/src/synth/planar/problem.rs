@@ -13,6 +13,7 @@ use crate::interp::InterpState;
 use crate::model::{InputKind, JointKind, MarkerId, Mechanism};
 use crate::simulate::planar::kinematics::transmission_angle;
 use crate::synth::search::{penalised, Objective, FAILED};
+use crate::synth::solution::Margin;
 use crate::synth::SynthError;
 
 /// What the synthesised mechanism must do.
@@ -97,17 +98,6 @@ pub struct Constraints {
     /// Longest over shortest link at most this (a link's length: the
     /// largest distance between two joints on it).
     pub max_ratio: Option<f64>,
-}
-
-/// A constraint's value at a solution and how far it is kept.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Margin {
-    /// "full-turn", "min-transmission", "max-ratio".
-    pub name: &'static str,
-    /// The measured value (full-turn: 1 when the input turns fully, else 0).
-    pub value: f64,
-    /// How far inside the constraint (negative: broken).
-    pub margin: f64,
 }
 
 /// A synthesis problem on a planar mechanism.

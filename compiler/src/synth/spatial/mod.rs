@@ -1,13 +1,16 @@
 //! Design parameters of spatial mechanisms: [`Design`] (parameters and
 //! candidates) and [`sensitivity`] (the exact derivatives of a frame with
 //! respect to them), the same files as `synth/planar/`; `problem.rs`
-//! has function generation ([`Function`]) and motion generation
-//! ([`Motion`]), given timing.
+//! has path generation ([`Path`]), function generation ([`Function`]) and
+//! motion generation ([`Motion`]), given timing, and `solve.rs` runs them from a
+//! [`Request`] as `dofplan synth` makes it.
 
 mod gradient;
 mod params;
 mod problem;
+mod solve;
 
 pub use gradient::{sensitivity, Sensitivity};
 pub use params::{Candidate, Design, Node};
-pub use problem::{output, BodyPose, Function, Motion};
+pub use problem::{output, BodyPose, Function, Motion, Path};
+pub use solve::{problem, synthesize, Kind, Problem, Request};

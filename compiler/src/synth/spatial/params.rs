@@ -72,6 +72,11 @@ impl Design {
         self.params.names()
     }
 
+    /// The parameters: nodes, names and drawn values.
+    pub fn parameters(&self) -> &nodes::Parameters<3> {
+        &self.params
+    }
+
     /// The index of a parameter by name.
     pub fn index(&self, name: &str) -> Result<usize, SynthError> {
         self.params.index(name)

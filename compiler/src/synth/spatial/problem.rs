@@ -1,6 +1,7 @@
 //! Spatial synthesis problems, given timing: function generation (a
-//! revolute joint's angle at given input values) and motion generation (a
-//! body's marker position and the body's turn at given input values),
+//! revolute joint's angle at given input values), motion generation (a
+//! body's marker position and the body's turn at given input values) and
+//! path generation (a marker's position at given input values),
 //! searched as the planar problems are (`synth/search.rs`), with the exact
 //! Jacobians of `synth/spatial/gradient.rs`.
 
@@ -11,7 +12,7 @@ use nalgebra::{DMatrix, DVector, Matrix3, Rotation3, Vector3};
 use super::{sensitivity, Candidate, Design};
 use crate::model::spatial::{JointKind, Mechanism};
 use crate::model::MarkerId;
-use crate::synth::search::{Objective, FAILED};
+use crate::synth::search::Objective;
 use crate::synth::SynthError;
 
 /// A spatial function-generation problem: at each input value, the output
@@ -62,6 +63,12 @@ impl Varied {
             bounds,
             base,
         })
+    }
+
+    /// The same parameters varied within the same box on another drawing
+    /// of the mechanism (a solution's written file).
+    fn on(&self, design: Design) -> Result<Varied, SynthError> {
+        Varied::new(design, self.input, self.vary.clone(), self.bounds.clone())
     }
 
     /// Every parameter's value for the varied ones at `x`.
@@ -162,19 +169,40 @@ impl Function {
     pub fn values(&self, x: &[f64]) -> Vec<f64> {
         self.varied.values(x)
     }
+
+    /// The design the problem varies.
+    pub fn design(&self) -> &Design {
+        &self.varied.design
+    }
+
+    /// The varied parameters' indices.
+    pub fn vary(&self) -> &[usize] {
+        &self.varied.vary
+    }
+
+    /// The output joint.
+    pub fn joint(&self) -> usize {
+        self.joint
+    }
+
+    /// The targets: (input value, output degrees).
+    pub fn pairs(&self) -> &[[f64; 2]] {
+        &self.pairs
+    }
+
+    /// The same goal on another drawing (a solution's written file).
+    pub fn on(&self, design: Design) -> Result<Function, SynthError> {
+        Ok(Function {
+            varied: self.varied.on(design)?,
+            joint: self.joint,
+            pairs: self.pairs.clone(),
+        })
+    }
 }
 
 impl Objective for Function {
     fn bounds(&self) -> &[[f64; 2]] {
         &self.varied.bounds
-    }
-
-    fn fitness(&self, x: &[f64]) -> f64 {
-        self.residuals(x, false).map_or(FAILED, |(r, _)| r.norm_squared())
-    }
-
-    fn start(&self, x: &[f64]) -> Option<Vec<f64>> {
-        Some(x.to_vec())
     }
 
     fn residuals(&self, z: &[f64], jacobian: bool) -> Option<(DVector<f64>, Option<DMatrix<f64>>)> {
@@ -206,10 +234,6 @@ impl Objective for Function {
             }
         }
         Some((DVector::from_vec(r), Some(j)))
-    }
-
-    fn feasible(&self, _: &[f64]) -> bool {
-        true
     }
 }
 
@@ -319,19 +343,41 @@ impl Motion {
     pub fn values(&self, x: &[f64]) -> Vec<f64> {
         self.varied.values(x)
     }
+
+    /// The design the problem varies.
+    pub fn design(&self) -> &Design {
+        &self.varied.design
+    }
+
+    /// The varied parameters' indices.
+    pub fn vary(&self) -> &[usize] {
+        &self.varied.vary
+    }
+
+    /// The marker whose position is the body's.
+    pub fn marker(&self) -> MarkerId {
+        self.marker
+    }
+
+    /// The target poses.
+    pub fn poses(&self) -> &[BodyPose] {
+        &self.poses
+    }
+
+    /// The same goal on another drawing (a solution's written file).
+    pub fn on(&self, design: Design) -> Result<Motion, SynthError> {
+        Ok(Motion {
+            varied: self.varied.on(design)?,
+            marker: self.marker,
+            poses: self.poses.clone(),
+            weight: self.weight,
+        })
+    }
 }
 
 impl Objective for Motion {
     fn bounds(&self) -> &[[f64; 2]] {
         &self.varied.bounds
-    }
-
-    fn fitness(&self, x: &[f64]) -> f64 {
-        self.residuals(x, false).map_or(FAILED, |(r, _)| r.norm_squared())
-    }
-
-    fn start(&self, x: &[f64]) -> Option<Vec<f64>> {
-        Some(x.to_vec())
     }
 
     fn residuals(&self, z: &[f64], jacobian: bool) -> Option<(DVector<f64>, Option<DMatrix<f64>>)> {
@@ -370,8 +416,129 @@ impl Objective for Motion {
         }
         Some((r, j))
     }
+}
 
-    fn feasible(&self, _: &[f64]) -> bool {
-        true
+/// A spatial path-generation problem, given timing: at each target's input
+/// value, the marker is at the target's point. Three residuals a target:
+/// the position error.
+#[derive(Clone, Debug)]
+pub struct Path {
+    varied: Varied,
+    marker: MarkerId,
+    points: Vec<(f64, [f64; 3])>,
+}
+
+impl Path {
+    /// The problem of moving `marker` through `points` (input value,
+    /// world point) as input `input` moves, varying the parameters `vary`
+    /// within `bounds`.
+    pub fn new(
+        design: Design,
+        marker: MarkerId,
+        points: Vec<(f64, [f64; 3])>,
+        input: usize,
+        vary: Vec<usize>,
+        bounds: Vec<[f64; 2]>,
+    ) -> Result<Path, SynthError> {
+        let m = design.mechanism();
+        if m.bodies[marker.body].fixed {
+            return Err(SynthError::Goal {
+                reason: format!(
+                    "marker {} is on the fixed body: it has no path to generate",
+                    m.marker_name(marker)
+                ),
+            });
+        }
+        let varied = Varied::new(design, input, vary, bounds)?;
+        // A point an idle spin turns (off the axis of an RSSR's coupler)
+        // has no path the input decides: refused here, where it can be
+        // said, rather than failing every candidate's derivatives.
+        let drawn = varied.design.prepare(&varied.base)?;
+        let frames = varied.reach(&drawn, &[0.0]).ok_or_else(|| SynthError::Goal {
+            reason: "the drawing does not run at input 0".into(),
+        })?;
+        let s = sensitivity(&varied.design, &drawn, &frames[0], &varied.request(0.0))?;
+        if !s.determined(marker) {
+            return Err(SynthError::Goal {
+                reason: format!(
+                    "marker {} moves with an idle spin of its body (a spin no input drives), so its path is not determined: trace a point on the spin's axis, or on another body",
+                    varied.design.mechanism().marker_name(marker)
+                ),
+            });
+        }
+        Ok(Path {
+            varied,
+            marker,
+            points,
+        })
+    }
+
+    /// Every parameter's value for the varied ones at `x`.
+    pub fn values(&self, x: &[f64]) -> Vec<f64> {
+        self.varied.values(x)
+    }
+
+    /// The design the problem varies.
+    pub fn design(&self) -> &Design {
+        &self.varied.design
+    }
+
+    /// The varied parameters' indices.
+    pub fn vary(&self) -> &[usize] {
+        &self.varied.vary
+    }
+
+    /// The marker that passes the points.
+    pub fn marker(&self) -> MarkerId {
+        self.marker
+    }
+
+    /// The targets: (input value, world point).
+    pub fn points(&self) -> &[(f64, [f64; 3])] {
+        &self.points
+    }
+
+    /// The same goal on another drawing (a solution's written file).
+    pub fn on(&self, design: Design) -> Result<Path, SynthError> {
+        Ok(Path {
+            varied: self.varied.on(design)?,
+            marker: self.marker,
+            points: self.points.clone(),
+        })
+    }
+}
+
+impl Objective for Path {
+    fn bounds(&self) -> &[[f64; 2]] {
+        &self.varied.bounds
+    }
+
+    fn residuals(&self, z: &[f64], jacobian: bool) -> Option<(DVector<f64>, Option<DMatrix<f64>>)> {
+        let v = &self.varied;
+        let c = v.design.prepare(&v.values(z)).ok()?;
+        let at: Vec<f64> = self.points.iter().map(|p| p.0).collect();
+        let frames = v.reach(&c, &at)?;
+        let (body, local) = (self.marker.body, c.mechanism.marker(self.marker).at);
+        let n = self.points.len();
+        let mut r = DVector::zeros(3 * n);
+        let mut j = jacobian.then(|| DMatrix::zeros(3 * n, v.vary.len()));
+        for (i, (poses, &(input, target))) in frames.iter().zip(&self.points).enumerate() {
+            let w = poses[body].world(local);
+            for k in 0..3 {
+                r[3 * i + k] = w[k] - target[k];
+            }
+            let Some(j) = j.as_mut() else { continue };
+            let s = sensitivity(&v.design, &c, poses, &v.request(input)).ok()?;
+            if !s.determined(self.marker) {
+                return None;
+            }
+            let dm = s.marker(self.marker);
+            for (k, &p) in v.vary.iter().enumerate() {
+                for a in 0..3 {
+                    j[(3 * i + a, k)] = dm[p][a];
+                }
+            }
+        }
+        Some((r, j))
     }
 }

@@ -1,0 +1,60 @@
+//! `dofplan synth`'s report on a spatial mechanism: the best solution's
+//! error (recomputed from the file written), its points, and the other
+//! distinct solutions; as text or one JSON document (the planar report's
+//! fields, without constraints: spatial synthesis has none yet).
+
+use std::io::{self, Write};
+
+use crate::format::{length, rounded};
+use crate::model::spatial::Mechanism;
+use crate::report::synth::{self as shared, short};
+use crate::synth::solution::Synthesis;
+use crate::synth::spatial::Problem;
+
+/// Prints the synthesis as JSON.
+pub fn write_json(m: &Mechanism, problem: &Problem, s: &Synthesis, out: &mut dyn Write) -> io::Result<()> {
+    shared::write_json(&m.name, &problem.describe(), s, out)
+}
+
+/// Prints the synthesis as text.
+pub fn write_text(
+    m: &Mechanism,
+    problem: &Problem,
+    s: &Synthesis,
+    written: Option<&str>,
+    out: &mut dyn Write,
+) -> io::Result<()> {
+    let best = &s.solutions[0];
+    writeln!(
+        out,
+        "{}: {}, {} of {} parameters varied",
+        m.name,
+        problem.describe(),
+        s.varied.len(),
+        s.names.len()
+    )?;
+    let from = written.map_or("from the solution's file".to_string(), |f| format!("from {f}"));
+    let e = &best.error;
+    // A function's output is an angle; a path's and a motion's residuals
+    // are lengths (a motion's turn weighted by the mechanism's size per
+    // radian).
+    let unit = match problem {
+        Problem::Function(_) => " (degrees)",
+        Problem::Path(_) | Problem::Motion(_) => "",
+    };
+    writeln!(
+        out,
+        "best: sum of squares {}, rms {}, max {}{unit} ({from})",
+        short(e.sum_sq),
+        length(e.rms),
+        length(e.max)
+    )?;
+    for (n, node) in problem.design().nodes().iter().enumerate() {
+        let at = &best.values[3 * n..3 * n + 3];
+        let varied = (3 * n..3 * n + 3).any(|k| s.varied.contains(&k));
+        let note = if varied { "" } else { "  (held)" };
+        let [x, y, z] = [at[0], at[1], at[2]].map(|v| rounded(v, 6));
+        writeln!(out, "  {:<12} ({x}, {y}, {z}){note}", node.name)?;
+    }
+    shared::write_tail(s, out)
+}
