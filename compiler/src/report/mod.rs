@@ -17,6 +17,7 @@ pub mod planar;
 pub mod ranges;
 #[cfg(feature = "plots")]
 mod rates;
+pub mod sensitivity;
 pub mod spatial;
 pub mod summary;
 pub mod synth;

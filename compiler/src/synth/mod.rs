@@ -96,6 +96,7 @@ pub mod search;
 pub mod solution;
 pub mod spatial;
 pub mod target;
+pub mod tolerance;
 
 use std::fmt;
 

@@ -557,13 +557,30 @@ fn spatial_command(
         Command::Simulate { .. } => simulate_spatial(m, command, out),
         Command::Drag { .. } => drag_spatial(m, command, out),
         Command::Analyze {
-            sensitivity: true, ..
+            sensitivity: true,
+            sweep: sweep_args,
+            json,
+            csv,
+            tolerance,
+            monte_carlo,
+            seed,
+            ..
         } => {
-            report(&format!(
-                "{}: error: --sensitivity works on planar files for now; a spatial plan's derivatives with respect to its dimensions are not computed yet",
-                m.source.name
-            ));
-            Ok(ExitCode::FAILURE)
+            let Some(sweep) = sweep_args.of(m) else {
+                return Ok(ExitCode::FAILURE);
+            };
+            let study = Study {
+                tolerance,
+                monte_carlo,
+                seed,
+            };
+            outcome(dofplan::report::spatial::sensitivity::run(
+                m,
+                &sweep,
+                study,
+                Form::of(json, csv),
+                out,
+            ))
         }
         Command::Analyze { .. } => analyze_spatial(m, command, out),
         Command::Emit { .. } => Ok(match spatial_plan(m) {

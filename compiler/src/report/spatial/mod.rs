@@ -5,6 +5,7 @@
 pub mod analyze;
 pub mod check;
 pub mod frames;
+pub mod sensitivity;
 pub mod synth;
 
 pub use check::check;

@@ -15,4 +15,5 @@ pub use problem::{link_ratio, output, Constraints, Goal, Problem};
 pub use solve::{problem, synthesize, Kind, Request};
 // What a synthesis returns is the same in both dimensions.
 pub use crate::synth::solution::{stats, ErrorStats, Margin, Solution, Synthesis};
-pub use tolerance::{monte_carlo, worst_case, Spread};
+pub use crate::synth::tolerance::Spread;
+pub use tolerance::{monte_carlo, worst_case};

@@ -3,10 +3,10 @@
 //! counterpart on perturbed candidates.
 
 use dofplan_runtime::{Driver, Options};
-use rand::{Rng, SeedableRng};
 
 use super::Design;
 use crate::model::MarkerId;
+use crate::synth::tolerance::{spread, Spread};
 
 /// The largest `|Σ δ_k d_k|` over every `δ` with `|δ_k| ≤ t`: the
 /// worst-case first-order deviation of a point whose derivatives with
@@ -44,21 +44,6 @@ pub fn worst_case(d: &[[f64; 2]], t: f64) -> f64 {
     best
 }
 
-/// What [`monte_carlo`] found.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Spread {
-    /// Candidates drawn.
-    pub candidates: usize,
-    /// Candidates that could not be planned, or broke at a frame the
-    /// drawing reaches.
-    pub failed: usize,
-    /// Per marker: the largest deviation from the nominal path over every
-    /// frame and every candidate that ran.
-    pub largest: Vec<f64>,
-    /// Per marker: the mean over candidates of each one's largest deviation.
-    pub mean: Vec<f64>,
-}
-
 /// Runs `n` candidates whose parameters are each drawn uniformly within
 /// `±t` of the drawing (seeded: the same seed gives the same candidates)
 /// over `requested`, and measures how far `markers` stray from their
@@ -71,44 +56,18 @@ pub fn monte_carlo(
     nominal: &[Option<Vec<[f64; 2]>>],
     (n, t, seed): (usize, f64, u64),
 ) -> Spread {
-    let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
-    let drawn = design.drawn();
-    let (mut failed, mut largest, mut sum) = (0, vec![0.0f64; markers.len()], vec![0.0; markers.len()]);
-    for _ in 0..n {
-        let p: Vec<f64> = drawn.iter().map(|v| v + rng.random_range(-t..=t)).collect();
-        let Ok(c) = design.prepare(&p) else {
-            failed += 1;
-            continue;
-        };
+    spread(&design.drawn(), nominal, (n, t, seed), |p| {
+        let c = design.prepare(p).ok()?;
         let mut driver = Driver::new(c.interpreter.clone(), Options::default());
-        let mut worst = vec![0.0f64; markers.len()];
-        let mut broke = false;
-        for (inputs, nominal) in requested.iter().zip(nominal) {
-            let solved = driver.frame(inputs).is_solved();
-            let Some(nominal) = nominal else { continue };
-            if !solved {
-                broke = true;
-                break;
-            }
-            for (k, id) in markers.iter().enumerate() {
-                let w = driver.poses()[id.body].world(c.mechanism.marker(*id).at);
-                worst[k] = worst[k].max((w[0] - nominal[k][0]).hypot(w[1] - nominal[k][1]));
-            }
-        }
-        if broke {
-            failed += 1;
-            continue;
-        }
-        for k in 0..markers.len() {
-            largest[k] = largest[k].max(worst[k]);
-            sum[k] += worst[k];
-        }
-    }
-    let ran = (n - failed).max(1) as f64;
-    Spread {
-        candidates: n,
-        failed,
-        largest,
-        mean: sum.iter().map(|s| s / ran).collect(),
-    }
+        let frames = (requested.iter())
+            .map(|inputs| {
+                let solved = driver.frame(inputs).is_solved();
+                solved.then(|| {
+                    let at = |id: &MarkerId| driver.poses()[id.body].world(c.mechanism.marker(*id).at);
+                    markers.iter().map(at).collect()
+                })
+            })
+            .collect();
+        Some(frames)
+    })
 }

@@ -9,8 +9,10 @@ mod gradient;
 mod params;
 mod problem;
 mod solve;
+mod tolerance;
 
 pub use gradient::{sensitivity, Sensitivity};
 pub use params::{Candidate, Design, Node};
 pub use problem::{output, BodyPose, Function, Motion, Path};
 pub use solve::{problem, synthesize, Kind, Problem, Request};
+pub use tolerance::{monte_carlo, worst_case};
