@@ -210,10 +210,10 @@ enum Command {
         svg: Option<PathBuf>,
         /// Instead of rates: how each traced marker's path depends on the
         /// design parameters (every joint's drawn position, JOINT.x and
-        /// JOINT.y, and every free marker's, body.marker.x): its exact
-        /// derivative with respect to each over the sweep, the parameters
-        /// ranked by their largest effect. With --json, every frame's
-        /// derivatives. Planar files.
+        /// JOINT.y (and JOINT.z in space), and every free marker's,
+        /// body.marker.x): its exact derivative with respect to each over
+        /// the sweep, the parameters ranked by their largest effect. With
+        /// --json, every frame's derivatives. Planar and spatial files.
         #[arg(long, conflicts_with_all = ["csv", "svg"])]
         sensitivity: bool,
         /// With --sensitivity: the worst-case first-order deviation of
