@@ -197,7 +197,7 @@ pub fn problem(m: &Mechanism, request: &Request) -> Result<Problem, String> {
                 .map(|r| (r.values[0], [r.values[1], r.values[2], r.values[3]]))
                 .collect();
             let bounds = bounds(points.iter().map(|p| p.1).collect())?;
-            let p = Path::new(design.clone(), id, points, input, vary.clone(), bounds);
+            let p = Path::new(design, id, points, input, vary, bounds);
             p.map(Problem::Path).map_err(|e| e.to_string())
         }
         Kind::Function { output } => {
@@ -210,7 +210,7 @@ pub fn problem(m: &Mechanism, request: &Request) -> Result<Problem, String> {
             let rows = target::read(name, text, &[2], "input,output")?;
             let pairs = rows.iter().map(|r| [r.values[0], r.values[1]]).collect();
             let bounds = bounds(Vec::new())?;
-            let f = Function::new(design.clone(), joint, pairs, input, vary.clone(), bounds);
+            let f = Function::new(design, joint, pairs, input, vary, bounds);
             f.map(Problem::Function).map_err(|e| e.to_string())
         }
         Kind::Motion { body, marker } => {
@@ -243,7 +243,7 @@ pub fn problem(m: &Mechanism, request: &Request) -> Result<Problem, String> {
                 })
                 .collect();
             let bounds = bounds(poses.iter().map(|p| p.at).collect())?;
-            let p = Motion::new(design.clone(), id, poses, input, vary.clone(), bounds);
+            let p = Motion::new(design, id, poses, input, vary, bounds);
             p.map(Problem::Motion).map_err(|e| e.to_string())
         }
     }
