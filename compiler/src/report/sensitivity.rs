@@ -85,6 +85,13 @@ pub(crate) struct Subject<'a> {
     pub primary_index: usize,
 }
 
+/// The error for a sweep that traces no marker: there is no path to study.
+pub(crate) fn untraced(file: &str) -> String {
+    format!(
+        "{file}: error: the sweep traces no marker, so there is no path to study; add trace = [\"body.marker\"] to [sweep]"
+    )
+}
+
 /// Runs `frame` at every requested frame and gathers the derivatives;
 /// `worst_case` is the dimension's exact worst case under a tolerance. An
 /// under-constrained mechanism (its poses depend on the path) is an

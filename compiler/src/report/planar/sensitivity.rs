@@ -10,7 +10,7 @@ use std::io::Write;
 use dofplan_runtime::{Driver, Options};
 
 use crate::model::{Mechanism, Sweep};
-use crate::report::sensitivity::{gather, write, Subject};
+use crate::report::sensitivity::{gather, untraced, write, Subject};
 use crate::report::{Form, Outcome};
 use crate::simulate::sweep_requests;
 use crate::synth::planar::{monte_carlo, sensitivity, worst_case, Design};
@@ -20,10 +20,7 @@ pub use crate::report::sensitivity::Study;
 /// Runs the study over `sweep` and prints it in `form` (text or JSON).
 pub fn run(m: &Mechanism, sweep: &Sweep, study: Study, form: Form, out: &mut dyn Write) -> Outcome {
     if sweep.trace.is_empty() {
-        return Ok(Err(format!(
-            "{}: error: the sweep traces no marker, so there is no path to study; add trace = [\"body.marker\"] to [sweep]",
-            m.source.name
-        )));
+        return Ok(Err(untraced(&m.source.name)));
     }
     let fail = |e: crate::synth::SynthError| Ok(Err(format!("{}: error: {e}", m.source.name)));
     let design = match Design::new(m) {
