@@ -176,3 +176,39 @@ fn a_file_with_hundreds_of_errors_shows_the_first_hundred_and_counts_the_rest() 
         "error: 150 more errors in many.toml, not shown: fix the 100 above and check again"
     );
 }
+
+#[test]
+fn the_dimension_is_read_off_a_files_start_however_far_its_top_level_keys_go() {
+    use dofplan::model::is_spatial_file;
+    let dir = scratch("dimension");
+    let write = |name: &str, text: &str| {
+        let path = dir.join(name);
+        std::fs::write(&path, text).unwrap();
+        path
+    };
+    // The key past the first reads (64 KiB, then twice as much each time),
+    // after a long comment block and after a long top-level value.
+    let comments = "# a line of comment about the mechanism, long enough\n".repeat(10_000);
+    assert!(is_spatial_file(&write(
+        "late.toml",
+        &format!("{comments}dimension = 3\n")
+    )));
+    let long = format!("name = \"{}\"\ndimension = 3\n", "x".repeat(300_000));
+    assert!(is_spatial_file(&write("long_line.toml", &long)));
+    // Lines of a multi-line string that start with `[` are not headers.
+    let rows = "[not a header]\n".repeat(20_000);
+    let string = format!("notes = \"\"\"\n{rows}\"\"\"\ndimension = 3\n[bodies.a]\n");
+    assert!(is_spatial_file(&write("string.toml", &string)));
+    // A header ends the top-level keys: a `dimension` after it is a
+    // table's, wherever the read stops.
+    let after = format!("[bodies.a]\n{comments}dimension = 3\n");
+    assert!(!is_spatial_file(&write("after_header.toml", &after)));
+    // Without a new line to cut at, the whole file is read.
+    let one_line = format!("dimension = 3 # {}", "y".repeat(200_000));
+    assert!(is_spatial_file(&write("one_line.toml", &one_line)));
+    assert!(!is_spatial_file(&write(
+        "planar.toml",
+        &format!("{comments}name = \"p\"\n")
+    )));
+    std::fs::remove_dir_all(&dir).unwrap();
+}

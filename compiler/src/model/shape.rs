@@ -134,16 +134,19 @@ enum Frame {
 
 /// The first array of a TOML text longer than the format allows.
 pub fn check_toml(text: &str) -> Option<TooLong> {
-    walk_toml(text, false, &mut |_, _| false)
+    walk_toml(text, None, &mut |_, _| false)
 }
 
 /// Whether a TOML text says `dimension = 3` at its top level, read off its
-/// tokens (up to that key) rather than parsed.
-pub fn toml_says_spatial(text: &str) -> bool {
+/// tokens (up to that key) rather than parsed; given the start of a text
+/// (cut after a new line), also whether that holds however the text goes
+/// on (the key was read, or a table header ended the top-level keys).
+pub fn toml_says_spatial_in(text: &str) -> (bool, bool) {
     let mut spatial = false;
+    let mut decided = false;
     // Top-level keys come before the first table header: the walk stops
     // there (a 50 MB file is not read to its end for a key it cannot have).
-    walk_toml(text, true, &mut |path, at| {
+    walk_toml(text, Some(&mut decided), &mut |path, at| {
         let is_dimension = matches!(path, [key] if key == "dimension");
         if is_dimension {
             // The value is the rest of its line (a comment aside).
@@ -153,7 +156,7 @@ pub fn toml_says_spatial(text: &str) -> bool {
         }
         is_dimension
     });
-    spatial
+    (spatial, decided || spatial)
 }
 
 /// A TOML integer's value (`+3`, `0x3`, `1_000`), or `None` for anything
@@ -172,10 +175,10 @@ fn toml_integer(value: &str) -> Option<i64> {
 /// Walks a TOML text's arrays (see the module's doc), calling `scalar`
 /// with the key path and offset of each value at the top level that is not
 /// an array or a table; it returns whether to stop. With `top_only`, the
-/// walk stops at the first table header.
+/// walk stops at the first table header, and says so there.
 fn walk_toml(
     text: &str,
-    top_only: bool,
+    top_only: Option<&mut bool>,
     scalar: &mut dyn FnMut(&[Cow<str>], usize) -> bool,
 ) -> Option<TooLong> {
     use toml_parser::lexer::TokenKind as T;
@@ -216,7 +219,8 @@ fn walk_toml(
             T::Newline => {}
             T::Eof => break,
             T::LeftSquareBracket if frames.is_empty() && in_key => {
-                if top_only {
+                if let Some(header) = top_only {
+                    *header = true;
                     break;
                 }
                 // A table header (`[[` for an array of tables): its keys
@@ -549,7 +553,7 @@ mod tests {
             ("a = { dimension = 3 }\n", false),
             ("s = \"\"\"\ndimension = 3\n\"\"\"\n", false),
         ] {
-            assert_eq!(toml_says_spatial(text), spatial, "{text}");
+            assert_eq!(toml_says_spatial_in(text).0, spatial, "{text}");
         }
         for (text, spatial) in [
             (r#"{"dimension": 3}"#, true),
@@ -577,7 +581,12 @@ mod tests {
                 let three = top.iter().any(|(k, v)| {
                     k.name == "dimension" && matches!(v.kind, crate::model::source::NodeKind::Int(3))
                 });
-                assert_eq!(toml_says_spatial(&text), three, "{}", path.display());
+                assert_eq!(toml_says_spatial_in(&text).0, three, "{}", path.display());
+                // Every start of it that decides decides the same.
+                for (cut, _) in text.match_indices('\n') {
+                    let (spatial, decided) = toml_says_spatial_in(&text[..=cut]);
+                    assert!(!decided || spatial == three, "{} cut at {cut}", path.display());
+                }
             }
         }
     }

@@ -4,7 +4,7 @@
 //! every error of a file at once; each error carries a position and the
 //! names involved.
 
-use std::collections::{HashMap, HashSet};
+use foldhash::{HashMap, HashMapExt, HashSet, HashSetExt};
 use std::path::Path;
 use std::sync::Arc;
 
@@ -210,15 +210,37 @@ pub fn is_spatial_file(path: &Path) -> bool {
     if std::fs::metadata(path).is_ok_and(|m| m.len() > MAX_FILE_BYTES) {
         return false;
     }
-    let Ok(text) = std::fs::read_to_string(path) else {
-        return false;
-    };
     // Read off the tokens up to the key, not parsed: the loader that
     // follows parses the file (and reports what is wrong with it), so a
     // large file is parsed once, not twice.
     match Format::of_path(path) {
-        Format::Toml => shape::toml_says_spatial(&text),
-        Format::Json => shape::json_says_spatial(&text),
+        Format::Toml => toml_file_says_spatial(path).unwrap_or(false),
+        Format::Json => std::fs::read_to_string(path).is_ok_and(|text| shape::json_says_spatial(&text)),
+    }
+}
+
+/// [`is_spatial_file`] for a TOML file: its start is read, then more of it
+/// (twice as much each time) until its top-level keys are past. A 50 MB
+/// file says so in its first lines, and is read once, by the loader.
+fn toml_file_says_spatial(path: &Path) -> Option<bool> {
+    let mut file = std::fs::File::open(path).ok()?;
+    let mut bytes = Vec::new();
+    let mut want: u64 = 1 << 16;
+    loop {
+        let had = bytes.len() as u64;
+        std::io::Read::read_to_end(&mut std::io::Read::take(&mut file, want - had), &mut bytes).ok()?;
+        let ended = (bytes.len() as u64) < want;
+        // A start read so far is cut after its last new line: no key or
+        // value of the top level is cut in two.
+        let cut = match ended {
+            true => bytes.len(),
+            false => bytes.iter().rposition(|&b| b == b'\n').map_or(0, |i| i + 1),
+        };
+        let (spatial, decided) = shape::toml_says_spatial_in(std::str::from_utf8(&bytes[..cut]).ok()?);
+        if decided || ended {
+            return Some(spatial);
+        }
+        want *= 2;
     }
 }
 
