@@ -66,7 +66,10 @@ pub struct Margin {
     pub name: &'static str,
     /// The measured value (full-turn: 1 when the input turns fully, else 0).
     pub value: f64,
-    /// How far inside the constraint (negative: broken).
+    /// How far inside the constraint (negative: broken). Full-turn:
+    /// minus the sampled frames that fail; where the input drives a
+    /// four-bar at its frame, its lengths' slack (see
+    /// `FourBar::turning_margin`) when every frame solves.
     pub margin: f64,
 }
 

@@ -99,6 +99,13 @@ fn mkh_18_with_constraints_is_met_and_the_file_confirms_it() {
         "{}",
         text(&o.stdout)
     );
+    // By its lengths too: a crank just past its change point is sampled
+    // as turning while it stops for a fraction of a degree.
+    assert!(
+        text(&o.stdout).contains(": crank-rocker (") || text(&o.stdout).contains(": double-crank ("),
+        "{}",
+        text(&o.stdout)
+    );
     let o = dofplan(&["analyze", best.to_str().unwrap(), "--steps", "1441"]);
     let out = text(&o.stdout);
     let line = out

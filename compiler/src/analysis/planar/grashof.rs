@@ -57,6 +57,35 @@ pub struct FourBar {
     pub sums: (f64, f64),
 }
 
+impl FourBar {
+    /// The same loop (bodies and joints) measured in `m`, a drawing of the
+    /// same mechanism with other dimensions (a synthesis candidate); `None`
+    /// if a link has no length there.
+    pub fn in_drawing(&self, m: &Mechanism) -> Option<FourBar> {
+        let ground = m.bodies.iter().position(|b| b.fixed);
+        let node = |b: usize| if m.bodies[b].fixed { ground.unwrap_or(b) } else { b };
+        loop_of(m, self.bodies, self.joints, &node, m.size())
+    }
+
+    /// How far link `link` (1 or 3, a link beside the frame) is from
+    /// turning fully, by the lengths alone: the smaller of p + q − (s + l)
+    /// and the slack by which it or the frame is the shortest link.
+    /// Negative when it cannot turn fully, however finely it is sampled
+    /// (just past a change point its stops are a fraction of a degree
+    /// apart).
+    pub fn turning_margin(&self, link: usize) -> f64 {
+        let l = self.lengths;
+        let slack = |k: usize| {
+            (0..4)
+                .filter(|&j| j != k)
+                .map(|j| l[j])
+                .fold(f64::INFINITY, f64::min)
+                - l[k]
+        };
+        (self.sums.1 - self.sums.0).min(slack(link).max(slack(0)))
+    }
+}
+
 /// Every four-bar loop of `m`, in a deterministic order (by their joints'
 /// file order).
 pub fn four_bars(m: &Mechanism) -> Vec<FourBar> {
@@ -240,6 +269,70 @@ mod tests {
     use super::*;
     use crate::conflict::load_str;
     use crate::model::Format;
+
+    /// The bundled four-bar with its four joints moved to `a`, `b`, `c`,
+    /// `d` (A and D on the ground).
+    fn fourbar_at(a: [f64; 2], b: [f64; 2], c: [f64; 2], d: [f64; 2]) -> Mechanism {
+        let text = include_str!("../../../../mechanisms/fourbar.toml");
+        let p = |v: [f64; 2]| format!("[{:?}, {:?}]", v[0], v[1]);
+        let text = text
+            .replace(
+                "{ A = [0, 0], D = [4, 0] }",
+                &format!("{{ A = {}, D = {} }}", p(a), p(d)),
+            )
+            .replace(
+                "{ A = [0, 0], B = [1, 1] }",
+                &format!("{{ A = {}, B = {} }}", p(a), p(b)),
+            )
+            .replace(
+                "B = [1, 1], C = [4.5, 2.5]",
+                &format!("B = {}, C = {}", p(b), p(c)),
+            )
+            .replace(
+                "{ C = [4.5, 2.5], D = [4, 0] }",
+                &format!("{{ C = {}, D = {} }}", p(c), p(d)),
+            );
+        load_str("m.toml", &text, Format::Toml).unwrap()
+    }
+
+    /// The turning margin against the lengths computed here: Grashof's
+    /// slack where the crank is the shortest, the frame's where the frame
+    /// is, and negative both just past a change point and where the
+    /// coupler is the shortest link.
+    #[test]
+    fn the_turning_margin_says_whether_the_crank_turns() {
+        let d = |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]).hypot(u[1] - v[1]);
+        let margin = |a, b, c, dd| {
+            let m = fourbar_at(a, b, c, dd);
+            let f = four_bars(&m).remove(0);
+            assert_eq!(f.joints[0], 0, "joint A, the input's, starts the loop");
+            (f.turning_margin(1), [d(a, dd), d(a, b), d(b, c), d(c, dd)])
+        };
+        // The bundled crank-rocker: p + q − (s + l).
+        let (m, [g, a, b, c]) = margin([0.0, 0.0], [1.0, 1.0], [4.5, 2.5], [4.0, 0.0]);
+        assert!(
+            (m - ((b + c) - (a + g)).min(b.min(c).min(g) - a)).abs() < 1e-12,
+            "{m}"
+        );
+        assert!(m > 0.0);
+        // 6.6e-6 past its change point (a synthesised mkh_18 linkage).
+        let (m, [g, a, b, c]) = margin(
+            [0.88798882428, 0.12965620756],
+            [1.83279395081, 0.76590906965],
+            [1.82529464191, 1.98817236498],
+            [-0.20150880004, 1.75524107588],
+        );
+        assert!(
+            (m - ((g + b) - (a + c))).abs() < 1e-12 && m < 0.0 && m > -1e-5,
+            "{m}"
+        );
+        // A double-crank: the frame (1) is the shortest.
+        let (m, _) = margin([0.0, 0.0], [0.0, 3.0], [3.3223, 1.8991], [1.0, 0.0]);
+        assert!(m > 0.0, "{m}");
+        // Grashof, but the coupler (1) is the shortest: a double-rocker.
+        let (m, _) = margin([0.0, 0.0], [1.5, 2.0], [2.5, 2.0], [4.0, 0.0]);
+        assert!(m < 0.0, "{m}");
+    }
 
     fn classes(text: &str) -> Vec<(Vec<String>, &'static str)> {
         let m = load_str("m.toml", text, Format::Toml).unwrap();

@@ -116,6 +116,9 @@ pub struct Problem {
     /// Motion: the length that one radian of turning counts as.
     weight: f64,
     loops: Vec<FourBar>,
+    /// The four-bar loop the input drives at its frame, and the driven
+    /// link (1 or 3): under `full_turn`, its lengths must let it turn.
+    crank: Option<(usize, usize)>,
 }
 
 /// Samples of the input's range a candidate's curve is read at (free
@@ -163,8 +166,18 @@ impl Problem {
             InputKind::Angle => 5.0,
             InputKind::Slide => m.size() / 50.0,
         };
+        let loops = four_bars(m);
+        let joint = m.inputs[input].joint;
+        let crank = (loops.iter().enumerate())
+            .filter(|(_, f)| kind == InputKind::Angle && m.bodies[f.bodies[0]].fixed)
+            .find_map(|(k, f)| match f.joints.iter().position(|&j| j == joint) {
+                Some(0) => Some((k, 1)),
+                Some(3) => Some((k, 3)),
+                _ => None,
+            });
         Ok(Problem {
-            loops: four_bars(m),
+            loops,
+            crank,
             weight: m.size(),
             design,
             goal,
@@ -301,15 +314,26 @@ impl Problem {
     fn check(&self, c: &Candidate, frames: &[Option<Vec<Pose>>]) -> (f64, Vec<Margin>) {
         let mut margins = Vec::new();
         if self.constraints.full_turn {
-            let all = frames.iter().all(Option::is_some);
+            // Minus the frames that fail; and where the input drives a
+            // four-bar at its frame, the lengths' margin (a length), as
+            // sampled frames miss the stops of a four-bar just past its
+            // change point.
+            let failed = frames.iter().filter(|f| f.is_none()).count() as f64;
+            let lengths = self
+                .crank
+                .map(|(k, link)| match self.loops[k].in_drawing(&c.mechanism) {
+                    Some(f) => f.turning_margin(link),
+                    None => -1.0,
+                });
+            let margin = match lengths {
+                Some(l) if failed == 0.0 => l,
+                Some(l) => l.min(-failed),
+                None => -failed,
+            };
             margins.push(Margin {
                 name: "full-turn",
-                value: if all { 1.0 } else { 0.0 },
-                margin: if all {
-                    0.0
-                } else {
-                    -(frames.iter().filter(|f| f.is_none()).count() as f64)
-                },
+                value: if margin >= 0.0 { 1.0 } else { 0.0 },
+                margin,
             });
         }
         if let Some(deg) = self.constraints.min_transmission {
