@@ -106,13 +106,29 @@ impl Design {
         Ok(m)
     }
 
-    /// The candidate drawn at `values`, planned as a file is, with the
-    /// original plan's steps in the original order.
-    pub fn prepare(&self, values: &[f64]) -> Result<Candidate, SynthError> {
+    /// The candidate drawn at `values`, planned as a file is, whatever
+    /// its steps: a Monte-Carlo candidate of a drawing with special
+    /// geometry (two legs meeting at one point, axes that cross) is a
+    /// mechanism of its own, planned differently.
+    pub fn prepare_any(&self, values: &[f64]) -> Result<Candidate, SynthError> {
         let mechanism = self.drawing(values)?;
         let plan = analyse(&mechanism).map_err(|e| SynthError::Plan {
             reason: e.to_string(),
         })?;
+        Ok(Candidate {
+            mechanism,
+            interpreter: Interpreter::new(plan),
+        })
+    }
+
+    /// The candidate drawn at `values`, planned as a file is, with the
+    /// original plan's steps in the original order.
+    pub fn prepare(&self, values: &[f64]) -> Result<Candidate, SynthError> {
+        let Candidate {
+            mechanism,
+            interpreter,
+        } = self.prepare_any(values)?;
+        let plan = interpreter.plan();
         let n = self.plan.steps.len().min(plan.steps.len());
         let same = |i: usize| {
             let (x, y) = (&self.plan.steps[i], &plan.steps[i]);
@@ -128,7 +144,7 @@ impl Design {
         }
         Ok(Candidate {
             mechanism,
-            interpreter: Interpreter::new(plan),
+            interpreter,
         })
     }
 }
