@@ -130,23 +130,31 @@ impl Design {
         Ok(m)
     }
 
-    /// The candidate drawn at `values`: planned as a file is (constants from
-    /// the new drawing, branches chosen so the plan reproduces it), with the
-    /// original plan's steps in the original order.
-    pub fn prepare(&self, values: &[f64]) -> Result<Candidate, SynthError> {
+    /// The candidate drawn at `values`, planned as a file is, whatever its
+    /// steps: a Monte-Carlo candidate that moves the drawing's special
+    /// geometry apart is a mechanism of its own, planned differently.
+    pub fn prepare_any(&self, values: &[f64]) -> Result<Candidate, SynthError> {
         let mechanism = self.drawing(values)?;
         let plan = analyse(&mechanism).plan.map_err(|e| SynthError::Plan {
             reason: e.to_string(),
         })?;
-        if let Some(i) = first_difference(&self.plan, &plan) {
-            return Err(SynthError::PlanChanged {
-                step: self.plan.explain(i),
-            });
-        }
         Ok(Candidate {
             mechanism,
             interpreter: Interpreter::new(plan),
         })
+    }
+
+    /// The candidate drawn at `values`: planned as a file is (constants from
+    /// the new drawing, branches chosen so the plan reproduces it), with the
+    /// original plan's steps in the original order.
+    pub fn prepare(&self, values: &[f64]) -> Result<Candidate, SynthError> {
+        let c = self.prepare_any(values)?;
+        if let Some(i) = first_difference(&self.plan, c.interpreter.plan()) {
+            return Err(SynthError::PlanChanged {
+                step: self.plan.explain(i),
+            });
+        }
+        Ok(c)
     }
 }
 

@@ -57,7 +57,9 @@ pub fn monte_carlo(
     (n, t, seed): (usize, f64, u64),
 ) -> Spread {
     spread(&design.drawn(), nominal, (n, t, seed), |p| {
-        let c = design.prepare(p).ok()?;
+        // Positions only: a candidate planned differently from the drawing
+        // (its special geometry perturbed away) counts as well.
+        let c = design.prepare_any(p).ok()?;
         let mut driver = Driver::new(c.interpreter.clone(), Options::default());
         let frames = (requested.iter())
             .map(|inputs| {
