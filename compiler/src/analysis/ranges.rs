@@ -119,23 +119,26 @@ impl InputRanges {
 
 /// The assembly ranges of every input of `m`, by running `plan`.
 pub fn assembly_ranges(m: &Mechanism, plan: &Plan) -> Vec<InputRanges> {
-    let markers: Vec<[f64; 3]> = (m.bodies.iter().flat_map(|b| &b.markers))
-        .map(|k| [k.at[0], k.at[1], 0.0])
-        .collect();
-    let scale = Scale {
-        centre: mean(&markers),
-        size: m.size(),
-    };
-    ranges_of(&Interpreter::new(plan.clone()), &m.inputs, scale)
+    let markers = (m.bodies.iter().flat_map(|b| &b.markers)).map(|k| [k.at[0], k.at[1], 0.0]);
+    ranges_of(
+        &Interpreter::new(plan.clone()),
+        &m.inputs,
+        Scale::of(markers, m.size()),
+    )
 }
 
-/// The mean of `points` (the origin for none).
-fn mean(points: &[[f64; 3]]) -> [f64; 3] {
-    let n = points.len().max(1) as f64;
-    let sum = points
-        .iter()
-        .fold([0.0; 3], |s, p| [s[0] + p[0], s[1] + p[1], s[2] + p[2]]);
-    sum.map(|c| c / n)
+impl Scale {
+    /// The scale of a mechanism of size `size` whose markers are drawn at
+    /// `points`.
+    fn of(points: impl Iterator<Item = [f64; 3]>, size: f64) -> Scale {
+        let (sum, n) = points.fold(([0.0; 3], 0usize), |(s, n), p| {
+            ([s[0] + p[0], s[1] + p[1], s[2] + p[2]], n + 1)
+        });
+        Scale {
+            centre: sum.map(|c| c / n.max(1) as f64),
+            size,
+        }
+    }
 }
 
 /// The assembly ranges of every input of the spatial mechanism `m`, by
@@ -144,15 +147,11 @@ pub fn spatial_assembly_ranges(
     m: &crate::model::spatial::Mechanism,
     plan: &crate::plan::spatial::Plan,
 ) -> Vec<InputRanges> {
-    let markers: Vec<[f64; 3]> = (m.bodies.iter().flat_map(|b| &b.markers)).map(|k| k.at).collect();
-    let scale = Scale {
-        centre: mean(&markers),
-        size: m.size(),
-    };
+    let markers = (m.bodies.iter().flat_map(|b| &b.markers)).map(|k| k.at);
     ranges_of(
         &crate::interp::spatial::Interpreter::new(plan.clone()),
         &m.inputs,
-        scale,
+        Scale::of(markers, m.size()),
     )
 }
 
