@@ -19,7 +19,7 @@
 //! [`Driver`]): [`settle`] drives those frames in order, with a driver.
 
 use crate::drive::{Driver, Solver};
-use crate::frame::{BranchPolicy, Ctx, FrameStatus, Options};
+use crate::frame::{BranchPolicy, Break, BreakKind, Ctx, FrameStatus, Options, NEAR_DEAD_POINT};
 use crate::lanes::{Lanes, LANES};
 use crate::planar::{Pose, Rot};
 
@@ -76,9 +76,12 @@ fn shape<S: Solver + ?Sized>(solver: &S, inputs: &[f64], out: &[S::Pose], frames
 /// Frames solved each on its own ([`Batch::solve_frames`]) made the
 /// driver's: from each frame that breaks, the frames are driven in order by
 /// a [`Driver`] placed at the pose before it (the drawn pose before the
-/// first frame), until the driver is no longer held past a limit. A limited
-/// frame then holds the pose before it, and a frame that assembles only on
-/// another circuit is held too. The frames of an independent plan between
+/// first frame), until the driver is no longer held past a limit nor beside
+/// a dead point. A limited frame then holds the pose before it, a frame
+/// that assembles only on another circuit is held too, and so is one that
+/// assembles past a gap narrower than the step from the frame before
+/// (frames beside a dead point come from [`Batch::solve_frames`] marked
+/// [`BreakKind::NearDeadPoint`] for this). The frames of an independent plan between
 /// the holds are the driver's already, to the bit.
 pub fn settle<S: Solver + ?Sized>(
     solver: &S,
@@ -106,7 +109,9 @@ pub fn settle<S: Solver + ?Sized>(
             status[k] = driver.frame(&inputs[k * n..(k + 1) * n]);
             out[k * b..(k + 1) * b].copy_from_slice(driver.poses());
             k += 1;
-            if driver.held().is_none() || k == status.len() {
+            // A frame beside a dead point is followed by the next: the gap
+            // may lie between them.
+            if (driver.held().is_none() && !driver.near_dead_point()) || k == status.len() {
                 break;
             }
         }
@@ -124,6 +129,18 @@ fn one<S: Solver + ?Sized>(
 ) -> FrameStatus {
     let mut ctx = Ctx::new(BranchPolicy::Keep, false);
     match solver.solve(state, inputs, &mut ctx) {
+        Ok(()) if ctx.near < NEAR_DEAD_POINT => {
+            // Whether the way here from the frame before crosses a gap is
+            // for `settle` to find out, in order.
+            out.copy_from_slice(S::poses(state));
+            FrameStatus::Limited {
+                brk: Break {
+                    step: 0,
+                    kind: BreakKind::NearDeadPoint,
+                    gap: ctx.near,
+                },
+            }
+        }
         Ok(()) => {
             out.copy_from_slice(S::poses(state));
             FrameStatus::Solved

@@ -5,7 +5,9 @@
 //! that trait — they only need "run the plan at these inputs" and a copy of
 //! the last valid state.
 
-use crate::frame::{Break, BreakKind, BreakPolicy, Ctx, FrameStatus, Options, StartPolicy};
+use crate::frame::{
+    BranchPolicy, Break, BreakKind, BreakPolicy, Ctx, FrameStatus, Options, StartPolicy, NEAR_DEAD_POINT,
+};
 use crate::numeric::NewtonReport;
 use crate::planar::Pose;
 
@@ -102,7 +104,136 @@ pub struct Driver<S: Solver> {
     pace: f64,
     /// Inputs to lend to a search along a way back.
     spare: Option<S::Inputs>,
+    /// How close the current pose is to a dead point ([`Ctx::near`]).
+    near: f64,
+    /// The same for the anchor.
+    anchor_near: f64,
+    /// Scratch for the look for a gap between two frames ([`Gaps`]).
+    gaps: Gaps<S>,
 }
+
+/// Scratch for looking between two frames beside a dead point for a gap
+/// narrower than the step between them: the look bisects the way, and
+/// keeps the pose at the near end of the part it looks at next.
+struct Gaps<S: Solver> {
+    /// Where a way's step starts (see [`Driver::gap_on_way`]).
+    from: S::Inputs,
+    scratch: Scratch<S>,
+}
+
+/// What [`gap_between`] writes. The states are boxed: a generated plan's
+/// state is a fixed-size array, hundreds of kilobytes for a chain of
+/// thousands of loops, and a driver is often built on a thread's stack.
+struct Scratch<S: Solver> {
+    near_end: Box<S::State>,
+    mid: Box<S::State>,
+    probe: S::Inputs,
+}
+
+/// A copy of `x` on the heap, made in a frame of its own so that the copy
+/// does not stay on its caller's stack.
+#[inline(never)]
+fn boxed<T: Clone>(x: &T) -> Box<T> {
+    Box::new(x.clone())
+}
+
+/// Where the parabola through a step's closeness at the start (`m0`), the
+/// middle (`m1`) and the end (`m2`) of a part of the way dips lowest, as a
+/// fraction of that part, if it may dip to a gap there: below half the
+/// smallest sample. Failing that, an end whose closeness is a small part of
+/// the middle's (a gap too narrow for three samples to show may lie beside
+/// it). `None` otherwise: the curve stays above the samples.
+fn dip(m0: f64, m1: f64, m2: f64) -> Option<f64> {
+    let lowest = m0.min(m1).min(m2);
+    // p(t) = α t² + β t + m0 through (0, m0), (½, m1), (1, m2).
+    let alpha = 2.0 * (m0 + m2 - 2.0 * m1);
+    let beta = m2 - m0 - alpha;
+    if alpha > 0.0 {
+        let v = (-beta / (2.0 * alpha)).clamp(0.0, 1.0);
+        let low = (alpha * v + beta) * v + m0;
+        if low <= 0.5 * lowest {
+            return Some(v);
+        }
+    }
+    if m2 == lowest && m2 <= 0.25 * m1 {
+        Some(1.0)
+    } else if m0 == lowest && m0 <= 0.25 * m1 {
+        Some(0.0)
+    } else {
+        None
+    }
+}
+
+/// Where between the inputs `a` and `b` (closeness `near.0` and `near.1`,
+/// see [`Ctx::near`]) the plan breaks, as a fraction of the way, if it
+/// does: a gap narrower than the step from `a` to `b`, both of whose ends
+/// assemble. Probes are warm-started from `base`, a pose at either end.
+///
+/// Beside a dead point, the squared separation of a branching step's two
+/// roots is a smooth function of the input, which a gap takes below zero.
+/// The look fits a parabola through it at the ends and the middle, and goes
+/// on into the half where the parabola dips lowest while it may dip to
+/// zero: one plan execution per halving, to the search tolerance at most.
+#[allow(clippy::too_many_arguments)]
+fn gap_between<S: Solver>(
+    solver: &S,
+    branch: BranchPolicy,
+    tolerance: f64,
+    base: &S::State,
+    a: &[f64],
+    b: &[f64],
+    gaps: &mut Scratch<S>,
+) -> Option<(f64, Break)> {
+    let width = span(a, b);
+    let (mut lo, mut hi) = (0.0_f64, 1.0_f64);
+    (*gaps.near_end).clone_from(base);
+    // The closeness at `t` of the way, every step's counted; the pose there
+    // left in `near_end` (if it assembles).
+    let probe = |t: f64, gaps: &mut Scratch<S>| -> Result<f64, Break> {
+        for ((p, a), b) in gaps.probe.as_mut().iter_mut().zip(a).zip(b) {
+            *p = if t == 1.0 { *b } else { a + t * (b - a) };
+        }
+        (*gaps.mid).clone_from(&gaps.near_end);
+        let mut ctx = Ctx::new(branch, false);
+        ctx.measure = true;
+        match solver.solve(&mut gaps.mid, gaps.probe.as_ref(), &mut ctx) {
+            Ok(()) => {
+                // The pose nearest the part looked at next, to warm-start
+                // the next probe from.
+                std::mem::swap(&mut gaps.near_end, &mut gaps.mid);
+                Ok(ctx.near)
+            }
+            Err(brk) if passable(&brk) => Ok(0.0),
+            Err(brk) => Err(brk),
+        }
+    };
+    // The ends' closeness as the curve needs it: every step's, not only the
+    // near ones' that a frame records. (Both ends assembled.)
+    let mut m_lo = probe(0.0, gaps).unwrap_or(0.0);
+    let mut m_hi = probe(1.0, gaps).unwrap_or(0.0);
+    while (hi - lo) * width > tolerance {
+        let mid = 0.5 * (lo + hi);
+        let m_mid = match probe(mid, gaps) {
+            Ok(m) => m,
+            Err(brk) => return Some((mid, brk)),
+        };
+        let v = dip(m_lo, m_mid, m_hi)?;
+        if v < 0.5 {
+            (hi, m_hi) = (mid, m_mid);
+        } else {
+            (lo, m_lo) = (mid, m_mid);
+        }
+    }
+    None
+}
+
+/// The closeness to a dead point of a pose the driver did not solve (the
+/// drawing, a placed pose): taken as away from one, so the next frame is
+/// looked at only if it is itself beside one. A frame from such a pose is
+/// then what it is in a batch, where frames are solved each on its own and
+/// only those beside a dead point are driven in order
+/// ([`crate::batch::settle`]).
+const UNMEASURED: f64 = f64::INFINITY;
 
 /// The most plan executions a check of a way back takes. Each is one frame's
 /// work, and the check runs only on frames that would leave a hold.
@@ -137,10 +268,11 @@ fn past(a: &[f64], f: &[f64], r: &[f64]) -> bool {
         return false;
     }
     // |r − a|² − ((r − a)·(f − a))²/|f − a|²: the squared distance of r from
-    // the line, which rounding leaves at a few ulps for inputs moved
-    // together along a sweep.
+    // the line, which rounding leaves at a few ulps of |r − a|² for inputs
+    // moved together along a sweep (a single input included: its distance
+    // is 0, left as the difference of two equal squares).
     let off = (rr - rf * rf / ff).max(0.0);
-    off <= 1e-18 * rr
+    off <= 1e-12 * rr
 }
 
 impl<S: Solver> Driver<S> {
@@ -148,6 +280,8 @@ impl<S: Solver> Driver<S> {
     pub fn new(solver: S, options: Options) -> Self {
         let state = solver.initial_state();
         let last = solver.initial_inputs();
+        let solver_inputs = last.clone();
+        let scratch = (boxed(&state), boxed(&state));
         Driver {
             trial: state.clone(),
             probe: last.clone(),
@@ -165,6 +299,16 @@ impl<S: Solver> Driver<S> {
             numeric: None,
             held: None,
             pace: 0.0,
+            near: UNMEASURED,
+            gaps: Gaps {
+                from: solver_inputs.clone(),
+                scratch: Scratch {
+                    near_end: scratch.0,
+                    mid: scratch.1,
+                    probe: solver_inputs,
+                },
+            },
+            anchor_near: f64::INFINITY,
         }
     }
 
@@ -206,6 +350,12 @@ impl<S: Solver> Driver<S> {
         self.held
     }
 
+    /// Whether the pose is beside a dead point (see
+    /// [`NEAR_DEAD_POINT`]): the next frame looks for a gap on its way.
+    pub fn near_dead_point(&self) -> bool {
+        self.near < NEAR_DEAD_POINT
+    }
+
     /// Whether the run has a pose yet (see [`StartPolicy`]).
     pub fn placed(&self) -> bool {
         self.placed
@@ -218,6 +368,7 @@ impl<S: Solver> Driver<S> {
         self.placed = self.options.start == StartPolicy::Drawn;
         self.held = None;
         self.has_back = false;
+        self.near = UNMEASURED;
     }
 
     /// Starts at `state`, a pose the plan gives at `inputs` (a frame it
@@ -228,6 +379,7 @@ impl<S: Solver> Driver<S> {
         self.placed = true;
         self.held = None;
         self.has_back = false;
+        self.near = UNMEASURED;
     }
 
     /// Moves to `inputs` (one value per input, in plan order).
@@ -244,11 +396,51 @@ impl<S: Solver> Driver<S> {
         self.numeric = ctx.numeric;
         match result {
             Ok(()) => {
+                if ctx.near < NEAR_DEAD_POINT || self.near < NEAR_DEAD_POINT {
+                    if let Some(status) = self.beside_dead_point(inputs, true) {
+                        return status;
+                    }
+                }
+                self.near = ctx.near;
                 self.last.as_mut().copy_from_slice(inputs);
                 FrameStatus::Solved
             }
             Err(brk) => self.leave(inputs, brk),
         }
+    }
+
+    /// A frame beside a dead point assembled at `inputs`, its pose in `state` if `committed`, in `trial` otherwise: if
+    /// the way to it from the last pose crosses a gap, the mechanism is
+    /// leaving its interval there (the far side of a gap is another
+    /// circuit), and this is the frame's status.
+    #[cold]
+    #[inline(never)]
+    fn beside_dead_point(&mut self, inputs: &[f64], committed: bool) -> Option<FrameStatus> {
+        let base = if committed { &self.state } else { &self.trial };
+        let (t, brk) = gap_between(
+            &self.solver,
+            self.options.branch,
+            self.options.search_tolerance,
+            base,
+            self.last.as_ref(),
+            inputs,
+            &mut self.gaps.scratch,
+        )?;
+        if committed {
+            // Back to the pose before: the plan at its inputs, warm-started
+            // from the far side (under keep-branch, the same pose to the
+            // bit; a break there cannot be, the frame before assembled).
+            self.trial.clone_from(&self.state);
+            let mut ctx = Ctx::new(self.options.branch, false);
+            if self
+                .solver
+                .solve(&mut self.trial, self.last.as_ref(), &mut ctx)
+                .is_ok()
+            {
+                std::mem::swap(&mut self.state, &mut self.trial);
+            }
+        }
+        Some(self.leave_at(inputs, brk, t))
     }
 
     /// A frame under the stretch policy on the interval: solved into the
@@ -261,7 +453,13 @@ impl<S: Solver> Driver<S> {
         self.numeric = ctx.numeric;
         match (result, ctx.stretched) {
             (Ok(()), None) => {
+                if ctx.near < NEAR_DEAD_POINT || self.near < NEAR_DEAD_POINT {
+                    if let Some(status) = self.beside_dead_point(inputs, false) {
+                        return status;
+                    }
+                }
                 std::mem::swap(&mut self.state, &mut self.trial);
+                self.near = ctx.near;
                 self.last.as_mut().copy_from_slice(inputs);
                 FrameStatus::Solved
             }
@@ -297,20 +495,43 @@ impl<S: Solver> Driver<S> {
     #[cold]
     #[inline(never)]
     fn leave(&mut self, requested: &[f64], brk: Break) -> FrameStatus {
+        self.leave_at(requested, brk, 1.0)
+    }
+
+    /// [`Self::leave`] where the way to `requested` breaks the fraction `t`
+    /// of the way there (before it, for a gap that `requested` is past).
+    fn leave_at(&mut self, requested: &[f64], brk: Break, t: f64) -> FrameStatus {
         let pace = self.span_to(requested);
         match self.options.breaking {
             BreakPolicy::Search => {
-                let (status, hi) = self.search(requested, brk);
+                let mut edge = self
+                    .spare
+                    .take()
+                    .expect("the spare inputs are back after each use");
+                for ((e, l), r) in edge.as_mut().iter_mut().zip(self.last.as_ref()).zip(requested) {
+                    *e = if t == 1.0 { *r } else { l + t * (r - l) };
+                }
+                let (status, hi) = self.search(edge.as_ref(), brk);
                 if !passable(&brk) {
                     // The bracket's far end is the failing point nearest
                     // the pose.
-                    self.hold_at(brk, requested, hi, pace);
+                    self.hold_at(brk, edge.as_ref(), hi, pace);
                 }
-                status
+                self.spare = Some(edge);
+                match status {
+                    FrameStatus::Searched { brk, reached } => FrameStatus::Searched {
+                        brk,
+                        reached: reached * t,
+                    },
+                    other => other,
+                }
             }
             BreakPolicy::Limit | BreakPolicy::Stretch => {
-                if !passable(&brk) {
+                if passable(&brk) {
+                } else if t == 1.0 {
                     self.hold(brk, requested, pace);
+                } else {
+                    self.hold_at(brk, requested, t, pace);
                 }
                 FrameStatus::Limited { brk }
             }
@@ -321,6 +542,7 @@ impl<S: Solver> Driver<S> {
     fn hold(&mut self, brk: Break, fail: &[f64], pace: f64) {
         self.anchor.clone_from(&self.state);
         self.anchor_inputs.clone_from(&self.last);
+        self.anchor_near = self.near;
         self.fail.as_mut().copy_from_slice(fail);
         self.has_back = false;
         self.held = Some(brk);
@@ -343,8 +565,9 @@ impl<S: Solver> Driver<S> {
     #[inline(never)]
     fn frame_off(&mut self, requested: &[f64]) -> FrameStatus {
         let way = self.way_back(requested);
-        if way.is_ok() {
+        if let Ok(near) = way {
             std::mem::swap(&mut self.state, &mut self.trial);
+            self.near = near;
             self.last.as_mut().copy_from_slice(requested);
             self.placed = true;
             self.held = None;
@@ -454,7 +677,7 @@ impl<S: Solver> Driver<S> {
     /// Otherwise, where the way was seen to leave: between the fractions
     /// `t0` (whose pose is left in `trial`) and `t1` of it, or `None` when
     /// it goes through a point known not to assemble.
-    fn way_back(&mut self, requested: &[f64]) -> Result<(), Option<(f64, f64)>> {
+    fn way_back(&mut self, requested: &[f64]) -> Result<f64, Option<(f64, f64)>> {
         let a = self.anchor_inputs.as_ref();
         if (self.held.is_some() && past(a, self.fail.as_ref(), requested))
             || (self.has_back && past(a, self.fail_back.as_ref(), requested))
@@ -471,6 +694,7 @@ impl<S: Solver> Driver<S> {
         };
         self.trial.clone_from(&self.anchor);
         let mut good = 0.0;
+        let mut near = self.anchor_near;
         for k in 1..=steps {
             let t = k as f64 / steps as f64;
             for ((p, a), r) in self
@@ -486,7 +710,13 @@ impl<S: Solver> Driver<S> {
             let result = self.solver.solve(&mut self.trial, self.probe.as_ref(), &mut ctx);
             self.numeric = ctx.numeric;
             match result {
-                Ok(()) => good = t,
+                Ok(()) if ctx.near < NEAR_DEAD_POINT || near < NEAR_DEAD_POINT => {
+                    if let Some(s) = self.gap_on_way(requested, good, t) {
+                        return Err(Some((good, good + s * (t - good))));
+                    }
+                    (good, near) = (t, ctx.near);
+                }
+                Ok(()) => (good, near) = (t, ctx.near),
                 Err(brk) if k < steps && passable(&brk) => {}
                 Err(_) => {
                     // Remembered: a later request past this point on the
@@ -497,7 +727,55 @@ impl<S: Solver> Driver<S> {
                 }
             }
         }
-        Ok(())
+        Ok(near)
+    }
+
+    /// On a way back from the anchor to `requested`, the step from the
+    /// fraction `t0` to `t1` (whose pose is in `trial`) beside a dead point:
+    /// where a gap crosses it, as a fraction
+    /// of the step, remembered as a point that does not assemble, with the
+    /// pose at `t0` back in `trial`.
+    #[cold]
+    #[inline(never)]
+    fn gap_on_way(&mut self, requested: &[f64], t0: f64, t1: f64) -> Option<f64> {
+        let a = self.anchor_inputs.as_ref();
+        for (((f, p), a), r) in self
+            .gaps
+            .from
+            .as_mut()
+            .iter_mut()
+            .zip(self.probe.as_mut())
+            .zip(a)
+            .zip(requested)
+        {
+            *f = a + t0 * (r - a);
+            *p = if t1 == 1.0 { *r } else { a + t1 * (r - a) };
+        }
+        let (s, _) = gap_between(
+            &self.solver,
+            self.options.branch,
+            self.options.search_tolerance,
+            &self.trial,
+            self.gaps.from.as_ref(),
+            self.probe.as_ref(),
+            &mut self.gaps.scratch,
+        )?;
+        let from = self.gaps.from.as_ref();
+        for ((f, a), b) in self
+            .fail_back
+            .as_mut()
+            .iter_mut()
+            .zip(from)
+            .zip(self.probe.as_ref())
+        {
+            *f = a + s * (b - a);
+        }
+        self.has_back = true;
+        // The pose at the step's start again: the plan there, from its end
+        // (under keep-branch, the same pose to the bit).
+        let mut ctx = Ctx::new(self.options.branch, false);
+        let _ = self.solver.solve(&mut self.trial, from, &mut ctx);
+        Some(s)
     }
 
     /// Bisects between the last valid inputs and `requested` for the break

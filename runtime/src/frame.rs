@@ -143,6 +143,13 @@ pub enum BreakKind {
     /// the input comes back into the interval it left. The break's step and
     /// gap are those of the limit it passed.
     OtherCircuit,
+    /// A frame solved on its own beside a dead point
+    /// ([`Batch::solve_frames`](crate::batch::Batch::solve_frames)): whether
+    /// the way to it from the frame before crosses a gap narrower than the
+    /// step between them is for [`settle`](crate::batch::settle) to find
+    /// out, driving the frames there in order. This never reaches a caller
+    /// of [`Batch::solve_batch`](crate::batch::Batch::solve_batch).
+    NearDeadPoint,
 }
 
 impl BreakKind {
@@ -162,6 +169,7 @@ impl BreakKind {
             BreakKind::LanesDiffer => {
                 "frames solved together took different paths (solved one at a time instead)"
             }
+            BreakKind::NearDeadPoint => "beside a dead point, not yet driven in order",
             BreakKind::OtherCircuit => {
                 "past a limit: the input assembles here only on another circuit, which the mechanism cannot reach without being taken apart"
             }
@@ -282,6 +290,44 @@ pub struct Ctx {
     pub stretched_kind: Option<BreakKind>,
     /// The report of the numeric solve of this execution, if there was one.
     pub numeric: Option<crate::numeric::NewtonReport>,
+    /// How close the two roots of a branching step came in this execution,
+    /// at the closest step, where that is nearer than [`NEAR_DEAD_POINT`]
+    /// ([`watch`]); infinite otherwise.
+    pub near: f64,
+    /// Record every branching step's closeness in [`Ctx::near`], however
+    /// far from a dead point (while looking for a gap, which fits a curve
+    /// through them).
+    pub measure: bool,
+}
+
+/// Two roots of a branching step closer than this (the squared
+/// half-separation relative to the squared sizes of the loci it
+/// intersects, 1/4 where two equal circles cross at right angles) put the
+/// frame beside a dead point: a [`Driver`](crate::drive::Driver) then looks
+/// between it and its neighbours for a gap narrower than the step between
+/// them, which a mechanism cannot cross without being taken apart.
+pub const NEAR_DEAD_POINT: f64 = 2e-2;
+
+/// Records how close a branching step's two roots are: `disc` is the
+/// squared half-separation that the step takes the square root of, and
+/// `size()` what makes it dimensionless (see [`NEAR_DEAD_POINT`]).
+///
+/// On lanes, a group with a frame beside a dead point gives up (each frame
+/// is then solved on its own and marked [`BreakKind::NearDeadPoint`]), so
+/// the closeness of each is known.
+#[inline(always)]
+pub fn watch<T: Real>(ctx: &mut Ctx, step: StepId, disc: T, size: impl Fn() -> T) -> Result<(), Break> {
+    if T::LANES {
+        if (disc - size().mul_f64(NEAR_DEAD_POINT)).any(|v| v < 0.0) {
+            return Err(lanes_break(step));
+        }
+    } else {
+        let (d, s) = (disc.value(), size().value());
+        if d < NEAR_DEAD_POINT * s || ctx.measure {
+            ctx.saw_near(d / s);
+        }
+    }
+    Ok(())
 }
 
 impl Ctx {
@@ -293,7 +339,16 @@ impl Ctx {
             stretched: None,
             stretched_kind: None,
             numeric: None,
+            near: f64::INFINITY,
+            measure: false,
         }
+    }
+
+    /// A step's roots came `margin` close (see [`watch`]).
+    #[cold]
+    #[inline(never)]
+    pub fn saw_near(&mut self, margin: f64) {
+        self.near = self.near.min(margin.max(0.0));
     }
 
     /// Either records a relaxation (stretch policy) or returns the break.

@@ -57,7 +57,16 @@ fn agree(
 ) {
     let b = m.bodies.len();
     let tol = 1e-12 * m.size();
-    assert_eq!(got.1, want.1, "{name} ({what}): statuses");
+    if let Some(k) = (0..got.1.len()).find(|&k| got.1[k] != want.1[k]) {
+        panic!(
+            "{name} ({what}): frame {k} of {}: {:?} vs the driver's {:?}; before: {:?}; inputs {:?}",
+            got.1.len(),
+            got.1[k],
+            want.1[k],
+            &want.1[k.saturating_sub(3)..k],
+            &rows[k.saturating_sub(3)..=k]
+        );
+    }
     for (k, (g, w)) in got.0.chunks(b).zip(want.0.chunks(b)).enumerate() {
         for (j, (p, q)) in g.iter().zip(w).enumerate() {
             let d = (p.at[0] - q.at[0]).abs().max((p.at[1] - q.at[1]).abs());

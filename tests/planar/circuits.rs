@@ -9,7 +9,10 @@
 //!   θ ∈ [θ_lo, θ_hi] and so again for θ ∈ [θ_lo + 360°, θ_hi + 360°];
 //! - `tests/fixtures/slider_driven.toml`, a slider-crank driven by its
 //!   slider, whose input interval has two disjoint pieces (the rod on
-//!   either side of the crank).
+//!   either side of the crank);
+//! - `tests/fixtures/narrow_gap.toml`, a four-bar a hair past its change
+//!   point, whose crank stops at two dead points closer together than a
+//!   sweep's step: frames on both sides of the gap assemble.
 //!
 //! Where a frame assembles and where it should be is computed here from the
 //! files' marker coordinates, not from dofplan's output.
@@ -294,13 +297,13 @@ fn a_slider_swept_through_the_gap_between_two_pieces_never_reappears_in_the_seco
 /// on one core and on all.
 #[test]
 fn batches_hold_past_a_limit_as_the_driver_does() {
-    for name in ["rocker_rocker", "slider_driven"] {
+    for name in ["rocker_rocker", "slider_driven", "narrow_gap"] {
         let m = if name == "rocker_rocker" {
             load(name)
         } else {
             fixture(name)
         };
-        let inputs: Vec<f64> = if name == "rocker_rocker" {
+        let inputs: Vec<f64> = if name != "slider_driven" {
             (0..4000).map(|k| f64::from(k % 1000) * 0.72).collect()
         } else {
             (0..4000).map(|k| -0.005 * f64::from(k % 2000)).collect()
@@ -340,6 +343,110 @@ fn batches_hold_past_a_limit_as_the_driver_does() {
             check("compiled, every core", &out, &status);
         })
         .expect("compiled");
+    }
+}
+
+/// `tests/fixtures/narrow_gap.toml`'s crank pin, and the gap in its input
+/// where the coupler and the rocker do not meet, from the law of cosines on
+/// the file's coordinates.
+struct NarrowGap {
+    a: P,
+    b0: P,
+    d: P,
+    b: f64,
+    c: f64,
+}
+
+impl NarrowGap {
+    fn new(m: &Mechanism) -> Self {
+        let (a, b0, d, c0) = (
+            marker(m, "ground.A"),
+            marker(m, "input.B"),
+            marker(m, "ground.D"),
+            marker(m, "coupler.C"),
+        );
+        NarrowGap {
+            a,
+            b0,
+            d,
+            b: dist(c0, b0),
+            c: dist(d, c0),
+        }
+    }
+    fn pin(&self, theta: f64) -> P {
+        add(self.a, rotate(sub(self.b0, self.a), theta.to_radians()))
+    }
+    /// The gap's ends in the input, in (0°, 360°): where |BD| = b − c.
+    fn gap(&self) -> (f64, f64) {
+        let (ab, ad) = (sub(self.b0, self.a), sub(self.d, self.a));
+        let (r, g) = (dist(self.b0, self.a), dist(self.d, self.a));
+        let half = ((g * g + r * r - (self.b - self.c).powi(2)) / (2.0 * g * r))
+            .acos()
+            .to_degrees();
+        let centre = (ad[1].atan2(ad[0]) - ab[1].atan2(ab[0]))
+            .to_degrees()
+            .rem_euclid(360.0);
+        (centre - half, centre + half)
+    }
+}
+
+/// A gap narrower than the step between two frames, both of which
+/// assemble, is found between them: the mechanism stops at its near side,
+/// turning forward or back, under every policy, in both back ends.
+#[test]
+fn a_gap_narrower_than_the_frame_step_is_not_jumped() {
+    let m = fixture("narrow_gap");
+    let ng = NarrowGap::new(&m);
+    let (g0, g1) = ng.gap();
+    assert!(g1 - g0 < 0.5 && g0 > 269.0 && g1 < 270.0, "the gap: {g0}..{g1}");
+    for step in [1.0, 0.5, 3.0, -1.0, -3.0] {
+        // Forward, the mechanism stops at g0; back, at g1 − 360°.
+        let sweep: Vec<f64> = (0..=(360.0 / f64::abs(step)) as i32)
+            .map(|k| step * f64::from(k))
+            .collect();
+        let edge = if step > 0.0 { g0 } else { g1 - 360.0 };
+        let beyond = |t: f64, e: f64| (t - e) * step > 0.0;
+        let jumped = sweep.iter().filter(|&&t| beyond(t, edge)).count();
+        assert!(jumped > 10, "the sweep goes past the gap");
+        for policy in POLICIES {
+            for (backend, mut d) in drivers("narrow_gap", &m, options(policy)) {
+                let what = format!("{backend} {policy:?} step {step}");
+                let mut held: Option<Vec<Pose>> = None;
+                for &theta in &sweep {
+                    let status = d.frame(&[theta]);
+                    if !beyond(theta, edge) {
+                        assert!(met(&status), "{what}: θ {theta} is on the circuit: {status:?}");
+                        let r = max_relative_residual(&m, d.poses(), d.inputs());
+                        assert!(r <= 1e-9, "{what}: θ {theta}: residual {r:e}");
+                        assert!(dist(at(&m, d.poses(), "input.B"), ng.pin(theta)) <= 1e-9);
+                        continue;
+                    }
+                    assert!(
+                        !met(&status),
+                        "{what}: θ {theta} is past the gap: solved on another circuit"
+                    );
+                    if policy != BreakPolicy::Stretch {
+                        let poses = d.poses().to_vec();
+                        let first = held.get_or_insert_with(|| poses.clone());
+                        assert_eq!(&poses, first, "{what}: θ {theta}: the held pose moved");
+                        let shown = d.inputs()[0];
+                        assert!(
+                            // (Within 1e-6° past it: a step tangent to
+                            // round-off counts as met.)
+                            (shown - edge).abs() <= step.abs() + 1e-9
+                                && !beyond(shown, edge + step.signum() * 1e-6),
+                            "{what}: held at {shown}, the gap starts at {edge}"
+                        );
+                        if policy == BreakPolicy::Search {
+                            assert!(
+                                (shown - edge).abs() <= 1e-6,
+                                "{what}: stopped at {shown}, not {edge}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
     }
 }
 

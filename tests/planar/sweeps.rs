@@ -30,6 +30,7 @@ fn every_bundled_mechanism_is_compiled() {
     expected.push("sixbar_slotted".to_string());
     expected.push("slider_driven".to_string());
     expected.push("fivebar_arm".to_string());
+    expected.push("narrow_gap".to_string());
     expected.sort();
     let mut compiled: Vec<String> = dofplan_generated::MECHANISMS
         .iter()

@@ -7,7 +7,7 @@
 //! the branch of the drawn pose is kept along smooth motions.
 
 use super::{add, cross, dist2, dot, perp, scale, sub, Rot};
-use crate::frame::{lanes_break, lanes_differ, Branch, BranchPolicy, Break, BreakKind, Ctx, StepId};
+use crate::frame::{lanes_break, lanes_differ, watch, Branch, BranchPolicy, Break, BreakKind, Ctx, StepId};
 use crate::scalar::{Factor, Real};
 
 /// Squared half-chords smaller than this (relative to the squared radii)
@@ -170,6 +170,7 @@ pub fn circle_circle<T: Real>(
     let diff = r1 - r2;
     let hd2 = ((sum * sum - d2) * (d2 - diff * diff)).mul_f64(0.25);
     let inv_d2 = d2.recip();
+    watch(ctx, step, hd2, || (r1 * r1 + r2 * r2) * d2)?;
     let hd = if hd2.all(|v| v >= 0.0) {
         hd2.sqrt_dead(DEAD_FOR_RATES * (r1 * r1 + r2 * r2).value() * d2.value())
     } else if T::LANES {
@@ -230,6 +231,7 @@ pub fn circle_line<T: Real, D: Factor<T>>(
     let foot = add(p, along(dir[0].times(cp[0]) + dir[1].times(cp[1])));
     let off2 = dist2(c, foot);
     let h2 = r * r - off2;
+    watch(ctx, step, h2, || r * r)?;
     let h = if h2.all(|v| v >= 0.0) {
         h2.sqrt_dead(DEAD_FOR_RATES * (r * r).value())
     } else if T::LANES {
@@ -313,6 +315,7 @@ pub fn turn_line_through<T: Real>(
         sin_a = T::cst(sin_a.value().signum());
     }
     let one_less = T::cst(1.0) - sin_a * sin_a;
+    watch(ctx, step, one_less, || T::cst(1.0))?;
     // Within round-off of ±1: the two roots meet (a dead point for rates).
     let cos_a = if one_less.all(|v| v > 0.0) {
         one_less.sqrt_dead(DEAD_FOR_RATES)

@@ -21,7 +21,7 @@ use super::{
     add, cross, cross_by, cst, dot, dot_by, norm, norm2, perpendicular, reject, scale, scale_by, sub, unit,
     value, Vec3,
 };
-use crate::frame::{Branch, BranchPolicy, Break, BreakKind, Ctx, StepId};
+use crate::frame::{watch, Branch, BranchPolicy, Break, BreakKind, Ctx, StepId, NEAR_DEAD_POINT};
 use crate::scalar::{Factor, Real};
 
 /// Squared half-chords smaller than this (relative to the squared radii)
@@ -181,15 +181,24 @@ fn midpoint<T: Real>(a: Vec3<T>, b: Vec3<T>) -> Vec3<T> {
 /// roots coincide (tangency, or a stretched step that has one closest point)
 /// the branch is left alone: there is nothing to choose, and resetting it
 /// would flip a mechanism passing through a tangent pose.
+///
+/// How close the roots are is recorded too ([`crate::frame::watch`]): their
+/// half-separation squared, relative to `size2`, the squared size of the
+/// loci (the sum of their squared radii).
 #[inline]
 fn choose<T: Real>(
-    ctx: &Ctx,
+    ctx: &mut Ctx,
     plus: Vec3<T>,
     minus: Vec3<T>,
+    size2: f64,
     branch: &mut Branch,
     last: &mut Vec3<T>,
 ) -> Vec3<T> {
     let (pv, mv, lv) = (value(plus), value(minus), value(*last));
+    let half2 = 0.25 * dist2(pv, mv);
+    if half2 < NEAR_DEAD_POINT * size2 || ctx.measure {
+        ctx.saw_near(half2 / size2);
+    }
     if ctx.branch == BranchPolicy::Nearest && pv != mv {
         *branch = if dist2(pv, lv) <= dist2(mv, lv) {
             Branch::Plus
@@ -207,8 +216,15 @@ fn choose<T: Real>(
 
 /// [`choose`] between `base + off` (branch +) and `base − off`.
 #[inline]
-fn pick<T: Real>(ctx: &Ctx, base: Vec3<T>, off: Vec3<T>, branch: &mut Branch, last: &mut Vec3<T>) -> Vec3<T> {
-    choose(ctx, add(base, off), sub(base, off), branch, last)
+fn pick<T: Real>(
+    ctx: &mut Ctx,
+    base: Vec3<T>,
+    off: Vec3<T>,
+    size2: f64,
+    branch: &mut Branch,
+    last: &mut Vec3<T>,
+) -> Vec3<T> {
+    choose(ctx, add(base, off), sub(base, off), size2, branch, last)
 }
 
 /// A unit vector in the plane of unit normal `n` pointing from `c` toward
@@ -536,7 +552,8 @@ pub fn circle_circle<T: Real>(
         if !(p || m) {
             ctx.fail(step, BreakKind::CirclesApart, gap)?;
         }
-        return Ok(choose(ctx, cand.points[0], cand.points[1], branch, last));
+        let size2 = a.radius.value().powi(2) + b.radius.value().powi(2);
+        return Ok(choose(ctx, cand.points[0], cand.points[1], size2, branch, last));
     }
     let x = if p {
         cand.points[0]
@@ -597,7 +614,8 @@ pub fn sphere_circle<T: Real>(
     };
     if let Some(rho) = rho {
         if let Pair::Meet { base, off } = coplanar_pair(c, r, cp, rho, n) {
-            return Ok(pick(ctx, base, off, branch, last));
+            let size2 = rsv * rsv + r.value().powi(2);
+            return Ok(pick(ctx, base, off, size2, branch, last));
         }
     }
     let circle: Circle<T> = Circle::new(c, n.map(Factor::lift), r);
@@ -697,7 +715,7 @@ pub fn line_sphere<T: Real>(
         *last = x;
         return Ok(x);
     };
-    Ok(pick(ctx, foot, scale(d, h), branch, last))
+    Ok(pick(ctx, foot, scale(d, h), rv * rv, branch, last))
 }
 
 /// A point on `line` (through `p` along the unit vector `d`) and on
@@ -766,7 +784,7 @@ pub fn line_circle<T: Real>(
         // Halfway down to the circle's plane, above the in-plane roots.
         base = sub(foot, scale(n, z.mul_f64(0.5)));
     }
-    Ok(pick(ctx, base, scale(d, h), branch, last))
+    Ok(pick(ctx, base, scale(d, h), rv * rv, branch, last))
 }
 
 /// The point where `line` (through `p` along the unit vector `d`) crosses
@@ -847,7 +865,14 @@ pub fn plane_circle<T: Real>(
     };
     let inv_t2 = t2.recip();
     let base = sub(c, scale(w, zc * inv_t2));
-    Ok(pick(ctx, base, scale(t, h * inv_t2), branch, last))
+    Ok(pick(
+        ctx,
+        base,
+        scale(t, h * inv_t2),
+        r.value().powi(2),
+        branch,
+        last,
+    ))
 }
 
 /// A unit vector `v` on the cones `a` (axis `w1`, `v·w1 = cos1`) and `b`
@@ -895,7 +920,8 @@ pub fn cone_cone<T: Real>(
     };
     let inv_m2 = m2.recip();
     let base = scale(add(scale(w1, xp), scale(w2, yp)), inv_m2);
-    Ok(pick(ctx, base, scale(m, root * inv_m2), branch, last))
+    // Unit directions: the loci's size is 1.
+    Ok(pick(ctx, base, scale(m, root * inv_m2), 1.0, branch, last))
 }
 
 /// The signed angle `a − b` wrapped into (−π, π].
@@ -1044,6 +1070,7 @@ pub fn rotation_to_condition<T: Real>(
         *last = 0.0;
         return Ok((T::cst(1.0), T::cst(0.0)));
     }
+    watch(ctx, step, s2, || r2)?;
     let s = if s2.value() > 0.0 {
         s2.sqrt_dead(DEAD_FOR_RATES * r2.value())
     } else {

@@ -274,9 +274,16 @@ fn write_four_bars(m: &Mechanism, out: &mut dyn Write) -> io::Result<()> {
         } else {
             ">"
         };
+        // Sums that print alike but differ (a loop a hair from its change
+        // point, as synthesis can leave one) say by how much.
+        let by = if relation != "=" && num(sl) == num(pq) {
+            format!(", by {:.1e}", (sl - pq).abs())
+        } else {
+            String::new()
+        };
         writeln!(
             out,
-            "  four-bar {}: {} (s + l = {} {relation} p + q = {}{})",
+            "  four-bar {}: {} (s + l = {} {relation} p + q = {}{by}{})",
             names.join("–"),
             f.class.name(),
             num(sl),
