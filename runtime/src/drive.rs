@@ -409,10 +409,11 @@ impl<S: Solver> Driver<S> {
         }
     }
 
-    /// A frame beside a dead point assembled at `inputs`, its pose in `state` if `committed`, in `trial` otherwise: if
-    /// the way to it from the last pose crosses a gap, the mechanism is
-    /// leaving its interval there (the far side of a gap is another
-    /// circuit), and this is the frame's status.
+    /// A frame beside a dead point assembled at `inputs`, its pose in
+    /// `state` if `committed`, in `trial` otherwise: if the way to it from
+    /// the last pose crosses a gap, the mechanism is leaving its interval
+    /// there (the far side of a gap is another circuit), and this is the
+    /// frame's status.
     #[cold]
     #[inline(never)]
     fn beside_dead_point(&mut self, inputs: &[f64], committed: bool) -> Option<FrameStatus> {
@@ -527,11 +528,12 @@ impl<S: Solver> Driver<S> {
                 }
             }
             BreakPolicy::Limit | BreakPolicy::Stretch => {
-                if passable(&brk) {
-                } else if t == 1.0 {
-                    self.hold(brk, requested, pace);
-                } else {
-                    self.hold_at(brk, requested, t, pace);
+                if !passable(&brk) {
+                    if t == 1.0 {
+                        self.hold(brk, requested, pace);
+                    } else {
+                        self.hold_at(brk, requested, t, pace);
+                    }
                 }
                 FrameStatus::Limited { brk }
             }
