@@ -69,6 +69,32 @@ pub fn write_json(mechanism: &str, goal: &str, s: &Synthesis, out: &mut dyn Writ
     )
 }
 
+/// Whether free timing's inputs pass the targets in their order (a line,
+/// or nothing for given timing).
+pub fn write_order(best: &Solution, out: &mut dyn Write) -> io::Result<()> {
+    match best.order_kept {
+        Some(true) => writeln!(out, "  the inputs found pass the targets in their order"),
+        Some(false) => writeln!(out, "  the inputs found do not pass the targets in their order"),
+        None => Ok(()),
+    }
+}
+
+/// Each constraint's value at the solution, kept or broken, and its
+/// margin: a line each.
+pub fn write_margins(best: &Solution, out: &mut dyn Write) -> io::Result<()> {
+    for c in &best.margins {
+        let state = if c.margin >= 0.0 { "kept" } else { "BROKEN" };
+        writeln!(
+            out,
+            "  {}: {} ({state}, margin {})",
+            c.name,
+            rounded(c.value, 4),
+            rounded(c.margin, 4)
+        )?;
+    }
+    Ok(())
+}
+
 /// The text's last lines: the other distinct solutions, the solutions
 /// left out and why, and the search's cost.
 pub fn write_tail(s: &Synthesis, out: &mut dyn Write) -> io::Result<()> {

@@ -21,10 +21,10 @@
 //! `planar/` has `params.rs` (the parameters and candidates),
 //! `gradient.rs` (the derivatives), `tolerance.rs`, `problem.rs` and
 //! `solve.rs`; `spatial/` has `params.rs`, `gradient.rs`, `problem.rs`
-//! (function and motion generation, given timing) and `solve.rs`;
+//! (path, function and motion generation) and `solve.rs`;
 //! `nodes.rs`, `request.rs` (names, inputs and boxes resolved),
-//! `search.rs`, `solution.rs` (what a synthesis returns) and `target.rs`
-//! serve both dimensions.
+//! `search.rs`, `solution.rs` (what a synthesis returns), `target.rs` and
+//! `timing.rs` (free timing's nearest points) serve both dimensions.
 //!
 //! A design loop of your own — candidates, their frames and the
 //! derivatives of a marker with respect to every parameter:
@@ -96,6 +96,7 @@ pub mod search;
 pub mod solution;
 pub mod spatial;
 pub mod target;
+mod timing;
 pub mod tolerance;
 
 use std::fmt;

@@ -12,6 +12,22 @@ pub struct Row {
     pub values: Vec<f64>,
 }
 
+/// Whether the rows of a target file `name`, of `cols` columns, have
+/// given timing (the input first) where free timing reads `free` columns
+/// (`x,y`: 2), checked against what `--timing` asked (`given`: `Some(true)`
+/// given, `Some(false)` free, `None` as the columns say).
+pub fn timed(name: &str, given: Option<bool>, cols: usize, free: usize) -> Result<bool, String> {
+    let timed = cols == free + 1;
+    match given {
+        Some(g) if g != timed => Err(format!(
+            "{name}: {cols} columns do not fit --timing {}: given timing reads the input first ({} columns here), free timing does not ({free})",
+            if g { "given" } else { "free" },
+            free + 1
+        )),
+        _ => Ok(timed),
+    }
+}
+
 /// Reads a target file `name` holding `text`. Every row must have the same
 /// number of columns, one of `columns`; `what` names the columns for the
 /// messages ("x,y or input,x,y"). Errors say `name:line:column` and what

@@ -229,7 +229,15 @@ fn an_rssr_rocker_path_is_found_again() {
     let targets = dir.join("path.csv");
     std::fs::write(&targets, csv).unwrap();
     let best = dir.join("best.toml");
-    let goal = ["--path", targets.to_str().unwrap(), "--marker", "rocker.C"];
+    let goal = [
+        "--path",
+        targets.to_str().unwrap(),
+        "--marker",
+        "rocker.C",
+        "--full-turn",
+        "--max-ratio",
+        "6",
+    ];
     let v: Value = serde_json::from_str(&synth_moved(&dir, &goal, Some(&best), true)).unwrap();
     assert_eq!(
         v["goal"],
@@ -237,14 +245,89 @@ fn an_rssr_rocker_path_is_found_again() {
     );
     let rms = v["error"]["rms"].as_f64().unwrap();
     assert!(rms <= 1e-9, "rms {rms}");
-    // Independently: the written file's pin passes the targets.
+    // The constraints, as reported and as the written file has them: the
+    // crank turns fully (`check` says so), and the links' lengths (ground
+    // A–D, crank A–B, coupler B–C, rocker C–D) measured here.
+    let c = v["constraints"].as_array().unwrap();
+    assert_eq!(
+        (c[0]["name"].as_str(), c[0]["value"].as_f64()),
+        (Some("full-turn"), Some(1.0))
+    );
+    assert!(c[0]["margin"].as_f64().unwrap() >= 0.0, "{c:?}");
     let found = spatial(&best);
+    let at = |n: &str| found.marker(found.find_marker(n).unwrap()).at;
+    let dist = |a: &str, b: &str| (0..3).map(|k| (at(a)[k] - at(b)[k]).powi(2)).sum::<f64>().sqrt();
+    let links = [
+        dist("ground.A", "ground.D"),
+        dist("crank.A", "crank.B"),
+        dist("coupler.B", "coupler.C"),
+        dist("rocker.C", "rocker.D"),
+    ];
+    let ratio =
+        links.iter().fold(0.0f64, |a, &b| a.max(b)) / links.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+    assert_eq!(c[1]["name"], "max-ratio");
+    assert!(
+        (c[1]["value"].as_f64().unwrap() - ratio).abs() <= 1e-9 * ratio,
+        "{c:?}, {ratio}"
+    );
+    assert!(ratio <= 6.0, "{ratio}");
+    let o = dofplan(&["check", best.to_str().unwrap()]);
+    assert!(
+        text(&o.stdout).contains("theta: turns fully"),
+        "{}",
+        text(&o.stdout)
+    );
+    // Independently: the written file's pin passes the targets.
     let local = found.marker(found.find_marker("rocker.C").unwrap()).at;
     let again = run_up(&found, &INPUTS, |poses| poses[rocker].world(local));
     let worst = (again.iter().zip(&points))
         .map(|(a, p)| (0..3).map(|k| (a[k] - p[k]).powi(2)).sum::<f64>().sqrt())
         .fold(0.0, f64::max);
     assert!(worst <= 1e-8, "the written file's path is off by {worst}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Free timing: the rocker's pin C through points of its arc, without
+/// their input values. The search finds each point's input with the
+/// dimensions; the arc (one swing of the rocker, away from its ends) is
+/// found again exactly, though not the truth's timing: a pin on the same
+/// circle, swinging through the points at other crank angles, passes them
+/// as well.
+#[test]
+fn an_rssr_rocker_arc_is_found_with_free_timing() {
+    let dir = scratch("free");
+    let truth = spatial(&root().join("mechanisms/spatial/rssr.toml"));
+    let rocker = truth.bodies.iter().position(|b| b.name == "rocker").unwrap();
+    let local = truth.marker(truth.find_marker("rocker.C").unwrap()).at;
+    let sampled: Vec<f64> = (0..13).map(|k| 110.0 + 10.0 * k as f64).collect();
+    let points = run_up(&truth, &sampled, |poses| poses[rocker].world(local));
+    let csv: String = (points.iter())
+        .map(|p| format!("{:.17e},{:.17e},{:.17e}\n", p[0], p[1], p[2]))
+        .collect();
+    let targets = dir.join("arc.csv");
+    std::fs::write(&targets, format!("# x,y,z\n{csv}")).unwrap();
+    let best = dir.join("best.toml");
+    let goal = ["--path", targets.to_str().unwrap(), "--marker", "rocker.C"];
+    let v: Value = serde_json::from_str(&synth_moved(&dir, &goal, Some(&best), true)).unwrap();
+    assert_eq!(
+        v["goal"],
+        "path generation of rocker.C through 13 points (free timing)"
+    );
+    let rms = v["error"]["rms"].as_f64().unwrap();
+    assert!(rms <= 1e-9, "rms {rms}");
+    let inputs: Vec<f64> = (v["inputs"].as_array().unwrap().iter())
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert_eq!(inputs.len(), 13);
+    // Independently: the written file, run to each reported input, puts
+    // its pin on the target.
+    let found = spatial(&best);
+    let local = found.marker(found.find_marker("rocker.C").unwrap()).at;
+    let again = run_up(&found, &inputs, |poses| poses[rocker].world(local));
+    let worst = (again.iter().zip(&points))
+        .map(|(a, p)| (0..3).map(|k| (a[k] - p[k]).powi(2)).sum::<f64>().sqrt())
+        .fold(0.0, f64::max);
+    assert!(worst <= 1e-8, "the written file's pin is off by {worst}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
@@ -262,20 +345,30 @@ fn what_spatial_synthesis_does_not_do_is_refused_by_name() {
         assert!(!text(&o.stderr).contains("panicked"), "{}", text(&o.stderr));
         text(&o.stderr)
     };
-    for option in [
-        &["--full-turn"][..],
-        &["--min-transmission", "40"],
-        &["--max-ratio", "3"],
-        &["--svg", "x.svg"],
-    ] {
-        let mut args = vec!["--function", pairs, "--output", "D"];
-        args.extend_from_slice(option);
-        let e = run(&args);
-        assert!(
-            e.contains(&format!("{} works on planar files only for now", option[0])),
-            "{e}"
-        );
-    }
+    let e = run(&["--function", pairs, "--output", "D", "--min-transmission", "40"]);
+    assert!(
+        e.contains("--min-transmission bounds the transmission angles of planar four-bar loops"),
+        "{e}"
+    );
+    let o = dofplan(&[
+        "synth",
+        "mechanisms/spatial/excavator.toml",
+        "--function",
+        pairs,
+        "--output",
+        "slew_bearing",
+        "--input",
+        "boom_cyl",
+        "--full-turn",
+    ]);
+    let e = text(&o.stderr);
+    assert!(
+        !o.status.success()
+            && e.contains("--full-turn asks the input to turn through 360°, and boom_cyl is a slide"),
+        "{e}"
+    );
+    let e = run(&["--function", pairs, "--output", "D", "--svg", "x.svg"]);
+    assert!(e.contains("--svg works on planar files only for now"), "{e}");
     let e = run(&["--function", pairs, "--output", "B"]);
     assert!(e.contains("joint B is not revolute"), "{e}");
     let e = run(&["--function", pairs, "--output", "Z"]);
@@ -308,8 +401,10 @@ fn what_spatial_synthesis_does_not_do_is_refused_by_name() {
         "--timing",
         "free",
     ]);
+    assert!(e.contains("4 columns do not fit --timing free"), "{e}");
+    let e = run(&["--motion", pairs, "--body", "rocker", "--timing", "free"]);
     assert!(
-        e.contains("--timing free works on planar files only for now"),
+        e.contains("--timing free (of a motion) works on planar files only for now"),
         "{e}"
     );
     // Off the coupler's spin axis, a point's path is not the input's.

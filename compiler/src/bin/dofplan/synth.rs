@@ -31,14 +31,14 @@ pub enum Timing {
 pub struct SynthArgs {
     /// Mechanism file, planar or spatial: its topology, its drawing (the
     /// start, and what parameters stay), its input. A spatial file takes
-    /// --path, --function and --motion with given timing, no constraint
-    /// and no --svg.
+    /// --path (given or free timing), --function and --motion (given
+    /// timing), --full-turn and --max-ratio, no --svg.
     pub file: PathBuf,
     /// Path generation: the marker that must pass the targets.
     #[arg(long, value_name = "BODY.M")]
     marker: Option<String>,
     /// Path generation: the target points, CSV of x,y (free timing) or
-    /// input,x,y (given timing); spatial: input,x,y,z.
+    /// input,x,y (given timing); spatial: x,y,z or input,x,y,z.
     #[arg(long, value_name = "TARGET.csv", requires = "marker")]
     path: Option<PathBuf>,
     /// Given or free timing (default: as the target file's columns say).
@@ -203,15 +203,21 @@ fn request(args: &SynthArgs, targets: &std::path::Path, kind: Kind) -> Result<Re
 /// synthesis does not do.
 fn spatial_request(args: &SynthArgs) -> Result<spatial::Request, String> {
     let planar_only = [
-        (matches!(args.timing, Some(Timing::Free)), "--timing free"),
-        (args.full_turn, "--full-turn"),
-        (args.min_transmission.is_some(), "--min-transmission"),
-        (args.max_ratio.is_some(), "--max-ratio"),
+        (
+            matches!(args.timing, Some(Timing::Free)) && args.path.is_none(),
+            "--timing free (of a motion)",
+        ),
         (args.svg.is_some(), "--svg"),
     ];
+    if args.min_transmission.is_some() {
+        return Err(format!(
+            "{}: error: --min-transmission bounds the transmission angles of planar four-bar loops, and a spatial file has none; bound the links with --max-ratio, or keep the input turning with --full-turn",
+            args.file.display()
+        ));
+    }
     if let Some((_, option)) = planar_only.iter().find(|(given, _)| *given) {
         return Err(format!(
-            "{}: error: {option} works on planar files only for now; on a spatial file synth does path (--path, --marker), function (--function, --output) and motion generation (--motion, --body) with given timing",
+            "{}: error: {option} works on planar files only for now; on a spatial file synth does path (--path, --marker; given or free timing), function (--function, --output) and motion generation (--motion, --body; given timing)",
             args.file.display()
         ));
     }
@@ -220,6 +226,7 @@ fn spatial_request(args: &SynthArgs) -> Result<spatial::Request, String> {
             p,
             spatial::Kind::Path {
                 marker: args.marker.clone().unwrap_or_default(),
+                given: args.timing.map(|t| matches!(t, Timing::Given)),
             },
         ),
         (_, Some(p), _) => (
@@ -245,6 +252,10 @@ fn spatial_request(args: &SynthArgs) -> Result<spatial::Request, String> {
         vary: args.vary.clone(),
         bounds,
         point_bounds,
+        constraints: spatial::Constraints {
+            full_turn: args.full_turn,
+            max_ratio: args.max_ratio,
+        },
     })
 }
 

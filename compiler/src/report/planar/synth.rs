@@ -83,11 +83,7 @@ pub fn write_text(
         length(e.rms),
         length(e.max)
     )?;
-    match best.order_kept {
-        Some(true) => writeln!(out, "  the inputs found pass the targets in their order")?,
-        Some(false) => writeln!(out, "  the inputs found do not pass the targets in their order")?,
-        None => {}
-    }
+    shared::write_order(best, out)?;
     let design = problem.design();
     for (n, node) in design.nodes().iter().enumerate() {
         let (x, y) = (best.values[2 * n], best.values[2 * n + 1]);
@@ -101,16 +97,7 @@ pub fn write_text(
             rounded(y, 6)
         )?;
     }
-    for c in &best.margins {
-        let state = if c.margin >= 0.0 { "kept" } else { "BROKEN" };
-        writeln!(
-            out,
-            "  {}: {} ({state}, margin {})",
-            c.name,
-            rounded(c.value, 4),
-            rounded(c.margin, 4)
-        )?;
-    }
+    shared::write_margins(best, out)?;
     shared::write_tail(s, out)
 }
 

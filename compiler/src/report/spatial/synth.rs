@@ -1,7 +1,7 @@
 //! `dofplan synth`'s report on a spatial mechanism: the best solution's
 //! error (recomputed from the file written), its points, and the other
-//! distinct solutions; as text or one JSON document (the planar report's
-//! fields, without constraints: spatial synthesis has none yet).
+//! distinct solutions, with free timing's order and the constraints'
+//! margins; as text or one JSON document (the planar report's fields).
 
 use std::io::{self, Write};
 
@@ -49,6 +49,7 @@ pub fn write_text(
         length(e.rms),
         length(e.max)
     )?;
+    shared::write_order(best, out)?;
     for (n, node) in problem.design().nodes().iter().enumerate() {
         let at = &best.values[3 * n..3 * n + 3];
         let varied = (3 * n..3 * n + 3).any(|k| s.varied.contains(&k));
@@ -56,5 +57,6 @@ pub fn write_text(
         let [x, y, z] = [at[0], at[1], at[2]].map(|v| rounded(v, 6));
         writeln!(out, "  {:<12} ({x}, {y}, {z}){note}", node.name)?;
     }
+    shared::write_margins(best, out)?;
     shared::write_tail(s, out)
 }

@@ -14,6 +14,7 @@ use crate::model::{InputKind, JointKind, MarkerId, Mechanism};
 use crate::simulate::planar::kinematics::transmission_angle;
 use crate::synth::search::{penalised, Objective, FAILED};
 use crate::synth::solution::Margin;
+use crate::synth::timing::nearest;
 use crate::synth::SynthError;
 
 /// What the synthesised mechanism must do.
@@ -386,33 +387,14 @@ impl Problem {
     /// of the sampled curve (each point projected on the two sample
     /// segments beside its nearest sample), and each target's input there.
     fn nearest(&self, c: &Candidate, frames: &[Option<Vec<Pose>>]) -> Option<(f64, Vec<f64>)> {
-        let values: Vec<(usize, [f64; 3])> = (frames.iter().enumerate())
-            .filter_map(|(s, f)| f.as_ref().map(|poses| (s, self.curve_point(c, poses))))
+        let curve: Vec<Option<[f64; 3]>> = (frames.iter())
+            .map(|f| f.as_ref().map(|poses| self.curve_point(c, poses)))
             .collect();
-        if values.is_empty() {
-            return None;
-        }
-        let (mut total, mut inputs) = (0.0, Vec::with_capacity(self.goal.len()));
-        for i in 0..self.goal.len() {
-            let t = self.target_point(i);
-            let (mut best, mut at) = (f64::INFINITY, 0.0);
-            for w in values.windows(2).filter(|w| w[1].0 == w[0].0 + 1) {
-                let (d, u) = project(&t, &w[0].1, &w[1].1);
-                if d < best {
-                    best = d;
-                    at = self.sample_input(w[0].0)
-                        + u * (self.sample_input(w[1].0) - self.sample_input(w[0].0));
-                }
-            }
-            if !best.is_finite() {
-                let (s, p) = &values[0];
-                best = dist2(&t, p);
-                at = self.sample_input(*s);
-            }
-            total += best;
-            inputs.push(at);
-        }
-        Some((total, inputs))
+        nearest(
+            &curve,
+            |s| self.sample_input(s),
+            (0..self.goal.len()).map(|i| self.target_point(i)),
+        )
     }
 
     /// A frame as the point the goal compares with its targets: the
@@ -685,23 +667,4 @@ fn wrap(a: f64) -> f64 {
     } else {
         w
     }
-}
-
-fn dist2(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    (0..3).map(|k| (a[k] - b[k]) * (a[k] - b[k])).sum()
-}
-
-/// The squared distance from `t` to the segment `a`–`b` and where along it
-/// (0 at `a`, 1 at `b`) the nearest point is.
-fn project(t: &[f64; 3], a: &[f64; 3], b: &[f64; 3]) -> (f64, f64) {
-    let ab = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    let at = [t[0] - a[0], t[1] - a[1], t[2] - a[2]];
-    let l2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
-    let u = if l2 > 0.0 {
-        ((ab[0] * at[0] + ab[1] * at[1] + ab[2] * at[2]) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let p = [a[0] + u * ab[0], a[1] + u * ab[1], a[2] + u * ab[2]];
-    (dist2(t, &p), u)
 }

@@ -72,15 +72,6 @@ pub fn problem(m: &Mechanism, request: &Request) -> Result<Problem, String> {
             )
         })
     };
-    let given = |g: Option<bool>, cols: usize| {
-        match (g, cols) {
-        (Some(true), 2) | (Some(false), 3) => Err(format!(
-            "{name}: {cols} columns do not fit --timing {}: given timing reads the input first (input,x,y), free timing does not",
-            if g == Some(true) { "given" } else { "free" }
-        )),
-        _ => Ok(cols == 3 || cols == 4),
-    }
-    };
     let goal = match &request.kind {
         Kind::Path { marker, given: g } => {
             let rows = target::read(
@@ -89,7 +80,7 @@ pub fn problem(m: &Mechanism, request: &Request) -> Result<Problem, String> {
                 &[2, 3],
                 "x,y (free timing) or input,x,y (given timing)",
             )?;
-            let timed = given(*g, rows[0].values.len())?;
+            let timed = target::timed(name, *g, rows[0].values.len(), 2)?;
             let v = |r: &target::Row, k: usize| r.values[k + usize::from(timed)];
             Goal::Path {
                 marker: marker_of(marker)?,
@@ -135,7 +126,7 @@ pub fn problem(m: &Mechanism, request: &Request) -> Result<Problem, String> {
                 "x,y,angle (free timing) or input,x,y,angle (given timing)",
             )?;
             let cols = rows[0].values.len();
-            let timed = given(*g, cols - 1)?;
+            let timed = target::timed(name, *g, cols, 3)?;
             let v = |r: &target::Row, k: usize| r.values[k + usize::from(timed)];
             Goal::Motion {
                 body: b,

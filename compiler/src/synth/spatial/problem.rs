@@ -1,19 +1,23 @@
-//! Spatial synthesis problems, given timing: function generation (a
-//! revolute joint's angle at given input values), motion generation (a
-//! body's marker position and the body's turn at given input values) and
-//! path generation (a marker's position at given input values),
+//! Spatial synthesis problems: function generation (a revolute joint's
+//! angle at given input values), motion generation (a body's marker
+//! position and the body's turn at given input values) and path
+//! generation (a marker's position, at given input values or, free
+//! timing, at input values that are unknowns of their own),
 //! searched as the planar problems are (`synth/search.rs`), with the exact
 //! Jacobians of `synth/spatial/gradient.rs`.
 
 use dofplan_runtime::spatial::rows::WorldFrame;
-use dofplan_runtime::spatial::{cross, dot, Pose3, Vec3};
+use dofplan_runtime::spatial::{cross, cst, dot, Pose3, Vec3};
+use dofplan_runtime::{Driver, Options};
 use nalgebra::{DMatrix, DVector, Matrix3, Rotation3, Vector3};
 
 use super::{sensitivity, Candidate, Design};
+use crate::interp::spatial::InterpState;
 use crate::model::spatial::{JointKind, Mechanism};
-use crate::model::MarkerId;
-use crate::synth::search::Objective;
-use crate::synth::SynthError;
+use crate::model::{InputKind, MarkerId};
+use crate::synth::search::{penalised, Objective, FAILED};
+use crate::synth::solution::Margin;
+use crate::synth::{timing, SynthError};
 
 /// A spatial function-generation problem: at each input value, the output
 /// revolute joint's angle (degrees, the second marker's x turned about the
@@ -35,6 +39,20 @@ struct Varied {
     vary: Vec<usize>,
     bounds: Vec<[f64; 2]>,
     base: Vec<f64>,
+    constraints: Constraints,
+}
+
+/// The constraints a spatial solution keeps. (A transmission angle is a
+/// planar four-bar loop's: spatial files have no `min_transmission`.)
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Constraints {
+    /// The input (an angle) turns through 360° without a break: every
+    /// frame of a sampled turn solves, and the driver looks between
+    /// samples for a gap narrower than their step.
+    pub full_turn: bool,
+    /// Longest over shortest link at most this (a link's length: the
+    /// largest distance between two joints on it).
+    pub max_ratio: Option<f64>,
 }
 
 impl Varied {
@@ -62,13 +80,78 @@ impl Varied {
             vary,
             bounds,
             base,
+            constraints: Constraints::default(),
         })
     }
 
-    /// The same parameters varied within the same box on another drawing
-    /// of the mechanism (a solution's written file).
+    /// The same parameters varied within the same box, under the same
+    /// constraints, on another drawing of the mechanism (a solution's
+    /// written file).
     fn on(&self, design: Design) -> Result<Varied, SynthError> {
-        Varied::new(design, self.input, self.vary.clone(), self.bounds.clone())
+        let mut v = Varied::new(design, self.input, self.vary.clone(), self.bounds.clone())?;
+        v.constraints = self.constraints;
+        Ok(v)
+    }
+
+    /// Sets the constraints, refusing a full turn of a slide.
+    fn constrain(&mut self, constraints: Constraints) -> Result<(), SynthError> {
+        let input = &self.design.mechanism().inputs[self.input];
+        if constraints.full_turn && input.kind != InputKind::Angle {
+            return Err(SynthError::Goal {
+                reason: format!(
+                    "--full-turn asks the input to turn through 360°, and {} is a slide",
+                    input.name
+                ),
+            });
+        }
+        self.constraints = constraints;
+        Ok(())
+    }
+
+    /// Each constraint's margin at the varied parameters `x` (negative:
+    /// broken), a full turn sampled at `samples` frames; `None` for a
+    /// candidate that cannot be prepared.
+    fn margins_at(&self, x: &[f64], samples: usize) -> Option<Vec<Margin>> {
+        let k = self.constraints;
+        if !k.full_turn && k.max_ratio.is_none() {
+            return Some(Vec::new());
+        }
+        let c = self.design.prepare(&self.values(&x[..self.vary.len()])).ok()?;
+        let mut margins = Vec::new();
+        if k.full_turn {
+            let frames = self.sample(&c, [0.0, 360.0], samples);
+            let failed = frames.iter().filter(|f| f.is_none()).count() as f64;
+            margins.push(Margin {
+                name: "full-turn",
+                value: if failed == 0.0 { 1.0 } else { 0.0 },
+                // 0, not −0, when every frame solves.
+                margin: 0.0 - failed,
+            });
+        }
+        if let Some(r) = k.max_ratio {
+            let ratio = link_ratio(&c.mechanism);
+            margins.push(Margin {
+                name: "max-ratio",
+                value: ratio,
+                margin: r - ratio,
+            });
+        }
+        Some(margins)
+    }
+
+    /// The global search's fitness: `error` (`None`: the candidate fails)
+    /// penalised by how far the constraints are broken at `x`.
+    fn fitness(&self, x: &[f64], error: Option<f64>) -> f64 {
+        let Some(error) = error else { return FAILED };
+        match self.margins_at(x, SAMPLES) {
+            Some(m) => penalised(error, m.iter().map(|m| (-m.margin).max(0.0)).sum()),
+            None => FAILED,
+        }
+    }
+
+    /// Whether the constraints hold at the polish's unknowns `z`.
+    fn feasible(&self, z: &[f64]) -> bool {
+        (self.margins_at(z, SAMPLES)).is_some_and(|m| m.iter().all(|m| m.margin >= 0.0))
     }
 
     /// Every parameter's value for the varied ones at `x`.
@@ -89,8 +172,82 @@ impl Varied {
     /// The candidate's poses at the inputs `at`, run up from its drawing
     /// in steps of at most 5° (down for negative inputs).
     fn reach(&self, c: &Candidate, at: &[f64]) -> Option<Vec<Vec<Pose3>>> {
-        let frames = crate::synth::reach::reach(&c.interpreter, at, 5.0, |v| self.request(v))?;
+        let frames = self.reach_states(c, at)?;
         Some(frames.into_iter().map(|(poses, _)| poses).collect())
+    }
+
+    /// [`Varied::reach`] with each frame's state (what its rates are
+    /// computed from).
+    fn reach_states(&self, c: &Candidate, at: &[f64]) -> Option<Vec<(Vec<Pose3>, InterpState)>> {
+        crate::synth::reach::reach(&c.interpreter, at, 5.0, |v| self.request(v))
+    }
+
+    /// The candidate's frames at `samples + 1` inputs evenly over `range`,
+    /// driven there from its drawing (`None` where a frame is not solved).
+    fn sample(&self, c: &Candidate, range: [f64; 2], samples: usize) -> Vec<Option<Vec<Pose3>>> {
+        let mut driver = Driver::new(c.interpreter.clone(), Options::default());
+        let [a, b] = range;
+        if a != 0.0 {
+            let n = (a.abs() / 5.0).ceil() as usize;
+            for s in 1..=n {
+                driver.frame(&self.request(a * s as f64 / n as f64));
+            }
+        }
+        (0..=samples)
+            .map(|s| {
+                let v = a + (b - a) * s as f64 / samples as f64;
+                (driver.frame(&self.request(v)).is_solved()).then(|| driver.poses().to_vec())
+            })
+            .collect()
+    }
+
+    /// The range of the input a curve is sampled over: the sweep's, if it
+    /// sweeps this input, else a whole turn of an angle.
+    fn range(&self) -> Result<[f64; 2], SynthError> {
+        let m = self.design.mechanism();
+        match (&m.sweep, m.inputs[self.input].kind) {
+            (Some(s), _) if s.primary().input == self.input => Ok([s.primary().from, s.primary().to]),
+            (_, InputKind::Angle) => Ok([0.0, 360.0]),
+            _ => Err(SynthError::Goal {
+                reason: format!(
+                    "the slide input {} has no range to search: give the file a [sweep] of it",
+                    m.inputs[self.input].name
+                ),
+            }),
+        }
+    }
+}
+
+/// Samples of the input's range a candidate's curve is read at (free
+/// timing).
+const SAMPLES: usize = 180;
+
+/// Longest over shortest link of `m`: a link's length is the largest
+/// distance between two joints' markers on it; bodies with fewer than two
+/// are not links. Infinite if a link has length 0.
+pub fn link_ratio(m: &Mechanism) -> f64 {
+    let mut in_joint: Vec<Vec<Vec3>> = vec![Vec::new(); m.bodies.len()];
+    for j in &m.joints {
+        for id in j.markers {
+            in_joint[id.body].push(m.marker(id).at);
+        }
+    }
+    let lengths = (in_joint.iter()).filter(|p| p.len() >= 2).map(|p| {
+        let mut l = 0.0f64;
+        for (i, a) in p.iter().enumerate() {
+            for b in &p[i + 1..] {
+                l = l.max(dofplan_runtime::spatial::norm(dofplan_runtime::spatial::sub(
+                    *a, *b,
+                )));
+            }
+        }
+        l
+    });
+    let (lo, hi) = lengths.fold((f64::INFINITY, 0.0f64), |(lo, hi), l| (lo.min(l), hi.max(l)));
+    if lo > 0.0 {
+        hi / lo
+    } else {
+        f64::INFINITY
     }
 }
 
@@ -180,6 +337,26 @@ impl Function {
         &self.varied.vary
     }
 
+    /// The driving input.
+    pub fn input(&self) -> usize {
+        self.varied.input
+    }
+
+    /// The problem with `constraints` kept (a full turn refused for a
+    /// slide input).
+    pub fn constrained(mut self, constraints: Constraints) -> Result<Self, SynthError> {
+        self.varied.constrain(constraints)?;
+        Ok(self)
+    }
+
+    /// Every constraint's margin at the polish's unknowns `z`, a full turn
+    /// measured on eight times the search's samples (a quarter degree
+    /// apart), so that what the search kept between its samples is checked
+    /// between them too.
+    pub fn margins(&self, z: &[f64]) -> Option<Vec<Margin>> {
+        self.varied.margins_at(z, 8 * SAMPLES)
+    }
+
     /// The output joint.
     pub fn joint(&self) -> usize {
         self.joint
@@ -203,6 +380,15 @@ impl Function {
 impl Objective for Function {
     fn bounds(&self) -> &[[f64; 2]] {
         &self.varied.bounds
+    }
+
+    fn fitness(&self, x: &[f64]) -> f64 {
+        let error = self.residuals(x, false).map(|(r, _)| r.norm_squared());
+        self.varied.fitness(x, error)
+    }
+
+    fn feasible(&self, z: &[f64]) -> bool {
+        self.varied.feasible(z)
     }
 
     fn residuals(&self, z: &[f64], jacobian: bool) -> Option<(DVector<f64>, Option<DMatrix<f64>>)> {
@@ -354,6 +540,26 @@ impl Motion {
         &self.varied.vary
     }
 
+    /// The driving input.
+    pub fn input(&self) -> usize {
+        self.varied.input
+    }
+
+    /// The problem with `constraints` kept (a full turn refused for a
+    /// slide input).
+    pub fn constrained(mut self, constraints: Constraints) -> Result<Self, SynthError> {
+        self.varied.constrain(constraints)?;
+        Ok(self)
+    }
+
+    /// Every constraint's margin at the polish's unknowns `z`, a full turn
+    /// measured on eight times the search's samples (a quarter degree
+    /// apart), so that what the search kept between its samples is checked
+    /// between them too.
+    pub fn margins(&self, z: &[f64]) -> Option<Vec<Margin>> {
+        self.varied.margins_at(z, 8 * SAMPLES)
+    }
+
     /// The marker whose position is the body's.
     pub fn marker(&self) -> MarkerId {
         self.marker
@@ -378,6 +584,15 @@ impl Motion {
 impl Objective for Motion {
     fn bounds(&self) -> &[[f64; 2]] {
         &self.varied.bounds
+    }
+
+    fn fitness(&self, x: &[f64]) -> f64 {
+        let error = self.residuals(x, false).map(|(r, _)| r.norm_squared());
+        self.varied.fitness(x, error)
+    }
+
+    fn feasible(&self, z: &[f64]) -> bool {
+        self.varied.feasible(z)
     }
 
     fn residuals(&self, z: &[f64], jacobian: bool) -> Option<(DVector<f64>, Option<DMatrix<f64>>)> {
@@ -418,24 +633,32 @@ impl Objective for Motion {
     }
 }
 
-/// A spatial path-generation problem, given timing: at each target's input
-/// value, the marker is at the target's point. Three residuals a target:
-/// the position error.
+/// A spatial path-generation problem: the marker passes through the
+/// target points, at the input values given with them (given timing) or
+/// at input values of its own, one unknown a point (free timing). Three
+/// residuals a target: the position error.
 #[derive(Clone, Debug)]
 pub struct Path {
     varied: Varied,
     marker: MarkerId,
-    points: Vec<(f64, [f64; 3])>,
+    points: Vec<[f64; 3]>,
+    /// Each point's input value (given timing), or `None` (free timing).
+    inputs: Option<Vec<f64>>,
+    /// Free timing: the input's range the candidates' curves are sampled
+    /// over.
+    range: [f64; 2],
 }
 
 impl Path {
-    /// The problem of moving `marker` through `points` (input value,
-    /// world point) as input `input` moves, varying the parameters `vary`
-    /// within `bounds`.
+    /// The problem of moving `marker` through `points` (world points) as
+    /// input `input` moves, at the input values `inputs` (given timing) or
+    /// at any (free timing, `None`), varying the parameters `vary` within
+    /// `bounds`.
     pub fn new(
         design: Design,
         marker: MarkerId,
-        points: Vec<(f64, [f64; 3])>,
+        points: Vec<[f64; 3]>,
+        inputs: Option<Vec<f64>>,
         input: usize,
         vary: Vec<usize>,
         bounds: Vec<[f64; 2]>,
@@ -466,10 +689,16 @@ impl Path {
                 ),
             });
         }
+        let range = match inputs {
+            Some(_) => [0.0, 0.0],
+            None => varied.range()?,
+        };
         Ok(Path {
             varied,
             marker,
             points,
+            inputs,
+            range,
         })
     }
 
@@ -488,14 +717,39 @@ impl Path {
         &self.varied.vary
     }
 
+    /// The driving input.
+    pub fn input(&self) -> usize {
+        self.varied.input
+    }
+
+    /// The problem with `constraints` kept (a full turn refused for a
+    /// slide input).
+    pub fn constrained(mut self, constraints: Constraints) -> Result<Self, SynthError> {
+        self.varied.constrain(constraints)?;
+        Ok(self)
+    }
+
+    /// Every constraint's margin at the polish's unknowns `z`, a full turn
+    /// measured on eight times the search's samples (a quarter degree
+    /// apart), so that what the search kept between its samples is checked
+    /// between them too.
+    pub fn margins(&self, z: &[f64]) -> Option<Vec<Margin>> {
+        self.varied.margins_at(z, 8 * SAMPLES)
+    }
+
     /// The marker that passes the points.
     pub fn marker(&self) -> MarkerId {
         self.marker
     }
 
-    /// The targets: (input value, world point).
-    pub fn points(&self) -> &[(f64, [f64; 3])] {
+    /// The target points.
+    pub fn points(&self) -> &[[f64; 3]] {
         &self.points
+    }
+
+    /// Each point's input value (given timing), or `None` (free timing).
+    pub fn inputs(&self) -> Option<&[f64]> {
+        self.inputs.as_deref()
     }
 
     /// The same goal on another drawing (a solution's written file).
@@ -504,7 +758,41 @@ impl Path {
             varied: self.varied.on(design)?,
             marker: self.marker,
             points: self.points.clone(),
+            inputs: self.inputs.clone(),
+            range: self.range,
         })
+    }
+
+    /// Free timing: the candidate at `x` (the varied parameters), the sum
+    /// over targets of the squared distance to its sampled curve, and
+    /// each target's input at the nearest point.
+    fn nearest(&self, x: &[f64]) -> Option<(f64, Vec<f64>)> {
+        let v = &self.varied;
+        let c = v.design.prepare(&v.values(x)).ok()?;
+        let local = c.mechanism.marker(self.marker).at;
+        // A full turn is searched whole, whatever the sweep's range.
+        let range = match v.constraints.full_turn {
+            true => [0.0, 360.0],
+            false => self.range,
+        };
+        let curve: Vec<Option<[f64; 3]>> = (v.sample(&c, range, SAMPLES).iter())
+            .map(|f| f.as_ref().map(|poses| poses[self.marker.body].world(local)))
+            .collect();
+        let [a, b] = range;
+        let input_of = |s: usize| a + (b - a) * s as f64 / SAMPLES as f64;
+        timing::nearest(&curve, input_of, self.points.iter().copied())
+    }
+
+    /// The marker's velocity along the input at a frame (per degree or
+    /// per length), from the plan's exact rates.
+    fn input_rate(&self, c: &Candidate, state: &InterpState, inputs: &[f64]) -> Option<Vec3> {
+        let mut rates = vec![0.0; inputs.len()];
+        rates[self.varied.input] = 1.0;
+        let zero = vec![0.0; inputs.len()];
+        let jets = c.interpreter.rates(state, inputs, &rates, &zero).ok()?;
+        let local = c.mechanism.marker(self.marker).at;
+        let w = jets[self.marker.body].world(cst(local));
+        Some([w[0].d, w[1].d, w[2].d])
     }
 }
 
@@ -513,22 +801,46 @@ impl Objective for Path {
         &self.varied.bounds
     }
 
+    fn fitness(&self, x: &[f64]) -> f64 {
+        let error = match self.inputs {
+            Some(_) => self.residuals(x, false).map(|(r, _)| r.norm_squared()),
+            None => self.nearest(x).map(|(e, _)| e),
+        };
+        self.varied.fitness(x, error)
+    }
+
+    fn feasible(&self, z: &[f64]) -> bool {
+        self.varied.feasible(z)
+    }
+
+    fn start(&self, x: &[f64]) -> Option<Vec<f64>> {
+        match self.inputs {
+            Some(_) => Some(x.to_vec()),
+            None => Some(x.iter().copied().chain(self.nearest(x)?.1).collect()),
+        }
+    }
+
+    /// The unknowns `z`: the varied parameters, then (free timing) each
+    /// target's input value.
     fn residuals(&self, z: &[f64], jacobian: bool) -> Option<(DVector<f64>, Option<DMatrix<f64>>)> {
         let v = &self.varied;
-        let c = v.design.prepare(&v.values(z)).ok()?;
-        let at: Vec<f64> = self.points.iter().map(|p| p.0).collect();
-        let frames = v.reach(&c, &at)?;
+        let nv = v.vary.len();
+        let c = v.design.prepare(&v.values(&z[..nv])).ok()?;
+        let at: Vec<f64> = self.inputs.clone().unwrap_or_else(|| z[nv..].to_vec());
+        let frames = v.reach_states(&c, &at)?;
         let (body, local) = (self.marker.body, c.mechanism.marker(self.marker).at);
         let n = self.points.len();
+        let cols = nv + if self.inputs.is_some() { 0 } else { n };
         let mut r = DVector::zeros(3 * n);
-        let mut j = jacobian.then(|| DMatrix::zeros(3 * n, v.vary.len()));
-        for (i, (poses, &(input, target))) in frames.iter().zip(&self.points).enumerate() {
+        let mut j = jacobian.then(|| DMatrix::zeros(3 * n, cols));
+        for (i, ((poses, state), target)) in frames.iter().zip(&self.points).enumerate() {
             let w = poses[body].world(local);
             for k in 0..3 {
                 r[3 * i + k] = w[k] - target[k];
             }
             let Some(j) = j.as_mut() else { continue };
-            let s = sensitivity(&v.design, &c, poses, &v.request(input)).ok()?;
+            let inputs = v.request(at[i]);
+            let s = sensitivity(&v.design, &c, poses, &inputs).ok()?;
             if !s.determined(self.marker) {
                 return None;
             }
@@ -536,6 +848,12 @@ impl Objective for Path {
             for (k, &p) in v.vary.iter().enumerate() {
                 for a in 0..3 {
                     j[(3 * i + a, k)] = dm[p][a];
+                }
+            }
+            if self.inputs.is_none() {
+                let rate = self.input_rate(&c, state, &inputs)?;
+                for a in 0..3 {
+                    j[(3 * i + a, nv + i)] = rate[a];
                 }
             }
         }

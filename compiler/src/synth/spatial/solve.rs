@@ -2,29 +2,32 @@
 //! `synth/planar/solve.rs` does for planar ones: the target file read, the
 //! goal and its parameters resolved by name, the search run, and every
 //! solution written into the mechanism's file and verified from that file.
-//! Path generation (a marker's position), function generation (a
-//! revolute joint's angle) and motion generation (a body's marker and
-//! turn), given timing.
+//! Path generation (a marker's position; given or free timing), function
+//! generation (a revolute joint's angle) and motion generation (a body's
+//! marker and turn), given timing.
 
 use nalgebra::{DMatrix, DVector};
 
-use super::{BodyPose, Design, Function, Motion, Path};
+use super::{BodyPose, Constraints, Design, Function, Motion, Path};
 use crate::assemble::rewrite_positions;
 use crate::model::spatial::Mechanism;
 use crate::model::{Format, Model};
 use crate::synth::request::{boxes, driving_input, names, varied, Corners};
 use crate::synth::search::{Objective, Options, Progress};
-use crate::synth::solution::{search_and_verify, stats, Solution, Synthesis};
+use crate::synth::solution::{in_order, search_and_verify, stats, Margin, Solution, Synthesis};
 use crate::synth::{target, SynthError};
 
 /// The kind of spatial synthesis and its target file.
 #[derive(Clone, Debug)]
 pub enum Kind {
     /// Path generation: `marker` ("body.marker") through the file's points
-    /// (`input,x,y,z`).
+    /// (`input,x,y,z`, given timing, or `x,y,z`, free timing).
     Path {
         /// The marker.
         marker: String,
+        /// `Some(true)`: given timing (`input,x,y,z`); `Some(false)`: free
+        /// (`x,y,z`); `None`: as the file's columns say.
+        given: Option<bool>,
     },
     /// Function generation: the revolute joint's angle at the file's
     /// inputs (`input,output`, degrees from the drawing).
@@ -60,6 +63,8 @@ pub struct Request {
     pub bounds: Option<[f64; 6]>,
     /// Boxes for single points, by point name.
     pub point_bounds: Vec<(String, [f64; 6])>,
+    /// The constraints the solutions keep.
+    pub constraints: Constraints,
 }
 
 /// A spatial synthesis problem: one of the two goals.
@@ -100,12 +105,31 @@ impl Problem {
         }
     }
 
+    /// The driving input.
+    pub fn input(&self) -> usize {
+        match self {
+            Problem::Path(p) => p.input(),
+            Problem::Function(f) => f.input(),
+            Problem::Motion(m) => m.input(),
+        }
+    }
+
     /// Every parameter's value for the varied ones at `x`.
     pub fn values(&self, x: &[f64]) -> Vec<f64> {
         match self {
             Problem::Path(p) => p.values(x),
             Problem::Function(f) => f.values(x),
             Problem::Motion(m) => m.values(x),
+        }
+    }
+
+    /// Every constraint's margin at the polish's unknowns `z` (see
+    /// [`Path::margins`]).
+    pub fn margins(&self, z: &[f64]) -> Option<Vec<Margin>> {
+        match self {
+            Problem::Path(p) => p.margins(z),
+            Problem::Function(f) => f.margins(z),
+            Problem::Motion(m) => m.margins(z),
         }
     }
 
@@ -133,9 +157,10 @@ impl Problem {
         let m = self.design().mechanism();
         match self {
             Problem::Path(p) => format!(
-                "path generation of {} through {} points (given timing)",
+                "path generation of {} through {} points ({} timing)",
                 m.marker_name(p.marker()),
-                p.points().len()
+                p.points().len(),
+                if p.inputs().is_some() { "given" } else { "free" }
             ),
             Problem::Function(f) => format!(
                 "function generation of joint {} at {} input values",
@@ -156,8 +181,20 @@ impl Objective for Problem {
         self.objective().bounds()
     }
 
+    fn fitness(&self, x: &[f64]) -> f64 {
+        self.objective().fitness(x)
+    }
+
+    fn start(&self, x: &[f64]) -> Option<Vec<f64>> {
+        self.objective().start(x)
+    }
+
     fn residuals(&self, z: &[f64], jacobian: bool) -> Option<(DVector<f64>, Option<DMatrix<f64>>)> {
         self.objective().residuals(z, jacobian)
+    }
+
+    fn feasible(&self, z: &[f64]) -> bool {
+        self.objective().feasible(z)
     }
 }
 
@@ -189,15 +226,21 @@ pub fn problem(m: &Mechanism, request: &Request) -> Result<Problem, String> {
         })
     };
     match &request.kind {
-        Kind::Path { marker } => {
+        Kind::Path { marker, given } => {
             let id = marker_of(marker)?;
-            let rows = target::read(name, text, &[4], "input,x,y,z (given timing)")?;
-            let points: Vec<(f64, [f64; 3])> = rows
-                .iter()
-                .map(|r| (r.values[0], [r.values[1], r.values[2], r.values[3]]))
-                .collect();
-            let bounds = bounds(points.iter().map(|p| p.1).collect())?;
-            let p = Path::new(design, id, points, input, vary, bounds);
+            let rows = target::read(
+                name,
+                text,
+                &[3, 4],
+                "x,y,z (free timing) or input,x,y,z (given timing)",
+            )?;
+            let timed = target::timed(name, *given, rows[0].values.len(), 3)?;
+            let v = |r: &target::Row, k: usize| r.values[k + usize::from(timed)];
+            let points: Vec<[f64; 3]> = rows.iter().map(|r| [v(r, 0), v(r, 1), v(r, 2)]).collect();
+            let inputs = timed.then(|| rows.iter().map(|r| r.values[0]).collect());
+            let bounds = bounds(points.clone())?;
+            let p = Path::new(design, id, points, inputs, input, vary, bounds);
+            let p = p.and_then(|p| p.constrained(request.constraints));
             p.map(Problem::Path).map_err(|e| e.to_string())
         }
         Kind::Function { output } => {
@@ -211,6 +254,7 @@ pub fn problem(m: &Mechanism, request: &Request) -> Result<Problem, String> {
             let pairs = rows.iter().map(|r| [r.values[0], r.values[1]]).collect();
             let bounds = bounds(Vec::new())?;
             let f = Function::new(design, joint, pairs, input, vary, bounds);
+            let f = f.and_then(|f| f.constrained(request.constraints));
             f.map(Problem::Function).map_err(|e| e.to_string())
         }
         Kind::Motion { body, marker } => {
@@ -244,6 +288,7 @@ pub fn problem(m: &Mechanism, request: &Request) -> Result<Problem, String> {
                 .collect();
             let bounds = bounds(poses.iter().map(|p| p.at).collect())?;
             let p = Motion::new(design, id, poses, input, vary, bounds);
+            let p = p.and_then(|p| p.constrained(request.constraints));
             p.map(Problem::Motion).map_err(|e| e.to_string())
         }
     }
@@ -301,7 +346,10 @@ fn verify(
     };
     let again = Design::new(&reloaded).map_err(|e| format!("the solution's file has no plan: {e}"))?;
     let file_values = again.drawn();
-    let z2: Vec<f64> = problem.vary().iter().map(|&k| file_values[k]).collect();
+    let nv = problem.vary().len();
+    let mut z2: Vec<f64> = problem.vary().iter().map(|&k| file_values[k]).collect();
+    // Free timing: each target's input, as the search left it.
+    z2.extend_from_slice(&z[nv..]);
     let from_file = problem.on(again).map_err(|e| e.to_string())?;
     let (r, _) = from_file
         .residuals(&z2, false)
@@ -309,11 +357,14 @@ fn verify(
     let error = stats(problem.targets(), r.as_slice());
     Ok(Solution {
         values: file_values,
-        inputs: None,
-        order_kept: None,
+        inputs: (z.len() > nv).then(|| z[nv..].to_vec()),
+        order_kept: (z.len() > nv).then(|| {
+            let angle = m.inputs[problem.input()].kind == crate::model::InputKind::Angle;
+            in_order(&z[nv..], angle)
+        }),
         error,
         searched: searched.unwrap_or(error),
-        margins: Vec::new(),
+        margins: from_file.margins(&z2).unwrap_or_default(),
         text: written,
     })
 }
