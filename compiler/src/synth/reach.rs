@@ -9,7 +9,7 @@ use dofplan_runtime::{Driver, Options, Solver};
 /// `at`'s order, or `None` if one is not reached; `request(v)` makes the
 /// inputs for the driving input's value `v`.
 #[allow(clippy::type_complexity)]
-pub fn reach<S: Solver + Clone>(
+pub fn reach<S: Solver>(
     solver: &S,
     at: &[f64],
     step: f64,
@@ -20,7 +20,8 @@ pub fn reach<S: Solver + Clone>(
     let mut out: Vec<Option<(Vec<S::Pose>, S::State)>> = vec![None; at.len()];
     let (down, up): (Vec<usize>, Vec<usize>) = order.into_iter().partition(|&i| at[i] < 0.0);
     for side in [up, down.into_iter().rev().collect::<Vec<_>>()] {
-        let mut driver = Driver::new(solver.clone(), Options::default());
+        // A borrowed plan: the candidate's plan is not copied per side.
+        let mut driver = Driver::new(solver, Options::default());
         let mut now = 0.0f64;
         for i in side {
             let n = ((at[i] - now).abs() / step).ceil().max(1.0) as usize;

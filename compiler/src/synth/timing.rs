@@ -19,14 +19,21 @@ pub(crate) fn nearest(
         .filter_map(|(s, p)| p.map(|p| (s, p)))
         .collect();
     let first = values.first()?;
+    // Each segment's direction and inverse squared length once, not once
+    // per target: the search calls this for every candidate, with some
+    // 180 segments and as many targets as the user gave.
+    let segments: Vec<Segment> = (values.windows(2))
+        .filter(|w| w[1].0 == w[0].0 + 1)
+        .map(|w| Segment::new(w[0], w[1]))
+        .collect();
     let (mut total, mut inputs) = (0.0, Vec::new());
     for t in targets {
         let (mut best, mut at) = (f64::INFINITY, 0.0);
-        for w in values.windows(2).filter(|w| w[1].0 == w[0].0 + 1) {
-            let (d, u) = project(&t, &w[0].1, &w[1].1);
+        for seg in &segments {
+            let (d, u) = seg.project(&t);
             if d < best {
                 best = d;
-                at = input_of(w[0].0) + u * (input_of(w[1].0) - input_of(w[0].0));
+                at = input_of(seg.from) + u * (input_of(seg.from + 1) - input_of(seg.from));
             }
         }
         if !best.is_finite() {
@@ -39,23 +46,40 @@ pub(crate) fn nearest(
     Some((total, inputs))
 }
 
-fn dist2(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    (0..3).map(|k| (a[k] - b[k]) * (a[k] - b[k])).sum()
+/// The segment from sample `from` to the next.
+struct Segment {
+    from: usize,
+    a: [f64; 3],
+    ab: [f64; 3],
+    /// 1 / |ab|², 0 for a segment of no length (projected on its start).
+    inv_l2: f64,
 }
 
-/// The squared distance from `t` to the segment `a`–`b` and where along it
-/// (0 at `a`, 1 at `b`) the nearest point is.
-fn project(t: &[f64; 3], a: &[f64; 3], b: &[f64; 3]) -> (f64, f64) {
-    let ab = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
-    let at = [t[0] - a[0], t[1] - a[1], t[2] - a[2]];
-    let l2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
-    let u = if l2 > 0.0 {
-        ((ab[0] * at[0] + ab[1] * at[1] + ab[2] * at[2]) / l2).clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let p = [a[0] + u * ab[0], a[1] + u * ab[1], a[2] + u * ab[2]];
-    (dist2(t, &p), u)
+impl Segment {
+    fn new((from, a): (usize, [f64; 3]), (_, b): (usize, [f64; 3])) -> Segment {
+        let ab = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+        let l2 = ab[0] * ab[0] + ab[1] * ab[1] + ab[2] * ab[2];
+        Segment {
+            from,
+            a,
+            ab,
+            inv_l2: if l2 > 0.0 { 1.0 / l2 } else { 0.0 },
+        }
+    }
+
+    /// The squared distance from `t` to the segment and where along it (0
+    /// at its start, 1 at its end) the nearest point is.
+    fn project(&self, t: &[f64; 3]) -> (f64, f64) {
+        let (a, ab) = (&self.a, &self.ab);
+        let at = [t[0] - a[0], t[1] - a[1], t[2] - a[2]];
+        let u = ((ab[0] * at[0] + ab[1] * at[1] + ab[2] * at[2]) * self.inv_l2).clamp(0.0, 1.0);
+        let off = [at[0] - u * ab[0], at[1] - u * ab[1], at[2] - u * ab[2]];
+        (off[0] * off[0] + off[1] * off[1] + off[2] * off[2], u)
+    }
+}
+
+fn dist2(a: &[f64; 3], b: &[f64; 3]) -> f64 {
+    (0..3).map(|k| (a[k] - b[k]) * (a[k] - b[k])).sum()
 }
 
 #[cfg(test)]

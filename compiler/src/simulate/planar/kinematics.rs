@@ -54,6 +54,12 @@ pub fn motion(m: &Mechanism, jets: &[Pose<Jet2>]) -> Motion {
 /// (the second, unless an input drives the joint of the second to the
 /// frame).
 pub fn transmission_angle(m: &Mechanism, f: &FourBar, poses: &[Pose]) -> f64 {
+    transmission_cos(m, f, poses).acos().to_degrees()
+}
+
+/// The cosine of [`transmission_angle`] (in -1..1): what a search that
+/// only compares angles needs, without an arc cosine per frame.
+pub fn transmission_cos(m: &Mechanism, f: &FourBar, poses: &[Pose]) -> f64 {
     let driven_last = m.inputs.iter().any(|i| i.joint == f.joints[3]);
     // (coupler's far joint, the shared joint, the output's far joint)
     let (far_c, at, far_o, coupler, output) = if driven_last {
@@ -69,8 +75,9 @@ pub fn transmission_angle(m: &Mechanism, f: &FourBar, poses: &[Pose]) -> f64 {
     let j = point(at, coupler);
     let u = sub(point(far_c, coupler), j);
     let v = sub(point(far_o, output), j);
-    let cos = (u[0] * v[0] + u[1] * v[1]) / (u[0].hypot(u[1]) * v[0].hypot(v[1]));
-    cos.clamp(-1.0, 1.0).acos().to_degrees()
+    let cos =
+        (u[0] * v[0] + u[1] * v[1]) / ((u[0] * u[0] + u[1] * u[1]) * (v[0] * v[0] + v[1] * v[1])).sqrt();
+    cos.clamp(-1.0, 1.0)
 }
 
 fn sub(a: Point, b: Point) -> Point {

@@ -13,6 +13,7 @@
 use dofplan_runtime::planar::{cst, Point, Pose, Rot};
 use dofplan_runtime::real::{Jet2, Real};
 use nalgebra::DMatrix;
+use std::sync::Arc;
 
 use super::{Candidate, Design};
 use crate::model::planar::equations::{equations, End, Equation};
@@ -36,8 +37,8 @@ pub struct Sensitivity {
     /// (the candidate then locks away from the drawing).
     pub misfit: Vec<f64>,
     frame: Vec<Pose>,
-    locals: Vec<Vec<Point>>,
-    node_of: Vec<Vec<usize>>,
+    locals: Arc<[Vec<Point>]>,
+    node_of: Arc<[Vec<usize>]>,
 }
 
 /// A primitive equation with the nodes its two markers move with
@@ -55,79 +56,128 @@ pub fn sensitivity(
     poses: &[Pose],
     inputs: &[f64],
 ) -> Result<Sensitivity, SynthError> {
-    let m = &candidate.mechanism;
-    let node = |e: &End| m.find_marker(&e.name).map_or(usize::MAX, |id| design.node_of(id));
-    let eqs: Vec<Tied> = equations(m)
-        .into_iter()
-        .map(|s| {
-            let nodes = match &s.eq {
-                Equation::Coincident { a, b, .. } => [node(a), node(b)],
-                Equation::InLine { line, point, .. } => [node(line), node(point)],
-                Equation::Parallel { .. } => [usize::MAX; 2],
-            };
-            Tied { eq: s.eq, nodes }
-        })
-        .collect();
-    let size = m.size();
-    let columns: Vec<usize> = (0..m.bodies.len()).filter(|&b| !m.bodies[b].fixed).collect();
-    let rows: usize = eqs.iter().map(|t| t.eq.count()).sum();
-    let params = design.names().len();
+    Linearised::new(design, candidate).at(poses, inputs)
+}
 
-    // Φ_q, one jet pass per unknown (x, y, angle × size of each mobile body).
-    let mut phi_q = DMatrix::zeros(rows, 3 * columns.len());
-    let mut r = Vec::with_capacity(rows);
-    for (c, &b) in columns.iter().enumerate() {
-        for v in 0..3 {
-            let jets = pose_jets(poses, b, v, size);
-            residuals(&eqs, &jets, |_, _| None, inputs, &mut r);
-            for (i, x) in r.iter().enumerate() {
-                phi_q[(i, 3 * c + v)] = x.d;
+/// What [`sensitivity`] needs of a candidate and not of a frame: its
+/// equations with the nodes their markers move with, made once for all the
+/// candidate's frames (a polish step differentiates every target's frame
+/// of one candidate, and finding the equations' markers by name per frame
+/// was a fifth of its time).
+pub struct Linearised {
+    eqs: Vec<Tied>,
+    /// The mobile bodies, one block of three unknowns each.
+    columns: Vec<usize>,
+    rows: usize,
+    params: usize,
+    bodies: usize,
+    size: f64,
+    locals: Arc<[Vec<Point>]>,
+    node_of: Arc<[Vec<usize>]>,
+}
+
+impl Linearised {
+    /// `candidate`'s equations, tied to `design`'s parameters.
+    pub fn new(design: &Design, candidate: &Candidate) -> Linearised {
+        let m = &candidate.mechanism;
+        let node = |e: &End| m.find_marker(&e.name).map_or(usize::MAX, |id| design.node_of(id));
+        let eqs: Vec<Tied> = equations(m)
+            .into_iter()
+            .map(|s| {
+                let nodes = match &s.eq {
+                    Equation::Coincident { a, b, .. } => [node(a), node(b)],
+                    Equation::InLine { line, point, .. } => [node(line), node(point)],
+                    Equation::Parallel { .. } => [usize::MAX; 2],
+                };
+                Tied { eq: s.eq, nodes }
+            })
+            .collect();
+        Linearised {
+            rows: eqs.iter().map(|t| t.eq.count()).sum(),
+            eqs,
+            columns: (0..m.bodies.len()).filter(|&b| !m.bodies[b].fixed).collect(),
+            params: design.names().len(),
+            bodies: m.bodies.len(),
+            size: m.size(),
+            locals: (m.bodies.iter())
+                .map(|b| b.markers.iter().map(|mk| mk.at).collect())
+                .collect(),
+            node_of: (0..m.bodies.len())
+                .map(|b| {
+                    (0..m.bodies[b].markers.len())
+                        .map(|k| design.node_of(MarkerId { body: b, marker: k }))
+                        .collect()
+                })
+                .collect(),
+        }
+    }
+
+    /// The derivatives of the frame `poses`, solved at `inputs`.
+    pub fn at(&self, poses: &[Pose], inputs: &[f64]) -> Result<Sensitivity, SynthError> {
+        self.solve(poses, inputs, false)
+    }
+
+    /// [`Linearised::at`] for a search's inner loop: the same derivatives,
+    /// solved by LU where the frame is clear of a dead point, and the
+    /// conditioning only estimated there (see
+    /// [`implicit_fast`](crate::synth::nodes::implicit_fast)).
+    pub fn at_fast(&self, poses: &[Pose], inputs: &[f64]) -> Result<Sensitivity, SynthError> {
+        self.solve(poses, inputs, true)
+    }
+
+    fn solve(&self, poses: &[Pose], inputs: &[f64], fast: bool) -> Result<Sensitivity, SynthError> {
+        let (eqs, columns, rows, params, size) =
+            (&self.eqs, &self.columns, self.rows, self.params, self.size);
+        // Φ_q, one jet pass per unknown (x, y, angle × size of each mobile body).
+        let mut phi_q = DMatrix::zeros(rows, 3 * columns.len());
+        let mut r = Vec::with_capacity(rows);
+        for (c, &b) in columns.iter().enumerate() {
+            for v in 0..3 {
+                let jets = pose_jets(poses, b, v, size);
+                residuals(eqs, &jets, |_, _| None, inputs, &mut r);
+                for (i, x) in r.iter().enumerate() {
+                    phi_q[(i, 3 * c + v)] = x.d;
+                }
             }
         }
-    }
-    // Φ_p, one jet pass per parameter: the markers of its node move.
-    let mut phi_p = DMatrix::zeros(rows, params);
-    let still: Vec<Pose<Jet2>> = poses.iter().map(|p| Pose::cst(*p)).collect();
-    for k in 0..params {
-        let moved = |n: usize, _: &End| (n == k / 2).then_some(k % 2);
-        residuals(&eqs, &still, moved, inputs, &mut r);
-        for (i, x) in r.iter().enumerate() {
-            phi_p[(i, k)] = x.d;
-        }
-    }
-
-    let crate::synth::nodes::Implicit {
-        dq,
-        conditioning,
-        misfit,
-        ..
-    } = crate::synth::nodes::implicit(&phi_q, &phi_p, size, false)?;
-    let mut out = DMatrix::zeros(3 * m.bodies.len(), params);
-    for (c, &b) in columns.iter().enumerate() {
+        // Φ_p, one jet pass per parameter: the markers of its node move.
+        let mut phi_p = DMatrix::zeros(rows, params);
+        let still: Vec<Pose<Jet2>> = poses.iter().map(|p| Pose::cst(*p)).collect();
         for k in 0..params {
-            out[(3 * b, k)] = dq[(3 * c, k)];
-            out[(3 * b + 1, k)] = dq[(3 * c + 1, k)];
-            out[(3 * b + 2, k)] = dq[(3 * c + 2, k)] / size;
+            let moved = |n: usize, _: &End| (n == k / 2).then_some(k % 2);
+            residuals(eqs, &still, moved, inputs, &mut r);
+            for (i, x) in r.iter().enumerate() {
+                phi_p[(i, k)] = x.d;
+            }
         }
+
+        let crate::synth::nodes::Implicit {
+            dq,
+            conditioning,
+            misfit,
+            ..
+        } = if fast {
+            crate::synth::nodes::implicit_fast(&phi_q, &phi_p, size)?
+        } else {
+            crate::synth::nodes::implicit(&phi_q, &phi_p, size, false)?
+        };
+        let mut out = DMatrix::zeros(3 * self.bodies, params);
+        for (c, &b) in columns.iter().enumerate() {
+            for k in 0..params {
+                out[(3 * b, k)] = dq[(3 * c, k)];
+                out[(3 * b + 1, k)] = dq[(3 * c + 1, k)];
+                out[(3 * b + 2, k)] = dq[(3 * c + 2, k)] / size;
+            }
+        }
+        Ok(Sensitivity {
+            poses: out,
+            conditioning,
+            misfit,
+            frame: poses.to_vec(),
+            locals: Arc::clone(&self.locals),
+            node_of: Arc::clone(&self.node_of),
+        })
     }
-    Ok(Sensitivity {
-        poses: out,
-        conditioning,
-        misfit,
-        frame: poses.to_vec(),
-        locals: m
-            .bodies
-            .iter()
-            .map(|b| b.markers.iter().map(|mk| mk.at).collect())
-            .collect(),
-        node_of: (0..m.bodies.len())
-            .map(|b| {
-                (0..m.bodies[b].markers.len())
-                    .map(|k| design.node_of(MarkerId { body: b, marker: k }))
-                    .collect()
-            })
-            .collect(),
-    })
 }
 
 impl Sensitivity {

@@ -9,7 +9,7 @@ mod problem;
 mod solve;
 mod tolerance;
 
-pub use gradient::{sensitivity, Sensitivity};
+pub use gradient::{sensitivity, Linearised, Sensitivity};
 pub use params::{Candidate, Design, Node};
 pub use problem::{link_ratio, output, Constraints, Goal, Problem};
 pub use solve::{problem, synthesize, Kind, Request};

@@ -7,11 +7,11 @@ use dofplan_runtime::real::Jet2;
 use dofplan_runtime::{Driver, Options};
 use nalgebra::{DMatrix, DVector};
 
-use super::{sensitivity, Candidate, Design};
+use super::{Candidate, Design, Linearised};
 use crate::analysis::planar::grashof::{four_bars, FourBar};
 use crate::interp::InterpState;
 use crate::model::{InputKind, JointKind, MarkerId, Mechanism};
-use crate::simulate::planar::kinematics::transmission_angle;
+use crate::simulate::planar::kinematics::transmission_cos;
 use crate::synth::search::{penalised, Objective, FAILED};
 use crate::synth::solution::Margin;
 use crate::synth::timing::nearest;
@@ -247,30 +247,40 @@ impl Problem {
 
     /// The candidate's frames over the input's range, `SAMPLES + 1` of
     /// them (None where a frame is not solved).
-    fn sample(&self, c: &Candidate) -> Vec<Option<Vec<Pose>>> {
+    fn sample(&self, c: &Candidate) -> Sampled {
         self.sample_n(c, SAMPLES)
     }
 
     /// [`Problem::sample`] with `samples` steps.
-    fn sample_n(&self, c: &Candidate, samples: usize) -> Vec<Option<Vec<Pose>>> {
-        let mut driver = Driver::new(c.interpreter.clone(), Options::default());
+    fn sample_n(&self, c: &Candidate, samples: usize) -> Sampled {
+        let mut driver = Driver::new(&c.interpreter, Options::default());
         let [a, b] = self.range;
-        let mut out = Vec::with_capacity(samples + 1);
+        let bodies = c.mechanism.bodies.len();
+        let mut out = Sampled {
+            bodies,
+            poses: Vec::with_capacity((samples + 1) * bodies),
+            solved: Vec::with_capacity(samples + 1),
+        };
+        // One request for every frame: a vector per frame was a tenth of
+        // a search's time in the allocator.
+        let mut inputs = self.request(0.0);
         // From the drawing (input 0) to the range's start first.
         if a != 0.0 {
             let n = (a.abs() / self.step).ceil() as usize;
             for s in 1..=n {
-                driver.frame(&self.request(a * s as f64 / n as f64));
+                inputs[self.input] = a * s as f64 / n as f64;
+                driver.frame(&inputs);
             }
         }
         for s in 0..=samples {
-            let v = a + (b - a) * s as f64 / samples as f64;
-            out.push(
-                driver
-                    .frame(&self.request(v))
-                    .is_solved()
-                    .then(|| driver.poses().to_vec()),
-            );
+            inputs[self.input] = a + (b - a) * s as f64 / samples as f64;
+            let solved = driver.frame(&inputs).is_solved();
+            out.solved.push(solved);
+            if solved {
+                out.poses.extend_from_slice(driver.poses());
+            } else {
+                out.poses.extend(std::iter::repeat_n(Pose::IDENTITY, bodies));
+            }
         }
         out
     }
@@ -312,7 +322,7 @@ impl Problem {
 
     /// How far the constraints are broken at candidate `c` with its
     /// sampled frames (0: all kept), and each one's margin.
-    fn check(&self, c: &Candidate, frames: &[Option<Vec<Pose>>]) -> (f64, Vec<Margin>) {
+    fn check(&self, c: &Candidate, frames: &Sampled) -> (f64, Vec<Margin>) {
         let mut margins = Vec::new();
         if self.constraints.full_turn {
             // Minus the frames that fail; and where the input drives a
@@ -338,14 +348,18 @@ impl Problem {
             });
         }
         if let Some(deg) = self.constraints.min_transmission {
+            // min(μ, 180° − μ) is acos |cos μ|: the worst frame is the
+            // one with the largest |cos μ|, and one arc cosine says how
+            // bad it is.
             let worst = (frames.iter().flatten())
                 .flat_map(|poses| {
                     self.loops
                         .iter()
-                        .map(|f| transmission_angle(&c.mechanism, f, poses))
+                        .map(|f| transmission_cos(&c.mechanism, f, poses).abs())
                 })
-                .map(|mu| mu.min(180.0 - mu))
-                .fold(90.0f64, f64::min);
+                .fold(0.0f64, f64::max)
+                .acos()
+                .to_degrees();
             // The search's frames are 2° apart: it keeps a quarter
             // degree in hand so the angle between them holds too (the
             // reported margin is measured on denser frames).
@@ -386,7 +400,7 @@ impl Problem {
     /// The sum over targets of the squared distance to the nearest point
     /// of the sampled curve (each point projected on the two sample
     /// segments beside its nearest sample), and each target's input there.
-    fn nearest(&self, c: &Candidate, frames: &[Option<Vec<Pose>>]) -> Option<(f64, Vec<f64>)> {
+    fn nearest(&self, c: &Candidate, frames: &Sampled) -> Option<(f64, Vec<f64>)> {
         let curve: Vec<Option<[f64; 3]>> = (frames.iter())
             .map(|f| f.as_ref().map(|poses| self.curve_point(c, poses)))
             .collect();
@@ -451,6 +465,29 @@ impl Problem {
     }
 }
 
+/// A candidate's frames sampled over the input's range: every frame's
+/// poses in one vector (a search samples 181 frames per candidate, and a
+/// vector per frame was a tenth of its time in the allocator).
+struct Sampled {
+    bodies: usize,
+    /// `bodies` poses per frame; an unsolved frame's are placeholders.
+    poses: Vec<Pose>,
+    solved: Vec<bool>,
+}
+
+impl Sampled {
+    fn len(&self) -> usize {
+        self.solved.len()
+    }
+
+    /// Each frame's poses, `None` where it is not solved.
+    fn iter(&self) -> impl Iterator<Item = Option<&[Pose]>> {
+        (self.solved.iter())
+            .zip(self.poses.chunks_exact(self.bodies.max(1)))
+            .map(|(&ok, poses)| ok.then_some(poses))
+    }
+}
+
 impl Objective for Problem {
     fn bounds(&self) -> &[[f64; 2]] {
         &self.bounds
@@ -482,9 +519,10 @@ impl Objective for Problem {
         }
         let cols = nv + if given.is_some() { 0 } else { self.goal.len() };
         let mut j = DMatrix::zeros(rows, cols);
+        let linearised = Linearised::new(&self.design, &c);
         for (i, (poses, state)) in frames.iter().enumerate() {
             let inputs = self.request(at[i]);
-            let s = sensitivity(&self.design, &c, poses, &inputs).ok()?;
+            let s = linearised.at_fast(poses, &inputs).ok()?;
             let d = self.target_derivatives(
                 &c,
                 poses,

@@ -185,7 +185,7 @@ impl Varied {
     /// The candidate's frames at `samples + 1` inputs evenly over `range`,
     /// driven there from its drawing (`None` where a frame is not solved).
     fn sample(&self, c: &Candidate, range: [f64; 2], samples: usize) -> Vec<Option<Vec<Pose3>>> {
-        let mut driver = Driver::new(c.interpreter.clone(), Options::default());
+        let mut driver = Driver::new(&c.interpreter, Options::default());
         let [a, b] = range;
         if a != 0.0 {
             let n = (a.abs() / 5.0).ceil() as usize;

@@ -112,7 +112,7 @@ pub fn monte_carlo(
         // Positions only: a candidate planned differently from the drawing
         // (its special geometry perturbed away) counts as well.
         let c = design.prepare_any(p).ok()?;
-        let mut driver = Driver::new(c.interpreter.clone(), Options::default());
+        let mut driver = Driver::new(&c.interpreter, Options::default());
         let frames = (requested.iter())
             .map(|inputs| {
                 let solved = driver.frame(inputs).is_solved();
