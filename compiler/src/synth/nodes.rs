@@ -343,4 +343,4 @@ pub fn implicit_fast(phi_q: &DMatrix<f64>, phi_p: &DMatrix<f64>, size: f64) -> R
 /// The smallest pivot over the largest at which [`implicit_fast`] trusts
 /// its LU: far above [`implicit`]'s 1e-12 on singular values, so that a
 /// frame anywhere near a dead point is judged by the SVD.
-const CLEAR_OF_SINGULAR: f64 = 1e-6;
+pub const CLEAR_OF_SINGULAR: f64 = 1e-6;
