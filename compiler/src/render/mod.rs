@@ -12,6 +12,7 @@
 //!   drag target and its path (`target`), and the whole picture;
 //! - `trace`: runs between breaks, thinning, arrows, labels;
 //! - `legend`: the capped legend;
+//! - `marks`: marked points (a synthesis's targets), in either dimension;
 //! - `caption`: which poses to draw, the title and subtitle;
 //! - `style`: colours and number formatting;
 //! - [`spatial`]: spatial (3D) mechanisms in four views of one scale (front,
@@ -28,6 +29,7 @@
 
 mod caption;
 mod legend;
+mod marks;
 pub mod planar;
 #[cfg(feature = "plots")]
 pub mod plots;
@@ -40,4 +42,4 @@ mod view;
 mod tests;
 
 pub use planar::{render, SvgOptions};
-pub use spatial::{render_spatial, SpatialFrame};
+pub use spatial::{render_spatial, render_spatial_with, SpatialFrame};

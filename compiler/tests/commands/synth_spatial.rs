@@ -307,12 +307,21 @@ fn an_rssr_rocker_arc_is_found_with_free_timing() {
     let targets = dir.join("arc.csv");
     std::fs::write(&targets, format!("# x,y,z\n{csv}")).unwrap();
     let best = dir.join("best.toml");
-    let goal = ["--path", targets.to_str().unwrap(), "--marker", "rocker.C"];
+    let picture = dir.join("best.svg");
+    let goal = [
+        "--path",
+        targets.to_str().unwrap(),
+        "--marker",
+        "rocker.C",
+        "--svg",
+        picture.to_str().unwrap(),
+    ];
     let v: Value = serde_json::from_str(&synth_moved(&dir, &goal, Some(&best), true)).unwrap();
     assert_eq!(
         v["goal"],
         "path generation of rocker.C through 13 points (free timing)"
     );
+    targets_lie_on_the_trace(&std::fs::read_to_string(&picture).unwrap(), 13);
     let rms = v["error"]["rms"].as_f64().unwrap();
     assert!(rms <= 1e-9, "rms {rms}");
     let inputs: Vec<f64> = (v["inputs"].as_array().unwrap().iter())
@@ -329,6 +338,73 @@ fn an_rssr_rocker_arc_is_found_with_free_timing() {
         .fold(0.0, f64::max);
     assert!(worst <= 1e-8, "the written file's pin is off by {worst}");
     std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// The numbers of an attribute's value (`points="x,y x,y"` or `cx="…"`).
+fn numbers(s: &str) -> Vec<f64> {
+    s.split(|c: char| c == ',' || c.is_whitespace())
+        .filter_map(|t| t.parse().ok())
+        .collect()
+}
+
+/// Each attribute `name="…"` in `s`, in order.
+fn attributes<'a>(s: &'a str, name: &str) -> Vec<&'a str> {
+    let key = format!(" {name}=\"");
+    s.split(key.as_str())
+        .skip(1)
+        .map(|rest| &rest[..rest.find('"').unwrap()])
+        .collect()
+}
+
+/// In every one of a spatial synthesis picture's four views, `n` target
+/// rings, each on the drawn trace of the marker (within a pixel and a
+/// half: the fit is exact, and the trace is thinned to half a pixel).
+fn targets_lie_on_the_trace(svg: &str, n: usize) {
+    let views: Vec<&str> = svg.split("class=\"view\"").skip(1).collect();
+    assert_eq!(views.len(), 4);
+    for view in views {
+        let marks = view
+            .split("class=\"target-points\"")
+            .nth(1)
+            .expect("the targets' group");
+        let marks = &marks[..marks.find("</g>").unwrap()];
+        let cx: Vec<f64> = attributes(marks, "cx")
+            .iter()
+            .map(|v| v.parse().unwrap())
+            .collect();
+        let cy: Vec<f64> = attributes(marks, "cy")
+            .iter()
+            .map(|v| v.parse().unwrap())
+            .collect();
+        assert_eq!(cx.len(), n);
+        let trace: Vec<[f64; 2]> = view
+            .split("<polyline")
+            .skip(1)
+            .filter(|p| p[..p.find('>').unwrap()].contains("class=\"trace\""))
+            .flat_map(|p| {
+                let pts = numbers(attributes(&p[..p.find('>').unwrap()], "points")[0]);
+                pts.chunks(2).map(|c| [c[0], c[1]]).collect::<Vec<_>>()
+            })
+            .collect();
+        assert!(trace.len() >= 2, "no trace drawn");
+        for (&x, &y) in cx.iter().zip(&cy) {
+            let gap = trace
+                .windows(2)
+                .map(|w| {
+                    let (a, b) = (w[0], w[1]);
+                    let d = [b[0] - a[0], b[1] - a[1]];
+                    let l2 = d[0] * d[0] + d[1] * d[1];
+                    let t = if l2 > 0.0 {
+                        (((x - a[0]) * d[0] + (y - a[1]) * d[1]) / l2).clamp(0.0, 1.0)
+                    } else {
+                        0.0
+                    };
+                    (x - a[0] - t * d[0]).hypot(y - a[1] - t * d[1])
+                })
+                .fold(f64::INFINITY, f64::min);
+            assert!(gap <= 1.5, "a target {gap} px off the trace");
+        }
+    }
 }
 
 #[test]
@@ -367,8 +443,6 @@ fn what_spatial_synthesis_does_not_do_is_refused_by_name() {
             && e.contains("--full-turn asks the input to turn through 360°, and boom_cyl is a slide"),
         "{e}"
     );
-    let e = run(&["--function", pairs, "--output", "D", "--svg", "x.svg"]);
-    assert!(e.contains("--svg works on planar files only for now"), "{e}");
     let e = run(&["--function", pairs, "--output", "B"]);
     assert!(e.contains("joint B is not revolute"), "{e}");
     let e = run(&["--function", pairs, "--output", "Z"]);

@@ -32,7 +32,7 @@ pub struct SynthArgs {
     /// Mechanism file, planar or spatial: its topology, its drawing (the
     /// start, and what parameters stay), its input. A spatial file takes
     /// --path (given or free timing), --function and --motion (given
-    /// timing), --full-turn and --max-ratio, no --svg.
+    /// timing), --full-turn, --max-ratio and --svg.
     pub file: PathBuf,
     /// Path generation: the marker that must pass the targets.
     #[arg(long, value_name = "BODY.M")]
@@ -202,22 +202,15 @@ fn request(args: &SynthArgs, targets: &std::path::Path, kind: Kind) -> Result<Re
 /// The spatial request the options make, or what they ask that spatial
 /// synthesis does not do.
 fn spatial_request(args: &SynthArgs) -> Result<spatial::Request, String> {
-    let planar_only = [
-        (
-            matches!(args.timing, Some(Timing::Free)) && args.path.is_none(),
-            "--timing free (of a motion)",
-        ),
-        (args.svg.is_some(), "--svg"),
-    ];
     if args.min_transmission.is_some() {
         return Err(format!(
             "{}: error: --min-transmission bounds the transmission angles of planar four-bar loops, and a spatial file has none; bound the links with --max-ratio, or keep the input turning with --full-turn",
             args.file.display()
         ));
     }
-    if let Some((_, option)) = planar_only.iter().find(|(given, _)| *given) {
+    if matches!(args.timing, Some(Timing::Free)) && args.path.is_none() {
         return Err(format!(
-            "{}: error: {option} works on planar files only for now; on a spatial file synth does path (--path, --marker; given or free timing), function (--function, --output) and motion generation (--motion, --body; given timing)",
+            "{}: error: --timing free (of a motion) works on planar files only for now; on a spatial file synth does path (--path, --marker; given or free timing), function (--function, --output) and motion generation (--motion, --body; given timing)",
             args.file.display()
         ));
     }
@@ -347,6 +340,11 @@ fn run_spatial(
     let found = with_progress(|tick| spatial::synthesize(&m, text, format, &problem, &options, tick));
     let s = solved(name, found)?;
     let written = write_out(args, &s)?;
+    if let Some(path) = &args.svg {
+        report::spatial::synth::picture(&m, &problem, &s.solutions[0], format)
+            .and_then(|svg| std::fs::write(path, svg).map_err(|e| format!("cannot write it: {e}")))
+            .map_err(|e| format!("{}: error: {e}", path.display()))?;
+    }
     Ok(if args.json {
         report::spatial::synth::write_json(&m, &problem, &s, out)
     } else {

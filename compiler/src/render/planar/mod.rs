@@ -290,7 +290,7 @@ pub fn render(m: &Mechanism, frames: &[Frame], trace: &[MarkerId], options: &Svg
         doc = doc.add(pose);
     }
     if !options.points.is_empty() {
-        doc = doc.add(target::marks(&options.points, &view));
+        doc = doc.add(super::marks::marks(&options.points, &view));
     }
     if drag {
         let reached = match (frames.last(), trace.first()) {

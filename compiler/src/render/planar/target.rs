@@ -77,24 +77,3 @@ pub(super) fn draw(targets: &[Point], reached: Option<Point>, view: &View) -> Gr
             .add(Path::new().set("d", cross)),
     )
 }
-
-/// Marked points (a synthesis's targets): a ring on each.
-pub(super) fn marks(points: &[Point], view: &View) -> Group {
-    let mut g = Group::new()
-        .set("class", "target-points")
-        .set("fill", "none")
-        .set("stroke", TARGET_COLOUR)
-        .set("stroke-width", 1.25);
-    for &p in points {
-        let q = view.px(p);
-        if q[0].is_finite() && q[1].is_finite() {
-            g = g.add(
-                Circle::new()
-                    .set("cx", num(q[0]))
-                    .set("cy", num(q[1]))
-                    .set("r", 4),
-            );
-        }
-    }
-    g
-}

@@ -17,7 +17,8 @@
 //! through every frame (split at frames that did not meet their input,
 //! thinned to half a pixel, with an arrow of motion and the marker's
 //! name). Under the grid, a legend of the traces, the joint symbols and
-//! the bodies.
+//! the bodies. [`render_spatial_with`] also rings given world points (a
+//! synthesis's targets) in every view (`g.target-points`).
 //!
 //! Elements carry a `class` and data attributes so that tests and style
 //! sheets can find them: every view is a `g.view` with `data-view`
@@ -293,6 +294,13 @@ struct Cell {
 /// searched one. Never panics: with no frames the drawn pose is shown under
 /// a "no frames" title, and non-finite positions are left out.
 pub fn render_spatial(m: &Mechanism, frames: &[SpatialFrame]) -> String {
+    render_spatial_with(m, frames, &[])
+}
+
+/// [`render_spatial`] with `targets` (world points, a synthesis's targets)
+/// marked by a ring in every view, the views fitted to hold them, and a
+/// legend entry "targets (N points)" after the traces'.
+pub fn render_spatial_with(m: &Mechanism, frames: &[SpatialFrame], targets: &[Vec3]) -> String {
     let drawn = vec![Pose3::IDENTITY; m.bodies.len()];
     // Every frame's poses and how it met its input (the drawn pose alone
     // when there are no frames).
@@ -305,7 +313,7 @@ pub fn render_spatial(m: &Mechanism, frames: &[SpatialFrame]) -> String {
             .collect()
     };
     let picked = Picked::new(m, frames, &drawn);
-    let cells = layout(m, &view_boxes(m, &all));
+    let cells = layout(m, &view_boxes(m, &all, targets));
     let detail = Detail::new(m, cells[0].view.scale);
 
     // Traces and legend.
@@ -317,7 +325,14 @@ pub fn render_spatial(m: &Mechanism, frames: &[SpatialFrame]) -> String {
         .into_iter()
         .filter(|id| m.bodies.get(id.body).is_some_and(|b| id.marker < b.markers.len()))
         .collect();
-    let entries = legend_entries(m, frames, &traced, &all);
+    let mut entries = legend_entries(m, frames, &traced, &all);
+    if !targets.is_empty() {
+        let entry = Entry {
+            key: Key::Target,
+            label: format!("targets ({} points)", targets.len()),
+        };
+        entries.insert(traced.len().min(entries.len()), entry);
+    }
     let grid_bottom = cells.iter().map(|c| c.top + c.height).fold(HEADER, f64::max);
     let legend_w = WIDTH - 2.0 * PAD;
     let layout = Layout::new(&entries, legend_w);
@@ -350,7 +365,10 @@ pub fn render_spatial(m: &Mechanism, frames: &[SpatialFrame]) -> String {
         doc = doc.add(text);
     }
     for cell in &cells {
-        doc = doc.add(draw_view(m, cell, &all, &picked, &traced, detail));
+        let marked: Vec<Point> = targets.iter().map(|&p| cell.proj.project(p)).collect();
+        doc = doc.add(
+            draw_view(m, cell, &all, &picked, &traced, detail).add(super::marks::marks(&marked, &cell.view)),
+        );
     }
     doc = doc.add(legend::draw(&entries, &layout, PAD, legend_top));
     doc.to_string()
@@ -407,10 +425,15 @@ impl<'a> Picked<'a> {
     }
 }
 
-/// The box of everything drawn (every marker in every frame), in each
-/// view's plane.
-fn view_boxes(m: &Mechanism, all: &[(&[Pose3], Reach)]) -> [BBox; 4] {
+/// The box of everything drawn (every marker in every frame, and the
+/// targets), in each view's plane.
+fn view_boxes(m: &Mechanism, all: &[(&[Pose3], Reach)], targets: &[Vec3]) -> [BBox; 4] {
     let mut boxes: [BBox; 4] = std::array::from_fn(|_| BBox::new());
+    for &p in targets.iter().filter(|p| p.iter().all(|v| v.is_finite())) {
+        for (b, proj) in boxes.iter_mut().zip(Projection::GRID) {
+            b.add(proj.project(p));
+        }
+    }
     for (poses, _) in all {
         for id in m.all_markers() {
             if let Some(p) = world(m, poses, id) {

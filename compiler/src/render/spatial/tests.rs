@@ -8,12 +8,11 @@ use std::collections::HashMap;
 
 use dofplan_runtime::planar::Point;
 use dofplan_runtime::spatial::{Pose3, Vec3};
-use dofplan_runtime::{Break, BreakKind, Driver, FrameStatus, Options};
+use dofplan_runtime::{Break, BreakKind, FrameStatus};
 
 use super::super::tests::{parse, texts, with_class, El};
 use super::*;
 use crate::conflict::load_any_str;
-use crate::interp::spatial::Interpreter;
 use crate::model::{Format, Model};
 
 // The bundled files, not copies of them.
@@ -86,17 +85,7 @@ fn load_steps(text: &str, steps: usize) -> Mechanism {
 /// The frames of the file's sweep, as `simulate --svg` makes them.
 fn sweep(m: &Mechanism) -> Vec<SpatialFrame> {
     let plan = crate::analysis::spatial::analyse(m).unwrap_or_else(|e| panic!("{}: {e}", m.name));
-    let mut driver = Driver::new(Interpreter::new(plan), Options::default());
-    crate::simulate::sweep_requests(m.sweep.as_ref().expect("a sweep"), m.inputs.len())
-        .map(|requested| {
-            let status = driver.frame(&requested);
-            SpatialFrame {
-                requested,
-                status,
-                poses: driver.poses().to_vec(),
-            }
-        })
-        .collect()
+    crate::report::spatial::frames::sweep_frames(plan, m.sweep.as_ref().expect("a sweep"), m.inputs.len())
 }
 
 /// Each view's projection, written out independently of the renderer:

@@ -20,6 +20,22 @@ use crate::simulate::sweep_requests;
 use crate::report::summary::{Describe, Summary};
 use crate::report::{error, Form, FrameProgress, Outcome};
 
+/// Every frame of `sweep` run through `plan` from the drawing, kept for a
+/// picture (what `simulate --svg` draws).
+pub(crate) fn sweep_frames(plan: Plan, sweep: &Sweep, inputs: usize) -> Vec<SpatialFrame> {
+    let mut driver = Driver::new(Interpreter::new(plan), Options::default());
+    sweep_requests(sweep, inputs)
+        .map(|requested| {
+            let status = driver.frame(&requested);
+            SpatialFrame {
+                requested,
+                status,
+                poses: driver.poses().to_vec(),
+            }
+        })
+        .collect()
+}
+
 /// `dofplan simulate` of a spatial file: frames streamed one by one.
 #[allow(clippy::too_many_arguments)]
 pub fn simulate(

@@ -1,14 +1,17 @@
 //! `dofplan synth`'s report on a spatial mechanism: the best solution's
 //! error (recomputed from the file written), its points, and the other
 //! distinct solutions, with free timing's order and the constraints'
-//! margins; as text or one JSON document (the planar report's fields).
+//! margins; as text or one JSON document (the planar report's fields);
+//! and its picture.
 
 use std::io::{self, Write};
 
 use crate::format::{length, rounded};
 use crate::model::spatial::Mechanism;
+use crate::model::{Format, Model, Sweep};
+use crate::render::spatial::render_spatial_with;
 use crate::report::synth::{self as shared, short};
-use crate::synth::solution::Synthesis;
+use crate::synth::solution::{Solution, Synthesis};
 use crate::synth::spatial::Problem;
 
 /// Prints the synthesis as JSON.
@@ -59,4 +62,37 @@ pub fn write_text(
     }
     shared::write_margins(best, out)?;
     shared::write_tail(s, out)
+}
+
+/// The picture of a solution: the mechanism its file holds, run over the
+/// input range the problem shows (as `simulate` runs a file), in four
+/// views, the goal's marker traced and the targets marked (a function's
+/// output has no point to trace: the mechanism alone).
+pub fn picture(
+    m: &Mechanism,
+    problem: &Problem,
+    solution: &Solution,
+    format: Format,
+) -> Result<String, String> {
+    let mut solved = match crate::load_any_str(&m.source.name, &solution.text, format) {
+        Ok(Model::Spatial(s)) => s,
+        Ok(Model::Planar(_)) => return Err("the solution's file reads back as planar".into()),
+        Err(e) => {
+            return Err(e
+                .diagnostics
+                .first()
+                .map_or_else(String::new, |d| d.message.clone()))
+        }
+    };
+    let plan = crate::analysis::spatial::analyse(&solved).map_err(|e| e.to_string())?;
+    let (trace, targets) = match problem {
+        Problem::Path(p) => (vec![p.marker()], p.points().to_vec()),
+        Problem::Motion(p) => (vec![p.marker()], p.poses().iter().map(|t| t.at).collect()),
+        Problem::Function(_) => (Vec::new(), Vec::new()),
+    };
+    let [from, to] = problem.shown_range();
+    let sweep = Sweep::single(problem.input(), from, to, 361, trace);
+    let frames = super::frames::sweep_frames(plan, &sweep, solved.inputs.len());
+    solved.sweep = Some(sweep);
+    Ok(render_spatial_with(&solved, &frames, &targets))
 }

@@ -87,8 +87,16 @@ impl Varied {
     /// The same parameters varied within the same box, under the same
     /// constraints, on another drawing of the mechanism (a solution's
     /// written file).
+    ///
+    /// The box is widened to hold the file's values: a file is written to
+    /// within 1e-12 of the mechanism's size, so a solution on the box's
+    /// edge may read back a hair outside it.
     fn on(&self, design: Design) -> Result<Varied, SynthError> {
-        let mut v = Varied::new(design, self.input, self.vary.clone(), self.bounds.clone())?;
+        let drawn = design.drawn();
+        let bounds = (self.vary.iter().zip(&self.bounds))
+            .map(|(&v, &[lo, hi])| [lo.min(drawn[v]), hi.max(drawn[v])])
+            .collect();
+        let mut v = Varied::new(design, self.input, self.vary.clone(), bounds)?;
         v.constraints = self.constraints;
         Ok(v)
     }
@@ -161,6 +169,20 @@ impl Varied {
             p[v] = x[k];
         }
         p
+    }
+
+    /// The input range a solution's picture runs over: a whole turn for
+    /// `--full-turn`, else the search's range where the file gives one
+    /// (its sweep of the input, or a turn of an angle), else the span of
+    /// the targets' input values `given` (and the drawing's 0).
+    fn shown(&self, given: impl Iterator<Item = f64>) -> [f64; 2] {
+        if self.constraints.full_turn {
+            return [0.0, 360.0];
+        }
+        self.range().unwrap_or_else(|_| {
+            let (lo, hi) = given.fold((0.0f64, 0.0f64), |(lo, hi), v| (lo.min(v), hi.max(v)));
+            [lo, hi]
+        })
     }
 
     fn request(&self, value: f64) -> Vec<f64> {
@@ -335,6 +357,12 @@ impl Function {
     /// The varied parameters' indices.
     pub fn vary(&self) -> &[usize] {
         &self.varied.vary
+    }
+
+    /// The input range a solution's picture runs over (see
+    /// `Varied::shown`).
+    pub fn shown_range(&self) -> [f64; 2] {
+        self.varied.shown(self.pairs.iter().map(|p| p[0]))
     }
 
     /// The driving input.
@@ -540,6 +568,12 @@ impl Motion {
         &self.varied.vary
     }
 
+    /// The input range a solution's picture runs over (see
+    /// `Varied::shown`).
+    pub fn shown_range(&self) -> [f64; 2] {
+        self.varied.shown(self.poses.iter().map(|p| p.input))
+    }
+
     /// The driving input.
     pub fn input(&self) -> usize {
         self.varied.input
@@ -717,6 +751,15 @@ impl Path {
         &self.varied.vary
     }
 
+    /// The input range a solution's picture runs over (see
+    /// `Varied::shown`).
+    pub fn shown_range(&self) -> [f64; 2] {
+        match &self.inputs {
+            Some(inputs) => self.varied.shown(inputs.iter().copied()),
+            None => self.range,
+        }
+    }
+
     /// The driving input.
     pub fn input(&self) -> usize {
         self.varied.input
@@ -858,5 +901,43 @@ impl Objective for Path {
             }
         }
         Some((r, j))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::load_any_str;
+    use crate::model::{Format, Model};
+
+    fn design(text: &str) -> Design {
+        match load_any_str("rssr.toml", text, Format::Toml) {
+            Ok(Model::Spatial(m)) => Design::new(&m).unwrap(),
+            _ => panic!("the RSSR does not load"),
+        }
+    }
+
+    /// A solution on the box's edge, written to the file's digits, reads
+    /// back a hair outside the box: checking it from the file must not
+    /// refuse it as out of bounds.
+    #[test]
+    fn a_file_read_back_just_outside_the_box_is_still_checked() {
+        let text = std::fs::read_to_string(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../mechanisms/spatial/rssr.toml"
+        ))
+        .unwrap();
+        let d = design(&text);
+        let dx = (d.names().iter()).position(|n| n == "D.x").unwrap();
+        let at = d.drawn()[dx];
+        let varied = Varied::new(d, 0, vec![dx], vec![[at - 1.0, at]]).unwrap();
+        let outside = text.replace("[-0.5, 3.2, 2.0]", "[-0.4999999999999, 3.2, 2.0]");
+        assert_ne!(outside, text);
+        let again = design(&outside);
+        assert!(again.drawn()[dx] > at);
+        let checked = varied
+            .on(again)
+            .expect("the file's value is inside the widened box");
+        assert_eq!(checked.bounds[0], [at - 1.0, -0.4999999999999]);
     }
 }

@@ -105,6 +105,17 @@ impl Problem {
         }
     }
 
+    /// The input range a solution's picture runs over: a whole turn for
+    /// `--full-turn`, else the search's range where the file gives one,
+    /// else the span of the targets' input values.
+    pub fn shown_range(&self) -> [f64; 2] {
+        match self {
+            Problem::Path(p) => p.shown_range(),
+            Problem::Function(f) => f.shown_range(),
+            Problem::Motion(m) => m.shown_range(),
+        }
+    }
+
     /// The driving input.
     pub fn input(&self) -> usize {
         match self {
