@@ -112,7 +112,8 @@ fn spatial(c: &mut Criterion) {
 
 /// One four-bar candidate on an 18-point given-timing path (prepare, 18
 /// frames, the error): compiled (`design::prepare` + `solve_with`), the
-/// same with its Jacobian (`design::gradient`), and through the library
+/// same with the frames in lanes (`solve_frames_with`), the same with its
+/// Jacobian (`design::gradient`), and through the library
 /// (`Design::prepare` + the interpreter).
 fn design(c: &mut Criterion) {
     let library = dofplan::synth::planar::Design::new(&load("fourbar")).expect("a design");
@@ -124,6 +125,12 @@ fn design(c: &mut Criterion) {
         bench.iter(|| {
             flip = !flip;
             design_path::compiled_candidate(black_box(if flip { &a } else { &b }), &targets)
+        })
+    });
+    group.bench_function("compiled_in_lanes", |bench| {
+        bench.iter(|| {
+            flip = !flip;
+            design_path::compiled_candidate_in_lanes(black_box(if flip { &a } else { &b }), &targets)
         })
     });
     let mut jacobian = [[0.0; 10]; 36];

@@ -20,7 +20,8 @@ use std::hint::black_box;
 #[path = "../benches/shared/design_path.rs"]
 mod design_path;
 use design_path::{
-    compiled_candidate, compiled_candidate_with_jacobian, interpreted_candidate, path_targets, two_candidates,
+    compiled_candidate, compiled_candidate_in_lanes, compiled_candidate_with_jacobian, interpreted_candidate,
+    path_targets, two_candidates,
 };
 use std::time::Instant;
 
@@ -156,6 +157,13 @@ fn design() {
             &targets,
         ));
     });
+    let in_lanes = time_ns(|| {
+        flip = !flip;
+        black_box(compiled_candidate_in_lanes(
+            black_box(if flip { &a } else { &b }),
+            &targets,
+        ));
+    });
     let mut jacobian = [[0.0; 10]; 36];
     let with_jacobian = time_ns(|| {
         flip = !flip;
@@ -179,6 +187,7 @@ fn design() {
     println!("| `design::solve_with`, a frame of a candidate | {solve_with:.1} |");
     println!("| `design::prepare`, a candidate | {prepare:.1} |");
     println!("| a candidate on an 18-point path (prepare + 18 frames + error), compiled | {compiled:.1} |");
+    println!("| the same, the 18 frames in lanes (`design::solve_frames_with`), compiled | {in_lanes:.1} |");
     println!("| the same with its 36 × 10 Jacobian (`design::gradient` at each frame), compiled | {with_jacobian:.1} |");
     println!("| the same through the library (`Design::prepare` + interpreter) | {interpreted:.1} |");
     // The two paths give the same error: the figure is of the same work.
@@ -191,6 +200,7 @@ fn design() {
         "compiled {ec} and library {ei} differ"
     );
     assert_eq!(ec, compiled_candidate_with_jacobian(&a, &targets, &mut jacobian));
+    assert_eq!(ec.to_bits(), compiled_candidate_in_lanes(&a, &targets).to_bits());
 }
 
 /// The batch table: per compiled plan, planar then spatial, its sweep (one

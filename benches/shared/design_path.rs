@@ -38,6 +38,37 @@ pub fn compiled_candidate(values: &[f64; 10], targets: &[[f64; 2]; 18]) -> f64 {
     e
 }
 
+/// [`compiled_candidate`] with the 18 frames in lanes
+/// (`design::solve_frames_with`: eight frames side by side, each from the
+/// candidate's drawn state): the same poses to the bit, so the same error.
+pub fn compiled_candidate_in_lanes(values: &[f64; 10], targets: &[[f64; 2]; 18]) -> f64 {
+    use dofplan_generated::fourbar::{design, marker, BODIES};
+    use dofplan_runtime::planar::Pose;
+    const INPUTS: [f64; 18] = {
+        let mut u = [0.0; 18];
+        let mut i = 0;
+        while i < 18 {
+            u[i] = PATH_INPUTS[i][0];
+            i += 1;
+        }
+        u
+    };
+    let Ok(g) = design::prepare(&design::Params(*values)) else {
+        return f64::INFINITY;
+    };
+    let p = g.marker(marker::COUPLER_P);
+    let mut poses = [Pose::IDENTITY; 18 * BODIES.len()];
+    if design::solve_frames_with(&g, &INPUTS, &mut poses).is_err() {
+        return f64::INFINITY;
+    }
+    let mut e = 0.0;
+    for (row, t) in poses.chunks_exact(BODIES.len()).zip(targets) {
+        let w = p.world(row);
+        e += (w[0] - t[0]).powi(2) + (w[1] - t[1]).powi(2);
+    }
+    e
+}
+
 /// One candidate with its full Jacobian through the compiled design
 /// module: prepare, 18 frames with their derivatives with respect to all
 /// 10 parameters (`design::gradient`), the error, and the Jacobian of the

@@ -19,6 +19,9 @@ type Frames = Result<Vec<Result<Vec<Pose>, Break>>, PrepareError>;
 type Run = fn(&[f64], &[Vec<f64>]) -> Frames;
 /// The module's own `solve` from its drawn state.
 type Own = fn(&[Vec<f64>]) -> Vec<Result<Vec<Pose>, Break>>;
+/// A candidate's frames through `solve_frames_with` (in lanes): every
+/// frame's poses, or the first break and its frame.
+type InLanes = fn(&[f64], &[Vec<f64>]) -> Result<Result<Vec<Vec<Pose>>, (usize, Break)>, PrepareError>;
 
 macro_rules! design {
     ($m:ident) => {
@@ -45,12 +48,21 @@ macro_rules! design {
                     .map(|u| module::solve(&mut s, u, &mut ctx).map(|()| s.poses.to_vec()))
                     .collect()
             }) as Own,
+            (|values: &[f64], frames: &[Vec<f64>]| {
+                use dofplan_generated::$m::{design, BODIES};
+                let p = design::Params(values.try_into().expect("one value per parameter"));
+                let g = design::prepare(&p)?;
+                let inputs: Vec<f64> = frames.concat();
+                let mut out = vec![Pose::IDENTITY; frames.len() * BODIES.len()];
+                Ok(design::solve_frames_with(&g, &inputs, &mut out)
+                    .map(|()| out.chunks(BODIES.len()).map(|row| row.to_vec()).collect()))
+            }) as InLanes,
         )
     };
 }
 
 /// Every design module dofplan-generated compiles.
-fn modules() -> Vec<(&'static str, usize, Run, Own)> {
+fn modules() -> Vec<(&'static str, usize, Run, Own, InLanes)> {
     vec![
         design!(fourbar),
         design!(inverted_slider_crank),
@@ -80,7 +92,7 @@ fn every_closed_form_bundled_mechanism_has_its_design_module_here() {
 /// computed from the point it passes rather than from the line's marker.
 #[test]
 fn the_drawn_parameters_give_the_modules_own_frames() {
-    for (name, n, run, own) in modules() {
+    for (name, n, run, own, _) in modules() {
         let m = load(name);
         let design = Design::new(&m).expect("a design");
         assert_eq!(n, design.names().len(), "{name}");
@@ -121,7 +133,7 @@ impl Lcg {
 #[test]
 fn compiled_candidates_run_the_frames_of_the_re_planned_ones_and_close_their_joints() {
     let mut checked = 0;
-    for (name, _, run, _) in modules() {
+    for (name, _, run, _, _) in modules() {
         let m = load(name);
         let design = Design::new(&m).expect("a design");
         let size = m.size();
@@ -179,6 +191,71 @@ fn compiled_candidates_run_the_frames_of_the_re_planned_ones_and_close_their_joi
     }
     // Most candidates keep their plan: the comparison is not vacuous.
     assert!(checked > 2000, "only {checked} frames compared");
+}
+
+/// A candidate's frames in lanes (`solve_frames_with`: each from the
+/// candidate's drawn state, eight at a time) are, to the bit, those of
+/// `solve_with` frame after frame; where a frame breaks, the lanes report
+/// that frame and the same step, the frames before it the same poses.
+#[test]
+fn a_candidates_frames_in_lanes_are_its_frames_one_by_one() {
+    let (mut compared, mut broken) = (0, 0);
+    for (name, _, run, _, in_lanes) in modules() {
+        let m = load(name);
+        let design = Design::new(&m).expect("a design");
+        let size = m.size();
+        // A sweep past the input's range where it has one: frames break.
+        let mut frames = sweep_inputs(&m, Some(60));
+        frames.extend(
+            sweep_inputs(&m, Some(60))
+                .iter()
+                .map(|u| u.iter().map(|v| 1.7 * v).collect::<Vec<_>>()),
+        );
+        let mut rng = Lcg(0x1a9e5 ^ name.len() as u64);
+        for candidate in 0..6 {
+            let values: Vec<f64> = (design.drawn().iter())
+                .map(|v| {
+                    if candidate == 0 {
+                        *v
+                    } else {
+                        v + 0.02 * size * rng.next()
+                    }
+                })
+                .collect();
+            let Ok(one_by_one) = run(&values, &frames) else {
+                continue;
+            };
+            let lanes = in_lanes(&values, &frames).expect("prepared above");
+            let first_break = one_by_one.iter().position(|f| f.is_err());
+            match (&lanes, first_break) {
+                (Ok(rows), None) => {
+                    let want: Vec<Vec<Pose>> = one_by_one.into_iter().map(|f| f.unwrap()).collect();
+                    assert!(
+                        *rows == want,
+                        "{name} candidate {candidate}: not the same frames to the bit"
+                    );
+                    compared += rows.len();
+                }
+                (Err((at, b)), Some(k)) => {
+                    assert_eq!(*at, k, "{name} candidate {candidate}: another frame breaks");
+                    assert_eq!(
+                        b.step,
+                        one_by_one[k].as_ref().unwrap_err().step,
+                        "{name} candidate {candidate}"
+                    );
+                    broken += 1;
+                }
+                _ => panic!(
+                    "{name} candidate {candidate}: lanes {:?}, one by one breaks at {first_break:?}",
+                    lanes.as_ref().err()
+                ),
+            }
+        }
+    }
+    assert!(
+        compared > 1000 && broken > 0,
+        "{compared} frames compared, {broken} candidates broke"
+    );
 }
 
 #[test]

@@ -81,7 +81,13 @@ impl Emitter<'_> {
         let mut r = d.recipes.borrow_mut();
         let k = Literal::usize_unsuffixed(r.len());
         r.push((recipe, value));
-        quote!(g.f[#k])
+        // On lanes every number is one lane-wide (a broadcast, hoisted out
+        // of nothing: the frames share the candidate's numbers).
+        if self.lanes {
+            quote!(Lanes::cst(g.f[#k]))
+        } else {
+            quote!(g.f[#k])
+        }
     }
 
     /// The coordinates of a marker's local (= drawn) position `local`: the
@@ -290,15 +296,19 @@ pub(in crate::emit) fn design_module(plan: &Plan, table: &DesignTable<2>) -> Res
     }
     check_at_drawing(plan, table, rec)?;
     let prepare = prepare_items(plan, table, rec);
-    // The same steps on tangents: they must read the same numbers.
-    let mut t = Emitter::new(plan);
-    (t.jets, t.dual, t.design) = (true, true, Some(recording()));
-    let steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| t.step(i)).collect();
-    let gradient = t.gradient_fn(steps);
-    let rec_t = t.design.as_ref().expect("set above");
-    if *rec_t.recipes.borrow() != *rec.recipes.borrow() {
-        return Err("the steps on tangents read other numbers than the steps on values".to_string());
-    }
+    // The same steps on tangents and on lanes of frames: they must read
+    // the same numbers.
+    let again = |on: &str, dual: bool, write: &dyn Fn(&Emitter, Vec<TokenStream>) -> TokenStream| {
+        let mut e = Emitter::new(plan);
+        (e.jets, e.dual, e.lanes, e.design) = (true, dual, !dual, Some(recording()));
+        let steps: Vec<TokenStream> = (0..plan.steps.len()).map(|i| e.step(i)).collect();
+        let code = write(&e, steps);
+        let same = *e.design.as_ref().expect("set above").recipes.borrow() == *rec.recipes.borrow();
+        same.then_some(code)
+            .ok_or_else(|| format!("the steps on {on} read other numbers than the steps on values"))
+    };
+    let gradient = again("tangents", true, &|e, steps| e.gradient_fn(steps))?;
+    let lanes = again("lanes", false, &|e, steps| e.lanes_with_fns(steps))?;
     let tangents = tangent_items(plan, table, rec);
     let serves = plan.steps.iter().map(|s| s.serves.as_slice());
     let comments = step_comments(serves.zip(plan.explanations()), &plan.source, &plan.joint_lines);
@@ -308,7 +318,8 @@ pub(in crate::emit) fn design_module(plan: &Plan, table: &DesignTable<2>) -> Res
         /// joint's drawn position and every free marker's, per coordinate.
         /// `design::prepare` makes a candidate drawing's `Geometry` once;
         /// `design::solve_with` runs its frames as `solve` runs the
-        /// drawing's, and `design::gradient` gives a frame's derivatives
+        /// drawing's (`design::solve_frames_with` many at once, in lanes),
+        /// and `design::gradient` gives a frame's derivatives
         /// with respect to every parameter. Topology and step order are
         /// the drawing's.
         pub mod design {
@@ -319,8 +330,11 @@ pub(in crate::emit) fn design_module(plan: &Plan, table: &DesignTable<2>) -> Res
             #[allow(unused_imports)]
             use dofplan_runtime::real::{RateError, Real, Tangent};
             use dofplan_runtime::{Branch, BranchPolicy, Break, Ctx, Marker};
+            #[allow(unused_imports)]
+            use dofplan_runtime::lanes::Lanes;
             #prepare
             #solve_with
+            #lanes
             #tangents
             #gradient
         }
@@ -619,6 +633,113 @@ impl Emitter<'_> {
                 #(#out)*
                 let finite = out.iter().all(|p| p.at[0].finite() && p.at[1].finite() && p.rot.c.finite() && p.rot.s.finite());
                 if finite { Ok(out) } else { Err(RateError::Singular) }
+            }
+        }
+    }
+}
+
+impl Emitter<'_> {
+    /// `solve_lanes_with` (the steps on lanes of frames, from a
+    /// candidate's drawn state) and `solve_frames_with`, which runs a
+    /// candidate's frames through it a lane group at a time.
+    fn lanes_with_fns(&self, steps: Vec<TokenStream>) -> TokenStream {
+        let (nb, ni) = (index(self.plan.bodies.len()), index(self.plan.inputs.len()));
+        let body = self.lanes_body(steps);
+        let unused_g = if self.design.as_ref().is_some_and(|d| d.is_empty()) {
+            quote!(let _ = g;)
+        } else {
+            quote!()
+        };
+        quote! {
+            /// [`solve_with`] of [`LANES`](dofplan_runtime::lanes::LANES)
+            /// frames of the candidate `g` side by side (lane `l` of every
+            /// input is frame `l`'s; its poses go to `rows[l]`), each from
+            /// the candidate's drawn state under keep-branch. A break in
+            /// any frame, or frames that part ways at a step, is an error
+            /// for all of them: [`solve_frames_with`] then solves them one
+            /// at a time.
+            #[inline(always)]
+            pub fn solve_lanes_with(g: &Geometry, inputs: &[Lanes; #ni], rows: &mut [[Pose; #nb]; dofplan_runtime::lanes::LANES]) -> Result<(), Break> {
+                #unused_g
+                let s = &g.state;
+                #body
+            }
+
+            /// Every frame of `inputs` (one row of `INPUTS` values a
+            /// frame) of the candidate `g` into `out` (one row of `BODIES`
+            /// poses a frame), each from the candidate's drawn state under
+            /// keep-branch: the frames of a closed-form plan do not depend
+            /// on each other, so these are, to the bit, the poses
+            /// [`solve_with`] gives frame after frame from `g.state()`.
+            /// [`LANES`](dofplan_runtime::lanes::LANES) frames at a time
+            /// (AVX2 where the CPU has it); a group that breaks or parts
+            /// ways, and the frames left over, one at a time. The first
+            /// frame that breaks is the error, with its index; the rows
+            /// from it on are left unwritten or partly written.
+            ///
+            /// # Panics
+            /// If `out` does not have one row for each row of `inputs`.
+            pub fn solve_frames_with(g: &Geometry, inputs: &[f64], out: &mut [Pose]) -> Result<(), (usize, Break)> {
+                #[cfg(target_arch = "x86_64")]
+                if std::arch::is_x86_feature_detected!("avx2") {
+                    // SAFETY: this CPU has AVX2, checked just above.
+                    return unsafe { frames_with_avx2(g, inputs, out) };
+                }
+                frames_with_baseline(g, inputs, out)
+            }
+
+            /// [`solve_frames_with`] for any CPU, in a function of its own
+            /// as `solve_frames`'s is.
+            #[inline(never)]
+            fn frames_with_baseline(g: &Geometry, inputs: &[f64], out: &mut [Pose]) -> Result<(), (usize, Break)> {
+                frames_in_lanes_with(g, inputs, out)
+            }
+
+            /// [`solve_frames_with`] compiled for AVX2: the same operations
+            /// in the same order, so the same numbers.
+            ///
+            /// # Safety
+            /// The CPU must have AVX2.
+            #[cfg(target_arch = "x86_64")]
+            #[target_feature(enable = "avx2")]
+            unsafe fn frames_with_avx2(g: &Geometry, inputs: &[f64], out: &mut [Pose]) -> Result<(), (usize, Break)> {
+                frames_in_lanes_with(g, inputs, out)
+            }
+
+            /// The lane groups through [`solve_lanes_with`], the rest one
+            /// frame at a time.
+            #[inline(always)]
+            fn frames_in_lanes_with(g: &Geometry, inputs: &[f64], out: &mut [Pose]) -> Result<(), (usize, Break)> {
+                use dofplan_runtime::{batch, lanes::LANES};
+                let (ni, nb) = (super::INPUTS.len(), super::BODIES.len());
+                let frames = inputs.len() / ni;
+                assert!(
+                    inputs.len() == frames * ni && out.len() == frames * nb,
+                    "solve_frames_with: {} inputs and {} poses are not rows of {ni} and {nb}",
+                    inputs.len(), out.len()
+                );
+                let groups = frames / LANES;
+                for k in 0..groups {
+                    // A group that does not finish leaves its rows partly
+                    // written: one at a time rewrites them.
+                    if solve_lanes_with(g, &batch::group_inputs(inputs, k), batch::group_rows(out, k)).is_err() {
+                        one_at_a_time_with(g, k * LANES..(k + 1) * LANES, inputs, out)?;
+                    }
+                }
+                one_at_a_time_with(g, groups * LANES..frames, inputs, out)
+            }
+
+            /// The frames `frames` of the candidate `g`, each by
+            /// [`solve_with`] from its drawn state.
+            fn one_at_a_time_with(g: &Geometry, frames: core::ops::Range<usize>, inputs: &[f64], out: &mut [Pose]) -> Result<(), (usize, Break)> {
+                let (ni, nb) = (super::INPUTS.len(), super::BODIES.len());
+                let mut ctx = Ctx::new(BranchPolicy::Keep, false);
+                for f in frames {
+                    let mut s = g.state;
+                    solve_with(g, &mut s, &inputs[f * ni..(f + 1) * ni], &mut ctx).map_err(|b| (f, b))?;
+                    out[f * nb..(f + 1) * nb].copy_from_slice(&s.poses);
+                }
+                Ok(())
             }
         }
     }

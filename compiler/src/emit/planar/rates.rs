@@ -114,6 +114,33 @@ impl Emitter<'_> {
     /// once from the drawn pose (keep-branch, no stretching), for
     /// `solve_batch`.
     pub(super) fn solve_lanes_fn(&self, steps: Vec<TokenStream>) -> TokenStream {
+        let (nb, ni) = (index(self.plan.bodies.len()), index(self.plan.inputs.len()));
+        let body = self.lanes_body(steps);
+        let batch = batch_functions();
+        quote! {
+        /// [`solve`] of [`LANES`](dofplan_runtime::lanes::LANES) frames
+        /// side by side (lane `l` of every input is frame `l`'s; frame
+        /// `l`'s poses go to `rows[l]`, each body's as soon as its last
+        /// step has placed it), each
+        /// from the drawn pose under keep-branch: the frames of a
+        /// closed-form plan do not depend on each other. A break in any
+        /// frame, or frames that part ways at a step
+        /// ([`BreakKind::LanesDiffer`](dofplan_runtime::BreakKind::LanesDiffer)),
+        /// is an error for all of them: [`solve_batch`] then solves
+        /// them one at a time.
+        #[inline(always)]
+        pub fn solve_lanes(inputs: &[Lanes; #ni], rows: &mut [[Pose; #nb]; dofplan_runtime::lanes::LANES]) -> Result<(), Break> {
+            let s = &State::DRAWN;
+            #body
+        }
+
+        #batch        }
+    }
+
+    /// The body of a function running the steps on lanes of frames from
+    /// the state `s` (the drawn one, or a design candidate's), each body's
+    /// poses put into `rows` after the last step that places it.
+    pub(super) fn lanes_body(&self, steps: Vec<TokenStream>) -> TokenStream {
         let plan = self.plan;
         let written = self.written_bodies();
         // Each body goes to the rows right after the last step that places
@@ -142,22 +169,7 @@ impl Emitter<'_> {
             quote!(let mut last = #last; let mut branches = s.branches;)
         };
         let bind_inputs = (0..plan.inputs.len()).map(|k| self.bind_input(k));
-        let (nb, ni) = (index(plan.bodies.len()), index(plan.inputs.len()));
-        let batch = batch_functions();
         quote! {
-        /// [`solve`] of [`LANES`](dofplan_runtime::lanes::LANES) frames
-        /// side by side (lane `l` of every input is frame `l`'s; frame
-        /// `l`'s poses go to `rows[l]`, each body's as soon as its last
-        /// step has placed it), each
-        /// from the drawn pose under keep-branch: the frames of a
-        /// closed-form plan do not depend on each other. A break in any
-        /// frame, or frames that part ways at a step
-        /// ([`BreakKind::LanesDiffer`](dofplan_runtime::BreakKind::LanesDiffer)),
-        /// is an error for all of them: [`solve_batch`] then solves
-        /// them one at a time.
-        #[inline(always)]
-        pub fn solve_lanes(inputs: &[Lanes; #ni], rows: &mut [[Pose; #nb]; dofplan_runtime::lanes::LANES]) -> Result<(), Break> {
-            let s = &State::DRAWN;
             let ctx = &mut Ctx::new(dofplan_runtime::BranchPolicy::Keep, false);
             let _ = (&inputs, &ctx);
             #(#unplaced)*
@@ -166,8 +178,6 @@ impl Emitter<'_> {
             #(#steps)*
             Ok(())
         }
-
-        #batch        }
     }
 }
 

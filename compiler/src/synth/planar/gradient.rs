@@ -102,13 +102,7 @@ impl Linearised {
             locals: (m.bodies.iter())
                 .map(|b| b.markers.iter().map(|mk| mk.at).collect())
                 .collect(),
-            node_of: (0..m.bodies.len())
-                .map(|b| {
-                    (0..m.bodies[b].markers.len())
-                        .map(|k| design.node_of(MarkerId { body: b, marker: k }))
-                        .collect()
-                })
-                .collect(),
+            node_of: design.node_table().into(),
         }
     }
 

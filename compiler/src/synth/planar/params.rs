@@ -88,6 +88,11 @@ impl Design {
         self.params.node_of(id)
     }
 
+    /// Every marker's node, body by body (`[body][marker]`).
+    pub fn node_table(&self) -> &[Vec<usize>] {
+        self.params.node_table()
+    }
+
     /// The parameters' drawn values.
     pub fn drawn(&self) -> Vec<f64> {
         self.params.drawn()
