@@ -365,10 +365,12 @@ pub fn render_spatial_with(m: &Mechanism, frames: &[SpatialFrame], targets: &[Ve
         doc = doc.add(text);
     }
     for cell in &cells {
-        let marked: Vec<Point> = targets.iter().map(|&p| cell.proj.project(p)).collect();
-        doc = doc.add(
-            draw_view(m, cell, &all, &picked, &traced, detail).add(super::marks::marks(&marked, &cell.view)),
-        );
+        let mut view = draw_view(m, cell, &all, &picked, &traced, detail);
+        if !targets.is_empty() {
+            let marked: Vec<Point> = targets.iter().map(|&p| cell.proj.project(p)).collect();
+            view = view.add(super::marks::marks(&marked, &cell.view));
+        }
+        doc = doc.add(view);
     }
     doc = doc.add(legend::draw(&entries, &layout, PAD, legend_top));
     doc.to_string()
