@@ -8,8 +8,20 @@ use std::io::{self, Write};
 use serde_json::{json, Map, Value};
 
 use crate::format::rounded;
+use crate::model::{Format, Model};
 use crate::synth::search::Stop;
 use crate::synth::solution::{ErrorStats, Solution, Synthesis};
+
+/// A solution's written file loaded as any file is (the dimension read
+/// off it), or the first diagnostic's message: what its picture is drawn
+/// from.
+pub fn load_solution(name: &str, solution: &Solution, format: Format) -> Result<Model, String> {
+    crate::load_any_str(name, &solution.text, format).map_err(|e| {
+        e.diagnostics
+            .first()
+            .map_or_else(String::new, |d| d.message.clone())
+    })
+}
 
 fn error_json(e: &ErrorStats) -> Value {
     json!({ "sum_sq": e.sum_sq, "rms": e.rms, "max": e.max })

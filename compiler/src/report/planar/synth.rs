@@ -6,7 +6,7 @@ use std::io::{self, Write};
 
 use crate::format::{length, rounded};
 use crate::interp::Interpreter;
-use crate::model::{Format, Mechanism, Sweep};
+use crate::model::{Format, Mechanism, Model, Sweep};
 use crate::render::planar::{render, SvgOptions};
 use crate::report::synth::{self as shared, short};
 use crate::simulate::{run, sweep_requests};
@@ -109,11 +109,9 @@ pub fn picture(
     solution: &Solution,
     format: Format,
 ) -> Result<String, String> {
-    let solved = crate::load_str(&m.source.name, &solution.text, format).map_err(|e| {
-        e.diagnostics
-            .first()
-            .map_or_else(String::new, |d| d.message.clone())
-    })?;
+    let Model::Planar(solved) = shared::load_solution(&m.source.name, solution, format)? else {
+        return Err("the solution's file reads back as spatial".into());
+    };
     let plan = crate::analysis::analyse(&solved)
         .plan
         .map_err(|e| e.to_string())?;

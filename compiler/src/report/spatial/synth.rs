@@ -74,15 +74,8 @@ pub fn picture(
     solution: &Solution,
     format: Format,
 ) -> Result<String, String> {
-    let mut solved = match crate::load_any_str(&m.source.name, &solution.text, format) {
-        Ok(Model::Spatial(s)) => s,
-        Ok(Model::Planar(_)) => return Err("the solution's file reads back as planar".into()),
-        Err(e) => {
-            return Err(e
-                .diagnostics
-                .first()
-                .map_or_else(String::new, |d| d.message.clone()))
-        }
+    let Model::Spatial(mut solved) = shared::load_solution(&m.source.name, solution, format)? else {
+        return Err("the solution's file reads back as planar".into());
     };
     let plan = crate::analysis::spatial::analyse(&solved).map_err(|e| e.to_string())?;
     let (trace, targets) = match problem {
