@@ -325,14 +325,7 @@ pub fn render_spatial_with(m: &Mechanism, frames: &[SpatialFrame], targets: &[Ve
         .into_iter()
         .filter(|id| m.bodies.get(id.body).is_some_and(|b| id.marker < b.markers.len()))
         .collect();
-    let mut entries = legend_entries(m, frames, &traced, &all);
-    if !targets.is_empty() {
-        let entry = Entry {
-            key: Key::Target,
-            label: format!("targets ({} points)", targets.len()),
-        };
-        entries.insert(traced.len().min(entries.len()), entry);
-    }
+    let entries = legend_entries(m, frames, &traced, &all, targets.len());
     let grid_bottom = cells.iter().map(|c| c.top + c.height).fold(HEADER, f64::max);
     let legend_w = WIDTH - 2.0 * PAD;
     let layout = Layout::new(&entries, legend_w);
@@ -448,13 +441,15 @@ fn view_boxes(m: &Mechanism, all: &[(&[Pose3], Reach)], targets: &[Vec3]) -> [BB
     boxes
 }
 
-/// The legend: traces, the marks of stretched and searched frames, the
-/// joint kinds drawn, then the bodies.
+/// The legend: traces, the `targets` synthesis points (if any), the
+/// marks of stretched and searched frames, the joint kinds drawn, then
+/// the bodies, cut to the cap with every entry counted.
 fn legend_entries(
     m: &Mechanism,
     frames: &[SpatialFrame],
     traced: &[MarkerId],
     all: &[(&[Pose3], Reach)],
+    targets: usize,
 ) -> Vec<Entry> {
     let mut entries: Vec<Entry> = traced
         .iter()
@@ -464,6 +459,12 @@ fn legend_entries(
             label: format!("trace {}", m.marker_name(id)),
         })
         .collect();
+    if targets > 0 {
+        entries.push(Entry {
+            key: Key::Target,
+            label: format!("targets ({targets} points)"),
+        });
+    }
     let worst_stretch = frames
         .iter()
         .filter_map(|f| match f.status {

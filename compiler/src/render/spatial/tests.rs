@@ -621,3 +621,33 @@ fn render_spatial_marks_only_what_is_stretched() {
     assert!(!dashed.contains(&colour_of(&m.bodies, crank)), "{dashed:?}");
     assert!(dashed.contains(&colour_of(&m.bodies, rocker)), "{dashed:?}");
 }
+
+/// Synthesis targets are one of the legend's entries before it is cut:
+/// on a chain of a hundred bodies the legend keeps its cap (the entries
+/// shown and one line counting the rest) and still names the targets,
+/// right after the trace.
+#[test]
+fn render_spatial_targets_count_within_the_legend_cap() {
+    let (_, text) = BUNDLED
+        .iter()
+        .find(|(name, _)| *name == "spatial_stress_50")
+        .expect("the bundled chain");
+    let m = load_steps(text, 3);
+    assert!(m.bodies.len() > LEGEND_ENTRIES, "enough bodies to hit the cap");
+    let frames = sweep(&m);
+    let targets: [Vec3; 2] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]];
+    let svg = render_spatial_with(&m, &frames, &targets);
+    let els = parse(&svg);
+    let legend: Vec<&str> = els
+        .iter()
+        .filter(|e| e.class() == "legend-entry")
+        .map(|e| e.text.as_str())
+        .collect();
+    assert_eq!(legend.len(), LEGEND_ENTRIES + 1, "{legend:?}");
+    let traces = m.sweep.as_ref().map_or(0, |s| s.trace.len());
+    assert_eq!(legend[traces], "targets (2 points)", "{legend:?}");
+    assert!(
+        legend[LEGEND_ENTRIES].starts_with("\u{2026} and "),
+        "the last line counts the rest: {legend:?}"
+    );
+}
