@@ -337,8 +337,9 @@ pub fn frame_json(r: &Report, f: &Frame) -> Value {
     Value::Object(o)
 }
 
-/// A body's rotation from its drawn pose in degrees, in (−180, 180].
-fn angle(p: &Pose) -> f64 {
+/// A body's rotation from its drawn pose in degrees, in (−180, 180]: the
+/// `angle` of `simulate --json` and of the Python package's poses.
+pub fn angle(p: &Pose) -> f64 {
     let a = p.rot.degrees();
     // atan2 gives −180 for a half turn whose sine rounded to −0.
     if a <= -180.0 {

@@ -1,0 +1,393 @@
+"""dofplan for Python: mechanism geometry by compiled plans.
+
+Load a planar or spatial mechanism file, check it, read its plan, and run
+its inputs through the plan into NumPy arrays::
+
+    import dofplan
+    m = dofplan.load("mechanisms/fourbar.toml")
+    print(m.check().mobility)          # what `dofplan check` reports
+    r = m.simulate()                   # the file's [sweep]
+    path = r.marker("coupler.P")       # frames x 2
+    r.poses.shape                      # (frames, bodies, 3): angle, x, y
+
+Every number comes from the same Rust functions the `dofplan` command
+line calls: the frames, the breaks and the error messages are the CLI's.
+Errors are :class:`MechanismError` (a file that does not load, with its
+diagnostics) and :class:`PlanError` (a mechanism without a plan), both
+subclasses of :class:`DofplanError`.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Union
+
+import numpy as np
+
+from . import _dofplan
+from ._dofplan import DofplanError, MechanismError, PlanError, __version__
+
+__all__ = [
+    "Check",
+    "DofplanError",
+    "Mechanism",
+    "MechanismError",
+    "Plan",
+    "PlanError",
+    "Result",
+    "from_dict",
+    "load",
+    "loads",
+    "__version__",
+]
+
+
+def load(path: Union[str, "os.PathLike[str]"]) -> "Mechanism":
+    """Loads a mechanism file: TOML, or JSON when its name ends in ``.json``.
+
+    Raises :class:`MechanismError` when the file does not load; its message
+    is the one ``dofplan check`` prints and ``.diagnostics`` lists each
+    error as a dict (``file``, ``line``, ``column``, ``message``, ``help``...).
+    """
+    return Mechanism(_dofplan.load(path))
+
+
+def loads(text: str, format: str = "toml", name: str = "<string>") -> "Mechanism":
+    """Loads a mechanism from text; ``format`` is ``"toml"`` or ``"json"``,
+    ``name`` the file name errors show."""
+    return Mechanism(_dofplan.loads(text, format, name))
+
+
+def from_dict(d: Mapping[str, Any], name: str = "<dict>") -> "Mechanism":
+    """Loads a mechanism from a dict shaped like a mechanism file (the JSON
+    form of ``docs/guide/mechanism-files.md``). Errors name the path in the
+    dict (``joints.A.markers[1]``)."""
+    try:
+        text = json.dumps(d, allow_nan=False)
+    except (TypeError, ValueError) as e:
+        raise MechanismError(f"{name}: error: the dict is not a mechanism file's data: {e}") from None
+    return loads(text, "json", name)
+
+
+class Check:
+    """What ``dofplan check`` reports, as attributes.
+
+    The fields are those of ``dofplan check --json`` (``mobility``,
+    ``redundant``, ``ranges``... see the guide); ``to_dict()`` gives them
+    all, and ``ok`` says whether the check passed.
+    """
+
+    def __init__(self, data: Dict[str, Any], ok: bool) -> None:
+        self._data = data
+        self.ok: bool = ok
+
+    def __getattr__(self, key: str) -> Any:
+        try:
+            return self._data[key]
+        except KeyError:
+            raise AttributeError(
+                f"the check has no field {key!r}; it has: {', '.join(self._data)}"
+            ) from None
+
+    def __dir__(self) -> List[str]:
+        return sorted(set(super().__dir__()) | set(self._data))
+
+    def to_dict(self) -> Dict[str, Any]:
+        """Every field, as ``dofplan check --json`` writes them."""
+        return json.loads(json.dumps(self._data))
+
+    def __repr__(self) -> str:
+        return f"<dofplan.Check ok={self.ok} fields={list(self._data)}>"
+
+
+class Plan:
+    """The plan of a mechanism, explained step by step: ``str(plan)`` is
+    what ``dofplan plan`` prints."""
+
+    def __init__(self, text: str) -> None:
+        self.text = text
+
+    def steps(self) -> List[str]:
+        """The explanation's lines that are steps (numbered)."""
+        return [line for line in self.text.splitlines() if line.strip()[:1].isdigit()]
+
+    def __str__(self) -> str:
+        return self.text
+
+    def __repr__(self) -> str:
+        return f"<dofplan.Plan: {len(self.steps())} steps>"
+
+
+class Result:
+    """The frames of a run, as NumPy arrays.
+
+    - ``poses``: frames x bodies x 3 (planar: angle in degrees from the
+      drawing, x, y) or x 7 (spatial: x, y, z and the rotation from the
+      drawing as a unit quaternion w, x, y, z with w >= 0).
+    - ``markers``: frames x markers x 2 (or 3), every marker's world
+      position, in the order of ``marker_names``.
+    - ``inputs``: frames x inputs, the inputs of the pose reached (they
+      differ from ``requested`` where a frame broke).
+    - ``status``: a code per frame, an index into ``status_names``
+      (``solved``, ``limited``, ``searched``, ``unreached``, ``stretched``).
+    - ``residual``: per frame, the largest relative residual of every
+      joint, constraint and input (near 1e-15 where a frame is solved).
+    """
+
+    def __init__(self, mechanism: "Mechanism", requested: np.ndarray, raw: Dict[str, Any]) -> None:
+        self.mechanism = mechanism
+        self.requested: np.ndarray = requested
+        self.poses: np.ndarray = raw["poses"]
+        self.markers: np.ndarray = raw["markers"]
+        self.inputs: np.ndarray = raw["inputs"]
+        self.status: np.ndarray = raw["status"]
+        self.status_names: List[str] = list(raw["status_names"])
+        self.residual: np.ndarray = raw["residual"]
+        self.marker_names: List[str] = mechanism.markers
+        self.body_names: List[str] = mechanism.bodies
+        self.input_names: List[str] = mechanism.inputs
+        #: With rates (``Mechanism.rates``): every marker's velocity and
+        #: acceleration (shaped like ``markers``), every body's angular
+        #: velocity and acceleration in radians per unit of time (frames x
+        #: bodies, x 3 in space), and per frame a code into
+        #: ``rate_status_names`` ("ok", "not solved", "singular" at a dead
+        #: point, "not computed"); NaN where a frame has no rates.
+        self.velocity: Optional[np.ndarray] = raw.get("velocity")
+        self.acceleration: Optional[np.ndarray] = raw.get("acceleration")
+        self.omega: Optional[np.ndarray] = raw.get("omega")
+        self.alpha: Optional[np.ndarray] = raw.get("alpha")
+        self.rate_status: Optional[np.ndarray] = raw.get("rate_status")
+        self.rate_status_names: List[str] = list(raw.get("rate_status_names", []))
+
+    def __len__(self) -> int:
+        return int(self.poses.shape[0])
+
+    @property
+    def solved(self) -> np.ndarray:
+        """A boolean per frame: every step met exactly."""
+        return self.status == self.status_names.index("solved")
+
+    def status_of(self, frame: int) -> str:
+        """The name of a frame's status."""
+        return self.status_names[int(self.status[frame])]
+
+    def marker(self, name: str) -> np.ndarray:
+        """One marker's path, frames x 2 (or 3); ``name`` is ``body.marker``."""
+        try:
+            k = self.marker_names.index(name)
+        except ValueError:
+            raise KeyError(
+                f"{self.mechanism.file} has no marker {name!r}; markers are written body.marker, "
+                f"e.g. {', '.join(self.marker_names[:4])}"
+            ) from None
+        return self.markers[:, k, :]
+
+    def body(self, name: str) -> np.ndarray:
+        """One body's poses, frames x 3 (or 7)."""
+        try:
+            k = self.body_names.index(name)
+        except ValueError:
+            raise KeyError(
+                f"{self.mechanism.file} has no body {name!r}; bodies: {', '.join(self.body_names)}"
+            ) from None
+        return self.poses[:, k, :]
+
+    def plot(self, markers: Optional[Sequence[str]] = None, ax: Any = None) -> Any:
+        """Draws marker paths with matplotlib (``pip install dofplan[plot]``):
+        the sweep's traced markers by default, x against y (planar) or the
+        x-y projection (spatial). Frames that are not solved are left out.
+        Returns the axes."""
+        try:
+            import matplotlib.pyplot as plt
+        except ImportError:
+            raise ImportError(
+                "Result.plot needs matplotlib: pip install matplotlib (or dofplan[plot])"
+            ) from None
+        if markers is None:
+            sweep = self.mechanism.sweep
+            markers = sweep["trace"] if sweep and sweep["trace"] else self.marker_names[-1:]
+        if ax is None:
+            _, ax = plt.subplots()
+        ok = self.solved | (self.status == self.status_names.index("stretched"))
+        for name in markers:
+            p = self.marker(name)
+            ax.plot(np.where(ok, p[:, 0], np.nan), np.where(ok, p[:, 1], np.nan), label=name)
+        ax.set_aspect("equal")
+        ax.legend()
+        ax.set_title(self.mechanism.name)
+        return ax
+
+    def __repr__(self) -> str:
+        counts = {n: int((self.status == k).sum()) for k, n in enumerate(self.status_names)}
+        shown = ", ".join(f"{v} {k}" for k, v in counts.items() if v)
+        return f"<dofplan.Result of {self.mechanism.name}: {len(self)} frames ({shown})>"
+
+
+class Mechanism:
+    """A mechanism loaded from a file, text or dict.
+
+    Names: ``bodies``, ``markers`` (``body.marker``), ``joints``,
+    ``inputs`` (and ``input_kinds``: "angle" in degrees or "slide"),
+    ``sweep`` (the file's ``[sweep]`` as a dict, or None).
+    """
+
+    def __init__(self, native: "_dofplan.Mechanism") -> None:
+        self._m = native
+
+    @property
+    def name(self) -> str:
+        return self._m.name
+
+    @property
+    def dimension(self) -> int:
+        """2 (planar) or 3 (spatial)."""
+        return self._m.dimension
+
+    @property
+    def file(self) -> str:
+        """The file name errors use."""
+        return self._m.file
+
+    @property
+    def bodies(self) -> List[str]:
+        return self._m.bodies
+
+    @property
+    def markers(self) -> List[str]:
+        return self._m.markers
+
+    @property
+    def joints(self) -> List[str]:
+        return self._m.joints
+
+    @property
+    def joint_markers(self) -> List[tuple]:
+        """Every joint as (name, kind, first marker, second marker)."""
+        return self._m.joint_markers
+
+    @property
+    def inputs(self) -> List[str]:
+        return self._m.inputs
+
+    @property
+    def input_kinds(self) -> List[str]:
+        return self._m.input_kinds
+
+    @property
+    def sweep(self) -> Optional[Dict[str, Any]]:
+        return self._m.sweep_dict
+
+    def check(self) -> Check:
+        """What ``dofplan check`` reports: mobility by both counts, redundant
+        joints, idle freedoms, assembly ranges, Grashof..."""
+        text, ok = self._m.check_json()
+        return Check(json.loads(text), ok)
+
+    def plan(self) -> Plan:
+        """The plan explained (``dofplan plan``). Raises :class:`PlanError`
+        when the mechanism has none."""
+        return Plan(self._m.plan_text())
+
+    def emit(self) -> str:
+        """The generated Rust module (``dofplan emit``)."""
+        return self._m.emit()
+
+    def sweep_inputs(self, steps: Optional[int] = None) -> np.ndarray:
+        """The inputs of every frame of the file's ``[sweep]``, frames x
+        inputs (``steps`` frames if given)."""
+        return self._m.sweep_inputs(steps)
+
+    def simulate(
+        self,
+        inputs: Any = None,
+        *,
+        steps: Optional[int] = None,
+        policy: str = "limit",
+        branch: str = "keep",
+        _drive: Optional[tuple] = None,
+    ) -> Result:
+        """Runs frames through the plan, one after the other from the drawing.
+
+        ``inputs``: the input values of every frame, shape (frames,) for a
+        mechanism of one input or (frames, inputs), in the file's units
+        (degrees for angles); None runs the file's ``[sweep]`` (``steps``
+        frames if given). ``policy`` is what a frame past a limit does
+        ("limit" holds the last pose, "search" goes to the break point,
+        "stretch" relaxes steps) and ``branch`` "keep" (the drawing's
+        branch) or "nearest"; both as in ``dofplan simulate``. The
+        interpreter lock is released while frames are solved.
+        """
+        n = len(self.inputs)
+        if inputs is None:
+            requested = self.sweep_inputs(steps)
+        else:
+            if steps is not None:
+                raise ValueError("give inputs or steps, not both (steps sets the file's sweep's frames)")
+            requested = np.asarray(inputs, dtype=np.float64)
+            if requested.ndim == 1:
+                if n != 1:
+                    raise ValueError(
+                        f"{self.file} has {n} inputs ({', '.join(self.inputs)}): "
+                        f"give inputs of shape (frames, {n})"
+                    )
+                requested = requested.reshape(-1, 1)
+            elif requested.ndim != 2:
+                raise ValueError(f"inputs must be of shape (frames,) or (frames, {n}), not {requested.shape}")
+            requested = np.ascontiguousarray(requested)
+        if _drive is None:
+            raw = self._m.simulate_raw(requested, policy, branch)
+        else:
+            raw = self._m.simulate_raw(requested, policy, branch, _drive[0], _drive[1])
+        return Result(self, requested, raw)
+
+    def rates(
+        self,
+        inputs: Any = None,
+        *,
+        rate: Any,
+        acceleration: Any = 0.0,
+        steps: Optional[int] = None,
+        policy: str = "limit",
+        branch: str = "keep",
+    ) -> Result:
+        """:meth:`simulate` with every solved frame's velocities and
+        accelerations (``Result.velocity``, ``acceleration``, ``omega``,
+        ``alpha``), exact: derived through the plan, as ``dofplan analyze``
+        does.
+
+        ``rate``: the inputs' rates, one per input (a number for a mechanism
+        of one input), in radians per unit of time for an angle and length
+        units per unit of time for a slide (``dofplan analyze --rate``'s
+        units); ``acceleration`` likewise (default 0). Velocities are then
+        in length units per unit of time.
+        """
+        n = len(self.inputs)
+        rates = self._per_input("rate", rate, n)
+        accelerations = self._per_input("acceleration", acceleration, n, broadcast=True)
+        return self.simulate(inputs, steps=steps, policy=policy, branch=branch, _drive=(rates, accelerations))
+
+    def _per_input(self, what: str, value: Any, n: int, broadcast: bool = False) -> List[float]:
+        v = np.asarray(value, dtype=np.float64)
+        if v.ndim == 0 and (n == 1 or broadcast):
+            return [float(v)] * n
+        if v.shape != (n,):
+            raise ValueError(
+                f"{self.file} has {n} inputs ({', '.join(self.inputs)}): give one {what} per input"
+            )
+        return [float(x) for x in v]
+
+    def marker(self, name: str, result: Result) -> np.ndarray:
+        """One marker's path in a result (``result.marker(name)``)."""
+        return result.marker(name)
+
+    def _repr_svg_(self) -> str:
+        return self._m.svg()
+
+    def svg(self) -> str:
+        """The drawing as SVG, as ``dofplan simulate --svg`` draws it at the
+        drawn pose."""
+        return self._m.svg()
+
+    def __repr__(self) -> str:
+        return repr(self._m)

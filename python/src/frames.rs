@@ -1,0 +1,376 @@
+//! Frames into NumPy arrays: the requested inputs run through the plan by
+//! the driver `dofplan simulate` uses (the same frames, the same breaks),
+//! with the interpreter lock released while they are solved. The arrays are
+//! built in Rust vectors and handed to NumPy without a copy.
+
+use dofplan::model::Model;
+use dofplan_runtime::real::RateError;
+use dofplan_runtime::{BranchPolicy, BreakPolicy, Driver, FrameStatus, Options, StartPolicy};
+use numpy::ndarray::{Array1, Array2, Array3};
+use numpy::{IntoPyArray, PyReadonlyArray2};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use crate::mechanism::{Mechanism, Plans};
+
+/// The status codes of the `status` array, by index.
+pub const STATUS_NAMES: [&str; 5] = ["solved", "limited", "searched", "unreached", "stretched"];
+
+/// Every frame's numbers, in flat row-major vectors.
+struct Solved {
+    frames: usize,
+    /// frames × bodies × (3 or 7).
+    poses: Vec<f64>,
+    pose_width: usize,
+    /// frames × markers × (2 or 3).
+    markers: Vec<f64>,
+    dimension: usize,
+    /// frames × inputs: the inputs of the pose reached.
+    reached: Vec<f64>,
+    status: Vec<i8>,
+    /// The largest relative residual of every joint, constraint and input.
+    residual: Vec<f64>,
+    /// The rates, when asked for.
+    rates: Option<Rates>,
+}
+
+/// Every frame's velocities and accelerations (NaN where a frame has none:
+/// not solved, or at a dead point where a rate is infinite).
+#[derive(Default)]
+struct Rates {
+    /// frames × markers × (2 or 3).
+    velocity: Vec<f64>,
+    acceleration: Vec<f64>,
+    /// frames × bodies (× 3 in space): angular velocity, rad per unit of time.
+    omega: Vec<f64>,
+    alpha: Vec<f64>,
+    /// Per frame: 0 rates computed, 1 frame not solved, 2 dead point
+    /// (singular), 3 not computed (a numeric cluster without rates).
+    code: Vec<i8>,
+}
+
+/// The names of the rate codes, by index.
+pub const RATE_NAMES: [&str; 4] = ["ok", "not solved", "singular", "not computed"];
+
+/// The inputs' rates and accelerations the interpreter takes (in the
+/// inputs' units, degrees for angles), from what the caller gives (radians
+/// for angles, as `dofplan analyze --rate`).
+pub struct Drive {
+    pub rates: Vec<f64>,
+    pub accelerations: Vec<f64>,
+}
+
+/// `Mechanism.simulate_raw`: `inputs` (frames × the mechanism's inputs) run
+/// under `policy` ("limit", "search" or "stretch") and `branch` ("keep" or
+/// "nearest"), as `dofplan simulate --policy --branch` runs a sweep.
+pub fn simulate<'py>(
+    py: Python<'py>,
+    mech: &Mechanism,
+    inputs: PyReadonlyArray2<'py, f64>,
+    policy: &str,
+    branch: &str,
+    drive: Option<(Vec<f64>, Vec<f64>)>,
+) -> PyResult<Bound<'py, PyDict>> {
+    let options = options(policy, branch)?;
+    let shape = inputs.as_array().shape().to_vec();
+    let n_inputs = mech.input_list().len();
+    if shape[1] != n_inputs {
+        return Err(PyValueError::new_err(format!(
+            "{} has {n_inputs} input(s) ({}), but the inputs have {} column(s)",
+            mech.file(),
+            mech.input_list()
+                .iter()
+                .map(|(n, _)| n.as_str())
+                .collect::<Vec<_>>()
+                .join(", "),
+            shape[1]
+        )));
+    }
+    let rows: Vec<Vec<f64>> = inputs.as_array().outer_iter().map(|r| r.to_vec()).collect();
+    if let Some((f, _)) = rows
+        .iter()
+        .enumerate()
+        .find(|(_, r)| r.iter().any(|x| !x.is_finite()))
+    {
+        return Err(PyValueError::new_err(format!(
+            "frame {f}'s inputs are not all finite: {:?}",
+            rows[f]
+        )));
+    }
+    let drive = drive.map(|d| drive_of(mech, d)).transpose()?;
+    let plans = mech.plans(py)?;
+    let solved = py.detach(|| match (&mech.model, plans) {
+        (Model::Planar(m), Plans::Planar(p)) => planar(m, p, &rows, options, drive.as_ref()),
+        (Model::Spatial(m), Plans::Spatial(p)) => spatial(m, p, &rows, options, drive.as_ref()),
+        // A plan is made from its own mechanism.
+        _ => unreachable!("a plan of the other dimension"),
+    });
+    into_dict(py, solved, n_inputs, mech.marker_names().len())
+}
+
+/// The inputs' rates and accelerations in the interpreter's units: an angle
+/// input's radians per unit of time become degrees (a slide's stay).
+fn drive_of(mech: &Mechanism, (rates, accelerations): (Vec<f64>, Vec<f64>)) -> PyResult<Drive> {
+    let kinds = mech.input_list();
+    for (what, v) in [("rates", &rates), ("accelerations", &accelerations)] {
+        if v.len() != kinds.len() {
+            return Err(PyValueError::new_err(format!(
+                "{} has {} input(s), but {} {what} are given",
+                mech.file(),
+                kinds.len(),
+                v.len()
+            )));
+        }
+        if v.iter().any(|x| !x.is_finite()) {
+            return Err(PyValueError::new_err(format!(
+                "the {what} are not all finite: {v:?}"
+            )));
+        }
+    }
+    let units = |v: &[f64]| -> Vec<f64> {
+        (v.iter().zip(&kinds))
+            .map(|(x, (_, kind))| if *kind == "angle" { x.to_degrees() } else { *x })
+            .collect()
+    };
+    Ok(Drive {
+        rates: units(&rates),
+        accelerations: units(&accelerations),
+    })
+}
+
+/// The driver's options from the policy names.
+fn options(policy: &str, branch: &str) -> PyResult<Options> {
+    let breaking = match policy {
+        "limit" => BreakPolicy::Limit,
+        "search" => BreakPolicy::Search,
+        "stretch" => BreakPolicy::Stretch,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "policy must be \"limit\", \"search\" or \"stretch\", not {other:?}"
+            )))
+        }
+    };
+    let branch = match branch {
+        "keep" => BranchPolicy::Keep,
+        "nearest" => BranchPolicy::Nearest,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "branch must be \"keep\" or \"nearest\", not {other:?}"
+            )))
+        }
+    };
+    Ok(Options {
+        breaking,
+        branch,
+        start: StartPolicy::Sweep,
+        ..Options::default()
+    })
+}
+
+/// The status code of a frame (an index into [`STATUS_NAMES`]).
+fn code(status: &FrameStatus) -> i8 {
+    match status {
+        FrameStatus::Solved => 0,
+        FrameStatus::Limited { .. } => 1,
+        FrameStatus::Searched { .. } => 2,
+        FrameStatus::Unreached { .. } => 3,
+        FrameStatus::Stretched { .. } => 4,
+    }
+}
+
+/// A planar run: poses as (angle in degrees from the drawing, x, y).
+fn planar(
+    m: &dofplan::model::Mechanism,
+    plan: &dofplan::plan::Plan,
+    rows: &[Vec<f64>],
+    options: Options,
+    drive: Option<&Drive>,
+) -> Solved {
+    use dofplan::simulate::planar::{kinematics::motion, marker_at, max_relative_residual};
+    let mut driver = Driver::new(dofplan::interp::Interpreter::new(plan.clone()), options);
+    let markers: Vec<_> = m.all_markers().collect();
+    let mut s = Solved::with_capacity(rows.len(), m.bodies.len(), 3, markers.len(), 2, m.inputs.len());
+    s.rates = drive.map(|_| Rates::default());
+    for requested in rows {
+        let status = driver.frame(requested);
+        let poses = driver.poses();
+        for p in poses {
+            s.poses
+                .extend([dofplan::report::planar::frames::angle(p), p.at[0], p.at[1]]);
+        }
+        for &id in &markers {
+            s.markers.extend(marker_at(m, poses, id));
+        }
+        s.reached.extend_from_slice(driver.inputs());
+        s.status.push(code(&status));
+        s.residual.push(max_relative_residual(m, poses, driver.inputs()));
+        if let (Some(d), Some(r)) = (drive, s.rates.as_mut()) {
+            // Rates only where the frame met its inputs: a held pose has
+            // none of its own.
+            let jets = (status == FrameStatus::Solved).then(|| {
+                (driver.solver()).rates(driver.state(), driver.inputs(), &d.rates, &d.accelerations)
+            });
+            match jets {
+                Some(Ok(jets)) => {
+                    let mo = motion(m, &jets);
+                    r.velocity.extend(mo.velocity.iter().flatten());
+                    r.acceleration.extend(mo.acceleration.iter().flatten());
+                    r.omega.extend(&mo.omega);
+                    r.alpha.extend(&mo.alpha);
+                    r.code.push(0);
+                }
+                Some(Err(e)) => r.none(markers.len() * 2, m.bodies.len(), rate_code(&e)),
+                None => r.none(markers.len() * 2, m.bodies.len(), 1),
+            }
+        }
+    }
+    s
+}
+
+/// A spatial run: poses as (x, y, z, qw, qx, qy, qz), the rotation from the
+/// drawing as a unit quaternion with qw ≥ 0.
+fn spatial(
+    m: &dofplan::model::spatial::Mechanism,
+    plan: &dofplan::plan::spatial::Plan,
+    rows: &[Vec<f64>],
+    options: Options,
+    drive: Option<&Drive>,
+) -> Solved {
+    use dofplan::simulate::spatial::{marker_positions, motion, residual};
+    let mut driver = Driver::new(dofplan::interp::spatial::Interpreter::new(plan.clone()), options);
+    let markers = m.all_markers().count();
+    let mut s = Solved::with_capacity(rows.len(), m.bodies.len(), 7, markers, 3, m.inputs.len());
+    s.rates = drive.map(|_| Rates::default());
+    for requested in rows {
+        let status = driver.frame(requested);
+        let poses = driver.poses();
+        for p in poses {
+            s.poses.extend(p.pos);
+            s.poses.extend(quaternion(&p.rot.m));
+        }
+        for at in marker_positions(m, poses) {
+            s.markers.extend(at);
+        }
+        s.reached.extend_from_slice(driver.inputs());
+        s.status.push(code(&status));
+        s.residual.push(residual(m, poses, driver.inputs()));
+        if let (Some(d), Some(r)) = (drive, s.rates.as_mut()) {
+            let jets = (status == FrameStatus::Solved).then(|| {
+                (driver.solver()).rates(driver.state(), driver.inputs(), &d.rates, &d.accelerations)
+            });
+            match jets {
+                Some(Ok(jets)) => {
+                    let mo = motion(m, &jets);
+                    r.velocity.extend(mo.velocity.iter().flatten());
+                    r.acceleration.extend(mo.acceleration.iter().flatten());
+                    r.omega.extend(mo.omega.iter().flatten());
+                    r.alpha.extend(mo.alpha.iter().flatten());
+                    r.code.push(0);
+                }
+                Some(Err(e)) => r.none(markers * 3, m.bodies.len() * 3, rate_code(&e)),
+                None => r.none(markers * 3, m.bodies.len() * 3, 1),
+            }
+        }
+    }
+    s
+}
+
+/// A rotation matrix (rows) as the unit quaternion (w, x, y, z), w ≥ 0.
+fn quaternion(r: &[[f64; 3]; 3]) -> [f64; 4] {
+    let matrix = nalgebra::Matrix3::new(
+        r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2],
+    );
+    let q =
+        nalgebra::UnitQuaternion::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(matrix));
+    let sign = if q.w < 0.0 { -1.0 } else { 1.0 };
+    [sign * q.w, sign * q.i, sign * q.j, sign * q.k]
+}
+
+/// The rate code of a frame whose rates failed.
+fn rate_code(e: &RateError) -> i8 {
+    match e {
+        RateError::Break(_) => 1,
+        RateError::Singular => 2,
+        RateError::Cluster | RateError::Split => 3,
+    }
+}
+
+impl Rates {
+    /// A frame without rates: NaN for `markers` marker numbers and `bodies`
+    /// body numbers, and its code.
+    fn none(&mut self, markers: usize, bodies: usize, code: i8) {
+        self.velocity.extend(std::iter::repeat_n(f64::NAN, markers));
+        self.acceleration.extend(std::iter::repeat_n(f64::NAN, markers));
+        self.omega.extend(std::iter::repeat_n(f64::NAN, bodies));
+        self.alpha.extend(std::iter::repeat_n(f64::NAN, bodies));
+        self.code.push(code);
+    }
+}
+
+impl Solved {
+    fn with_capacity(
+        frames: usize,
+        bodies: usize,
+        pose_width: usize,
+        markers: usize,
+        dimension: usize,
+        inputs: usize,
+    ) -> Solved {
+        Solved {
+            frames,
+            poses: Vec::with_capacity(frames * bodies * pose_width),
+            pose_width,
+            markers: Vec::with_capacity(frames * markers * dimension),
+            dimension,
+            reached: Vec::with_capacity(frames * inputs),
+            status: Vec::with_capacity(frames),
+            residual: Vec::with_capacity(frames),
+            rates: None,
+        }
+    }
+}
+
+/// The arrays of a run, keyed as `dofplan.Result` takes them.
+fn into_dict(py: Python<'_>, s: Solved, inputs: usize, markers: usize) -> PyResult<Bound<'_, PyDict>> {
+    let shape_error =
+        |e: numpy::ndarray::ShapeError| PyValueError::new_err(format!("internal shape error: {e}"));
+    let bodies = s.poses.len() / (s.frames * s.pose_width).max(1);
+    let d = PyDict::new(py);
+    let poses = Array3::from_shape_vec((s.frames, bodies, s.pose_width), s.poses).map_err(shape_error)?;
+    d.set_item("poses", poses.into_pyarray(py))?;
+    let at = Array3::from_shape_vec((s.frames, markers, s.dimension), s.markers).map_err(shape_error)?;
+    d.set_item("markers", at.into_pyarray(py))?;
+    let reached = Array2::from_shape_vec((s.frames, inputs), s.reached).map_err(shape_error)?;
+    d.set_item("inputs", reached.into_pyarray(py))?;
+    d.set_item("status", Array1::from_vec(s.status).into_pyarray(py))?;
+    d.set_item("status_names", STATUS_NAMES.to_vec())?;
+    d.set_item("residual", Array1::from_vec(s.residual).into_pyarray(py))?;
+    if let Some(r) = s.rates {
+        let v = Array3::from_shape_vec((s.frames, markers, s.dimension), r.velocity).map_err(shape_error)?;
+        d.set_item("velocity", v.into_pyarray(py))?;
+        let a =
+            Array3::from_shape_vec((s.frames, markers, s.dimension), r.acceleration).map_err(shape_error)?;
+        d.set_item("acceleration", a.into_pyarray(py))?;
+        // Planar: frames × bodies; spatial: frames × bodies × 3.
+        let w = if s.dimension == 2 { 1 } else { 3 };
+        let omega = Array3::from_shape_vec((s.frames, bodies, w), r.omega).map_err(shape_error)?;
+        let alpha = Array3::from_shape_vec((s.frames, bodies, w), r.alpha).map_err(shape_error)?;
+        if w == 1 {
+            d.set_item(
+                "omega",
+                omega.remove_axis(numpy::ndarray::Axis(2)).into_pyarray(py),
+            )?;
+            d.set_item(
+                "alpha",
+                alpha.remove_axis(numpy::ndarray::Axis(2)).into_pyarray(py),
+            )?;
+        } else {
+            d.set_item("omega", omega.into_pyarray(py))?;
+            d.set_item("alpha", alpha.into_pyarray(py))?;
+        }
+        d.set_item("rate_status", Array1::from_vec(r.code).into_pyarray(py))?;
+        d.set_item("rate_status_names", RATE_NAMES.to_vec())?;
+    }
+    Ok(d)
+}

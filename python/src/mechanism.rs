@@ -1,0 +1,332 @@
+//! The `Mechanism` class: a loaded file of either dimension, with the
+//! reports the CLI prints (`check`, `plan`, `emit`) and its plan, made
+//! once on first use.
+
+use std::sync::OnceLock;
+
+use dofplan::model::{Format, Model, Sweep};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+
+use crate::errors::{mechanism_error, plan_error};
+
+/// A plan of either dimension.
+pub(crate) enum Plans {
+    Planar(dofplan::plan::Plan),
+    Spatial(dofplan::plan::spatial::Plan),
+}
+
+/// A mechanism loaded from a file or a text (`dofplan.load`,
+/// `dofplan.loads`): its bodies, markers, joints and inputs by name, the
+/// reports of `dofplan check`, `plan` and `emit`, and its frames
+/// (`simulate`).
+#[pyclass(module = "dofplan", frozen)]
+pub struct Mechanism {
+    pub(crate) model: Model,
+    /// The plan, or why there is none: made on first use, kept.
+    plan: OnceLock<Result<Plans, String>>,
+}
+
+impl Mechanism {
+    fn new(model: Model) -> Mechanism {
+        Mechanism {
+            model,
+            plan: OnceLock::new(),
+        }
+    }
+
+    /// The file name errors use.
+    pub(crate) fn file(&self) -> &str {
+        match &self.model {
+            Model::Planar(m) => &m.source.name,
+            Model::Spatial(m) => &m.source.name,
+        }
+    }
+
+    /// The plan, or a `PlanError` saying why there is none.
+    pub(crate) fn plans(&self, py: Python<'_>) -> PyResult<&Plans> {
+        let made = self.plan.get_or_init(|| match &self.model {
+            Model::Planar(m) => dofplan::analysis::analyse(m)
+                .plan
+                .map(Plans::Planar)
+                .map_err(|e| e.to_string()),
+            Model::Spatial(m) => dofplan::analysis::spatial::analyse(m)
+                .map(Plans::Spatial)
+                .map_err(|e| e.to_string()),
+        });
+        made.as_ref()
+            .map_err(|reason| plan_error(py, self.file(), reason))
+    }
+
+    /// Every marker as "body.marker", in the mechanism's order (the order of
+    /// the `markers` arrays).
+    pub(crate) fn marker_names(&self) -> Vec<String> {
+        match &self.model {
+            Model::Planar(m) => m.all_markers().map(|id| m.marker_name(id)).collect(),
+            Model::Spatial(m) => m.all_markers().map(|id| m.marker_name(id)).collect(),
+        }
+    }
+
+    fn sweep(&self) -> Option<&Sweep> {
+        match &self.model {
+            Model::Planar(m) => m.sweep.as_ref(),
+            Model::Spatial(m) => m.sweep.as_ref(),
+        }
+    }
+
+    /// The inputs' names and kinds ("angle" or "slide").
+    pub(crate) fn input_list(&self) -> Vec<(String, &'static str)> {
+        let inputs = match &self.model {
+            Model::Planar(m) => &m.inputs,
+            Model::Spatial(m) => &m.inputs,
+        };
+        inputs.iter().map(|i| (i.name.clone(), i.kind.name())).collect()
+    }
+}
+
+#[pymethods]
+impl Mechanism {
+    /// The mechanism's `name`.
+    #[getter]
+    fn name(&self) -> &str {
+        match &self.model {
+            Model::Planar(m) => &m.name,
+            Model::Spatial(m) => &m.name,
+        }
+    }
+
+    /// 2 (planar) or 3 (spatial).
+    #[getter]
+    fn dimension(&self) -> u8 {
+        match &self.model {
+            Model::Planar(_) => 2,
+            Model::Spatial(_) => 3,
+        }
+    }
+
+    /// The file name given to `load` or `loads` (used in errors).
+    #[getter(file)]
+    fn file_name(&self) -> &str {
+        self.file()
+    }
+
+    /// The bodies' names, in file order (the order of `poses`).
+    #[getter]
+    fn bodies(&self) -> Vec<String> {
+        match &self.model {
+            Model::Planar(m) => m.bodies.iter().map(|b| b.name.clone()).collect(),
+            Model::Spatial(m) => m.bodies.iter().map(|b| b.name.clone()).collect(),
+        }
+    }
+
+    /// Every marker as "body.marker" (the order of `markers` arrays).
+    #[getter]
+    fn markers(&self) -> Vec<String> {
+        self.marker_names()
+    }
+
+    /// The joints' names, in file order.
+    #[getter]
+    fn joints(&self) -> Vec<String> {
+        match &self.model {
+            Model::Planar(m) => m.joints.iter().map(|j| j.name.clone()).collect(),
+            Model::Spatial(m) => m.joints.iter().map(|j| j.name.clone()).collect(),
+        }
+    }
+
+    /// Every joint as (name, kind, first marker, second marker), the
+    /// markers as "body.marker", in file order.
+    #[getter]
+    fn joint_markers(&self) -> Vec<(String, &'static str, String, String)> {
+        match &self.model {
+            Model::Planar(m) => (m.joints.iter())
+                .map(|j| {
+                    let [a, b] = j.markers;
+                    (j.name.clone(), j.kind.name(), m.marker_name(a), m.marker_name(b))
+                })
+                .collect(),
+            Model::Spatial(m) => (m.joints.iter())
+                .map(|j| {
+                    let [a, b] = j.markers;
+                    (j.name.clone(), j.kind.name(), m.marker_name(a), m.marker_name(b))
+                })
+                .collect(),
+        }
+    }
+
+    /// The inputs' names, in file order (the columns of `simulate`'s inputs).
+    #[getter]
+    fn inputs(&self) -> Vec<String> {
+        self.input_list().into_iter().map(|(n, _)| n).collect()
+    }
+
+    /// Each input's kind, "angle" (degrees) or "slide" (length units).
+    #[getter]
+    fn input_kinds(&self) -> Vec<&'static str> {
+        self.input_list().into_iter().map(|(_, k)| k).collect()
+    }
+
+    /// The file's `[sweep]` as a dict (`inputs`: a list of
+    /// `{input, from, to}`, `steps`, `trace`: marker names), or None.
+    #[getter]
+    fn sweep_dict<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(s) = self.sweep() else {
+            return Ok(None);
+        };
+        let names = self.inputs();
+        let inputs = PyList::empty(py);
+        for w in &s.inputs {
+            let d = PyDict::new(py);
+            d.set_item("input", &names[w.input])?;
+            d.set_item("from", w.from)?;
+            d.set_item("to", w.to)?;
+            inputs.append(d)?;
+        }
+        let trace: Vec<String> = match &self.model {
+            Model::Planar(m) => s.trace.iter().map(|&id| m.marker_name(id)).collect(),
+            Model::Spatial(m) => s.trace.iter().map(|&id| m.marker_name(id)).collect(),
+        };
+        let d = PyDict::new(py);
+        d.set_item("inputs", inputs)?;
+        d.set_item("steps", s.steps)?;
+        d.set_item("trace", trace)?;
+        Ok(Some(d))
+    }
+
+    /// The requested inputs of every frame of the file's `[sweep]` (frames ×
+    /// inputs; the inputs not swept stay at 0), `steps` frames if given:
+    /// the frames `dofplan simulate` runs. A ValueError when the file has
+    /// no sweep.
+    #[pyo3(signature = (steps = None))]
+    fn sweep_inputs<'py>(
+        &self,
+        py: Python<'py>,
+        steps: Option<usize>,
+    ) -> PyResult<Bound<'py, numpy::PyArray2<f64>>> {
+        use numpy::IntoPyArray;
+        let Some(sweep) = self.sweep() else {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "{} has no [sweep]: give the inputs of every frame",
+                self.file()
+            )));
+        };
+        let mut sweep = sweep.clone();
+        if let Some(n) = steps {
+            if n == 0 || n as i64 > dofplan::model::MAX_STEPS {
+                return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                    "steps must be from 1 to {}, not {n}",
+                    dofplan::model::MAX_STEPS
+                )));
+            }
+            sweep.steps = n;
+        }
+        let n = self.input_list().len();
+        let flat: Vec<f64> = dofplan::simulate::sweep_requests(&sweep, n).flatten().collect();
+        let rows = numpy::ndarray::Array2::from_shape_vec((sweep.steps, n), flat)
+            .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+        Ok(rows.into_pyarray(py))
+    }
+
+    /// `dofplan check --json` as text, and whether the check passed.
+    fn check_json(&self, py: Python<'_>) -> PyResult<(String, bool)> {
+        let mut out = Vec::new();
+        let ok = py
+            .detach(|| match &self.model {
+                Model::Planar(m) => {
+                    let check = dofplan::report::planar::check::Check::of(m, &mut |_| {});
+                    check.write(m, &m.source.name, true, &mut out)
+                }
+                Model::Spatial(m) => dofplan::report::spatial::check(m, true, &mut out),
+            })
+            .map_err(|e| pyo3::exceptions::PyIOError::new_err(e.to_string()))?;
+        Ok((String::from_utf8_lossy(&out).into_owned(), ok))
+    }
+
+    /// The plan explained step by step, as `dofplan plan` prints it.
+    fn plan_text(&self, py: Python<'_>) -> PyResult<String> {
+        Ok(match self.plans(py)? {
+            Plans::Planar(p) => p.explain_all(),
+            Plans::Spatial(p) => p.explain_all(),
+        })
+    }
+
+    /// The generated Rust module, as `dofplan emit` writes it.
+    fn emit(&self, py: Python<'_>) -> PyResult<String> {
+        let plans = self.plans(py)?;
+        Ok(py.detach(|| match plans {
+            Plans::Planar(p) => dofplan::emit::emit(p),
+            Plans::Spatial(p) => dofplan::emit::emit_spatial(p),
+        }))
+    }
+
+    /// The drawing as SVG (what `simulate --svg` draws, at the drawn pose
+    /// only).
+    fn svg(&self) -> String {
+        match &self.model {
+            Model::Planar(m) => dofplan::render::render(m, &[], &[], &dofplan::render::SvgOptions::default()),
+            Model::Spatial(m) => dofplan::render::spatial::render_spatial(m, &[]),
+        }
+    }
+
+    /// Runs `inputs` (frames × inputs, C order) through the plan: see
+    /// `crate::frames::simulate`.
+    /// With `rates` (and `accelerations`), one per input, in radians (or
+    /// length units) per unit of time, every solved frame's velocities and
+    /// accelerations too.
+    #[pyo3(signature = (inputs, policy = "limit", branch = "keep", rates = None, accelerations = None))]
+    fn simulate_raw<'py>(
+        &self,
+        py: Python<'py>,
+        inputs: numpy::PyReadonlyArray2<'py, f64>,
+        policy: &str,
+        branch: &str,
+        rates: Option<Vec<f64>>,
+        accelerations: Option<Vec<f64>>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let drive = rates.map(|r| {
+            let a = accelerations.unwrap_or_else(|| vec![0.0; r.len()]);
+            (r, a)
+        });
+        crate::frames::simulate(py, self, inputs, policy, branch, drive)
+    }
+
+    fn __repr__(&self) -> String {
+        let (bodies, joints, inputs) = match &self.model {
+            Model::Planar(m) => (m.bodies.len(), m.joints.len(), m.inputs.len()),
+            Model::Spatial(m) => (m.bodies.len(), m.joints.len(), m.inputs.len()),
+        };
+        format!(
+            "<dofplan.Mechanism {:?} ({}D): {bodies} bodies, {joints} joints, {inputs} inputs>",
+            self.name(),
+            self.dimension()
+        )
+    }
+}
+
+/// Loads a mechanism file (TOML, or JSON by its `.json` extension) of
+/// either dimension. Raises `MechanismError` with the CLI's diagnostics.
+#[pyfunction]
+pub fn load(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Mechanism> {
+    py.detach(|| dofplan::load_any(&path))
+        .map(Mechanism::new)
+        .map_err(|e| mechanism_error(py, &e))
+}
+
+/// Loads a mechanism from text, `format` "toml" or "json"; `name` is the
+/// file name errors show.
+#[pyfunction]
+#[pyo3(signature = (text, format = "toml", name = "<string>"))]
+pub fn loads(py: Python<'_>, text: &str, format: &str, name: &str) -> PyResult<Mechanism> {
+    let format = match format {
+        "toml" => Format::Toml,
+        "json" => Format::Json,
+        other => {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "format must be \"toml\" or \"json\", not {other:?}"
+            )))
+        }
+    };
+    py.detach(|| dofplan::load_any_str(name, text, format))
+        .map(Mechanism::new)
+        .map_err(|e| mechanism_error(py, &e))
+}

@@ -1,0 +1,295 @@
+"""Tests of the Python package, as a user calls it: the bundled files
+loaded, checked and simulated, every solved frame held to its joints from
+the returned arrays (independently of dofplan's own residual), positions
+against closed forms written here, and bad input against clear errors."""
+
+import glob
+import json
+import math
+import os
+import pathlib
+
+import numpy as np
+import pytest
+
+import dofplan
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+MECHANISMS = ROOT / "mechanisms"
+PLANAR = sorted(glob.glob(str(MECHANISMS / "*.toml")))
+SPATIAL = sorted(glob.glob(str(MECHANISMS / "spatial" / "*.toml")))
+
+
+def size_of(r):
+    """The mechanism's extent over the drawn frame's markers (for relative
+    tolerances)."""
+    m = r.markers[0]
+    return float(np.max(np.ptp(m, axis=0))) or 1.0
+
+
+def joint_gaps(m, r):
+    """Per frame, the largest distance between the two markers of a revolute
+    or spherical joint (the markers that must coincide), computed from the
+    returned marker positions."""
+    names = r.marker_names
+    gaps = np.zeros(len(r))
+    for _, kind, a, b in m.joint_markers:
+        if kind not in ("revolute", "spherical", "universal"):
+            continue
+        d = r.markers[:, names.index(a), :] - r.markers[:, names.index(b), :]
+        gaps = np.maximum(gaps, np.linalg.norm(d, axis=1))
+    return gaps
+
+
+def test_the_package_has_a_version_and_its_errors():
+    assert dofplan.__version__
+    assert issubclass(dofplan.MechanismError, dofplan.DofplanError)
+    assert issubclass(dofplan.PlanError, dofplan.DofplanError)
+
+
+def test_a_fourbar_loads_with_its_names():
+    m = dofplan.load(MECHANISMS / "fourbar.toml")
+    assert m.name == "fourbar"
+    assert m.dimension == 2
+    assert m.bodies == ["ground", "crank", "coupler", "rocker"]
+    assert "coupler.P" in m.markers
+    assert m.inputs == ["theta"] and m.input_kinds == ["angle"]
+    assert m.sweep == {
+        "inputs": [{"input": "theta", "from": 0.0, "to": 360.0}],
+        "steps": 361,
+        "trace": ["coupler.P"],
+    }
+    assert [j[0] for j in m.joint_markers] == m.joints
+    assert "fourbar" in repr(m)
+
+
+def test_check_is_the_cli_s_check():
+    m = dofplan.load(MECHANISMS / "fourbar.toml")
+    c = m.check()
+    assert c.ok
+    d = c.to_dict()
+    # The same document `dofplan check --json` prints, as attributes.
+    assert c.mobility == d["mobility"]
+    assert d["name"] == "fourbar"
+    assert c.grashof == d["grashof"]
+    with pytest.raises(AttributeError, match="has no field 'nonsense'"):
+        c.nonsense
+
+
+def test_plan_and_emit():
+    m = dofplan.load(MECHANISMS / "fourbar.toml")
+    p = m.plan()
+    assert str(p).startswith("plan for fourbar")
+    assert len(p.steps()) == 5
+    code = m.emit()
+    assert "pub fn solve" in code
+    assert m.svg().lstrip().startswith("<svg") and m._repr_svg_() == m.svg()
+
+
+def test_the_slider_crank_follows_its_closed_form():
+    # mechanisms/slider_crank.toml: crank r = 1 from 30 deg, rod l = 3.5,
+    # track at e = 0.25: x_C = r cos(phi) + sqrt(l^2 - (r sin(phi) - e)^2).
+    m = dofplan.load(MECHANISMS / "slider_crank.toml")
+    theta = np.linspace(-720.0, 720.0, 1441)
+    r = m.simulate(theta)
+    assert r.solved.all()
+    phi = np.radians(30.0 + theta)
+    x = np.cos(phi) + np.sqrt(3.5**2 - (np.sin(phi) - 0.25) ** 2)
+    c = r.marker("slider.C")
+    assert np.max(np.abs(c[:, 0] - x)) < 1e-12
+    assert np.max(np.abs(c[:, 1] - 0.25)) < 1e-12
+    # The crank's angle is the input, in (-180, 180].
+    crank = r.body("crank")[:, 0]
+    wrapped = (theta + 180.0) % 360.0 - 180.0
+    wrapped[wrapped == -180.0] = 180.0
+    assert np.max(np.abs(crank - wrapped)) < 1e-9
+
+
+@pytest.mark.parametrize("path", PLANAR, ids=lambda p: pathlib.Path(p).stem)
+def test_every_planar_sweep_holds_its_joints(path):
+    m = dofplan.load(path)
+    if m.sweep is None:
+        pytest.skip("no sweep in the file")
+    r = m.simulate(steps=min(m.sweep["steps"], 181))
+    assert r.poses.shape == (len(r), len(m.bodies), 3)
+    assert r.markers.shape == (len(r), len(m.markers), 2)
+    ok = r.solved
+    assert ok.any(), r
+    gaps = joint_gaps(m, r)
+    assert np.max(gaps[ok]) <= 1e-9 * size_of(r), (path, np.max(gaps[ok]))
+    assert np.max(r.residual[ok]) <= 1e-9
+
+
+@pytest.mark.parametrize("path", SPATIAL, ids=lambda p: pathlib.Path(p).stem)
+def test_every_spatial_sweep_holds_its_joints_and_bodies_stay_rigid(path):
+    m = dofplan.load(path)
+    assert m.dimension == 3
+    r = m.simulate(steps=min(m.sweep["steps"], 61))
+    assert r.poses.shape == (len(r), len(m.bodies), 7)
+    assert r.markers.shape == (len(r), len(m.markers), 3)
+    ok = r.solved
+    assert ok.any()
+    q = r.poses[:, :, 3:]
+    assert np.max(np.abs(np.linalg.norm(q, axis=2) - 1.0)) < 1e-12
+    assert np.all(q[:, :, 0] >= 0.0)
+    gaps = joint_gaps(m, r)
+    assert np.max(gaps[ok]) <= 1e-9 * size_of(r), (path, np.max(gaps[ok]))
+    # Each marker is its body's pose applied to where it is drawn: the
+    # quaternion rotates the drawn offset from the body's origin.
+    for k, name in enumerate(m.markers):
+        body = m.bodies.index(name.split(".")[0])
+        drawn = r.markers[0, k] if r.solved[0] else None
+        if drawn is None:
+            continue
+        p0, q0 = r.poses[0, body, :3], r.poses[0, body, 3:]
+        local = rotate(conj(q0), drawn - p0)
+        for f in np.flatnonzero(ok)[:: max(1, len(r) // 7)]:
+            p, qf = r.poses[f, body, :3], r.poses[f, body, 3:]
+            assert np.linalg.norm(p + rotate(qf, local) - r.markers[f, k]) < 1e-9 * size_of(r)
+
+
+def conj(q):
+    return np.array([q[0], -q[1], -q[2], -q[3]])
+
+
+def rotate(q, v):
+    """v rotated by the unit quaternion q = (w, x, y, z)."""
+    w, u = q[0], q[1:]
+    return v + 2.0 * np.cross(u, np.cross(u, v) + w * v)
+
+
+def test_a_rocker_is_held_past_its_limits_and_the_frames_say_so():
+    # mechanisms/rocker_rocker.toml assembles for theta in
+    # [-105.5224878141, 45.5224878141] only (its header derives it).
+    m = dofplan.load(MECHANISMS / "rocker_rocker.toml")
+    theta = np.linspace(-20.0, 80.0, 101)
+    r = m.simulate(theta)
+    inside = theta <= 45.5224878141
+    assert r.solved[inside].all()
+    assert not r.solved[~inside].any()
+    assert {r.status_of(f) for f in np.flatnonzero(~inside)} == {"limited"}
+    # Held: the pose reached stays at the last frame that assembled.
+    last = np.flatnonzero(inside)[-1]
+    assert np.all(r.inputs[~inside, 0] == r.inputs[last, 0])
+    s = m.simulate(theta, policy="search")
+    assert {s.status_of(f) for f in np.flatnonzero(~inside)} == {"searched"}
+    assert abs(s.inputs[-1, 0] - 45.5224878141) < 1e-6
+
+
+def test_inputs_of_two_columns_and_the_wrong_shapes():
+    m = dofplan.load(MECHANISMS / "fourbar.toml")
+    with pytest.raises(ValueError, match=r"1 input\(s\) \(theta\), but the inputs have 2 column"):
+        m.simulate(np.zeros((3, 2)))
+    with pytest.raises(ValueError, match="shape"):
+        m.simulate(np.zeros((3, 1, 1)))
+    with pytest.raises(ValueError, match="not all finite"):
+        m.simulate([0.0, float("nan")])
+    with pytest.raises(ValueError, match="policy must be"):
+        m.simulate([0.0], policy="jump")
+    with pytest.raises(ValueError, match="steps must be from 1"):
+        m.simulate(steps=0)
+    with pytest.raises(KeyError, match="no marker 'coupler.Q'"):
+        m.simulate([0.0]).marker("coupler.Q")
+    r = m.simulate(np.array([[0.0], [90.0]]))
+    assert len(r) == 2 and r.solved.all()
+
+
+def test_a_file_with_errors_raises_its_diagnostics():
+    text = 'name = "bad"\n[bodies.a]\nfixed = tru\n'
+    with pytest.raises(dofplan.MechanismError) as e:
+        dofplan.loads(text, name="bad.toml")
+    message = str(e.value)
+    assert "bad.toml:3:9" in message
+    [d] = e.value.diagnostics
+    assert (d["file"], d["line"], d["column"]) == ("bad.toml", 3, 9)
+    assert "boolean" in d["message"]
+    with pytest.raises(dofplan.MechanismError, match="cannot read the file"):
+        dofplan.load(MECHANISMS / "no_such_file.toml")
+    with pytest.raises(ValueError, match="format must be"):
+        dofplan.loads(text, format="yaml")
+
+
+def test_an_unknown_marker_is_named_with_its_position():
+    text = (MECHANISMS / "fourbar.toml").read_text().replace('"coupler.B"', '"coupler.Z"', 1)
+    with pytest.raises(dofplan.MechanismError) as e:
+        dofplan.loads(text, name="fourbar.toml")
+    d = e.value.diagnostics[0]
+    assert "has no marker `Z`" in d["message"] and "coupler" in d["message"]
+    assert d["line"] is not None and d["column"] is not None
+
+
+def test_a_dict_loads_like_its_json_file():
+    text = (MECHANISMS / "fourbar.toml").read_text()
+    toml_m = dofplan.loads(text)
+    d = json.loads(json.dumps(toml_dict(text)))
+    m = dofplan.from_dict(d)
+    a, b = toml_m.simulate(), m.simulate()
+    assert np.array_equal(a.markers, b.markers)
+    d["joints"]["A"]["markers"][1] = "crank.Q"
+    with pytest.raises(dofplan.MechanismError) as e:
+        dofplan.from_dict(d)
+    assert e.value.diagnostics[0]["path"] is not None
+
+
+def toml_dict(text):
+    try:
+        import tomllib
+    except ImportError:  # Python < 3.11
+        import tomli as tomllib
+    return tomllib.loads(text)
+
+
+def test_results_plot_with_matplotlib_when_it_is_there():
+    plt = pytest.importorskip("matplotlib.pyplot")
+    m = dofplan.load(MECHANISMS / "fourbar.toml")
+    ax = m.simulate().plot()
+    assert ax.get_title() == "fourbar"
+    plt.close("all")
+
+
+def test_the_slider_crank_s_rates_are_its_closed_form_s_derivatives():
+    # x_C(phi) = r cos(phi) + S, S = sqrt(l^2 - u^2), u = r sin(phi) - e:
+    # x' = -r sin(phi) - u u'/S, x'' = -r cos(phi) - (u'^2 + u u'')/S - (u u')^2/S^3.
+    m = dofplan.load(MECHANISMS / "slider_crank.toml")
+    theta = np.linspace(0.0, 360.0, 73)
+    omega, alpha = 2.5, -0.75  # rad per unit of time, and per unit of time squared
+    r = m.rates(theta, rate=omega, acceleration=alpha)
+    assert (r.rate_status == 0).all()
+    rr, l, e = 1.0, 3.5, 0.25
+    phi = np.radians(30.0 + theta)
+    u, du, ddu = rr * np.sin(phi) - e, rr * np.cos(phi), -rr * np.sin(phi)
+    S = np.sqrt(l**2 - u**2)
+    dx = -rr * np.sin(phi) - u * du / S
+    ddx = -rr * np.cos(phi) - (du**2 + u * ddu) / S - (u * du) ** 2 / S**3
+    k = r.marker_names.index("slider.C")
+    assert np.max(np.abs(r.velocity[:, k, 0] - dx * omega)) < 1e-12
+    assert np.max(np.abs(r.acceleration[:, k, 0] - (ddx * omega**2 + dx * alpha))) < 1e-11
+    assert np.max(np.abs(r.velocity[:, k, 1])) < 1e-12
+    crank = r.body_names.index("crank")
+    assert np.max(np.abs(r.omega[:, crank] - omega)) < 1e-12
+    assert np.max(np.abs(r.alpha[:, crank] - alpha)) < 1e-12
+
+
+def test_spatial_rates_are_the_positions_derivatives():
+    # A second, independent path: central differences of the positions.
+    m = dofplan.load(MECHANISMS / "spatial" / "rssr.toml")
+    theta = np.linspace(10.0, 350.0, 35)
+    h = 1e-4  # degrees
+    r = m.rates(theta, rate=1.0)  # one radian per unit of time
+    plus, minus = m.simulate(theta + h), m.simulate(theta - h)
+    assert r.velocity.shape == r.markers.shape and r.omega.shape == (len(theta), len(m.bodies), 3)
+    fd = (plus.markers - minus.markers) / (2.0 * np.radians(h))
+    ok = r.rate_status == 0
+    assert ok.sum() > 30
+    scale = np.max(np.abs(r.velocity[ok])) + 1.0
+    assert np.max(np.abs(r.velocity[ok] - fd[ok])) < 1e-6 * scale
+
+
+def test_rates_are_nan_where_a_frame_is_held():
+    m = dofplan.load(MECHANISMS / "rocker_rocker.toml")
+    r = m.rates(np.array([0.0, 30.0, 60.0]), rate=1.0)
+    assert list(r.rate_status) == [0, 0, 1]
+    assert r.rate_status_names[1] == "not solved"
+    assert np.isnan(r.velocity[2]).all() and np.isfinite(r.velocity[:2]).all()
+    with pytest.raises(ValueError, match="one rate per input"):
+        dofplan.load(MECHANISMS / "spatial" / "excavator.toml").rates([0.0], rate=1.0)
