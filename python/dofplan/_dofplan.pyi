@@ -50,6 +50,7 @@ class Mechanism:
         branch: str = "keep",
         rates: Optional[List[float]] = None,
         accelerations: Optional[List[float]] = None,
+        parallel: bool = True,
     ) -> Dict[str, Any]: ...
 
 def load(path: Union[str, "os.PathLike[str]"]) -> Mechanism: ...

@@ -9,13 +9,14 @@
 //!
 //! - [`errors`]: the exceptions, carrying the CLI's diagnostics.
 //! - [`mechanism`]: the `Mechanism` class (load, check, plan, emit).
-//! - [`frames`]: running inputs through the plan into NumPy arrays.
+//! - [`run`]: inputs run through the plan into NumPy arrays (one file per
+//!   dimension).
 
 use pyo3::prelude::*;
 
 mod errors;
-mod frames;
 mod mechanism;
+mod run;
 
 /// The module `dofplan._dofplan`.
 #[pymodule]

@@ -269,11 +269,15 @@ impl Mechanism {
     }
 
     /// Runs `inputs` (frames × inputs, C order) through the plan: see
-    /// `crate::frames::simulate`.
+    /// `crate::run::simulate`.
     /// With `rates` (and `accelerations`), one per input, in radians (or
     /// length units) per unit of time, every solved frame's velocities and
     /// accelerations too.
-    #[pyo3(signature = (inputs, policy = "limit", branch = "keep", rates = None, accelerations = None))]
+    /// `parallel`: a long run of a closed-form planar plan under the
+    /// default policies on every core (the same frames, to the bit).
+    #[pyo3(signature = (inputs, policy = "limit", branch = "keep", rates = None, accelerations = None, parallel = true))]
+    // Python's keyword arguments, each a plain value.
+    #[allow(clippy::too_many_arguments)]
     fn simulate_raw<'py>(
         &self,
         py: Python<'py>,
@@ -282,12 +286,13 @@ impl Mechanism {
         branch: &str,
         rates: Option<Vec<f64>>,
         accelerations: Option<Vec<f64>>,
+        parallel: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let drive = rates.map(|r| {
             let a = accelerations.unwrap_or_else(|| vec![0.0; r.len()]);
             (r, a)
         });
-        crate::frames::simulate(py, self, inputs, policy, branch, drive)
+        crate::run::simulate(py, self, inputs, policy, branch, drive, parallel)
     }
 
     fn __repr__(&self) -> String {

@@ -293,3 +293,21 @@ def test_rates_are_nan_where_a_frame_is_held():
     assert np.isnan(r.velocity[2]).all() and np.isfinite(r.velocity[:2]).all()
     with pytest.raises(ValueError, match="one rate per input"):
         dofplan.load(MECHANISMS / "spatial" / "excavator.toml").rates([0.0], rate=1.0)
+
+
+@pytest.mark.parametrize("name", ["fourbar", "rocker_rocker", "stress_10"])
+def test_a_long_run_on_every_core_is_one_core_s_to_the_bit(name):
+    m = dofplan.load(MECHANISMS / f"{name}.toml")
+    # 9000 frames of a sweep twice as wide as the file's, over and over,
+    # from the drawing (a first frame that assembles: the parallel path's
+    # condition): past the limits and back, holds across the blocks.
+    one = m.sweep_inputs()[:, 0]
+    wide = np.concatenate([[0.0], np.tile(2.0 * one - 7.0, 9000 // len(one) + 1)])[:9000]
+    a = m.simulate(wide)
+    b = m.simulate(wide, parallel=False)
+    for field in ("poses", "markers", "inputs", "status", "residual"):
+        x, y = getattr(a, field), getattr(b, field)
+        assert x.shape == y.shape and np.array_equal(x, y, equal_nan=True), (name, field)
+    assert a.solved[0]
+    if name == "rocker_rocker":
+        assert not a.solved.all() and a.solved[1000:].any()

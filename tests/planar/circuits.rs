@@ -336,6 +336,13 @@ fn batches_hold_past_a_limit_as_the_driver_does() {
         let mut status = vec![FrameStatus::Solved; inputs.len()];
         Interpreter::new(plan(&m)).solve_batch(&inputs, &mut out, &mut status);
         check("interpreted", &out, &status);
+        dofplan_runtime::batch::solve_batch_parallel(
+            &Interpreter::new(plan(&m)),
+            &inputs,
+            &mut out,
+            &mut status,
+        );
+        check("interpreted, every core", &out, &status);
         dofplan_generated::with_plan!(name, |p| {
             p.solve_batch(&inputs, &mut out, &mut status);
             check("compiled", &out, &status);

@@ -5,7 +5,7 @@ use dofplan_runtime::numeric::Newton;
 use dofplan_runtime::planar::cluster;
 use dofplan_runtime::planar::{self, cst, Point, Pose, Rot};
 use dofplan_runtime::real::{Jet2, RateError, Real};
-use dofplan_runtime::{Branch, BranchPolicy, Break, Ctx, Solver};
+use dofplan_runtime::{Branch, BranchPolicy, Break, Ctx, FrameStatus, Solver};
 
 use crate::model::InputKind;
 use crate::plan::{ClusterParam, DirRef, Plan, PointRef, Rel, StepKind};
@@ -427,9 +427,26 @@ impl Scalar for Jet2 {
     }
 }
 
-/// Frames solved in order, each warm-started from the last, as a driver
-/// runs them (the interpreter has no lanes).
-impl dofplan_runtime::Batch for Interpreter {}
+/// A closed-form plan's frames are independent under keep-branch (a step
+/// places a body from its inputs and the constants, never from its last
+/// pose), as the generated module's are: solved each on its own (no lanes
+/// here), and on several cores by
+/// `dofplan_runtime::batch::solve_batch_parallel`, whose `settle` then makes
+/// them the driver's. A plan with a numeric cluster warm-starts Newton from
+/// the last frame: its frames are solved in order.
+impl dofplan_runtime::Batch for Interpreter {
+    fn independent(&self) -> bool {
+        self.plan.clusters() == 0
+    }
+
+    fn solve_frames(&self, inputs: &[f64], out: &mut [Pose], status: &mut [FrameStatus]) {
+        if self.independent() {
+            dofplan_runtime::batch::one_at_a_time(self, 0..status.len(), inputs, out, status);
+        } else {
+            dofplan_runtime::batch::in_order(self, inputs, out, status);
+        }
+    }
+}
 
 impl dofplan_runtime::real::Rates for Interpreter {
     fn rates_into(

@@ -55,7 +55,26 @@ fn wrap(angle: f64) -> f64 {
 /// `inputs`. Computed from the model alone (not from the plan), so it checks
 /// a plan independently of how the plan placed the bodies.
 pub fn residuals(m: &Mechanism, poses: &[Pose], inputs: &[f64]) -> Vec<Residual> {
-    let size = m.size();
+    let mut out = Vec::new();
+    each_residual(m, poses, inputs, m.size(), |what, name, value| {
+        out.push(Residual {
+            name: format!("{what} {name}"),
+            value,
+        });
+    });
+    out
+}
+
+/// Each residual of [`residuals`] handed to `visit` with what it is
+/// ("joint", "input", "constraint") and its name, in the same order: a
+/// caller that wants only the values builds no names.
+fn each_residual(
+    m: &Mechanism,
+    poses: &[Pose],
+    inputs: &[f64],
+    size: f64,
+    mut visit: impl FnMut(&'static str, &str, f64),
+) {
     let at = |id: MarkerId| marker_at(m, poses, id);
     let line = |id: MarkerId| {
         let d = m
@@ -64,7 +83,6 @@ pub fn residuals(m: &Mechanism, poses: &[Pose], inputs: &[f64]) -> Vec<Residual>
             .expect("validated: line markers carry a dir");
         (at(id), poses[id.body].world_dir(d))
     };
-    let mut out = Vec::new();
     for (ji, j) in m.joints.iter().enumerate() {
         let [a, b] = j.markers;
         let value = match j.kind {
@@ -75,10 +93,7 @@ pub fn residuals(m: &Mechanism, poses: &[Pose], inputs: &[f64]) -> Vec<Residual>
                 off.max(relative_angle(poses, a.body, b.body).abs() * size)
             }
         };
-        out.push(Residual {
-            name: format!("joint {}", j.name),
-            value,
-        });
+        visit("joint", &j.name, value);
         if let Some(k) = m.inputs.iter().position(|i| i.joint == ji) {
             let value = match m.inputs[k].kind {
                 // Reduced modulo 360 first (exact), as `Rot::from_degrees`
@@ -94,10 +109,7 @@ pub fn residuals(m: &Mechanism, poses: &[Pose], inputs: &[f64]) -> Vec<Residual>
                     (along - drawn - inputs[k]).abs()
                 }
             };
-            out.push(Residual {
-                name: format!("input {}", m.inputs[k].name),
-                value,
-            });
+            visit("input", &m.inputs[k].name, value);
         }
     }
     for c in &m.constraints {
@@ -110,26 +122,27 @@ pub fn residuals(m: &Mechanism, poses: &[Pose], inputs: &[f64]) -> Vec<Residual>
             }
             ConstraintKind::Offset => relative_angle(poses, a.body, b.body).abs() * size,
         };
-        out.push(Residual {
-            name: format!("constraint {}", c.name),
-            value,
-        });
+        visit("constraint", &c.name, value);
     }
-    out
 }
 
 /// The largest residual, relative to the mechanism's size; NaN if any is
 /// NaN (`f64::max` alone would drop it, and a NaN pose would pass a check).
 pub fn max_relative_residual(m: &Mechanism, poses: &[Pose], inputs: &[f64]) -> f64 {
-    let size = m.size();
-    residuals(m, poses, inputs)
-        .iter()
-        .map(|r| r.value / size)
-        .fold(0.0, |worst: f64, r| {
-            if worst.is_nan() || r.is_nan() {
-                f64::NAN
-            } else {
-                worst.max(r)
-            }
-        })
+    max_relative_residual_at(m, m.size(), poses, inputs)
+}
+
+/// [`max_relative_residual`] for a mechanism of size `size` (its
+/// [`Mechanism::size`], which a caller checking many frames computes once).
+pub fn max_relative_residual_at(m: &Mechanism, size: f64, poses: &[Pose], inputs: &[f64]) -> f64 {
+    let mut worst = 0.0_f64;
+    each_residual(m, poses, inputs, size, |_, _, value| {
+        let r = value / size;
+        worst = if worst.is_nan() || r.is_nan() {
+            f64::NAN
+        } else {
+            worst.max(r)
+        };
+    });
+    worst
 }

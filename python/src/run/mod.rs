@@ -1,29 +1,49 @@
 //! Frames into NumPy arrays: the requested inputs run through the plan by
 //! the driver `dofplan simulate` uses (the same frames, the same breaks),
-//! with the interpreter lock released while they are solved. The arrays are
-//! built in Rust vectors and handed to NumPy without a copy.
+//! with the interpreter lock released while they are solved; long runs of
+//! closed-form planar plans on every core. A run gives each frame's poses,
+//! inputs reached and status (`planar.rs`, `spatial.rs`, one per
+//! dimension); what is read off the poses (the pose rows, every marker, the
+//! residual) is computed for all frames at once, on every core. The arrays
+//! are built in Rust vectors and handed to NumPy without a copy.
 
 use dofplan::model::Model;
 use dofplan_runtime::real::RateError;
-use dofplan_runtime::{BranchPolicy, BreakPolicy, Driver, FrameStatus, Options, StartPolicy};
+use dofplan_runtime::{BranchPolicy, BreakPolicy, FrameStatus, Options, StartPolicy};
 use numpy::ndarray::{Array1, Array2, Array3};
 use numpy::{IntoPyArray, PyReadonlyArray2};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use rayon::prelude::*;
 
 use crate::mechanism::{Mechanism, Plans};
+
+mod planar;
+mod spatial;
 
 /// The status codes of the `status` array, by index.
 pub const STATUS_NAMES: [&str; 5] = ["solved", "limited", "searched", "unreached", "stretched"];
 
+/// What a run of either dimension gives, frame by frame: the poses (`P`,
+/// the dimension's), the inputs of the pose reached, the status, and the
+/// rates when asked for.
+struct Run<P> {
+    /// frames × bodies poses.
+    poses: Vec<P>,
+    /// frames × inputs.
+    reached: Vec<f64>,
+    status: Vec<FrameStatus>,
+    rates: Option<Rates>,
+}
+
 /// Every frame's numbers, in flat row-major vectors.
 struct Solved {
     frames: usize,
-    /// frames × bodies × (3 or 7).
+    /// frames × bodies × `pose_width`.
     poses: Vec<f64>,
     pose_width: usize,
-    /// frames × markers × (2 or 3).
+    /// frames × markers × `dimension`.
     markers: Vec<f64>,
     dimension: usize,
     /// frames × inputs: the inputs of the pose reached.
@@ -71,6 +91,7 @@ pub fn simulate<'py>(
     policy: &str,
     branch: &str,
     drive: Option<(Vec<f64>, Vec<f64>)>,
+    parallel: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let options = options(policy, branch)?;
     let shape = inputs.as_array().shape().to_vec();
@@ -101,8 +122,8 @@ pub fn simulate<'py>(
     let drive = drive.map(|d| drive_of(mech, d)).transpose()?;
     let plans = mech.plans(py)?;
     let solved = py.detach(|| match (&mech.model, plans) {
-        (Model::Planar(m), Plans::Planar(p)) => planar(m, p, &rows, options, drive.as_ref()),
-        (Model::Spatial(m), Plans::Spatial(p)) => spatial(m, p, &rows, options, drive.as_ref()),
+        (Model::Planar(m), Plans::Planar(p)) => planar::run(m, p, &rows, options, drive.as_ref(), parallel),
+        (Model::Spatial(m), Plans::Spatial(p)) => spatial::run(m, p, &rows, options, drive.as_ref()),
         // A plan is made from its own mechanism.
         _ => unreachable!("a plan of the other dimension"),
     });
@@ -179,112 +200,51 @@ fn code(status: &FrameStatus) -> i8 {
     }
 }
 
-/// A planar run: poses as (angle in degrees from the drawing, x, y).
-fn planar(
-    m: &dofplan::model::Mechanism,
-    plan: &dofplan::plan::Plan,
-    rows: &[Vec<f64>],
-    options: Options,
-    drive: Option<&Drive>,
+/// Reads a run's frames off its poses, every frame at once on every core:
+/// `row` writes a frame's pose rows (`pose_width` numbers a body) and
+/// marker positions (`dimension` numbers a marker) and returns its
+/// residual, given its poses and inputs reached.
+fn finish<P: Sync>(
+    run: Run<P>,
+    (bodies, pose_width): (usize, usize),
+    (markers, dimension): (usize, usize),
+    inputs: usize,
+    row: impl Fn(&[P], &[f64], &mut [f64], &mut [f64]) -> f64 + Sync,
 ) -> Solved {
-    use dofplan::simulate::planar::{kinematics::motion, marker_at, max_relative_residual};
-    let mut driver = Driver::new(dofplan::interp::Interpreter::new(plan.clone()), options);
-    let markers: Vec<_> = m.all_markers().collect();
-    let mut s = Solved::with_capacity(rows.len(), m.bodies.len(), 3, markers.len(), 2, m.inputs.len());
-    s.rates = drive.map(|_| Rates::default());
-    for requested in rows {
-        let status = driver.frame(requested);
-        let poses = driver.poses();
-        for p in poses {
-            s.poses
-                .extend([dofplan::report::planar::frames::angle(p), p.at[0], p.at[1]]);
-        }
-        for &id in &markers {
-            s.markers.extend(marker_at(m, poses, id));
-        }
-        s.reached.extend_from_slice(driver.inputs());
-        s.status.push(code(&status));
-        s.residual.push(max_relative_residual(m, poses, driver.inputs()));
-        if let (Some(d), Some(r)) = (drive, s.rates.as_mut()) {
-            // Rates only where the frame met its inputs: a held pose has
-            // none of its own.
-            let jets = (status == FrameStatus::Solved).then(|| {
-                (driver.solver()).rates(driver.state(), driver.inputs(), &d.rates, &d.accelerations)
-            });
-            match jets {
-                Some(Ok(jets)) => {
-                    let mo = motion(m, &jets);
-                    r.velocity.extend(mo.velocity.iter().flatten());
-                    r.acceleration.extend(mo.acceleration.iter().flatten());
-                    r.omega.extend(&mo.omega);
-                    r.alpha.extend(&mo.alpha);
-                    r.code.push(0);
-                }
-                Some(Err(e)) => r.none(markers.len() * 2, m.bodies.len(), rate_code(&e)),
-                None => r.none(markers.len() * 2, m.bodies.len(), 1),
+    let frames = run.status.len();
+    let mut poses = vec![0.0; frames * bodies * pose_width];
+    let mut at = vec![0.0; frames * markers * dimension];
+    let mut residual = vec![0.0; frames];
+    // Blocks of frames, so that a thread's work outweighs handing it out.
+    const BLOCK: usize = 256;
+    let (pw, mw) = (bodies * pose_width, markers * dimension);
+    poses
+        .par_chunks_mut(BLOCK * pw.max(1))
+        .zip(at.par_chunks_mut(BLOCK * mw.max(1)))
+        .zip(residual.par_chunks_mut(BLOCK))
+        .enumerate()
+        .for_each(|(k, ((p_out, m_out), r_out))| {
+            for (j, r) in r_out.iter_mut().enumerate() {
+                let f = k * BLOCK + j;
+                *r = row(
+                    &run.poses[f * bodies..(f + 1) * bodies],
+                    &run.reached[f * inputs..(f + 1) * inputs],
+                    &mut p_out[j * pw..(j + 1) * pw],
+                    &mut m_out[j * mw..(j + 1) * mw],
+                );
             }
-        }
+        });
+    Solved {
+        frames,
+        poses,
+        pose_width,
+        markers: at,
+        dimension,
+        reached: run.reached,
+        status: run.status.iter().map(code).collect(),
+        residual,
+        rates: run.rates,
     }
-    s
-}
-
-/// A spatial run: poses as (x, y, z, qw, qx, qy, qz), the rotation from the
-/// drawing as a unit quaternion with qw ≥ 0.
-fn spatial(
-    m: &dofplan::model::spatial::Mechanism,
-    plan: &dofplan::plan::spatial::Plan,
-    rows: &[Vec<f64>],
-    options: Options,
-    drive: Option<&Drive>,
-) -> Solved {
-    use dofplan::simulate::spatial::{marker_positions, motion, residual};
-    let mut driver = Driver::new(dofplan::interp::spatial::Interpreter::new(plan.clone()), options);
-    let markers = m.all_markers().count();
-    let mut s = Solved::with_capacity(rows.len(), m.bodies.len(), 7, markers, 3, m.inputs.len());
-    s.rates = drive.map(|_| Rates::default());
-    for requested in rows {
-        let status = driver.frame(requested);
-        let poses = driver.poses();
-        for p in poses {
-            s.poses.extend(p.pos);
-            s.poses.extend(quaternion(&p.rot.m));
-        }
-        for at in marker_positions(m, poses) {
-            s.markers.extend(at);
-        }
-        s.reached.extend_from_slice(driver.inputs());
-        s.status.push(code(&status));
-        s.residual.push(residual(m, poses, driver.inputs()));
-        if let (Some(d), Some(r)) = (drive, s.rates.as_mut()) {
-            let jets = (status == FrameStatus::Solved).then(|| {
-                (driver.solver()).rates(driver.state(), driver.inputs(), &d.rates, &d.accelerations)
-            });
-            match jets {
-                Some(Ok(jets)) => {
-                    let mo = motion(m, &jets);
-                    r.velocity.extend(mo.velocity.iter().flatten());
-                    r.acceleration.extend(mo.acceleration.iter().flatten());
-                    r.omega.extend(mo.omega.iter().flatten());
-                    r.alpha.extend(mo.alpha.iter().flatten());
-                    r.code.push(0);
-                }
-                Some(Err(e)) => r.none(markers * 3, m.bodies.len() * 3, rate_code(&e)),
-                None => r.none(markers * 3, m.bodies.len() * 3, 1),
-            }
-        }
-    }
-    s
-}
-
-/// A rotation matrix (rows) as the unit quaternion (w, x, y, z), w ≥ 0.
-fn quaternion(r: &[[f64; 3]; 3]) -> [f64; 4] {
-    let matrix = nalgebra::Matrix3::new(
-        r[0][0], r[0][1], r[0][2], r[1][0], r[1][1], r[1][2], r[2][0], r[2][1], r[2][2],
-    );
-    let q =
-        nalgebra::UnitQuaternion::from_rotation_matrix(&nalgebra::Rotation3::from_matrix_unchecked(matrix));
-    let sign = if q.w < 0.0 { -1.0 } else { 1.0 };
-    [sign * q.w, sign * q.i, sign * q.j, sign * q.k]
 }
 
 /// The rate code of a frame whose rates failed.
@@ -305,29 +265,6 @@ impl Rates {
         self.omega.extend(std::iter::repeat_n(f64::NAN, bodies));
         self.alpha.extend(std::iter::repeat_n(f64::NAN, bodies));
         self.code.push(code);
-    }
-}
-
-impl Solved {
-    fn with_capacity(
-        frames: usize,
-        bodies: usize,
-        pose_width: usize,
-        markers: usize,
-        dimension: usize,
-        inputs: usize,
-    ) -> Solved {
-        Solved {
-            frames,
-            poses: Vec::with_capacity(frames * bodies * pose_width),
-            pose_width,
-            markers: Vec::with_capacity(frames * markers * dimension),
-            dimension,
-            reached: Vec::with_capacity(frames * inputs),
-            status: Vec::with_capacity(frames),
-            residual: Vec::with_capacity(frames),
-            rates: None,
-        }
     }
 }
 

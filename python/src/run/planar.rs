@@ -1,0 +1,141 @@
+//! Planar runs: poses as (angle in degrees from the drawing, x, y).
+
+use dofplan::interp::Interpreter;
+use dofplan::model::Mechanism;
+use dofplan::plan::Plan;
+use dofplan::simulate::planar::{kinematics::motion, marker_at, max_relative_residual_at};
+use dofplan_runtime::planar::Pose;
+use dofplan_runtime::{Batch, Driver, FrameStatus, Options, Solver};
+
+use super::{finish, rate_code, Drive, Rates, Run, Solved};
+
+/// Frames enough for the batch on every core to pay (below, one core's
+/// driver is as quick).
+const PARALLEL_FRAMES: usize = 4096;
+
+/// `rows` run through `plan`: on every core where that gives the driver's
+/// frames (see [`on_every_core`]) and `parallel` allows it, else by the
+/// driver, frame after frame (with the rates, if asked for).
+pub(super) fn run(
+    m: &Mechanism,
+    plan: &Plan,
+    rows: &[Vec<f64>],
+    options: Options,
+    drive: Option<&Drive>,
+    parallel: bool,
+) -> Solved {
+    let interp = Interpreter::new(plan.clone());
+    let run = match (parallel && drive.is_none())
+        .then(|| on_every_core(&interp, rows, options))
+        .flatten()
+    {
+        Some(run) => run,
+        None => in_order(m, interp, rows, options, drive),
+    };
+    let markers: Vec<_> = m.all_markers().collect();
+    let size = m.size();
+    finish(
+        run,
+        (m.bodies.len(), 3),
+        (markers.len(), 2),
+        m.inputs.len(),
+        |poses, inputs, pose_row, marker_row| {
+            for (p, out) in poses.iter().zip(pose_row.chunks_exact_mut(3)) {
+                out.copy_from_slice(&[dofplan::report::planar::frames::angle(p), p.at[0], p.at[1]]);
+            }
+            for (&id, out) in markers.iter().zip(marker_row.chunks_exact_mut(2)) {
+                out.copy_from_slice(&marker_at(m, poses, id));
+            }
+            max_relative_residual_at(m, size, poses, inputs)
+        },
+    )
+}
+
+/// The driver's run, frame after frame; with `drive`, each solved frame's
+/// rates from the state the driver left.
+fn in_order(
+    m: &Mechanism,
+    interp: Interpreter,
+    rows: &[Vec<f64>],
+    options: Options,
+    drive: Option<&Drive>,
+) -> Run<Pose> {
+    let mut driver = Driver::new(interp, options);
+    let (b, k) = (m.bodies.len(), m.all_markers().count());
+    let mut run = Run {
+        poses: Vec::with_capacity(rows.len() * b),
+        reached: Vec::with_capacity(rows.len() * m.inputs.len()),
+        status: Vec::with_capacity(rows.len()),
+        rates: drive.map(|_| Rates::default()),
+    };
+    for requested in rows {
+        let status = driver.frame(requested);
+        run.poses.extend_from_slice(driver.poses());
+        run.reached.extend_from_slice(driver.inputs());
+        run.status.push(status);
+        let (Some(d), Some(r)) = (drive, run.rates.as_mut()) else {
+            continue;
+        };
+        // Rates only where the frame met its inputs: a held pose has none
+        // of its own.
+        if status != FrameStatus::Solved {
+            r.none(k * 2, b, 1);
+            continue;
+        }
+        match (driver.solver()).rates(driver.state(), driver.inputs(), &d.rates, &d.accelerations) {
+            Ok(jets) => {
+                let mo = motion(m, &jets);
+                r.velocity.extend(mo.velocity.iter().flatten());
+                r.acceleration.extend(mo.acceleration.iter().flatten());
+                r.omega.extend(&mo.omega);
+                r.alpha.extend(&mo.alpha);
+                r.code.push(0);
+            }
+            Err(e) => r.none(k * 2, b, rate_code(&e)),
+        }
+    }
+    run
+}
+
+/// A long run of a closed-form plan under keep-branch and limit (the
+/// driver's defaults) on every core by `solve_batch_parallel`, which gives
+/// the driver's frames to the bit (`tests/planar/batch.rs`). `None` where
+/// that does not hold: another policy, a plan with a numeric cluster, a
+/// short run, or a sweep whose first frame a sweep's driver does not meet
+/// (until its first pose a sweep's frames are "unreached"; the batch
+/// starts from the drawing).
+fn on_every_core(interp: &Interpreter, rows: &[Vec<f64>], options: Options) -> Option<Run<Pose>> {
+    let defaults = Options::default();
+    let driver_like = options.breaking == defaults.breaking
+        && options.branch == defaults.branch
+        && options.search_tolerance == defaults.search_tolerance;
+    if !driver_like || !interp.independent() || rows.len() < PARALLEL_FRAMES {
+        return None;
+    }
+    // From a pose both drivers met on, they are one.
+    if options.start != defaults.start && !Driver::new(interp.clone(), options).frame(&rows[0]).is_solved() {
+        return None;
+    }
+    let flat: Vec<f64> = rows.iter().flatten().copied().collect();
+    let b = dofplan_runtime::Solver::initial_state(interp).poses.len();
+    let mut poses = vec![Pose::IDENTITY; rows.len() * b];
+    let mut status = vec![FrameStatus::Solved; rows.len()];
+    dofplan_runtime::batch::solve_batch_parallel(interp, &flat, &mut poses, &mut status);
+    // The inputs of the pose reached: a frame's own where it met them, else
+    // those of the pose it holds (the last it met, or the drawing's).
+    let drawn = interp.initial_inputs();
+    let mut at: &[f64] = drawn.as_ref();
+    let mut reached = Vec::with_capacity(flat.len());
+    for (requested, s) in rows.iter().zip(&status) {
+        if s.is_solved() {
+            at = requested;
+        }
+        reached.extend_from_slice(at);
+    }
+    Some(Run {
+        poses,
+        reached,
+        status,
+        rates: None,
+    })
+}
