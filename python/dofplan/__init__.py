@@ -27,8 +27,10 @@ import numpy as np
 
 from . import _dofplan
 from ._dofplan import DofplanError, MechanismError, PlanError, __version__
+from .builder import Builder
 
 __all__ = [
+    "Builder",
     "Check",
     "DofplanError",
     "Mechanism",
@@ -135,9 +137,17 @@ class Result:
       joint, constraint and input (near 1e-15 where a frame is solved).
     """
 
-    def __init__(self, mechanism: "Mechanism", requested: np.ndarray, raw: Dict[str, Any]) -> None:
+    def __init__(
+        self,
+        mechanism: "Mechanism",
+        requested: np.ndarray,
+        raw: Dict[str, Any],
+        policy: str = "limit",
+        branch: str = "keep",
+    ) -> None:
         self.mechanism = mechanism
         self.requested: np.ndarray = requested
+        self._policy, self._branch = policy, branch
         self.poses: np.ndarray = raw["poses"]
         self.markers: np.ndarray = raw["markers"]
         self.inputs: np.ndarray = raw["inputs"]
@@ -217,6 +227,14 @@ class Result:
         ax.legend()
         ax.set_title(self.mechanism.name)
         return ax
+
+    def svg(self) -> str:
+        """The frames drawn as ``dofplan simulate --svg`` draws them (traced
+        markers, faint poses, breaks marked)."""
+        return self.mechanism._m.svg_frames(self.requested, self._policy, self._branch)
+
+    def _repr_svg_(self) -> str:
+        return self.svg()
 
     def __repr__(self) -> str:
         counts = {n: int((self.status == k).sum()) for k, n in enumerate(self.status_names)}
@@ -343,7 +361,7 @@ class Mechanism:
             raw = self._m.simulate_raw(requested, policy, branch, None, None, parallel)
         else:
             raw = self._m.simulate_raw(requested, policy, branch, _drive[0], _drive[1], parallel)
-        return Result(self, requested, raw)
+        return Result(self, requested, raw, policy, branch)
 
     def rates(
         self,

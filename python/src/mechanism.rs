@@ -268,6 +268,55 @@ impl Mechanism {
         }
     }
 
+    /// The frames of `inputs` drawn as `simulate --svg` draws them: the
+    /// sweep's traced markers (the last marker when none), faint poses, and
+    /// how each frame met its inputs.
+    #[pyo3(signature = (inputs, policy = "limit", branch = "keep"))]
+    fn svg_frames(
+        &self,
+        py: Python<'_>,
+        inputs: numpy::PyReadonlyArray2<'_, f64>,
+        policy: &str,
+        branch: &str,
+    ) -> PyResult<String> {
+        let options = crate::run::options(policy, branch)?;
+        let rows: Vec<Vec<f64>> = inputs.as_array().outer_iter().map(|r| r.to_vec()).collect();
+        if rows.iter().any(|r| r.len() != self.input_list().len()) {
+            return Err(pyo3::exceptions::PyValueError::new_err("one column per input"));
+        }
+        let plans = self.plans(py)?;
+        Ok(py.detach(|| match (&self.model, plans) {
+            (Model::Planar(m), Plans::Planar(p)) => {
+                let mut driver =
+                    dofplan_runtime::Driver::new(dofplan::interp::Interpreter::new(p.clone()), options);
+                let frames: Vec<_> = dofplan::simulate::frames(&mut driver, &rows).collect();
+                let trace = match &m.sweep {
+                    Some(s) if !s.trace.is_empty() => s.trace.clone(),
+                    _ => m.all_markers().last().into_iter().collect(),
+                };
+                dofplan::render::render(m, &frames, &trace, &dofplan::render::SvgOptions::default())
+            }
+            (Model::Spatial(m), Plans::Spatial(p)) => {
+                let mut driver = dofplan_runtime::Driver::new(
+                    dofplan::interp::spatial::Interpreter::new(p.clone()),
+                    options,
+                );
+                let frames: Vec<_> = (rows.iter())
+                    .map(|r| {
+                        let status = driver.frame(r);
+                        dofplan::render::spatial::SpatialFrame {
+                            requested: r.clone(),
+                            status,
+                            poses: driver.poses().to_vec(),
+                        }
+                    })
+                    .collect();
+                dofplan::render::spatial::render_spatial(m, &frames)
+            }
+            _ => unreachable!("a plan is made from its own mechanism"),
+        }))
+    }
+
     /// Runs `inputs` (frames × inputs, C order) through the plan: see
     /// `crate::run::simulate`.
     /// With `rates` (and `accelerations`), one per input, in radians (or

@@ -311,3 +311,62 @@ def test_a_long_run_on_every_core_is_one_core_s_to_the_bit(name):
     assert a.solved[0]
     if name == "rocker_rocker":
         assert not a.solved.all() and a.solved[1000:].any()
+
+
+def fourbar_builder():
+    b = dofplan.Builder("fourbar")
+    b.ground(A=(0, 0), D=(4, 0))
+    b.body("crank", A=(0, 0), B=(1, 1))
+    b.body("coupler", B=(1, 1), C=(4.5, 2.5), P=(3, 3.5))
+    b.body("rocker", C=(4.5, 2.5), D=(4, 0))
+    b.revolute("A", "ground.A", "crank.A").revolute("B", "crank.B", "coupler.B")
+    b.revolute("C", "coupler.C", "rocker.C").revolute("D", "rocker.D", "ground.D")
+    b.crank("theta", joint="A")
+    b.sweep("theta", 0, 360, steps=73, trace=["coupler.P"])
+    return b
+
+
+def test_a_built_fourbar_moves_as_its_hand_computation_says():
+    m = fourbar_builder().build()
+    assert m.check().ok
+    r = m.simulate()
+    assert r.solved.all()
+    # Independently: B turns about A by theta; C closes |BC| and |CD|; P is
+    # fixed in the coupler's frame.
+    A, D = np.array([0.0, 0.0]), np.array([4.0, 0.0])
+    B0, C0, P0 = np.array([1.0, 1.0]), np.array([4.5, 2.5]), np.array([3.0, 3.5])
+    lbc, lcd = np.linalg.norm(C0 - B0), np.linalg.norm(D - C0)
+    for k, t in enumerate(np.radians(r.requested[:, 0])):
+        B = A + np.array([[np.cos(t), -np.sin(t)], [np.sin(t), np.cos(t)]]) @ (B0 - A)
+        d = np.linalg.norm(D - B)
+        a = (lbc**2 - lcd**2 + d**2) / (2 * d)
+        h = np.sqrt(lbc**2 - a**2)
+        u = (D - B) / d
+        n = np.array([-u[1], u[0]])
+        # The drawn branch: C on the left of B -> D.
+        C = B + a * u + h * n
+        assert np.linalg.norm(r.marker("coupler.C")[k] - C) < 1e-12
+        e0, e = (C0 - B0) / lbc, (C - B) / lbc
+        c, s = e0 @ e, e0[0] * e[1] - e0[1] * e[0]
+        rot = np.array([[c, -s], [s, c]])
+        assert np.linalg.norm(r.marker("coupler.P")[k] - (B + rot @ (P0 - B0))) < 1e-12
+
+
+def test_a_builder_writes_the_toml_it_builds():
+    b = fourbar_builder()
+    text = b.to_toml()
+    a, c = b.build().simulate(), dofplan.loads(text).simulate()
+    assert np.array_equal(a.markers, c.markers)
+    b.prismatic("S", "ground.A", "crank.B")
+    with pytest.raises(dofplan.MechanismError) as e:
+        b.build()
+    assert any(d["path"] and "S" in d["path"] for d in e.value.diagnostics), e.value.diagnostics
+
+
+def test_results_draw_themselves_as_the_cli_draws_a_sweep():
+    m = dofplan.load(MECHANISMS / "fourbar.toml")
+    r = m.simulate(steps=37)
+    svg = r._repr_svg_()
+    assert svg.lstrip().startswith("<svg") and "coupler.P" in svg
+    s = dofplan.load(MECHANISMS / "spatial" / "rssr.toml").simulate(steps=13)
+    assert "<svg" in s.svg()

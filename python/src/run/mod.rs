@@ -161,7 +161,7 @@ fn drive_of(mech: &Mechanism, (rates, accelerations): (Vec<f64>, Vec<f64>)) -> P
 }
 
 /// The driver's options from the policy names.
-fn options(policy: &str, branch: &str) -> PyResult<Options> {
+pub fn options(policy: &str, branch: &str) -> PyResult<Options> {
     let breaking = match policy {
         "limit" => BreakPolicy::Limit,
         "search" => BreakPolicy::Search,
