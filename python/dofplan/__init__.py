@@ -148,6 +148,9 @@ class Result:
         self.mechanism = mechanism
         self.requested: np.ndarray = requested
         self._policy, self._branch = policy, branch
+        #: The dragged marker, for a :meth:`Mechanism.drag` result (then
+        #: ``requested`` and ``inputs`` are its targets, asked and met).
+        self.dragged: Optional[str] = raw.get("dragged")
         self.poses: np.ndarray = raw["poses"]
         self.markers: np.ndarray = raw["markers"]
         self.inputs: np.ndarray = raw["inputs"]
@@ -156,7 +159,11 @@ class Result:
         self.residual: np.ndarray = raw["residual"]
         self.marker_names: List[str] = mechanism.markers
         self.body_names: List[str] = mechanism.bodies
-        self.input_names: List[str] = mechanism.inputs
+        self.input_names: List[str] = (
+            mechanism.inputs
+            if self.dragged is None
+            else [f"{self.dragged}.{c}" for c in "xyz"[: mechanism.dimension]]
+        )
         #: With rates (``Mechanism.rates``): every marker's velocity and
         #: acceleration (shaped like ``markers``), every body's angular
         #: velocity and acceleration in radians per unit of time (frames x
@@ -231,10 +238,14 @@ class Result:
     def svg(self) -> str:
         """The frames drawn as ``dofplan simulate --svg`` draws them (traced
         markers, faint poses, breaks marked)."""
+        if self.dragged is not None:
+            raise NotImplementedError(
+                "a drag's frames are drawn by the CLI: dofplan drag FILE --marker M --to X,Y --svg OUT.svg"
+            )
         return self.mechanism._m.svg_frames(self.requested, self._policy, self._branch)
 
-    def _repr_svg_(self) -> str:
-        return self.svg()
+    def _repr_svg_(self) -> Optional[str]:
+        return None if self.dragged is not None else self.svg()
 
     def __repr__(self) -> str:
         counts = {n: int((self.status == k).sum()) for k, n in enumerate(self.status_names)}
@@ -398,6 +409,25 @@ class Mechanism:
                 f"{self.file} has {n} inputs ({', '.join(self.inputs)}): give one {what} per input"
             )
         return [float(x) for x in v]
+
+    def drag(self, marker: str, targets: Any, *, policy: str = "stretch") -> Result:
+        """Pins ``marker`` (``body.marker``) to each target in turn, the
+        inputs released, as ``dofplan drag`` does: ``targets`` is frames x 2
+        (x 3 in space), or one point. Each frame moves the mechanism the
+        least that puts the marker on its target (Newton-Raphson with the
+        SVD pseudo-inverse); a target out of reach is come as close to as
+        the joints allow ("stretch", the default, as ``dofplan drag``), held
+        at the last target met ("limit") or gone toward ("search").
+        ``result.inputs`` are the targets met."""
+        t = np.asarray(targets, dtype=np.float64)
+        if t.ndim == 1:
+            t = t.reshape(1, -1)
+        if t.ndim != 2 or t.shape[1] != self.dimension:
+            raise ValueError(f"targets must be of shape (frames, {self.dimension}), not {t.shape}")
+        t = np.ascontiguousarray(t)
+        raw = dict(self._m.drag_raw(marker, t, policy))
+        raw["dragged"] = marker
+        return Result(self, t, raw, policy, "keep")
 
     def marker(self, name: str, result: Result) -> np.ndarray:
         """One marker's path in a result (``result.marker(name)``)."""

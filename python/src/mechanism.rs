@@ -268,6 +268,19 @@ impl Mechanism {
         }
     }
 
+    /// `marker` ("body.marker") pinned to each row of `targets` in turn, the
+    /// inputs released: see `crate::run::drag`.
+    #[pyo3(signature = (marker, targets, policy = "stretch"))]
+    fn drag_raw<'py>(
+        &self,
+        py: Python<'py>,
+        marker: &str,
+        targets: numpy::PyReadonlyArray2<'py, f64>,
+        policy: &str,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        crate::run::drag(py, self, marker, targets, policy)
+    }
+
     /// The frames of `inputs` drawn as `simulate --svg` draws them: the
     /// sweep's traced markers (the last marker when none), faint poses, and
     /// how each frame met its inputs.

@@ -370,3 +370,38 @@ def test_results_draw_themselves_as_the_cli_draws_a_sweep():
     assert svg.lstrip().startswith("<svg") and "coupler.P" in svg
     s = dofplan.load(MECHANISMS / "spatial" / "rssr.toml").simulate(steps=13)
     assert "<svg" in s.svg()
+
+
+def test_a_dragged_marker_follows_its_targets_with_every_joint_closed():
+    # The crank pin of the four-bar can only move on its circle about A:
+    # targets on that circle, computed here.
+    m = dofplan.load(MECHANISMS / "fourbar.toml")
+    t = np.radians(np.linspace(0.0, 60.0, 13))
+    targets = np.stack([np.cos(t) - np.sin(t), np.sin(t) + np.cos(t)], axis=1)  # B0 = (1, 1) turned by t
+    r = m.drag("crank.B", targets)
+    assert r.input_names == ["crank.B.x", "crank.B.y"]
+    assert r.solved.all(), [r.status_of(k) for k in range(len(r))]
+    assert np.max(np.linalg.norm(r.marker("crank.B") - targets, axis=1)) < 1e-9
+    assert np.max(joint_gaps(m, r)) < 1e-9
+    assert np.max(np.abs(r.body("crank")[:, 0] - np.degrees(t))) < 1e-7
+    # Off the circle: held under "limit" at the last target met, come as
+    # close as the joints allow (stretched) by default.
+    far = [[3.0, 3.0]]
+    assert m.drag("crank.B", far, policy="limit").status_of(0) == "limited"
+    assert m.drag("crank.B", far).status_of(0) == "stretched"
+    with pytest.raises(ValueError, match="no marker `coupler.Q` to drag"):
+        m.drag("coupler.Q", targets)
+    with pytest.raises(dofplan.PlanError, match="fixed"):
+        m.drag("ground.A", targets)
+    with pytest.raises(ValueError, match=r"shape \(frames, 2\)"):
+        m.drag("crank.B", np.zeros((3, 3)))
+
+
+def test_a_spatial_marker_is_dragged_along_its_path():
+    m = dofplan.load(MECHANISMS / "spatial" / "rssr.toml")
+    name = m.sweep["trace"][0]
+    path = m.simulate(np.linspace(0.0, 20.0, 5)).marker(name)
+    r = m.drag(name, path)
+    assert r.solved.all(), [r.status_of(k) for k in range(len(r))]
+    assert np.max(joint_gaps(m, r)) < 1e-9 * size_of(r)
+    assert np.max(np.linalg.norm(r.marker(name) - path, axis=1)) < 1e-9 * size_of(r)

@@ -130,6 +130,53 @@ pub fn simulate<'py>(
     into_dict(py, solved, n_inputs, mech.marker_names().len())
 }
 
+/// `Mechanism.drag_raw`: `marker` pinned to `targets` (frames × 2, or × 3
+/// in space) in turn, the inputs released, as `dofplan drag` moves it.
+pub fn drag<'py>(
+    py: Python<'py>,
+    mech: &Mechanism,
+    marker: &str,
+    targets: PyReadonlyArray2<'py, f64>,
+    policy: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    let options = Options {
+        start: StartPolicy::Drawn,
+        ..options(policy, "keep")?
+    };
+    let rows: Vec<Vec<f64>> = targets.as_array().outer_iter().map(|r| r.to_vec()).collect();
+    let dimension = match &mech.model {
+        Model::Planar(_) => 2,
+        Model::Spatial(_) => 3,
+    };
+    if let Some(r) = rows
+        .iter()
+        .find(|r| r.len() != dimension || r.iter().any(|x| !x.is_finite()))
+    {
+        return Err(PyValueError::new_err(format!(
+            "a target is {dimension} finite coordinates, not {r:?}"
+        )));
+    }
+    let unknown = || {
+        PyValueError::new_err(format!(
+            "{} has no marker `{marker}` to drag; markers are: {}",
+            mech.file(),
+            mech.marker_names().join(", ")
+        ))
+    };
+    let solved = match &mech.model {
+        Model::Planar(m) => {
+            let id = m.find_marker(marker).ok_or_else(unknown)?;
+            py.detach(|| planar::drag(m, id, &rows, options))
+        }
+        Model::Spatial(m) => {
+            let id = m.find_marker(marker).ok_or_else(unknown)?;
+            py.detach(|| spatial::drag(m, id, &rows, options))
+        }
+    }
+    .map_err(|e| crate::errors::plan_error(py, mech.file(), &e))?;
+    into_dict(py, solved, dimension, mech.marker_names().len())
+}
+
 /// The inputs' rates and accelerations in the interpreter's units: an angle
 /// input's radians per unit of time become degrees (a slide's stay).
 fn drive_of(mech: &Mechanism, (rates, accelerations): (Vec<f64>, Vec<f64>)) -> PyResult<Drive> {

@@ -139,3 +139,50 @@ fn on_every_core(interp: &Interpreter, rows: &[Vec<f64>], options: Options) -> O
         rates: None,
     })
 }
+
+/// `marker` of `m` pinned to each of `targets` in turn, the inputs
+/// released (`dofplan drag`'s solver: Newton–Raphson with the SVD
+/// pseudo-inverse, the smallest motion), by the driver under `options`. The
+/// inputs reached are the targets met; the residual is the joints' and
+/// constraints' (the inputs are free).
+pub(super) fn drag(
+    m: &Mechanism,
+    marker: dofplan::model::MarkerId,
+    targets: &[Vec<f64>],
+    options: Options,
+) -> Result<Solved, String> {
+    let solver = dofplan::numeric::planar::drag::Drag::new(m, marker).map_err(|e| e.to_string())?;
+    let mut driver = Driver::new(solver, options);
+    let b = m.bodies.len();
+    let mut run = Run {
+        poses: Vec::with_capacity(targets.len() * b),
+        reached: Vec::with_capacity(targets.len() * 2),
+        status: Vec::with_capacity(targets.len()),
+        rates: None,
+    };
+    for t in targets {
+        let status = driver.frame(t);
+        run.poses.extend_from_slice(driver.poses());
+        run.reached.extend_from_slice(driver.inputs());
+        run.status.push(status);
+    }
+    let mut free = m.clone();
+    free.inputs.clear();
+    let markers: Vec<_> = m.all_markers().collect();
+    let size = m.size();
+    Ok(finish(
+        run,
+        (b, 3),
+        (markers.len(), 2),
+        2,
+        |poses, _, pose_row, marker_row| {
+            for (p, out) in poses.iter().zip(pose_row.chunks_exact_mut(3)) {
+                out.copy_from_slice(&[dofplan::report::planar::frames::angle(p), p.at[0], p.at[1]]);
+            }
+            for (&id, out) in markers.iter().zip(marker_row.chunks_exact_mut(2)) {
+                out.copy_from_slice(&marker_at(m, poses, id));
+            }
+            max_relative_residual_at(&free, size, poses, &[])
+        },
+    ))
+}

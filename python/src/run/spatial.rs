@@ -94,3 +94,54 @@ fn quaternion(r: &[[f64; 3]; 3]) -> [f64; 4] {
     let sign = if q.w < 0.0 { -1.0 } else { 1.0 };
     [sign * q.w, sign * q.i, sign * q.j, sign * q.k]
 }
+
+/// `marker` of `m` pinned to each of `targets` in turn, the inputs released
+/// (`dofplan drag`'s plan: one cluster with the marker pinned, solved by
+/// task priority), by the driver under `options`. The residual is the
+/// joints' and constraints'.
+pub(super) fn drag(
+    m: &Mechanism,
+    marker: dofplan::model::MarkerId,
+    targets: &[Vec<f64>],
+    options: Options,
+) -> Result<Solved, String> {
+    if m.bodies[marker.body].fixed {
+        return Err(format!(
+            "`{}` is on a fixed body and cannot be dragged: drag a marker of a moving body",
+            m.marker_name(marker)
+        ));
+    }
+    let free = dofplan::numeric::spatial::released(m);
+    let plan = dofplan::numeric::spatial::drag_plan(m, marker);
+    let mut driver = Driver::new(Interpreter::new(plan), options);
+    let b = m.bodies.len();
+    let mut run = Run {
+        poses: Vec::with_capacity(targets.len() * b),
+        reached: Vec::with_capacity(targets.len() * 3),
+        status: Vec::with_capacity(targets.len()),
+        rates: None,
+    };
+    for t in targets {
+        let status = driver.frame(t);
+        run.poses.extend_from_slice(driver.poses());
+        run.reached.extend_from_slice(driver.inputs());
+        run.status.push(status);
+    }
+    let markers: Vec<_> = m.all_markers().collect();
+    Ok(finish(
+        run,
+        (b, 7),
+        (markers.len(), 3),
+        3,
+        |poses, inputs, pose_row, marker_row| {
+            for (p, out) in poses.iter().zip(pose_row.chunks_exact_mut(7)) {
+                out[..3].copy_from_slice(&p.pos);
+                out[3..].copy_from_slice(&quaternion(&p.rot.m));
+            }
+            for (&id, out) in markers.iter().zip(marker_row.chunks_exact_mut(3)) {
+                out.copy_from_slice(&poses[id.body].world(m.marker(id).at));
+            }
+            residual(&free, poses, inputs)
+        },
+    ))
+}
