@@ -73,6 +73,8 @@
 //! - [`simulate`]: sweeps, frames and the kinematics `analyze` reports.
 //! - [`synth`]: design parameters (the drawn joint positions), candidates
 //!   planned from them, and exact derivatives with respect to them.
+//! - [`import`]: mechanisms written for other tools (Pyslvs's PMKS
+//!   expressions) as dofplan mechanism files (`dofplan import`).
 //! - [`report`]: the reports of the CLI's commands (`check`, …), as text
 //!   or JSON.
 //! - [`mod@format`]: how numbers are printed, the same in every output.
@@ -84,6 +86,7 @@ pub mod conflict;
 pub mod edit;
 pub mod emit;
 pub mod format;
+pub mod import;
 pub mod interp;
 pub mod model;
 pub mod numeric;

@@ -39,8 +39,9 @@ const COMPILER: &[&[&str]] = &[
     // Which joints cannot all close: above analysis and Newton, run by
     // the loader's callers.
     &["conflict"],
-    // What users run on top of plans.
-    &["assemble", "simulate"],
+    // What users run on top of plans; importers load and plan what they
+    // write.
+    &["assemble", "simulate", "import"],
     // Synthesis writes its solutions as `assemble` rewrites a file.
     &["synth"],
     &["render", "build"],

@@ -29,6 +29,7 @@ use dofplan::report::{Form, Outcome};
 use dofplan::simulate::{sweep_to_run, SweepSource};
 use dofplan_runtime::{BranchPolicy, BreakPolicy, Options, StartPolicy};
 
+mod import;
 mod progress;
 mod synth;
 
@@ -261,6 +262,13 @@ enum Command {
     /// drawing has is varied unless `--vary` names some; the drawing must
     /// lie inside `--bounds`.
     Synth(Box<synth::SynthArgs>),
+    /// Write a Pyslvs (PMKS) mechanism expression as a mechanism file.
+    ///
+    /// FILE holds the expression, `M[J[R, P[0, 0], L[ground, L1]], ...]`,
+    /// optionally followed by its input pairs, `((0, 1),)`. Each point Pk
+    /// becomes a marker Pk on every link it lists, and its joints; the
+    /// header of the file written says how every name maps.
+    Import(import::ImportArgs),
     /// Move every marker to where the joints close: author a file from
     /// approximate coordinates.
     ///
@@ -504,6 +512,7 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
         Command::Assemble { file, write } => assemble(&file, write, out),
         Command::Edit { file, port, open } => edit::run(file.as_deref(), port, open, out),
         Command::Synth(args) => synth::run(*args, out),
+        Command::Import(args) => import::run(args, out),
     }
 }
 
@@ -519,9 +528,11 @@ fn spatial_file(command: &Command) -> Option<Result<dofplan::model::spatial::Mec
         | Command::Drag { file, .. } => file,
         // A spatial drawing with open joints is what it assembles: it
         // loads the file itself (`assemble`).
-        Command::Fragments | Command::Edit { .. } | Command::Assemble { .. } | Command::Synth(_) => {
-            return None
-        }
+        Command::Fragments
+        | Command::Edit { .. }
+        | Command::Assemble { .. }
+        | Command::Synth(_)
+        | Command::Import(_) => return None,
     };
     if !dofplan::model::is_spatial_file(file) {
         return None;
@@ -597,6 +608,7 @@ fn spatial_command(
         // editor and synth).
         Command::Edit { file, port, open } => edit::run(file.as_deref(), port, open, out),
         Command::Synth(args) => synth::run(*args, out),
+        Command::Import(args) => import::run(args, out),
     }
 }
 
