@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import json
 import os
-from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Union
+from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
@@ -39,8 +39,10 @@ __all__ = [
     "PlanError",
     "Result",
     "from_dict",
+    "from_pmks",
     "load",
     "loads",
+    "pmks_to_toml",
     "__version__",
 ]
 
@@ -70,6 +72,35 @@ def from_dict(d: Mapping[str, Any], name: str = "<dict>") -> "Mechanism":
     except (TypeError, ValueError) as e:
         raise MechanismError(f"{name}: error: the dict is not a mechanism file's data: {e}") from None
     return loads(text, "json", name)
+
+
+def from_pmks(
+    text: str,
+    inputs: Optional[Sequence[Tuple[int, int]]] = None,
+    name: str = "imported",
+) -> "Mechanism":
+    """Reads a Pyslvs (PMKS) expression, ``M[J[R, P[x, y], L[ground, L1]],
+    ...]``, optionally followed by its input pairs (``((0, 1),)``), as
+    ``dofplan import`` does: each point a marker on the links it lists,
+    R points revolute joints, P points prismatic joints, RP points a slider
+    block; each input pair ``(base, drive)`` an angle input. ``inputs``
+    replaces the pairs written in the text. The mechanism file's text is
+    :func:`pmks_to_toml`'s; what cannot be expressed raises
+    :class:`MechanismError` pointing into the expression."""
+    toml, _ = _dofplan.pmks_to_toml(text, None if inputs is None else [tuple(p) for p in inputs], name)
+    return loads(toml, "toml", f"{name}.toml")
+
+
+def pmks_to_toml(
+    text: str,
+    inputs: Optional[Sequence[Tuple[int, int]]] = None,
+    name: str = "imported",
+) -> str:
+    """The mechanism file (TOML) :func:`from_pmks` loads, with a header
+    saying where each point went and how Pyslvs's angles map to the
+    inputs."""
+    toml, _ = _dofplan.pmks_to_toml(text, None if inputs is None else [tuple(p) for p in inputs], name)
+    return toml
 
 
 class Check:

@@ -61,3 +61,9 @@ class Mechanism:
 
 def load(path: Union[str, "os.PathLike[str]"]) -> Mechanism: ...
 def loads(text: str, format: str = "toml", name: str = "<string>") -> Mechanism: ...
+def pmks_to_toml(
+    text: str,
+    inputs: Optional[List[Tuple[int, int]]] = None,
+    name: str = "imported",
+    file: str = "<pmks>",
+) -> Tuple[str, List[str]]: ...

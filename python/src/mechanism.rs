@@ -397,3 +397,23 @@ pub fn loads(py: Python<'_>, text: &str, format: &str, name: &str) -> PyResult<M
         .map(Mechanism::new)
         .map_err(|e| mechanism_error(py, &e))
 }
+
+/// A Pyslvs (PMKS) expression, `M[J[R, P[x, y], L[ground, L1]], …]`,
+/// optionally followed by its input pairs, as `dofplan import` reads it;
+/// `inputs` (pairs of point indices) replace the pairs written in the
+/// text. Returns the mechanism file's text (with a header saying how the
+/// names map) and the notes (no inputs, no plan). Errors point into the
+/// expression.
+#[pyfunction]
+#[pyo3(signature = (text, inputs = None, name = "imported", file = "<pmks>"))]
+pub fn pmks_to_toml(
+    py: Python<'_>,
+    text: &str,
+    inputs: Option<Vec<(usize, usize)>>,
+    name: &str,
+    file: &str,
+) -> PyResult<(String, Vec<String>)> {
+    py.detach(|| dofplan::import::import_pmks(file, text, inputs.as_deref(), name))
+        .map(|i| (i.toml, i.notes))
+        .map_err(|e| mechanism_error(py, &e))
+}

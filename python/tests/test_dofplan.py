@@ -405,3 +405,41 @@ def test_a_spatial_marker_is_dragged_along_its_path():
     assert r.solved.all(), [r.status_of(k) for k in range(len(r))]
     assert np.max(joint_gaps(m, r)) < 1e-9 * size_of(r)
     assert np.max(np.linalg.norm(r.marker(name) - path, axis=1)) < 1e-9 * size_of(r)
+
+
+# A crank-rocker written here in Pyslvs's expression form: ground pivots at
+# (0, 0) and (90, 0), a coupler point P3 on link L2.
+CRANK_ROCKER = """M[
+J[R, color[Green], P[0.0, 0.0], L[ground, L1]],
+J[R, color[Green], P[12.92, 32.53], L[L1, L2]],
+J[R, color[Green], P[73.28, 67.97], L[L2, L3]],
+J[R, color[Green], P[33.3, 66.95], L[L2]],
+J[R, color[Green], P[90.0, 0.0], L[ground, L3]],
+]"""
+
+
+def test_a_pyslvs_expression_imports_and_moves_with_its_links_rigid():
+    m = dofplan.from_pmks(CRANK_ROCKER, inputs=[(0, 1)], name="crank_rocker")
+    assert m.bodies == ["ground", "L1", "L2", "L3"]
+    assert m.inputs == ["P0_P1"]
+    r = m.simulate(np.linspace(0.0, 360.0, 73))
+    assert r.solved.all()
+    # The drawn pose is the expression's coordinates.
+    drawn = {"P0": (0.0, 0.0), "P1": (12.92, 32.53), "P2": (73.28, 67.97), "P3": (33.3, 66.95), "P4": (90.0, 0.0)}
+    for name in r.marker_names:
+        assert np.allclose(r.markers[0, r.marker_names.index(name)], drawn[name.split(".")[1]], atol=1e-12)
+    # Link lengths hold in every frame (computed from the expression).
+    for a, b in (("L1.P0", "L1.P1"), ("L2.P1", "L2.P2"), ("L2.P1", "L2.P3"), ("L3.P2", "L3.P4")):
+        length = np.hypot(*np.subtract(drawn[b.split(".")[1]], drawn[a.split(".")[1]]))
+        got = np.linalg.norm(r.marker(b) - r.marker(a), axis=1)
+        assert np.max(np.abs(got - length)) < 1e-9
+    assert np.max(joint_gaps(m, r)) < 1e-9
+    assert "Imported by `dofplan import`" in dofplan.pmks_to_toml(CRANK_ROCKER, [(0, 1)])
+
+
+def test_a_bad_expression_is_an_error_at_its_column():
+    with pytest.raises(dofplan.MechanismError) as e:
+        dofplan.from_pmks("M[J[R, P[0, 0], L[ground, L1]], J[X, P[1,1], L[L1]]]")
+    d = e.value.diagnostics[0]
+    assert (d["line"], d["column"]) == (1, 35)
+    assert "unknown joint type `X`" in d["message"]
