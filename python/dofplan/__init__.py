@@ -460,6 +460,33 @@ class Mechanism:
         raw["dragged"] = marker
         return Result(self, t, raw, policy, "keep")
 
+    def analyze(self, rate: float = 1.0, steps: Optional[int] = None) -> Dict[str, Any]:
+        """``dofplan analyze --json`` on the file's sweep (``steps`` frames if
+        given), its first input at ``rate`` (radians or length units per unit
+        of time): every frame's marker velocities and accelerations, body
+        rates, and each four-bar loop's transmission angle, as a dict."""
+        return json.loads(self._m.analyze_json(rate, steps))
+
+    def sensitivity(
+        self,
+        tolerance: Optional[float] = None,
+        monte_carlo: Optional[int] = None,
+        seed: int = 0,
+        steps: Optional[int] = None,
+    ) -> Dict[str, Any]:
+        """``dofplan analyze --sensitivity --json``: each traced marker's
+        exact derivatives with respect to every design parameter over the
+        sweep, ranked; with ``tolerance`` the worst-case first-order
+        deviation, and with ``monte_carlo`` N perturbed candidates' spread
+        (seeded by ``seed``)."""
+        return json.loads(self._m.sensitivity_json(tolerance, monte_carlo, seed, steps))
+
+    def __reduce__(self) -> Any:
+        # Pickled as its text (multiprocessing, Ray, Dask send mechanisms
+        # this way): loaded again on the other side, checks included.
+        text, fmt = self._m.source()
+        return (loads, (text, fmt, self.file))
+
     def marker(self, name: str, result: Result) -> np.ndarray:
         """One marker's path in a result (``result.marker(name)``)."""
         return result.marker(name)

@@ -28,6 +28,42 @@ pub struct Mechanism {
 }
 
 impl Mechanism {
+    /// The file's sweep with `steps` frames if given, or a ValueError.
+    fn sweep_of(&self, steps: Option<usize>) -> PyResult<Sweep> {
+        let Some(sweep) = self.sweep() else {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "{} has no [sweep] to analyze: add one to the file",
+                self.file()
+            )));
+        };
+        let mut sweep = sweep.clone();
+        if let Some(n) = steps {
+            if n == 0 || n as i64 > dofplan::model::MAX_STEPS {
+                return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                    "steps must be from 1 to {}, not {n}",
+                    dofplan::model::MAX_STEPS
+                )));
+            }
+            sweep.steps = n;
+        }
+        Ok(sweep)
+    }
+
+    /// A CLI report written into a string, the lock released; its error
+    /// (the CLI's message) a `DofplanError`.
+    fn report(
+        &self,
+        py: Python<'_>,
+        write: impl FnOnce(&mut Vec<u8>) -> dofplan::report::Outcome + Send,
+    ) -> PyResult<String> {
+        let mut out = Vec::new();
+        match py.detach(|| write(&mut out)) {
+            Ok(Ok(())) => Ok(String::from_utf8_lossy(&out).into_owned()),
+            Ok(Err(message)) => Err(crate::errors::DofplanError::new_err(message)),
+            Err(e) => Err(pyo3::exceptions::PyIOError::new_err(e.to_string())),
+        }
+    }
+
     fn new(model: Model) -> Mechanism {
         Mechanism {
             model,
@@ -240,6 +276,75 @@ impl Mechanism {
             })
             .map_err(|e| pyo3::exceptions::PyIOError::new_err(e.to_string()))?;
         Ok((String::from_utf8_lossy(&out).into_owned(), ok))
+    }
+
+    /// `dofplan analyze --json` on the file's sweep (`steps` frames if
+    /// given), its first input at `rate`: the text.
+    #[pyo3(signature = (rate = 1.0, steps = None))]
+    fn analyze_json(&self, py: Python<'_>, rate: f64, steps: Option<usize>) -> PyResult<String> {
+        let sweep = self.sweep_of(steps)?;
+        let plans = self.plans(py)?;
+        self.report(py, |out| match (&self.model, plans) {
+            (Model::Planar(m), Plans::Planar(p)) => dofplan::report::planar::analyze::analyze(
+                m,
+                p,
+                &sweep,
+                rate,
+                dofplan::report::Form::Json,
+                None,
+                &mut (),
+                out,
+            ),
+            (Model::Spatial(m), Plans::Spatial(p)) => dofplan::report::spatial::analyze::analyze(
+                m,
+                p,
+                &sweep,
+                rate,
+                dofplan::report::Form::Json,
+                None,
+                &mut (),
+                out,
+            ),
+            _ => unreachable!("a plan is made from its own mechanism"),
+        })
+    }
+
+    /// `dofplan analyze --sensitivity --json` on the file's sweep: the text.
+    #[pyo3(signature = (tolerance = None, monte_carlo = None, seed = 0, steps = None))]
+    fn sensitivity_json(
+        &self,
+        py: Python<'_>,
+        tolerance: Option<f64>,
+        monte_carlo: Option<usize>,
+        seed: u64,
+        steps: Option<usize>,
+    ) -> PyResult<String> {
+        let sweep = self.sweep_of(steps)?;
+        let study = dofplan::report::sensitivity::Study {
+            tolerance,
+            monte_carlo,
+            seed,
+        };
+        self.report(py, |out| match &self.model {
+            Model::Planar(m) => {
+                dofplan::report::planar::sensitivity::run(m, &sweep, study, dofplan::report::Form::Json, out)
+            }
+            Model::Spatial(m) => {
+                dofplan::report::spatial::sensitivity::run(m, &sweep, study, dofplan::report::Form::Json, out)
+            }
+        })
+    }
+
+    /// The mechanism's text as loaded, and its format ("toml" or "json"):
+    /// what pickling a mechanism keeps.
+    fn source(&self) -> (String, &'static str) {
+        let source = match &self.model {
+            Model::Planar(m) => &m.source,
+            Model::Spatial(m) => &m.source,
+        };
+        let json =
+            source.name.to_ascii_lowercase().ends_with(".json") || source.text.trim_start().starts_with('{');
+        (source.text.to_string(), if json { "json" } else { "toml" })
     }
 
     /// The plan explained step by step, as `dofplan plan` prints it.

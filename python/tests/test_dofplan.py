@@ -443,3 +443,50 @@ def test_a_bad_expression_is_an_error_at_its_column():
     d = e.value.diagnostics[0]
     assert (d["line"], d["column"]) == (1, 35)
     assert "unknown joint type `X`" in d["message"]
+
+
+def test_analyze_reports_the_transmission_angle_of_the_positions():
+    m = dofplan.load(MECHANISMS / "fourbar.toml")
+    a = m.analyze(rate=2.0, steps=37)
+    assert a["mechanism"] == "fourbar" and len(a["frames"]) == 37
+    for f in a["frames"]:
+        mk = f["markers"]
+        # The angle at C between the coupler (C -> B) and the rocker (C -> D).
+        u = np.subtract(mk["coupler.B"], mk["coupler.C"])
+        v = np.subtract(mk["rocker.D"], mk["rocker.C"])
+        mu = np.degrees(np.arccos(u @ v / np.linalg.norm(u) / np.linalg.norm(v)))
+        [loop] = f["transmission"]
+        assert abs(min(loop["angle"], 180.0 - loop["angle"]) - min(mu, 180.0 - mu)) < 1e-9
+        assert f["angular"]["crank"]["omega"] == pytest.approx(2.0, abs=1e-12)
+    with pytest.raises(ValueError, match="steps must be from 1"):
+        m.analyze(steps=0)
+
+
+def test_sensitivity_ranks_the_parameters_and_bounds_a_tolerance():
+    m = dofplan.load(MECHANISMS / "fourbar.toml")
+    s = m.sensitivity(tolerance=0.01, monte_carlo=20, seed=3, steps=19)
+    names = [p["name"] for p in s["parameters"]]
+    assert "B.x" in names and "coupler.P.y" in names
+    assert s["traced"] == ["coupler.P"]
+    largest = [r["largest"] for r in s["ranking"]]
+    assert largest == sorted(largest, reverse=True)
+    # The same seed, the same study.
+    assert m.sensitivity(tolerance=0.01, monte_carlo=20, seed=3, steps=19) == s
+
+
+def test_a_mechanism_pickles_as_its_text_and_runs_in_other_processes():
+    import multiprocessing
+    import pickle
+
+    m = dofplan.load(MECHANISMS / "slider_crank.toml")
+    again = pickle.loads(pickle.dumps(m))
+    assert again.file == m.file and again.bodies == m.bodies
+    chunks = [np.linspace(k * 90.0, (k + 1) * 90.0, 46) for k in range(4)]
+    with multiprocessing.get_context("spawn").Pool(2) as pool:
+        paths = pool.starmap(_slider_path, [(m, c) for c in chunks])
+    for c, p in zip(chunks, paths):
+        assert np.array_equal(p, m.simulate(c).marker("slider.C"))
+
+
+def _slider_path(m, theta):
+    return m.simulate(theta).marker("slider.C")
