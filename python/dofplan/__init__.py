@@ -30,6 +30,7 @@ from ._dofplan import DofplanError, MechanismError, PlanError, __version__
 from .builder import Builder
 
 __all__ = [
+    "Assembled",
     "Builder",
     "Check",
     "DofplanError",
@@ -38,6 +39,8 @@ __all__ = [
     "Plan",
     "PlanError",
     "Result",
+    "assemble",
+    "assemble_text",
     "from_dict",
     "from_pmks",
     "load",
@@ -101,6 +104,47 @@ def pmks_to_toml(
     inputs."""
     toml, _ = _dofplan.pmks_to_toml(text, None if inputs is None else [tuple(p) for p in inputs], name)
     return toml
+
+
+class Assembled:
+    """What :func:`assemble` gives: ``text`` (the file with the assembled
+    coordinates, comments and key order kept), ``report`` (the table of
+    moves ``dofplan assemble`` prints), ``unchanged`` (nothing moved), and
+    ``mechanism`` (the text loaded)."""
+
+    def __init__(self, text: str, report: str, unchanged: bool, format: str, name: str) -> None:
+        self.text, self.report, self.unchanged = text, report, unchanged
+        self._format, self._name = format, name
+
+    @property
+    def mechanism(self) -> "Mechanism":
+        return loads(self.text, self._format, self._name)
+
+    def __repr__(self) -> str:
+        return f"<dofplan.Assembled {self._name}: {'nothing moved' if self.unchanged else 'moved'}>"
+
+
+def assemble_text(text: str, format: str = "toml", name: str = "<string>") -> Assembled:
+    """``dofplan assemble`` on a mechanism's text, of either dimension: its
+    drawing moved the least that closes every joint (a drawing whose joints
+    do not hold, which :func:`loads` refuses). Errors other than open joints
+    (and joints in conflict: no pose closes them) raise
+    :class:`MechanismError`."""
+    out, report, unchanged = _dofplan.assemble_text(text, format, name)
+    return Assembled(out, report, unchanged, format, name)
+
+
+def assemble(path: Union[str, "os.PathLike[str]"]) -> Assembled:
+    """:func:`assemble_text` on a file (JSON when its name ends in
+    ``.json``). The file is not written: ``Assembled.text`` is."""
+    p = os.fspath(path)
+    fmt = "json" if p.lower().endswith(".json") else "toml"
+    try:
+        with open(p, encoding="utf-8") as f:
+            text = f.read()
+    except OSError as e:
+        raise MechanismError(f"{p}: error: cannot read the file: {e}") from None
+    return assemble_text(text, fmt, p)
 
 
 class Check:

@@ -29,6 +29,7 @@ fn _dofplan(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(mechanism::load, m)?)?;
     m.add_function(wrap_pyfunction!(mechanism::loads, m)?)?;
     m.add_function(wrap_pyfunction!(mechanism::pmks_to_toml, m)?)?;
+    m.add_function(wrap_pyfunction!(mechanism::assemble_text, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

@@ -522,3 +522,37 @@ pub fn pmks_to_toml(
         .map(|i| (i.toml, i.notes))
         .map_err(|e| mechanism_error(py, &e))
 }
+
+/// `dofplan assemble` on a text: the drawing moved the least that closes
+/// every joint (the inputs held at their drawn values where they can be).
+/// Returns the file's text with the assembled coordinates (comments and
+/// key order kept; the text as given when nothing moved), the table of
+/// moves `dofplan assemble` prints, and whether nothing moved.
+#[pyfunction]
+#[pyo3(signature = (text, format = "toml", name = "<string>"))]
+pub fn assemble_text(
+    py: Python<'_>,
+    text: &str,
+    format: &str,
+    name: &str,
+) -> PyResult<(String, String, bool)> {
+    let format = match format {
+        "toml" => Format::Toml,
+        "json" => Format::Json,
+        other => {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "format must be \"toml\" or \"json\", not {other:?}"
+            )))
+        }
+    };
+    let done = py.detach(|| match dofplan::model::load_any_str_drawn(name, text, format)? {
+        dofplan::model::DrawnModel::Planar(_) => dofplan::assemble::planar::assemble_str(name, text, format)
+            .map(|d| (d.report(), d.unchanged(), d.text)),
+        dofplan::model::DrawnModel::Spatial(_) => {
+            dofplan::assemble::spatial::assemble_str(name, text, format)
+                .map(|d| (d.report(), d.unchanged(), d.text))
+        }
+    });
+    let (report, unchanged, text) = done.map_err(|e| mechanism_error(py, &e))?;
+    Ok((text, report, unchanged))
+}

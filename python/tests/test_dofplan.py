@@ -490,3 +490,21 @@ def test_a_mechanism_pickles_as_its_text_and_runs_in_other_processes():
 
 def _slider_path(m, theta):
     return m.simulate(theta).marker("slider.C")
+
+
+def test_a_drawing_off_by_a_little_is_assembled_and_then_loads():
+    text = (MECHANISMS / "fourbar.toml").read_text()
+    off = text.replace("C = [4.5, 2.5]", "C = [4.52, 2.47]", 1)
+    assert off != text
+    with pytest.raises(dofplan.MechanismError, match="does not hold"):
+        dofplan.loads(off)
+    a = dofplan.assemble_text(off, name="off.toml")
+    assert not a.unchanged and "coupler.C" in a.report
+    m = a.mechanism
+    r = m.simulate([0.0, 90.0])
+    assert r.solved.all() and np.max(joint_gaps(m, r)) < 1e-9
+    # The coupler's moved marker keeps the links' lengths it was drawn with
+    # on the rocker's side; nothing moved far.
+    c = r.marker("coupler.C")[0]
+    assert np.linalg.norm(c - [4.52, 2.47]) < 0.05
+    assert dofplan.assemble(MECHANISMS / "fourbar.toml").unchanged
