@@ -43,9 +43,13 @@ __all__ = [
     "assemble_text",
     "from_dict",
     "from_pmks",
+    "from_pylinkage",
     "load",
     "loads",
     "pmks_to_toml",
+    "synth",
+    "Synthesis",
+    "to_pylinkage",
     "__version__",
 ]
 
@@ -145,6 +149,135 @@ def assemble(path: Union[str, "os.PathLike[str]"]) -> Assembled:
     except OSError as e:
         raise MechanismError(f"{p}: error: cannot read the file: {e}") from None
     return assemble_text(text, fmt, p)
+
+
+class Synthesis:
+    """What :func:`synth` found: ``result`` is ``dofplan synth --json``'s
+    document (``error`` with ``sum_sq``, ``rms``, ``max``; ``evaluations``,
+    ``seconds``, ``parameters``, ``constraints``, ``solutions``...), ``text``
+    the best solution's file (the mechanism's own text with the new
+    coordinates, comments and key order kept), ``mechanism`` that file
+    loaded."""
+
+    def __init__(self, result: Dict[str, Any], text: str, format: str, name: str) -> None:
+        self.result, self.text = result, text
+        self._format, self._name = format, name
+
+    @property
+    def error(self) -> Dict[str, float]:
+        return self.result["error"]
+
+    @property
+    def parameters(self) -> Dict[str, float]:
+        return self.result["parameters"]
+
+    @property
+    def mechanism(self) -> "Mechanism":
+        return loads(self.text, self._format, self._name)
+
+    def __repr__(self) -> str:
+        return f"<dofplan.Synthesis rms={self.error.get('rms')}>"
+
+
+def _csv(rows: Any, columns: Sequence[int], what: str) -> str:
+    a = np.asarray(rows, dtype=np.float64)
+    if a.ndim != 2 or a.shape[1] not in columns:
+        want = " or ".join(str(c) for c in columns)
+        raise ValueError(f"{what} targets are rows of {want} numbers, not an array of shape {a.shape}")
+    return "\n".join(",".join(repr(float(x)) for x in row) for row in a) + "\n"
+
+
+def synth(
+    mechanism: "Mechanism",
+    *,
+    path: Any = None,
+    function: Any = None,
+    motion: Any = None,
+    marker: Optional[str] = None,
+    output: Optional[str] = None,
+    body: Optional[str] = None,
+    timing: Optional[str] = None,
+    input: Optional[str] = None,
+    vary: Optional[Sequence[str]] = None,
+    bounds: Optional[Sequence[float]] = None,
+    point_bounds: Optional[Mapping[str, Sequence[float]]] = None,
+    full_turn: bool = False,
+    min_transmission: Optional[float] = None,
+    max_ratio: Optional[float] = None,
+    seed: int = 1,
+    time_limit: float = 10.0,
+    target: Optional[float] = None,
+    population: Optional[int] = None,
+    evaluations: Optional[int] = None,
+) -> Synthesis:
+    """``dofplan synth`` from Python: new dimensions for ``mechanism``.
+
+    One goal, its targets an array (the columns of the CLI's target files):
+    ``path`` (x, y or x, y, z: free timing; input, x, y[, z]: given) with
+    ``marker``; ``function`` (input, output) with ``output`` (a joint);
+    ``motion`` (x, y, angle; with an input column first for given timing;
+    in space x, y, z and the orientation) with ``body``. ``timing`` is
+    "given", "free" or None (as the columns say). The options are the
+    CLI's: ``vary`` (parameter or point names; default all), ``bounds``
+    (x0, y0, x1, y1 for every varied point; with z in space),
+    ``point_bounds`` (by point), ``full_turn``, ``min_transmission``
+    (degrees), ``max_ratio``, ``seed``, ``time_limit`` (seconds),
+    ``target`` (stop at this sum of squares), ``population``,
+    ``evaluations``. Every solution is verified from its written file. A
+    problem the search cannot take raises :class:`DofplanError` with the
+    CLI's message.
+    """
+    goals = [(k, v) for k, v in (("path", path), ("function", function), ("motion", motion)) if v is not None]
+    if len(goals) != 1:
+        raise ValueError("give one goal: path=, function= or motion=")
+    kind, rows = goals[0]
+    d = mechanism.dimension
+    columns = {
+        "path": (d, d + 1),
+        "function": (2,),
+        "motion": (3, 4) if d == 2 else (6, 7),
+    }[kind]
+    if timing not in (None, "given", "free"):
+        raise ValueError(f'timing is "given" or "free", not {timing!r}')
+    goal = {
+        "kind": kind,
+        "targets": _csv(rows, columns, kind),
+        "marker": marker,
+        "output": output,
+        "body": body,
+        "given": None if timing is None else timing == "given",
+        "input": input,
+        "vary": None if vary is None else list(vary),
+        "bounds": None if bounds is None else [float(x) for x in bounds],
+        "point_bounds": [(k, [float(x) for x in v]) for k, v in (point_bounds or {}).items()],
+        "full_turn": bool(full_turn),
+        "min_transmission": min_transmission,
+        "max_ratio": max_ratio,
+        "seed": int(seed),
+        "time_limit": float(time_limit),
+        "target": target,
+        "population": population,
+        "evaluations": evaluations,
+    }
+    text, best = mechanism._m.synth_raw(goal)
+    _, fmt = mechanism._m.source()
+    return Synthesis(json.loads(text), best, fmt, mechanism.file)
+
+
+def from_pylinkage(linkage: Any, name: Optional[str] = None) -> "Mechanism":
+    """A pylinkage 1.3 ``Linkage`` as a dofplan mechanism (see
+    :mod:`dofplan.pylinkage`; pylinkage is imported only here)."""
+    from .pylinkage import from_pylinkage as convert
+
+    return convert(linkage, name)
+
+
+def to_pylinkage(mechanism: "Mechanism") -> Any:
+    """A dofplan mechanism as a pylinkage 1.3 ``Linkage``, where pylinkage
+    can express it (see :mod:`dofplan.pylinkage`)."""
+    from .pylinkage import to_pylinkage as convert
+
+    return convert(mechanism)
 
 
 class Check:

@@ -167,7 +167,7 @@ class _Points:
         return None
 
 
-def _component_kind(c: Any, pl: Any) -> str:
+def _component_kind(c: Any) -> str:
     """The pylinkage class a component is handled as, by isinstance
     (subclasses convert as their base)."""
     from pylinkage.actuators import ArcCrank, Crank, LinearActuator
@@ -209,10 +209,6 @@ def _anchor_refs(c: Any, kind: str) -> List[Tuple[str, Any]]:
         a = getattr(a, "_parent", a)  # _AnchorProxy -> its component
         out.append((role, a))
     return out
-
-
-def _describe(c: Any) -> str:
-    return f"{type(c).__name__} {c.name!r}"
 
 
 def from_pylinkage(linkage: Any, name: Optional[str] = None) -> Mechanism:
@@ -282,7 +278,7 @@ def from_pylinkage(linkage: Any, name: Optional[str] = None) -> Mechanism:
     if not comps:
         raise ConversionError(f"pylinkage linkage {linkage.name!r} has no components")
     index = {id(c): k for k, c in enumerate(comps)}
-    kinds = [_component_kind(c, pl) for c in comps]
+    kinds = [_component_kind(c) for c in comps]
 
     # What dofplan cannot say, before anything is built.
     for c, kind in zip(comps, kinds):
@@ -352,9 +348,8 @@ def from_pylinkage(linkage: Any, name: Optional[str] = None) -> Mechanism:
                 turn = -360.0 if c.angular_velocity < 0 else 360.0
                 sweep = {"from": 0.0, "to": turn}
             else:
-                # The arc from where the crank is, in degrees from it.
-                now = math.atan2(pos[1] - positions[a][1], pos[0] - positions[a][0])
-                now = _angle_within(now, c.arc_start, c.arc_end)
+                # The arc, in degrees from where the crank is on it.
+                now = float(c.angle)
                 sweep = {"from": math.degrees(c.arc_start - now), "to": math.degrees(c.arc_end - now)}
             inputs.append((names[k], "angle", ("revolute", a, body), sweep))
         elif kind == "linear":
@@ -489,14 +484,6 @@ def from_pylinkage(linkage: Any, name: Optional[str] = None) -> Mechanism:
     return m
 
 
-def _angle_within(angle: float, lo: float, hi: float) -> float:
-    """``angle`` moved by whole turns into [lo, hi] where it can be."""
-    for turn in (0.0, math.tau, -math.tau, 2 * math.tau, -2 * math.tau):
-        if lo - 1e-12 <= angle + turn <= hi + 1e-12:
-            return angle + turn
-    return min(max(angle, lo), hi)
-
-
 def _assemble(comps: List[Any], kinds: List[str], order: List[int], index: Dict[int, int]) -> List[Tuple[float, float]]:
     """Every point where pylinkage puts it at the linkage's present input:
     each component solved from its anchors by pylinkage's own solver
@@ -584,7 +571,11 @@ def to_pylinkage(mechanism: Mechanism) -> Any:
       block on a guide of the ground pinned to it (``RRPDyad``; its line is
       two new Ground points ``J_line1``, ``J_line2`` for the prismatic
       joint ``J``);
-    - any further point of a body already placed (``FixedDyad``).
+    - any further point of a body already placed (``FixedDyad``);
+    - a pin in a slot: a body pinned at a placed point whose slot, running
+      through that pin, holds a block pinned at another placed point (what
+      :func:`from_pylinkage` makes of a ``FixedDyad`` whose anchors are on
+      no common link): its points are FixedDyads of the two pins.
 
     Each pylinkage point is a pin (the markers a revolute joint joins,
     named after the markers' common name, else the first joint) or a
@@ -600,11 +591,11 @@ def to_pylinkage(mechanism: Mechanism) -> Any:
     Anything else raises :class:`ConversionError` (a :class:`ValueError`)
     naming the joint, body or input and why: spatial mechanisms, no input
     or several, a ``slide`` input, an input between two moving bodies,
-    constraints, guides on moving bodies, blocks carrying more than their
-    pin, and bodies pylinkage cannot reach one dyad at a time (a triad, a
-    loop that needs a second freedom).
+    constraints, blocks carrying more than their pin, and bodies pylinkage
+    cannot reach one dyad at a time (a triad, a slider on a moving guide
+    other than the slot above, a loop that needs a second freedom).
     """
-    pl = _import_pylinkage()
+    _import_pylinkage()
     from pylinkage.actuators import Crank
     from pylinkage.components import Ground
     from pylinkage.dyads import FixedDyad, RRPDyad, RRRDyad
@@ -793,18 +784,19 @@ def to_pylinkage(mechanism: Mechanism) -> Any:
         ),
     )
 
-    # Slider blocks: a body with one prismatic joint to a still body.
-    blocks: Dict[int, Tuple[str, str]] = {}
+    # Slider blocks: the side of a prismatic joint that carries one point
+    # (the pin); the other side is the guide. A guide on the ground makes
+    # an RRP dyad; a guide on a moving body, a pin in a slot (rule 4).
+    blocks: Dict[int, Tuple[str, str, int]] = {}
     for jname, a, b in prismatics:
         ba, bb = bi[body_of(a)], bi[body_of(b)]
-        if fixed[ba] == fixed[bb]:
-            what = "two still bodies" if fixed[ba] else f"two moving bodies ({bodies[ba]!r}, {bodies[bb]!r})"
-            raise ConversionError(
-                f"{where}: prismatic joint {jname!r} is between {what}; to_pylinkage converts a "
-                "slider on a guide of the ground (RRPDyad's line is fixed in pylinkage only "
-                "through points it has placed, which a moving guide's direction is not)"
-            )
-        block = bb if fixed[ba] else ba
+        if fixed[ba] and fixed[bb]:
+            continue  # two still bodies: both are ground to pylinkage
+        if fixed[ba] or fixed[bb]:
+            block, guide = (bb, ba) if fixed[ba] else (ba, bb)
+        else:
+            # Both move: the block is the side with a single point.
+            block, guide = (bb, ba) if len(body_points[bb]) == 1 else (ba, bb)
         if block in blocks:
             raise ConversionError(
                 f"{where}: body {bodies[block]!r} slides on two prismatic joints "
@@ -814,9 +806,9 @@ def to_pylinkage(mechanism: Mechanism) -> Any:
             raise ConversionError(
                 f"{where}: slider block {bodies[block]!r} of prismatic joint {jname!r} carries "
                 f"{len(body_points[block])} points; to_pylinkage converts a block pinned to one link "
-                "at one point (pylinkage's RRPDyad)"
+                "at one point (pylinkage's RRPDyad, or a pin in a slot through a pivot)"
             )
-        blocks[block] = (jname, b if block == bb else a)
+        blocks[block] = (jname, b if block == bb else a, guide)
 
     def known(p: Dict[str, Any]) -> bool:
         return p["component"] is not None
@@ -895,13 +887,13 @@ def to_pylinkage(mechanism: Mechanism) -> Any:
                 )
                 progress = True
                 continue
-            # 3. RRP: a slider block through p, and a body through p pinned
-            #    at a placed point.
-            block = next((b for b in p["bodies"] if b in blocks), None)
+            # 3. RRP: a slider block through p on a ground guide, and a body
+            #    through p pinned at a placed point.
+            block = next((b for b in p["bodies"] if b in blocks and fixed[blocks[b][2]]), None)
             arm = next((q for b, q in arms if b != block), None)
             if block is None or arm is None:
                 continue
-            jname, slider_marker = blocks[block]
+            jname, slider_marker, _ = blocks[block]
             u = _slide_direction(marks[:, mi[slider_marker], :], tol_len)
             if u is None:
                 raise ConversionError(
@@ -924,6 +916,34 @@ def to_pylinkage(mechanism: Mechanism) -> Any:
                 ),
             )
             progress = True
+        if progress:
+            continue
+        # 4. A pin in a slot: a body pinned at one placed point k1, whose
+        #    slot holds a block pinned at another placed point k2. When the
+        #    slot runs through k1 the body always points at k2, so each of
+        #    its points is pylinkage's FixedDyad(k1, k2); that is checked on
+        #    the probe frames rather than read from the slot's direction
+        #    (which the Python API does not give).
+        for block, (jname, _, guide) in blocks.items():
+            if fixed[guide] or located(guide) or not located(block):
+                continue
+            k2 = body_points[block][0]
+            on_guide = placed_on(guide, k2)
+            if len(on_guide) != 1 or _dist(on_guide[0]["at"], k2["at"]) <= tol_len:
+                continue
+            k1 = on_guide[0]
+            fixed_dyads = []
+            for p in body_points[guide]:
+                if known(p):
+                    continue
+                dyad = _fixed_dyad_if_rigid(p, k1, k2, marks, mi, tol_len)
+                if dyad is None:
+                    break
+                fixed_dyads.append((p, dyad))
+            else:
+                for p, (distance, angle) in fixed_dyads:
+                    place(p, FixedDyad(k1["component"], k2["component"], distance=distance, angle=angle, name=p["name"]))
+                    progress = True
 
     missing = [p for p in points if not known(p)]
     if missing:
@@ -936,6 +956,24 @@ def to_pylinkage(mechanism: Mechanism) -> Any:
             "another input, which pylinkage's Linkage does not solve"
         )
     return Linkage(components, name=m.name)
+
+
+def _fixed_dyad_if_rigid(
+    p: Dict[str, Any], k1: Dict[str, Any], k2: Dict[str, Any], marks: np.ndarray, mi: Dict[str, int], tol: float
+) -> Optional[Tuple[float, float]]:
+    """p's (distance, angle) from k1 relative to the line k1 -> k2, as a
+    FixedDyad holds it, if p keeps them in every probe frame; else None."""
+    dx, dy = p["at"][0] - k1["at"][0], p["at"][1] - k1["at"][1]
+    distance = math.hypot(dx, dy)
+    angle = math.atan2(dy, dx) - math.atan2(k2["at"][1] - k1["at"][1], k2["at"][0] - k1["at"][0])
+    a = marks[:, mi[k1["markers"][0]], :]
+    b = marks[:, mi[k2["markers"][0]], :]
+    q = marks[:, mi[p["markers"][0]], :]
+    base = np.arctan2(b[:, 1] - a[:, 1], b[:, 0] - a[:, 0]) + angle
+    expect = a + distance * np.stack([np.cos(base), np.sin(base)], axis=1)
+    if np.max(np.linalg.norm(expect - q, axis=1)) > tol:
+        return None
+    return distance, angle
 
 
 def _dist(a: Sequence[float], b: Sequence[float]) -> float:

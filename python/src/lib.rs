@@ -9,6 +9,7 @@
 //!
 //! - [`errors`]: the exceptions, carrying the CLI's diagnostics.
 //! - [`mechanism`]: the `Mechanism` class (load, check, plan, emit).
+//! - [`synth`]: path, function and motion generation.
 //! - [`run`]: inputs run through the plan into NumPy arrays (one file per
 //!   dimension).
 
@@ -17,6 +18,7 @@ use pyo3::prelude::*;
 mod errors;
 mod mechanism;
 mod run;
+mod synth;
 
 /// The module `dofplan._dofplan`.
 #[pymodule]

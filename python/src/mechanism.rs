@@ -64,6 +64,17 @@ impl Mechanism {
         }
     }
 
+    /// The text the mechanism was loaded from, and its format.
+    pub(crate) fn source_text(&self) -> (String, &'static str) {
+        let source = match &self.model {
+            Model::Planar(m) => &m.source,
+            Model::Spatial(m) => &m.source,
+        };
+        let json =
+            source.name.to_ascii_lowercase().ends_with(".json") || source.text.trim_start().starts_with('{');
+        (source.text.to_string(), if json { "json" } else { "toml" })
+    }
+
     fn new(model: Model) -> Mechanism {
         Mechanism {
             model,
@@ -338,13 +349,13 @@ impl Mechanism {
     /// The mechanism's text as loaded, and its format ("toml" or "json"):
     /// what pickling a mechanism keeps.
     fn source(&self) -> (String, &'static str) {
-        let source = match &self.model {
-            Model::Planar(m) => &m.source,
-            Model::Spatial(m) => &m.source,
-        };
-        let json =
-            source.name.to_ascii_lowercase().ends_with(".json") || source.text.trim_start().starts_with('{');
-        (source.text.to_string(), if json { "json" } else { "toml" })
+        self.source_text()
+    }
+
+    /// A synthesis on this mechanism (see `crate::synth`): the CLI's JSON
+    /// document and the best solution's file.
+    fn synth_raw(&self, py: Python<'_>, goal: crate::synth::Goal) -> PyResult<(String, String)> {
+        crate::synth::run(py, self, goal)
     }
 
     /// The plan explained step by step, as `dofplan plan` prints it.

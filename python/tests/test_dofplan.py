@@ -508,3 +508,32 @@ def test_a_drawing_off_by_a_little_is_assembled_and_then_loads():
     c = r.marker("coupler.C")[0]
     assert np.linalg.norm(c - [4.52, 2.47]) < 0.05
     assert dofplan.assemble(MECHANISMS / "fourbar.toml").unchanged
+
+
+def test_synth_recovers_a_fourbar_from_its_own_path_and_the_file_reproduces_it():
+    # Targets: the bundled four-bar's coupler point at 18 crank angles,
+    # given timing. The drawing is moved off (C and D shifted), and the
+    # search varies C and D back.
+    truth = dofplan.load(MECHANISMS / "fourbar.toml")
+    theta = np.linspace(0.0, 340.0, 18)
+    p = truth.simulate(theta).marker("coupler.P")
+    targets = np.column_stack([theta, p])
+    text = (MECHANISMS / "fourbar.toml").read_text()
+    moved = dofplan.loads(
+        text.replace("C = [4.5, 2.5]", "C = [4.6, 2.4]").replace("D = [4, 0]", "D = [4.1, 0.1]"),
+        name="moved.toml",
+    )
+    s = dofplan.synth(
+        moved, path=targets, marker="coupler.P", timing="given", vary=["C", "D"],
+        time_limit=20.0, target=1e-20, seed=7,
+    )
+    assert s.error["rms"] < 1e-9, s.result["error"]
+    assert set(s.parameters) >= {"C.x", "C.y", "D.x", "D.y"}
+    # From the written file, independently of the search's state.
+    m = s.mechanism
+    got = m.simulate(theta).marker("coupler.P")
+    assert np.sqrt(np.mean(np.sum((got - p) ** 2, axis=1))) < 1e-9
+    with pytest.raises(ValueError, match="give one goal"):
+        dofplan.synth(moved)
+    with pytest.raises(dofplan.DofplanError, match="no marker 'coupler.Q'"):
+        dofplan.synth(moved, path=targets, marker="coupler.Q")
