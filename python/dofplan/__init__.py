@@ -339,6 +339,9 @@ class Result:
       position, in the order of ``marker_names``.
     - ``inputs``: frames x inputs, the inputs of the pose reached (they
       differ from ``requested`` where a frame broke).
+    - An "unreached" frame (a sweep that starts out of the mechanism's
+      reach, before its first pose) has NaN poses, markers and residual:
+      the run has no pose there (the CLI's JSON writes null).
     - ``status``: a code per frame, an index into ``status_names``
       (``solved``, ``limited``, ``searched``, ``unreached``, ``stretched``).
     - ``residual``: per frame, the largest relative residual of every

@@ -273,11 +273,20 @@ fn finish<P: Sync>(
         .for_each(|(k, ((p_out, m_out), r_out))| {
             for (j, r) in r_out.iter_mut().enumerate() {
                 let f = k * BLOCK + j;
+                let (p_row, m_row) = (&mut p_out[j * pw..(j + 1) * pw], &mut m_out[j * mw..(j + 1) * mw]);
+                // An unreached frame has no pose of the run (the driver's
+                // are the drawing's): NaN, as the CLI's JSON has null.
+                if matches!(run.status[f], FrameStatus::Unreached { .. }) {
+                    p_row.fill(f64::NAN);
+                    m_row.fill(f64::NAN);
+                    *r = f64::NAN;
+                    continue;
+                }
                 *r = row(
                     &run.poses[f * bodies..(f + 1) * bodies],
                     &run.reached[f * inputs..(f + 1) * inputs],
-                    &mut p_out[j * pw..(j + 1) * pw],
-                    &mut m_out[j * mw..(j + 1) * mw],
+                    p_row,
+                    m_row,
                 );
             }
         });
