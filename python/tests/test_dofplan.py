@@ -21,9 +21,10 @@ SPATIAL = sorted(glob.glob(str(MECHANISMS / "spatial" / "*.toml")))
 
 
 def size_of(r):
-    """The mechanism's extent over the drawn frame's markers (for relative
-    tolerances)."""
-    m = r.markers[0]
+    """The mechanism's extent over the first placed frame's markers (for
+    relative tolerances)."""
+    placed = [k for k in range(len(r)) if np.isfinite(r.markers[k]).all()]
+    m = r.markers[placed[0]] if placed else np.zeros((1, 2))
     return float(np.max(np.ptp(m, axis=0))) or 1.0
 
 
