@@ -19,6 +19,7 @@ subclasses of :class:`DofplanError`.
 
 from __future__ import annotations
 
+import functools
 import json
 import os
 from typing import Any, Dict, Iterator, List, Mapping, Optional, Sequence, Tuple, Union
@@ -344,8 +345,9 @@ class Result:
       the run has no pose there (the CLI's JSON writes null).
     - ``status``: a code per frame, an index into ``status_names``
       (``solved``, ``limited``, ``searched``, ``unreached``, ``stretched``).
-    - ``residual``: per frame, the largest relative residual of every
-      joint, constraint and input (near 1e-15 where a frame is solved).
+    - ``residual`` (with ``simulate(..., check=True)``, else None): per
+      frame, the largest relative residual of every joint, constraint and
+      input, from the model (near 1e-15 where a frame is solved).
     """
 
     def __init__(
@@ -367,7 +369,7 @@ class Result:
         self.inputs: np.ndarray = raw["inputs"]
         self.status: np.ndarray = raw["status"]
         self.status_names: List[str] = list(raw["status_names"])
-        self.residual: np.ndarray = raw["residual"]
+        self.residual: Optional[np.ndarray] = raw.get("residual")
         self.marker_names: List[str] = mechanism.markers
         self.body_names: List[str] = mechanism.bodies
         self.input_names: List[str] = (
@@ -489,28 +491,28 @@ class Mechanism:
         """The file name errors use."""
         return self._m.file
 
-    @property
+    @functools.cached_property
     def bodies(self) -> List[str]:
         return self._m.bodies
 
-    @property
+    @functools.cached_property
     def markers(self) -> List[str]:
         return self._m.markers
 
-    @property
+    @functools.cached_property
     def joints(self) -> List[str]:
         return self._m.joints
 
-    @property
+    @functools.cached_property
     def joint_markers(self) -> List[tuple]:
         """Every joint as (name, kind, first marker, second marker)."""
         return self._m.joint_markers
 
-    @property
+    @functools.cached_property
     def inputs(self) -> List[str]:
         return self._m.inputs
 
-    @property
+    @functools.cached_property
     def input_kinds(self) -> List[str]:
         return self._m.input_kinds
 
@@ -546,6 +548,7 @@ class Mechanism:
         policy: str = "limit",
         branch: str = "keep",
         parallel: bool = True,
+        check: bool = False,
         _drive: Optional[tuple] = None,
     ) -> Result:
         """Runs frames through the plan, one after the other from the drawing.
@@ -560,7 +563,9 @@ class Mechanism:
         interpreter lock is released while frames are solved; a long run
         (4096 frames or more) of a planar plan without a numeric cluster,
         under the default policies, is solved on every core, with the same
-        frames to the bit (``parallel=False`` keeps it on one).
+        frames to the bit (``parallel=False`` keeps it on one). ``check``
+        adds each frame's residual (``Result.residual``), checked from the
+        model: it costs more than the frame.
         """
         n = len(self.inputs)
         if inputs is None:
@@ -580,9 +585,9 @@ class Mechanism:
                 raise ValueError(f"inputs must be of shape (frames,) or (frames, {n}), not {requested.shape}")
             requested = np.ascontiguousarray(requested)
         if _drive is None:
-            raw = self._m.simulate_raw(requested, policy, branch, None, None, parallel)
+            raw = self._m.simulate_raw(requested, policy, branch, None, None, parallel, check)
         else:
-            raw = self._m.simulate_raw(requested, policy, branch, _drive[0], _drive[1], parallel)
+            raw = self._m.simulate_raw(requested, policy, branch, _drive[0], _drive[1], parallel, check)
         return Result(self, requested, raw, policy, branch)
 
     def rates(
@@ -666,6 +671,22 @@ class Mechanism:
         # this way): loaded again on the other side, checks included.
         text, fmt = self._m.source()
         return (loads, (text, fmt, self.file))
+
+    def frame(self, inputs: Any) -> Tuple[np.ndarray, str]:
+        """One frame from the live pose, as a slider in an editor moves the
+        mechanism: every marker's world position (markers x 2, or x 3 in
+        space, in ``markers`` order) and the frame's status ("solved",
+        "limited"...). Each call starts from the last one's pose (the
+        drawing at first, and after :meth:`reset`); a frame past a limit
+        holds it. ``inputs`` is a number for one input, else one value per
+        input. The quick way to ask for single poses, one at a time."""
+        if isinstance(inputs, (int, float)):
+            return self._m.frame([float(inputs)])
+        return self._m.frame([float(v) for v in inputs])
+
+    def reset(self) -> None:
+        """Returns :meth:`frame`'s live pose to the drawing."""
+        self._m.reset()
 
     def marker(self, name: str, result: Result) -> np.ndarray:
         """One marker's path in a result (``result.marker(name)``)."""

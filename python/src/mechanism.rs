@@ -25,6 +25,15 @@ pub struct Mechanism {
     pub(crate) model: Model,
     /// The plan, or why there is none: made on first use, kept.
     plan: OnceLock<Result<Plans, String>>,
+    /// The live pose `frame` moves, frame after frame (made on first use;
+    /// `reset` returns it to the drawing).
+    live: std::sync::Mutex<Option<Live>>,
+}
+
+/// A driver kept between calls of `frame`, of either dimension.
+enum Live {
+    Planar(dofplan_runtime::Driver<dofplan::interp::Interpreter>),
+    Spatial(dofplan_runtime::Driver<dofplan::interp::spatial::Interpreter>),
 }
 
 impl Mechanism {
@@ -79,6 +88,7 @@ impl Mechanism {
         Mechanism {
             model,
             plan: OnceLock::new(),
+            live: std::sync::Mutex::new(None),
         }
     }
 
@@ -397,6 +407,100 @@ impl Mechanism {
         crate::run::drag(py, self, marker, targets, policy)
     }
 
+    /// One frame from the live pose (the last `frame`'s, or the drawing):
+    /// every marker's world position (markers × 2 or 3) and the frame's
+    /// status name. Limit and keep-branch, as a slider in an editor moves a
+    /// mechanism: a frame past a limit holds the pose.
+    fn frame<'py>(
+        &self,
+        py: Python<'py>,
+        inputs: Vec<f64>,
+    ) -> PyResult<(Bound<'py, numpy::PyArray2<f64>>, &'static str)> {
+        use numpy::IntoPyArray;
+        let n = self.input_list().len();
+        if inputs.len() != n || inputs.iter().any(|x| !x.is_finite()) {
+            return Err(pyo3::exceptions::PyValueError::new_err(format!(
+                "{} takes {n} finite input value(s), not {inputs:?}",
+                self.file()
+            )));
+        }
+        let plans = self.plans(py)?;
+        let mut live = self.live.lock().map_err(|_| {
+            pyo3::exceptions::PyRuntimeError::new_err("the live pose was poisoned by a failed frame")
+        })?;
+        let live = live.get_or_insert_with(|| match plans {
+            Plans::Planar(p) => Live::Planar(dofplan_runtime::Driver::new(
+                dofplan::interp::Interpreter::new(p.clone()),
+                dofplan_runtime::Options::default(),
+            )),
+            Plans::Spatial(p) => Live::Spatial(dofplan_runtime::Driver::new(
+                dofplan::interp::spatial::Interpreter::new(p.clone()),
+                dofplan_runtime::Options::default(),
+            )),
+        });
+        let (status, at, d) = match (live, &self.model) {
+            (Live::Planar(driver), Model::Planar(m)) => {
+                let status = driver.frame(&inputs);
+                let poses = driver.poses();
+                let at: Vec<f64> = m
+                    .all_markers()
+                    .flat_map(|id| dofplan::simulate::planar::marker_at(m, poses, id))
+                    .collect();
+                (status, at, 2)
+            }
+            (Live::Spatial(driver), Model::Spatial(m)) => {
+                let status = driver.frame(&inputs);
+                let at: Vec<f64> = dofplan::simulate::spatial::marker_positions(m, driver.poses())
+                    .into_iter()
+                    .flatten()
+                    .collect();
+                (status, at, 3)
+            }
+            _ => unreachable!("a driver is made from its own mechanism's plan"),
+        };
+        let rows = at.len() / d;
+        let array = numpy::ndarray::Array2::from_shape_vec((rows, d), at)
+            .map_err(|e| pyo3::exceptions::PyValueError::new_err(e.to_string()))?;
+        Ok((
+            array.into_pyarray(py),
+            crate::run::STATUS_NAMES[crate::run::code(&status) as usize],
+        ))
+    }
+
+    /// Returns the live pose of `frame` to the drawing.
+    fn reset(&self) {
+        if let Ok(mut live) = self.live.lock() {
+            *live = None;
+        }
+    }
+
+    /// A measurement hook for the speed table (`tools/bench/python_speed.py`):
+    /// the seconds the Rust batch path (`solve_batch_parallel` on the
+    /// interpreter, every core) takes over `inputs`, nothing read off and no
+    /// array made, so that a run from Python can be set beside it. Planar
+    /// closed-form plans only (the others run in order: a ValueError).
+    fn _batch_seconds(&self, py: Python<'_>, inputs: numpy::PyReadonlyArray2<'_, f64>) -> PyResult<f64> {
+        use dofplan_runtime::Batch;
+        let (Model::Planar(m), Plans::Planar(plan)) = (&self.model, self.plans(py)?) else {
+            return Err(pyo3::exceptions::PyValueError::new_err("a planar mechanism only"));
+        };
+        let interp = dofplan::interp::Interpreter::new(plan.clone());
+        if !interp.independent() {
+            return Err(pyo3::exceptions::PyValueError::new_err("a closed-form plan only"));
+        }
+        let flat: Vec<f64> = inputs.as_array().iter().copied().collect();
+        let frames = inputs.as_array().nrows();
+        Ok(py.detach(|| {
+            let mut out = vec![dofplan_runtime::planar::Pose::IDENTITY; frames * m.bodies.len()];
+            let mut status = vec![dofplan_runtime::FrameStatus::Solved; frames];
+            let t = std::time::Instant::now();
+            dofplan_runtime::batch::solve_batch_parallel(&interp, &flat, &mut out, &mut status);
+            let dt = t.elapsed().as_secs_f64();
+            std::hint::black_box((&out, &status));
+            dt
+        }))
+    }
+
     /// The frames of `inputs` drawn as `simulate --svg` draws them: the
     /// sweep's traced markers (the last marker when none), faint poses, and
     /// how each frame met its inputs.
@@ -453,7 +557,8 @@ impl Mechanism {
     /// accelerations too.
     /// `parallel`: a long run of a closed-form planar plan under the
     /// default policies on every core (the same frames, to the bit).
-    #[pyo3(signature = (inputs, policy = "limit", branch = "keep", rates = None, accelerations = None, parallel = true))]
+    /// `check`: each frame's residual too.
+    #[pyo3(signature = (inputs, policy = "limit", branch = "keep", rates = None, accelerations = None, parallel = true, check = false))]
     // Python's keyword arguments, each a plain value.
     #[allow(clippy::too_many_arguments)]
     fn simulate_raw<'py>(
@@ -465,12 +570,13 @@ impl Mechanism {
         rates: Option<Vec<f64>>,
         accelerations: Option<Vec<f64>>,
         parallel: bool,
+        check: bool,
     ) -> PyResult<Bound<'py, PyDict>> {
         let drive = rates.map(|r| {
             let a = accelerations.unwrap_or_else(|| vec![0.0; r.len()]);
             (r, a)
         });
-        crate::run::simulate(py, self, inputs, policy, branch, drive, parallel)
+        crate::run::simulate(py, self, inputs, policy, branch, drive, (parallel, check))
     }
 
     fn __repr__(&self) -> String {

@@ -62,6 +62,7 @@ def test_a_fourbar_loads_with_its_names():
     }
     assert [j[0] for j in m.joint_markers] == m.joints
     assert "fourbar" in repr(m)
+    assert m.simulate([0.0]).residual is None
 
 
 def test_check_is_the_cli_s_check():
@@ -111,7 +112,7 @@ def test_every_planar_sweep_holds_its_joints(path):
     m = dofplan.load(path)
     if m.sweep is None:
         pytest.skip("no sweep in the file")
-    r = m.simulate(steps=min(m.sweep["steps"], 181))
+    r = m.simulate(steps=min(m.sweep["steps"], 181), check=True)
     assert r.poses.shape == (len(r), len(m.bodies), 3)
     assert r.markers.shape == (len(r), len(m.markers), 2)
     ok = r.solved
@@ -304,8 +305,8 @@ def test_a_long_run_on_every_core_is_one_core_s_to_the_bit(name):
     # condition): past the limits and back, holds across the blocks.
     one = m.sweep_inputs()[:, 0]
     wide = np.concatenate([[0.0], np.tile(2.0 * one - 7.0, 9000 // len(one) + 1)])[:9000]
-    a = m.simulate(wide)
-    b = m.simulate(wide, parallel=False)
+    a = m.simulate(wide, check=True)
+    b = m.simulate(wide, parallel=False, check=True)
     for field in ("poses", "markers", "inputs", "status", "residual"):
         x, y = getattr(a, field), getattr(b, field)
         assert x.shape == y.shape and np.array_equal(x, y, equal_nan=True), (name, field)
@@ -538,3 +539,20 @@ def test_synth_recovers_a_fourbar_from_its_own_path_and_the_file_reproduces_it()
         dofplan.synth(moved)
     with pytest.raises(dofplan.DofplanError, match="no marker 'coupler.Q'"):
         dofplan.synth(moved, path=targets, marker="coupler.Q")
+
+
+def test_frame_by_frame_from_the_live_pose_is_the_sweep_s():
+    m = dofplan.load(MECHANISMS / "rocker_rocker.toml")
+    theta = np.linspace(0.0, 80.0, 41)
+    r = m.simulate(theta)
+    for k, t in enumerate(theta):
+        at, status = m.frame(t)
+        assert status == r.status_of(k)
+        assert np.array_equal(at, r.markers[k])
+    # Held past the limit; back from the drawing after reset.
+    assert m.frame(80.0)[1] == "limited"
+    m.reset()
+    at, status = m.frame(0.0)
+    assert status == "solved" and np.array_equal(at, r.markers[0])
+    with pytest.raises(ValueError, match="takes 1 finite input"):
+        m.frame([1.0, 2.0])

@@ -91,7 +91,7 @@ pub fn simulate<'py>(
     policy: &str,
     branch: &str,
     drive: Option<(Vec<f64>, Vec<f64>)>,
-    parallel: bool,
+    (parallel, check): (bool, bool),
 ) -> PyResult<Bound<'py, PyDict>> {
     let options = options(policy, branch)?;
     let shape = inputs.as_array().shape().to_vec();
@@ -122,12 +122,14 @@ pub fn simulate<'py>(
     let drive = drive.map(|d| drive_of(mech, d)).transpose()?;
     let plans = mech.plans(py)?;
     let solved = py.detach(|| match (&mech.model, plans) {
-        (Model::Planar(m), Plans::Planar(p)) => planar::run(m, p, &rows, options, drive.as_ref(), parallel),
-        (Model::Spatial(m), Plans::Spatial(p)) => spatial::run(m, p, &rows, options, drive.as_ref()),
+        (Model::Planar(m), Plans::Planar(p)) => {
+            planar::run(m, p, &rows, options, drive.as_ref(), (parallel, check))
+        }
+        (Model::Spatial(m), Plans::Spatial(p)) => spatial::run(m, p, &rows, options, drive.as_ref(), check),
         // A plan is made from its own mechanism.
         _ => unreachable!("a plan of the other dimension"),
     });
-    into_dict(py, solved, n_inputs, mech.marker_names().len())
+    into_dict(py, solved, n_inputs, mech.marker_names().len(), check)
 }
 
 /// `Mechanism.drag_raw`: `marker` pinned to `targets` (frames × 2, or × 3
@@ -174,7 +176,7 @@ pub fn drag<'py>(
         }
     }
     .map_err(|e| crate::errors::plan_error(py, mech.file(), &e))?;
-    into_dict(py, solved, dimension, mech.marker_names().len())
+    into_dict(py, solved, dimension, mech.marker_names().len(), true)
 }
 
 /// The inputs' rates and accelerations in the interpreter's units: an angle
@@ -237,7 +239,7 @@ pub fn options(policy: &str, branch: &str) -> PyResult<Options> {
 }
 
 /// The status code of a frame (an index into [`STATUS_NAMES`]).
-fn code(status: &FrameStatus) -> i8 {
+pub fn code(status: &FrameStatus) -> i8 {
     match status {
         FrameStatus::Solved => 0,
         FrameStatus::Limited { .. } => 1,
@@ -325,7 +327,13 @@ impl Rates {
 }
 
 /// The arrays of a run, keyed as `dofplan.Result` takes them.
-fn into_dict(py: Python<'_>, s: Solved, inputs: usize, markers: usize) -> PyResult<Bound<'_, PyDict>> {
+fn into_dict(
+    py: Python<'_>,
+    s: Solved,
+    inputs: usize,
+    markers: usize,
+    check: bool,
+) -> PyResult<Bound<'_, PyDict>> {
     let shape_error =
         |e: numpy::ndarray::ShapeError| PyValueError::new_err(format!("internal shape error: {e}"));
     let bodies = s.poses.len() / (s.frames * s.pose_width).max(1);
@@ -338,7 +346,9 @@ fn into_dict(py: Python<'_>, s: Solved, inputs: usize, markers: usize) -> PyResu
     d.set_item("inputs", reached.into_pyarray(py))?;
     d.set_item("status", Array1::from_vec(s.status).into_pyarray(py))?;
     d.set_item("status_names", STATUS_NAMES.to_vec())?;
-    d.set_item("residual", Array1::from_vec(s.residual).into_pyarray(py))?;
+    if check {
+        d.set_item("residual", Array1::from_vec(s.residual).into_pyarray(py))?;
+    }
     if let Some(r) = s.rates {
         let v = Array3::from_shape_vec((s.frames, markers, s.dimension), r.velocity).map_err(shape_error)?;
         d.set_item("velocity", v.into_pyarray(py))?;
