@@ -25,6 +25,44 @@ mod spatial;
 /// The status codes of the `status` array, by index.
 pub const STATUS_NAMES: [&str; 5] = ["solved", "limited", "searched", "unreached", "stretched"];
 
+/// The frames' input rows in one buffer (`width` values a frame; a
+/// mechanism without inputs has empty rows): a million frames are one
+/// allocation, not a million.
+pub(crate) struct Rows {
+    flat: Vec<f64>,
+    width: usize,
+    frames: usize,
+}
+
+impl Rows {
+    /// The rows of a (frames × width) array.
+    fn of(a: numpy::ndarray::ArrayView2<'_, f64>) -> Rows {
+        Rows {
+            flat: a.iter().copied().collect(),
+            width: a.ncols(),
+            frames: a.nrows(),
+        }
+    }
+
+    pub(crate) fn len(&self) -> usize {
+        self.frames
+    }
+
+    /// Frame `k`'s row.
+    pub(crate) fn row(&self, k: usize) -> &[f64] {
+        &self.flat[k * self.width..(k + 1) * self.width]
+    }
+
+    pub(crate) fn iter(&self) -> impl Iterator<Item = &[f64]> + '_ {
+        (0..self.frames).map(move |k| self.row(k))
+    }
+
+    /// Every row, one after the other.
+    pub(crate) fn flat(&self) -> &[f64] {
+        &self.flat
+    }
+}
+
 /// What a run of either dimension gives, frame by frame: the poses (`P`,
 /// the dimension's), the inputs of the pose reached, the status, and the
 /// rates when asked for.
@@ -108,15 +146,14 @@ pub fn simulate<'py>(
             shape[1]
         )));
     }
-    let rows: Vec<Vec<f64>> = inputs.as_array().outer_iter().map(|r| r.to_vec()).collect();
-    if let Some((f, _)) = rows
+    let rows = Rows::of(inputs.as_array());
+    if let Some((f, r)) = rows
         .iter()
         .enumerate()
         .find(|(_, r)| r.iter().any(|x| !x.is_finite()))
     {
         return Err(PyValueError::new_err(format!(
-            "frame {f}'s inputs are not all finite: {:?}",
-            rows[f]
+            "frame {f}'s inputs are not all finite: {r:?}"
         )));
     }
     let drive = drive.map(|d| drive_of(mech, d)).transpose()?;
@@ -145,7 +182,7 @@ pub fn drag<'py>(
         start: StartPolicy::Drawn,
         ..options(policy, "keep")?
     };
-    let rows: Vec<Vec<f64>> = targets.as_array().outer_iter().map(|r| r.to_vec()).collect();
+    let rows = Rows::of(targets.as_array());
     let dimension = match &mech.model {
         Model::Planar(_) => 2,
         Model::Spatial(_) => 3,

@@ -7,7 +7,7 @@ use dofplan::simulate::planar::{kinematics::motion, marker_at, max_relative_resi
 use dofplan_runtime::planar::Pose;
 use dofplan_runtime::{Batch, Driver, FrameStatus, Options, Solver};
 
-use super::{finish, rate_code, Drive, Rates, Run, Solved};
+use super::{finish, rate_code, Drive, Rates, Rows, Run, Solved};
 
 /// Frames enough for the batch on every core to pay (below, one core's
 /// driver is as quick).
@@ -19,7 +19,7 @@ const PARALLEL_FRAMES: usize = 4096;
 pub(super) fn run(
     m: &Mechanism,
     plan: &Plan,
-    rows: &[Vec<f64>],
+    rows: &Rows,
     options: Options,
     drive: Option<&Drive>,
     (parallel, check): (bool, bool),
@@ -62,7 +62,7 @@ pub(super) fn run(
 fn in_order(
     m: &Mechanism,
     interp: Interpreter,
-    rows: &[Vec<f64>],
+    rows: &Rows,
     options: Options,
     drive: Option<&Drive>,
 ) -> Run<Pose> {
@@ -74,7 +74,7 @@ fn in_order(
         status: Vec::with_capacity(rows.len()),
         rates: drive.map(|_| Rates::default()),
     };
-    for requested in rows {
+    for requested in rows.iter() {
         let status = driver.frame(requested);
         run.poses.extend_from_slice(driver.poses());
         run.reached.extend_from_slice(driver.inputs());
@@ -110,7 +110,7 @@ fn in_order(
 /// short run, or a sweep whose first frame a sweep's driver does not meet
 /// (until its first pose a sweep's frames are "unreached"; the batch
 /// starts from the drawing).
-fn on_every_core(interp: &Interpreter, rows: &[Vec<f64>], options: Options) -> Option<Run<Pose>> {
+fn on_every_core(interp: &Interpreter, rows: &Rows, options: Options) -> Option<Run<Pose>> {
     let defaults = Options::default();
     let driver_like = options.breaking == defaults.breaking
         && options.branch == defaults.branch
@@ -119,14 +119,18 @@ fn on_every_core(interp: &Interpreter, rows: &[Vec<f64>], options: Options) -> O
         return None;
     }
     // From a pose both drivers met on, they are one.
-    if options.start != defaults.start && !Driver::new(interp.clone(), options).frame(&rows[0]).is_solved() {
+    if options.start != defaults.start
+        && !Driver::new(interp.clone(), options)
+            .frame(rows.row(0))
+            .is_solved()
+    {
         return None;
     }
-    let flat: Vec<f64> = rows.iter().flatten().copied().collect();
+    let flat = rows.flat();
     let b = dofplan_runtime::Solver::initial_state(interp).poses.len();
     let mut poses = vec![Pose::IDENTITY; rows.len() * b];
     let mut status = vec![FrameStatus::Solved; rows.len()];
-    dofplan_runtime::batch::solve_batch_parallel(interp, &flat, &mut poses, &mut status);
+    dofplan_runtime::batch::solve_batch_parallel(interp, flat, &mut poses, &mut status);
     // The inputs of the pose reached: a frame's own where it met them, else
     // those of the pose it holds (the last it met, or the drawing's).
     let drawn = interp.initial_inputs();
@@ -154,7 +158,7 @@ fn on_every_core(interp: &Interpreter, rows: &[Vec<f64>], options: Options) -> O
 pub(super) fn drag(
     m: &Mechanism,
     marker: dofplan::model::MarkerId,
-    targets: &[Vec<f64>],
+    targets: &Rows,
     options: Options,
 ) -> Result<Solved, String> {
     let solver = dofplan::numeric::planar::drag::Drag::new(m, marker).map_err(|e| e.to_string())?;
@@ -166,7 +170,7 @@ pub(super) fn drag(
         status: Vec::with_capacity(targets.len()),
         rates: None,
     };
-    for t in targets {
+    for t in targets.iter() {
         let status = driver.frame(t);
         run.poses.extend_from_slice(driver.poses());
         run.reached.extend_from_slice(driver.inputs());

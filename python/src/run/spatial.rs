@@ -10,13 +10,13 @@ use dofplan::simulate::spatial::{motion, residual};
 use dofplan_runtime::spatial::Pose3;
 use dofplan_runtime::{Driver, FrameStatus, Options};
 
-use super::{finish, rate_code, Drive, Rates, Run, Solved};
+use super::{finish, rate_code, Drive, Rates, Rows, Run, Solved};
 
 /// `rows` run through `plan` by the driver, with the rates if asked for.
 pub(super) fn run(
     m: &Mechanism,
     plan: &Plan,
-    rows: &[Vec<f64>],
+    rows: &Rows,
     options: Options,
     drive: Option<&Drive>,
     check: bool,
@@ -50,7 +50,7 @@ pub(super) fn run(
 fn in_order(
     m: &Mechanism,
     interp: Interpreter,
-    rows: &[Vec<f64>],
+    rows: &Rows,
     options: Options,
     drive: Option<&Drive>,
 ) -> Run<Pose3> {
@@ -62,7 +62,7 @@ fn in_order(
         status: Vec::with_capacity(rows.len()),
         rates: drive.map(|_| Rates::default()),
     };
-    for requested in rows {
+    for requested in rows.iter() {
         let status = driver.frame(requested);
         run.poses.extend_from_slice(driver.poses());
         run.reached.extend_from_slice(driver.inputs());
@@ -107,7 +107,7 @@ fn quaternion(r: &[[f64; 3]; 3]) -> [f64; 4] {
 pub(super) fn drag(
     m: &Mechanism,
     marker: dofplan::model::MarkerId,
-    targets: &[Vec<f64>],
+    targets: &Rows,
     options: Options,
 ) -> Result<Solved, String> {
     if m.bodies[marker.body].fixed {
@@ -126,7 +126,7 @@ pub(super) fn drag(
         status: Vec::with_capacity(targets.len()),
         rates: None,
     };
-    for t in targets {
+    for t in targets.iter() {
         let status = driver.frame(t);
         run.poses.extend_from_slice(driver.poses());
         run.reached.extend_from_slice(driver.inputs());
