@@ -606,15 +606,7 @@ pub fn load(py: Python<'_>, path: std::path::PathBuf) -> PyResult<Mechanism> {
 #[pyfunction]
 #[pyo3(signature = (text, format = "toml", name = "<string>"))]
 pub fn loads(py: Python<'_>, text: &str, format: &str, name: &str) -> PyResult<Mechanism> {
-    let format = match format {
-        "toml" => Format::Toml,
-        "json" => Format::Json,
-        other => {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "format must be \"toml\" or \"json\", not {other:?}"
-            )))
-        }
-    };
+    let format = format_of(format)?;
     py.detach(|| dofplan::load_any_str(name, text, format))
         .map(Mechanism::new)
         .map_err(|e| mechanism_error(py, &e))
@@ -653,15 +645,7 @@ pub fn assemble_text(
     format: &str,
     name: &str,
 ) -> PyResult<(String, String, bool)> {
-    let format = match format {
-        "toml" => Format::Toml,
-        "json" => Format::Json,
-        other => {
-            return Err(pyo3::exceptions::PyValueError::new_err(format!(
-                "format must be \"toml\" or \"json\", not {other:?}"
-            )))
-        }
-    };
+    let format = format_of(format)?;
     let done = py.detach(|| match dofplan::model::load_any_str_drawn(name, text, format)? {
         dofplan::model::DrawnModel::Planar(_) => dofplan::assemble::planar::assemble_str(name, text, format)
             .map(|d| (d.report(), d.unchanged(), d.text)),
@@ -672,4 +656,15 @@ pub fn assemble_text(
     });
     let (report, unchanged, text) = done.map_err(|e| mechanism_error(py, &e))?;
     Ok((text, report, unchanged))
+}
+
+/// A format's name as Python gives it.
+fn format_of(name: &str) -> PyResult<Format> {
+    match name {
+        "toml" => Ok(Format::Toml),
+        "json" => Ok(Format::Json),
+        other => Err(pyo3::exceptions::PyValueError::new_err(format!(
+            "format must be \"toml\" or \"json\", not {other:?}"
+        ))),
+    }
 }

@@ -75,6 +75,33 @@ struct Run<P> {
     rates: Option<Rates>,
 }
 
+/// `rows` through `driver`, frame after frame: each frame's poses, the
+/// inputs of the pose reached and the status; `after` sees the driver
+/// after each frame (the rates are read there) and `rates` starts the
+/// run's rates if they are asked for.
+fn driven<S: dofplan_runtime::Solver>(
+    driver: &mut dofplan_runtime::Driver<S>,
+    rows: &Rows,
+    rates: Option<Rates>,
+    mut after: impl FnMut(&dofplan_runtime::Driver<S>, FrameStatus, &mut Option<Rates>),
+) -> Run<S::Pose> {
+    let b = S::poses(&driver.solver().initial_state()).len();
+    let mut run = Run {
+        poses: Vec::with_capacity(rows.len() * b),
+        reached: Vec::with_capacity(rows.flat().len()),
+        status: Vec::with_capacity(rows.len()),
+        rates,
+    };
+    for requested in rows.iter() {
+        let status = driver.frame(requested);
+        run.poses.extend_from_slice(driver.poses());
+        run.reached.extend_from_slice(driver.inputs());
+        run.status.push(status);
+        after(driver, status, &mut run.rates);
+    }
+    run
+}
+
 /// Every frame's numbers, in flat row-major vectors.
 struct Solved {
     frames: usize,

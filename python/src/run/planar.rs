@@ -7,7 +7,7 @@ use dofplan::simulate::planar::{kinematics::motion, marker_at, max_relative_resi
 use dofplan_runtime::planar::Pose;
 use dofplan_runtime::{Batch, Driver, FrameStatus, Options, Solver};
 
-use super::{finish, rate_code, Drive, Rates, Rows, Run, Solved};
+use super::{driven, finish, rate_code, Drive, Rates, Rows, Run, Solved};
 
 /// Frames enough for the batch on every core to pay (below, one core's
 /// driver is as quick).
@@ -68,39 +68,32 @@ fn in_order(
 ) -> Run<Pose> {
     let mut driver = Driver::new(interp, options);
     let (b, k) = (m.bodies.len(), m.all_markers().count());
-    let mut run = Run {
-        poses: Vec::with_capacity(rows.len() * b),
-        reached: Vec::with_capacity(rows.len() * m.inputs.len()),
-        status: Vec::with_capacity(rows.len()),
-        rates: drive.map(|_| Rates::default()),
-    };
-    for requested in rows.iter() {
-        let status = driver.frame(requested);
-        run.poses.extend_from_slice(driver.poses());
-        run.reached.extend_from_slice(driver.inputs());
-        run.status.push(status);
-        let (Some(d), Some(r)) = (drive, run.rates.as_mut()) else {
-            continue;
-        };
-        // Rates only where the frame met its inputs: a held pose has none
-        // of its own.
-        if status != FrameStatus::Solved {
-            r.none(k * 2, b, 1);
-            continue;
-        }
-        match (driver.solver()).rates(driver.state(), driver.inputs(), &d.rates, &d.accelerations) {
-            Ok(jets) => {
-                let mo = motion(m, &jets);
-                r.velocity.extend(mo.velocity.iter().flatten());
-                r.acceleration.extend(mo.acceleration.iter().flatten());
-                r.omega.extend(&mo.omega);
-                r.alpha.extend(&mo.alpha);
-                r.code.push(0);
+    driven(
+        &mut driver,
+        rows,
+        drive.map(|_| Rates::default()),
+        |driver, status, rates| {
+            let (Some(d), Some(r)) = (drive, rates.as_mut()) else {
+                return;
+            };
+            // Rates only where the frame met its inputs: a held pose has none
+            // of its own.
+            if status != FrameStatus::Solved {
+                return r.none(k * 2, b, 1);
             }
-            Err(e) => r.none(k * 2, b, rate_code(&e)),
-        }
-    }
-    run
+            match (driver.solver()).rates(driver.state(), driver.inputs(), &d.rates, &d.accelerations) {
+                Ok(jets) => {
+                    let mo = motion(m, &jets);
+                    r.velocity.extend(mo.velocity.iter().flatten());
+                    r.acceleration.extend(mo.acceleration.iter().flatten());
+                    r.omega.extend(&mo.omega);
+                    r.alpha.extend(&mo.alpha);
+                    r.code.push(0);
+                }
+                Err(e) => r.none(k * 2, b, rate_code(&e)),
+            }
+        },
+    )
 }
 
 /// A long run of a closed-form plan under keep-branch and limit (the
@@ -162,20 +155,8 @@ pub(super) fn drag(
     options: Options,
 ) -> Result<Solved, String> {
     let solver = dofplan::numeric::planar::drag::Drag::new(m, marker).map_err(|e| e.to_string())?;
-    let mut driver = Driver::new(solver, options);
+    let run = driven(&mut Driver::new(solver, options), targets, None, |_, _, _| {});
     let b = m.bodies.len();
-    let mut run = Run {
-        poses: Vec::with_capacity(targets.len() * b),
-        reached: Vec::with_capacity(targets.len() * 2),
-        status: Vec::with_capacity(targets.len()),
-        rates: None,
-    };
-    for t in targets.iter() {
-        let status = driver.frame(t);
-        run.poses.extend_from_slice(driver.poses());
-        run.reached.extend_from_slice(driver.inputs());
-        run.status.push(status);
-    }
     let mut free = m.clone();
     free.inputs.clear();
     let markers: Vec<_> = m.all_markers().collect();

@@ -10,7 +10,7 @@ use dofplan::simulate::spatial::{motion, residual};
 use dofplan_runtime::spatial::Pose3;
 use dofplan_runtime::{Driver, FrameStatus, Options};
 
-use super::{finish, rate_code, Drive, Rates, Rows, Run, Solved};
+use super::{driven, finish, rate_code, Drive, Rates, Rows, Run, Solved};
 
 /// `rows` run through `plan` by the driver, with the rates if asked for.
 pub(super) fn run(
@@ -56,37 +56,30 @@ fn in_order(
 ) -> Run<Pose3> {
     let mut driver = Driver::new(interp, options);
     let (b, k) = (m.bodies.len(), m.all_markers().count());
-    let mut run = Run {
-        poses: Vec::with_capacity(rows.len() * b),
-        reached: Vec::with_capacity(rows.len() * m.inputs.len()),
-        status: Vec::with_capacity(rows.len()),
-        rates: drive.map(|_| Rates::default()),
-    };
-    for requested in rows.iter() {
-        let status = driver.frame(requested);
-        run.poses.extend_from_slice(driver.poses());
-        run.reached.extend_from_slice(driver.inputs());
-        run.status.push(status);
-        let (Some(d), Some(r)) = (drive, run.rates.as_mut()) else {
-            continue;
-        };
-        if status != FrameStatus::Solved {
-            r.none(k * 3, b * 3, 1);
-            continue;
-        }
-        match (driver.solver()).rates(driver.state(), driver.inputs(), &d.rates, &d.accelerations) {
-            Ok(jets) => {
-                let mo = motion(m, &jets);
-                r.velocity.extend(mo.velocity.iter().flatten());
-                r.acceleration.extend(mo.acceleration.iter().flatten());
-                r.omega.extend(mo.omega.iter().flatten());
-                r.alpha.extend(mo.alpha.iter().flatten());
-                r.code.push(0);
+    driven(
+        &mut driver,
+        rows,
+        drive.map(|_| Rates::default()),
+        |driver, status, rates| {
+            let (Some(d), Some(r)) = (drive, rates.as_mut()) else {
+                return;
+            };
+            if status != FrameStatus::Solved {
+                return r.none(k * 3, b * 3, 1);
             }
-            Err(e) => r.none(k * 3, b * 3, rate_code(&e)),
-        }
-    }
-    run
+            match (driver.solver()).rates(driver.state(), driver.inputs(), &d.rates, &d.accelerations) {
+                Ok(jets) => {
+                    let mo = motion(m, &jets);
+                    r.velocity.extend(mo.velocity.iter().flatten());
+                    r.acceleration.extend(mo.acceleration.iter().flatten());
+                    r.omega.extend(mo.omega.iter().flatten());
+                    r.alpha.extend(mo.alpha.iter().flatten());
+                    r.code.push(0);
+                }
+                Err(e) => r.none(k * 3, b * 3, rate_code(&e)),
+            }
+        },
+    )
 }
 
 /// A rotation matrix (rows) as the unit quaternion (w, x, y, z), w ≥ 0.
@@ -118,20 +111,13 @@ pub(super) fn drag(
     }
     let free = dofplan::numeric::spatial::released(m);
     let plan = dofplan::numeric::spatial::drag_plan(m, marker);
-    let mut driver = Driver::new(Interpreter::new(plan), options);
+    let run = driven(
+        &mut Driver::new(Interpreter::new(plan), options),
+        targets,
+        None,
+        |_, _, _| {},
+    );
     let b = m.bodies.len();
-    let mut run = Run {
-        poses: Vec::with_capacity(targets.len() * b),
-        reached: Vec::with_capacity(targets.len() * 3),
-        status: Vec::with_capacity(targets.len()),
-        rates: None,
-    };
-    for t in targets.iter() {
-        let status = driver.frame(t);
-        run.poses.extend_from_slice(driver.poses());
-        run.reached.extend_from_slice(driver.inputs());
-        run.status.push(status);
-    }
     let markers: Vec<_> = m.all_markers().collect();
     Ok(finish(
         run,
