@@ -1,7 +1,7 @@
 //! Planar runs: poses as (angle in degrees from the drawing, x, y).
 
 use dofplan::interp::Interpreter;
-use dofplan::model::Mechanism;
+use dofplan::model::{MarkerId, Mechanism};
 use dofplan::plan::Plan;
 use dofplan::simulate::planar::{kinematics::motion, marker_at, max_relative_residual_at};
 use dofplan_runtime::planar::Pose;
@@ -40,12 +40,7 @@ pub(super) fn run(
         (markers.len(), 2),
         m.inputs.len(),
         |poses, inputs, pose_row, marker_row| {
-            for (p, out) in poses.iter().zip(pose_row.chunks_exact_mut(3)) {
-                out.copy_from_slice(&[dofplan::report::planar::frames::angle(p), p.at[0], p.at[1]]);
-            }
-            for (&id, out) in markers.iter().zip(marker_row.chunks_exact_mut(2)) {
-                out.copy_from_slice(&marker_at(m, poses, id));
-            }
+            read_off(m, &markers, poses, pose_row, marker_row);
             // The residual is a check, asked for: it costs more than the
             // frame (an atan2 for every joint).
             if check {
@@ -167,13 +162,25 @@ pub(super) fn drag(
         (markers.len(), 2),
         2,
         |poses, _, pose_row, marker_row| {
-            for (p, out) in poses.iter().zip(pose_row.chunks_exact_mut(3)) {
-                out.copy_from_slice(&[dofplan::report::planar::frames::angle(p), p.at[0], p.at[1]]);
-            }
-            for (&id, out) in markers.iter().zip(marker_row.chunks_exact_mut(2)) {
-                out.copy_from_slice(&marker_at(m, poses, id));
-            }
+            read_off(m, &markers, poses, pose_row, marker_row);
             max_relative_residual_at(&free, size, poses, &[])
         },
     ))
+}
+
+/// A frame's pose rows (angle in degrees from the drawing, x, y) and the
+/// world positions of `markers`, written into its rows.
+fn read_off(
+    m: &Mechanism,
+    markers: &[MarkerId],
+    poses: &[Pose],
+    pose_row: &mut [f64],
+    marker_row: &mut [f64],
+) {
+    for (p, out) in poses.iter().zip(pose_row.chunks_exact_mut(3)) {
+        out.copy_from_slice(&[dofplan::report::planar::frames::angle(p), p.at[0], p.at[1]]);
+    }
+    for (&id, out) in markers.iter().zip(marker_row.chunks_exact_mut(2)) {
+        out.copy_from_slice(&marker_at(m, poses, id));
+    }
 }

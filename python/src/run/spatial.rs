@@ -5,6 +5,7 @@
 
 use dofplan::interp::spatial::Interpreter;
 use dofplan::model::spatial::Mechanism;
+use dofplan::model::MarkerId;
 use dofplan::plan::spatial::Plan;
 use dofplan::simulate::spatial::{motion, residual};
 use dofplan_runtime::spatial::Pose3;
@@ -29,13 +30,7 @@ pub(super) fn run(
         (markers.len(), 3),
         m.inputs.len(),
         |poses, inputs, pose_row, marker_row| {
-            for (p, out) in poses.iter().zip(pose_row.chunks_exact_mut(7)) {
-                out[..3].copy_from_slice(&p.pos);
-                out[3..].copy_from_slice(&quaternion(&p.rot.m));
-            }
-            for (&id, out) in markers.iter().zip(marker_row.chunks_exact_mut(3)) {
-                out.copy_from_slice(&poses[id.body].world(m.marker(id).at));
-            }
+            read_off(m, &markers, poses, pose_row, marker_row);
             if check {
                 residual(m, poses, inputs)
             } else {
@@ -82,6 +77,25 @@ fn in_order(
     )
 }
 
+/// A frame's pose rows (x, y, z, then the rotation from the drawing as a
+/// unit quaternion) and the world positions of `markers`, written into its
+/// rows.
+fn read_off(
+    m: &Mechanism,
+    markers: &[MarkerId],
+    poses: &[Pose3],
+    pose_row: &mut [f64],
+    marker_row: &mut [f64],
+) {
+    for (p, out) in poses.iter().zip(pose_row.chunks_exact_mut(7)) {
+        out[..3].copy_from_slice(&p.pos);
+        out[3..].copy_from_slice(&quaternion(&p.rot.m));
+    }
+    for (&id, out) in markers.iter().zip(marker_row.chunks_exact_mut(3)) {
+        out.copy_from_slice(&poses[id.body].world(m.marker(id).at));
+    }
+}
+
 /// A rotation matrix (rows) as the unit quaternion (w, x, y, z), w ≥ 0.
 fn quaternion(r: &[[f64; 3]; 3]) -> [f64; 4] {
     let matrix = nalgebra::Matrix3::new(
@@ -125,13 +139,7 @@ pub(super) fn drag(
         (markers.len(), 3),
         3,
         |poses, inputs, pose_row, marker_row| {
-            for (p, out) in poses.iter().zip(pose_row.chunks_exact_mut(7)) {
-                out[..3].copy_from_slice(&p.pos);
-                out[3..].copy_from_slice(&quaternion(&p.rot.m));
-            }
-            for (&id, out) in markers.iter().zip(marker_row.chunks_exact_mut(3)) {
-                out.copy_from_slice(&poses[id.body].world(m.marker(id).at));
-            }
+            read_off(m, &markers, poses, pose_row, marker_row);
             residual(&free, poses, inputs)
         },
     ))
