@@ -86,7 +86,7 @@ pub(crate) struct Subject<'a> {
 }
 
 /// The error for a sweep that traces no marker: there is no path to study.
-pub(crate) fn untraced(file: &str) -> String {
+pub fn untraced(file: &str) -> String {
     format!(
         "{file}: error: the sweep traces no marker, so there is no path to study; add trace = [\"body.marker\"] to [sweep]"
     )

@@ -16,4 +16,4 @@ pub use solve::{problem, synthesize, Kind, Request};
 // What a synthesis returns is the same in both dimensions.
 pub use crate::synth::solution::{stats, ErrorStats, Margin, Solution, Synthesis};
 pub use crate::synth::tolerance::Spread;
-pub use tolerance::{monte_carlo, worst_case};
+pub use tolerance::{monte_carlo, nominal, paths, worst_case};

@@ -4,9 +4,10 @@
 
 use dofplan_runtime::{Driver, Options};
 
-use super::Design;
+use super::{Candidate, Design};
 use crate::model::MarkerId;
-use crate::synth::tolerance::{spread, Spread};
+use crate::synth::tolerance::{spread, Paths, Spread};
+use crate::synth::SynthError;
 
 /// The largest `|Σ δ_k d_k|` over every `δ` with `|δ_k| ≤ t`: the
 /// worst-case first-order deviation of a point whose derivatives with
@@ -53,23 +54,44 @@ pub fn monte_carlo(
     design: &Design,
     requested: &[Vec<f64>],
     markers: &[MarkerId],
-    nominal: &[Option<Vec<[f64; 2]>>],
+    nominal: &Paths<2>,
     (n, t, seed): (usize, f64, u64),
 ) -> Spread {
     spread(&design.drawn(), nominal, (n, t, seed), |p| {
-        // Positions only: a candidate planned differently from the drawing
-        // (its special geometry perturbed away) counts as well.
-        let c = design.prepare_any(p).ok()?;
-        let mut driver = Driver::new(&c.interpreter, Options::default());
-        let frames = (requested.iter())
-            .map(|inputs| {
-                let solved = driver.frame(inputs).is_solved();
-                solved.then(|| {
-                    let at = |id: &MarkerId| driver.poses()[id.body].world(c.mechanism.marker(*id).at);
-                    markers.iter().map(at).collect()
-                })
-            })
-            .collect();
-        Some(frames)
+        paths(design, requested, markers, p)
     })
+}
+
+/// The drawing's own paths of `markers` over `requested`: what candidates
+/// are measured against (`None` where the drawing does not reach a frame).
+pub fn nominal(
+    design: &Design,
+    requested: &[Vec<f64>],
+    markers: &[MarkerId],
+) -> Result<Paths<2>, SynthError> {
+    let drawn = design.prepare(&design.drawn())?;
+    Ok(run(&drawn, requested, markers))
+}
+
+/// The paths of `markers` over `requested` of the candidate drawn at `p`,
+/// or `None` if it cannot be planned. Positions only: a candidate planned
+/// differently from the drawing (its special geometry perturbed away)
+/// counts as well.
+pub fn paths(design: &Design, requested: &[Vec<f64>], markers: &[MarkerId], p: &[f64]) -> Option<Paths<2>> {
+    let c = design.prepare_any(p).ok()?;
+    Some(run(&c, requested, markers))
+}
+
+/// A candidate driven frame after frame from its drawing.
+fn run(c: &Candidate, requested: &[Vec<f64>], markers: &[MarkerId]) -> Paths<2> {
+    let mut driver = Driver::new(&c.interpreter, Options::default());
+    (requested.iter())
+        .map(|inputs| {
+            let solved = driver.frame(inputs).is_solved();
+            solved.then(|| {
+                let at = |id: &MarkerId| driver.poses()[id.body].world(c.mechanism.marker(*id).at);
+                markers.iter().map(at).collect()
+            })
+        })
+        .collect()
 }

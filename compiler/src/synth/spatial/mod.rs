@@ -16,4 +16,4 @@ pub use gradient::{sensitivity, Sensitivity};
 pub use params::{Candidate, Design, Node};
 pub use problem::{link_ratio, output, BodyPose, Constraints, Function, Motion, Path};
 pub use solve::{problem, synthesize, Kind, Problem, Request};
-pub use tolerance::{monte_carlo, worst_case};
+pub use tolerance::{monte_carlo, nominal, paths, worst_case};
