@@ -652,18 +652,52 @@ class Mechanism:
         rates, and each four-bar loop's transmission angle, as a dict."""
         return json.loads(self._m.analyze_json(rate, steps))
 
+    def source(self) -> Tuple[str, str]:
+        """The mechanism's file text and its format ("toml" or "json"): the
+        text it was loaded from, or a candidate's rewritten file (write it
+        to a file to keep the candidate)."""
+        text, fmt = self._m.source()
+        return text, fmt
+
+    @functools.cached_property
+    def parameters(self) -> Dict[str, float]:
+        """The design parameters and their drawn values, in order:
+        ``NAME.x``, ``NAME.y`` (``.z`` in space) per point that moves as one
+        (a joint's name, or ``body.marker`` for a marker in no joint), as
+        ``dofplan synth`` and ``analyze --sensitivity`` name them. A
+        mechanism without a plan has none (:class:`DofplanError`)."""
+        names, drawn = _dofplan.parameters(self._m)
+        return dict(zip(names, drawn))
+
+    def with_parameters(self, values: Any) -> "Mechanism":
+        """The candidate drawn at new parameter values: a mapping of some
+        parameters (the rest stay as drawn) or one value per parameter in
+        :attr:`parameters`' order. A mechanism like any loaded one, its text
+        this file's with the moved points rewritten to the last bit
+        (comments and key order kept; :meth:`source`). Raises
+        :class:`DofplanError` where the new drawing has no plan, ``KeyError``
+        for a name that is not a parameter."""
+        if isinstance(values, Mapping):
+            unknown = [k for k in values if k not in self.parameters]
+            if unknown:
+                raise KeyError(f"{', '.join(unknown)}: not design parameters of {self.name} (they are {', '.join(self.parameters)})")
+            row = [float(values.get(k, v)) for k, v in self.parameters.items()]
+        else:
+            row = [float(v) for v in np.asarray(values, dtype=np.float64).ravel()]
+        return Mechanism(_dofplan.with_parameters(self._m, row))
+
     def sensitivity(
         self,
         tolerance: Optional[float] = None,
         monte_carlo: Optional[int] = None,
-        seed: int = 0,
+        seed: int = 1,
         steps: Optional[int] = None,
     ) -> Dict[str, Any]:
         """``dofplan analyze --sensitivity --json``: each traced marker's
         exact derivatives with respect to every design parameter over the
         sweep, ranked; with ``tolerance`` the worst-case first-order
         deviation, and with ``monte_carlo`` N perturbed candidates' spread
-        (seeded by ``seed``)."""
+        (seeded by ``seed``; 1 as in the CLI)."""
         return json.loads(self._m.sensitivity_json(tolerance, monte_carlo, seed, steps))
 
     def __reduce__(self) -> Any:

@@ -9,12 +9,16 @@
 //!
 //! - [`errors`]: the exceptions, carrying the CLI's diagnostics.
 //! - [`mechanism`]: the `Mechanism` class (load, check, plan, emit).
+//! - [`design`]: design parameters, candidates drawn at new values, and
+//!   the tolerance study's steps (what `dofplan.study` and `dofplan.ray`
+//!   spread over workers).
 //! - [`synth`]: path, function and motion generation.
 //! - [`run`]: inputs run through the plan into NumPy arrays (one file per
 //!   dimension).
 
 use pyo3::prelude::*;
 
+mod design;
 mod errors;
 mod mechanism;
 mod run;
@@ -32,6 +36,11 @@ fn _dofplan(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(mechanism::loads, m)?)?;
     m.add_function(wrap_pyfunction!(mechanism::pmks_to_toml, m)?)?;
     m.add_function(wrap_pyfunction!(mechanism::assemble_text, m)?)?;
+    m.add_function(wrap_pyfunction!(design::parameters, m)?)?;
+    m.add_function(wrap_pyfunction!(design::with_parameters, m)?)?;
+    m.add_function(wrap_pyfunction!(design::tolerance_draws, m)?)?;
+    m.add_function(wrap_pyfunction!(design::deviations, m)?)?;
+    m.add_function(wrap_pyfunction!(design::spread, m)?)?;
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     Ok(())
 }

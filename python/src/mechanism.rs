@@ -38,7 +38,7 @@ enum Live {
 
 impl Mechanism {
     /// The file's sweep with `steps` frames if given, or a ValueError.
-    fn sweep_of(&self, steps: Option<usize>) -> PyResult<Sweep> {
+    pub(crate) fn sweep_of(&self, steps: Option<usize>) -> PyResult<Sweep> {
         let Some(sweep) = self.sweep() else {
             return Err(pyo3::exceptions::PyValueError::new_err(format!(
                 "{} has no [sweep] to analyze: add one to the file",
@@ -84,7 +84,7 @@ impl Mechanism {
         (source.text.to_string(), if json { "json" } else { "toml" })
     }
 
-    fn new(model: Model) -> Mechanism {
+    pub(crate) fn new(model: Model) -> Mechanism {
         Mechanism {
             model,
             plan: OnceLock::new(),
