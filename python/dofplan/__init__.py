@@ -226,7 +226,8 @@ def synth(
     ``target`` (stop at this sum of squares), ``population``,
     ``evaluations``. Every solution is verified from its written file. A
     problem the search cannot take raises :class:`DofplanError` with the
-    CLI's message.
+    CLI's message. Ctrl-C stops the search at its next generation
+    (``KeyboardInterrupt``).
     """
     goals = [(k, v) for k, v in (("path", path), ("function", function), ("motion", motion)) if v is not None]
     if len(goals) != 1:

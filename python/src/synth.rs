@@ -5,6 +5,8 @@
 //! into the mechanism's own text, comments and key order kept, and
 //! verified from there).
 
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 use std::time::Duration;
 
 use dofplan::model::{Format, Model};
@@ -62,44 +64,85 @@ pub fn run(py: Python<'_>, mech: &Mechanism, goal: Goal) -> PyResult<(String, St
     } else {
         Format::Toml
     };
+    let cancel = Arc::new(AtomicBool::new(false));
     let options = Options {
         seed: goal.seed,
         time_limit: Duration::from_secs_f64(goal.time_limit),
         target: goal.target.unwrap_or(0.0),
         population: goal.population,
         evaluations: goal.evaluations,
+        cancel: Some(cancel.clone()),
         ..Options::default()
     };
     let name = mech.file().to_string();
-    let found: Result<(String, String), String> = py.detach(|| match &mech.model {
-        Model::Planar(m) => {
-            let request = planar_request(&goal)?;
-            let problem = problem(m, &request).map_err(|e| about(&name, e))?;
-            let s = synthesize(m, &text, format, &problem, &options, &mut |_| {});
-            let s = solved(&name, s)?;
-            let mut out = Vec::new();
-            dofplan::report::planar::synth::write_json(m, &problem, &s, &mut out)
-                .map_err(|e| e.to_string())?;
-            Ok((
-                String::from_utf8_lossy(&out).into_owned(),
-                s.solutions[0].text.clone(),
-            ))
+    let search = || -> Result<(String, String), String> {
+        match &mech.model {
+            Model::Planar(m) => {
+                let request = planar_request(&goal)?;
+                let problem = problem(m, &request).map_err(|e| about(&name, e))?;
+                let s = synthesize(m, &text, format, &problem, &options, &mut |_| {});
+                let s = solved(&name, s)?;
+                let mut out = Vec::new();
+                dofplan::report::planar::synth::write_json(m, &problem, &s, &mut out)
+                    .map_err(|e| e.to_string())?;
+                Ok((
+                    String::from_utf8_lossy(&out).into_owned(),
+                    s.solutions[0].text.clone(),
+                ))
+            }
+            Model::Spatial(m) => {
+                let request = spatial_request(&goal, &name)?;
+                let problem = spatial::problem(m, &request).map_err(|e| about(&name, e))?;
+                let s = spatial::synthesize(m, &text, format, &problem, &options, &mut |_| {});
+                let s = solved(&name, s)?;
+                let mut out = Vec::new();
+                dofplan::report::spatial::synth::write_json(m, &problem, &s, &mut out)
+                    .map_err(|e| e.to_string())?;
+                Ok((
+                    String::from_utf8_lossy(&out).into_owned(),
+                    s.solutions[0].text.clone(),
+                ))
+            }
         }
-        Model::Spatial(m) => {
-            let request = spatial_request(&goal, &name)?;
-            let problem = spatial::problem(m, &request).map_err(|e| about(&name, e))?;
-            let s = spatial::synthesize(m, &text, format, &problem, &options, &mut |_| {});
-            let s = solved(&name, s)?;
-            let mut out = Vec::new();
-            dofplan::report::spatial::synth::write_json(m, &problem, &s, &mut out)
-                .map_err(|e| e.to_string())?;
-            Ok((
-                String::from_utf8_lossy(&out).into_owned(),
-                s.solutions[0].text.clone(),
-            ))
-        }
-    });
+    };
+    let (found, interrupted) = interruptible(py, &cancel, search);
+    if let Some(e) = interrupted {
+        return Err(e);
+    }
     found.map_err(crate::errors::DofplanError::new_err)
+}
+
+/// Runs `work` on a thread of its own, the lock released, while this one
+/// looks at Python's signals every `POLL`: on Ctrl-C (or any signal handler
+/// that raises) `cancel` is set, the search stops at its next generation,
+/// and the handler's exception is returned beside the work's result.
+fn interruptible<T: Send>(
+    py: Python<'_>,
+    cancel: &AtomicBool,
+    work: impl FnOnce() -> T + Send,
+) -> (T, Option<PyErr>) {
+    const POLL: Duration = Duration::from_millis(50);
+    py.detach(|| {
+        std::thread::scope(|scope| {
+            let running = scope.spawn(work);
+            let mut interrupted = None;
+            while !running.is_finished() {
+                std::thread::sleep(POLL);
+                if interrupted.is_none() {
+                    if let Err(e) = Python::attach(|py| py.check_signals()) {
+                        cancel.store(true, Ordering::Relaxed);
+                        interrupted = Some(e);
+                    }
+                }
+            }
+            match running.join() {
+                Ok(found) => (found, interrupted),
+                // A panic in the search is a bug: carried on as one, not
+                // turned into a Python error that hides it.
+                Err(panic) => std::panic::resume_unwind(panic),
+            }
+        })
+    })
 }
 
 /// The planar request.

@@ -103,3 +103,134 @@ def test_a_bad_file_raises_what_check_prints(edit, tmp_path):
     d = e.value.diagnostics[0]
     assert d["file"] == str(path)
     assert d["line"] is not None or d["path"] is not None or "file" in d, edit
+
+
+# Every bad text of the Rust loader tests (tests/inputs/bad_input.rs): its
+# base four-bar (TOML and JSON) and each `toml_err(&fourbar(&[...]))` or
+# `json_err(&fourbar_json(&[...]))` case's line edits, read out of the Rust
+# source so the two test suites cannot drift apart. Each must raise
+# MechanismError from Python with the text `dofplan check` prints.
+BAD_INPUT_RS = ROOT / "tests" / "inputs" / "bad_input.rs"
+
+
+def _rust_literal(src, i):
+    """The Rust string literal starting at src[i] (plain or raw) and the index after it."""
+    if src.startswith("r", i):
+        j = i + 1
+        hashes = 0
+        while src[j] == "#":
+            hashes += 1
+            j += 1
+        assert src[j] == '"', src[i : i + 20]
+        end = src.index('"' + "#" * hashes, j + 1)
+        return src[j + 1 : end], end + 1 + hashes
+    assert src[i] == '"', src[i : i + 20]
+    out, j = [], i + 1
+    while src[j] != '"':
+        c = src[j]
+        if c == "\\":
+            n = src[j + 1]
+            if n == "\n":
+                # A line continuation: the newline and the next line's indent go.
+                j += 2
+                while src[j] in " \t":
+                    j += 1
+                continue
+            if n == "u":
+                end = src.index("}", j)
+                out.append(chr(int(src[j + 3 : end], 16)))
+                j = end + 1
+                continue
+            out.append({"n": "\n", "t": "\t", "\\": "\\", '"': '"', "'": "'", "0": "\0", "r": "\r"}[n])
+            j += 2
+            continue
+        out.append(c)
+        j += 1
+    return "".join(out), j + 1
+
+
+def _skip(src, i):
+    """Past whitespace and comments."""
+    while True:
+        while src[i] in " \t\n,":
+            i += 1
+        if src.startswith("//", i):
+            i = src.index("\n", i)
+        elif src.startswith("/*", i):
+            i = src.index("*/", i) + 2
+        else:
+            return i
+
+
+def _rust_base(src, name):
+    i = src.index(f"const {name}:")
+    i = src.index("= [", i) + 3
+    lines = []
+    while True:
+        i = _skip(src, i)
+        if src[i] == "]":
+            return lines
+        text, i = _rust_literal(src, i)
+        lines.append(text)
+
+
+def _rust_edits(src, i):
+    """The `[(n, "text"), ...]` list starting at src[i] == '['."""
+    edits, i = [], i + 1
+    while True:
+        i = _skip(src, i)
+        if src[i] == "]":
+            return edits
+        assert src[i] == "(", src[i : i + 40]
+        i = _skip(src, i + 1)
+        j = i
+        while src[j].isdigit():
+            j += 1
+        n = int(src[i:j])
+        i = _skip(src, j)
+        text, i = _rust_literal(src, i)
+        i = _skip(src, i)
+        assert src[i] == ")", src[i : i + 40]
+        edits.append((n, text))
+        i += 1
+
+
+def _rust_bad_cases():
+    src = BAD_INPUT_RS.read_text()
+    bases = {"toml": _rust_base(src, "FOURBAR"), "json": _rust_base(src, "FOURBAR_JSON")}
+    cases = []
+    for call, fmt in (("toml_err(&fourbar(&", "toml"), ("json_err(&fourbar_json(&", "json")):
+        start = 0
+        while (k := src.find(call, start)) >= 0:
+            line = src.count("\n", 0, k) + 1
+            lines = list(bases[fmt])
+            for n, text in _rust_edits(src, k + len(call)):
+                lines[n - 1] = text
+            cases.append((f"bad_input.rs:{line}", fmt, "\n".join(lines) + "\n"))
+            start = k + 1
+    return cases
+
+
+RUST_BAD = _rust_bad_cases()
+
+
+def test_every_bad_case_of_the_rust_tests_is_read():
+    # As many as the Rust file has calls: the reader above cannot silently skip some.
+    src = BAD_INPUT_RS.read_text()
+    assert len(RUST_BAD) == src.count("toml_err(&fourbar(&") + src.count("json_err(&fourbar_json(&") >= 40
+
+
+@pytest.mark.parametrize("case", RUST_BAD, ids=lambda c: c[0])
+def test_a_bad_case_of_the_rust_tests_raises_what_check_prints(case, tmp_path):
+    where, fmt, text = case
+    path = tmp_path / f"t.{fmt}"
+    path.write_text(text)
+    code, _, err = run_cli("check", path)
+    assert code != 0, where
+    with pytest.raises(dofplan.MechanismError) as e:
+        dofplan.load(path)
+    assert str(e.value).strip() == err.strip(), where
+    with pytest.raises(dofplan.MechanismError) as again:
+        dofplan.loads(text, format=fmt, name=str(path))
+    assert str(again.value) == str(e.value)
+    assert e.value.diagnostics and all(d["file"] == str(path) for d in e.value.diagnostics)

@@ -556,3 +556,34 @@ def test_frame_by_frame_from_the_live_pose_is_the_sweep_s():
     assert status == "solved" and np.array_equal(at, r.markers[0])
     with pytest.raises(ValueError, match="takes 1 finite input"):
         m.frame([1.0, 2.0])
+
+
+def test_synth_stops_on_ctrl_c():
+    # A search of two minutes, interrupted by SIGINT as Ctrl-C sends it: the
+    # search stops at its next generation and KeyboardInterrupt is raised.
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    script = f"""
+import sys, time
+import numpy as np
+import dofplan
+m = dofplan.load({str(MECHANISMS / 'fourbar.toml')!r})
+targets = m.simulate([0.0, 60.0, 120.0, 180.0, 240.0, 300.0]).marker("coupler.P") + [0.3, 0.0]
+print("searching", flush=True)
+t = time.monotonic()
+try:
+    dofplan.synth(m, path=targets, marker="coupler.P", time_limit=120.0)
+    print("finished", flush=True)
+except KeyboardInterrupt:
+    print(f"interrupted after {{time.monotonic() - t:.2f}} s", flush=True)
+"""
+    p = subprocess.Popen([sys.executable, "-c", script], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    assert p.stdout.readline().strip() == "searching"
+    time.sleep(1.0)
+    p.send_signal(signal.SIGINT)
+    out, err = p.communicate(timeout=60)
+    assert out.startswith("interrupted after"), (out, err)
+    assert float(out.split()[2]) < 30.0
