@@ -85,6 +85,7 @@ pub mod build;
 pub mod conflict;
 pub mod edit;
 pub mod emit;
+pub mod forces;
 pub mod format;
 pub mod import;
 pub mod interp;

@@ -10,6 +10,7 @@ mod circuits;
 mod classics;
 mod cluster_rates;
 mod drag;
+mod forces;
 mod fragments;
 mod mixed;
 mod newton;

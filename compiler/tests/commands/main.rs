@@ -8,6 +8,7 @@ mod assemble_spatial;
 mod cli;
 mod docs_links;
 mod docs_pictures;
+mod forces;
 mod import;
 mod readme;
 mod sensitivity;

@@ -40,8 +40,8 @@ const COMPILER: &[&[&str]] = &[
     // the loader's callers.
     &["conflict"],
     // What users run on top of plans; importers load and plan what they
-    // write.
-    &["assemble", "simulate", "import"],
+    // write; forces from a plan's rates.
+    &["assemble", "simulate", "import", "forces"],
     // Synthesis writes its solutions as `assemble` rewrites a file.
     &["synth"],
     &["render", "build"],

@@ -182,9 +182,11 @@ enum Command {
         #[command(flatten)]
         sweep: SweepArgs,
         /// The first swept input's rate, constant: radians per second for an
-        /// angle, length units per second for a slide.
-        #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = parse_finite)]
-        rate: f64,
+        /// angle, length units per second for a slide [default: 1]. With
+        /// --forces: run at this rate (kinetostatics: the bodies' inertia
+        /// and the dampers count); without it, --forces is statics.
+        #[arg(long, allow_hyphen_values = true, value_parser = parse_finite)]
+        rate: Option<f64>,
         /// One JSON document: simulate's frames plus "velocity" and
         /// "acceleration" (by "body.marker", like "markers"), "angular"
         /// (each body's "omega" and "alpha", radians per second and per
@@ -217,6 +219,15 @@ enum Command {
         /// --json, every frame's derivatives. Planar and spatial files.
         #[arg(long, conflicts_with_all = ["csv", "svg"])]
         sensitivity: bool,
+        /// Instead of rates: the force (slide) or torque (angle, per
+        /// radian) each input must supply at every frame, from the file's
+        /// masses, [gravity] and [loads.NAME], by virtual work with the
+        /// plan's exact rates. Statics (held at each pose), or
+        /// kinetostatics with --rate. A summary (each input's peak), or
+        /// --json (simulate's frames with "input_force": input -> value)
+        /// or --csv. Planar files; joint reactions are not computed yet.
+        #[arg(long, conflicts_with_all = ["svg", "sensitivity"])]
+        forces: bool,
         /// With --sensitivity: the worst-case first-order deviation of
         /// each traced marker when every parameter may be off by ±T
         /// (length units).
@@ -473,42 +484,7 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
                 out,
             ))
         }),
-        Command::Analyze {
-            file,
-            sweep: sweep_args,
-            rate,
-            json,
-            csv,
-            svg,
-            sensitivity,
-            tolerance,
-            monte_carlo,
-            seed,
-        } => with_plan(&file, |m, plan| {
-            let Some(sweep) = sweep_args.of(m) else {
-                return Ok(ExitCode::FAILURE);
-            };
-            let form = Form::of(json, csv);
-            if sensitivity {
-                let study = Study {
-                    tolerance,
-                    monte_carlo,
-                    seed,
-                };
-                return outcome(sensitivity::run(m, &sweep, study, form, out));
-            }
-            let mut bar = progress::Frames::default();
-            outcome(analyze::analyze(
-                m,
-                plan,
-                &sweep,
-                rate,
-                form,
-                svg.as_deref(),
-                &mut bar,
-                out,
-            ))
-        }),
+        command @ Command::Analyze { .. } => analyze_planar(command, out),
         Command::Assemble { file, write } => assemble(&file, write, out),
         Command::Edit { file, port, open } => edit::run(file.as_deref(), port, open, out),
         Command::Synth(args) => synth::run(*args, out),
@@ -695,6 +671,57 @@ fn drag_spatial(
     ))
 }
 
+/// `dofplan analyze` on a planar file: rates, `--sensitivity` or `--forces`.
+fn analyze_planar(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
+    let Command::Analyze {
+        file,
+        sweep: sweep_args,
+        rate,
+        json,
+        csv,
+        svg,
+        sensitivity,
+        tolerance,
+        monte_carlo,
+        seed,
+        forces,
+    } = command
+    else {
+        unreachable!("analyze_planar is given an Analyze")
+    };
+    with_plan(&file, |m, plan| {
+        let Some(sweep) = sweep_args.of(m) else {
+            return Ok(ExitCode::FAILURE);
+        };
+        let form = Form::of(json, csv);
+        if forces {
+            return outcome(dofplan::report::planar::forces::run(
+                m, plan, &sweep, rate, form, out,
+            ));
+        }
+        let rate = rate.unwrap_or(1.0);
+        if sensitivity {
+            let study = Study {
+                tolerance,
+                monte_carlo,
+                seed,
+            };
+            return outcome(sensitivity::run(m, &sweep, study, form, out));
+        }
+        let mut bar = progress::Frames::default();
+        outcome(analyze::analyze(
+            m,
+            plan,
+            &sweep,
+            rate,
+            form,
+            svg.as_deref(),
+            &mut bar,
+            out,
+        ))
+    })
+}
+
 /// `dofplan analyze` on a spatial file.
 fn analyze_spatial(
     m: &dofplan::model::spatial::Mechanism,
@@ -707,11 +734,19 @@ fn analyze_spatial(
         json,
         csv,
         svg,
+        forces,
         ..
     } = command
     else {
         unreachable!("analyze_spatial is given an Analyze")
     };
+    if forces {
+        return outcome(Ok(Err(format!(
+            "{}: error: --forces works on planar files for now\n  help: `dofplan analyze` without --forces gives this file's velocities and accelerations",
+            m.source.name
+        ))));
+    }
+    let rate = rate.unwrap_or(1.0);
     let Some(sweep) = sweep_args.of(m) else {
         return Ok(ExitCode::FAILURE);
     };

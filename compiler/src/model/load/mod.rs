@@ -13,6 +13,7 @@ use dofplan_runtime::Point;
 use super::error::{Diagnostic, Location, ModelError, Note, SourceFile};
 use super::shape;
 use super::source::{parse_json, parse_toml_by_serde, read_toml, At, Key, Node, NodeKind};
+mod loads;
 mod planar;
 pub(crate) mod spatial;
 
@@ -794,6 +795,8 @@ impl Validator {
                 "constraints",
                 "inputs",
                 "sweep",
+                "gravity",
+                "loads",
             ],
             "",
         );
@@ -833,7 +836,8 @@ impl Validator {
                 self.broken.insert(key.name.to_string());
                 continue;
             };
-            self.check_keys(fields, &["fixed", "markers"], path);
+            // Mass properties are read by each dimension (`loads.rs`).
+            self.check_keys(fields, &["fixed", "markers", "mass", "centre", "inertia"], path);
             let fixed = match Self::get(fields, "fixed") {
                 None => false,
                 Some(f) => match f.kind {

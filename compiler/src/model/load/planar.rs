@@ -27,7 +27,8 @@ impl Validator {
                 }
             }
         }
-        let bodies = match self.required(top, "bodies", root, "") {
+        let bodies_node = self.required(top, "bodies", root, "");
+        let bodies = match bodies_node {
             Some(n) => self.bodies(n, Self::marker),
             None => Vec::new(),
         };
@@ -63,6 +64,7 @@ impl Validator {
             Some(n) => self.sweep(n, &inputs, &written_inputs, &bodies),
             None => None,
         };
+        let loads = self.loads(top, bodies_node, &bodies, &joints);
         let mechanism = Mechanism {
             name: name?,
             dimension: 2,
@@ -71,6 +73,7 @@ impl Validator {
             constraints: constraints.into_iter().map(|(c, _)| c).collect(),
             inputs,
             sweep,
+            loads,
             source: self.file.clone(),
         };
         Some(mechanism)

@@ -72,6 +72,7 @@ pub(super) fn drawn(file: SourceFile, root: &Node, format: Format) -> Result<Dra
 impl Validator {
     pub(super) fn mechanism3(&mut self, root: &Node) -> Option<Mechanism> {
         let (top, name) = self.top(root)?;
+        self.refuse_loads(top);
         let bodies = match self.required(top, "bodies", root, "") {
             Some(n) => self.bodies(n, Self::marker3),
             None => Vec::new(),

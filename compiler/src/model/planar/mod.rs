@@ -2,6 +2,7 @@
 //! prismatic joints, and the primitive constraints of the plane.
 
 pub mod equations;
+pub mod loads;
 
 use dofplan_runtime::Point;
 
@@ -24,6 +25,8 @@ pub struct Mechanism {
     pub inputs: Vec<Input>,
     /// The sweep to simulate, if the file has one.
     pub sweep: Option<Sweep>,
+    /// Masses, gravity and applied loads (empty if the file gives none).
+    pub loads: loads::Loads,
     /// The file it came from.
     pub source: SourceFile,
 }

@@ -1,0 +1,216 @@
+//! `dofplan analyze --forces` as a user runs it, and the loader's answers
+//! to bad masses, gravity and loads (file:line:column, the names involved,
+//! what to write).
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+use serde_json::Value;
+
+fn mechanism(name: &str) -> String {
+    let p = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../mechanisms")
+        .join(format!("{name}.toml"));
+    p.to_string_lossy().into_owned()
+}
+
+fn dofplan(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_dofplan"))
+        .args(args)
+        .env("NO_COLOR", "1")
+        .output()
+        .expect("the dofplan binary runs")
+}
+
+fn text(b: &[u8]) -> String {
+    String::from_utf8_lossy(b).into_owned()
+}
+
+#[test]
+fn the_summary_names_each_input_s_peak_and_where() {
+    let o = dofplan(&["analyze", &mechanism("loads/slider_crank_press"), "--forces"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    // The peak of the closed form T = -F_x dx_C/dphi over the sweep's
+    // whole degrees (mechanisms/loads/slider_crank_press.toml's header).
+    let (r, l, e, f) = (1.0f64, 3.5f64, 0.25f64, -100.0f64);
+    let torque = |deg: f64| {
+        let phi = (30.0 + deg).to_radians();
+        let root = (l * l - (r * phi.sin() - e).powi(2)).sqrt();
+        -f * (-r * phi.sin() - (r * phi.sin() - e) * r * phi.cos() / root)
+    };
+    let peak = (0..=360)
+        .map(|d| d as f64)
+        .max_by(|a, b| torque(*a).abs().total_cmp(&torque(*b).abs()))
+        .unwrap();
+    let mut lines = out.lines();
+    assert_eq!(
+        lines.next(),
+        Some("slider_crank_press: 361 frames, held still at each pose (statics)")
+    );
+    let line = lines.next().unwrap();
+    let shown: f64 = line
+        .strip_prefix("  input theta: peak torque ")
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("{line}"));
+    assert!((shown - torque(peak)).abs() < 1e-4, "{line}: {}", torque(peak));
+    assert!(line.ends_with(&format!(" at theta = {peak}°")), "{line}: {peak}");
+    assert_eq!(lines.next(), None);
+}
+
+#[test]
+fn json_and_csv_stream_every_frame_s_input_force() {
+    let file = mechanism("loads/fourbar_weights");
+    let o = dofplan(&[
+        "analyze", &file, "--forces", "--rate", "2", "--json", "--steps", "13",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let doc: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(doc["forces"], "kinetostatic");
+    let frames = doc["frames"].as_array().unwrap();
+    assert_eq!(frames.len(), 13);
+    let json: Vec<f64> = frames
+        .iter()
+        .map(|f| f["input_force"]["theta"].as_f64().unwrap())
+        .collect();
+    let o = dofplan(&[
+        "analyze", &file, "--forces", "--rate", "2", "--csv", "--steps", "13",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let csv = text(&o.stdout);
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("frame,theta,status,theta.force"));
+    let column: Vec<f64> = lines
+        .map(|l| l.split(',').nth(3).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(column, json);
+    // Held still, the answer differs: the inertia and the damper are gone.
+    let o = dofplan(&["analyze", &file, "--forces", "--json", "--steps", "13"]);
+    let still: Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(still["forces"], "static");
+    assert_ne!(
+        still["frames"][3]["input_force"]["theta"].as_f64().unwrap(),
+        json[3]
+    );
+}
+
+#[test]
+fn a_file_without_loads_or_a_spatial_file_is_told_what_to_do() {
+    let o = dofplan(&["analyze", &mechanism("fourbar"), "--forces"]);
+    assert!(!o.status.success());
+    let err = text(&o.stderr);
+    assert!(
+        err.contains("the file gives no masses, gravity or loads, so every force is 0"),
+        "{err}"
+    );
+    assert!(err.contains("help: add [loads.NAME] entries"), "{err}");
+    let o = dofplan(&["analyze", &mechanism("spatial/rssr"), "--forces"]);
+    assert!(!o.status.success());
+    assert!(
+        text(&o.stderr).contains("--forces works on planar files for now"),
+        "{}",
+        text(&o.stderr)
+    );
+}
+
+/// `check` on the press with its load replaced by `load` (TOML lines
+/// after `[loads.piston]`): the error text.
+fn bad_load(load: &str) -> String {
+    let good = std::fs::read_to_string(mechanism("loads/slider_crank_press")).unwrap();
+    let start = good.find("kind = \"force\"\nmarker = \"slider.C\"").unwrap();
+    let end = good[start..].find("\n\n").unwrap() + start;
+    let edited = format!("{}{load}{}", &good[..start], &good[end..]);
+    let dir = std::env::temp_dir().join(format!("dofplan-forces-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("press.toml");
+    std::fs::write(&path, edited).unwrap();
+    let o = dofplan(&["check", path.to_str().unwrap()]);
+    assert!(!o.status.success(), "{load}");
+    text(&o.stderr).replace(&path.display().to_string(), "press.toml")
+}
+
+#[test]
+fn bad_loads_get_their_position_names_and_a_hint() {
+    // The line after `[loads.piston]`.
+    let good = std::fs::read_to_string(mechanism("loads/slider_crank_press")).unwrap();
+    let line = good.lines().position(|l| l == "[loads.piston]").unwrap() + 2;
+    let e = bad_load("kind = \"push\"\nmarker = \"slider.C\"\nforce = [1, 0]");
+    assert!(e.contains("error: load `piston`: unknown kind `push`"), "{e}");
+    assert!(e.contains(&format!("press.toml:{line}:8")), "{e}");
+    assert!(
+        e.contains("expected one of: force, torque, spring, damper, torsion-spring"),
+        "{e}"
+    );
+    let e = bad_load("kind = \"force\"\nmarker = \"slider.Q\"\nforce = [1, 0]");
+    assert!(
+        e.contains("error: load `piston`: body `slider` has no marker `Q`"),
+        "{e}"
+    );
+    assert!(e.contains(&format!("press.toml:{}:10", line + 1)), "{e}");
+    let e = bad_load("kind = \"force\"\nmarker = \"slider.C\"\nforce = [1, 0, 0]");
+    assert!(
+        e.contains(&format!("press.toml:{}:9", line + 2)) && e.contains("must have 2 coordinates"),
+        "{e}"
+    );
+    let e = bad_load("kind = \"force\"\nmarker = \"slider.C\"\nforce = [1, 0]\naxes = \"local\"");
+    assert!(
+        e.contains("`axes` is \"world\" or \"body\", not \"local\""),
+        "{e}"
+    );
+    let e = bad_load("kind = \"torsion-spring\"\njoint = \"S\"\nstiffness = 1\nfree_angle = 0");
+    assert!(
+        e.contains("joint `S` is prismatic; a torsion spring sits on a revolute joint"),
+        "{e}"
+    );
+    let e = bad_load("kind = \"spring\"\nmarkers = [\"rod.B\", \"rod.C\"]\nstiffness = 1\nfree_length = 1");
+    assert!(
+        e.contains("load `piston` joins two markers of the same body `rod`"),
+        "{e}"
+    );
+    let e =
+        bad_load("kind = \"spring\"\nmarkers = [\"ground.O\", \"rod.C\"]\nstiffness = -1\nfree_length = 1");
+    assert!(
+        e.contains("`loads.piston.stiffness` is -1: it must be 0 or more"),
+        "{e}"
+    );
+    let e = bad_load("kind = \"torque\"\nbody = \"wheel\"\ntorque = 1");
+    assert!(
+        e.contains("unknown body `wheel`") && e.contains("bodies are: ground, crank, rod, slider"),
+        "{e}"
+    );
+    let e = bad_load("kind = \"damper\"\nmarkers = [\"ground.O\", \"rod.C\"]");
+    assert!(e.contains("`loads.piston` is missing `damping`"), "{e}");
+    let e = bad_load("kind = \"force\"\nmarker = \"slider.C\"\nforce = [1, 0]\nstiffness = 2");
+    assert!(e.contains("unknown key `stiffness`"), "{e}");
+}
+
+#[test]
+fn masses_come_whole_and_spatial_files_refuse_them_by_name() {
+    let good = std::fs::read_to_string(mechanism("loads/fourbar_weights")).unwrap();
+    let edited = good.replace("centre = [0.5, 0.5]\n", "");
+    let dir = std::env::temp_dir().join(format!("dofplan-masses-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("w.toml");
+    std::fs::write(&path, edited).unwrap();
+    let o = dofplan(&["check", path.to_str().unwrap()]);
+    let e = text(&o.stderr);
+    assert!(!o.status.success());
+    assert!(
+        e.contains("body `crank` has `mass` and `inertia` but not `centre`"),
+        "{e}"
+    );
+    let edited = good.replace("mass = 2.0", "mass = 0");
+    std::fs::write(&path, edited).unwrap();
+    let e = text(&dofplan(&["check", path.to_str().unwrap()]).stderr);
+    assert!(
+        e.contains("`bodies.coupler.mass` is 0: it must be more than 0"),
+        "{e}"
+    );
+    let spatial =
+        std::fs::read_to_string(mechanism("spatial/rssr")).unwrap() + "\n[gravity]\ng = [0, 0, -9.81]\n";
+    let path = dir.join("s.toml");
+    std::fs::write(&path, spatial).unwrap();
+    let e = text(&dofplan(&["check", path.to_str().unwrap()]).stderr);
+    assert!(e.contains("`gravity` is not read from spatial files yet"), "{e}");
+}

@@ -1,0 +1,248 @@
+//! Input forces by virtual work (`dofplan::forces::planar`) against
+//! independent computations: the slider-crank's closed form, a follower
+//! force that is a constant torque, a four-bar solved here by circle
+//! intersection, and the energy balance of a four-bar with masses,
+//! gravity, springs, a torque and a damper running at speed.
+
+use dofplan::forces::planar::{input_forces, Moving};
+use dofplan::interp::Interpreter;
+use dofplan::load_str;
+use dofplan::model::{Format, Mechanism};
+use dofplan_runtime::planar::Pose;
+use dofplan_runtime::real::Jet2;
+use dofplan_runtime::{Driver, FrameStatus, Options};
+use dofplan_tests::{load, mechanisms_dir, plan};
+
+/// The input forces at crank angle `theta` (degrees), held still or
+/// running as `moving` says.
+fn forces_at(m: &Mechanism, driver: &mut Driver<Interpreter>, theta: f64, moving: Option<Moving>) -> f64 {
+    assert_eq!(
+        driver.frame(&[theta]),
+        FrameStatus::Solved,
+        "{} at {theta}",
+        m.name
+    );
+    let q = input_forces(m, driver.solver(), driver.state(), driver.inputs(), moving).unwrap();
+    q[0]
+}
+
+#[test]
+fn a_piston_force_needs_the_slider_crank_s_closed_form_torque() {
+    // T = -F_x dx_C/dphi, x_C = r cos(phi) + sqrt(l^2 - (r sin(phi) - e)^2),
+    // differentiated by hand: dx/dphi = -r sin(phi) - (r sin(phi) - e) r cos(phi) / sqrt(...).
+    let m = load("loads/slider_crank_press");
+    let mut d = Driver::new(Interpreter::new(plan(&m)), Options::default());
+    let (r, l, e, f) = (1.0f64, 3.5f64, 0.25f64, -100.0f64);
+    let mut worst = 0.0f64;
+    for k in 0..=72 {
+        let theta = 5.0 * k as f64;
+        let phi = (30.0 + theta).to_radians();
+        let root = (l * l - (r * phi.sin() - e).powi(2)).sqrt();
+        let dx = -r * phi.sin() - (r * phi.sin() - e) * r * phi.cos() / root;
+        let expected = -f * dx;
+        let got = forces_at(&m, &mut d, theta, None);
+        worst = worst.max((got - expected).abs());
+    }
+    assert!(worst < 1e-10, "worst {worst:e}");
+}
+
+#[test]
+fn a_follower_force_square_to_the_crank_is_a_constant_torque() {
+    // 10 units on the crank's tip B, in the crank's axes, square to OB
+    // (|OB| = 1): a torque of 10 about O at every pose, which the input
+    // holds with -10.
+    let text = std::fs::read_to_string(mechanisms_dir().join("loads/slider_crank_press.toml")).unwrap();
+    let (c, s) = (30f64.to_radians().cos(), 30f64.to_radians().sin());
+    let text = text.replace(
+        "marker = \"slider.C\"\nforce = [-100.0, 0.0]",
+        &format!(
+            "marker = \"crank.B\"\nforce = [{}, {}]\naxes = \"body\"",
+            -10.0 * s,
+            10.0 * c
+        ),
+    );
+    let m = load_str("follower.toml", &text, Format::Toml).unwrap();
+    let mut d = Driver::new(Interpreter::new(plan(&m)), Options::default());
+    for k in 0..=24 {
+        let q = forces_at(&m, &mut d, 15.0 * k as f64, None);
+        assert!((q + 10.0).abs() < 1e-12, "{q} at {}", 15 * k);
+    }
+}
+
+/// The four-bar of `mechanisms/fourbar.toml` solved here: the coupler
+/// point at crank angle `theta` (degrees from the drawing), by the circle
+/// intersection on the drawn branch.
+fn fourbar_p(theta: f64) -> [f64; 2] {
+    let (a, b0, c0, d) = ([0.0, 0.0], [1.0f64, 1.0f64], [4.5, 2.5], [4.0, 0.0]);
+    let p0 = [3.0, 3.5];
+    let crank = b0[0].hypot(b0[1]);
+    let (bc, cd) = (
+        (c0[0] - b0[0]).hypot(c0[1] - b0[1]),
+        (c0[0] - d[0]).hypot(c0[1] - d[1]),
+    );
+    let t = b0[1].atan2(b0[0]) + theta.to_radians();
+    let b = [a[0] + crank * t.cos(), a[1] + crank * t.sin()];
+    let (ex, ey) = (d[0] - b[0], d[1] - b[1]);
+    let len = ex.hypot(ey);
+    let x = (bc * bc - cd * cd + len * len) / (2.0 * len);
+    let h = (bc * bc - x * x).sqrt();
+    // The drawn branch: C to the left of B -> D (as drawn, C is above BD).
+    let c = [
+        b[0] + x * ex / len - h * ey / len,
+        b[1] + x * ey / len + h * ex / len,
+    ];
+    // P rides with the coupler: the same coordinates along and across BC.
+    let (u0, v0) = (
+        [(c0[0] - b0[0]) / bc, (c0[1] - b0[1]) / bc],
+        [(p0[0] - b0[0]), (p0[1] - b0[1])],
+    );
+    let (along, across) = (v0[0] * u0[0] + v0[1] * u0[1], -v0[0] * u0[1] + v0[1] * u0[0]);
+    let u = [(c[0] - b[0]) / bc, (c[1] - b[1]) / bc];
+    [
+        b[0] + along * u[0] - across * u[1],
+        b[1] + along * u[1] + across * u[0],
+    ]
+}
+
+#[test]
+fn a_load_on_the_coupler_point_needs_the_hand_virtual_work_torque() {
+    // Only the payload: T = -F . dP/dtheta (per radian), dP/dtheta by a
+    // central difference of the four-bar solved above.
+    let text = std::fs::read_to_string(mechanisms_dir().join("fourbar.toml")).unwrap()
+        + "\n[loads.payload]\nkind = \"force\"\nmarker = \"coupler.P\"\nforce = [3.0, -20.0]\n";
+    let m = load_str("payload.toml", &text, Format::Toml).unwrap();
+    let mut d = Driver::new(Interpreter::new(plan(&m)), Options::default());
+    assert!((fourbar_p(0.0)[0] - 3.0).abs() < 1e-12 && (fourbar_p(0.0)[1] - 3.5).abs() < 1e-12);
+    let h = 1e-5;
+    for k in 0..36 {
+        let theta = 10.0 * k as f64;
+        let (p1, p0) = (fourbar_p(theta + h), fourbar_p(theta - h));
+        let dp = [
+            (p1[0] - p0[0]) / (2.0 * h.to_radians()),
+            (p1[1] - p0[1]) / (2.0 * h.to_radians()),
+        ];
+        let expected = -(3.0 * dp[0] - 20.0 * dp[1]);
+        let got = forces_at(&m, &mut d, theta, None);
+        assert!(
+            (got - expected).abs() < 1e-7 * expected.abs().max(1.0),
+            "{got} against {expected} at {theta}"
+        );
+    }
+}
+
+/// The mechanical energy of `fourbar_weights` at a frame: kinetic (from
+/// the jets' velocities), gravity's, the payload's and the brake's
+/// potential, the springs'; and the damper's loss rate (c L-dot^2).
+fn energy(m: &Mechanism, p: &[Pose<Jet2>]) -> (f64, f64) {
+    use dofplan::model::planar::loads::LoadKind;
+    let world = |b: usize, at: [f64; 2]| p[b].world(at);
+    let turn = |b: usize| p[b].rot.s.v.atan2(p[b].rot.c.v);
+    let omega = |b: usize| p[b].rot.c.v * p[b].rot.s.d - p[b].rot.s.v * p[b].rot.c.d;
+    let g = m.loads.gravity.unwrap();
+    let (mut e, mut loss) = (0.0, 0.0);
+    for (b, mass) in m.loads.masses.iter().enumerate() {
+        let Some(mass) = mass else { continue };
+        let c = world(b, mass.centre);
+        e += 0.5 * mass.mass * (c[0].d * c[0].d + c[1].d * c[1].d) + 0.5 * mass.inertia * omega(b).powi(2);
+        e -= mass.mass * (g[0] * c[0].v + g[1] * c[1].v);
+    }
+    let at = |id: dofplan::model::MarkerId| world(id.body, m.marker(id).at);
+    for load in &m.loads.applied {
+        match &load.kind {
+            LoadKind::Force { marker, force, .. } => {
+                let x = at(*marker);
+                e -= force[0] * x[0].v + force[1] * x[1].v;
+            }
+            LoadKind::Torque { body, torque } => e -= torque * turn(*body),
+            LoadKind::Spring {
+                markers,
+                stiffness,
+                free_length,
+            } => {
+                let (a, b) = (at(markers[0]), at(markers[1]));
+                let len = (b[0].v - a[0].v).hypot(b[1].v - a[1].v);
+                e += 0.5 * stiffness * (len - free_length).powi(2);
+            }
+            LoadKind::Damper { markers, damping } => {
+                let (a, b) = (at(markers[0]), at(markers[1]));
+                let d = [b[0].v - a[0].v, b[1].v - a[1].v];
+                let len = d[0].hypot(d[1]);
+                let rate = (d[0] * (b[0].d - a[0].d) + d[1] * (b[1].d - a[1].d)) / len;
+                loss += damping * rate * rate;
+            }
+            LoadKind::TorsionSpring {
+                joint,
+                stiffness,
+                free_angle,
+            } => {
+                let [a, b] = m.joints[*joint].markers.map(|id| id.body);
+                e += 0.5 * stiffness * (turn(b) - turn(a) - free_angle).powi(2);
+            }
+        }
+    }
+    (e, loss)
+}
+
+#[test]
+fn a_running_four_bar_s_input_power_is_its_energy_s_rate_plus_the_damper_s_loss() {
+    // At a constant 2 rad/s: Q * omega = dE/dt + c L-dot^2, dE/dt by a
+    // fourth-order central difference of E along the crank angle.
+    let m = load("loads/fourbar_weights");
+    assert_eq!(m.loads.applied.len(), 5);
+    let interp = Interpreter::new(plan(&m));
+    let mut d = Driver::new(interp.clone(), Options::default());
+    let w = 2.0f64;
+    let rates = [w.to_degrees()];
+    let moving = Moving {
+        rates: &rates,
+        accelerations: &[0.0],
+    };
+    let mut e_at = |theta: f64| {
+        assert!(d.frame(&[theta]).is_solved());
+        let jets = interp.rates(d.state(), d.inputs(), &rates, &[0.0]).unwrap();
+        energy(&m, &jets)
+    };
+    let mut d2 = Driver::new(interp.clone(), Options::default());
+    let h = 0.01f64;
+    let mut largest = 0.0f64;
+    let mut worst = 0.0f64;
+    for k in 0..36 {
+        let theta = 10.0 * k as f64 + 3.0;
+        let mut e = |dt: f64| e_at(theta + dt).0;
+        let de_dtheta = (-e(2.0 * h) + 8.0 * e(h) - 8.0 * e(-h) + e(-2.0 * h)) / (12.0 * h.to_radians());
+        let loss = e_at(theta).1;
+        let q = forces_at(&m, &mut d2, theta, Some(moving));
+        let (input, balance) = (q * w, de_dtheta * w + loss);
+        largest = largest.max(input.abs());
+        worst = worst.max((input - balance).abs());
+    }
+    assert!(largest > 10.0, "the loads do work: {largest}");
+    assert!(worst < 1e-8 * largest, "worst {worst:e} of {largest}");
+}
+
+#[test]
+fn statics_leave_out_inertia_and_dampers() {
+    // Held still, the same four-bar's input torque is the potential's
+    // slope alone: -dV/dtheta with V the energy at rest.
+    let m = load("loads/fourbar_weights");
+    let interp = Interpreter::new(plan(&m));
+    let mut d = Driver::new(interp.clone(), Options::default());
+    let mut v_at = |theta: f64| {
+        assert!(d.frame(&[theta]).is_solved());
+        // Rates 0: no kinetic energy, no damper loss.
+        let jets = interp.rates(d.state(), d.inputs(), &[0.0], &[0.0]).unwrap();
+        energy(&m, &jets).0
+    };
+    let mut d2 = Driver::new(interp.clone(), Options::default());
+    let h = 0.01f64;
+    for k in 0..12 {
+        let theta = 30.0 * k as f64 + 7.0;
+        let mut v = |dt: f64| v_at(theta + dt);
+        let dv = (-v(2.0 * h) + 8.0 * v(h) - 8.0 * v(-h) + v(-2.0 * h)) / (12.0 * h.to_radians());
+        let q = forces_at(&m, &mut d2, theta, None);
+        assert!(
+            (q - dv).abs() < 1e-8 * dv.abs().max(1.0),
+            "{q} against {dv} at {theta}"
+        );
+    }
+}
