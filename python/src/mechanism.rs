@@ -330,6 +330,25 @@ impl Mechanism {
         })
     }
 
+    /// `dofplan analyze --forces --json` on the file's sweep (`steps`
+    /// frames if given): statics, or kinetostatics with its first input at
+    /// `rate`. The text; a spatial file's error is the CLI's.
+    #[pyo3(signature = (rate = None, steps = None))]
+    fn forces_json(&self, py: Python<'_>, rate: Option<f64>, steps: Option<usize>) -> PyResult<String> {
+        let sweep = self.sweep_of(steps)?;
+        let plans = self.plans(py)?;
+        self.report(py, |out| match (&self.model, plans) {
+            (Model::Planar(m), Plans::Planar(p)) => {
+                dofplan::report::planar::forces::run(m, p, &sweep, rate, dofplan::report::Form::Json, out)
+            }
+            (Model::Spatial(m), _) => Ok(Err(format!(
+                "{}: error: --forces works on planar files for now",
+                m.source.name
+            ))),
+            _ => unreachable!("a plan is made from its own mechanism"),
+        })
+    }
+
     /// `dofplan analyze --sensitivity --json` on the file's sweep: the text.
     #[pyo3(signature = (tolerance = None, monte_carlo = None, seed = 0, steps = None))]
     fn sensitivity_json(

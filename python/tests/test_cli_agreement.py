@@ -234,3 +234,26 @@ def test_a_bad_case_of_the_rust_tests_raises_what_check_prints(case, tmp_path):
         dofplan.loads(text, format=fmt, name=str(path))
     assert str(again.value) == str(e.value)
     assert e.value.diagnostics and all(d["file"] == str(path) for d in e.value.diagnostics)
+
+
+@pytest.mark.parametrize("name", ["slider_crank_press", "fourbar_weights"])
+@pytest.mark.parametrize("rate", [None, 2.0])
+def test_forces_are_the_cli_s(name, rate):
+    path = MECHANISMS / "loads" / f"{name}.toml"
+    args = ["analyze", path, "--forces", "--json", "--steps", 37]
+    if rate is not None:
+        args += ["--rate", rate]
+    code, out, err = run_cli(*args)
+    assert code == 0, err
+    got = dofplan.load(path).forces(rate=rate, steps=37)
+    assert got == json.loads(out)
+    assert got["forces"] == ("static" if rate is None else "kinetostatic")
+    assert all(isinstance(f["input_force"]["theta"], float) for f in got["frames"])
+
+
+def test_forces_of_a_file_without_loads_raise_the_cli_s_message():
+    code, _, err = run_cli("analyze", MECHANISMS / "fourbar.toml", "--forces")
+    assert code != 0
+    with pytest.raises(dofplan.DofplanError) as e:
+        dofplan.load(MECHANISMS / "fourbar.toml").forces()
+    assert str(e.value).strip() == err.strip()
