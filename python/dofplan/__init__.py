@@ -690,7 +690,8 @@ class Mechanism:
     def forces(self, rate: Optional[float] = None, steps: Optional[int] = None) -> Dict[str, Any]:
         """``dofplan analyze --forces --json``: each input's force or torque
         (``frames[k]["input_force"]``: input name -> value, None where the
-        frame is not solved or at a dead point) under the file's masses,
+        frame is not solved or at a dead point) and each joint's reaction
+        (``frames[k]["reactions"]``: joint -> [fx, fy]) under the file's masses,
         ``[gravity]`` and ``[loads]``; held still at each pose (statics), or
         with ``rate`` running at that rate (kinetostatics). Planar files."""
         return json.loads(self._m.forces_json(rate, steps))

@@ -246,3 +246,124 @@ fn statics_leave_out_inertia_and_dampers() {
         );
     }
 }
+
+/// The reactions and the input forces at crank angle `theta`, and the
+/// virtual-work input forces there.
+fn reactions_at(
+    m: &Mechanism,
+    driver: &mut Driver<Interpreter>,
+    theta: f64,
+    moving: Option<Moving>,
+) -> (dofplan::forces::planar::Reactions, Vec<f64>) {
+    use dofplan::forces::planar::reactions;
+    assert_eq!(
+        driver.frame(&[theta]),
+        FrameStatus::Solved,
+        "{} at {theta}",
+        m.name
+    );
+    let actual = moving.map(|mv| {
+        (driver.solver())
+            .rates(driver.state(), driver.inputs(), mv.rates, mv.accelerations)
+            .unwrap()
+    });
+    let r = reactions(m, driver.poses(), actual.as_deref()).expect("no primitive constraints");
+    let q = input_forces(m, driver.solver(), driver.state(), driver.inputs(), moving).unwrap();
+    (r, q)
+}
+
+#[test]
+fn the_slider_crank_s_reactions_are_its_two_force_rod_s() {
+    // The rod is pinned at both ends and carries no load of its own: it
+    // pushes along itself. The slider, held against the piston force F,
+    // takes from the rod R_C = (-F_x, -F_x tan(beta)) (beta the rod's
+    // slope) and from the rail the rest, square to it; the rod passes R_C
+    // on to the crank (R_B = R_C) and the crank to the ground (R_O = R_B);
+    // the input holds the crank with Q = B x R_B.
+    let m = load("loads/slider_crank_press");
+    let mut d = Driver::new(Interpreter::new(plan(&m)), Options::default());
+    let joint = |n: &str| m.joints.iter().position(|j| j.name == n).unwrap();
+    let (o, b, c, s) = (joint("O"), joint("B"), joint("C"), joint("S"));
+    for k in 0..24 {
+        let theta = 15.0 * k as f64 + 1.0;
+        let (r, q) = reactions_at(&m, &mut d, theta, None);
+        let phi = (30.0 + theta).to_radians();
+        let pb = [phi.cos(), phi.sin()];
+        let pc = [pb[0] + (3.5f64.powi(2) - (pb[1] - 0.25).powi(2)).sqrt(), 0.25];
+        let tan_beta = (pc[1] - pb[1]) / (pc[0] - pb[0]);
+        let rc = [100.0, 100.0 * tan_beta];
+        let close = |x: [f64; 2], y: [f64; 2]| (x[0] - y[0]).abs().max((x[1] - y[1]).abs()) < 1e-9;
+        assert!(close(r.forces[c], rc), "C {:?} {rc:?} at {theta}", r.forces[c]);
+        assert!(
+            close(r.forces[b], rc) && close(r.forces[o], rc),
+            "B, O at {theta}"
+        );
+        assert!(
+            close(r.forces[s], [0.0, -rc[1]]),
+            "S {:?} at {theta}",
+            r.forces[s]
+        );
+        assert!(r.moments[s].abs() < 1e-9, "the rail's moment {}", r.moments[s]);
+        let torque = pb[0] * rc[1] - pb[1] * rc[0];
+        assert!(
+            (r.inputs[0] - torque).abs() < 1e-9 && (q[0] - torque).abs() < 1e-9,
+            "{} {q:?} {torque}",
+            r.inputs[0]
+        );
+        assert!(r.indeterminate.is_empty() && r.residual < 1e-10);
+    }
+}
+
+#[test]
+fn reactions_balance_every_body_and_give_the_virtual_work_input_torque() {
+    // The four-bar with every kind of load, held and running: every moving
+    // body's forces and moments sum to zero (to 1e-10 of the loads), and
+    // the input torque from the bodies' equilibrium is virtual work's.
+    let m = load("loads/fourbar_weights");
+    let interp = Interpreter::new(plan(&m));
+    let mut d = Driver::new(interp, Options::default());
+    let rates = [2f64.to_degrees()];
+    for moving in [
+        None,
+        Some(Moving {
+            rates: &rates,
+            accelerations: &[0.0],
+        }),
+    ] {
+        for k in 0..36 {
+            let theta = 10.0 * k as f64 + 0.5;
+            let (r, q) = reactions_at(&m, &mut d, theta, moving);
+            assert!(r.indeterminate.is_empty(), "{:?}", r.indeterminate);
+            assert!(r.residual < 1e-10 * 100.0, "residual {:e} at {theta}", r.residual);
+            assert!(
+                (r.inputs[0] - q[0]).abs() < 1e-9 * q[0].abs().max(1.0),
+                "{} {} at {theta}",
+                r.inputs[0],
+                q[0]
+            );
+        }
+    }
+}
+
+#[test]
+fn a_redundant_joint_s_reactions_are_not_unique_and_are_said_to_be() {
+    // vlink: the V pinned to the coupler at two holes, joint W redundant.
+    // A load on the V: the V's two pins share it in any proportion (the
+    // least-norm share is given); the input torque is still unique.
+    let text = std::fs::read_to_string(mechanisms_dir().join("vlink.toml")).unwrap()
+        + "\n[loads.tip]\nkind = \"force\"\nmarker = \"vee.T\"\nforce = [5.0, -10.0]\n";
+    let m = load_str("vlink_loaded.toml", &text, Format::Toml).unwrap();
+    let mut d = Driver::new(Interpreter::new(plan(&m)), Options::default());
+    let names = |js: &[usize]| js.iter().map(|&j| m.joints[j].name.clone()).collect::<Vec<_>>();
+    for theta in [10.0, 100.0, 250.0] {
+        let (r, q) = reactions_at(&m, &mut d, theta, None);
+        let loose = names(&r.indeterminate);
+        assert!(
+            loose.contains(&"U".to_string()) && loose.contains(&"W".to_string()),
+            "{loose:?}"
+        );
+        assert!(!loose.contains(&"A".to_string()), "{loose:?}");
+        assert!(r.residual < 1e-9, "{}", r.residual);
+        assert!((r.inputs[0] - q[0]).abs() < 1e-9 * q[0].abs().max(1.0));
+    }
+}

@@ -154,3 +154,262 @@ fn relative_turn(a: &Pose<Jet2>, b: &Pose<Jet2>) -> f64 {
     let (ca, sa, cb, sb) = (a.rot.c.v, a.rot.s.v, b.rot.c.v, b.rot.s.v);
     (sb * ca - cb * sa).atan2(cb * ca + sb * sa)
 }
+
+/// A frame's joint reactions, with the input forces the same equations
+/// give.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Reactions {
+    /// Per joint: the force its first body exerts on its second, in world
+    /// axes (at a prismatic joint, square to the rail).
+    pub forces: Vec<[f64; 2]>,
+    /// Per joint: the moment its first body exerts on its second (0 at a
+    /// revolute joint, which carries none).
+    pub moments: Vec<f64>,
+    /// Per input: its force or torque, from every body's equilibrium (the
+    /// same as [`input_forces`]' virtual work where both are defined).
+    pub inputs: Vec<f64>,
+    /// The joints whose reactions the equations do not fix (an
+    /// over-constrained mechanism: a redundant joint shares its load
+    /// with others in any proportion); the values given are then the
+    /// least-norm ones.
+    pub indeterminate: Vec<usize>,
+    /// The largest force or moment left unbalanced on a body: round-off
+    /// where the mechanism can be held, more where it cannot (a freedom no
+    /// input holds).
+    pub residual: f64,
+}
+
+/// The joint reactions at `poses` from every moving body's force and
+/// moment equilibrium under the file's loads (with `actual` motion, the
+/// bodies' d'Alembert inertia and the dampers too): one linear system,
+/// three equations per moving body, two unknowns per joint and one per
+/// input, solved by least squares (least norm where the mechanism is
+/// over-constrained). `None` for a mechanism with primitive constraints,
+/// whose forces are not modelled yet.
+pub fn reactions(m: &Mechanism, poses: &[Pose], actual: Option<&[Pose<Jet2>]>) -> Option<Reactions> {
+    if !m.constraints.is_empty() {
+        return None;
+    }
+    let rows: Vec<Option<usize>> = {
+        let mut next = 0;
+        (m.bodies.iter())
+            .map(|b| {
+                (!b.fixed).then(|| {
+                    next += 3;
+                    next - 3
+                })
+            })
+            .collect()
+    };
+    let n_rows = rows.iter().flatten().count() * 3;
+    let n_cols = 2 * m.joints.len() + m.inputs.len();
+    let mut a = nalgebra::DMatrix::<f64>::zeros(n_rows, n_cols);
+    // A force `f` at `p` on body `b` (and minus it on `other`), as column `col`.
+    let mut put = |col: usize, b: usize, other: usize, f: [f64; 2], p: [f64; 2], torque: f64| {
+        for (body, sign) in [(b, 1.0), (other, -1.0)] {
+            if let Some(r) = rows[body] {
+                a[(r, col)] += sign * f[0];
+                a[(r + 1, col)] += sign * f[1];
+                a[(r + 2, col)] += sign * (p[0] * f[1] - p[1] * f[0] + torque);
+            }
+        }
+    };
+    let at = |id: MarkerId| poses[id.body].world(m.marker(id).at);
+    for (j, joint) in m.joints.iter().enumerate() {
+        let [first, second] = joint.markers;
+        let p = at(second);
+        match joint.kind {
+            crate::model::JointKind::Revolute => {
+                put(2 * j, second.body, first.body, [1.0, 0.0], p, 0.0);
+                put(2 * j + 1, second.body, first.body, [0.0, 1.0], p, 0.0);
+            }
+            crate::model::JointKind::Prismatic => {
+                let n = normal(m, poses, first);
+                put(2 * j, second.body, first.body, n, p, 0.0);
+                put(2 * j + 1, second.body, first.body, [0.0, 0.0], p, 1.0);
+            }
+        }
+    }
+    for (i, input) in m.inputs.iter().enumerate() {
+        let [first, second] = m.joints[input.joint].markers;
+        let col = 2 * m.joints.len() + i;
+        match input.kind {
+            InputKind::Angle => put(col, second.body, first.body, [0.0, 0.0], at(second), 1.0),
+            InputKind::Slide => {
+                let n = normal(m, poses, first);
+                put(col, second.body, first.body, [n[1], -n[0]], at(second), 0.0);
+            }
+        }
+    }
+    let normals: Vec<[f64; 2]> = (m.joints.iter())
+        .map(|j| match j.kind {
+            crate::model::JointKind::Revolute => [0.0; 2],
+            crate::model::JointKind::Prismatic => normal(m, poses, j.markers[0]),
+        })
+        .collect();
+    let mut w = nalgebra::DVector::<f64>::zeros(n_rows);
+    for (b, wrench) in applied(m, poses, actual).into_iter().enumerate() {
+        if let Some(r) = rows[b] {
+            for k in 0..3 {
+                w[r + k] = wrench[k];
+            }
+        }
+    }
+    Some(solve(m, &a, &w, &normals))
+}
+
+/// The least-norm solution of `a x = -w` and what it says; `normals`:
+/// each prismatic joint's rail normal at the frame.
+fn solve(
+    m: &Mechanism,
+    a: &nalgebra::DMatrix<f64>,
+    w: &nalgebra::DVector<f64>,
+    normals: &[[f64; 2]],
+) -> Reactions {
+    let (rows, cols) = a.shape();
+    let svd = a.clone().svd(true, true);
+    let largest = svd.singular_values.iter().copied().fold(0.0f64, f64::max);
+    let tol = largest * 1e-10 * rows.max(cols) as f64;
+    // Both factors were asked for, so the solve cannot fail; zeros (and
+    // the residual saying so) if it ever did.
+    let x = svd
+        .solve(&(-w), tol)
+        .unwrap_or_else(|_| nalgebra::DVector::zeros(cols));
+    let residual = if rows == 0 { 0.0 } else { (a * &x + w).amax() };
+    // An unknown is fixed by the equations when its axis lies in the
+    // matrix's row space (the right singular vectors of non-zero singular
+    // values); otherwise some other solution moves it.
+    let fixed: Vec<bool> = match &svd.v_t {
+        Some(v_t) => (0..cols)
+            .map(|c| {
+                let inside: f64 = (0..v_t.nrows())
+                    .filter(|&k| svd.singular_values[k] > tol)
+                    .map(|k| v_t[(k, c)] * v_t[(k, c)])
+                    .sum();
+                inside > 1.0 - 1e-9
+            })
+            .collect(),
+        None => vec![false; cols],
+    };
+    let joints = m.joints.len();
+    Reactions {
+        forces: (0..joints)
+            .map(|j| match m.joints[j].kind {
+                crate::model::JointKind::Revolute => [x[2 * j], x[2 * j + 1]],
+                crate::model::JointKind::Prismatic => [x[2 * j] * normals[j][0], x[2 * j] * normals[j][1]],
+            })
+            .collect(),
+        moments: (0..joints)
+            .map(|j| match m.joints[j].kind {
+                crate::model::JointKind::Revolute => 0.0,
+                crate::model::JointKind::Prismatic => x[2 * j + 1],
+            })
+            .collect(),
+        inputs: (0..m.inputs.len()).map(|i| x[2 * joints + i]).collect(),
+        indeterminate: (0..joints)
+            .filter(|&j| !(fixed[2 * j] && fixed[2 * j + 1]))
+            .collect(),
+        residual,
+    }
+}
+
+/// The unit normal (the rail's direction turned a quarter counter-clockwise)
+/// of the rail marker `rail` at `poses`.
+fn normal(m: &Mechanism, poses: &[Pose], rail: MarkerId) -> [f64; 2] {
+    let d = m.marker(rail).unit_dir().unwrap_or([1.0, 0.0]);
+    let r = &poses[rail.body].rot;
+    let world = [r.c * d[0] - r.s * d[1], r.s * d[0] + r.c * d[1]];
+    [-world[1], world[0]]
+}
+
+/// Every body's applied wrench (force, and moment about the origin) from
+/// the loads, gravity and, with `actual` motion, d'Alembert's inertia and
+/// the dampers.
+fn applied(m: &Mechanism, poses: &[Pose], actual: Option<&[Pose<Jet2>]>) -> Vec<[f64; 3]> {
+    let mut w = vec![[0.0; 3]; m.bodies.len()];
+    let mut add = |b: usize, f: [f64; 2], p: [f64; 2], torque: f64| {
+        w[b][0] += f[0];
+        w[b][1] += f[1];
+        w[b][2] += p[0] * f[1] - p[1] * f[0] + torque;
+    };
+    let at = |id: MarkerId| poses[id.body].world(m.marker(id).at);
+    for load in &m.loads.applied {
+        match &load.kind {
+            LoadKind::Force {
+                marker,
+                force,
+                body_axes,
+            } => {
+                let r = &poses[marker.body].rot;
+                let f = if *body_axes {
+                    [r.c * force[0] - r.s * force[1], r.s * force[0] + r.c * force[1]]
+                } else {
+                    *force
+                };
+                add(marker.body, f, at(*marker), 0.0);
+            }
+            LoadKind::Torque { body, torque } => add(*body, [0.0; 2], [0.0; 2], *torque),
+            LoadKind::Spring {
+                markers,
+                stiffness,
+                free_length,
+            } => {
+                let (p, q) = (at(markers[0]), at(markers[1]));
+                let (len, u) = towards(p, q);
+                let t = stiffness * (len - free_length);
+                // A tension pulls each end toward the other.
+                add(markers[0].body, [t * u[0], t * u[1]], p, 0.0);
+                add(markers[1].body, [-t * u[0], -t * u[1]], q, 0.0);
+            }
+            LoadKind::Damper { markers, damping } => {
+                let Some(a) = actual else { continue };
+                let w = |id: MarkerId| a[id.body].world(m.marker(id).at);
+                let t = damping * stretch(w(markers[0]), w(markers[1])).1;
+                let (p, q) = (at(markers[0]), at(markers[1]));
+                let (_, u) = towards(p, q);
+                add(markers[0].body, [t * u[0], t * u[1]], p, 0.0);
+                add(markers[1].body, [-t * u[0], -t * u[1]], q, 0.0);
+            }
+            LoadKind::TorsionSpring {
+                joint,
+                stiffness,
+                free_angle,
+            } => {
+                let [first, second] = m.joints[*joint].markers;
+                let (ra, rb) = (&poses[first.body].rot, &poses[second.body].rot);
+                let turn = (rb.s * ra.c - rb.c * ra.s).atan2(rb.c * ra.c + rb.s * ra.s);
+                let torque = stiffness * (turn - free_angle);
+                add(second.body, [0.0; 2], [0.0; 2], -torque);
+                add(first.body, [0.0; 2], [0.0; 2], torque);
+            }
+        }
+    }
+    for (b, pose) in poses.iter().enumerate() {
+        let Some(mass) = m.loads.mass(b) else { continue };
+        let c = pose.world(mass.centre);
+        let mut f = m
+            .loads
+            .gravity
+            .map_or([0.0; 2], |g| [mass.mass * g[0], mass.mass * g[1]]);
+        let mut torque = 0.0;
+        if let Some(a) = actual {
+            let ca = a[b].world(mass.centre);
+            f[0] -= mass.mass * ca[0].dd;
+            f[1] -= mass.mass * ca[1].dd;
+            torque -= mass.inertia * alpha(&a[b]);
+        }
+        add(b, f, c, torque);
+    }
+    w
+}
+
+/// The distance from `p` to `q` and the unit vector from `p` toward `q`
+/// (0 where they meet).
+fn towards(p: [f64; 2], q: [f64; 2]) -> (f64, [f64; 2]) {
+    let d = [q[0] - p[0], q[1] - p[1]];
+    let len = d[0].hypot(d[1]);
+    if len == 0.0 {
+        return (0.0, [0.0; 2]);
+    }
+    (len, [d[0] / len, d[1] / len])
+}

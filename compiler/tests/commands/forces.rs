@@ -56,6 +56,29 @@ fn the_summary_names_each_input_s_peak_and_where() {
         .unwrap_or_else(|| panic!("{line}"));
     assert!((shown - torque(peak)).abs() < 1e-4, "{line}: {}", torque(peak));
     assert!(line.ends_with(&format!(" at theta = {peak}°")), "{line}: {peak}");
+    // The two-force rod passes |R| = |F_x| / cos(beta) through O, B and C
+    // alike: the first of them, O, is named, at the largest slope.
+    let load = |deg: f64| {
+        let phi = (30.0 + deg).to_radians();
+        let (bx, by) = (r * phi.cos(), r * phi.sin());
+        let cx = bx + (l * l - (by - e).powi(2)).sqrt();
+        -f * (1.0 + ((e - by) / (cx - bx)).powi(2)).sqrt()
+    };
+    let worst = (0..=360)
+        .map(|d| d as f64)
+        .max_by(|a, b| load(*a).total_cmp(&load(*b)))
+        .unwrap();
+    let line = lines.next().unwrap();
+    let shown: f64 = line
+        .strip_prefix("  most loaded joint: O, ")
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|v| v.parse().ok())
+        .unwrap_or_else(|| panic!("{line}"));
+    assert!((shown - load(worst)).abs() < 1e-4, "{line}: {}", load(worst));
+    assert!(
+        line.ends_with(&format!(" at theta = {worst}°")),
+        "{line}: {worst}"
+    );
     assert_eq!(lines.next(), None);
 }
 
@@ -80,7 +103,10 @@ fn json_and_csv_stream_every_frame_s_input_force() {
     assert!(o.status.success(), "{}", text(&o.stderr));
     let csv = text(&o.stdout);
     let mut lines = csv.lines();
-    assert_eq!(lines.next(), Some("frame,theta,status,theta.force"));
+    assert_eq!(
+        lines.next(),
+        Some("frame,theta,status,theta.force,A.fx,A.fy,B.fx,B.fy,C.fx,C.fy,D.fx,D.fy")
+    );
     let column: Vec<f64> = lines
         .map(|l| l.split(',').nth(3).unwrap().parse().unwrap())
         .collect();
@@ -213,4 +239,60 @@ fn masses_come_whole_and_spatial_files_refuse_them_by_name() {
     std::fs::write(&path, spatial).unwrap();
     let e = text(&dofplan(&["check", path.to_str().unwrap()]).stderr);
     assert!(e.contains("`gravity` is not read from spatial files yet"), "{e}");
+}
+
+#[test]
+fn json_has_every_joint_s_reaction_and_names_what_is_not_unique() {
+    let o = dofplan(&[
+        "analyze",
+        &mechanism("loads/slider_crank_press"),
+        "--forces",
+        "--json",
+        "--steps",
+        "5",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let doc: Value = serde_json::from_slice(&o.stdout).unwrap();
+    for f in doc["frames"].as_array().unwrap() {
+        let r = f["reactions"].as_object().unwrap();
+        assert_eq!(r.keys().collect::<Vec<_>>(), ["O", "B", "C", "S"]);
+        // The rail takes no load along itself, and the slider no moment.
+        assert!(r["S"][0].as_f64().unwrap().abs() < 1e-9);
+        assert!(f["reaction_moments"]["S"].as_f64().unwrap().abs() < 1e-9);
+        assert!(f.get("indeterminate").is_none());
+    }
+    // vlink's V pinned twice to the coupler: its pins' shares are not unique.
+    let text_of = std::fs::read_to_string(mechanism("vlink")).unwrap()
+        + "\n[loads.tip]\nkind = \"force\"\nmarker = \"vee.T\"\nforce = [5.0, -10.0]\n";
+    let dir = std::env::temp_dir().join(format!("dofplan-vlink-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("vlink_loaded.toml");
+    std::fs::write(&path, text_of).unwrap();
+    let o = dofplan(&["analyze", path.to_str().unwrap(), "--forces", "--steps", "5"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    assert!(out.contains("the reactions at"), "{out}");
+    assert!(
+        out.contains("are not unique (the mechanism is over-constrained; the least-norm ones are given)"),
+        "{out}"
+    );
+    let o = dofplan(&[
+        "analyze",
+        path.to_str().unwrap(),
+        "--forces",
+        "--json",
+        "--steps",
+        "5",
+    ]);
+    let doc: Value = serde_json::from_slice(&o.stdout).unwrap();
+    let loose: Vec<&str> = doc["frames"][1]["indeterminate"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_str().unwrap())
+        .collect();
+    assert!(
+        loose.contains(&"U") && loose.contains(&"W") && !loose.contains(&"A"),
+        "{loose:?}"
+    );
 }

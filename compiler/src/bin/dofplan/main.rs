@@ -222,10 +222,13 @@ enum Command {
         /// Instead of rates: the force (slide) or torque (angle, per
         /// radian) each input must supply at every frame, from the file's
         /// masses, [gravity] and [loads.NAME], by virtual work with the
-        /// plan's exact rates. Statics (held at each pose), or
-        /// kinetostatics with --rate. A summary (each input's peak), or
-        /// --json (simulate's frames with "input_force": input -> value)
-        /// or --csv. Planar files; joint reactions are not computed yet.
+        /// plan's exact rates, and every joint's reaction from the bodies'
+        /// equilibrium. Statics (held at each pose), or kinetostatics with
+        /// --rate. A summary (each input's peak, the most loaded joint), or
+        /// --json (simulate's frames with "input_force": input -> value,
+        /// "reactions": joint -> [fx, fy], the force its first body exerts
+        /// on its second, "reaction_moments" for prismatic joints) or
+        /// --csv. Planar files.
         #[arg(long, conflicts_with_all = ["svg", "sensitivity"])]
         forces: bool,
         /// With --sensitivity: the worst-case first-order deviation of

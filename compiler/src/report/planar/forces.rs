@@ -1,7 +1,9 @@
 //! `dofplan analyze --forces` on a planar file: what each input must
-//! supply over the sweep (`forces::planar::input_forces`), as a summary
-//! (each input's peak force or torque and where), JSON (simulate's frames
-//! with `"input_force"`) or CSV, streamed frame by frame.
+//! supply over the sweep (`forces::planar::input_forces`, virtual work)
+//! and what each joint carries (`forces::planar::reactions`, every body's
+//! equilibrium), as a summary (each input's peak, the most loaded joint),
+//! JSON (simulate's frames with `"input_force"`, `"reactions"` and
+//! `"reaction_moments"`) or CSV, streamed frame by frame.
 
 use std::io::Write;
 
@@ -9,18 +11,76 @@ use dofplan_runtime::{Driver, FrameStatus, Options};
 use serde_json::{json, Map, Value};
 
 use super::frames::{frame_json, sweep_report, Solver};
-use crate::forces::planar::{input_forces, Moving};
+use crate::forces::planar::{input_forces, reactions, Moving, Reactions};
 use crate::format::number;
 use crate::interp::{Interpreter, RateError};
-use crate::model::{InputKind, Mechanism, Sweep};
+use crate::model::{InputKind, JointKind, Mechanism, Sweep};
 use crate::plan::{num, Plan};
 use crate::report::{Form, Outcome};
 use crate::simulate::{sweep_rates, sweep_requests, Frame};
 
-/// Runs the sweep with each frame's input forces: statics when `rate` is
-/// None (the mechanism held at each pose: no inertia, dampers idle),
-/// kinetostatics at the first swept input's `rate` (radians or length per
-/// second, the others in proportion, no acceleration) when given.
+/// What one solved frame carries.
+struct Carried {
+    /// Each input's force or torque (virtual work).
+    inputs: Vec<f64>,
+    /// The joints' reactions (`None`: a file with primitive constraints).
+    reactions: Option<Reactions>,
+}
+
+/// What the summary gathers over the sweep.
+#[derive(Default)]
+struct Gathered {
+    /// Per input: the largest |force| and the primary input's value there.
+    inputs: Vec<Option<(f64, f64)>>,
+    /// The joint with the largest reaction: (joint, |force|, input value).
+    joint: Option<(usize, f64, f64)>,
+    /// Joints whose reactions were not unique at some frame.
+    indeterminate: std::collections::BTreeSet<usize>,
+    /// The largest imbalance the reactions left, and the largest load.
+    residual: f64,
+    scale: f64,
+    unsolved: usize,
+    singular: usize,
+    constrained: bool,
+}
+
+impl Gathered {
+    fn add(&mut self, carried: &Result<Carried, RateError>, x: f64) {
+        let c = match carried {
+            Ok(c) => c,
+            Err(_) => {
+                self.singular += 1;
+                return;
+            }
+        };
+        for (peak, &v) in self.inputs.iter_mut().zip(&c.inputs) {
+            if peak.is_none_or(|(best, _)| v.abs() > best.abs()) {
+                *peak = Some((v, x));
+            }
+        }
+        let Some(r) = &c.reactions else {
+            self.constrained = true;
+            return;
+        };
+        for (j, f) in r.forces.iter().enumerate() {
+            let size = f[0].hypot(f[1]);
+            self.scale = self.scale.max(size);
+            // Joints that carry the same load (to round-off) report the
+            // first in the file, on every machine.
+            if self.joint.is_none_or(|(_, best, _)| size > best * (1.0 + 1e-9)) {
+                self.joint = Some((j, size, x));
+            }
+        }
+        self.indeterminate.extend(r.indeterminate.iter().copied());
+        self.residual = self.residual.max(r.residual);
+    }
+}
+
+/// Runs the sweep with each frame's input forces and joint reactions:
+/// statics when `rate` is None (the mechanism held at each pose: no
+/// inertia, dampers idle), kinetostatics at the first swept input's `rate`
+/// (radians or length per second, the others in proportion, no
+/// acceleration) when given.
 pub fn run(
     m: &Mechanism,
     plan: &Plan,
@@ -44,7 +104,6 @@ pub fn run(
         rates: r,
         accelerations: &zero,
     });
-    let names: Vec<&str> = m.inputs.iter().map(|i| i.name.as_str()).collect();
     match form {
         Form::Json => writeln!(
             out,
@@ -52,35 +111,35 @@ pub fn run(
             json!(m.name),
             json!(if rate.is_some() { "kinetostatic" } else { "static" })
         )?,
-        Form::Csv => {
-            let mut head = vec!["frame".to_string()];
-            head.extend(names.iter().map(|n| n.to_string()));
-            head.push("status".into());
-            head.extend(names.iter().map(|n| format!("{n}.force")));
-            writeln!(out, "{}", head.join(","))?;
-        }
+        Form::Csv => writeln!(out, "{}", csv_head(m).join(","))?,
         Form::Text => {}
     }
     let primary = sweep.primary().input;
-    // Per input: the largest |force| and the primary input's value there.
-    let mut peaks: Vec<Option<(f64, f64)>> = vec![None; m.inputs.len()];
-    let (mut singular, mut unsolved) = (0usize, 0usize);
+    let mut gathered = Gathered {
+        inputs: vec![None; m.inputs.len()],
+        ..Gathered::default()
+    };
     let total = sweep.steps;
     for (i, requested) in sweep_requests(sweep, m.inputs.len()).enumerate() {
         let status = driver.frame(&requested);
-        let forces: Option<Result<Vec<f64>, RateError>> = (status == FrameStatus::Solved)
-            .then(|| input_forces(m, &interp, driver.state(), driver.inputs(), moving));
-        match &forces {
-            Some(Ok(q)) => {
-                for (peak, &v) in peaks.iter_mut().zip(q) {
-                    if peak.is_none_or(|(best, _)| v.abs() > best.abs()) {
-                        *peak = Some((v, requested[primary]));
-                    }
+        let carried = (status == FrameStatus::Solved).then(|| {
+            let q = input_forces(m, &interp, driver.state(), driver.inputs(), moving)?;
+            let actual = match moving {
+                Some(mv) => {
+                    Some(interp.rates(driver.state(), driver.inputs(), mv.rates, mv.accelerations)?)
                 }
-            }
-            Some(Err(_)) => singular += 1,
-            None => unsolved += 1,
+                None => None,
+            };
+            Ok(Carried {
+                inputs: q,
+                reactions: reactions(m, driver.poses(), actual.as_deref()),
+            })
+        });
+        match &carried {
+            Some(c) => gathered.add(c, requested[primary]),
+            None => gathered.unsolved += 1,
         }
+        let carried = carried.and_then(Result::ok);
         match form {
             Form::Json => {
                 let frame = Frame {
@@ -91,16 +150,7 @@ pub fn run(
                     numeric: driver.numeric(),
                 };
                 let mut o = frame_json(&report, &frame);
-                o["input_force"] = match &forces {
-                    Some(Ok(q)) => Value::Object(
-                        names
-                            .iter()
-                            .zip(q)
-                            .map(|(n, v)| (n.to_string(), json!(v)))
-                            .collect::<Map<_, _>>(),
-                    ),
-                    _ => Value::Null,
-                };
+                add_json(&mut o, m, carried.as_ref());
                 let sep = if i + 1 < total { "," } else { "" };
                 writeln!(out, "    {o}{sep}")?;
             }
@@ -108,11 +158,7 @@ pub fn run(
                 let mut row = vec![i.to_string()];
                 row.extend(requested.iter().map(|v| number(*v)));
                 row.push(status.name().to_string());
-                match &forces {
-                    Some(Ok(q)) => row.extend(q.iter().map(|v| number(*v))),
-                    // Not solved, or a dead point: no number, not a huge one.
-                    _ => row.extend(std::iter::repeat_n(String::new(), names.len())),
-                }
+                row.extend(csv_values(m, carried.as_ref()));
                 writeln!(out, "{}", row.join(","))?;
             }
             Form::Text => {}
@@ -121,32 +167,115 @@ pub fn run(
     match form {
         Form::Json => writeln!(out, "  ]\n}}")?,
         Form::Csv => {}
-        Form::Text => summary(m, sweep, rate, &peaks, (unsolved, singular), out)?,
+        Form::Text => summary(m, sweep, rate, &gathered, out)?,
     }
     Ok(Ok(()))
 }
 
+/// The keys `--forces --json` adds to a frame: `"input_force"` (input ->
+/// force or torque), `"reactions"` (joint -> the force its first body
+/// exerts on its second), `"reaction_moments"` (prismatic joints' moments)
+/// and `"indeterminate"` (joints whose reactions are not unique there);
+/// null where the frame has none.
+fn add_json(o: &mut Value, m: &Mechanism, carried: Option<&Carried>) {
+    let Some(c) = carried else {
+        o["input_force"] = Value::Null;
+        o["reactions"] = Value::Null;
+        return;
+    };
+    let named = |pairs: Vec<(String, Value)>| Value::Object(pairs.into_iter().collect::<Map<_, _>>());
+    o["input_force"] = named(
+        m.inputs
+            .iter()
+            .map(|i| i.name.clone())
+            .zip(c.inputs.iter().map(|v| json!(v)))
+            .collect(),
+    );
+    let Some(r) = &c.reactions else {
+        o["reactions"] = Value::Null;
+        return;
+    };
+    o["reactions"] = named(
+        m.joints
+            .iter()
+            .map(|j| j.name.clone())
+            .zip(r.forces.iter().map(|f| json!(f)))
+            .collect(),
+    );
+    let prismatic: Vec<(String, Value)> = (m.joints.iter().zip(&r.moments))
+        .filter(|(j, _)| j.kind == JointKind::Prismatic)
+        .map(|(j, v)| (j.name.clone(), json!(v)))
+        .collect();
+    if !prismatic.is_empty() {
+        o["reaction_moments"] = named(prismatic);
+    }
+    if !r.indeterminate.is_empty() {
+        o["indeterminate"] = json!(r
+            .indeterminate
+            .iter()
+            .map(|&j| &m.joints[j].name)
+            .collect::<Vec<_>>());
+    }
+}
+
+/// The header of `--forces --csv`: frame, inputs, status, each input's
+/// force, each joint's reaction (and a prismatic joint's moment).
+fn csv_head(m: &Mechanism) -> Vec<String> {
+    let mut head = vec!["frame".to_string()];
+    head.extend(m.inputs.iter().map(|i| i.name.clone()));
+    head.push("status".into());
+    head.extend(m.inputs.iter().map(|i| format!("{}.force", i.name)));
+    for j in &m.joints {
+        head.push(format!("{}.fx", j.name));
+        head.push(format!("{}.fy", j.name));
+        if j.kind == JointKind::Prismatic {
+            head.push(format!("{}.m", j.name));
+        }
+    }
+    head
+}
+
+/// A frame's numbers in [`csv_head`]'s columns (empty where there are none:
+/// not solved, a dead point, primitive constraints).
+fn csv_values(m: &Mechanism, carried: Option<&Carried>) -> Vec<String> {
+    let mut row = Vec::new();
+    match carried {
+        Some(c) => row.extend(c.inputs.iter().map(|v| number(*v))),
+        None => row.extend(std::iter::repeat_n(String::new(), m.inputs.len())),
+    }
+    let reactions = carried.and_then(|c| c.reactions.as_ref());
+    for (j, joint) in m.joints.iter().enumerate() {
+        let mut cell = |v: Option<f64>| row.push(v.map(number).unwrap_or_default());
+        cell(reactions.map(|r| r.forces[j][0]));
+        cell(reactions.map(|r| r.forces[j][1]));
+        if joint.kind == JointKind::Prismatic {
+            cell(reactions.map(|r| r.moments[j]));
+        }
+    }
+    row
+}
+
 /// The text summary: how the sweep ran, each input's peak force or
-/// torque and where, the frames without one.
+/// torque and where, the most loaded joint, and what is not unique or
+/// not computed.
 fn summary(
     m: &Mechanism,
     sweep: &Sweep,
     rate: Option<f64>,
-    peaks: &[Option<(f64, f64)>],
-    (unsolved, singular): (usize, usize),
+    g: &Gathered,
     out: &mut dyn Write,
 ) -> std::io::Result<()> {
-    let primary = sweep.primary().input;
+    let primary = &m.inputs[sweep.primary().input];
     let how = match rate {
         None => "held still at each pose (statics)".to_string(),
         Some(r) => format!(
             "running with {} at {} (kinetostatics)",
-            m.inputs[primary].name,
-            rate_text(m.inputs[primary].kind, r)
+            primary.name,
+            rate_text(primary.kind, r)
         ),
     };
     writeln!(out, "{}: {} frames, {how}", m.name, sweep.steps)?;
-    for (input, peak) in m.inputs.iter().zip(peaks) {
+    for (input, peak) in m.inputs.iter().zip(&g.inputs) {
         let what = match input.kind {
             InputKind::Angle => "torque",
             InputKind::Slide => "force",
@@ -157,18 +286,53 @@ fn summary(
                 "  input {}: peak {what} {} at {}",
                 input.name,
                 num(*v),
-                at_input(&m.inputs[primary], *x)
+                at_input(primary, *x)
             )?,
             None => writeln!(out, "  input {}: no frame solved", input.name)?,
         }
     }
-    if unsolved > 0 {
-        writeln!(out, "  {unsolved} frames not solved (no forces there)")?;
-    }
-    if singular > 0 {
+    if let Some((j, size, x)) = g.joint {
         writeln!(
             out,
-            "  {singular} frames at a dead point (the input force is not defined there)"
+            "  most loaded joint: {}, {} at {}",
+            m.joints[j].name,
+            num(size),
+            at_input(primary, x)
+        )?;
+    }
+    if !g.indeterminate.is_empty() {
+        let names: Vec<&str> = g
+            .indeterminate
+            .iter()
+            .map(|&j| m.joints[j].name.as_str())
+            .collect();
+        writeln!(
+            out,
+            "  the reactions at {} are not unique (the mechanism is over-constrained; the least-norm ones are given)",
+            names.join(", ")
+        )?;
+    }
+    if g.residual > 1e-9 * g.scale.max(1.0) {
+        writeln!(
+            out,
+            "  the joints and inputs cannot hold every body: up to {} is left unbalanced (a freedom no input holds)",
+            num(g.residual)
+        )?;
+    }
+    if g.constrained {
+        writeln!(
+            out,
+            "  joint reactions are not computed for files with primitive constraints yet"
+        )?;
+    }
+    if g.unsolved > 0 {
+        writeln!(out, "  {} frames not solved (no forces there)", g.unsolved)?;
+    }
+    if g.singular > 0 {
+        writeln!(
+            out,
+            "  {} frames at a dead point (the input force is not defined there)",
+            g.singular
         )?;
     }
     Ok(())
