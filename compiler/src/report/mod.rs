@@ -79,3 +79,14 @@ pub(crate) fn precise(x: f64) -> String {
 pub fn error(place: &str, message: &str, help: &str) -> String {
     format!("{place}: error: {message}\n  help: {help}")
 }
+
+/// "theta = 45°", "s = 0.5": where on a sweep a value was found, by the
+/// swept input's value (every report that names a frame says it so).
+pub(crate) fn at_input(input: &crate::model::Input, x: f64) -> String {
+    let unit = if input.kind == crate::model::InputKind::Angle {
+        "°"
+    } else {
+        ""
+    };
+    format!("{} = {}{unit}", input.name, crate::plan::num(x))
+}

@@ -40,11 +40,7 @@ pub(crate) fn header(name: &str, frames: usize, inputs: &[Input], rates: &[f64])
     }
 }
 
-/// "theta = 45°", "s = 0.5": where on the sweep a value was found.
-pub(crate) fn at_input(input: &Input, x: f64) -> String {
-    let unit = if input.kind == InputKind::Angle { "°" } else { "" };
-    format!("{} = {}{unit}", input.name, num(x))
-}
+pub(crate) use super::at_input;
 
 /// Two values agree to this relative tolerance: a speed that varies less
 /// over the sweep is constant (its largest value is round-off, found

@@ -9,9 +9,9 @@ use std::io::Write;
 
 use serde_json::{json, Map, Value};
 
+use super::at_input;
 use crate::format::{length, number, rounded};
-use crate::model::{Input, InputKind};
-use crate::plan::num;
+use crate::model::Input;
 use crate::report::Form;
 use crate::synth::tolerance::Spread;
 use crate::synth::SynthError;
@@ -321,10 +321,4 @@ fn write_text<const N: usize>(
         )?;
     }
     Ok(())
-}
-
-/// "theta = 30°": where a frame is, by the swept input's value.
-fn at_input(input: &Input, x: f64) -> String {
-    let unit = if input.kind == InputKind::Angle { "°" } else { "" };
-    format!("{} = {}{unit}", input.name, num(x))
 }

@@ -16,7 +16,7 @@ use crate::format::number;
 use crate::interp::{Interpreter, RateError};
 use crate::model::{InputKind, JointKind, Mechanism, Sweep};
 use crate::plan::{num, Plan};
-use crate::report::{Form, Outcome};
+use crate::report::{at_input, Form, Outcome};
 use crate::simulate::{sweep_rates, sweep_requests, Frame};
 
 /// What one solved frame carries.
@@ -336,12 +336,6 @@ fn summary(
         )?;
     }
     Ok(())
-}
-
-/// "theta = 45°", "s = 0.5": where on the sweep a value was found.
-fn at_input(input: &crate::model::Input, x: f64) -> String {
-    let unit = if input.kind == InputKind::Angle { "°" } else { "" };
-    format!("{} = {}{unit}", input.name, num(x))
 }
 
 /// "2 rad/s", "0.5 length/s".
