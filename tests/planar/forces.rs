@@ -367,3 +367,62 @@ fn a_redundant_joint_s_reactions_are_not_unique_and_are_said_to_be() {
         assert!((r.inputs[0] - q[0]).abs() < 1e-9 * q[0].abs().max(1.0));
     }
 }
+
+#[test]
+fn the_ground_takes_every_outside_load_and_running_the_inertia_too() {
+    // Springs, dampers and torsion springs act between the mechanism's own
+    // bodies (the ground among them) and cancel; what reaches the ground
+    // is the weight, the payload, the brake's torque and, running, minus
+    // the bodies' mass times their centres' accelerations.
+    let m = load("loads/fourbar_weights");
+    let interp = Interpreter::new(plan(&m));
+    let mut d = Driver::new(interp.clone(), Options::default());
+    let g = m.loads.gravity.unwrap();
+    let rates = [2f64.to_degrees()];
+    for moving in [
+        None,
+        Some(Moving {
+            rates: &rates,
+            accelerations: &[0.0],
+        }),
+    ] {
+        for k in 0..12 {
+            let theta = 30.0 * k as f64 + 4.0;
+            let (r, _) = reactions_at(&m, &mut d, theta, moving);
+            let jets = interp
+                .rates(
+                    d.state(),
+                    d.inputs(),
+                    moving.map_or(&[0.0][..], |mv| mv.rates),
+                    &[0.0],
+                )
+                .unwrap();
+            let mut expected = [0.0, -20.0, 0.0];
+            let p = d.poses()[m.bodies.iter().position(|b| b.name == "coupler").unwrap()].world([3.0, 3.5]);
+            expected[2] += p[0] * -20.0 + 3.0;
+            for (b, mass) in m.loads.masses.iter().enumerate() {
+                let Some(mass) = mass else { continue };
+                let c = jets[b].world(mass.centre);
+                let f = [mass.mass * (g[0] - c[0].dd), mass.mass * (g[1] - c[1].dd)];
+                let alpha = jets[b].rot.c.v * jets[b].rot.s.dd - jets[b].rot.s.v * jets[b].rot.c.dd;
+                expected[0] += f[0];
+                expected[1] += f[1];
+                expected[2] += c[0].v * f[1] - c[1].v * f[0] - mass.inertia * alpha;
+            }
+            for k in 0..3 {
+                assert!(
+                    (r.shaking[k] - expected[k]).abs() < 1e-9 * 100.0,
+                    "{:?} against {expected:?} at {theta}",
+                    r.shaking
+                );
+            }
+            if moving.is_none() {
+                assert!(
+                    (r.shaking[1] - (-20.0 - 9.81 * 3.5)).abs() < 1e-9,
+                    "{:?}",
+                    r.shaking
+                );
+            }
+        }
+    }
+}

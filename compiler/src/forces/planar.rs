@@ -177,6 +177,12 @@ pub struct Reactions {
     /// where the mechanism can be held, more where it cannot (a freedom no
     /// input holds).
     pub residual: f64,
+    /// What the mechanism does to the ground (every fixed body): the force
+    /// `[fx, fy]` and the moment about the origin, through its joints, its
+    /// inputs' reactions and the loads anchored to the ground. Held still
+    /// this is the weight and the loads; running, the d'Alembert part is
+    /// the shaking force and moment.
+    pub shaking: [f64; 3],
 }
 
 /// The joint reactions at `poses` from every moving body's force and
@@ -204,14 +210,18 @@ pub fn reactions(m: &Mechanism, poses: &[Pose], actual: Option<&[Pose<Jet2>]>) -
     let n_rows = rows.iter().flatten().count() * 3;
     let n_cols = 2 * m.joints.len() + m.inputs.len();
     let mut a = nalgebra::DMatrix::<f64>::zeros(n_rows, n_cols);
+    // What each unknown does to the ground (every fixed body): the shaking.
+    let mut ground = nalgebra::DMatrix::<f64>::zeros(3, n_cols);
     // A force `f` at `p` on body `b` (and minus it on `other`), as column `col`.
     let mut put = |col: usize, b: usize, other: usize, f: [f64; 2], p: [f64; 2], torque: f64| {
         for (body, sign) in [(b, 1.0), (other, -1.0)] {
-            if let Some(r) = rows[body] {
-                a[(r, col)] += sign * f[0];
-                a[(r + 1, col)] += sign * f[1];
-                a[(r + 2, col)] += sign * (p[0] * f[1] - p[1] * f[0] + torque);
-            }
+            let (matrix, r) = match rows[body] {
+                Some(r) => (&mut a, r),
+                None => (&mut ground, 0),
+            };
+            matrix[(r, col)] += sign * f[0];
+            matrix[(r + 1, col)] += sign * f[1];
+            matrix[(r + 2, col)] += sign * (p[0] * f[1] - p[1] * f[0] + torque);
         }
     };
     let at = |id: MarkerId| poses[id.body].world(m.marker(id).at);
@@ -248,14 +258,19 @@ pub fn reactions(m: &Mechanism, poses: &[Pose], actual: Option<&[Pose<Jet2>]>) -
         })
         .collect();
     let mut w = nalgebra::DVector::<f64>::zeros(n_rows);
+    let mut on_ground = [0.0; 3];
     for (b, wrench) in applied(m, poses, actual).into_iter().enumerate() {
-        if let Some(r) = rows[b] {
-            for k in 0..3 {
-                w[r + k] = wrench[k];
+        for k in 0..3 {
+            match rows[b] {
+                Some(r) => w[r + k] = wrench[k],
+                None => on_ground[k] += wrench[k],
             }
         }
     }
-    Some(solve(m, &a, &w, &normals))
+    let (mut r, x) = solve(m, &a, &w, &normals);
+    let shaking = &ground * x;
+    r.shaking = [0, 1, 2].map(|k| shaking[k] + on_ground[k]);
+    Some(r)
 }
 
 /// The least-norm solution of `a x = -w` and what it says; `normals`:
@@ -265,7 +280,7 @@ fn solve(
     a: &nalgebra::DMatrix<f64>,
     w: &nalgebra::DVector<f64>,
     normals: &[[f64; 2]],
-) -> Reactions {
+) -> (Reactions, nalgebra::DVector<f64>) {
     let (rows, cols) = a.shape();
     let svd = a.clone().svd(true, true);
     let largest = svd.singular_values.iter().copied().fold(0.0f64, f64::max);
@@ -292,7 +307,7 @@ fn solve(
         None => vec![false; cols],
     };
     let joints = m.joints.len();
-    Reactions {
+    let r = Reactions {
         forces: (0..joints)
             .map(|j| match m.joints[j].kind {
                 crate::model::JointKind::Revolute => [x[2 * j], x[2 * j + 1]],
@@ -310,7 +325,9 @@ fn solve(
             .filter(|&j| !(fixed[2 * j] && fixed[2 * j + 1]))
             .collect(),
         residual,
-    }
+        shaking: [0.0; 3],
+    };
+    (r, x)
 }
 
 /// The unit normal (the rail's direction turned a quarter counter-clockwise)

@@ -79,6 +79,13 @@ fn the_summary_names_each_input_s_peak_and_where() {
         line.ends_with(&format!(" at theta = {worst}°")),
         "{line}: {worst}"
     );
+    // The ground takes the piston force, |F| = 100, along the track y = e:
+    // a moment of 100 e = 25 about the origin, at every frame (the first
+    // is named).
+    assert_eq!(
+        lines.next(),
+        Some("  on the ground: force up to 100 at theta = 0°, moment (about the origin) up to 25 at theta = 0°")
+    );
     assert_eq!(lines.next(), None);
 }
 
@@ -105,7 +112,7 @@ fn json_and_csv_stream_every_frame_s_input_force() {
     let mut lines = csv.lines();
     assert_eq!(
         lines.next(),
-        Some("frame,theta,status,theta.force,A.fx,A.fy,B.fx,B.fy,C.fx,C.fy,D.fx,D.fy")
+        Some("frame,theta,status,theta.force,A.fx,A.fy,B.fx,B.fy,C.fx,C.fy,D.fx,D.fy,shaking.fx,shaking.fy,shaking.m")
     );
     let column: Vec<f64> = lines
         .map(|l| l.split(',').nth(3).unwrap().parse().unwrap())

@@ -36,6 +36,9 @@ struct Gathered {
     joint: Option<(usize, f64, f64)>,
     /// Joints whose reactions were not unique at some frame.
     indeterminate: std::collections::BTreeSet<usize>,
+    /// The largest force and moment on the ground, with the input value
+    /// where each is reached.
+    ground: Option<((f64, f64), (f64, f64))>,
     /// The largest imbalance the reactions left, and the largest load.
     residual: f64,
     scale: f64,
@@ -73,6 +76,20 @@ impl Gathered {
         }
         self.indeterminate.extend(r.indeterminate.iter().copied());
         self.residual = self.residual.max(r.residual);
+        let (force, moment) = (r.shaking[0].hypot(r.shaking[1]), r.shaking[2].abs());
+        let ((f0, fx), (m0, mx)) = self.ground.unwrap_or(((force, x), (moment, x)));
+        self.ground = Some((
+            if force > f0 * (1.0 + 1e-9) {
+                (force, x)
+            } else {
+                (f0, fx)
+            },
+            if moment > m0 * (1.0 + 1e-9) {
+                (moment, x)
+            } else {
+                (m0, mx)
+            },
+        ));
     }
 }
 
@@ -175,6 +192,7 @@ pub fn run(
 /// The keys `--forces --json` adds to a frame: `"input_force"` (input ->
 /// force or torque), `"reactions"` (joint -> the force its first body
 /// exerts on its second), `"reaction_moments"` (prismatic joints' moments)
+/// `"shaking"` (the force and moment the mechanism exerts on the ground)
 /// and `"indeterminate"` (joints whose reactions are not unique there);
 /// null where the frame has none.
 fn add_json(o: &mut Value, m: &Mechanism, carried: Option<&Carried>) {
@@ -209,6 +227,7 @@ fn add_json(o: &mut Value, m: &Mechanism, carried: Option<&Carried>) {
     if !prismatic.is_empty() {
         o["reaction_moments"] = named(prismatic);
     }
+    o["shaking"] = json!({"force": [r.shaking[0], r.shaking[1]], "moment": r.shaking[2]});
     if !r.indeterminate.is_empty() {
         o["indeterminate"] = json!(r
             .indeterminate
@@ -219,7 +238,8 @@ fn add_json(o: &mut Value, m: &Mechanism, carried: Option<&Carried>) {
 }
 
 /// The header of `--forces --csv`: frame, inputs, status, each input's
-/// force, each joint's reaction (and a prismatic joint's moment).
+/// force, each joint's reaction (and a prismatic joint's moment), the
+/// force and moment on the ground.
 fn csv_head(m: &Mechanism) -> Vec<String> {
     let mut head = vec!["frame".to_string()];
     head.extend(m.inputs.iter().map(|i| i.name.clone()));
@@ -232,6 +252,7 @@ fn csv_head(m: &Mechanism) -> Vec<String> {
             head.push(format!("{}.m", j.name));
         }
     }
+    head.extend(["shaking.fx", "shaking.fy", "shaking.m"].map(String::from));
     head
 }
 
@@ -251,6 +272,9 @@ fn csv_values(m: &Mechanism, carried: Option<&Carried>) -> Vec<String> {
         if joint.kind == JointKind::Prismatic {
             cell(reactions.map(|r| r.moments[j]));
         }
+    }
+    for k in 0..3 {
+        row.push(reactions.map(|r| number(r.shaking[k])).unwrap_or_default());
     }
     row
 }
@@ -298,6 +322,16 @@ fn summary(
             m.joints[j].name,
             num(size),
             at_input(primary, x)
+        )?;
+    }
+    if let Some(((force, fx), (moment, mx))) = g.ground {
+        writeln!(
+            out,
+            "  on the ground: force up to {} at {}, moment (about the origin) up to {} at {}",
+            num(force),
+            at_input(primary, fx),
+            num(moment),
+            at_input(primary, mx)
         )?;
     }
     if !g.indeterminate.is_empty() {
