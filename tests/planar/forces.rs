@@ -426,3 +426,34 @@ fn the_ground_takes_every_outside_load_and_running_the_inertia_too() {
         }
     }
 }
+
+#[test]
+fn the_slider_crank_s_mechanical_advantage_is_its_closed_form_s() {
+    // Per unit crank torque: the slider holds 1 / |dx_C/dphi|, the rod's
+    // pin at C (the rod turning against the slider, which does not turn)
+    // 1 / |dpsi/dphi| with sin(psi) = (e - r sin(phi)) / l, the crank's tip
+    // 1 / r.
+    use dofplan::forces::planar::advantage;
+    let m = load("loads/slider_crank_press");
+    let mut d = Driver::new(Interpreter::new(plan(&m)), Options::default());
+    let joint = |n: &str| m.joints.iter().position(|j| j.name == n).unwrap();
+    let marker = |n: &str| m.all_markers().position(|id| m.marker_name(id) == n).unwrap();
+    let (r, l, e) = (1.0f64, 3.5f64, 0.25f64);
+    for k in 0..24 {
+        let theta = 15.0 * k as f64 + 2.0;
+        assert!(d.frame(&[theta]).is_solved());
+        let a = advantage(&m, d.solver(), d.state(), d.inputs()).unwrap().unwrap();
+        let phi = (30.0 + theta).to_radians();
+        let root = (l * l - (r * phi.sin() - e).powi(2)).sqrt();
+        let dx = -r * phi.sin() - (r * phi.sin() - e) * r * phi.cos() / root;
+        let psi = ((e - r * phi.sin()) / l).asin();
+        let dpsi = -r * phi.cos() / (l * psi.cos());
+        let close = |got: Option<f64>, want: f64| (got.unwrap() - want).abs() < 1e-9 * want;
+        assert!(close(a.joints[joint("S")], 1.0 / dx.abs()), "S at {theta}");
+        assert!(close(a.markers[marker("slider.C")], 1.0 / dx.abs()), "slider.C at {theta}");
+        assert!(close(a.joints[joint("C")], 1.0 / dpsi.abs()), "C at {theta}: {:?} {}", a.joints[joint("C")], 1.0 / dpsi.abs());
+        assert!(close(a.markers[marker("crank.B")], 1.0 / r));
+        assert_eq!(a.joints[joint("O")], None, "the driven joint");
+        assert_eq!(a.markers[marker("ground.O")], None, "the ground does not move");
+    }
+}

@@ -11,7 +11,7 @@ use dofplan_runtime::{Driver, FrameStatus, Options};
 use serde_json::{json, Map, Value};
 
 use super::frames::{frame_json, sweep_report, Solver};
-use crate::forces::planar::{input_forces, reactions, Moving, Reactions};
+use crate::forces::planar::{advantage, input_forces, reactions, Advantage, Moving, Reactions};
 use crate::format::number;
 use crate::interp::{Interpreter, RateError};
 use crate::model::{InputKind, JointKind, Mechanism, Sweep};
@@ -23,6 +23,8 @@ use crate::simulate::{sweep_rates, sweep_requests, Frame};
 struct Carried {
     /// Each input's force or torque (virtual work).
     inputs: Vec<f64>,
+    /// The mechanical advantage (one input only; `None` at a dead point).
+    advantage: Option<Advantage>,
     /// The joints' reactions (`None`: a file with primitive constraints).
     reactions: Option<Reactions>,
 }
@@ -149,6 +151,7 @@ pub fn run(
             };
             Ok(Carried {
                 inputs: q,
+                advantage: advantage(m, &interp, driver.state(), driver.inputs()).and_then(Result::ok),
                 reactions: reactions(m, driver.poses(), actual.as_deref()),
             })
         });
@@ -192,7 +195,8 @@ pub fn run(
 /// The keys `--forces --json` adds to a frame: `"input_force"` (input ->
 /// force or torque), `"reactions"` (joint -> the force its first body
 /// exerts on its second), `"reaction_moments"` (prismatic joints' moments)
-/// `"shaking"` (the force and moment the mechanism exerts on the ground)
+/// `"shaking"` (the force and moment the mechanism exerts on the ground),
+/// `"mechanical_advantage"` (one input: per joint and marker)
 /// and `"indeterminate"` (joints whose reactions are not unique there);
 /// null where the frame has none.
 fn add_json(o: &mut Value, m: &Mechanism, carried: Option<&Carried>) {
@@ -228,6 +232,18 @@ fn add_json(o: &mut Value, m: &Mechanism, carried: Option<&Carried>) {
         o["reaction_moments"] = named(prismatic);
     }
     o["shaking"] = json!({"force": [r.shaking[0], r.shaking[1]], "moment": r.shaking[2]});
+    if let Some(a) = &c.advantage {
+        let joints = (m.joints.iter().zip(&a.joints))
+            .filter(|(j, _)| !m.inputs.iter().any(|i| m.joints[i.joint].name == j.name))
+            .map(|(j, v)| (j.name.clone(), json!(v)))
+            .collect();
+        let markers = m
+            .all_markers()
+            .map(|id| m.marker_name(id))
+            .zip(a.markers.iter().map(|v| json!(v)))
+            .collect();
+        o["mechanical_advantage"] = json!({"joints": named(joints), "markers": named(markers)});
+    }
     if !r.indeterminate.is_empty() {
         o["indeterminate"] = json!(r
             .indeterminate
