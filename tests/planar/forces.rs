@@ -450,8 +450,16 @@ fn the_slider_crank_s_mechanical_advantage_is_its_closed_form_s() {
         let dpsi = -r * phi.cos() / (l * psi.cos());
         let close = |got: Option<f64>, want: f64| (got.unwrap() - want).abs() < 1e-9 * want;
         assert!(close(a.joints[joint("S")], 1.0 / dx.abs()), "S at {theta}");
-        assert!(close(a.markers[marker("slider.C")], 1.0 / dx.abs()), "slider.C at {theta}");
-        assert!(close(a.joints[joint("C")], 1.0 / dpsi.abs()), "C at {theta}: {:?} {}", a.joints[joint("C")], 1.0 / dpsi.abs());
+        assert!(
+            close(a.markers[marker("slider.C")], 1.0 / dx.abs()),
+            "slider.C at {theta}"
+        );
+        assert!(
+            close(a.joints[joint("C")], 1.0 / dpsi.abs()),
+            "C at {theta}: {:?} {}",
+            a.joints[joint("C")],
+            1.0 / dpsi.abs()
+        );
         assert!(close(a.markers[marker("crank.B")], 1.0 / r));
         assert_eq!(a.joints[joint("O")], None, "the driven joint");
         assert_eq!(a.markers[marker("ground.O")], None, "the ground does not move");
