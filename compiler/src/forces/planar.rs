@@ -107,23 +107,30 @@ fn power(m: &Mechanism, v: &[Pose<Jet2>], actual: Option<&[Pose<Jet2>]>) -> f64 
         };
     }
     for (b, pose) in v.iter().enumerate() {
-        let Some(mass) = loads.mass(b) else { continue };
-        let c = pose.world(mass.centre);
-        let mut f = loads
-            .gravity
-            .map_or([0.0; 2], |g| [mass.mass * g[0], mass.mass * g[1]]);
-        let mut torque = 0.0;
-        if let Some(a) = actual {
-            // d'Alembert: minus mass times the centre's acceleration, minus
-            // the inertia times the angular acceleration.
-            let ca = a[b].world(mass.centre);
-            f[0] -= mass.mass * ca[0].dd;
-            f[1] -= mass.mass * ca[1].dd;
-            torque -= mass.inertia * alpha(&a[b]);
-        }
+        let Some((f, torque)) = weight(m, b, actual) else {
+            continue;
+        };
+        let c = pose.world(m.loads.mass(b).map_or([0.0; 2], |mass| mass.centre));
         p += f[0] * c[0].d + f[1] * c[1].d + torque * omega(pose);
     }
     p
+}
+
+/// What body `b`'s mass puts on it, at its centre: gravity's force and,
+/// with `actual` motion, d'Alembert's (minus the mass times the centre's
+/// acceleration) and its torque (minus the inertia times the angular
+/// acceleration). `None` for a body without mass.
+fn weight(m: &Mechanism, b: usize, actual: Option<&[Pose<Jet2>]>) -> Option<([f64; 2], f64)> {
+    let mass = m.loads.mass(b)?;
+    let mut f = (m.loads.gravity).map_or([0.0; 2], |g| [mass.mass * g[0], mass.mass * g[1]]);
+    let mut torque = 0.0;
+    if let Some(a) = actual {
+        let ca = a[b].world(mass.centre);
+        f[0] -= mass.mass * ca[0].dd;
+        f[1] -= mass.mass * ca[1].dd;
+        torque -= mass.inertia * alpha(&a[b]);
+    }
+    Some((f, torque))
 }
 
 /// A body's angular rate from its pose's jet: for a unit (c, s), ω = c·ṡ −
@@ -402,19 +409,10 @@ fn applied(m: &Mechanism, poses: &[Pose], actual: Option<&[Pose<Jet2>]>) -> Vec<
         }
     }
     for (b, pose) in poses.iter().enumerate() {
-        let Some(mass) = m.loads.mass(b) else { continue };
-        let c = pose.world(mass.centre);
-        let mut f = m
-            .loads
-            .gravity
-            .map_or([0.0; 2], |g| [mass.mass * g[0], mass.mass * g[1]]);
-        let mut torque = 0.0;
-        if let Some(a) = actual {
-            let ca = a[b].world(mass.centre);
-            f[0] -= mass.mass * ca[0].dd;
-            f[1] -= mass.mass * ca[1].dd;
-            torque -= mass.inertia * alpha(&a[b]);
-        }
+        let Some((f, torque)) = weight(m, b, actual) else {
+            continue;
+        };
+        let c = pose.world(m.loads.mass(b).map_or([0.0; 2], |mass| mass.centre));
         add(b, f, c, torque);
     }
     w

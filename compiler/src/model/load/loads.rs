@@ -240,7 +240,13 @@ impl Validator {
         bodies: &[Body],
         owner: &str,
     ) -> Option<LoadKind> {
-        let markers = self.two_markers(fields, entry, path, bodies, owner);
+        let markers = self.pair(
+            fields,
+            entry,
+            path,
+            bodies,
+            (owner, "a spring or damper acts between two bodies"),
+        );
         if kind == "damper" {
             let c = (self.required(fields, "damping", entry, path))
                 .and_then(|n| self.non_negative(n, &join(path, "damping"), true));
@@ -258,68 +264,6 @@ impl Validator {
             stiffness: k?,
             free_length: free?,
         })
-    }
-
-    /// `markers = ["a.M", "b.N"]`: two markers, on two bodies (a spring
-    /// within one body does nothing).
-    fn two_markers(
-        &mut self,
-        fields: Entries,
-        entry: &Node,
-        path: &str,
-        bodies: &[Body],
-        owner: &str,
-    ) -> Option<[MarkerId; 2]> {
-        let mnode = self.required(fields, "markers", entry, path)?;
-        let mpath = join(path, "markers");
-        let NodeKind::Array(items) = &mnode.kind else {
-            let loc = self.loc(mnode, &mpath);
-            self.error(
-                loc,
-                format!("{owner}: `markers` must be two markers [\"body.A\", \"other.B\"]"),
-                None,
-            );
-            return None;
-        };
-        if items.len() != 2 {
-            let loc = self.loc(mnode, &mpath);
-            self.error(
-                loc,
-                format!("{owner}: `markers` must be two markers [\"body.A\", \"other.B\"]"),
-                None,
-            );
-            return None;
-        }
-        let a = self.marker_ref(
-            &Written {
-                node: &items[0],
-                path: &|| format!("{mpath}[0]"),
-            },
-            bodies,
-            owner,
-        );
-        let b = self.marker_ref(
-            &Written {
-                node: &items[1],
-                path: &|| format!("{mpath}[1]"),
-            },
-            bodies,
-            owner,
-        );
-        let (a, b) = (a?, b?);
-        if a.body == b.body {
-            let loc = self.loc(mnode, &mpath);
-            self.error(
-                loc,
-                format!(
-                    "{owner} joins two markers of the same body `{}`",
-                    bodies[a.body].name
-                ),
-                Some("a spring or damper acts between two bodies".into()),
-            );
-            return None;
-        }
-        Some([a, b])
     }
 
     fn torsion(

@@ -1013,14 +1013,15 @@ impl Validator {
         Some(MarkerId { body: bi, marker: mi })
     }
 
-    /// The two markers of a joint or constraint.
+    /// The two markers of a joint or constraint (or a spring or damper:
+    /// `between` is the help for two markers on one body).
     fn pair<M: MarkerLike>(
         &mut self,
         fields: &[(Key, Node)],
         node: &Node,
         path: &str,
         bodies: &[Body<M>],
-        owner: &str,
+        (owner, between): (&str, &str),
     ) -> Option<[MarkerId; 2]> {
         let mnode = self.required(fields, "markers", node, path)?;
         // The path, for errors only.
@@ -1062,7 +1063,7 @@ impl Validator {
                     "{owner} joins two markers of the same body `{}`",
                     bodies[a.body].name
                 ),
-                Some("a joint or constraint connects markers of two different bodies".into()),
+                Some(between.into()),
             );
             return None;
         }
@@ -1135,7 +1136,16 @@ impl Validator {
             };
             self.check_keys(fields, &allowed, path);
             let kind = self.kind(fields, entry, path, kinds, owner);
-            let pair = self.pair(fields, entry, path, bodies, owner);
+            let pair = self.pair(
+                fields,
+                entry,
+                path,
+                bodies,
+                (
+                    owner,
+                    "a joint or constraint connects markers of two different bodies",
+                ),
+            );
             let (Some((kind, _)), Some(markers)) = (kind, pair) else {
                 continue;
             };
