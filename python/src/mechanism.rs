@@ -338,9 +338,15 @@ impl Mechanism {
         let sweep = self.sweep_of(steps)?;
         let plans = self.plans(py)?;
         self.report(py, |out| match (&self.model, plans) {
-            (Model::Planar(m), Plans::Planar(p)) => {
-                dofplan::report::planar::forces::run(m, p, &sweep, rate, dofplan::report::Form::Json, out)
-            }
+            (Model::Planar(m), Plans::Planar(p)) => dofplan::report::planar::forces::run(
+                m,
+                p,
+                &sweep,
+                rate,
+                dofplan::report::Form::Json,
+                None,
+                out,
+            ),
             (Model::Spatial(m), _) => Ok(Err(format!(
                 "{}: error: --forces works on planar files for now",
                 m.source.name

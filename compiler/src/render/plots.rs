@@ -101,30 +101,85 @@ pub fn draw(
             components(
                 next.next().expect("a panel"),
                 &mut overlay,
-                "position (solid x, thin y)",
-                axis,
-                &names,
+                ("position (solid x, thin y)", axis),
+                (&names, "markers"),
                 &of(&|p| Some(p.at.to_vec())),
             )?;
             components(
                 next.next().expect("a panel"),
                 &mut overlay,
-                &format!("velocity (solid vx, thin vy), the input at {rate}"),
-                axis,
-                &names,
+                (
+                    &format!("velocity (solid vx, thin vy), the input at {rate}"),
+                    axis,
+                ),
+                (&names, "markers"),
                 &of(&|p| p.rates.map(|(v, _)| v.to_vec())),
             )?;
             components(
                 next.next().expect("a panel"),
                 &mut overlay,
-                &format!("acceleration (solid ax, thin ay), the input at {rate}"),
-                axis,
-                &names,
+                (
+                    &format!("acceleration (solid ax, thin ay), the input at {rate}"),
+                    axis,
+                ),
+                (&names, "markers"),
                 &of(&|p| p.rates.map(|(_, a)| a.to_vec())),
             )?;
         }
         if !loops.is_empty() {
             transmission(next.next().expect("a panel"), &mut overlay, axis, loops)?;
+        }
+        root.present().map_err(|e| e.to_string())?;
+    }
+    Ok(with_overlay(svg, &overlay))
+}
+
+/// A named series against the swept input: `None` where the frame has no
+/// value (not solved, a dead point): a gap.
+pub type Series<'a> = (&'a str, Vec<(f64, Option<f64>)>);
+
+/// The plots of `analyze --forces --svg`: each input's force or torque
+/// against `axis` (the swept input; `how` says held still or at which
+/// rate), then the magnitude of each joint's reaction (the first
+/// [`MAX_SERIES`] given: the caller puts the most loaded first).
+pub fn draw_forces(
+    title: &str,
+    (axis, how): (&str, &str),
+    inputs: &[Series],
+    joints: &[Series],
+) -> Result<String, String> {
+    let panels = 1 + usize::from(!joints.is_empty());
+    let points = |s: &[Series]| -> Vec<Vec<Point>> {
+        (s.iter())
+            .map(|(_, p)| p.iter().map(|(x, v)| (*x, v.map(|v| vec![v]))).collect())
+            .collect()
+    };
+    let names = |s: &[Series]| -> Vec<String> { s.iter().map(|(n, _)| n.to_string()).collect() };
+    let mut svg = String::new();
+    let mut overlay = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (WIDTH, PANEL * panels as u32)).into_drawing_area();
+        root.fill(&WHITE).map_err(|e| e.to_string())?;
+        let areas = root.split_evenly((panels, 1));
+        let input_names = names(inputs);
+        let input_names: Vec<&str> = input_names.iter().map(String::as_str).collect();
+        components(
+            &areas[0],
+            &mut overlay,
+            (&format!("{title}: each input's force or torque, {how}"), axis),
+            (&input_names, "inputs"),
+            &points(inputs),
+        )?;
+        if !joints.is_empty() {
+            let joint_names = names(joints);
+            let joint_names: Vec<&str> = joint_names.iter().map(String::as_str).collect();
+            components(
+                &areas[1],
+                &mut overlay,
+                ("each joint's reaction, its magnitude", axis),
+                (&joint_names, "joints"),
+                &points(joints),
+            )?;
         }
         root.present().map_err(|e| e.to_string())?;
     }
@@ -504,9 +559,8 @@ type Point = (f64, Option<Vec<f64>>);
 fn components(
     area: &Area,
     overlay: &mut String,
-    caption: &str,
-    axis: &str,
-    names: &[&str],
+    (caption, axis): (&str, &str),
+    (names, what): (&[&str], &str),
     series: &[Vec<Point>],
 ) -> Result<(), String> {
     let drawn = &series[..series.len().min(MAX_SERIES)];
@@ -538,7 +592,7 @@ fn components(
     for ((at, up), colour) in cuts {
         cut_mark(overlay, at, up, colour);
     }
-    let mut entries = series_entries(names, "markers");
+    let mut entries = series_entries(names, what);
     if let Some((lo, hi)) = full {
         entries.push((Key::Clipped, "cut off at the axis:".into()));
         entries.push((Key::None, format!("values run from {}", short(lo))));
@@ -611,25 +665,25 @@ pub fn draw_spatial(title: &str, axis: &str, rate: &str, traced: &[Traced3]) -> 
         components(
             &areas[0],
             &mut overlay,
-            &format!("{title}: position of the traced markers (thick x, medium y, thin z)"),
-            axis,
-            &names,
+            (
+                &format!("{title}: position of the traced markers (thick x, medium y, thin z)"),
+                axis,
+            ),
+            (&names, "markers"),
             &of(&|p| Some(p.at.to_vec())),
         )?;
         components(
             &areas[1],
             &mut overlay,
-            &format!("speed |v|, the input at {rate}"),
-            axis,
-            &names,
+            (&format!("speed |v|, the input at {rate}"), axis),
+            (&names, "markers"),
             &of(&|p| p.rates.map(|(v, _)| vec![norm(v)])),
         )?;
         components(
             &areas[2],
             &mut overlay,
-            &format!("acceleration |a|, the input at {rate}"),
-            axis,
-            &names,
+            (&format!("acceleration |a|, the input at {rate}"), axis),
+            (&names, "markers"),
             &of(&|p| p.rates.map(|(_, a)| vec![norm(a)])),
         )?;
         root.present().map_err(|e| e.to_string())?;

@@ -303,3 +303,30 @@ fn json_has_every_joint_s_reaction_and_names_what_is_not_unique() {
         "{loose:?}"
     );
 }
+
+#[test]
+fn svg_draws_each_input_s_force_and_each_joint_s_reaction() {
+    let dir = std::env::temp_dir().join(format!("dofplan-forces-svg-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("forces.svg");
+    let o = dofplan(&[
+        "analyze",
+        &mechanism("loads/fourbar_weights"),
+        "--forces",
+        "--rate",
+        "2",
+        "--svg",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).ends_with(&format!("wrote {}\n", out.display())));
+    let svg = std::fs::read_to_string(&out).unwrap();
+    assert!(
+        svg.contains("fourbar_weights: each input&apos;s force or torque, theta at 2 rad/s"),
+        "{svg}"
+    );
+    assert!(svg.contains("each joint&apos;s reaction, its magnitude"));
+    for joint in [">A<", ">B<", ">C<", ">D<", ">theta<"] {
+        assert!(svg.contains(joint), "{joint}");
+    }
+}

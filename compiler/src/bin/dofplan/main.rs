@@ -229,7 +229,7 @@ enum Command {
         /// "reactions": joint -> [fx, fy], the force its first body exerts
         /// on its second, "reaction_moments" for prismatic joints) or
         /// --csv. Planar files.
-        #[arg(long, conflicts_with_all = ["svg", "sensitivity"])]
+        #[arg(long, conflicts_with = "sensitivity")]
         forces: bool,
         /// With --sensitivity: the worst-case first-order deviation of
         /// each traced marker when every parameter may be off by ±T
@@ -699,7 +699,13 @@ fn analyze_planar(command: Command, out: &mut dyn Write) -> io::Result<ExitCode>
         let form = Form::of(json, csv);
         if forces {
             return outcome(dofplan::report::planar::forces::run(
-                m, plan, &sweep, rate, form, out,
+                m,
+                plan,
+                &sweep,
+                rate,
+                form,
+                svg.as_deref(),
+                out,
             ));
         }
         let rate = rate.unwrap_or(1.0);

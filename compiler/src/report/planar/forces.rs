@@ -47,17 +47,36 @@ struct Gathered {
     unsolved: usize,
     singular: usize,
     constrained: bool,
+    /// For the plots: each input's value, and each joint's reaction
+    /// magnitude, against the swept input (`None`: no value there).
+    input_series: Vec<Vec<(f64, Option<f64>)>>,
+    joint_series: Vec<Vec<(f64, Option<f64>)>>,
 }
 
 impl Gathered {
+    /// A frame with nothing to plot (not solved, a dead point).
+    fn gap(&mut self, x: f64) {
+        for s in self.input_series.iter_mut().chain(&mut self.joint_series) {
+            s.push((x, None));
+        }
+    }
+
     fn add(&mut self, carried: &Result<Carried, RateError>, x: f64) {
         let c = match carried {
             Ok(c) => c,
             Err(_) => {
                 self.singular += 1;
+                self.gap(x);
                 return;
             }
         };
+        for (s, &v) in self.input_series.iter_mut().zip(&c.inputs) {
+            s.push((x, Some(v)));
+        }
+        for (k, s) in self.joint_series.iter_mut().enumerate() {
+            let size = (c.reactions.as_ref()).map(|r| r.forces[k][0].hypot(r.forces[k][1]));
+            s.push((x, size));
+        }
         for (peak, &v) in self.inputs.iter_mut().zip(&c.inputs) {
             if peak.is_none_or(|(best, _)| v.abs() > best.abs()) {
                 *peak = Some((v, x));
@@ -99,13 +118,15 @@ impl Gathered {
 /// statics when `rate` is None (the mechanism held at each pose: no
 /// inertia, dampers idle), kinetostatics at the first swept input's `rate`
 /// (radians or length per second, the others in proportion, no
-/// acceleration) when given.
+/// acceleration) when given; with `svg`, plots written there.
+#[allow(clippy::too_many_arguments)]
 pub fn run(
     m: &Mechanism,
     plan: &Plan,
     sweep: &Sweep,
     rate: Option<f64>,
     form: Form,
+    svg: Option<&std::path::Path>,
     out: &mut dyn Write,
 ) -> Outcome {
     if m.loads.is_empty() {
@@ -136,6 +157,15 @@ pub fn run(
     let primary = sweep.primary().input;
     let mut gathered = Gathered {
         inputs: vec![None; m.inputs.len()],
+        input_series: vec![Vec::new(); if svg.is_some() { m.inputs.len() } else { 0 }],
+        joint_series: vec![
+            Vec::new();
+            if svg.is_some() && m.constraints.is_empty() {
+                m.joints.len()
+            } else {
+                0
+            }
+        ],
         ..Gathered::default()
     };
     let total = sweep.steps;
@@ -157,7 +187,10 @@ pub fn run(
         });
         match &carried {
             Some(c) => gathered.add(c, requested[primary]),
-            None => gathered.unsolved += 1,
+            None => {
+                gathered.unsolved += 1;
+                gathered.gap(requested[primary]);
+            }
         }
         let carried = carried.and_then(Result::ok);
         match form {
@@ -189,7 +222,77 @@ pub fn run(
         Form::Csv => {}
         Form::Text => summary(m, sweep, rate, &gathered, out)?,
     }
+    match svg {
+        Some(path) => plots(m, &m.inputs[primary], rate, &gathered, path, form, out),
+        None => Ok(Ok(())),
+    }
+}
+
+/// Writes the plots to `path`: each input's force against the swept
+/// input, then the joints' reactions, the most loaded first.
+#[cfg(feature = "plots")]
+fn plots(
+    m: &Mechanism,
+    swept: &crate::model::Input,
+    rate: Option<f64>,
+    g: &Gathered,
+    path: &std::path::Path,
+    form: Form,
+    out: &mut dyn Write,
+) -> Outcome {
+    let axis = match swept.kind {
+        InputKind::Angle => format!("{} (degrees)", swept.name),
+        InputKind::Slide => format!("{} (length)", swept.name),
+    };
+    let how = match rate {
+        None => "held still".to_string(),
+        Some(r) => format!("{} at {}", swept.name, rate_text(swept.kind, r)),
+    };
+    let inputs: Vec<crate::render::plots::Series> = (m.inputs.iter().zip(&g.input_series))
+        .map(|(i, s)| (i.name.as_str(), s.clone()))
+        .collect();
+    let peak = |s: &[(f64, Option<f64>)]| s.iter().filter_map(|p| p.1).fold(0.0f64, f64::max);
+    let mut joints: Vec<crate::render::plots::Series> = (m.joints.iter().zip(&g.joint_series))
+        .map(|(j, s)| (j.name.as_str(), s.clone()))
+        .collect();
+    joints.sort_by(|a, b| peak(&b.1).total_cmp(&peak(&a.1)));
+    let drawn = crate::render::plots::draw_forces(&m.name, (&axis, &how), &inputs, &joints);
+    let text = match drawn {
+        Ok(text) => text,
+        Err(e) => {
+            return Ok(Err(format!(
+                "{}: error: cannot draw the plots: {e}",
+                path.display()
+            )))
+        }
+    };
+    if let Err(e) = std::fs::write(path, text) {
+        return Ok(Err(format!(
+            "{}: error: cannot write the plots: {e}",
+            path.display()
+        )));
+    }
+    if form == Form::Text {
+        writeln!(out, "wrote {}", path.display())?;
+    }
     Ok(Ok(()))
+}
+
+/// Without the `plots` feature there is nothing to draw with.
+#[cfg(not(feature = "plots"))]
+fn plots(
+    _: &Mechanism,
+    _: &crate::model::Input,
+    _: Option<f64>,
+    _: &Gathered,
+    path: &std::path::Path,
+    _: Form,
+    _: &mut dyn Write,
+) -> Outcome {
+    Ok(Err(format!(
+        "{}: error: this build has no plots (the `plots` feature is off)",
+        path.display()
+    )))
 }
 
 /// The keys `--forces --json` adds to a frame: `"input_force"` (input ->
