@@ -464,15 +464,18 @@ pub fn advantage(
         Ok(v) => v,
         Err(e) => return Some(Err(e)),
     };
-    let inverse = |rate: f64| (rate.abs() > 1e-12).then(|| 1.0 / rate.abs());
+    // A rate below round-off is no motion: relative to the mechanism's
+    // size for a length, absolute for a turn (radians per radian).
+    let size = m.size();
+    let inverse = |rate: f64, scale: f64| (rate.abs() > 1e-12 * scale).then(|| 1.0 / rate.abs());
     let joints = (m.joints.iter().enumerate())
         .map(|(j, joint)| {
             if m.inputs[0].joint == j {
                 return None;
             }
             let [first, second] = joint.markers;
-            let rate = match joint.kind {
-                crate::model::JointKind::Revolute => omega(&v[second.body]) - omega(&v[first.body]),
+            let (rate, scale) = match joint.kind {
+                crate::model::JointKind::Revolute => (omega(&v[second.body]) - omega(&v[first.body]), 1.0),
                 crate::model::JointKind::Prismatic => {
                     // The slider's marker against the rail's material point
                     // under it (fixed in the rail's body), along the rail.
@@ -483,16 +486,19 @@ pub fn advantage(
                     let under = a.world(under_local);
                     let d = m.marker(first).unit_dir().unwrap_or([1.0, 0.0]);
                     let dir = [r.c.v * d[0] - r.s.v * d[1], r.s.v * d[0] + r.c.v * d[1]];
-                    dir[0] * (p[0].d - under[0].d) + dir[1] * (p[1].d - under[1].d)
+                    (
+                        dir[0] * (p[0].d - under[0].d) + dir[1] * (p[1].d - under[1].d),
+                        size,
+                    )
                 }
             };
-            inverse(rate)
+            inverse(rate, scale)
         })
         .collect();
     let markers = (m.all_markers())
         .map(|id| {
             let p = v[id.body].world(m.marker(id).at);
-            inverse(p[0].d.hypot(p[1].d))
+            inverse(p[0].d.hypot(p[1].d), size)
         })
         .collect();
     Some(Ok(Advantage { joints, markers }))
