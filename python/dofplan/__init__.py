@@ -691,9 +691,10 @@ class Mechanism:
         """``dofplan analyze --forces --json``: each input's force or torque
         (``frames[k]["input_force"]``: input name -> value, None where the
         frame is not solved or at a dead point) and each joint's reaction
-        (``frames[k]["reactions"]``: joint -> [fx, fy]) under the file's masses,
-        ``[gravity]`` and ``[loads]``; held still at each pose (statics), or
-        with ``rate`` running at that rate (kinetostatics). Planar files."""
+        (``frames[k]["reactions"]``: joint -> [fx, fy], or [fx, fy, fz] in a
+        spatial file) under the file's masses, ``[gravity]`` and ``[loads]``;
+        held still at each pose (statics), or with ``rate`` running at that
+        rate (kinetostatics)."""
         return json.loads(self._m.forces_json(rate, steps))
 
     def sensitivity(

@@ -332,7 +332,7 @@ impl Mechanism {
 
     /// `dofplan analyze --forces --json` on the file's sweep (`steps`
     /// frames if given): statics, or kinetostatics with its first input at
-    /// `rate`. The text; a spatial file's error is the CLI's.
+    /// `rate`. The text.
     #[pyo3(signature = (rate = None, steps = None))]
     fn forces_json(&self, py: Python<'_>, rate: Option<f64>, steps: Option<usize>) -> PyResult<String> {
         let sweep = self.sweep_of(steps)?;
@@ -347,10 +347,15 @@ impl Mechanism {
                 None,
                 out,
             ),
-            (Model::Spatial(m), _) => Ok(Err(format!(
-                "{}: error: --forces works on planar files for now",
-                m.source.name
-            ))),
+            (Model::Spatial(m), Plans::Spatial(p)) => dofplan::report::spatial::forces::run(
+                m,
+                p,
+                &sweep,
+                rate,
+                dofplan::report::Form::Json,
+                None,
+                out,
+            ),
             _ => unreachable!("a plan is made from its own mechanism"),
         })
     }

@@ -3,5 +3,6 @@
 //! accelerations. One test binary for both: each would link dofplan, the
 //! runtime and dofplan-generated on its own.
 
+mod forces;
 mod spatial;
 mod spatial_rates;

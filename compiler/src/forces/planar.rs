@@ -33,24 +33,12 @@ pub fn input_forces(
     inputs: &[f64],
     moving: Option<Moving>,
 ) -> Result<Vec<f64>, RateError> {
-    let zero = vec![0.0; m.inputs.len()];
-    let actual = match moving {
-        Some(mv) => Some(interp.rates(state, inputs, mv.rates, mv.accelerations)?),
-        None => None,
-    };
-    (0..m.inputs.len())
-        .map(|i| {
-            // A unit of the input per second: a radian (in degrees) for an
-            // angle, so that the derivatives are per radian.
-            let mut unit = zero.clone();
-            unit[i] = match m.inputs[i].kind {
-                InputKind::Angle => 1f64.to_degrees(),
-                InputKind::Slide => 1.0,
-            };
-            let virtual_ = interp.rates(state, inputs, &unit, &zero)?;
-            Ok(-power(m, &virtual_, actual.as_deref()))
-        })
-        .collect()
+    super::by_virtual_work(
+        &m.inputs,
+        moving.map(|mv| (mv.rates, mv.accelerations)),
+        |r, a| interp.rates(state, inputs, r, a),
+        |v, actual| power(m, v, actual),
+    )
 }
 
 /// The power every load delivers (and with `actual` motion, the bodies'
@@ -288,31 +276,7 @@ fn solve(
     w: &nalgebra::DVector<f64>,
     normals: &[[f64; 2]],
 ) -> (Reactions, nalgebra::DVector<f64>) {
-    let (rows, cols) = a.shape();
-    let svd = a.clone().svd(true, true);
-    let largest = svd.singular_values.iter().copied().fold(0.0f64, f64::max);
-    let tol = largest * 1e-10 * rows.max(cols) as f64;
-    // Both factors were asked for, so the solve cannot fail; zeros (and
-    // the residual saying so) if it ever did.
-    let x = svd
-        .solve(&(-w), tol)
-        .unwrap_or_else(|_| nalgebra::DVector::zeros(cols));
-    let residual = if rows == 0 { 0.0 } else { (a * &x + w).amax() };
-    // An unknown is fixed by the equations when its axis lies in the
-    // matrix's row space (the right singular vectors of non-zero singular
-    // values); otherwise some other solution moves it.
-    let fixed: Vec<bool> = match &svd.v_t {
-        Some(v_t) => (0..cols)
-            .map(|c| {
-                let inside: f64 = (0..v_t.nrows())
-                    .filter(|&k| svd.singular_values[k] > tol)
-                    .map(|k| v_t[(k, c)] * v_t[(k, c)])
-                    .sum();
-                inside > 1.0 - 1e-9
-            })
-            .collect(),
-        None => vec![false; cols],
-    };
+    let super::Solved { x, residual, fixed } = super::least_norm(a, w);
     let joints = m.joints.len();
     let r = Reactions {
         forces: (0..joints)

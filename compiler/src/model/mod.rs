@@ -10,6 +10,7 @@
 mod error;
 mod excerpt;
 mod load;
+pub mod loads;
 pub mod planar;
 mod shape;
 pub mod source;

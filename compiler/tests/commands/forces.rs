@@ -140,10 +140,10 @@ fn a_file_without_loads_or_a_spatial_file_is_told_what_to_do() {
     assert!(err.contains("help: add [loads.NAME] entries"), "{err}");
     let o = dofplan(&["analyze", &mechanism("spatial/rssr"), "--forces"]);
     assert!(!o.status.success());
+    let err = text(&o.stderr);
     assert!(
-        text(&o.stderr).contains("--forces works on planar files for now"),
-        "{}",
-        text(&o.stderr)
+        err.contains("the file gives no masses, gravity or loads, so every force is 0"),
+        "{err}"
     );
 }
 
@@ -219,7 +219,7 @@ fn bad_loads_get_their_position_names_and_a_hint() {
 }
 
 #[test]
-fn masses_come_whole_and_spatial_files_refuse_them_by_name() {
+fn masses_come_whole_and_positive() {
     let good = std::fs::read_to_string(mechanism("loads/fourbar_weights")).unwrap();
     let edited = good.replace("centre = [0.5, 0.5]\n", "");
     let dir = std::env::temp_dir().join(format!("dofplan-masses-{}", std::process::id()));
@@ -240,12 +240,128 @@ fn masses_come_whole_and_spatial_files_refuse_them_by_name() {
         e.contains("`bodies.coupler.mass` is 0: it must be more than 0"),
         "{e}"
     );
-    let spatial =
-        std::fs::read_to_string(mechanism("spatial/rssr")).unwrap() + "\n[gravity]\ng = [0, 0, -9.81]\n";
-    let path = dir.join("s.toml");
-    std::fs::write(&path, spatial).unwrap();
-    let e = text(&dofplan(&["check", path.to_str().unwrap()]).stderr);
-    assert!(e.contains("`gravity` is not read from spatial files yet"), "{e}");
+}
+
+/// `check` on the Cardan drive with `from` replaced by `to`: its errors.
+fn cardan_edited(from: &str, to: &str) -> String {
+    let good = std::fs::read_to_string(mechanism("loads/cardan_torque")).unwrap();
+    assert!(good.contains(from), "{from}");
+    let dir = std::env::temp_dir().join(format!("dofplan-forces3-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(format!("cardan-{}.toml", from.len() + to.len()));
+    std::fs::write(&path, good.replacen(from, to, 1)).unwrap();
+    let o = dofplan(&["check", path.to_str().unwrap()]);
+    assert!(!o.status.success());
+    text(&o.stderr)
+}
+
+#[test]
+fn a_spatial_file_s_loads_are_checked_in_three_dimensions() {
+    let e = cardan_edited("g = [0.0, 0.0, -9.81]", "g = [0.0, -9.81]");
+    assert!(e.contains("gravity.g"), "{e}");
+    assert!(e.contains("x, y, z"), "{e}");
+    let e = cardan_edited(
+        "[0.0, 0.05, 0.0], [0.0, 0.0, 0.05]]",
+        "[0.1, 0.05, 0.0], [0.0, 0.0, 0.05]]",
+    );
+    assert!(
+        e.contains("`bodies.shaft1.inertia` is not symmetric (differs by 0.1 across the diagonal)"),
+        "{e}"
+    );
+    assert!(e.contains(".toml:23:11"), "{e}");
+    let e = cardan_edited("inertia = [[0.002, 0.0, 0.0]", "inertia = [[-0.002, 0.0, 0.0]");
+    assert!(
+        e.contains("`bodies.shaft1.inertia` has a negative principal moment (-0.002)"),
+        "{e}"
+    );
+    let e = cardan_edited(
+        "inertia = [[0.002, 0.0, 0.0], [0.0, 0.05, 0.0], [0.0, 0.0, 0.05]]",
+        "inertia = 0.05",
+    );
+    assert!(e.contains("`bodies.shaft1.inertia` must be a 3×3 tensor"), "{e}");
+    let e = cardan_edited(
+        "[loads.resisting]",
+        "[loads.spring]\nkind = \"torsion-spring\"\njoint = \"U\"\nstiffness = 1.0\nfree_angle = 0.0\n\n[loads.resisting]",
+    );
+    assert!(
+        e.contains("`loads.spring.joint`: joint `U` is universal; a torsion spring sits on a revolute or cylindrical joint"),
+        "{e}"
+    );
+    let e = cardan_edited(
+        "torque = [-8.660254037844387, -4.999999999999999, 0.0]",
+        "torque = -10.0",
+    );
+    assert!(e.contains("loads.resisting.torque"), "{e}");
+}
+
+#[test]
+fn a_cardan_drive_needs_the_load_times_its_speed_ratio() {
+    // 10 N m on the output shaft at 30 degrees between the shafts: the
+    // input's peak is 10 / cos 30 deg at theta = 0 (the ratio's closed
+    // form, cos b / (1 - sin^2 b cos^2 theta)); the shafts' weight, 2 x 2
+    // kg, is all the ground carries.
+    let o = dofplan(&["analyze", &mechanism("loads/cardan_torque"), "--forces"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let out = text(&o.stdout);
+    let peak = 10.0 / 30f64.to_radians().cos();
+    assert!(
+        out.contains(&format!("input theta: peak torque {peak:.3} at theta = 0°")),
+        "{out}"
+    );
+    assert!(
+        out.contains(&format!("on the ground: force up to {} at", 4.0 * 9.81)),
+        "{out}"
+    );
+    assert!(out.contains("the reactions at A, B, U are not unique"), "{out}");
+    let o = dofplan(&[
+        "analyze",
+        &mechanism("loads/cardan_torque"),
+        "--forces",
+        "--json",
+        "--steps",
+        "3",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let v: serde_json::Value = serde_json::from_str(&text(&o.stdout)).unwrap();
+    assert_eq!(v["dimension"], 3);
+    let frame = &v["frames"][1];
+    let theta = frame["inputs"]["theta"].as_f64().unwrap().to_radians();
+    let b = 30f64.to_radians();
+    let expected = 10.0 * b.cos() / (1.0 - b.sin().powi(2) * theta.cos().powi(2));
+    let got = frame["input_force"]["theta"].as_f64().unwrap();
+    assert!(
+        (got - expected).abs() < 1e-10 * expected,
+        "{got} against {expected}"
+    );
+    for joint in ["A", "B", "U"] {
+        assert_eq!(frame["reactions"][joint].as_array().unwrap().len(), 3, "{frame}");
+        assert_eq!(
+            frame["reaction_moments"][joint].as_array().unwrap().len(),
+            3,
+            "{frame}"
+        );
+    }
+    assert_eq!(frame["shaking"]["force"].as_array().unwrap().len(), 3);
+    assert_eq!(frame["shaking"]["moment"].as_array().unwrap().len(), 3);
+    let o = dofplan(&[
+        "analyze",
+        &mechanism("loads/cardan_torque"),
+        "--forces",
+        "--csv",
+        "--steps",
+        "3",
+    ]);
+    let out = text(&o.stdout);
+    let head = out.lines().next().unwrap();
+    assert_eq!(
+        head,
+        "frame,theta,status,theta.force,A.fx,A.fy,A.fz,A.mx,A.my,A.mz,B.fx,B.fy,B.fz,B.mx,B.my,B.mz,U.fx,U.fy,U.fz,U.mx,U.my,U.mz,shaking.fx,shaking.fy,shaking.fz,shaking.mx,shaking.my,shaking.mz"
+    );
+    assert_eq!(out.lines().count(), 4);
+    assert!(out
+        .lines()
+        .skip(1)
+        .all(|l| l.split(',').count() == head.split(',').count()));
 }
 
 #[test]

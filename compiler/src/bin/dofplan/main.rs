@@ -749,13 +749,6 @@ fn analyze_spatial(
     else {
         unreachable!("analyze_spatial is given an Analyze")
     };
-    if forces {
-        return outcome(Ok(Err(format!(
-            "{}: error: --forces works on planar files for now\n  help: `dofplan analyze` without --forces gives this file's velocities and accelerations",
-            m.source.name
-        ))));
-    }
-    let rate = rate.unwrap_or(1.0);
     let Some(sweep) = sweep_args.of(m) else {
         return Ok(ExitCode::FAILURE);
     };
@@ -763,6 +756,18 @@ fn analyze_spatial(
         return Ok(ExitCode::FAILURE);
     };
     let form = Form::of(json, csv);
+    if forces {
+        return outcome(dofplan::report::spatial::forces::run(
+            m,
+            &plan,
+            &sweep,
+            rate,
+            form,
+            svg.as_deref(),
+            out,
+        ));
+    }
+    let rate = rate.unwrap_or(1.0);
     let mut bar = progress::Frames::default();
     outcome(spatial_analyze::analyze(
         m,

@@ -1,12 +1,13 @@
-//! Validating what acts on a planar mechanism: the bodies' `mass`,
-//! `centre` and `inertia`, `[gravity]` and `[loads.NAME]`. Every key is
-//! checked as the rest of the file is (position, names, a hint); a spatial
-//! file that writes any of them is told they are planar for now
-//! (`refuse_loads`).
+//! Validating what acts on a mechanism of either dimension: the bodies'
+//! `mass`, `centre` and `inertia`, `[gravity]` and `[loads.NAME]`. Every
+//! key is checked as the rest of the file is (position, names, a hint);
+//! what differs between the plane and space (a vector's length, a torque,
+//! an inertia) is each dimension's [`ReadSpace`].
 
 use super::*;
-use crate::model::planar::loads::{Load, LoadKind, Loads, Mass};
-use crate::model::planar::{Joint, JointKind};
+use crate::model::loads::{Load, LoadKind, Loads, Mass, Space};
+use crate::model::planar::loads::Planar;
+use crate::model::spatial::loads::Spatial;
 
 /// The keys a body may have besides `fixed` and `markers`.
 pub(super) const MASS_KEYS: [&str; 3] = ["mass", "centre", "inertia"];
@@ -14,23 +15,74 @@ pub(super) const MASS_KEYS: [&str; 3] = ["mass", "centre", "inertia"];
 /// The kinds of `[loads.NAME]`.
 const LOAD_KINDS: [&str; 5] = ["force", "torque", "spring", "damper", "torsion-spring"];
 
+/// What a load needs to know of a joint: its name, its kind's name and
+/// whether it turns about one axis (where a torsion spring may sit).
+pub(super) struct JointLoad<'a> {
+    pub(super) name: &'a str,
+    pub(super) kind: &'static str,
+    pub(super) turns: bool,
+}
+
+/// How a dimension's loads are written.
+pub(super) trait ReadSpace: Space {
+    /// A point, a force or gravity.
+    fn vector(v: &mut Validator, node: &Node, path: &str) -> Option<Self::Vector>;
+    /// A `torque`.
+    fn torque(v: &mut Validator, node: &Node, path: &str) -> Option<Self::Torque>;
+    /// A body's `inertia`.
+    fn inertia(v: &mut Validator, node: &Node, path: &str) -> Option<Self::Inertia>;
+    /// What `inertia` is, for the help of a body missing it.
+    const INERTIA: &'static str;
+    /// The joints a torsion spring may sit on, for its help.
+    const TURNING: &'static str;
+}
+
+impl ReadSpace for Planar {
+    fn vector(v: &mut Validator, node: &Node, path: &str) -> Option<[f64; 2]> {
+        v.coords(node, path)
+    }
+    fn torque(v: &mut Validator, node: &Node, path: &str) -> Option<f64> {
+        v.number(node, path)
+    }
+    fn inertia(v: &mut Validator, node: &Node, path: &str) -> Option<f64> {
+        v.non_negative(node, path, true)
+    }
+    const INERTIA: &'static str = "`inertia` (about the centre; 0 for a point mass)";
+    const TURNING: &'static str = "a revolute joint";
+}
+
+impl ReadSpace for Spatial {
+    fn vector(v: &mut Validator, node: &Node, path: &str) -> Option<[f64; 3]> {
+        v.coords(node, path)
+    }
+    fn torque(v: &mut Validator, node: &Node, path: &str) -> Option<[f64; 3]> {
+        v.coords(node, path)
+    }
+    fn inertia(v: &mut Validator, node: &Node, path: &str) -> Option<[[f64; 3]; 3]> {
+        v.tensor(node, path)
+    }
+    const INERTIA: &'static str =
+        "`inertia` (a symmetric 3×3 tensor about the centre in the drawn axes, [[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], [Ixz, Iyz, Izz]]; all 0 for a point mass)";
+    const TURNING: &'static str = "a revolute or cylindrical joint";
+}
+
 impl Validator {
-    /// The loads of a planar file: its bodies' masses (read again from
+    /// The loads of a file: its bodies' masses (read again from
     /// `bodies_node`, whose keys `bodies` checked), `[gravity]` and
     /// `[loads]`.
-    pub(super) fn loads(
+    pub(super) fn loads<S: ReadSpace, M: MarkerLike>(
         &mut self,
         top: Entries,
         bodies_node: Option<&Node>,
-        bodies: &[Body],
-        joints: &[(Joint, &Node)],
-    ) -> Loads {
+        bodies: &[Body<M>],
+        joints: &[JointLoad],
+    ) -> Loads<S> {
         let mut loads = Loads {
             masses: self.masses(bodies_node, bodies),
             ..Loads::default()
         };
         if let Some(g) = Self::get(top, "gravity") {
-            loads.gravity = self.gravity(g);
+            loads.gravity = self.gravity::<S>(g);
         }
         if let Some(node) = Self::get(top, "loads") {
             loads.applied = self.applied(node, bodies, joints);
@@ -39,7 +91,11 @@ impl Validator {
     }
 
     /// Each body's `mass`, `centre` and `inertia`: all three or none.
-    fn masses(&mut self, node: Option<&Node>, bodies: &[Body]) -> Vec<Option<Mass>> {
+    fn masses<S: ReadSpace, M: MarkerLike>(
+        &mut self,
+        node: Option<&Node>,
+        bodies: &[Body<M>],
+    ) -> Vec<Option<Mass<S>>> {
         let Some(NodeKind::Table(entries)) = node.map(|n| &n.kind) else {
             return Vec::new();
         };
@@ -71,16 +127,16 @@ impl Validator {
                         written.iter().map(|k| format!("`{k}`")).collect::<Vec<_>>().join(" and "),
                         missing.join(" or ")
                     ),
-                    Some("a body's mass properties are `mass`, `centre` (a point of the drawing) and `inertia` (about the centre; 0 for a point mass), all three".into()),
+                    Some(format!("a body's mass properties are `mass`, `centre` (a point of the drawing) and {}, all three", S::INERTIA)),
                 );
                 continue;
             }
             let mass = self.non_negative(Self::get(fields, "mass").unwrap(), &join(&path, "mass"), false);
-            let centre = self.point(Self::get(fields, "centre").unwrap(), &join(&path, "centre"));
-            let inertia = self.non_negative(
+            let centre = S::vector(self, Self::get(fields, "centre").unwrap(), &join(&path, "centre"));
+            let inertia = S::inertia(
+                self,
                 Self::get(fields, "inertia").unwrap(),
                 &join(&path, "inertia"),
-                true,
             );
             let b = bodies.iter().position(|b| b.name == key.name);
             if let (Some(mass), Some(centre), Some(inertia), Some(b)) = (mass, centre, inertia, b) {
@@ -111,16 +167,79 @@ impl Validator {
         Some(v)
     }
 
-    /// `[gravity] g = [gx, gy]`.
-    fn gravity(&mut self, node: &Node) -> Option<[f64; 2]> {
+    /// `[gravity] g = [gx, gy]` (or `[gx, gy, gz]`).
+    fn gravity<S: ReadSpace>(&mut self, node: &Node) -> Option<S::Vector> {
         let fields = self.table(node, "gravity")?;
         self.check_keys(fields, &["g"], "gravity");
         let g = self.required(fields, "g", node, "gravity")?;
-        self.point(g, "gravity.g")
+        S::vector(self, g, "gravity.g")
+    }
+
+    /// A symmetric 3×3 tensor with no negative principal value: an
+    /// inertia.
+    fn tensor(&mut self, node: &Node, path: &str) -> Option<[[f64; 3]; 3]> {
+        let rows = match &node.kind {
+            NodeKind::Array(items) if items.len() == 3 => items,
+            _ => {
+                let loc = self.loc(node, path);
+                self.error(
+                    loc,
+                    format!(
+                        "`{path}` must be a 3×3 tensor, [[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], [Ixz, Iyz, Izz]]"
+                    ),
+                    Some("for a point mass write [[0, 0, 0], [0, 0, 0], [0, 0, 0]]".into()),
+                );
+                return None;
+            }
+        };
+        let mut t = [[0.0; 3]; 3];
+        let mut ok = true;
+        for (k, row) in rows.iter().enumerate() {
+            match self.coords::<3>(row, &format!("{path}[{k}]")) {
+                Some(r) => t[k] = r,
+                None => ok = false,
+            }
+        }
+        if !ok {
+            return None;
+        }
+        let scale = t.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs()));
+        let asymmetry = (t[0][1] - t[1][0])
+            .abs()
+            .max((t[0][2] - t[2][0]).abs())
+            .max((t[1][2] - t[2][1]).abs());
+        let loc = || self.loc(node, path);
+        if asymmetry > 1e-9 * scale {
+            let loc = loc();
+            self.error(
+                loc,
+                format!("`{path}` is not symmetric (differs by {asymmetry} across the diagonal)"),
+                Some("an inertia tensor has Ixy = Iyx, Ixz = Izx and Iyz = Izy".into()),
+            );
+            return None;
+        }
+        let least = nalgebra::Matrix3::from_fn(|r, c| t[r][c])
+            .symmetric_eigenvalues()
+            .min();
+        if least < -1e-9 * scale {
+            let loc = loc();
+            self.error(
+                loc,
+                format!("`{path}` has a negative principal moment ({least}): no body has that inertia"),
+                Some("check the signs of the products of inertia (Ixy, Ixz, Iyz)".into()),
+            );
+            return None;
+        }
+        Some(t)
     }
 
     /// `[loads.NAME]`, each by its kind.
-    fn applied(&mut self, node: &Node, bodies: &[Body], joints: &[(Joint, &Node)]) -> Vec<Load> {
+    fn applied<S: ReadSpace, M: MarkerLike>(
+        &mut self,
+        node: &Node,
+        bodies: &[Body<M>],
+        joints: &[JointLoad],
+    ) -> Vec<Load<S>> {
         let Some(entries) = self.table(node, "loads") else {
             return Vec::new();
         };
@@ -160,14 +279,14 @@ impl Validator {
         out
     }
 
-    fn force(
+    fn force<S: ReadSpace, M: MarkerLike>(
         &mut self,
         fields: Entries,
         entry: &Node,
         path: &str,
-        bodies: &[Body],
+        bodies: &[Body<M>],
         owner: &str,
-    ) -> Option<LoadKind> {
+    ) -> Option<LoadKind<S>> {
         let mnode = self.required(fields, "marker", entry, path);
         let marker = mnode.and_then(|n| {
             let mpath = join(path, "marker");
@@ -182,7 +301,7 @@ impl Validator {
         });
         let force = self
             .required(fields, "force", entry, path)
-            .and_then(|n| self.point(n, &join(path, "force")));
+            .and_then(|n| S::vector(self, n, &join(path, "force")));
         let body_axes = match Self::get(fields, "axes") {
             None => Some(false),
             Some(n) => match self.string(n, &join(path, "axes"))? {
@@ -193,7 +312,7 @@ impl Validator {
                     self.error(
                         loc,
                         format!("{owner}: `axes` is \"world\" or \"body\", not {other:?}"),
-                        Some("\"world\": the force's components are along x and y; \"body\": along the marker's body's axes, turning with it".into()),
+                        Some("\"world\": the force's components are along the world axes; \"body\": along the marker's body's axes (as drawn), turning with it".into()),
                     );
                     None
                 }
@@ -206,7 +325,13 @@ impl Validator {
         })
     }
 
-    fn torque(&mut self, fields: Entries, entry: &Node, path: &str, bodies: &[Body]) -> Option<LoadKind> {
+    fn torque<S: ReadSpace, M: MarkerLike>(
+        &mut self,
+        fields: Entries,
+        entry: &Node,
+        path: &str,
+        bodies: &[Body<M>],
+    ) -> Option<LoadKind<S>> {
         let body = self.required(fields, "body", entry, path).and_then(|n| {
             let bpath = join(path, "body");
             let name = self.string(n, &bpath)?;
@@ -223,7 +348,7 @@ impl Validator {
             found
         });
         let torque = (self.required(fields, "torque", entry, path))
-            .and_then(|n| self.number(n, &join(path, "torque")));
+            .and_then(|n| S::torque(self, n, &join(path, "torque")));
         Some(LoadKind::Torque {
             body: body?,
             torque: torque?,
@@ -231,15 +356,15 @@ impl Validator {
     }
 
     /// A spring or a damper: two markers and its constants.
-    fn between(
+    fn between<S: ReadSpace, M: MarkerLike>(
         &mut self,
         kind: &str,
         fields: Entries,
         entry: &Node,
         path: &str,
-        bodies: &[Body],
+        bodies: &[Body<M>],
         owner: &str,
-    ) -> Option<LoadKind> {
+    ) -> Option<LoadKind<S>> {
         let markers = self.pair(
             fields,
             entry,
@@ -266,21 +391,21 @@ impl Validator {
         })
     }
 
-    fn torsion(
+    fn torsion<S: ReadSpace>(
         &mut self,
         fields: Entries,
         entry: &Node,
         path: &str,
-        joints: &[(Joint, &Node)],
-    ) -> Option<LoadKind> {
+        joints: &[JointLoad],
+    ) -> Option<LoadKind<S>> {
         let joint = self.required(fields, "joint", entry, path).and_then(|n| {
             let jpath = join(path, "joint");
             let name = self.string(n, &jpath)?;
-            let found = joints.iter().position(|(j, _)| j.name == name);
+            let found = joints.iter().position(|j| j.name == name);
             let loc = self.loc(n, &jpath);
             match found {
                 None => {
-                    let names: Vec<&str> = joints.iter().map(|(j, _)| j.name.as_str()).collect();
+                    let names: Vec<&str> = joints.iter().map(|j| j.name).collect();
                     self.error(
                         loc,
                         format!("`{jpath}`: unknown joint `{name}`"),
@@ -288,11 +413,15 @@ impl Validator {
                     );
                     None
                 }
-                Some(j) if joints[j].0.kind != JointKind::Revolute => {
+                Some(j) if !joints[j].turns => {
                     self.error(
                         loc,
-                        format!("`{jpath}`: joint `{name}` is prismatic; a torsion spring sits on a revolute joint"),
-                        Some("for a prismatic joint, a `spring` between two markers does it".into()),
+                        format!(
+                            "`{jpath}`: joint `{name}` is {}; a torsion spring sits on {}",
+                            joints[j].kind,
+                            S::TURNING
+                        ),
+                        Some("for a joint that slides, a `spring` between two markers does it".into()),
                     );
                     None
                 }
@@ -308,43 +437,5 @@ impl Validator {
             stiffness: k?,
             free_angle: free?.to_radians(),
         })
-    }
-
-    /// A spatial file's masses, gravity and loads: refused by name, since
-    /// force analysis is planar for now.
-    pub(super) fn refuse_loads(&mut self, top: Entries) {
-        let help = Some(
-            "masses, gravity and loads are read from planar files for now; remove them here".to_string(),
-        );
-        for key in ["loads", "gravity"] {
-            if let Some((k, _)) = top.iter().find(|(k, _)| k.name == key) {
-                let loc = self.key_loc(k, key);
-                self.error(
-                    loc,
-                    format!("`{key}` is not read from spatial files yet"),
-                    help.clone(),
-                );
-            }
-        }
-        let Some(NodeKind::Table(bodies)) = Self::get(top, "bodies").map(|n| &n.kind) else {
-            return;
-        };
-        for (b, bnode) in bodies.iter() {
-            let NodeKind::Table(fields) = &bnode.kind else {
-                continue;
-            };
-            for (k, _) in fields
-                .iter()
-                .filter(|(k, _)| MASS_KEYS.contains(&k.name.as_ref()))
-            {
-                let path = join(&join("bodies", &b.name), &k.name);
-                let loc = self.key_loc(k, &path);
-                self.error(
-                    loc,
-                    format!("`{path}`: mass properties are not read from spatial files yet"),
-                    help.clone(),
-                );
-            }
-        }
     }
 }

@@ -5,7 +5,9 @@
 
 // The tree walk's types and helpers are the parent module's, as for the
 // tests of a module.
+use super::loads::JointLoad;
 use super::*;
+use crate::model::planar::loads::Planar;
 
 impl Validator {
     pub(super) fn mechanism(&mut self, root: &Node) -> Option<Mechanism> {
@@ -64,7 +66,14 @@ impl Validator {
             Some(n) => self.sweep(n, &inputs, &written_inputs, &bodies),
             None => None,
         };
-        let loads = self.loads(top, bodies_node, &bodies, &joints);
+        let turning: Vec<JointLoad> = (joints.iter())
+            .map(|(j, _)| JointLoad {
+                name: &j.name,
+                kind: j.kind.name(),
+                turns: j.kind == JointKind::Revolute,
+            })
+            .collect();
+        let loads = self.loads::<Planar, _>(top, bodies_node, &bodies, &turning);
         let mechanism = Mechanism {
             name: name?,
             dimension: 2,

@@ -5,9 +5,11 @@
 
 use dofplan_runtime::spatial::{cross, dot, norm, scale, sub, unit, Vec3};
 
+use super::loads::JointLoad;
 use super::{join, parse, source_file, Open, Validator, MAX_COORDINATE};
 use crate::model::source::{At, Node, NodeKind};
 use crate::model::spatial::equations::{drawn_residual, Frame};
+use crate::model::spatial::loads::Spatial;
 use crate::model::spatial::{Axes, Constraint, Joint, JointKind, Marker, Mechanism, Primitive};
 use crate::model::{Body, InputKind, MarkerId, DRAWN_TOLERANCE};
 use crate::model::{Diagnostic, Format, ModelError, SourceFile};
@@ -72,7 +74,6 @@ pub(super) fn drawn(file: SourceFile, root: &Node, format: Format) -> Result<Dra
 impl Validator {
     pub(super) fn mechanism3(&mut self, root: &Node) -> Option<Mechanism> {
         let (top, name) = self.top(root)?;
-        self.refuse_loads(top);
         let bodies = match self.required(top, "bodies", root, "") {
             Some(n) => self.bodies(n, Self::marker3),
             None => Vec::new(),
@@ -106,6 +107,14 @@ impl Validator {
             Some(n) => self.sweep(n, &inputs, &written_inputs, &bodies),
             None => None,
         };
+        let turning: Vec<JointLoad> = (joints.iter())
+            .map(|(j, _)| JointLoad {
+                name: &j.name,
+                kind: j.kind.name(),
+                turns: matches!(j.kind, JointKind::Revolute | JointKind::Cylindrical),
+            })
+            .collect();
+        let loads = self.loads::<Spatial, _>(top, Self::get(top, "bodies"), &bodies, &turning);
         Some(Mechanism {
             name: name?,
             bodies,
@@ -113,6 +122,7 @@ impl Validator {
             constraints,
             inputs,
             sweep,
+            loads,
             source: self.file.clone(),
         })
     }

@@ -10,6 +10,7 @@
 use super::{Body, Input, MarkerId, MarkerLike, SourceFile, Sweep};
 
 pub mod equations;
+pub mod loads;
 
 pub use dofplan_runtime::spatial::Vec3;
 
@@ -31,6 +32,8 @@ pub struct Mechanism {
     pub inputs: Vec<Input>,
     /// The sweep to simulate, if the file has one.
     pub sweep: Option<Sweep>,
+    /// Masses, gravity and applied loads (empty if the file gives none).
+    pub loads: loads::Loads,
     /// The file it came from.
     pub source: SourceFile,
 }

@@ -4,6 +4,7 @@
 #[cfg(feature = "plots")]
 pub mod analyze;
 pub mod check;
+pub mod forces;
 pub mod frames;
 pub mod sensitivity;
 pub mod synth;

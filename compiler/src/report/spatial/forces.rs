@@ -1,0 +1,108 @@
+//! `dofplan analyze --forces` on a spatial file: each frame's input forces
+//! (`forces::spatial::input_forces`, virtual work) and joint reactions
+//! (`forces::spatial::reactions`), written by the shared report
+//! (`report/forces.rs`).
+
+use std::io::Write;
+
+use dofplan_runtime::{Driver, FrameStatus, Options};
+
+use super::frames::frame_value;
+use crate::forces::spatial::{input_forces, reactions, Moving, Reactions};
+use crate::interp::spatial::Interpreter;
+use crate::model::spatial::{JointKind, Mechanism};
+use crate::model::Sweep;
+use crate::plan::spatial::Plan;
+use crate::report::forces::{no_loads, Carried, Carry, Names, Solved};
+use crate::report::{Form, Outcome};
+use crate::simulate::input_rates;
+use crate::simulate::spatial::{marker_positions, residual};
+
+/// Runs the sweep with each frame's input forces and joint reactions:
+/// statics when `rate` is None, kinetostatics at the first swept input's
+/// `rate` when given; with `svg`, plots written there.
+#[allow(clippy::too_many_arguments)]
+pub fn run(
+    m: &Mechanism,
+    plan: &Plan,
+    sweep: &Sweep,
+    rate: Option<f64>,
+    form: Form,
+    svg: Option<&std::path::Path>,
+    out: &mut dyn Write,
+) -> Outcome {
+    if m.loads.is_empty() {
+        return Ok(Err(no_loads(&m.source.name)));
+    }
+    let interp = Interpreter::new(plan.clone());
+    let mut driver = Driver::new(interp.clone(), Options::default());
+    let rates = rate.map(|r| input_rates(&m.inputs, sweep, r));
+    let zero = vec![0.0; m.inputs.len()];
+    let moving = rates.as_ref().map(|r| Moving {
+        rates: r,
+        accelerations: &zero,
+    });
+    let markers: Vec<String> = m.all_markers().map(|id| m.marker_name(id)).collect();
+    let input_names: Vec<String> = m.inputs.iter().map(|i| i.name.clone()).collect();
+    let names = Names {
+        name: &m.name,
+        inputs: &m.inputs,
+        joints: m.joints.iter().map(|j| j.name.as_str()).collect(),
+        moments: m.joints.iter().map(|j| j.kind != JointKind::Spherical).collect(),
+        driven: (0..m.joints.len())
+            .map(|j| m.inputs.iter().any(|i| i.joint == j))
+            .collect(),
+        markers: markers.clone(),
+        dimension: 3,
+        constrained: !m.constraints.is_empty(),
+    };
+    crate::report::forces::run(&names, sweep, rate, form, svg, out, |i, requested, json| {
+        let status = driver.frame(requested);
+        let carried = (status == FrameStatus::Solved).then(|| {
+            let q = input_forces(m, &interp, driver.state(), driver.inputs(), moving)?;
+            let actual = match moving {
+                Some(mv) => {
+                    Some(interp.rates(driver.state(), driver.inputs(), mv.rates, mv.accelerations)?)
+                }
+                None => None,
+            };
+            Ok(Carried {
+                inputs: q,
+                advantage: None,
+                reactions: reactions(m, driver.poses(), actual.as_deref()).map(carry),
+            })
+        });
+        let json = json.then(|| {
+            let poses = driver.poses();
+            let reached = driver.inputs();
+            frame_value(
+                m,
+                &markers,
+                &input_names,
+                i,
+                status,
+                requested,
+                reached,
+                poses,
+                &marker_positions(m, poses),
+                residual(m, poses, reached),
+            )
+        });
+        Solved {
+            status,
+            json,
+            carried,
+        }
+    })
+}
+
+/// Spatial reactions in the shared report's form.
+fn carry(r: Reactions) -> Carry {
+    Carry {
+        forces: r.forces.iter().map(|f| f.to_vec()).collect(),
+        moments: r.moments.iter().map(|m| m.to_vec()).collect(),
+        indeterminate: r.indeterminate,
+        residual: r.residual,
+        shaking: (r.shaking[..3].to_vec(), r.shaking[3..].to_vec()),
+    }
+}
