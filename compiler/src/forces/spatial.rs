@@ -177,6 +177,13 @@ fn frames(m: &Mechanism, joint: usize, poses: &[Pose3]) -> [Frame; 2] {
     [0, 1].map(|k| drawn[k].moved(&poses[j.markers[k].body]))
 }
 
+/// A joint's first marker's axes `[x, y, z]` (z its axis) in world axes
+/// at `poses`: what the joint's reaction components are along.
+pub fn joint_axes(m: &Mechanism, joint: usize, poses: &[Pose3]) -> [Vec3; 3] {
+    let a = frames(m, joint, poses)[0].axes;
+    [a.x, a.y(), a.z]
+}
+
 /// How far a joint that turns about one axis (revolute, cylindrical) has
 /// turned its second body relative to its first since the drawing, in
 /// radians in (−π, π], about its axis (the first marker's z, world).

@@ -147,8 +147,9 @@ pub fn draw_forces(
     (axis, how): (&str, &str),
     inputs: &[Series],
     joints: &[Series],
+    polar: Option<Polar>,
 ) -> Result<String, String> {
-    let panels = 1 + usize::from(!joints.is_empty());
+    let panels = 1 + usize::from(!joints.is_empty()) + usize::from(polar.is_some());
     let points = |s: &[Series]| -> Vec<Vec<Point>> {
         (s.iter())
             .map(|(_, p)| p.iter().map(|(x, v)| (*x, v.map(|v| vec![v]))).collect())
@@ -181,9 +182,84 @@ pub fn draw_forces(
                 &points(joints),
             )?;
         }
+        if let Some(polar) = &polar {
+            polar_panel(&areas[panels - 1], &mut overlay, polar)?;
+        }
         root.present().map_err(|e| e.to_string())?;
     }
     Ok(with_overlay(svg, &overlay))
+}
+
+/// One joint's reaction over a sweep, for its polar diagram.
+pub struct Polar<'a> {
+    /// The joint's name.
+    pub joint: &'a str,
+    /// What the two components are along ("fx", "fy").
+    pub axes: (&'a str, &'a str),
+    /// Its two components at each frame (`None`: none there).
+    pub points: Vec<Option<[f64; 2]>>,
+}
+
+/// A joint's polar load diagram: the tip of its reaction vector over the
+/// sweep, drawn from the origin at one scale on both axes, with the
+/// largest marked by a line from the origin and the first frame by a dot.
+fn polar_panel(area: &Area, overlay: &mut String, polar: &Polar) -> Result<(), String> {
+    let reach = (polar.points.iter().flatten())
+        .map(|p| p[0].hypot(p[1]))
+        .fold(0.0f64, f64::max);
+    let r = if reach > 0.0 { 1.1 * reach } else { 1.0 };
+    let aspect = (WIDTH - LEGEND_W - 90) as f64 / (PANEL - 70) as f64;
+    let caption = format!("joint {}'s reaction, polar", polar.joint);
+    let chart = chart(
+        area,
+        &caption,
+        16,
+        -r * aspect..r * aspect,
+        -r..r,
+        polar.axes.0,
+        Some(polar.axes.1),
+        60,
+    )?;
+    let page = Page::of(&chart);
+    let mut runs = vec![Vec::new()];
+    for p in &polar.points {
+        match p {
+            Some(p) if p.iter().all(|v| v.is_finite()) => {
+                runs.last_mut().expect("a run").push(page.at(p[0], p[1]))
+            }
+            _ => runs.push(Vec::new()),
+        }
+    }
+    let colour = COLOURS[0];
+    let (ox, oy) = page.at(0.0, 0.0);
+    let peak = (polar.points.iter().flatten()).max_by(|a, b| a[0].hypot(a[1]).total_cmp(&b[0].hypot(b[1])));
+    if let Some(p) = peak {
+        let (px_, py_) = page.at(p[0], p[1]);
+        curve(overlay, &[vec![(ox, oy), (px_, py_)]], COLOURS[1], 1.5);
+    }
+    curve(overlay, &runs, colour, 2.0);
+    let _ = writeln!(
+        overlay,
+        r#"<circle class="origin" cx="{}" cy="{}" r="3" fill="black"/>"#,
+        px(ox),
+        px(oy)
+    );
+    if let Some(first) = polar.points.iter().flatten().next() {
+        let (fx, fy) = page.at(first[0], first[1]);
+        let _ = writeln!(
+            overlay,
+            r#"<circle class="start" cx="{}" cy="{}" r="4" fill="{colour}"/>"#,
+            px(fx),
+            px(fy)
+        );
+    }
+    let entries = vec![
+        (Key::Line(colour), format!("{}'s force, tip", polar.joint)),
+        (Key::Line(COLOURS[1]), format!("largest, {}", short(reach))),
+        (Key::None, "dot: the first frame".to_string()),
+    ];
+    legend(overlay, &page, &entries);
+    Ok(())
 }
 
 /// Plotters' SVG with `overlay` (the data, the legends) drawn over it.

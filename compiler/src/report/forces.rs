@@ -39,6 +39,11 @@ pub(crate) struct Names<'a> {
     pub dimension: usize,
     /// Whether the file has primitive constraints (no reactions then).
     pub constrained: bool,
+    /// The axes a joint's reaction is drawn in by the polar plot: the
+    /// world's x and y in the plane, the joint's first marker's x and y
+    /// (across its axis) in space. Read only by the plots.
+    #[cfg_attr(not(feature = "plots"), allow(dead_code))]
+    pub polar_axes: (&'a str, &'a str),
 }
 
 /// A frame's joint reactions, in either dimension.
@@ -53,6 +58,8 @@ pub(crate) struct Carry {
     pub residual: f64,
     /// The force and the moment on the ground.
     pub shaking: (Vec<f64>, Vec<f64>),
+    /// Per joint: its force's components along [`Names::polar_axes`].
+    pub polar: Vec<[f64; 2]>,
 }
 
 /// What one solved frame carries.
@@ -104,6 +111,9 @@ struct Gathered {
     /// magnitude, against the swept input (`None`: no value there).
     input_series: Vec<Vec<(f64, Option<f64>)>>,
     joint_series: Vec<Vec<(f64, Option<f64>)>>,
+    /// Per joint, its reaction's components for the polar plot (`None`:
+    /// no value there).
+    polar_series: Vec<Vec<Option<[f64; 2]>>>,
 }
 
 impl Gathered {
@@ -111,6 +121,9 @@ impl Gathered {
     fn gap(&mut self, x: f64) {
         for s in self.input_series.iter_mut().chain(&mut self.joint_series) {
             s.push((x, None));
+        }
+        for s in &mut self.polar_series {
+            s.push(None);
         }
     }
 
@@ -128,6 +141,9 @@ impl Gathered {
         }
         for (k, s) in self.joint_series.iter_mut().enumerate() {
             s.push((x, (c.reactions.as_ref()).map(|r| size(&r.forces[k]))));
+        }
+        for (k, s) in self.polar_series.iter_mut().enumerate() {
+            s.push((c.reactions.as_ref()).map(|r| r.polar[k]));
         }
         for (peak, &v) in self.inputs.iter_mut().zip(&c.inputs) {
             if peak.is_none_or(|(best, _)| v.abs() > best.abs()) {
@@ -166,20 +182,49 @@ impl Gathered {
     }
 }
 
+/// Where the plots go: the SVG file and the joint whose reaction the
+/// polar plot draws (`None`: the most loaded).
+#[derive(Clone, Copy, Debug)]
+pub struct Plots<'a> {
+    /// The SVG file.
+    pub svg: &'a std::path::Path,
+    /// `--polar JOINT`.
+    pub polar: Option<&'a str>,
+}
+
 /// Runs the sweep, `frame` solving each requested frame (with its JSON
 /// when `Form::Json` asks): statics when `rate` is None, kinetostatics at
 /// the first swept input's `rate` otherwise (the caller's `frame` knows
-/// which); with `svg`, plots written there.
+/// which); with `plots`, plots written there.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn run(
     names: &Names,
     sweep: &Sweep,
     rate: Option<f64>,
     form: Form,
-    svg: Option<&std::path::Path>,
+    plots: Option<Plots>,
     out: &mut dyn Write,
     mut frame: impl FnMut(usize, &[f64], bool) -> Solved,
 ) -> Outcome {
+    let polar = match plots.and_then(|p| p.polar) {
+        None => None,
+        Some(name) => match names.joints.iter().position(|j| *j == name) {
+            Some(j) if !names.constrained => Some(j),
+            Some(_) => {
+                return Ok(Err(format!(
+                    "error: --polar {name}: joint reactions are not computed for files with primitive constraints yet"
+                )))
+            }
+            None => {
+                return Ok(Err(format!(
+                    "error: --polar: `{name}` is not a joint of {}\n  help: its joints are: {}",
+                    names.name,
+                    names.joints.join(", ")
+                )))
+            }
+        },
+    };
+    let svg = plots.map(|p| p.svg);
     match form {
         Form::Json => writeln!(
             out,
@@ -196,6 +241,14 @@ pub(crate) fn run(
         inputs: vec![None; names.inputs.len()],
         input_series: vec![Vec::new(); if svg.is_some() { names.inputs.len() } else { 0 }],
         joint_series: vec![
+            Vec::new();
+            if svg.is_some() && !names.constrained {
+                names.joints.len()
+            } else {
+                0
+            }
+        ],
+        polar_series: vec![
             Vec::new();
             if svg.is_some() && !names.constrained {
                 names.joints.len()
@@ -239,20 +292,25 @@ pub(crate) fn run(
         Form::Text => summary(names, sweep, rate, &gathered, out)?,
     }
     match svg {
-        Some(path) => plots(names, &names.inputs[primary], rate, &gathered, path, form, out),
+        Some(path) => {
+            let swept = &names.inputs[primary];
+            let polar = polar.or(gathered.joint.map(|(j, _, _)| j));
+            draw(names, swept, rate, &gathered, (path, polar), form, out)
+        }
         None => Ok(Ok(())),
     }
 }
 
 /// Writes the plots to `path`: each input's force against the swept
-/// input, then the joints' reactions, the most loaded first.
+/// input, then the joints' reactions, the most loaded first, then the
+/// `polar` joint's reaction as a polar diagram.
 #[cfg(feature = "plots")]
-fn plots(
+fn draw(
     names: &Names,
     swept: &Input,
     rate: Option<f64>,
     g: &Gathered,
-    path: &std::path::Path,
+    (path, polar): (&std::path::Path, Option<usize>),
     form: Form,
     out: &mut dyn Write,
 ) -> Outcome {
@@ -272,7 +330,12 @@ fn plots(
         .map(|(j, s)| (*j, s.clone()))
         .collect();
     joints.sort_by(|a, b| peak(&b.1).total_cmp(&peak(&a.1)));
-    let drawn = crate::render::plots::draw_forces(names.name, (&axis, &how), &inputs, &joints);
+    let polar = polar.map(|j| crate::render::plots::Polar {
+        joint: names.joints[j],
+        axes: names.polar_axes,
+        points: g.polar_series[j].clone(),
+    });
+    let drawn = crate::render::plots::draw_forces(names.name, (&axis, &how), &inputs, &joints, polar);
     let text = match drawn {
         Ok(text) => text,
         Err(e) => {
@@ -296,12 +359,12 @@ fn plots(
 
 /// Without the `plots` feature there is nothing to draw with.
 #[cfg(not(feature = "plots"))]
-fn plots(
+fn draw(
     _: &Names,
     _: &Input,
     _: Option<f64>,
     _: &Gathered,
-    path: &std::path::Path,
+    (path, _): (&std::path::Path, Option<usize>),
     _: Form,
     _: &mut dyn Write,
 ) -> Outcome {
@@ -454,12 +517,22 @@ fn summary(
         ),
     };
     writeln!(out, "{}: {} frames, {how}", names.name, sweep.steps)?;
+    // An input whose force is round-off at every frame next to the others
+    // (and the joints') needs none: its "peak" would name a frame at random.
+    let loads = (g.inputs.iter().flatten())
+        .map(|(v, _)| v.abs())
+        .fold(g.scale, f64::max);
     for (input, peak) in names.inputs.iter().zip(&g.inputs) {
         let what = match input.kind {
             InputKind::Angle => "torque",
             InputKind::Slide => "force",
         };
         match peak {
+            Some((v, _)) if v.abs() <= 1e-9 * loads => writeln!(
+                out,
+                "  input {}: no {what} needed (round-off at every frame)",
+                input.name
+            )?,
             Some((v, x)) => writeln!(
                 out,
                 "  input {}: peak {what} {} at {}",

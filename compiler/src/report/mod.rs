@@ -13,7 +13,7 @@
 //! caller's.
 
 mod check;
-pub(crate) mod forces;
+pub mod forces;
 pub mod planar;
 pub mod ranges;
 #[cfg(feature = "plots")]

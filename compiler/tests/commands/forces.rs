@@ -446,3 +446,61 @@ fn svg_draws_each_input_s_force_and_each_joint_s_reaction() {
         assert!(svg.contains(joint), "{joint}");
     }
 }
+
+#[test]
+fn svg_draws_a_joint_s_reaction_as_a_polar_diagram() {
+    // By default the most loaded joint (the summary's), else --polar's;
+    // a joint the file does not have, or --polar without --svg, is told.
+    let dir = std::env::temp_dir().join(format!("dofplan-forces-polar-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("polar.svg");
+    let press = mechanism("loads/slider_crank_press");
+    let o = dofplan(&["analyze", &press, "--forces", "--svg", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(text(&o.stdout).contains("most loaded joint: O, 107.0607"));
+    let svg = std::fs::read_to_string(&out).unwrap();
+    assert!(svg.contains("joint O&apos;s reaction, polar"), "{svg}");
+    assert!(svg.contains(">largest, 107.1<"), "{svg}");
+    assert!(svg.contains(r#"class="origin""#) && svg.contains(r#"class="start""#));
+    let o = dofplan(&[
+        "analyze",
+        &press,
+        "--forces",
+        "--svg",
+        out.to_str().unwrap(),
+        "--polar",
+        "C",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let svg = std::fs::read_to_string(&out).unwrap();
+    assert!(svg.contains("joint C&apos;s reaction, polar"), "{svg}");
+    let o = dofplan(&[
+        "analyze",
+        &press,
+        "--forces",
+        "--svg",
+        out.to_str().unwrap(),
+        "--polar",
+        "Q",
+    ]);
+    assert!(!o.status.success());
+    let e = text(&o.stderr);
+    assert!(e.contains("`Q` is not a joint of slider_crank_press"), "{e}");
+    assert!(e.contains("its joints are: O, B, C, S"), "{e}");
+    let o = dofplan(&["analyze", &press, "--forces", "--polar", "C"]);
+    assert!(!o.status.success());
+    assert!(text(&o.stderr).contains("--svg <OUT>"), "{}", text(&o.stderr));
+    let o = dofplan(&[
+        "analyze",
+        &mechanism("loads/excavator_load"),
+        "--forces",
+        "--svg",
+        out.to_str().unwrap(),
+        "--polar",
+        "boom_pivot",
+    ]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    let svg = std::fs::read_to_string(&out).unwrap();
+    assert!(svg.contains("joint boom_pivot&apos;s reaction, polar"), "{svg}");
+    assert!(svg.contains("along the joint&apos;s x"), "{svg}");
+}

@@ -19,6 +19,7 @@ use dofplan::model::Model;
 
 use dofplan::model::{Mechanism, Sweep, MAX_STEPS};
 use dofplan::plan::Plan;
+use dofplan::report::forces::Plots;
 use dofplan::report::planar::analyze;
 use dofplan::report::planar::check::Check;
 use dofplan::report::planar::frames::{self, Solver};
@@ -226,11 +227,17 @@ enum Command {
         /// equilibrium. Statics (held at each pose), or kinetostatics with
         /// --rate. A summary (each input's peak, the most loaded joint), or
         /// --json (simulate's frames with "input_force": input -> value,
-        /// "reactions": joint -> [fx, fy], the force its first body exerts
-        /// on its second, "reaction_moments" for prismatic joints) or
-        /// --csv. Planar files.
+        /// "reactions": joint -> [fx, fy] ([fx, fy, fz] in space), the
+        /// force its first body exerts on its second, "reaction_moments"
+        /// for the joints that carry one, "shaking") or --csv; --svg plots
+        /// each input's force, each joint's reaction and one joint's
+        /// reaction as a polar diagram. Planar and spatial files.
         #[arg(long, conflicts_with = "sensitivity")]
         forces: bool,
+        /// With --forces --svg: the joint whose reaction the polar diagram
+        /// draws [default: the most loaded].
+        #[arg(long, value_name = "JOINT", requires_all = ["forces", "svg"])]
+        polar: Option<String>,
         /// With --sensitivity: the worst-case first-order deviation of
         /// each traced marker when every parameter may be off by ±T
         /// (length units).
@@ -688,6 +695,7 @@ fn analyze_planar(command: Command, out: &mut dyn Write) -> io::Result<ExitCode>
         monte_carlo,
         seed,
         forces,
+        polar,
     } = command
     else {
         unreachable!("analyze_planar is given an Analyze")
@@ -698,14 +706,12 @@ fn analyze_planar(command: Command, out: &mut dyn Write) -> io::Result<ExitCode>
         };
         let form = Form::of(json, csv);
         if forces {
+            let plots = svg.as_deref().map(|svg| Plots {
+                svg,
+                polar: polar.as_deref(),
+            });
             return outcome(dofplan::report::planar::forces::run(
-                m,
-                plan,
-                &sweep,
-                rate,
-                form,
-                svg.as_deref(),
-                out,
+                m, plan, &sweep, rate, form, plots, out,
             ));
         }
         let rate = rate.unwrap_or(1.0);
@@ -744,6 +750,7 @@ fn analyze_spatial(
         csv,
         svg,
         forces,
+        polar,
         ..
     } = command
     else {
@@ -757,14 +764,12 @@ fn analyze_spatial(
     };
     let form = Form::of(json, csv);
     if forces {
+        let plots = svg.as_deref().map(|svg| Plots {
+            svg,
+            polar: polar.as_deref(),
+        });
         return outcome(dofplan::report::spatial::forces::run(
-            m,
-            &plan,
-            &sweep,
-            rate,
-            form,
-            svg.as_deref(),
-            out,
+            m, &plan, &sweep, rate, form, plots, out,
         ));
     }
     let rate = rate.unwrap_or(1.0);

@@ -12,7 +12,7 @@ use crate::forces::planar::{advantage, input_forces, reactions, Moving, Reaction
 use crate::interp::Interpreter;
 use crate::model::{JointKind, Mechanism, Sweep};
 use crate::plan::Plan;
-use crate::report::forces::{no_loads, Carried, Carry, Names, Solved};
+use crate::report::forces::{no_loads, Carried, Carry, Names, Plots, Solved};
 use crate::report::{Form, Outcome};
 use crate::simulate::{sweep_rates, Frame};
 
@@ -20,7 +20,7 @@ use crate::simulate::{sweep_rates, Frame};
 /// statics when `rate` is None (the mechanism held at each pose: no
 /// inertia, dampers idle), kinetostatics at the first swept input's `rate`
 /// (radians or length per second, the others in proportion, no
-/// acceleration) when given; with `svg`, plots written there.
+/// acceleration) when given; with `plots`, plots written there.
 #[allow(clippy::too_many_arguments)]
 pub fn run(
     m: &Mechanism,
@@ -28,7 +28,7 @@ pub fn run(
     sweep: &Sweep,
     rate: Option<f64>,
     form: Form,
-    svg: Option<&std::path::Path>,
+    plots: Option<Plots>,
     out: &mut dyn Write,
 ) -> Outcome {
     if m.loads.is_empty() {
@@ -54,8 +54,9 @@ pub fn run(
         markers: m.all_markers().map(|id| m.marker_name(id)).collect(),
         dimension: 2,
         constrained: !m.constraints.is_empty(),
+        polar_axes: ("fx", "fy"),
     };
-    crate::report::forces::run(&names, sweep, rate, form, svg, out, |_, requested, json| {
+    crate::report::forces::run(&names, sweep, rate, form, plots, out, |_, requested, json| {
         let status = driver.frame(requested);
         let carried = (status == FrameStatus::Solved).then(|| {
             let q = input_forces(m, &interp, driver.state(), driver.inputs(), moving)?;
@@ -94,8 +95,9 @@ fn carry(r: Reactions) -> Carry {
     Carry {
         forces: r.forces.iter().map(|f| f.to_vec()).collect(),
         moments: r.moments.iter().map(|&m| vec![m]).collect(),
-        indeterminate: r.indeterminate,
+        indeterminate: r.indeterminate.clone(),
         residual: r.residual,
         shaking: (r.shaking[..2].to_vec(), vec![r.shaking[2]]),
+        polar: r.forces,
     }
 }

@@ -8,19 +8,20 @@ use std::io::Write;
 use dofplan_runtime::{Driver, FrameStatus, Options};
 
 use super::frames::frame_value;
-use crate::forces::spatial::{input_forces, reactions, Moving, Reactions};
+use crate::forces::spatial::{input_forces, joint_axes, reactions, Moving, Reactions};
 use crate::interp::spatial::Interpreter;
 use crate::model::spatial::{JointKind, Mechanism};
 use crate::model::Sweep;
 use crate::plan::spatial::Plan;
-use crate::report::forces::{no_loads, Carried, Carry, Names, Solved};
+use crate::report::forces::{no_loads, Carried, Carry, Names, Plots, Solved};
 use crate::report::{Form, Outcome};
 use crate::simulate::input_rates;
 use crate::simulate::spatial::{marker_positions, residual};
+use dofplan_runtime::spatial::{dot, Pose3};
 
 /// Runs the sweep with each frame's input forces and joint reactions:
 /// statics when `rate` is None, kinetostatics at the first swept input's
-/// `rate` when given; with `svg`, plots written there.
+/// `rate` when given; with `plots`, plots written there.
 #[allow(clippy::too_many_arguments)]
 pub fn run(
     m: &Mechanism,
@@ -28,7 +29,7 @@ pub fn run(
     sweep: &Sweep,
     rate: Option<f64>,
     form: Form,
-    svg: Option<&std::path::Path>,
+    plots: Option<Plots>,
     out: &mut dyn Write,
 ) -> Outcome {
     if m.loads.is_empty() {
@@ -55,8 +56,9 @@ pub fn run(
         markers: markers.clone(),
         dimension: 3,
         constrained: !m.constraints.is_empty(),
+        polar_axes: ("along the joint's x", "along its y"),
     };
-    crate::report::forces::run(&names, sweep, rate, form, svg, out, |i, requested, json| {
+    crate::report::forces::run(&names, sweep, rate, form, plots, out, |i, requested, json| {
         let status = driver.frame(requested);
         let carried = (status == FrameStatus::Solved).then(|| {
             let q = input_forces(m, &interp, driver.state(), driver.inputs(), moving)?;
@@ -69,7 +71,8 @@ pub fn run(
             Ok(Carried {
                 inputs: q,
                 advantage: None,
-                reactions: reactions(m, driver.poses(), actual.as_deref()).map(carry),
+                reactions: reactions(m, driver.poses(), actual.as_deref())
+                    .map(|r| carry(m, driver.poses(), r)),
             })
         });
         let json = json.then(|| {
@@ -96,13 +99,21 @@ pub fn run(
     })
 }
 
-/// Spatial reactions in the shared report's form.
-fn carry(r: Reactions) -> Carry {
+/// Spatial reactions in the shared report's form; a joint's polar
+/// components are along its first marker's x and y (across its axis).
+fn carry(m: &Mechanism, poses: &[Pose3], r: Reactions) -> Carry {
+    let polar = (0..m.joints.len())
+        .map(|j| {
+            let [x, y, _] = joint_axes(m, j, poses);
+            [dot(r.forces[j], x), dot(r.forces[j], y)]
+        })
+        .collect();
     Carry {
         forces: r.forces.iter().map(|f| f.to_vec()).collect(),
         moments: r.moments.iter().map(|m| m.to_vec()).collect(),
         indeterminate: r.indeterminate,
         residual: r.residual,
         shaking: (r.shaking[..3].to_vec(), r.shaking[3..].to_vec()),
+        polar,
     }
 }
