@@ -7,7 +7,7 @@
 //! stress chains.
 //!
 //! `cargo run --release --example table` (add mechanism names to restrict;
-//! `spatial`, `planar`, `rates`, `batch` or `design` for one table). The batch table
+//! `spatial`, `planar`, `rates`, `batch`, `design` or `forces` for one table). The batch table
 //! times each sweep, planar and spatial, through the driver and
 //! `solve_batch`, and the sweep repeated to 20,000 frames through
 //! `solve_batch` and `solve_batch_parallel`.
@@ -78,7 +78,7 @@ fn main() {
     let only = |table: &str| args.is_empty() || args.iter().any(|a| a == table);
     let filter: Vec<String> = args
         .iter()
-        .filter(|a| !["spatial", "planar", "rates", "batch", "design"].contains(&a.as_str()))
+        .filter(|a| !["spatial", "planar", "rates", "batch", "design", "forces"].contains(&a.as_str()))
         .cloned()
         .collect();
     if only("planar") || !filter.is_empty() {
@@ -95,6 +95,95 @@ fn main() {
     }
     if only("design") {
         design();
+    }
+    if only("forces") {
+        forces();
+    }
+}
+
+/// The forces table: per bundled file with loads, a frame of the
+/// interpreted plan alone, then with its input forces (virtual work) and
+/// joint reactions held still, the reactions solved by the force plan
+/// (blocks made once) and by least squares every frame (an SVD of the
+/// whole system); medians over the sweep.
+fn forces() {
+    use dofplan::forces::plan::ForcePlan;
+    println!();
+    println!("| mechanism | equations | force plan blocks | position ns/frame | + forces, plan ns/frame | ratio | + forces, least squares ns/frame | ratio |");
+    println!("|---|---:|---|---:|---:|---:|---:|---:|");
+    for name in ["slider_crank_press", "fourbar_weights"] {
+        use dofplan::forces::planar::{force_plan, input_forces, reactions};
+        let m = load(&format!("loads/{name}"));
+        let interp = Interpreter::new(plan(&m));
+        let inputs = sweep_inputs(&m, None);
+        let mut d = Driver::new(interp.clone(), Options::default());
+        let blocks = force_plan(&m).expect("no constraints");
+        let whole = ForcePlan::LeastSquares("timed");
+        let position = time_ns(|| {
+            for u in &inputs {
+                black_box(d.frame(u));
+            }
+        });
+        let mut with = |fp: &ForcePlan| {
+            time_ns(|| {
+                for u in &inputs {
+                    d.frame(u);
+                    black_box(input_forces(&m, &interp, d.state(), d.inputs(), None).ok());
+                    black_box(reactions(&m, fp, d.poses(), None));
+                }
+            })
+        };
+        let (b, w) = (with(&blocks), with(&whole));
+        let n = inputs.len() as f64;
+        let rows = 3 * m.bodies.iter().filter(|b| !b.fixed).count();
+        println!(
+            "| {name} | {rows} | {:?} | {:.0} | {:.0} | {:.1} | {:.0} | {:.1} |",
+            blocks.block_sizes(),
+            position / n,
+            b / n,
+            b / position,
+            w / n,
+            w / position
+        );
+    }
+    for name in ["cardan_torque", "excavator_load"] {
+        use dofplan::forces::spatial::{force_plan, input_forces, reactions};
+        let m = match dofplan::load_any(&dofplan_tests::mechanisms_dir().join(format!("loads/{name}.toml"))) {
+            Ok(dofplan::model::Model::Spatial(m)) => m,
+            _ => panic!("{name} is a spatial file"),
+        };
+        let interp = dofplan::interp::spatial::Interpreter::new(dofplan_tests::plan_spatial(&m));
+        let inputs: Vec<Vec<f64>> =
+            sweep_requests(m.sweep.as_ref().expect("a sweep"), m.inputs.len()).collect();
+        let mut d = Driver::new(interp.clone(), Options::default());
+        let blocks = force_plan(&m).expect("no constraints");
+        let whole = ForcePlan::LeastSquares("timed");
+        let position = time_ns(|| {
+            for u in &inputs {
+                black_box(d.frame(u));
+            }
+        });
+        let mut with = |fp: &ForcePlan| {
+            time_ns(|| {
+                for u in &inputs {
+                    d.frame(u);
+                    black_box(input_forces(&m, &interp, d.state(), d.inputs(), None).ok());
+                    black_box(reactions(&m, fp, d.poses(), None));
+                }
+            })
+        };
+        let (b, w) = (with(&blocks), with(&whole));
+        let n = inputs.len() as f64;
+        let rows = 6 * m.moving();
+        println!(
+            "| {name} | {rows} | {:?} | {:.0} | {:.0} | {:.1} | {:.0} | {:.1} |",
+            blocks.block_sizes(),
+            position / n,
+            b / n,
+            b / position,
+            w / n,
+            w / position
+        );
     }
 }
 

@@ -255,7 +255,7 @@ fn reactions_at(
     theta: f64,
     moving: Option<Moving>,
 ) -> (dofplan::forces::planar::Reactions, Vec<f64>) {
-    use dofplan::forces::planar::reactions;
+    use dofplan::forces::planar::{force_plan, reactions};
     assert_eq!(
         driver.frame(&[theta]),
         FrameStatus::Solved,
@@ -267,7 +267,8 @@ fn reactions_at(
             .rates(driver.state(), driver.inputs(), mv.rates, mv.accelerations)
             .unwrap()
     });
-    let r = reactions(m, driver.poses(), actual.as_deref()).expect("no primitive constraints");
+    let plan = force_plan(m).expect("no primitive constraints");
+    let r = reactions(m, &plan, driver.poses(), actual.as_deref()).expect("no primitive constraints");
     let q = input_forces(m, driver.solver(), driver.state(), driver.inputs(), moving).unwrap();
     (r, q)
 }
@@ -464,4 +465,73 @@ fn the_slider_crank_s_mechanical_advantage_is_its_closed_form_s() {
         assert_eq!(a.joints[joint("O")], None, "the driven joint");
         assert_eq!(a.markers[marker("ground.O")], None, "the ground does not move");
     }
+}
+
+#[test]
+fn the_force_plan_solves_in_blocks_what_least_squares_solves_whole() {
+    // Made once from the equations' structure: the four-bar's coupler and
+    // rocker (6 equations in B, C and D), then the crank (A and the input
+    // torque); the slider-crank's rod and slider (B, C and the rail),
+    // then its crank. Each block solve gives least squares' answer; the
+    // over-constrained V-linkage keeps least squares, which names its
+    // redundant pins.
+    use dofplan::forces::plan::ForcePlan;
+    use dofplan::forces::planar::{force_plan, reactions};
+    for (name, sizes) in [
+        ("loads/fourbar_weights", vec![6, 3]),
+        ("loads/slider_crank_press", vec![6, 3]),
+    ] {
+        let m = load(name);
+        let plan = force_plan(&m).unwrap();
+        assert_eq!(plan.block_sizes(), sizes, "{name}");
+        let interp = Interpreter::new(dofplan_tests::plan(&m));
+        let mut d = Driver::new(interp.clone(), Options::default());
+        let whole = ForcePlan::LeastSquares("compared");
+        for k in 0..72 {
+            assert!(d.frame(&[5.0 * k as f64 + 1.0]).is_solved());
+            let rates = [90.0];
+            let actual = interp.rates(d.state(), d.inputs(), &rates, &[0.0]).unwrap();
+            for motion in [None, Some(&actual[..])] {
+                let a = reactions(&m, &plan, d.poses(), motion).unwrap();
+                let b = reactions(&m, &whole, d.poses(), motion).unwrap();
+                let size = a.forces.iter().flatten().fold(1.0f64, |s, v| s.max(v.abs()));
+                let gap = (a.forces.iter().flatten().zip(b.forces.iter().flatten()))
+                    .chain(a.inputs.iter().zip(&b.inputs))
+                    .chain(a.moments.iter().zip(&b.moments))
+                    .chain(a.shaking.iter().zip(&b.shaking))
+                    .fold(0.0f64, |g, (x, y)| g.max((x - y).abs()));
+                assert!(gap < 1e-11 * size, "{name}: {gap:e}");
+                assert!(a.residual < 1e-12 * size && a.indeterminate.is_empty(), "{name}");
+            }
+        }
+    }
+    let text = std::fs::read_to_string(mechanisms_dir().join("vlink.toml")).unwrap()
+        + "\n[loads.weight]\nkind = \"force\"\nmarker = \"vee.T\"\nforce = [0, -1]\n";
+    let m = load_str("vlink.toml", &text, Format::Toml).unwrap();
+    assert!(matches!(force_plan(&m), Some(ForcePlan::LeastSquares(_))));
+}
+
+#[test]
+fn a_chain_s_force_plan_is_small_blocks() {
+    // Four four-bar loops in a chain (stress_10): 27 equations, yet no
+    // block larger than a loop's dyad, so each frame's cost grows with the
+    // chain's length, not its cube; and the chain's reactions still
+    // balance.
+    use dofplan::forces::plan::ForcePlan;
+    use dofplan::forces::planar::{force_plan, reactions};
+    let text = std::fs::read_to_string(mechanisms_dir().join("stress_10.toml")).unwrap()
+        + "\n[loads.end]\nkind = \"force\"\nmarker = \"rocker_4.R4\"\nforce = [0, -1]\n";
+    let m = load_str("stress_10.toml", &text, Format::Toml).unwrap();
+    let forces = force_plan(&m).unwrap();
+    let sizes = forces.block_sizes();
+    assert_eq!(sizes.iter().sum::<usize>(), 3 * (m.bodies.len() - 1));
+    assert!(sizes.iter().all(|&s| s <= 6), "{sizes:?}");
+    let mut d = Driver::new(Interpreter::new(plan(&m)), Options::default());
+    assert!(d.frame(&[10.0]).is_solved());
+    let a = reactions(&m, &forces, d.poses(), None).unwrap();
+    let b = reactions(&m, &ForcePlan::LeastSquares("compared"), d.poses(), None).unwrap();
+    assert!(a.residual < 1e-12, "{}", a.residual);
+    let gap = (a.forces.iter().flatten().zip(b.forces.iter().flatten()))
+        .fold(0.0f64, |g, (x, y)| g.max((x - y).abs()));
+    assert!(gap < 1e-10, "{gap:e}");
 }

@@ -5,7 +5,7 @@
 //! reactions, and the running mechanisms' input power against the rate of
 //! their energy by central differences.
 
-use dofplan::forces::spatial::{input_forces, reactions, Moving, Reactions};
+use dofplan::forces::spatial::{force_plan, input_forces, reactions, Moving, Reactions};
 use dofplan::interp::spatial::Interpreter;
 use dofplan::model::spatial::loads::LoadKind;
 use dofplan::model::spatial::{JointKind, Mechanism};
@@ -212,7 +212,7 @@ fn reactions_balance_every_body_and_give_the_virtual_work_input_forces() {
     for name in ["cardan_torque", "excavator_load"] {
         let m = load(name);
         for (_, poses, q) in sweep_forces(&m, None) {
-            let r = reactions(&m, &poses, None).unwrap();
+            let r = reactions(&m, &force_plan(&m).unwrap(), &poses, None).unwrap();
             let (worst, largest) = imbalance(&m, &poses, &r);
             assert!(
                 worst < 1e-10 * largest * m.size(),
@@ -244,10 +244,13 @@ fn redundant_joints_reactions_are_not_unique_and_are_said_to_be() {
             .map(|&j| m.joints[j].name.clone())
             .collect()
     };
-    assert_eq!(names(&m, &reactions(&m, poses, None).unwrap()), ["A", "B", "U"]);
+    assert_eq!(
+        names(&m, &reactions(&m, &force_plan(&m).unwrap(), poses, None).unwrap()),
+        ["A", "B", "U"]
+    );
     let m = load("excavator_load");
     let (_, poses, _) = &sweep_forces(&m, None)[10];
-    let r = reactions(&m, poses, None).unwrap();
+    let r = reactions(&m, &force_plan(&m).unwrap(), poses, None).unwrap();
     let found = names(&m, &r);
     assert!(
         !found.contains(&"slew_bearing".to_string()) && !found.contains(&"bucket_mount".to_string()),

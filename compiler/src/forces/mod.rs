@@ -16,6 +16,7 @@
 //! over-constrained, which then names the joints whose share is not
 //! fixed. Each dimension builds its system (`planar.rs`, `spatial.rs`).
 
+pub mod plan;
 pub mod planar;
 pub mod spatial;
 

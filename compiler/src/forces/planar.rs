@@ -3,6 +3,7 @@
 use dofplan_runtime::planar::Pose;
 use dofplan_runtime::scalar::Jet2;
 
+use super::plan::{ForcePlan, System};
 use crate::interp::planar::InterpState;
 use crate::interp::{Interpreter, RateError};
 use crate::model::planar::loads::LoadKind;
@@ -180,17 +181,60 @@ pub struct Reactions {
     pub shaking: [f64; 3],
 }
 
-/// The joint reactions at `poses` from every moving body's force and
-/// moment equilibrium under the file's loads (with `actual` motion, the
-/// bodies' d'Alembert inertia and the dampers too): one linear system,
-/// three equations per moving body, two unknowns per joint and one per
-/// input, solved by least squares (least norm where the mechanism is
-/// over-constrained). `None` for a mechanism with primitive constraints,
-/// whose forces are not modelled yet.
-pub fn reactions(m: &Mechanism, poses: &[Pose], actual: Option<&[Pose<Jet2>]>) -> Option<Reactions> {
+/// The plan for the reaction unknowns of `m` (see `forces/plan.rs`), from
+/// its equations at the drawn pose; `None` for a mechanism with primitive
+/// constraints, whose forces are not modelled yet.
+pub fn force_plan(m: &Mechanism) -> Option<ForcePlan> {
     if !m.constraints.is_empty() {
         return None;
     }
+    let drawn = vec![Pose::IDENTITY; m.bodies.len()];
+    Some(ForcePlan::new(&equilibrium(m, &drawn).0))
+}
+
+/// The joint reactions at `poses` from every moving body's force and
+/// moment equilibrium under the file's loads (with `actual` motion, the
+/// bodies' d'Alembert inertia and the dampers too): three equations per
+/// moving body, two unknowns per joint and one per input, solved as
+/// `plan` says (block by block, or by least squares, least norm where
+/// the mechanism is over-constrained). `None` for a mechanism with
+/// primitive constraints, whose forces are not modelled yet.
+pub fn reactions(
+    m: &Mechanism,
+    plan: &ForcePlan,
+    poses: &[Pose],
+    actual: Option<&[Pose<Jet2>]>,
+) -> Option<Reactions> {
+    if !m.constraints.is_empty() {
+        return None;
+    }
+    let (system, rows) = equilibrium(m, poses);
+    let normals: Vec<[f64; 2]> = (m.joints.iter())
+        .map(|j| match j.kind {
+            crate::model::JointKind::Revolute => [0.0; 2],
+            crate::model::JointKind::Prismatic => normal(m, poses, j.markers[0]),
+        })
+        .collect();
+    let mut w = vec![0.0; system.rows];
+    let mut on_ground = [0.0; 3];
+    for (b, wrench) in applied(m, poses, actual).into_iter().enumerate() {
+        for k in 0..3 {
+            match rows[b] {
+                Some(r) => w[r + k] = wrench[k],
+                None => on_ground[k] += wrench[k],
+            }
+        }
+    }
+    let solved = plan.solve(&system, &w);
+    let shaking = system.on_ground(solved.x.as_slice(), 3);
+    let mut r = reactions_of(m, solved, &normals);
+    r.shaking = [0, 1, 2].map(|k| shaking[k] + on_ground[k]);
+    Some(r)
+}
+
+/// The equilibrium equations at `poses` (the loads aside: the right-hand
+/// side) and each body's first row (`None` for a fixed body).
+fn equilibrium(m: &Mechanism, poses: &[Pose]) -> (System, Vec<Option<usize>>) {
     let rows: Vec<Option<usize>> = {
         let mut next = 0;
         (m.bodies.iter())
@@ -203,20 +247,17 @@ pub fn reactions(m: &Mechanism, poses: &[Pose], actual: Option<&[Pose<Jet2>]>) -
             .collect()
     };
     let n_rows = rows.iter().flatten().count() * 3;
-    let n_cols = 2 * m.joints.len() + m.inputs.len();
-    let mut a = nalgebra::DMatrix::<f64>::zeros(n_rows, n_cols);
-    // What each unknown does to the ground (every fixed body): the shaking.
-    let mut ground = nalgebra::DMatrix::<f64>::zeros(3, n_cols);
+    let mut system = System::new(n_rows, 2 * m.joints.len() + m.inputs.len());
     // A force `f` at `p` on body `b` (and minus it on `other`), as column `col`.
     let mut put = |col: usize, b: usize, other: usize, f: [f64; 2], p: [f64; 2], torque: f64| {
         for (body, sign) in [(b, 1.0), (other, -1.0)] {
-            let (matrix, r) = match rows[body] {
-                Some(r) => (&mut a, r),
-                None => (&mut ground, 0),
+            let (column, r) = match rows[body] {
+                Some(r) => (&mut system.columns[col], r),
+                None => (&mut system.ground[col], 0),
             };
-            matrix[(r, col)] += sign * f[0];
-            matrix[(r + 1, col)] += sign * f[1];
-            matrix[(r + 2, col)] += sign * (p[0] * f[1] - p[1] * f[0] + torque);
+            column.push((r, sign * f[0]));
+            column.push((r + 1, sign * f[1]));
+            column.push((r + 2, sign * (p[0] * f[1] - p[1] * f[0] + torque)));
         }
     };
     let at = |id: MarkerId| poses[id.body].world(m.marker(id).at);
@@ -246,39 +287,15 @@ pub fn reactions(m: &Mechanism, poses: &[Pose], actual: Option<&[Pose<Jet2>]>) -
             }
         }
     }
-    let normals: Vec<[f64; 2]> = (m.joints.iter())
-        .map(|j| match j.kind {
-            crate::model::JointKind::Revolute => [0.0; 2],
-            crate::model::JointKind::Prismatic => normal(m, poses, j.markers[0]),
-        })
-        .collect();
-    let mut w = nalgebra::DVector::<f64>::zeros(n_rows);
-    let mut on_ground = [0.0; 3];
-    for (b, wrench) in applied(m, poses, actual).into_iter().enumerate() {
-        for k in 0..3 {
-            match rows[b] {
-                Some(r) => w[r + k] = wrench[k],
-                None => on_ground[k] += wrench[k],
-            }
-        }
-    }
-    let (mut r, x) = solve(m, &a, &w, &normals);
-    let shaking = &ground * x;
-    r.shaking = [0, 1, 2].map(|k| shaking[k] + on_ground[k]);
-    Some(r)
+    (system, rows)
 }
 
-/// The least-norm solution of `a x = -w` and what it says; `normals`:
-/// each prismatic joint's rail normal at the frame.
-fn solve(
-    m: &Mechanism,
-    a: &nalgebra::DMatrix<f64>,
-    w: &nalgebra::DVector<f64>,
-    normals: &[[f64; 2]],
-) -> (Reactions, nalgebra::DVector<f64>) {
-    let super::Solved { x, residual, fixed } = super::least_norm(a, w);
+/// The reactions a solution gives; `normals`: each prismatic joint's rail
+/// normal at the frame.
+fn reactions_of(m: &Mechanism, solved: super::Solved, normals: &[[f64; 2]]) -> Reactions {
+    let super::Solved { x, residual, fixed } = solved;
     let joints = m.joints.len();
-    let r = Reactions {
+    Reactions {
         forces: (0..joints)
             .map(|j| match m.joints[j].kind {
                 crate::model::JointKind::Revolute => [x[2 * j], x[2 * j + 1]],
@@ -297,8 +314,7 @@ fn solve(
             .collect(),
         residual,
         shaking: [0.0; 3],
-    };
-    (r, x)
+    }
 }
 
 /// The unit normal (the rail's direction turned a quarter counter-clockwise)

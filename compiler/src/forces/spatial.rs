@@ -7,6 +7,7 @@
 use dofplan_runtime::scalar::Jet2;
 use dofplan_runtime::spatial::{add, cross, dot, norm, scale, sub, Pose3, Rot3, Vec3};
 
+use super::plan::{ForcePlan, System};
 use crate::interp::spatial::{InterpState, Interpreter};
 use crate::interp::RateError;
 use crate::model::spatial::equations::{joint_frames, Frame};
@@ -254,17 +255,32 @@ fn carried(kind: JointKind, axes: [Vec3; 3], z2: Vec3, lead: f64) -> Vec<(Vec3, 
     }
 }
 
-/// The joint reactions at `poses` from every moving body's force and
-/// moment equilibrium under the file's loads (with `actual` motion, the
-/// bodies' d'Alembert inertia and the dampers too): six equations per
-/// moving body, one unknown per component each joint carries and one per
-/// input, solved by least squares (least norm where the mechanism is
-/// over-constrained). `None` for a mechanism with primitive constraints,
-/// whose forces are not modelled yet.
-pub fn reactions(m: &Mechanism, poses: &[Pose3], actual: Option<&[Pose3<Jet2>]>) -> Option<Reactions> {
+/// The plan for the reaction unknowns of `m` (see `forces/plan.rs`), from
+/// its equations at the drawn pose; `None` for a mechanism with primitive
+/// constraints, whose forces are not modelled yet.
+pub fn force_plan(m: &Mechanism) -> Option<ForcePlan> {
     if !m.constraints.is_empty() {
         return None;
     }
+    let drawn = vec![Pose3::IDENTITY; m.bodies.len()];
+    Some(ForcePlan::new(&equilibrium(m, &drawn).system))
+}
+
+/// A frame's equilibrium equations (the loads aside) and how to read
+/// their unknowns.
+struct Equilibrium {
+    system: System,
+    /// Each body's first row (`None` for a fixed body).
+    rows: Vec<Option<usize>>,
+    /// Per joint: its first unknown and its unit wrenches.
+    joints: Vec<(usize, Vec<(Vec3, Vec3)>)>,
+    /// The first input's unknown.
+    inputs: usize,
+}
+
+/// The equilibrium equations at `poses`: six per moving body, one unknown
+/// per component each joint carries and one per input.
+fn equilibrium(m: &Mechanism, poses: &[Pose3]) -> Equilibrium {
     let rows: Vec<Option<usize>> = {
         let mut next = 0;
         (m.bodies.iter())
@@ -280,42 +296,38 @@ pub fn reactions(m: &Mechanism, poses: &[Pose3], actual: Option<&[Pose3<Jet2>]>)
     // Each joint's unit wrenches, at its second marker.
     let joint_wrenches: Vec<(Vec3, Vec<(Vec3, Vec3)>)> = (0..m.joints.len())
         .map(|j| {
-            let [first, second] = frames(m, j, poses);
-            let a = first.axes;
+            let [_, second] = frames(m, j, poses);
             let lead = m.joints[j].pitch / std::f64::consts::TAU;
-            (
-                second.at,
-                carried(m.joints[j].kind, [a.x, a.y(), a.z], second.axes.z, lead),
-            )
+            let axes = joint_axes(m, j, poses);
+            (second.at, carried(m.joints[j].kind, axes, second.axes.z, lead))
         })
         .collect();
     let n_cols = joint_wrenches.iter().map(|(_, w)| w.len()).sum::<usize>() + m.inputs.len();
-    let mut a = nalgebra::DMatrix::<f64>::zeros(n_rows, n_cols);
-    let mut ground = nalgebra::DMatrix::<f64>::zeros(6, n_cols);
+    let mut system = System::new(n_rows, n_cols);
     // A wrench (force `f` at `p`, moment `mo`) on body `b` and minus it on
     // `other`, as column `col`.
     let mut put = |col: usize, b: usize, other: usize, (f, mo): (Vec3, Vec3), p: Vec3| {
         let about = add(cross(p, f), mo);
         for (body, sign) in [(b, 1.0), (other, -1.0)] {
-            let (matrix, r) = match rows[body] {
-                Some(r) => (&mut a, r),
-                None => (&mut ground, 0),
+            let (column, r) = match rows[body] {
+                Some(r) => (&mut system.columns[col], r),
+                None => (&mut system.ground[col], 0),
             };
             for k in 0..3 {
-                matrix[(r + k, col)] += sign * f[k];
-                matrix[(r + 3 + k, col)] += sign * about[k];
+                column.push((r + k, sign * f[k]));
+                column.push((r + 3 + k, sign * about[k]));
             }
         }
     };
     let mut col = 0;
-    let mut first_col = Vec::with_capacity(m.joints.len());
-    for (j, (p, wrenches)) in joint_wrenches.iter().enumerate() {
+    let mut joints = Vec::with_capacity(m.joints.len());
+    for (j, (p, wrenches)) in joint_wrenches.into_iter().enumerate() {
         let [first, second] = m.joints[j].markers.map(|id| id.body);
-        first_col.push(col);
-        for &w in wrenches {
-            put(col, second, first, w, *p);
-            col += 1;
+        for (k, &w) in wrenches.iter().enumerate() {
+            put(col + k, second, first, w, p);
         }
+        joints.push((col, wrenches));
+        col = joints.last().map_or(0, |(c, w)| c + w.len());
     }
     for (i, input) in m.inputs.iter().enumerate() {
         let [first, second] = frames(m, input.joint, poses);
@@ -327,36 +339,60 @@ pub fn reactions(m: &Mechanism, poses: &[Pose3], actual: Option<&[Pose3<Jet2>]>)
         };
         put(col + i, b2, b1, w, second.at);
     }
-    let mut w = nalgebra::DVector::<f64>::zeros(n_rows);
+    Equilibrium {
+        system,
+        rows,
+        joints,
+        inputs: col,
+    }
+}
+
+/// The joint reactions at `poses` from every moving body's force and
+/// moment equilibrium under the file's loads (with `actual` motion, the
+/// bodies' d'Alembert inertia and the dampers too), solved as `plan` says
+/// (block by block, or by least squares, least norm where the mechanism is
+/// over-constrained). `None` for a mechanism with primitive constraints,
+/// whose forces are not modelled yet.
+pub fn reactions(
+    m: &Mechanism,
+    plan: &ForcePlan,
+    poses: &[Pose3],
+    actual: Option<&[Pose3<Jet2>]>,
+) -> Option<Reactions> {
+    if !m.constraints.is_empty() {
+        return None;
+    }
+    let e = equilibrium(m, poses);
+    let mut w = vec![0.0; e.system.rows];
     let mut on_ground = [0.0; 6];
     for (b, wrench) in applied(m, poses, actual).into_iter().enumerate() {
         for k in 0..6 {
-            match rows[b] {
+            match e.rows[b] {
                 Some(r) => w[r + k] = wrench[k],
                 None => on_ground[k] += wrench[k],
             }
         }
     }
-    let super::Solved { x, residual, fixed } = super::least_norm(&a, &w);
-    let shaking = &ground * &x;
+    let super::Solved { x, residual, fixed } = plan.solve(&e.system, &w);
+    let shaking = e.system.on_ground(x.as_slice(), 6);
     let mut r = Reactions {
         forces: Vec::with_capacity(m.joints.len()),
         moments: Vec::with_capacity(m.joints.len()),
-        inputs: (0..m.inputs.len()).map(|i| x[col + i]).collect(),
+        inputs: (0..m.inputs.len()).map(|i| x[e.inputs + i]).collect(),
         indeterminate: Vec::new(),
         residual,
         shaking: [0, 1, 2, 3, 4, 5].map(|k| shaking[k] + on_ground[k]),
     };
-    for (j, (_, wrenches)) in joint_wrenches.iter().enumerate() {
+    for (j, (first, wrenches)) in e.joints.iter().enumerate() {
         let (mut f, mut mo) = ([0.0; 3], [0.0; 3]);
         for (k, (wf, wm)) in wrenches.iter().enumerate() {
-            let amount = x[first_col[j] + k];
+            let amount = x[first + k];
             f = add(f, scale(*wf, amount));
             mo = add(mo, scale(*wm, amount));
         }
         r.forces.push(f);
         r.moments.push(mo);
-        if !(0..wrenches.len()).all(|k| fixed[first_col[j] + k]) {
+        if !(0..wrenches.len()).all(|k| fixed[first + k]) {
             r.indeterminate.push(j);
         }
     }

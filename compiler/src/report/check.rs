@@ -38,3 +38,46 @@ pub(crate) fn redundant_json(rows: &[(String, String, usize)]) -> Vec<Value> {
 pub(crate) fn write_json(out: &mut dyn Write, value: &Value) -> io::Result<()> {
     writeln!(out, "{}", serde_json::to_string_pretty(value).unwrap_or_default())
 }
+
+/// The loads line of a file that gives masses, gravity or loads (nothing
+/// otherwise): what `analyze --forces` will work from, so a reader of
+/// `check` sees the file's loads were read.
+pub(crate) fn write_loads<S: crate::model::loads::Space>(
+    loads: &crate::model::loads::Loads<S>,
+    out: &mut dyn Write,
+) -> io::Result<()> {
+    if loads.is_empty() {
+        return Ok(());
+    }
+    let mut parts = Vec::new();
+    if loads.gravity.is_some() {
+        parts.push("gravity".to_string());
+    }
+    let masses = loads.masses.iter().flatten().count();
+    if masses > 0 {
+        parts.push(format!(
+            "mass on {masses} bod{}",
+            if masses == 1 { "y" } else { "ies" }
+        ));
+    }
+    if !loads.applied.is_empty() {
+        let named: Vec<String> = (loads.applied.iter())
+            .map(|l| format!("{} {}", l.kind.name(), l.name))
+            .collect();
+        parts.push(format!(
+            "{} ({})",
+            plural(loads.applied.len(), "load"),
+            named.join(", ")
+        ));
+    }
+    writeln!(
+        out,
+        "  loads: {} — `analyze --forces` computes from them",
+        parts.join(", ")
+    )
+}
+
+/// "1 load", "3 loads".
+fn plural(n: usize, what: &str) -> String {
+    format!("{n} {what}{}", if n == 1 { "" } else { "s" })
+}

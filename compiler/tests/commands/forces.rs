@@ -504,3 +504,24 @@ fn svg_draws_a_joint_s_reaction_as_a_polar_diagram() {
     assert!(svg.contains("joint boom_pivot&apos;s reaction, polar"), "{svg}");
     assert!(svg.contains("along the joint&apos;s x"), "{svg}");
 }
+
+#[test]
+fn check_says_which_loads_it_read() {
+    let o = dofplan(&["check", &mechanism("loads/fourbar_weights")]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert!(
+        text(&o.stdout).contains(
+            "  loads: gravity, mass on 3 bodies, 5 loads (force payload, torque brake, spring return_spring, damper damper, torsion-spring pivot_spring) — `analyze --forces` computes from them\n"
+        ),
+        "{}",
+        text(&o.stdout)
+    );
+    let o = dofplan(&["check", &mechanism("loads/cardan_torque")]);
+    assert!(
+        text(&o.stdout).contains("  loads: gravity, mass on 2 bodies, 1 load (torque resisting)"),
+        "{}",
+        text(&o.stdout)
+    );
+    let o = dofplan(&["check", &mechanism("fourbar")]);
+    assert!(!text(&o.stdout).contains("loads:"), "{}", text(&o.stdout));
+}

@@ -115,7 +115,7 @@ fn write_counts(m: &Mechanism, place: &str, out: &mut dyn Write) -> io::Result<(
             m.joints[input.joint].name
         )?;
     }
-    Ok(())
+    crate::report::check::write_loads(&m.loads, out)
 }
 
 /// The mobility counted two ways, by Grübler's formula and by the

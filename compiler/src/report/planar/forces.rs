@@ -8,7 +8,7 @@ use std::io::Write;
 use dofplan_runtime::{Driver, FrameStatus, Options};
 
 use super::frames::{frame_json, sweep_report, Solver};
-use crate::forces::planar::{advantage, input_forces, reactions, Moving, Reactions};
+use crate::forces::planar::{advantage, force_plan, input_forces, reactions, Moving, Reactions};
 use crate::interp::Interpreter;
 use crate::model::{JointKind, Mechanism, Sweep};
 use crate::plan::Plan;
@@ -35,6 +35,8 @@ pub fn run(
         return Ok(Err(no_loads(&m.source.name)));
     }
     let interp = Interpreter::new(plan.clone());
+    // Made once: which equations fix which reaction unknowns.
+    let forces_plan = force_plan(m);
     let mut driver = Driver::new(interp.clone(), Options::default());
     let report = sweep_report(m, plan, sweep, Solver::Plan);
     let rates = rate.map(|r| sweep_rates(m, sweep, r));
@@ -69,7 +71,10 @@ pub fn run(
             Ok(Carried {
                 inputs: q,
                 advantage: advantage(m, &interp, driver.state(), driver.inputs()).and_then(Result::ok),
-                reactions: reactions(m, driver.poses(), actual.as_deref()).map(carry),
+                reactions: forces_plan
+                    .as_ref()
+                    .and_then(|plan| reactions(m, plan, driver.poses(), actual.as_deref()))
+                    .map(carry),
             })
         });
         let json = json.then(|| {

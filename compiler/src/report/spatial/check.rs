@@ -93,6 +93,7 @@ fn write_counts(m: &Mechanism, c: &Count, out: &mut dyn Write) -> io::Result<()>
         m.constraints.len(),
         m.inputs.len()
     )?;
+    crate::report::check::write_loads(&m.loads, out)?;
     writeln!(
         out,
         "  mobility (Grübler–Kutzbach): 6·{} − {} = {}",

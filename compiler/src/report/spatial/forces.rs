@@ -8,7 +8,7 @@ use std::io::Write;
 use dofplan_runtime::{Driver, FrameStatus, Options};
 
 use super::frames::frame_value;
-use crate::forces::spatial::{input_forces, joint_axes, reactions, Moving, Reactions};
+use crate::forces::spatial::{force_plan, input_forces, joint_axes, reactions, Moving, Reactions};
 use crate::interp::spatial::Interpreter;
 use crate::model::spatial::{JointKind, Mechanism};
 use crate::model::Sweep;
@@ -36,6 +36,8 @@ pub fn run(
         return Ok(Err(no_loads(&m.source.name)));
     }
     let interp = Interpreter::new(plan.clone());
+    // Made once: which equations fix which reaction unknowns.
+    let forces_plan = force_plan(m);
     let mut driver = Driver::new(interp.clone(), Options::default());
     let rates = rate.map(|r| input_rates(&m.inputs, sweep, r));
     let zero = vec![0.0; m.inputs.len()];
@@ -71,7 +73,9 @@ pub fn run(
             Ok(Carried {
                 inputs: q,
                 advantage: None,
-                reactions: reactions(m, driver.poses(), actual.as_deref())
+                reactions: forces_plan
+                    .as_ref()
+                    .and_then(|plan| reactions(m, plan, driver.poses(), actual.as_deref()))
                     .map(|r| carry(m, driver.poses(), r)),
             })
         });
