@@ -10,7 +10,7 @@
 //! the three joints they share, then the crank's three). A mechanism whose
 //! equations are not square and regular as drawn (redundant joints, a
 //! freedom no input holds) keeps the least-squares solve of every frame
-//! ([`super::least_norm`]), which is what names the joints whose share is
+//! (`least_norm`), which is what names the joints whose share is
 //! not fixed.
 
 use nalgebra::{DMatrix, DVector};

@@ -5,7 +5,7 @@
 //! (the dimension's frames with `"input_force"`, `"reactions"`,
 //! `"reaction_moments"` and `"shaking"`) or CSV, streamed frame by frame,
 //! and plots. Each dimension solves its frames (`planar/forces.rs`,
-//! `spatial/forces.rs`) into the [`Carried`] form this file writes.
+//! `spatial/forces.rs`) into the `Carried` form this file writes.
 
 use std::io::Write;
 
