@@ -107,7 +107,6 @@ fn main() {
 /// (blocks made once) and by least squares every frame (an SVD of the
 /// whole system); medians over the sweep.
 fn forces() {
-    use dofplan::forces::plan::ForcePlan;
     println!();
     println!("| mechanism | equations | force plan blocks | position ns/frame | + forces, plan ns/frame | ratio | + forces, least squares ns/frame | ratio |");
     println!("|---|---:|---|---:|---:|---:|---:|---:|");
@@ -115,36 +114,17 @@ fn forces() {
         use dofplan::forces::planar::{force_plan, input_forces, reactions};
         let m = load(&format!("loads/{name}"));
         let interp = Interpreter::new(plan(&m));
-        let inputs = sweep_inputs(&m, None);
-        let mut d = Driver::new(interp.clone(), Options::default());
-        let blocks = force_plan(&m).expect("no constraints");
-        let whole = ForcePlan::LeastSquares("timed");
-        let position = time_ns(|| {
-            for u in &inputs {
-                black_box(d.frame(u));
-            }
-        });
-        let mut with = |fp: &ForcePlan| {
-            time_ns(|| {
-                for u in &inputs {
-                    d.frame(u);
-                    black_box(input_forces(&m, &interp, d.state(), d.inputs(), None).ok());
-                    black_box(reactions(&m, fp, d.poses(), None));
-                }
-            })
-        };
-        let (b, w) = (with(&blocks), with(&whole));
-        let n = inputs.len() as f64;
         let rows = 3 * m.bodies.iter().filter(|b| !b.fixed).count();
-        println!(
-            "| {name} | {rows} | {:?} | {:.0} | {:.0} | {:.1} | {:.0} | {:.1} |",
-            blocks.block_sizes(),
-            position / n,
-            b / n,
-            b / position,
-            w / n,
-            w / position
+        let row = force_row(
+            Driver::new(interp.clone(), Options::default()),
+            &sweep_inputs(&m, None),
+            &force_plan(&m).expect("no constraints"),
+            |d, fp| {
+                black_box(input_forces(&m, &interp, d.state(), d.inputs(), None).ok());
+                black_box(reactions(&m, fp, d.poses(), None));
+            },
         );
+        println!("| {name} | {rows} | {row}");
     }
     for name in ["cardan_torque", "excavator_load"] {
         use dofplan::forces::spatial::{force_plan, input_forces, reactions};
@@ -155,36 +135,53 @@ fn forces() {
         let interp = dofplan::interp::spatial::Interpreter::new(dofplan_tests::plan_spatial(&m));
         let inputs: Vec<Vec<f64>> =
             sweep_requests(m.sweep.as_ref().expect("a sweep"), m.inputs.len()).collect();
-        let mut d = Driver::new(interp.clone(), Options::default());
-        let blocks = force_plan(&m).expect("no constraints");
-        let whole = ForcePlan::LeastSquares("timed");
-        let position = time_ns(|| {
-            for u in &inputs {
-                black_box(d.frame(u));
-            }
-        });
-        let mut with = |fp: &ForcePlan| {
-            time_ns(|| {
-                for u in &inputs {
-                    d.frame(u);
-                    black_box(input_forces(&m, &interp, d.state(), d.inputs(), None).ok());
-                    black_box(reactions(&m, fp, d.poses(), None));
-                }
-            })
-        };
-        let (b, w) = (with(&blocks), with(&whole));
-        let n = inputs.len() as f64;
-        let rows = 6 * m.moving();
-        println!(
-            "| {name} | {rows} | {:?} | {:.0} | {:.0} | {:.1} | {:.0} | {:.1} |",
-            blocks.block_sizes(),
-            position / n,
-            b / n,
-            b / position,
-            w / n,
-            w / position
+        let row = force_row(
+            Driver::new(interp.clone(), Options::default()),
+            &inputs,
+            &force_plan(&m).expect("no constraints"),
+            |d, fp| {
+                black_box(input_forces(&m, &interp, d.state(), d.inputs(), None).ok());
+                black_box(reactions(&m, fp, d.poses(), None));
+            },
         );
+        println!("| {name} | {} | {row}", 6 * m.moving());
     }
+}
+
+/// One row of the forces table after its first two cells: the plan's
+/// blocks, a frame alone, a frame with `forces` by the plan, and by least
+/// squares (ns per frame, and the ratios to a frame alone).
+fn force_row<S: Solver>(
+    mut d: Driver<S>,
+    inputs: &[Vec<f64>],
+    blocks: &dofplan::forces::plan::ForcePlan,
+    mut forces: impl FnMut(&Driver<S>, &dofplan::forces::plan::ForcePlan),
+) -> String {
+    let whole = dofplan::forces::plan::ForcePlan::LeastSquares("timed");
+    let position = time_ns(|| {
+        for u in inputs {
+            black_box(d.frame(u));
+        }
+    });
+    let mut with = |fp: &dofplan::forces::plan::ForcePlan| {
+        time_ns(|| {
+            for u in inputs {
+                d.frame(u);
+                forces(&d, fp);
+            }
+        })
+    };
+    let (b, w) = (with(blocks), with(&whole));
+    let n = inputs.len() as f64;
+    format!(
+        "{:?} | {:.0} | {:.0} | {:.1} | {:.0} | {:.1} |",
+        blocks.block_sizes(),
+        position / n,
+        b / n,
+        b / position,
+        w / n,
+        w / position
+    )
 }
 
 /// Median ns of `f` over passes of about 5 ms each.
