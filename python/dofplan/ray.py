@@ -17,10 +17,11 @@ counted once it returns, nothing is lost or counted twice.
 
 Each task asks for ``num_cpus`` (default 1) cores and runs its candidates
 one after another on them; Ray runs as many tasks at once as the cluster
-has cores.
+has cores. ``scheduling_strategy`` is given to Ray as it is: Ray's default
+fills the calling node first, ``"SPREAD"`` deals tasks across nodes.
 """
 
-from typing import Any, Callable, List, Optional, Sequence, Tuple
+from typing import Any, Callable, Dict, List, Optional, Sequence, Tuple
 
 import ray as _ray
 
@@ -30,7 +31,7 @@ from .study import PathError, Restarts, Samples, Sweep, Tolerance, grid, random
 __all__ = ["sweep", "tolerance", "restarts", "grid", "random", "PathError", "Samples", "Sweep", "Tolerance", "Restarts"]
 
 
-def _runner(num_cpus: float, max_retries: int) -> _study.Runner:
+def _runner(num_cpus: float, max_retries: int, scheduling_strategy: Any = None) -> _study.Runner:
     """Runs chunks as Ray tasks: the mechanism and other shared arguments
     put in the object store once, the results gathered in order."""
 
@@ -39,7 +40,12 @@ def _runner(num_cpus: float, max_retries: int) -> _study.Runner:
             return []
         if not _ray.is_initialized():
             _ray.init()
-        task = _ray.remote(num_cpus=num_cpus, max_retries=max_retries, retry_exceptions=False)(fn)
+        options: Dict[str, Any] = dict(num_cpus=num_cpus, max_retries=max_retries, retry_exceptions=False)
+        # Ray's default packs tasks onto the calling node while it has room;
+        # "SPREAD" (or a placement group's strategy) is the caller's choice.
+        if scheduling_strategy is not None:
+            options["scheduling_strategy"] = scheduling_strategy
+        task = _ray.remote(**options)(fn)
         # The first argument (the mechanism) is the same in every chunk:
         # sent once, not once per task.
         shared = _ray.put(chunks[0][0])
@@ -72,13 +78,14 @@ def sweep(
     chunk_size: Optional[int] = None,
     num_cpus: float = 1,
     max_retries: int = 3,
+    scheduling_strategy: Any = None,
 ) -> Sweep:
     """:func:`dofplan.study.sweep` as Ray tasks: the same candidates,
     scores and errors, in the same order. ``score`` is sent to the workers
     (cloudpickle: a lambda or a closure will do)."""
     size = _chunk_size(len(samples), chunk_size, num_cpus)
     return _study.sweep(
-        mechanism, samples, score, inputs, steps=steps, chunk_size=size, _runner=_runner(num_cpus, max_retries)
+        mechanism, samples, score, inputs, steps=steps, chunk_size=size, _runner=_runner(num_cpus, max_retries, scheduling_strategy),
     )
 
 
@@ -92,6 +99,7 @@ def tolerance(
     chunk_size: Optional[int] = None,
     num_cpus: float = 1,
     max_retries: int = 3,
+    scheduling_strategy: Any = None,
 ) -> Tolerance:
     """:func:`dofplan.study.tolerance` as Ray tasks: ``dofplan analyze
     --tolerance T --monte-carlo N --seed S``'s candidates and numbers, to the
@@ -104,7 +112,7 @@ def tolerance(
         seed,
         steps=steps,
         chunk_size=size,
-        _runner=_runner(num_cpus, max_retries),
+        _runner=_runner(num_cpus, max_retries, scheduling_strategy),
         # Each task has the cores Ray gave it, not the node's.
         _parallel=False,
     )
@@ -116,10 +124,13 @@ def restarts(
     *,
     num_cpus: float = 1,
     max_retries: int = 3,
+    scheduling_strategy: Any = None,
     **options: Any,
 ) -> Restarts:
     """:func:`dofplan.study.restarts` as Ray tasks, one per seed. Give
     ``evaluations`` (not only a ``time_limit``) for runs that repeat to the
     bit wherever they run."""
-    return _study.restarts(mechanism, seeds, _runner=_runner(num_cpus, max_retries), **options)
+    return _study.restarts(
+        mechanism, seeds, _runner=_runner(num_cpus, max_retries, scheduling_strategy), **options
+    )
 
