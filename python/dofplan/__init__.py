@@ -687,15 +687,18 @@ class Mechanism:
             row = [float(v) for v in np.asarray(values, dtype=np.float64).ravel()]
         return Mechanism(_dofplan.with_parameters(self._m, row))
 
-    def forces(self, rate: Optional[float] = None, steps: Optional[int] = None) -> Dict[str, Any]:
+    def forces(
+        self, rate: Optional[float] = None, steps: Optional[int] = None, acceleration: Optional[float] = None
+    ) -> Dict[str, Any]:
         """``dofplan analyze --forces --json``: each input's force or torque
         (``frames[k]["input_force"]``: input name -> value, None where the
         frame is not solved or at a dead point) and each joint's reaction
         (``frames[k]["reactions"]``: joint -> [fx, fy], or [fx, fy, fz] in a
         spatial file) under the file's masses, ``[gravity]`` and ``[loads]``;
         held still at each pose (statics), or with ``rate`` running at that
-        rate (kinetostatics)."""
-        return json.loads(self._m.forces_json(rate, steps))
+        rate (kinetostatics), speeding up at ``acceleration`` if given (it
+        needs a ``rate``; ``rate=0`` starts from rest)."""
+        return json.loads(self._m.forces_json(rate, steps, acceleration))
 
     def sensitivity(
         self,

@@ -332,9 +332,27 @@ impl Mechanism {
 
     /// `dofplan analyze --forces --json` on the file's sweep (`steps`
     /// frames if given): statics, or kinetostatics with its first input at
-    /// `rate`. The text.
-    #[pyo3(signature = (rate = None, steps = None))]
-    fn forces_json(&self, py: Python<'_>, rate: Option<f64>, steps: Option<usize>) -> PyResult<String> {
+    /// `rate` (and `acceleration`, which needs a rate). The text.
+    #[pyo3(signature = (rate = None, steps = None, acceleration = None))]
+    fn forces_json(
+        &self,
+        py: Python<'_>,
+        rate: Option<f64>,
+        steps: Option<usize>,
+        acceleration: Option<f64>,
+    ) -> PyResult<String> {
+        let running = match (rate, acceleration) {
+            (None, Some(_)) => {
+                return Err(pyo3::exceptions::PyValueError::new_err(
+                    "an acceleration needs a rate: give rate= too (rate=0 starts from rest)",
+                ))
+            }
+            (None, None) => None,
+            (Some(rate), a) => Some(dofplan::report::forces::Running {
+                rate,
+                acceleration: a.unwrap_or(0.0),
+            }),
+        };
         let sweep = self.sweep_of(steps)?;
         let plans = self.plans(py)?;
         self.report(py, |out| match (&self.model, plans) {
@@ -342,7 +360,7 @@ impl Mechanism {
                 m,
                 p,
                 &sweep,
-                rate,
+                running,
                 dofplan::report::Form::Json,
                 None,
                 out,
@@ -351,7 +369,7 @@ impl Mechanism {
                 m,
                 p,
                 &sweep,
-                rate,
+                running,
                 dofplan::report::Form::Json,
                 None,
                 out,

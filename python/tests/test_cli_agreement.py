@@ -252,6 +252,18 @@ def test_forces_are_the_cli_s(name, rate):
     assert all(isinstance(f["input_force"][first], float) for f in got["frames"])
 
 
+@pytest.mark.parametrize("name", ["fourbar_weights", "cardan_torque"])
+def test_forces_speeding_up_are_the_cli_s(name):
+    path = MECHANISMS / "loads" / f"{name}.toml"
+    code, out, err = run_cli("analyze", path, "--forces", "--json", "--steps", 19, "--rate", 2, "--acceleration", -4)
+    assert code == 0, err
+    got = dofplan.load(path).forces(rate=2, acceleration=-4, steps=19)
+    assert got == json.loads(out)
+    assert (got["rate"], got["acceleration"]) == (2.0, -4.0)
+    with pytest.raises(ValueError, match="needs a rate"):
+        dofplan.load(path).forces(acceleration=1.0)
+
+
 def test_forces_of_a_file_without_loads_raise_the_cli_s_message():
     code, _, err = run_cli("analyze", MECHANISMS / "fourbar.toml", "--forces")
     assert code != 0

@@ -535,3 +535,66 @@ fn a_chain_s_force_plan_is_small_blocks() {
         .fold(0.0f64, |g, (x, y)| g.max((x - y).abs()));
     assert!(gap < 1e-10, "{gap:e}");
 }
+
+#[test]
+fn speeding_up_adds_the_generalised_mass_times_the_acceleration() {
+    // Q(w, a) - Q(w, 0) = M(theta) a with M = sum m |dc/dtheta|^2 +
+    // I (dphi/dtheta)^2, every derivative here a central difference of
+    // solved positions (not the plan's rates); springs, gravity and the
+    // damper depend on the pose and rate alone and cancel.
+    let m = load("loads/fourbar_weights");
+    let interp = Interpreter::new(plan(&m));
+    let (mut d, mut near) = (
+        Driver::new(interp.clone(), Options::default()),
+        Driver::new(interp.clone(), Options::default()),
+    );
+    let (w, a) = (2.0f64, 30.0f64);
+    let rates = [w.to_degrees()];
+    let accelerations = [a.to_degrees()];
+    let h = 1e-4f64;
+    let mut largest = 0.0f64;
+    for k in 0..24 {
+        let theta = 15.0 * k as f64 + 4.0;
+        let mut poses = |t: f64| {
+            assert!(near.frame(&[t]).is_solved());
+            near.poses().to_vec()
+        };
+        let (ahead, behind) = (poses(theta + h), poses(theta - h));
+        let per_radian = 2.0 * h.to_radians();
+        let mut mass_of = 0.0;
+        for (b, mass) in m.loads.masses.iter().enumerate() {
+            let Some(mass) = mass else { continue };
+            let (p, q) = (ahead[b].world(mass.centre), behind[b].world(mass.centre));
+            let v = [(p[0] - q[0]) / per_radian, (p[1] - q[1]) / per_radian];
+            let turn = |pose: &Pose| pose.rot.s.atan2(pose.rot.c);
+            let spin = (turn(&ahead[b]) - turn(&behind[b])) / per_radian;
+            mass_of += mass.mass * (v[0] * v[0] + v[1] * v[1]) + mass.inertia * spin * spin;
+        }
+        let steady = forces_at(
+            &m,
+            &mut d,
+            theta,
+            Some(Moving {
+                rates: &rates,
+                accelerations: &[0.0],
+            }),
+        );
+        let speeding = forces_at(
+            &m,
+            &mut d,
+            theta,
+            Some(Moving {
+                rates: &rates,
+                accelerations: &accelerations,
+            }),
+        );
+        let want = mass_of * a;
+        largest = largest.max(want.abs());
+        assert!(
+            (speeding - steady - want).abs() < 1e-6 * want.abs(),
+            "theta {theta}: {} against {want}",
+            speeding - steady
+        );
+    }
+    assert!(largest > 1.0, "the inertia counts: {largest}");
+}

@@ -5,11 +5,11 @@
 //! reactions, and the running mechanisms' input power against the rate of
 //! their energy by central differences.
 
-use dofplan::forces::spatial::{force_plan, input_forces, reactions, Moving, Reactions};
+use dofplan::forces::spatial::{advantage, force_plan, input_forces, reactions, Moving, Reactions};
 use dofplan::interp::spatial::Interpreter;
 use dofplan::model::spatial::loads::LoadKind;
 use dofplan::model::spatial::{JointKind, Mechanism};
-use dofplan::model::{InputKind, Model};
+use dofplan::model::{Format, InputKind, Model};
 use dofplan::simulate::spatial::residual;
 use dofplan::simulate::{input_rates, sweep_requests};
 use dofplan_runtime::real::Jet2;
@@ -447,4 +447,173 @@ fn each_cylinder_s_running_force_is_lagrange_s() {
         }
     }
     assert_eq!(checked, 9);
+}
+
+#[test]
+fn a_cardan_joint_s_mechanical_advantage_is_its_velocity_ratio_s_inverse() {
+    // Per unit input torque the output shaft holds w1/w2 = (1 - sin^2 b
+    // cos^2 theta) / cos b, and its tip (half a unit off its axis) exerts
+    // that over 0.5 along its circle; the cross (two freedoms) and the
+    // driven joint have none, the ground's markers do not move.
+    let m = load("cardan_torque");
+    let interp = Interpreter::new(plan_spatial(&m));
+    let mut d = Driver::new(interp.clone(), Options::default());
+    let joint = |n: &str| m.joints.iter().position(|j| j.name == n).unwrap();
+    let marker = |n: &str| m.all_markers().position(|id| m.marker_name(id) == n).unwrap();
+    let beta = 30f64.to_radians();
+    for k in 0..36 {
+        let theta = 10.0 * k as f64 + 3.0;
+        assert!(d.frame(&[theta]).is_solved());
+        let a = advantage(&m, &interp, d.state(), d.inputs()).unwrap().unwrap();
+        let t = theta.to_radians();
+        let ratio = (1.0 - beta.sin().powi(2) * t.cos().powi(2)) / beta.cos();
+        let b = a.joints[joint("B")].unwrap();
+        assert!(
+            (b - ratio).abs() < 1e-10 * ratio,
+            "B at {theta}: {b} against {ratio}"
+        );
+        let tip = a.markers[marker("shaft2.tip")].unwrap();
+        assert!((tip - ratio / 0.5).abs() < 1e-10 * ratio, "tip at {theta}");
+        assert_eq!((a.joints[joint("A")], a.joints[joint("U")]), (None, None));
+        assert_eq!(a.markers[marker("ground.B")], None);
+    }
+}
+
+/// A slider-crank drawn in space (crank 1, rod 3.5, track offset 0.25,
+/// the crank drawn at 30 degrees): its prismatic joint's advantage.
+const SPATIAL_SLIDER_CRANK: &str = r#"name = "spatial_slider_crank"
+dimension = 3
+
+[bodies.ground]
+fixed = true
+markers.O = { at = [0.0, 0.0, 0.0], z = [0.0, 0.0, 1.0] }
+markers.T = { at = [0.0, 0.25, 0.0], z = [1.0, 0.0, 0.0] }
+
+[bodies.crank]
+markers.O = { at = [0.0, 0.0, 0.0], z = [0.0, 0.0, 1.0] }
+markers.B = { at = [0.8660254037844387, 0.49999999999999994, 0.0], z = [0.0, 0.0, 1.0] }
+
+[bodies.rod]
+markers.B = { at = [0.8660254037844387, 0.49999999999999994, 0.0], z = [0.0, 0.0, 1.0] }
+markers.C = { at = [4.357085414726674, 0.25, 0.0], z = [0.0, 0.0, 1.0] }
+
+[bodies.slider]
+markers.C = { at = [4.357085414726674, 0.25, 0.0], z = [0.0, 0.0, 1.0] }
+markers.T = { at = [4.357085414726674, 0.25, 0.0], z = [1.0, 0.0, 0.0] }
+
+[joints.O]
+kind = "revolute"
+markers = ["ground.O", "crank.O"]
+[joints.B]
+kind = "revolute"
+markers = ["crank.B", "rod.B"]
+[joints.C]
+kind = "revolute"
+markers = ["rod.C", "slider.C"]
+[joints.S]
+kind = "prismatic"
+markers = ["ground.T", "slider.T"]
+
+[inputs.theta]
+kind = "angle"
+joint = "O"
+"#;
+
+#[test]
+fn a_spatial_slider_s_mechanical_advantage_is_the_slider_crank_s_closed_form() {
+    // Per unit crank torque the slider holds 1 / |dx/dphi| along its track,
+    // x = r cos(phi) + sqrt(l^2 - (r sin(phi) - e)^2): the prismatic joint's
+    // slide against the ground's material point under it, and with the
+    // joint's markers swapped (the slider carrying the track, the ground
+    // sliding on it) the same number: the slider's material point under
+    // the ground's marker moves with the slider.
+    let swapped = SPATIAL_SLIDER_CRANK.replace(r#"["ground.T", "slider.T"]"#, r#"["slider.T", "ground.T"]"#);
+    assert_ne!(swapped, SPATIAL_SLIDER_CRANK);
+    for text in [SPATIAL_SLIDER_CRANK, &swapped] {
+        slider_advantage(text);
+    }
+}
+
+fn slider_advantage(text: &str) {
+    let Ok(Model::Spatial(m)) = dofplan::load_any_str("sc.toml", text, Format::Toml) else {
+        panic!("loads");
+    };
+    let interp = Interpreter::new(plan_spatial(&m));
+    let mut d = Driver::new(interp.clone(), Options::default());
+    let slide = m.joints.iter().position(|j| j.name == "S").unwrap();
+    let (r, l, e) = (1.0f64, 3.5f64, 0.25f64);
+    for k in 0..24 {
+        let theta = 15.0 * k as f64 + 2.0;
+        assert!(d.frame(&[theta]).is_solved());
+        assert!(residual(&m, d.poses(), d.inputs()) < 1e-10);
+        let a = advantage(&m, &interp, d.state(), d.inputs()).unwrap().unwrap();
+        let phi = (30.0 + theta).to_radians();
+        let root = (l * l - (r * phi.sin() - e).powi(2)).sqrt();
+        let dx = -r * phi.sin() - (r * phi.sin() - e) * r * phi.cos() / root;
+        let got = a.joints[slide].unwrap();
+        assert!(
+            (got - 1.0 / dx.abs()).abs() < 1e-9 / dx.abs(),
+            "S at {theta}: {got} against {}",
+            1.0 / dx.abs()
+        );
+    }
+}
+
+#[test]
+fn speeding_up_the_cardan_drive_adds_its_generalised_mass_times_the_acceleration() {
+    // Q(w, a) - Q(w, 0) = M(theta) a, M = sum m |dc/dtheta|^2 + w^T I w
+    // per unit input rate, w the axial vector of dR/dtheta R^T (body axes
+    // for the tensor), every derivative a central difference of solved
+    // poses; gravity and the resisting torque depend on the pose alone.
+    let m = load("cardan_torque");
+    let interp = Interpreter::new(plan_spatial(&m));
+    let (mut d, mut near) = (
+        Driver::new(interp.clone(), Options::default()),
+        Driver::new(interp.clone(), Options::default()),
+    );
+    let (w, a) = (3.0f64, 40.0f64);
+    let rates = [w.to_degrees()];
+    let accelerations = [a.to_degrees()];
+    let h = 1e-4f64;
+    let per_radian = 2.0 * h.to_radians();
+    for k in 0..24 {
+        let theta = 15.0 * k as f64 + 4.0;
+        let mut poses = |t: f64| {
+            assert!(near.frame(&[t]).is_solved());
+            near.poses().to_vec()
+        };
+        let (ahead, behind) = (poses(theta + h), poses(theta - h));
+        let mut mass_of = 0.0;
+        for (b, mass) in m.loads.masses.iter().enumerate() {
+            let Some(mass) = mass else { continue };
+            let v = scale(
+                sub(ahead[b].world(mass.centre), behind[b].world(mass.centre)),
+                1.0 / per_radian,
+            );
+            // dR R^T (world), then into the body's drawn axes: R^T w.
+            let (ra, rb) = (&ahead[b].rot.m, &behind[b].rot.m);
+            let dr = |i: usize, k: usize| (ra[i][k] - rb[i][k]) / per_radian;
+            let r = |i: usize, k: usize| 0.5 * (ra[i][k] + rb[i][k]);
+            let s = |i: usize, j: usize| (0..3).map(|k| dr(i, k) * r(j, k)).sum::<f64>();
+            let world_w = [s(2, 1), s(0, 2), s(1, 0)];
+            let local: Vec3 = std::array::from_fn(|k| (0..3).map(|i| r(i, k) * world_w[i]).sum());
+            mass_of +=
+                mass.mass * dot(v, v) + dot(local, std::array::from_fn(|i| dot(mass.inertia[i], local)));
+        }
+        let mut q = |acc: &[f64]| {
+            assert!(d.frame(&[theta]).is_solved());
+            let moving = Moving {
+                rates: &rates,
+                accelerations: acc,
+            };
+            input_forces(&m, &interp, d.state(), d.inputs(), Some(moving)).unwrap()[0]
+        };
+        let (steady, speeding) = (q(&[0.0]), q(&accelerations));
+        let want = mass_of * a;
+        assert!(
+            (speeding - steady - want).abs() < 1e-6 * want.abs(),
+            "theta {theta}: {} against {want}",
+            speeding - steady
+        );
+    }
 }

@@ -25,6 +25,71 @@ use nalgebra::{DMatrix, DVector};
 use crate::interp::RateError;
 use crate::model::{Input, InputKind};
 
+/// The unit rate of an input: a radian per second (in degrees) for an
+/// angle, so that the derivatives are per radian; a length unit for a
+/// slide.
+fn unit_rate(input: &Input) -> f64 {
+    match input.kind {
+        InputKind::Angle => 1f64.to_degrees(),
+        InputKind::Slide => 1.0,
+    }
+}
+
+/// The mechanical advantage at a frame of a mechanism with one input:
+/// what an ideal (frictionless, massless) mechanism gives out per unit of
+/// what the input puts in, from the plan's exact rates.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Advantage {
+    /// Per joint (`None` for the driven joint, where the joint does not
+    /// move with the input, or a spatial joint with more than one relative
+    /// freedom): the torque (a turn) or force (a slide) it can hold per
+    /// unit input torque or force, `|dq / dφ|` with `φ` the joint's
+    /// relative turn or slide.
+    pub joints: Vec<Option<f64>>,
+    /// Per marker (`None` where it does not move with the input): the
+    /// force it can exert along its path per unit input torque or force,
+    /// `1 / |dP / dq|`.
+    pub markers: Vec<Option<f64>>,
+}
+
+/// [`Advantage`] in either dimension, for a mechanism with exactly one
+/// input (`None` otherwise): `rates(r)` runs the plan's rates at input
+/// rate `r`; `joint_rate(v, j)` is joint `j`'s relative turn or slide rate
+/// at the motion `v` with the scale below which it is round-off (`None`
+/// for a joint without one); `marker_speeds(v)` every marker's speed.
+/// `size` is the mechanism's, the scale of a length's rate.
+pub(crate) fn mechanical_advantage<P>(
+    inputs: &[Input],
+    size: f64,
+    rates: impl Fn(&[f64]) -> Result<Vec<P>, RateError>,
+    joint_rates: impl Fn(&[P]) -> Vec<Option<(f64, f64)>>,
+    marker_speeds: impl Fn(&[P]) -> Vec<f64>,
+) -> Option<Result<Advantage, RateError>> {
+    let [input] = inputs else {
+        return None;
+    };
+    let v = match rates(&[unit_rate(input)]) {
+        Ok(v) => v,
+        Err(e) => return Some(Err(e)),
+    };
+    // A rate below round-off is no motion: relative to the mechanism's
+    // size for a length, absolute for a turn (radians per radian).
+    let inverse = |rate: f64, scale: f64| (rate.abs() > 1e-12 * scale).then(|| 1.0 / rate.abs());
+    let joints = (joint_rates(&v).into_iter().enumerate())
+        .map(|(j, rate)| {
+            let (rate, scale) = rate?;
+            if input.joint == j {
+                return None;
+            }
+            inverse(rate, scale)
+        })
+        .collect();
+    let markers = (marker_speeds(&v).into_iter())
+        .map(|speed| inverse(speed, size))
+        .collect();
+    Some(Ok(Advantage { joints, markers }))
+}
+
 /// Each input's generalised force by virtual work, in either dimension:
 /// `rates(r)` runs the plan's rates at input rates `r` (the frame's own
 /// motion when `actual` is given), `power(v, a)` is the power the loads
@@ -43,13 +108,8 @@ pub(crate) fn by_virtual_work<P>(
     };
     (0..inputs.len())
         .map(|i| {
-            // A unit of the input per second: a radian (in degrees) for an
-            // angle, so that the derivatives are per radian.
             let mut unit = zero.clone();
-            unit[i] = match inputs[i].kind {
-                InputKind::Angle => 1f64.to_degrees(),
-                InputKind::Slide => 1.0,
-            };
+            unit[i] = unit_rate(&inputs[i]);
             let virtual_ = rates(&unit, &zero)?;
             Ok(-power(&virtual_, actual.as_deref()))
         })

@@ -409,21 +409,7 @@ fn towards(p: [f64; 2], q: [f64; 2]) -> (f64, [f64; 2]) {
     (len, [d[0] / len, d[1] / len])
 }
 
-/// The mechanical advantage at a frame of a mechanism with one input:
-/// what an ideal (frictionless, massless) mechanism gives out per unit of
-/// what the input puts in, from the plan's exact rates.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Advantage {
-    /// Per joint (`None` for the driven joint, or where the joint does not
-    /// move with the input): the torque (revolute) or force (prismatic) it
-    /// can hold per unit input torque or force, `|dq / dφ|` with `φ` the
-    /// joint's relative turn or slide.
-    pub joints: Vec<Option<f64>>,
-    /// Per marker (`None` where it does not move with the input): the
-    /// force it can exert along its path per unit input torque or force,
-    /// `1 / |dP / dq|`.
-    pub markers: Vec<Option<f64>>,
-}
+pub use super::Advantage;
 
 /// [`Advantage`] at the frame `state` was solved to; `None` for a
 /// mechanism with more or fewer than one input.
@@ -433,53 +419,44 @@ pub fn advantage(
     state: &InterpState,
     inputs: &[f64],
 ) -> Option<Result<Advantage, RateError>> {
-    if m.inputs.len() != 1 {
-        return None;
-    }
-    let unit = match m.inputs[0].kind {
-        InputKind::Angle => 1f64.to_degrees(),
-        InputKind::Slide => 1.0,
-    };
-    let v = match interp.rates(state, inputs, &[unit], &[0.0]) {
-        Ok(v) => v,
-        Err(e) => return Some(Err(e)),
-    };
-    // A rate below round-off is no motion: relative to the mechanism's
-    // size for a length, absolute for a turn (radians per radian).
     let size = m.size();
-    let inverse = |rate: f64, scale: f64| (rate.abs() > 1e-12 * scale).then(|| 1.0 / rate.abs());
-    let joints = (m.joints.iter().enumerate())
-        .map(|(j, joint)| {
-            if m.inputs[0].joint == j {
-                return None;
-            }
-            let [first, second] = joint.markers;
-            let (rate, scale) = match joint.kind {
-                crate::model::JointKind::Revolute => (omega(&v[second.body]) - omega(&v[first.body]), 1.0),
-                crate::model::JointKind::Prismatic => {
-                    // The slider's marker against the rail's material point
-                    // under it (fixed in the rail's body), along the rail.
-                    let p = v[second.body].world(m.marker(second).at);
-                    let (a, r) = (&v[first.body], &v[first.body].rot);
-                    let off = [p[0].v - a.at[0].v, p[1].v - a.at[1].v];
-                    let under_local = [r.c.v * off[0] + r.s.v * off[1], -r.s.v * off[0] + r.c.v * off[1]];
-                    let under = a.world(under_local);
-                    let d = m.marker(first).unit_dir().unwrap_or([1.0, 0.0]);
-                    let dir = [r.c.v * d[0] - r.s.v * d[1], r.s.v * d[0] + r.c.v * d[1]];
-                    (
-                        dir[0] * (p[0].d - under[0].d) + dir[1] * (p[1].d - under[1].d),
-                        size,
-                    )
-                }
-            };
-            inverse(rate, scale)
-        })
-        .collect();
-    let markers = (m.all_markers())
-        .map(|id| {
-            let p = v[id.body].world(m.marker(id).at);
-            inverse(p[0].d.hypot(p[1].d), size)
-        })
-        .collect();
-    Some(Ok(Advantage { joints, markers }))
+    super::mechanical_advantage(
+        &m.inputs,
+        size,
+        |unit| interp.rates(state, inputs, unit, &[0.0]),
+        |v| (0..m.joints.len()).map(|j| Some(joint_rate(m, v, j))).collect(),
+        |v| {
+            (m.all_markers())
+                .map(|id| {
+                    let p = v[id.body].world(m.marker(id).at);
+                    p[0].d.hypot(p[1].d)
+                })
+                .collect()
+        },
+    )
+}
+
+/// Joint `j`'s relative turn or slide rate at the motion `v`, with the
+/// scale of its round-off (1 for a turn, the mechanism's size for a slide).
+fn joint_rate(m: &Mechanism, v: &[Pose<Jet2>], j: usize) -> (f64, f64) {
+    let joint = &m.joints[j];
+    let [first, second] = joint.markers;
+    match joint.kind {
+        crate::model::JointKind::Revolute => (omega(&v[second.body]) - omega(&v[first.body]), 1.0),
+        crate::model::JointKind::Prismatic => {
+            // The slider's marker against the rail's material point under
+            // it (fixed in the rail's body), along the rail.
+            let p = v[second.body].world(m.marker(second).at);
+            let (a, r) = (&v[first.body], &v[first.body].rot);
+            let off = [p[0].v - a.at[0].v, p[1].v - a.at[1].v];
+            let under_local = [r.c.v * off[0] + r.s.v * off[1], -r.s.v * off[0] + r.c.v * off[1]];
+            let under = a.world(under_local);
+            let d = m.marker(first).unit_dir().unwrap_or([1.0, 0.0]);
+            let dir = [r.c.v * d[0] - r.s.v * d[1], r.s.v * d[0] + r.c.v * d[1]];
+            (
+                dir[0] * (p[0].d - under[0].d) + dir[1] * (p[1].d - under[1].d),
+                m.size(),
+            )
+        }
+    }
 }

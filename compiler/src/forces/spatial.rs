@@ -16,6 +16,7 @@ use crate::model::spatial::{JointKind, Mechanism};
 use crate::model::{InputKind, MarkerId};
 
 pub use super::planar::Moving;
+pub use super::Advantage;
 
 /// The force (slide) or torque (angle, per radian) each input must supply
 /// at the frame `state` was solved to, for the mechanism to hold there
@@ -35,6 +36,55 @@ pub fn input_forces(
         |r, a| interp.rates(state, inputs, r, a),
         |v, actual| power(m, v, actual),
     )
+}
+
+/// [`Advantage`] at the frame `state` was solved to; `None` for a
+/// mechanism with more or fewer than one input. A joint's is about its
+/// one freedom: a revolute or helical joint's turn about its axis, a
+/// prismatic joint's slide along it; a joint with more than one relative
+/// freedom (cylindrical, universal, spherical, planar) or none (fixed)
+/// has none.
+pub fn advantage(
+    m: &Mechanism,
+    interp: &Interpreter,
+    state: &InterpState,
+    inputs: &[f64],
+) -> Option<Result<Advantage, RateError>> {
+    super::mechanical_advantage(
+        &m.inputs,
+        m.size(),
+        |unit| interp.rates(state, inputs, unit, &[0.0]),
+        |v| (0..m.joints.len()).map(|j| joint_rate(m, v, j)).collect(),
+        |v| {
+            (m.all_markers())
+                .map(|id| norm(rate(v[id.body].world(m.marker(id).at))))
+                .collect()
+        },
+    )
+}
+
+/// Joint `j`'s relative turn or slide rate at the motion `v` along its
+/// axis, with the scale of its round-off (1 for a turn, the mechanism's
+/// size for a slide); `None` for a joint without exactly one freedom.
+fn joint_rate(m: &Mechanism, v: &[Pose3<Jet2>], j: usize) -> Option<(f64, f64)> {
+    let joint = &m.joints[j];
+    let [first, second] = joint.markers.map(|id| id.body);
+    let values: Vec<Pose3> = v.iter().map(Pose3::value).collect();
+    let z = joint_axes(m, j, &values)[2];
+    match joint.kind {
+        JointKind::Revolute | JointKind::Helical => {
+            Some((dot(sub(omega(&v[second]), omega(&v[first])), z), 1.0))
+        }
+        JointKind::Prismatic => {
+            // The second marker against the first body's material point
+            // under it, along the axis.
+            let own = v[second].world(m.marker(joint.markers[1]).at);
+            let arm = sub(own.map(|c| c.v), values[first].pos);
+            let under = add(rate(v[first].pos), cross(omega(&v[first]), arm));
+            Some((dot(sub(rate(own), under), z), m.size()))
+        }
+        _ => None,
+    }
 }
 
 /// The power every load delivers (and with `actual` motion, the bodies'

@@ -12,13 +12,13 @@ use std::io::Write;
 use dofplan_runtime::FrameStatus;
 use serde_json::{json, Map, Value};
 
-use crate::forces::planar::Advantage;
+use crate::forces::Advantage;
 use crate::format::number;
 use crate::interp::RateError;
 use crate::model::{Input, InputKind, Sweep};
 use crate::plan::num;
 use crate::report::{at_input, Form, Outcome};
-use crate::simulate::sweep_requests;
+use crate::simulate::{input_rates, sweep_requests};
 
 /// What the report names, from the mechanism of either dimension.
 pub(crate) struct Names<'a> {
@@ -66,8 +66,7 @@ pub(crate) struct Carry {
 pub(crate) struct Carried {
     /// Each input's force or torque (virtual work).
     pub inputs: Vec<f64>,
-    /// The mechanical advantage (planar, one input only; `None` at a dead
-    /// point).
+    /// The mechanical advantage (one input only; `None` at a dead point).
     pub advantage: Option<Advantage>,
     /// The joints' reactions (`None`: a file with primitive constraints).
     pub reactions: Option<Carry>,
@@ -182,6 +181,41 @@ impl Gathered {
     }
 }
 
+/// How a mechanism runs for kinetostatics: its first swept input's rate
+/// and acceleration (radians per second and per second squared for an
+/// angle, length units for a slide), the sweep's other inputs in
+/// proportion, as `analyze --rate` moves them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Running {
+    /// The first swept input's rate.
+    pub rate: f64,
+    /// Its acceleration.
+    pub acceleration: f64,
+}
+
+impl Running {
+    /// Each input's rate and acceleration in the plan's units (degrees
+    /// for an angle).
+    pub(crate) fn of(self, inputs: &[Input], sweep: &Sweep) -> (Vec<f64>, Vec<f64>) {
+        (
+            input_rates(inputs, sweep, self.rate),
+            input_rates(inputs, sweep, self.acceleration),
+        )
+    }
+
+    /// "theta at 10 rad/s" (", accelerating at 2 rad/s²" when it does).
+    fn text(self, input: &Input) -> String {
+        let mut text = format!("{} at {}", input.name, rate_text(input.kind, self.rate, ""));
+        if self.acceleration != 0.0 {
+            text += &format!(
+                ", accelerating at {}",
+                rate_text(input.kind, self.acceleration, "²")
+            );
+        }
+        text
+    }
+}
+
 /// Where the plots go: the SVG file and the joint whose reaction the
 /// polar plot draws (`None`: the most loaded).
 #[derive(Clone, Copy, Debug)]
@@ -193,14 +227,14 @@ pub struct Plots<'a> {
 }
 
 /// Runs the sweep, `frame` solving each requested frame (with its JSON
-/// when `Form::Json` asks): statics when `rate` is None, kinetostatics at
-/// the first swept input's `rate` otherwise (the caller's `frame` knows
-/// which); with `plots`, plots written there.
+/// when `Form::Json` asks): statics when `running` is None, kinetostatics
+/// as it says otherwise (the caller's `frame` knows which); with `plots`,
+/// plots written there.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn run(
     names: &Names,
     sweep: &Sweep,
-    rate: Option<f64>,
+    running: Option<Running>,
     form: Form,
     plots: Option<Plots>,
     out: &mut dyn Write,
@@ -226,13 +260,27 @@ pub(crate) fn run(
     };
     let svg = plots.map(|p| p.svg);
     match form {
-        Form::Json => writeln!(
-            out,
-            "{{\n  \"mechanism\": {},\n  \"dimension\": {},\n  \"forces\": {},\n  \"frames\": [",
-            json!(names.name),
-            names.dimension,
-            json!(if rate.is_some() { "kinetostatic" } else { "static" })
-        )?,
+        Form::Json => {
+            let how = match running {
+                None => String::new(),
+                Some(r) => format!(
+                    "\n  \"rate\": {},\n  \"acceleration\": {},",
+                    json!(r.rate),
+                    json!(r.acceleration)
+                ),
+            };
+            writeln!(
+                out,
+                "{{\n  \"mechanism\": {},\n  \"dimension\": {},\n  \"forces\": {},{how}\n  \"frames\": [",
+                json!(names.name),
+                names.dimension,
+                json!(if running.is_some() {
+                    "kinetostatic"
+                } else {
+                    "static"
+                })
+            )?
+        }
         Form::Csv => writeln!(out, "{}", csv_head(names).join(","))?,
         Form::Text => {}
     }
@@ -289,13 +337,13 @@ pub(crate) fn run(
     match form {
         Form::Json => writeln!(out, "  ]\n}}")?,
         Form::Csv => {}
-        Form::Text => summary(names, sweep, rate, &gathered, out)?,
+        Form::Text => summary(names, sweep, running, &gathered, out)?,
     }
     match svg {
         Some(path) => {
             let swept = &names.inputs[primary];
             let polar = polar.or(gathered.joint.map(|(j, _, _)| j));
-            draw(names, swept, rate, &gathered, (path, polar), form, out)
+            draw(names, swept, running, &gathered, (path, polar), form, out)
         }
         None => Ok(Ok(())),
     }
@@ -308,7 +356,7 @@ pub(crate) fn run(
 fn draw(
     names: &Names,
     swept: &Input,
-    rate: Option<f64>,
+    running: Option<Running>,
     g: &Gathered,
     (path, polar): (&std::path::Path, Option<usize>),
     form: Form,
@@ -318,9 +366,9 @@ fn draw(
         InputKind::Angle => format!("{} (degrees)", swept.name),
         InputKind::Slide => format!("{} (length)", swept.name),
     };
-    let how = match rate {
+    let how = match running {
         None => "held still".to_string(),
-        Some(r) => format!("{} at {}", swept.name, rate_text(swept.kind, r)),
+        Some(r) => r.text(swept),
     };
     let inputs: Vec<crate::render::plots::Series> = (names.inputs.iter().zip(&g.input_series))
         .map(|(i, s)| (i.name.as_str(), s.clone()))
@@ -362,7 +410,7 @@ fn draw(
 fn draw(
     _: &Names,
     _: &Input,
-    _: Option<f64>,
+    _: Option<Running>,
     _: &Gathered,
     (path, _): (&std::path::Path, Option<usize>),
     _: Form,
@@ -386,8 +434,7 @@ fn moment_json(v: &[f64]) -> Value {
 /// force or torque), `"reactions"` (joint -> the force its first body
 /// exerts on its second), `"reaction_moments"` (the joints that carry a
 /// moment), `"shaking"` (the force and moment the mechanism exerts on the
-/// ground), `"mechanical_advantage"` (planar, one input: per joint and
-/// marker) and `"indeterminate"` (joints whose reactions are not unique
+/// ground), `"mechanical_advantage"` (one input: per joint and marker) and `"indeterminate"` (joints whose reactions are not unique
 /// there); null where the frame has none.
 fn add_json(o: &mut Value, names: &Names, carried: Option<&Carried>) {
     let Some(c) = carried else {
@@ -503,18 +550,14 @@ fn csv_values(names: &Names, carried: Option<&Carried>) -> Vec<String> {
 fn summary(
     names: &Names,
     sweep: &Sweep,
-    rate: Option<f64>,
+    running: Option<Running>,
     g: &Gathered,
     out: &mut dyn Write,
 ) -> std::io::Result<()> {
     let primary = &names.inputs[sweep.primary().input];
-    let how = match rate {
+    let how = match running {
         None => "held still at each pose (statics)".to_string(),
-        Some(r) => format!(
-            "running with {} at {} (kinetostatics)",
-            primary.name,
-            rate_text(primary.kind, r)
-        ),
+        Some(r) => format!("running with {} (kinetostatics)", r.text(primary)),
     };
     writeln!(out, "{}: {} frames, {how}", names.name, sweep.steps)?;
     // An input whose force is round-off at every frame next to the others
@@ -597,10 +640,11 @@ fn summary(
 }
 
 /// "2 rad/s", "0.5 length/s".
-fn rate_text(kind: InputKind, r: f64) -> String {
+/// A rate (`power` "") or an acceleration ("²") with its unit.
+fn rate_text(kind: InputKind, r: f64, power: &str) -> String {
     match kind {
-        InputKind::Angle => format!("{} rad/s", num(r)),
-        InputKind::Slide => format!("{} length/s", num(r)),
+        InputKind::Angle => format!("{} rad/s{power}", num(r)),
+        InputKind::Slide => format!("{} length/s{power}", num(r)),
     }
 }
 

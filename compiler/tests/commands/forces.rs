@@ -525,3 +525,47 @@ fn check_says_which_loads_it_read() {
     let o = dofplan(&["check", &mechanism("fourbar")]);
     assert!(!text(&o.stdout).contains("loads:"), "{}", text(&o.stdout));
 }
+
+#[test]
+fn an_acceleration_is_given_with_a_rate_and_said_in_the_report() {
+    let file = mechanism("loads/fourbar_weights");
+    let run = |extra: &[&str]| {
+        let mut args = vec!["analyze", &file, "--forces", "--steps", "5"];
+        args.extend_from_slice(extra);
+        dofplan(&args)
+    };
+    let o = run(&["--rate", "2", "--acceleration", "-3"]);
+    assert!(o.status.success(), "{}", text(&o.stderr));
+    assert_eq!(
+        text(&o.stdout).lines().next(),
+        Some("fourbar_weights: 5 frames, running with theta at 2 rad/s, accelerating at -3 rad/s² (kinetostatics)")
+    );
+    let json = |extra: &[&str]| -> Value {
+        let mut args = extra.to_vec();
+        args.push("--json");
+        let o = run(&args);
+        assert!(o.status.success(), "{}", text(&o.stderr));
+        serde_json::from_slice(&o.stdout).unwrap()
+    };
+    let braking = json(&["--rate", "2", "--acceleration", "-3"]);
+    assert_eq!(
+        (braking["rate"].as_f64(), braking["acceleration"].as_f64()),
+        (Some(2.0), Some(-3.0))
+    );
+    // Slowing down, the crank needs less torque than steady at the same
+    // speed wherever the bodies' inertia resists the crank turning (a
+    // positive generalised mass): never more.
+    let steady = json(&["--rate", "2"]);
+    assert_eq!(steady["acceleration"].as_f64(), Some(0.0));
+    let torque = |doc: &Value, k: usize| doc["frames"][k]["input_force"]["theta"].as_f64().unwrap();
+    for k in 0..5 {
+        assert!(torque(&braking, k) < torque(&steady, k), "frame {k}");
+    }
+    // Held still there is neither.
+    let held = json(&[]);
+    assert!(held.get("rate").is_none() && held.get("acceleration").is_none());
+    // An acceleration alone is refused, naming what it needs.
+    let o = run(&["--acceleration", "5"]);
+    assert!(!o.status.success());
+    assert!(text(&o.stderr).contains("--rate <RATE>"), "{}", text(&o.stderr));
+}

@@ -19,7 +19,7 @@ use dofplan::model::Model;
 
 use dofplan::model::{Mechanism, Sweep, MAX_STEPS};
 use dofplan::plan::Plan;
-use dofplan::report::forces::Plots;
+use dofplan::report::forces::{Plots, Running};
 use dofplan::report::planar::analyze;
 use dofplan::report::planar::check::Check;
 use dofplan::report::planar::frames::{self, Solver};
@@ -188,6 +188,12 @@ enum Command {
         /// and the dampers count); without it, --forces is statics.
         #[arg(long, allow_hyphen_values = true, value_parser = parse_finite)]
         rate: Option<f64>,
+        /// With --forces --rate: the first swept input's acceleration,
+        /// constant (radians per second squared for an angle, length units
+        /// for a slide; the others in proportion): the inertia of the
+        /// speeding up or slowing down counts [default: 0].
+        #[arg(long, value_name = "A", requires_all = ["forces", "rate"], allow_hyphen_values = true, value_parser = parse_finite)]
+        acceleration: Option<f64>,
         /// One JSON document: simulate's frames plus "velocity" and
         /// "acceleration" (by "body.marker", like "markers"), "angular"
         /// (each body's "omega" and "alpha", radians per second and per
@@ -696,6 +702,7 @@ fn analyze_planar(command: Command, out: &mut dyn Write) -> io::Result<ExitCode>
         seed,
         forces,
         polar,
+        acceleration,
     } = command
     else {
         unreachable!("analyze_planar is given an Analyze")
@@ -711,7 +718,13 @@ fn analyze_planar(command: Command, out: &mut dyn Write) -> io::Result<ExitCode>
                 polar: polar.as_deref(),
             });
             return outcome(dofplan::report::planar::forces::run(
-                m, plan, &sweep, rate, form, plots, out,
+                m,
+                plan,
+                &sweep,
+                running(rate, acceleration),
+                form,
+                plots,
+                out,
             ));
         }
         let rate = rate.unwrap_or(1.0);
@@ -737,6 +750,15 @@ fn analyze_planar(command: Command, out: &mut dyn Write) -> io::Result<ExitCode>
     })
 }
 
+/// `--forces`' motion: none without `--rate` (statics); `--acceleration`
+/// needs `--rate` (clap says so).
+fn running(rate: Option<f64>, acceleration: Option<f64>) -> Option<Running> {
+    rate.map(|rate| Running {
+        rate,
+        acceleration: acceleration.unwrap_or(0.0),
+    })
+}
+
 /// `dofplan analyze` on a spatial file.
 fn analyze_spatial(
     m: &dofplan::model::spatial::Mechanism,
@@ -751,6 +773,7 @@ fn analyze_spatial(
         svg,
         forces,
         polar,
+        acceleration,
         ..
     } = command
     else {
@@ -769,7 +792,13 @@ fn analyze_spatial(
             polar: polar.as_deref(),
         });
         return outcome(dofplan::report::spatial::forces::run(
-            m, &plan, &sweep, rate, form, plots, out,
+            m,
+            &plan,
+            &sweep,
+            running(rate, acceleration),
+            form,
+            plots,
+            out,
         ));
     }
     let rate = rate.unwrap_or(1.0);

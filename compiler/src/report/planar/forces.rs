@@ -12,21 +12,20 @@ use crate::forces::planar::{advantage, force_plan, input_forces, reactions, Movi
 use crate::interp::Interpreter;
 use crate::model::{JointKind, Mechanism, Sweep};
 use crate::plan::Plan;
-use crate::report::forces::{no_loads, Carried, Carry, Names, Plots, Solved};
+use crate::report::forces::{no_loads, Carried, Carry, Names, Plots, Running, Solved};
 use crate::report::{Form, Outcome};
-use crate::simulate::{sweep_rates, Frame};
+use crate::simulate::Frame;
 
 /// Runs the sweep with each frame's input forces and joint reactions:
-/// statics when `rate` is None (the mechanism held at each pose: no
-/// inertia, dampers idle), kinetostatics at the first swept input's `rate`
-/// (radians or length per second, the others in proportion, no
-/// acceleration) when given; with `plots`, plots written there.
+/// statics when `running` is None (the mechanism held at each pose: no
+/// inertia, dampers idle), kinetostatics at its rate and acceleration
+/// when given; with `plots`, plots written there.
 #[allow(clippy::too_many_arguments)]
 pub fn run(
     m: &Mechanism,
     plan: &Plan,
     sweep: &Sweep,
-    rate: Option<f64>,
+    running: Option<Running>,
     form: Form,
     plots: Option<Plots>,
     out: &mut dyn Write,
@@ -39,12 +38,10 @@ pub fn run(
     let forces_plan = force_plan(m);
     let mut driver = Driver::new(interp.clone(), Options::default());
     let report = sweep_report(m, plan, sweep, Solver::Plan);
-    let rates = rate.map(|r| sweep_rates(m, sweep, r));
-    let zero = vec![0.0; m.inputs.len()];
-    let moving = rates.as_ref().map(|r| Moving {
-        rates: r,
-        accelerations: &zero,
-    });
+    let motion = running.map(|r| r.of(&m.inputs, sweep));
+    let moving = motion
+        .as_ref()
+        .map(|(rates, accelerations)| Moving { rates, accelerations });
     let names = Names {
         name: &m.name,
         inputs: &m.inputs,
@@ -58,7 +55,7 @@ pub fn run(
         constrained: !m.constraints.is_empty(),
         polar_axes: ("fx", "fy"),
     };
-    crate::report::forces::run(&names, sweep, rate, form, plots, out, |_, requested, json| {
+    crate::report::forces::run(&names, sweep, running, form, plots, out, |_, requested, json| {
         let status = driver.frame(requested);
         let carried = (status == FrameStatus::Solved).then(|| {
             let q = input_forces(m, &interp, driver.state(), driver.inputs(), moving)?;

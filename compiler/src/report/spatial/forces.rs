@@ -8,26 +8,25 @@ use std::io::Write;
 use dofplan_runtime::{Driver, FrameStatus, Options};
 
 use super::frames::frame_value;
-use crate::forces::spatial::{force_plan, input_forces, joint_axes, reactions, Moving, Reactions};
+use crate::forces::spatial::{advantage, force_plan, input_forces, joint_axes, reactions, Moving, Reactions};
 use crate::interp::spatial::Interpreter;
 use crate::model::spatial::{JointKind, Mechanism};
 use crate::model::Sweep;
 use crate::plan::spatial::Plan;
-use crate::report::forces::{no_loads, Carried, Carry, Names, Plots, Solved};
+use crate::report::forces::{no_loads, Carried, Carry, Names, Plots, Running, Solved};
 use crate::report::{Form, Outcome};
-use crate::simulate::input_rates;
 use crate::simulate::spatial::{marker_positions, residual};
 use dofplan_runtime::spatial::{dot, Pose3};
 
 /// Runs the sweep with each frame's input forces and joint reactions:
-/// statics when `rate` is None, kinetostatics at the first swept input's
-/// `rate` when given; with `plots`, plots written there.
+/// statics when `running` is None, kinetostatics at its rate and
+/// acceleration when given; with `plots`, plots written there.
 #[allow(clippy::too_many_arguments)]
 pub fn run(
     m: &Mechanism,
     plan: &Plan,
     sweep: &Sweep,
-    rate: Option<f64>,
+    running: Option<Running>,
     form: Form,
     plots: Option<Plots>,
     out: &mut dyn Write,
@@ -39,12 +38,10 @@ pub fn run(
     // Made once: which equations fix which reaction unknowns.
     let forces_plan = force_plan(m);
     let mut driver = Driver::new(interp.clone(), Options::default());
-    let rates = rate.map(|r| input_rates(&m.inputs, sweep, r));
-    let zero = vec![0.0; m.inputs.len()];
-    let moving = rates.as_ref().map(|r| Moving {
-        rates: r,
-        accelerations: &zero,
-    });
+    let motion = running.map(|r| r.of(&m.inputs, sweep));
+    let moving = motion
+        .as_ref()
+        .map(|(rates, accelerations)| Moving { rates, accelerations });
     let markers: Vec<String> = m.all_markers().map(|id| m.marker_name(id)).collect();
     let input_names: Vec<String> = m.inputs.iter().map(|i| i.name.clone()).collect();
     let names = Names {
@@ -60,7 +57,7 @@ pub fn run(
         constrained: !m.constraints.is_empty(),
         polar_axes: ("along the joint's x", "along its y"),
     };
-    crate::report::forces::run(&names, sweep, rate, form, plots, out, |i, requested, json| {
+    crate::report::forces::run(&names, sweep, running, form, plots, out, |i, requested, json| {
         let status = driver.frame(requested);
         let carried = (status == FrameStatus::Solved).then(|| {
             let q = input_forces(m, &interp, driver.state(), driver.inputs(), moving)?;
@@ -72,7 +69,7 @@ pub fn run(
             };
             Ok(Carried {
                 inputs: q,
-                advantage: None,
+                advantage: advantage(m, &interp, driver.state(), driver.inputs()).and_then(Result::ok),
                 reactions: forces_plan
                     .as_ref()
                     .and_then(|plan| reactions(m, plan, driver.poses(), actual.as_deref()))
