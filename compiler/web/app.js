@@ -121,6 +121,7 @@ function el(name, attributes = {}, parent = null) {
 
 function setDocument(d) {
   doc = d;
+  forceScale = 0;
   // The last pose is of the document before: nothing is drawn until the
   // frame of this one, which the server sends next.
   pose = null;
@@ -367,6 +368,72 @@ function drawGrid() {
   for (let k = Math.ceil(x0 / step); k <= Math.floor(x1 / step); k++) line(k, true);
   for (let k = Math.ceil(y0 / step); k <= Math.floor(y1 / step); k++) line(k, false);
   g.dataset.step = String(step);
+}
+
+// ---- forces -------------------------------------------------------------
+// A file with loads sends with each frame what holds its pose still: each
+// joint's reaction (the force its first body exerts on its second) and
+// each input's force or torque. Shown on request, as arrows at the
+// joints' second markers, one scale for a document (the largest force
+// seen so far is a fifth of the mechanism's size), so that an arrow
+// growing over a sweep is a force growing.
+let forcesOn = false;
+let forceScale = 0;
+
+function setForces(on) {
+  forcesOn = on;
+  $("forces-toggle").setAttribute("aria-pressed", String(on));
+  drawForces();
+}
+$("forces-toggle").addEventListener("click", () => setForces(!forcesOn));
+
+const shortNumber = (v) => (Math.abs(v) >= 1e4 || (Math.abs(v) < 1e-2 && v !== 0) ? v.toExponential(2) : v.toPrecision(4).replace(/\.?0+$/, ""));
+
+function drawForces() {
+  const g = $("forces");
+  g.replaceChildren();
+  const f = pose && pose.forces;
+  $("forces-toggle").hidden = !f || is3d();
+  if (!forcesOn || !f || is3d()) return;
+  for (const r of f.reactions) forceScale = Math.max(forceScale, Math.hypot(r[0], r[1]));
+  if (!(forceScale > 0)) return;
+  const length = (0.2 * (doc.size || 1) * view.s) / forceScale;
+  for (const { joint, b, k } of parts.joints) {
+    const [fx, fy] = f.reactions[k];
+    const size = Math.hypot(fx, fy);
+    const [x, y] = toScreen(pose.markers[b]);
+    const a = el("g", { class: "force", "data-force": joint.name }, g);
+    a.dataset.fx = String(fx);
+    a.dataset.fy = String(fy);
+    if (size * length < 2) continue;
+    const [tx, ty] = [x + fx * length, y - fy * length];
+    el("line", { class: "reaction", x1: x.toFixed(2), y1: y.toFixed(2), x2: tx.toFixed(2), y2: ty.toFixed(2), "marker-end": "url(#force-head)" }, a);
+    const label = el("text", { class: "force-value", x: (tx + 4).toFixed(2), y: (ty - 4).toFixed(2) }, a);
+    label.textContent = `${joint.name} ${shortNumber(size)}`;
+  }
+  doc.inputs.forEach((input, k) => {
+    const part = parts.joints.find((p) => p.joint.name === input.joint);
+    if (!part) return;
+    const q = f.inputs[k];
+    const [x, y] = toScreen(pose.markers[part.b]);
+    const a = el("g", { class: "input-force", "data-input-force": input.name }, g);
+    a.dataset.value = String(q);
+    if (input.kind === "angle") {
+      // A torque: an arc around the pin, its head turning the way the
+      // driver turns the input's second body (counter-clockwise positive).
+      const r = 18;
+      const [from, to] = q >= 0 ? [-0.6, 1.9] : [1.9, -0.6];
+      const p = (t) => [x + r * Math.cos(t), y - r * Math.sin(t)];
+      const [p0, p1] = [p(from), p(to)];
+      el("path", { class: "input-torque", d: `M${p0[0].toFixed(2)},${p0[1].toFixed(2)} A${r},${r} 0 0 ${q >= 0 ? 0 : 1} ${p1[0].toFixed(2)},${p1[1].toFixed(2)}`, "marker-end": "url(#force-head)" }, a);
+    }
+    const label = el("text", { class: "force-value", x: (x - 10).toFixed(2), y: (y + 32).toFixed(2) }, a);
+    label.textContent = `${input.name} ${shortNumber(q)} (${input.kind === "angle" ? "torque" : "force"})`;
+  });
+  if (!f.held) {
+    const note = el("text", { class: "not-held", x: 12, y: 20 }, g);
+    note.textContent = "the inputs cannot hold this pose: least-squares forces";
+  }
 }
 
 function setGrid(on) {
@@ -616,6 +683,7 @@ function draw() {
   }
   drawPreview();
   drawAxes();
+  drawForces();
   if (grabbed) {
     const p = grabbed.world;
     const dot = $("grab-point");
@@ -1513,6 +1581,7 @@ document.addEventListener("keydown", (event) => {
   else if (key === "i") makeInput();
   else if (key === "f") fitView();
   else if (key === "g") setGrid(!gridOn);
+  else if (key === "l" && !$("forces-toggle").hidden) setForces(!forcesOn);
   else if (key === "t") toggleTrace();
   else if (!(doc && doc.editing.editable) && key !== "m") return;
   else if (key === "m") setMode("move");

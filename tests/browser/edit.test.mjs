@@ -822,6 +822,61 @@ async function pendulum(browser) {
   }
 }
 
+async function forces(browser) {
+  console.log("== mechanisms/loads/fourbar_weights.toml (the forces that hold the pose, as arrows)");
+  const { child, page } = await openEditor(browser, "mechanisms/loads/fourbar_weights.toml");
+  try {
+    const doc = await documentOf(page);
+    check(!(await page.locator("#forces-toggle").isHidden()), "a file with loads offers the Forces button");
+    check((await page.locator("#forces [data-force]").count()) === 0, "no arrows until asked");
+    await page.click("#forces-toggle");
+    await settled(page);
+    // At each slider value: the input torque the page shows (from the
+    // bodies' equilibrium) against `dofplan analyze --forces` at that
+    // angle (virtual work with the plan's rates, another path), and each
+    // joint's arrow along the CLI's reaction.
+    for (const theta of [0, 75, 210]) {
+      await page.$eval('input[data-input="theta"]', (e, v) => {
+        e.value = String(v);
+        e.dispatchEvent(new Event("input", { bubbles: true }));
+      }, theta);
+      await settled(page);
+      const cli = JSON.parse(dofplan("analyze", "mechanisms/loads/fourbar_weights.toml", "--forces", "--json", "--from", String(theta), "--to", String(theta), "--steps", "1"));
+      const want = cli.frames[0].input_force.theta;
+      const shown = Number(await page.$eval('[data-input-force="theta"]', (e) => e.dataset.value));
+      check(Math.abs(shown - want) < 1e-9 * Math.max(1, Math.abs(want)), `theta = ${theta}: the input torque shown is the CLI's (${shown.toFixed(6)} against ${want.toFixed(6)})`);
+      for (const j of doc.joints) {
+        const [fx, fy] = cli.frames[0].reactions[j.name];
+        const arrow = page.locator(`#forces [data-force="${j.name}"]`);
+        const got = [Number(await arrow.getAttribute("data-fx")), Number(await arrow.getAttribute("data-fy"))];
+        const off = Math.hypot(got[0] - fx, got[1] - fy);
+        check(off < 1e-9 * Math.max(1, Math.hypot(fx, fy)), `theta = ${theta}: joint ${j.name}'s arrow is its reaction (${got.map((v) => v.toFixed(3))})`);
+        // Drawn from the joint's pin, pointing along the force (screen y
+        // is down).
+        const line = arrow.locator("line");
+        if ((await line.count()) === 1) {
+          const [x1, y1, x2, y2] = await Promise.all(["x1", "y1", "x2", "y2"].map(async (k) => Number(await line.getAttribute(k))));
+          const cos = ((x2 - x1) * fx - (y2 - y1) * fy) / (Math.hypot(x2 - x1, y2 - y1) * Math.hypot(fx, fy));
+          check(cos > 0.9999, `theta = ${theta}: joint ${j.name}'s arrow points along it (cos ${cos.toFixed(6)})`);
+        }
+      }
+      if (theta === 75) await page.screenshot({ path: join(SHOTS, "fourbar_weights-forces.png") });
+    }
+    await page.click("#forces-toggle");
+    await settled(page);
+    check((await page.locator("#forces [data-force]").count()) === 0, "the button hides them again");
+  } finally {
+    child.kill();
+  }
+  // A file without loads has no such button.
+  const plain = await openEditor(browser, "mechanisms/fourbar.toml");
+  try {
+    check(await plain.page.locator("#forces-toggle").isHidden(), "a file without loads has no Forces button");
+  } finally {
+    plain.child.kill();
+  }
+}
+
 async function limits(browser) {
   console.log("== mechanisms/rocker_rocker.toml (breaks past its limits)");
   const { child, page } = await openEditor(browser, "mechanisms/rocker_rocker.toml");
@@ -1276,7 +1331,7 @@ const browser = await chromium.launch({
 });
 const ONLY = process.env.ONLY ? process.env.ONLY.split(",") : null;
 try {
-  for (const scenario of [baseline, fourbar, openChain, pendulum, limits, sliderCrank, empty, construct, files, broken, newFile, aids, numericRefused, spatial, stress]) {
+  for (const scenario of [baseline, fourbar, openChain, pendulum, forces, limits, sliderCrank, empty, construct, files, broken, newFile, aids, numericRefused, spatial, stress]) {
     if (!ONLY || ONLY.includes(scenario.name)) await scenario(browser);
   }
   const problems = PAGES.flatMap(([file, page]) => page.problems.map((p) => `${file}: ${p}`));

@@ -8,6 +8,8 @@ use serde_json::{json, Value};
 
 use crate::analysis::analyse;
 use crate::emit::emit;
+use crate::forces::plan::ForcePlan;
+use crate::forces::planar::force_plan;
 use crate::interp::Interpreter;
 use crate::model::{InputKind, JointKind, Mechanism};
 use crate::plan::Plan;
@@ -33,6 +35,10 @@ pub struct Document {
     pub mechanism: Mechanism,
     /// Its plan, or why it has none (no inputs, or the analysis failed).
     pub plan: Result<Plan, String>,
+    /// The plan of its reaction unknowns, for a file with loads (and no
+    /// primitive constraints): every frame then carries the forces that
+    /// hold the pose on screen.
+    pub forces: Option<ForcePlan>,
     /// What the page is sent first, the `document` message: bodies and
     /// markers as drawn, joints, inputs with their slider ranges, the
     /// sweep, its traces, and the texts of `dofplan plan`, `check` and
@@ -81,10 +87,16 @@ impl Document {
         } else {
             analyse(&mechanism).plan.map_err(|e| e.to_string())
         };
+        let forces = if mechanism.loads.is_empty() {
+            None
+        } else {
+            force_plan(&mechanism)
+        };
         let mut doc = Document {
             path: path.map(Path::to_path_buf),
             mechanism,
             plan,
+            forces,
             description: Value::Null,
         };
         doc.description = doc.describe(watch);

@@ -17,6 +17,7 @@ use serde::Deserialize;
 use serde_json::{json, Value};
 
 use crate::analysis::analyse;
+use crate::forces::planar::reactions;
 use crate::interp::Interpreter;
 use crate::model::{InputKind, Marker, MarkerId, Mechanism};
 use crate::numeric::planar::drag::Drag;
@@ -404,7 +405,7 @@ impl Session {
                 "residual": residual,
             }),
         };
-        json!({
+        let mut frame = json!({
             "type": "frame",
             "id": id,
             "markers": markers,
@@ -412,7 +413,34 @@ impl Session {
             "inputs": self.inputs,
             "status": status.name(),
             "detail": detail,
-        })
+        });
+        if let Some(forces) = self.forces() {
+            frame["forces"] = forces;
+        }
+        frame
+    }
+
+    /// What holds the pose on screen still under the file's loads (a file
+    /// with loads only): each input's force or torque and each joint's
+    /// reaction, the force its first body exerts on its second, by joint
+    /// in file order; `"held"` false where the inputs cannot hold the pose
+    /// (a freedom no input drives, after a drag), the reactions then the
+    /// least-squares ones; `"indeterminate"` the joints whose share is not
+    /// unique.
+    fn forces(&self) -> Option<Value> {
+        let m = &self.doc.mechanism;
+        let r = reactions(m, self.doc.forces.as_ref()?, &self.poses, None)?;
+        let scale = (r.forces.iter().map(|f| f[0].hypot(f[1])))
+            .chain(r.inputs.iter().map(|q| q.abs()))
+            .fold(0.0f64, f64::max);
+        let names = |js: &[usize]| js.iter().map(|&j| m.joints[j].name.as_str()).collect::<Vec<_>>();
+        Some(json!({
+            "inputs": r.inputs,
+            "reactions": r.forces,
+            "moments": r.moments,
+            "held": r.residual <= 1e-8 * scale.max(1e-300),
+            "indeterminate": names(&r.indeterminate),
+        }))
     }
 }
 
@@ -504,8 +532,43 @@ mod tests {
     use super::*;
 
     fn fourbar() -> Session {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../mechanisms/fourbar.toml");
-        Session::new(Arc::new(Document::open(Some(&path)).expect("fourbar opens")))
+        session("fourbar")
+    }
+
+    fn session(name: &str) -> Session {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../mechanisms/{name}.toml"));
+        Session::new(Arc::new(Document::open(Some(&path)).expect("the file opens")))
+    }
+
+    #[test]
+    fn a_file_with_loads_sends_the_forces_that_hold_each_pose() {
+        // The input torque from the bodies' equilibrium against virtual
+        // work's (the plan's rates, another path), at a few crank angles;
+        // a file without loads sends none.
+        use crate::forces::planar::input_forces;
+        let mut s = session("loads/fourbar_weights");
+        let m = s.doc.mechanism.clone();
+        let mut d = Driver::new(Interpreter::new(s.doc.plan.clone().unwrap()), Options::default());
+        for theta in [0.0, 40.0, 135.0, 250.0] {
+            let frame = reply(
+                &mut s,
+                &format!(r#"{{"type":"inputs","id":1,"values":[{theta}]}}"#),
+            );
+            let forces = &frame["forces"];
+            assert_eq!(forces["held"], true, "{frame}");
+            assert_eq!(forces["reactions"].as_array().unwrap().len(), m.joints.len());
+            assert!(d.frame(&[theta]).is_solved());
+            let q = input_forces(&m, d.solver(), d.state(), d.inputs(), None).unwrap()[0];
+            let shown = forces["inputs"][0].as_f64().unwrap();
+            assert!(
+                (shown - q).abs() < 1e-9 * q.abs().max(1.0),
+                "{theta}: {shown} against {q}"
+            );
+        }
+        assert!(reply(&mut fourbar(), r#"{"type":"inputs","id":1,"values":[30]}"#)
+            .get("forces")
+            .is_none());
     }
 
     fn reply(s: &mut Session, message: &str) -> Value {
