@@ -146,6 +146,52 @@ fn forces() {
         );
         println!("| {name} | {} | {row}", 6 * m.moving());
     }
+    compiled_forces();
+}
+
+/// The compiled forces table: per planar file with loads (compiled with
+/// `Config::forces`), a compiled position frame (`solve`) against
+/// `forces::solve_forces` (positions, rates and forces in one pass),
+/// held still and running; medians over the sweep.
+fn compiled_forces() {
+    use dofplan_runtime::Ctx;
+    println!();
+    println!("| mechanism (compiled) | position ns/frame | solve_forces held ns/frame | ratio | solve_forces running ns/frame | ratio |");
+    println!("|---|---:|---:|---:|---:|---:|");
+    macro_rules! row {
+        ($($module:ident),*) => {$({
+            use dofplan_generated::$module as compiled;
+            let inputs = sweep_inputs(&load(concat!("loads/", stringify!($module))), None);
+            let n = inputs.len() as f64;
+            let mut state = compiled::State::DRAWN;
+            let position = time_ns(|| {
+                for u in &inputs {
+                    let mut ctx = Ctx::new(Default::default(), false);
+                    black_box(compiled::solve(&mut state, u, &mut ctx)).ok();
+                }
+            });
+            let mut out = compiled::forces::Forces::default();
+            let mut forces = |r: [f64; 1], a: [f64; 1]| {
+                time_ns(|| {
+                    for u in &inputs {
+                        let mut ctx = Ctx::new(Default::default(), false);
+                        black_box(compiled::forces::solve_forces(&mut state, u, &r, &a, &mut ctx, &mut out)).ok();
+                    }
+                })
+            };
+            let (held, running) = (forces([0.0], [0.0]), forces([114.59], [-57.3]));
+            println!(
+                "| {} | {:.0} | {:.0} | {:.1} | {:.0} | {:.1} |",
+                stringify!($module),
+                position / n,
+                held / n,
+                held / position,
+                running / n,
+                running / position
+            );
+        })*};
+    }
+    row!(slider_crank_press, fourbar_weights);
 }
 
 /// One row of the forces table after its first two cells: the plan's

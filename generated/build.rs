@@ -32,10 +32,21 @@ fn main() {
     let mechanisms = root.join("mechanisms");
     let mut all = files(&mechanisms);
     all.extend(files(&root.join("tests/fixtures")));
+    // The planar files with loads, each with its forces module
+    // (`Config::forces`): the compiled `solve_forces` the tests hold to
+    // the interpreter's.
+    let loads: Vec<PathBuf> = files(&mechanisms.join("loads"))
+        .into_iter()
+        .filter(|f| dofplan::load_file(f).is_ok())
+        .collect();
+    all.extend(loads.iter().cloned());
     let mut spatial = files(&mechanisms.join("spatial"));
     spatial.extend(files(&root.join("tests/fixtures/spatial")));
     let compiled: Vec<&PathBuf> = all.iter().chain(&spatial).collect();
     let mut config = dofplan::build::Config::new();
+    for file in &loads {
+        config.forces(file);
+    }
     config.drag(mechanisms.join("drag/open_chain_15.toml"), "link_15.E");
     // Every closed-form bundled planar mechanism also gets its design
     // module (`Config::design`); the stress chains are left out for the

@@ -380,3 +380,30 @@ fn compiled_spatial_rates_allocate_nothing() {
     });
     assert_eq!(count, 0, "cardan split");
 }
+
+/// A compiled `solve_forces` (positions, rates and forces in one pass)
+/// allocates nothing, held still and running.
+#[test]
+fn compiled_forces_allocate_nothing() {
+    use dofplan_runtime::Ctx;
+    macro_rules! forces {
+        ($($module:ident: $name:expr),*) => {$(
+            let inputs = sweep_inputs(&load($name), None);
+            let mut state = dofplan_generated::$module::State::DRAWN;
+            let mut out = dofplan_generated::$module::forces::Forces::default();
+            let mut ok = 0;
+            let count = allocations(|| {
+                for i in &inputs {
+                    for (r, a) in [([0.0], [0.0]), ([90.0], [-30.0])] {
+                        let mut ctx = Ctx::new(Default::default(), false);
+                        let done = dofplan_generated::$module::forces::solve_forces(&mut state, i, &r, &a, &mut ctx, &mut out);
+                        ok += usize::from(std::hint::black_box(done).is_ok());
+                    }
+                }
+            });
+            assert_eq!(count, 0, $name);
+            assert_eq!(ok, 2 * inputs.len(), $name);
+        )*};
+    }
+    forces!(fourbar_weights: "loads/fourbar_weights", slider_crank_press: "loads/slider_crank_press");
+}

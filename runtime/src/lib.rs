@@ -74,7 +74,7 @@ pub mod spatial;
 /// it.
 pub mod real {
     pub use crate::frame::{lanes_break, lanes_differ};
-    pub use crate::rates::{checked, JetPose, RateError, Rates};
+    pub use crate::rates::{checked, ForceError, JetPose, RateError, Rates};
     pub use crate::scalar::{Factor, Jet2, Real, Tangent};
 }
 

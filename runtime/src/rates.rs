@@ -110,3 +110,20 @@ pub fn checked<P: AsRef<[Pose<Jet2>]>>(poses: P) -> Result<P, RateError> {
         Err(RateError::Singular)
     }
 }
+
+/// Why a compiled `solve_forces` gives no forces for a frame.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ForceError {
+    /// The frame's positions or rates are not there (a break, a dead
+    /// point).
+    Rates(RateError),
+    /// A block of the force plan is singular at this frame (a toggle, two
+    /// pins in line): the equations do not fix the forces here.
+    Singular,
+}
+
+impl From<crate::planar::forces::Singular> for ForceError {
+    fn from(_: crate::planar::forces::Singular) -> Self {
+        ForceError::Singular
+    }
+}

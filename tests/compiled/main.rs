@@ -7,6 +7,7 @@
 mod chunked;
 mod design;
 mod design_gradient;
+mod forces;
 mod rolled;
 mod snapshots;
 mod spatial_compiled;

@@ -31,6 +31,9 @@ fn every_bundled_mechanism_is_compiled() {
     expected.push("slider_driven".to_string());
     expected.push("fivebar_arm".to_string());
     expected.push("narrow_gap".to_string());
+    // ... and the planar files with loads, with their forces modules.
+    expected.push("fourbar_weights".to_string());
+    expected.push("slider_crank_press".to_string());
     expected.sort();
     let mut compiled: Vec<String> = dofplan_generated::MECHANISMS
         .iter()

@@ -85,6 +85,14 @@ pub enum BuildError {
         /// Why.
         why: String,
     },
+    /// A forces module cannot be compiled for a file (see
+    /// [`Config::forces`]).
+    Forces {
+        /// The file.
+        file: PathBuf,
+        /// Why.
+        why: String,
+    },
     /// A drag names a marker the file does not have, or one on a fixed
     /// body.
     Drag {
@@ -136,6 +144,9 @@ impl fmt::Display for BuildError {
             BuildError::Design { file, why } => {
                 write!(f, "{}: cannot compile its design module: {why}", file.display())
             }
+            BuildError::Forces { file, why } => {
+                write!(f, "{}: cannot compile its forces module: {why}", file.display())
+            }
         }
     }
 }
@@ -154,6 +165,7 @@ pub struct Config {
     out_dir: Option<PathBuf>,
     drags: Vec<(PathBuf, String)>,
     designs: Vec<PathBuf>,
+    forces: Vec<PathBuf>,
 }
 
 impl Config {
@@ -190,6 +202,19 @@ impl Config {
     /// Closed-form plans only.
     pub fn design(&mut self, file: impl Into<PathBuf>) -> &mut Config {
         self.designs.push(file.into());
+        self
+    }
+
+    /// Also writes, into the module of the planar mechanism in `file` (one
+    /// of the files compiled, with masses, gravity or loads), `pub mod
+    /// forces`: `solve_forces`, a frame's positions, rates and forces in
+    /// one pass without allocating (each joint's reaction, each input's
+    /// force or torque, the force and moment on the ground, as
+    /// `dofplan analyze --forces` gives them), and its `TABLE`. A
+    /// mechanism whose reactions need least squares (redundant joints) is
+    /// an error naming why.
+    pub fn forces(&mut self, file: impl Into<PathBuf>) -> &mut Config {
+        self.forces.push(file.into());
         self
     }
 
@@ -248,6 +273,19 @@ impl Config {
                 });
             }
         }
+        for d in &self.forces {
+            if !mechanisms.iter().any(|(f, _)| same_file(f, d)) {
+                let why = if spatial.iter().any(|(f, _)| same_file(f, d)) {
+                    "forces modules are compiled for planar mechanisms only so far (`dofplan analyze --forces` takes spatial files)"
+                } else {
+                    "the file is not among the files compiled"
+                };
+                return Err(BuildError::Forces {
+                    file: d.clone(),
+                    why: why.to_string(),
+                });
+            }
+        }
         self.load_drags(&mut mechanisms)?;
         // Each module's name and source, planar first: the name is checked
         // against every module before it, of either dimension.
@@ -255,6 +293,7 @@ impl Config {
             out_dir: &out_dir,
             written: Vec::new(),
             designs: &self.designs,
+            forces: &self.forces,
         };
         for (file, m) in &mechanisms {
             modules.add_planar(file, m)?;
@@ -327,12 +366,33 @@ fn load_files(
     Ok((mechanisms, spatial))
 }
 
+/// `pub mod forces` of the planar mechanism `m` (from `file`), planned as
+/// `plan`: its force table, as the interpreter solves it, emitted.
+fn forces_module(file: &Path, m: &Mechanism, plan: &crate::plan::Plan) -> Result<String, BuildError> {
+    use crate::forces::planar::{describe, force_plan, runtime_blocks};
+    let why = |why: &str| BuildError::Forces {
+        file: file.to_path_buf(),
+        why: why.to_string(),
+    };
+    if m.loads.is_empty() {
+        return Err(why(
+            "the file gives no masses, gravity or loads, so every force is 0",
+        ));
+    }
+    let forces = force_plan(m).ok_or_else(|| why("its primitive constraints carry no reactions yet"))?;
+    let described = describe(m);
+    let blocks = runtime_blocks(&forces);
+    crate::emit::emit_forces(plan, &described.table(&blocks)).map_err(|e| why(&e))
+}
+
 /// The modules written so far into `out_dir`.
 struct Modules<'a> {
     out_dir: &'a Path,
     written: Vec<Written>,
     /// The files whose modules get a design module.
     designs: &'a [PathBuf],
+    /// The files whose modules get a forces module.
+    forces: &'a [PathBuf],
 }
 
 impl Modules<'_> {
@@ -350,6 +410,9 @@ impl Modules<'_> {
             };
             let design = crate::synth::planar::Design::new(m).map_err(|e| why(e.to_string()))?;
             source.push_str(&crate::emit::emit_design(&plan, &design.table()).map_err(why)?);
+        }
+        if self.forces.iter().any(|d| same_file(d, file)) {
+            source.push_str(&forces_module(file, m, &plan)?);
         }
         self.add(ident_for(&m.name), file, source)
     }

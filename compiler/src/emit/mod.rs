@@ -90,6 +90,17 @@ pub fn emit_design(plan: &Plan, table: &crate::plan::design::DesignTable<2>) -> 
     planar::design_module(plan, table)
 }
 
+/// Rust source of `pub mod forces` for the module [`emit`] writes of
+/// `plan`, to be appended to it: the force table `table` (the runtime's,
+/// as `forces::planar::describe` and the force plan make it) as constants
+/// and `solve_forces`.
+///
+/// # Errors
+/// A table without blocks (reactions by least squares): the reason.
+pub fn emit_forces(plan: &Plan, table: &dofplan_runtime::planar::forces::Table) -> Result<String, String> {
+    planar::forces_module(plan, table)
+}
+
 /// Rust source of the compiled plan module of the spatial plan `plan`.
 ///
 /// A numeric cluster is written over fixed-size matrices whatever its

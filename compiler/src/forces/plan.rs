@@ -117,10 +117,24 @@ impl ForcePlan {
         }
     }
 
+    /// The blocks, in the order they are solved (none for least squares).
+    pub fn blocks(&self) -> &[Block] {
+        match self {
+            ForcePlan::Blocks(b) => b,
+            ForcePlan::LeastSquares(_) => &[],
+        }
+    }
+
     /// Solves `system x = -w`: block by block where the plan has blocks
     /// and every block is regular at this frame, else by least squares.
     pub(crate) fn solve(&self, system: &System, w: &[f64]) -> Solved {
-        if let Some(x) = self.by_blocks(system, w) {
+        ForcePlan::solved(system, w, self.by_blocks(system, w))
+    }
+
+    /// The solution of `system x = -w`: `by_blocks` where the blocks gave
+    /// one (how well it holds measured), else least squares.
+    pub(crate) fn solved(system: &System, w: &[f64], by_blocks: Option<Vec<f64>>) -> Solved {
+        if let Some(x) = by_blocks {
             let residual = residual(system, &x, w);
             return Solved {
                 fixed: vec![true; x.len()],
@@ -169,21 +183,14 @@ impl ForcePlan {
     }
 }
 
-/// `a y = b` by LU with partial pivoting; `None` where `a` is singular to
-/// round-off (its smallest pivot against its largest entry).
+/// `a y = b` by the runtime's LU (the one compiled `solve_forces` uses);
+/// `None` where `a` is singular to round-off.
 fn regular_solve(a: DMatrix<f64>, b: DVector<f64>) -> Option<DVector<f64>> {
-    let scale = a.amax();
-    let lu = a.lu();
-    let u = lu.u();
-    let smallest = (0..u.nrows())
-        .map(|i| u[(i, i)].abs())
-        .fold(f64::INFINITY, f64::min);
-    // A NaN pivot counts as singular too.
-    if smallest.is_nan() || smallest <= 1e-12 * scale {
-        return None;
-    }
-    let y = lu.solve(&b)?;
-    y.iter().all(|v| v.is_finite()).then_some(y)
+    let k = b.len();
+    // Row-major, as the runtime takes it.
+    let mut flat: Vec<f64> = (0..k * k).map(|i| a[(i / k, i % k)]).collect();
+    let mut y: Vec<f64> = b.iter().copied().collect();
+    dofplan_runtime::numeric::lu_solve(&mut flat, &mut y, k).then(|| DVector::from_vec(y))
 }
 
 /// The largest component of `system x + w`.

@@ -3,6 +3,8 @@
 use dofplan_runtime::planar::Pose;
 use dofplan_runtime::scalar::Jet2;
 
+use dofplan_runtime::planar::forces::{self as frame, Block as RtBlock, Load, Mass, Table, Unknown};
+
 use super::plan::{ForcePlan, System};
 use crate::interp::planar::InterpState;
 use crate::interp::{Interpreter, RateError};
@@ -181,6 +183,172 @@ pub struct Reactions {
     pub shaking: [f64; 3],
 }
 
+/// A mechanism's forces as the runtime solves them each frame
+/// (`dofplan_runtime::planar::forces::Table`), made once from the file:
+/// each body's equation rows, the force unknowns (two per joint, then one
+/// per input), the loads and the masses. The interpreter borrows it as a
+/// table; the compiled module's `solve_forces` is emitted from it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Described {
+    /// Per body: its first equation row (`None`: fixed).
+    pub rows: Vec<Option<usize>>,
+    /// Equation rows: three per moving body.
+    pub n_rows: usize,
+    /// The unknowns.
+    pub unknowns: Vec<Unknown>,
+    /// The loads.
+    pub loads: Vec<Load>,
+    /// The bodies with mass.
+    pub masses: Vec<Mass>,
+    /// Gravity's acceleration (0 without `[gravity]`).
+    pub gravity: [f64; 2],
+}
+
+impl Described {
+    /// The runtime's table of it, with the force plan's `blocks`.
+    pub fn table<'a>(&'a self, blocks: &'a [RtBlock<'a>]) -> Table<'a> {
+        Table {
+            rows: &self.rows,
+            n_rows: self.n_rows,
+            unknowns: &self.unknowns,
+            loads: &self.loads,
+            masses: &self.masses,
+            gravity: self.gravity,
+            blocks,
+        }
+    }
+}
+
+/// The runtime's blocks of a force plan (none for least squares).
+pub fn runtime_blocks(plan: &ForcePlan) -> Vec<RtBlock<'_>> {
+    plan.blocks()
+        .iter()
+        .map(|b| RtBlock {
+            rows: &b.rows,
+            cols: &b.cols,
+        })
+        .collect()
+}
+
+/// [`Described`] of `m`.
+pub fn describe(m: &Mechanism) -> Described {
+    let mut next = 0;
+    let rows: Vec<Option<usize>> = (m.bodies.iter())
+        .map(|b| {
+            (!b.fixed).then(|| {
+                next += 3;
+                next - 3
+            })
+        })
+        .collect();
+    let local = |id: MarkerId| m.marker(id).at;
+    let dir = |id: MarkerId| m.marker(id).unit_dir().unwrap_or([1.0, 0.0]);
+    let mut unknowns = Vec::with_capacity(2 * m.joints.len() + m.inputs.len());
+    for joint in &m.joints {
+        let [a, b] = joint.markers;
+        let (first, second, at) = (a.body, b.body, local(b));
+        match joint.kind {
+            crate::model::JointKind::Revolute => {
+                for axis in 0..2 {
+                    unknowns.push(Unknown::Pin {
+                        first,
+                        second,
+                        at,
+                        axis,
+                    });
+                }
+            }
+            crate::model::JointKind::Prismatic => {
+                unknowns.push(Unknown::Across {
+                    first,
+                    second,
+                    at,
+                    dir: dir(a),
+                });
+                unknowns.push(Unknown::Moment { first, second });
+            }
+        }
+    }
+    for input in &m.inputs {
+        let [a, b] = m.joints[input.joint].markers;
+        let (first, second) = (a.body, b.body);
+        unknowns.push(match input.kind {
+            InputKind::Angle => Unknown::Moment { first, second },
+            InputKind::Slide => Unknown::Along {
+                first,
+                second,
+                at: local(b),
+                dir: dir(a),
+            },
+        });
+    }
+    let end = |id: MarkerId| (id.body, local(id));
+    let loads = (m.loads.applied.iter())
+        .map(|load| match &load.kind {
+            LoadKind::Force {
+                marker,
+                force,
+                body_axes,
+            } => Load::Force {
+                body: marker.body,
+                at: local(*marker),
+                force: *force,
+                body_axes: *body_axes,
+            },
+            LoadKind::Torque { body, torque } => Load::Torque {
+                body: *body,
+                torque: *torque,
+            },
+            LoadKind::Spring {
+                markers,
+                stiffness,
+                free_length,
+            } => Load::Spring {
+                a: end(markers[0]),
+                b: end(markers[1]),
+                stiffness: *stiffness,
+                free_length: *free_length,
+            },
+            LoadKind::Damper { markers, damping } => Load::Damper {
+                a: end(markers[0]),
+                b: end(markers[1]),
+                damping: *damping,
+            },
+            LoadKind::TorsionSpring {
+                joint,
+                stiffness,
+                free_angle,
+            } => {
+                let [a, b] = m.joints[*joint].markers;
+                Load::TorsionSpring {
+                    first: a.body,
+                    second: b.body,
+                    stiffness: *stiffness,
+                    free_angle: *free_angle,
+                }
+            }
+        })
+        .collect();
+    let masses = (0..m.bodies.len())
+        .filter_map(|b| {
+            m.loads.mass(b).map(|mass| Mass {
+                body: b,
+                centre: mass.centre,
+                mass: mass.mass,
+                inertia: mass.inertia,
+            })
+        })
+        .collect();
+    Described {
+        rows,
+        n_rows: next,
+        unknowns,
+        loads,
+        masses,
+        gravity: m.loads.gravity.unwrap_or([0.0; 2]),
+    }
+}
+
 /// The plan for the reaction unknowns of `m` (see `forces/plan.rs`), from
 /// its equations at the drawn pose; `None` for a mechanism with primitive
 /// constraints, whose forces are not modelled yet.
@@ -189,16 +357,18 @@ pub fn force_plan(m: &Mechanism) -> Option<ForcePlan> {
         return None;
     }
     let drawn = vec![Pose::IDENTITY; m.bodies.len()];
-    Some(ForcePlan::new(&equilibrium(m, &drawn).0))
+    Some(ForcePlan::new(&equilibrium(&describe(m), &drawn)))
 }
 
 /// The joint reactions at `poses` from every moving body's force and
 /// moment equilibrium under the file's loads (with `actual` motion, the
 /// bodies' d'Alembert inertia and the dampers too): three equations per
 /// moving body, two unknowns per joint and one per input, solved as
-/// `plan` says (block by block, or by least squares, least norm where
-/// the mechanism is over-constrained). `None` for a mechanism with
-/// primitive constraints, whose forces are not modelled yet.
+/// `plan` says (block by block by the runtime, as a compiled
+/// `solve_forces` does; by least squares where the plan has no blocks or
+/// one is singular at this frame, least norm where the mechanism is
+/// over-constrained). `None` for a mechanism with primitive constraints,
+/// whose forces are not modelled yet.
 pub fn reactions(
     m: &Mechanism,
     plan: &ForcePlan,
@@ -208,205 +378,62 @@ pub fn reactions(
     if !m.constraints.is_empty() {
         return None;
     }
-    let (system, rows) = equilibrium(m, poses);
-    let normals: Vec<[f64; 2]> = (m.joints.iter())
-        .map(|j| match j.kind {
-            crate::model::JointKind::Revolute => [0.0; 2],
-            crate::model::JointKind::Prismatic => normal(m, poses, j.markers[0]),
+    let described = describe(m);
+    let blocks = runtime_blocks(plan);
+    let table = described.table(&blocks);
+    let mut applied = vec![[0.0; 3]; m.bodies.len()];
+    frame::applied(&table, poses, actual, &mut applied);
+    let mut rhs = vec![0.0; described.n_rows];
+    let ground = frame::right_hand_side(&table, &applied, &mut rhs);
+    // The loads on the rows: `system x = -w`.
+    let w: Vec<f64> = rhs.iter().map(|v| -v).collect();
+    let system = equilibrium(&described, poses);
+    let by_blocks = (!blocks.is_empty())
+        .then(|| {
+            let mut x = vec![0.0; described.unknowns.len()];
+            let largest = blocks.iter().map(|b| b.rows.len()).max().unwrap_or(0);
+            let mut scratch = vec![0.0; frame::scratch_len(largest)];
+            frame::solve_blocks(&table, poses, &mut rhs, &mut x, &mut scratch).then_some(x)
         })
-        .collect();
-    let mut w = vec![0.0; system.rows];
-    let mut on_ground = [0.0; 3];
-    for (b, wrench) in applied(m, poses, actual).into_iter().enumerate() {
-        for k in 0..3 {
-            match rows[b] {
-                Some(r) => w[r + k] = wrench[k],
-                None => on_ground[k] += wrench[k],
-            }
-        }
-    }
-    let solved = plan.solve(&system, &w);
-    let shaking = system.on_ground(solved.x.as_slice(), 3);
-    let mut r = reactions_of(m, solved, &normals);
-    r.shaking = [0, 1, 2].map(|k| shaking[k] + on_ground[k]);
-    Some(r)
-}
-
-/// The equilibrium equations at `poses` (the loads aside: the right-hand
-/// side) and each body's first row (`None` for a fixed body).
-fn equilibrium(m: &Mechanism, poses: &[Pose]) -> (System, Vec<Option<usize>>) {
-    let rows: Vec<Option<usize>> = {
-        let mut next = 0;
-        (m.bodies.iter())
-            .map(|b| {
-                (!b.fixed).then(|| {
-                    next += 3;
-                    next - 3
-                })
-            })
-            .collect()
-    };
-    let n_rows = rows.iter().flatten().count() * 3;
-    let mut system = System::new(n_rows, 2 * m.joints.len() + m.inputs.len());
-    // A force `f` at `p` on body `b` (and minus it on `other`), as column `col`.
-    let mut put = |col: usize, b: usize, other: usize, f: [f64; 2], p: [f64; 2], torque: f64| {
-        for (body, sign) in [(b, 1.0), (other, -1.0)] {
-            let (column, r) = match rows[body] {
-                Some(r) => (&mut system.columns[col], r),
-                None => (&mut system.ground[col], 0),
-            };
-            column.push((r, sign * f[0]));
-            column.push((r + 1, sign * f[1]));
-            column.push((r + 2, sign * (p[0] * f[1] - p[1] * f[0] + torque)));
-        }
-    };
-    let at = |id: MarkerId| poses[id.body].world(m.marker(id).at);
-    for (j, joint) in m.joints.iter().enumerate() {
-        let [first, second] = joint.markers;
-        let p = at(second);
-        match joint.kind {
-            crate::model::JointKind::Revolute => {
-                put(2 * j, second.body, first.body, [1.0, 0.0], p, 0.0);
-                put(2 * j + 1, second.body, first.body, [0.0, 1.0], p, 0.0);
-            }
-            crate::model::JointKind::Prismatic => {
-                let n = normal(m, poses, first);
-                put(2 * j, second.body, first.body, n, p, 0.0);
-                put(2 * j + 1, second.body, first.body, [0.0, 0.0], p, 1.0);
-            }
-        }
-    }
-    for (i, input) in m.inputs.iter().enumerate() {
-        let [first, second] = m.joints[input.joint].markers;
-        let col = 2 * m.joints.len() + i;
-        match input.kind {
-            InputKind::Angle => put(col, second.body, first.body, [0.0, 0.0], at(second), 1.0),
-            InputKind::Slide => {
-                let n = normal(m, poses, first);
-                put(col, second.body, first.body, [n[1], -n[0]], at(second), 0.0);
-            }
-        }
-    }
-    (system, rows)
-}
-
-/// The reactions a solution gives; `normals`: each prismatic joint's rail
-/// normal at the frame.
-fn reactions_of(m: &Mechanism, solved: super::Solved, normals: &[[f64; 2]]) -> Reactions {
-    let super::Solved { x, residual, fixed } = solved;
+        .flatten();
+    let super::Solved { x, residual, fixed } = ForcePlan::solved(&system, &w, by_blocks);
+    let x = x.as_slice();
     let joints = m.joints.len();
-    Reactions {
-        forces: (0..joints)
-            .map(|j| match m.joints[j].kind {
-                crate::model::JointKind::Revolute => [x[2 * j], x[2 * j + 1]],
-                crate::model::JointKind::Prismatic => [x[2 * j] * normals[j][0], x[2 * j] * normals[j][1]],
-            })
-            .collect(),
-        moments: (0..joints)
-            .map(|j| match m.joints[j].kind {
-                crate::model::JointKind::Revolute => 0.0,
-                crate::model::JointKind::Prismatic => x[2 * j + 1],
-            })
-            .collect(),
-        inputs: (0..m.inputs.len()).map(|i| x[2 * joints + i]).collect(),
+    let (forces, moments) = (0..joints)
+        .map(|j| frame::joint_reaction(&table, poses, x, j))
+        .unzip();
+    let on = frame::on_ground(&table, poses, x);
+    Some(Reactions {
+        forces,
+        moments,
+        inputs: x[2 * joints..].to_vec(),
         indeterminate: (0..joints)
             .filter(|&j| !(fixed[2 * j] && fixed[2 * j + 1]))
             .collect(),
         residual,
-        shaking: [0.0; 3],
-    }
+        shaking: [0, 1, 2].map(|k| on[k] + ground[k]),
+    })
 }
 
-/// The unit normal (the rail's direction turned a quarter counter-clockwise)
-/// of the rail marker `rail` at `poses`.
-fn normal(m: &Mechanism, poses: &[Pose], rail: MarkerId) -> [f64; 2] {
-    let d = m.marker(rail).unit_dir().unwrap_or([1.0, 0.0]);
-    let r = &poses[rail.body].rot;
-    let world = [r.c * d[0] - r.s * d[1], r.s * d[0] + r.c * d[1]];
-    [-world[1], world[0]]
-}
-
-/// Every body's applied wrench (force, and moment about the origin) from
-/// the loads, gravity and, with `actual` motion, d'Alembert's inertia and
-/// the dampers.
-fn applied(m: &Mechanism, poses: &[Pose], actual: Option<&[Pose<Jet2>]>) -> Vec<[f64; 3]> {
-    let mut w = vec![[0.0; 3]; m.bodies.len()];
-    let mut add = |b: usize, f: [f64; 2], p: [f64; 2], torque: f64| {
-        w[b][0] += f[0];
-        w[b][1] += f[1];
-        w[b][2] += p[0] * f[1] - p[1] * f[0] + torque;
-    };
-    let at = |id: MarkerId| poses[id.body].world(m.marker(id).at);
-    for load in &m.loads.applied {
-        match &load.kind {
-            LoadKind::Force {
-                marker,
-                force,
-                body_axes,
-            } => {
-                let r = &poses[marker.body].rot;
-                let f = if *body_axes {
-                    [r.c * force[0] - r.s * force[1], r.s * force[0] + r.c * force[1]]
-                } else {
-                    *force
-                };
-                add(marker.body, f, at(*marker), 0.0);
-            }
-            LoadKind::Torque { body, torque } => add(*body, [0.0; 2], [0.0; 2], *torque),
-            LoadKind::Spring {
-                markers,
-                stiffness,
-                free_length,
-            } => {
-                let (p, q) = (at(markers[0]), at(markers[1]));
-                let (len, u) = towards(p, q);
-                let t = stiffness * (len - free_length);
-                // A tension pulls each end toward the other.
-                add(markers[0].body, [t * u[0], t * u[1]], p, 0.0);
-                add(markers[1].body, [-t * u[0], -t * u[1]], q, 0.0);
-            }
-            LoadKind::Damper { markers, damping } => {
-                let Some(a) = actual else { continue };
-                let w = |id: MarkerId| a[id.body].world(m.marker(id).at);
-                let t = damping * stretch(w(markers[0]), w(markers[1])).1;
-                let (p, q) = (at(markers[0]), at(markers[1]));
-                let (_, u) = towards(p, q);
-                add(markers[0].body, [t * u[0], t * u[1]], p, 0.0);
-                add(markers[1].body, [-t * u[0], -t * u[1]], q, 0.0);
-            }
-            LoadKind::TorsionSpring {
-                joint,
-                stiffness,
-                free_angle,
-            } => {
-                let [first, second] = m.joints[*joint].markers;
-                let (ra, rb) = (&poses[first.body].rot, &poses[second.body].rot);
-                let turn = (rb.s * ra.c - rb.c * ra.s).atan2(rb.c * ra.c + rb.s * ra.s);
-                let torque = stiffness * (turn - free_angle);
-                add(second.body, [0.0; 2], [0.0; 2], -torque);
-                add(first.body, [0.0; 2], [0.0; 2], torque);
+/// The equilibrium equations at `poses` (the loads aside: the right-hand
+/// side) in sparse columns, each unknown's the runtime's
+/// [`frame::column`].
+fn equilibrium(d: &Described, poses: &[Pose]) -> System {
+    let mut system = System::new(d.n_rows, d.unknowns.len());
+    for (c, u) in d.unknowns.iter().enumerate() {
+        let w = frame::column(u, poses);
+        let [first, second] = u.bodies();
+        for (body, sign) in [(second, 1.0), (first, -1.0)] {
+            let (column, r) = match d.rows[body] {
+                Some(r) => (&mut system.columns[c], r),
+                None => (&mut system.ground[c], 0),
+            };
+            for (k, v) in w.iter().enumerate() {
+                column.push((r + k, sign * v));
             }
         }
     }
-    for (b, pose) in poses.iter().enumerate() {
-        let Some((f, torque)) = weight(m, b, actual) else {
-            continue;
-        };
-        let c = pose.world(m.loads.mass(b).map_or([0.0; 2], |mass| mass.centre));
-        add(b, f, c, torque);
-    }
-    w
-}
-
-/// The distance from `p` to `q` and the unit vector from `p` toward `q`
-/// (0 where they meet).
-fn towards(p: [f64; 2], q: [f64; 2]) -> (f64, [f64; 2]) {
-    let d = [q[0] - p[0], q[1] - p[1]];
-    let len = d[0].hypot(d[1]);
-    if len == 0.0 {
-        return (0.0, [0.0; 2]);
-    }
-    (len, [d[0] / len, d[1] / len])
+    system
 }
 
 pub use super::Advantage;

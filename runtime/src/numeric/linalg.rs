@@ -458,3 +458,46 @@ where
         eps
     }
 }
+
+/// `a y = b` for the `k × k` row-major `a`, in place (`b` becomes `y`), by
+/// LU with partial pivoting; `false` where `a` is singular to round-off
+/// (a pivot below 1e-12 of its largest entry, or not a number).
+pub fn lu_solve(a: &mut [f64], b: &mut [f64], k: usize) -> bool {
+    let scale = a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    for col in 0..k {
+        let mut pivot = col;
+        for r in col + 1..k {
+            if a[r * k + col].abs() > a[pivot * k + col].abs() {
+                pivot = r;
+            }
+        }
+        let p = a[pivot * k + col];
+        // A NaN pivot counts as singular too.
+        if p.is_nan() || p.abs() <= 1e-12 * scale {
+            return false;
+        }
+        if pivot != col {
+            for c in 0..k {
+                a.swap(pivot * k + c, col * k + c);
+            }
+            b.swap(pivot, col);
+        }
+        for r in col + 1..k {
+            let f = a[r * k + col] / p;
+            if f != 0.0 {
+                for c in col..k {
+                    a[r * k + c] -= f * a[col * k + c];
+                }
+                b[r] -= f * b[col];
+            }
+        }
+    }
+    for col in (0..k).rev() {
+        let mut v = b[col];
+        for c in col + 1..k {
+            v -= a[col * k + c] * b[c];
+        }
+        b[col] = v / a[col * k + col];
+    }
+    b.iter().all(|v| v.is_finite())
+}

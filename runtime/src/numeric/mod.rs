@@ -39,7 +39,9 @@ pub mod priority;
 /// The fixed-size `nalgebra` types generated code names.
 pub use nalgebra::{Const, SMatrix, SVector};
 
-pub use linalg::{min_norm_step, null_space, pseudo_inverse, rank, Implicit, NewtonAllocator, RATE_CUTOFF};
+pub use linalg::{
+    lu_solve, min_norm_step, null_space, pseudo_inverse, rank, Implicit, NewtonAllocator, RATE_CUTOFF,
+};
 pub use newton::{fixed_system, Equations, FixedSystem, Newton, NewtonOptions, NewtonOutcome, NewtonReport};
 
 #[cfg(test)]

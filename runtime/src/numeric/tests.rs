@@ -807,3 +807,14 @@ fn implicit_rates_are_the_minimum_norm_least_squares_motion() {
         .iter()
         .all(|x| x.is_infinite()));
 }
+
+#[test]
+fn lu_solves_with_pivoting_and_refuses_a_singular_matrix() {
+    use super::lu_solve;
+    // [[0, 2], [3, 1]] y = [4, 5]: y = (1, 2), the first pivot zero.
+    let (mut a, mut b) = ([0.0, 2.0, 3.0, 1.0], [4.0, 5.0]);
+    assert!(lu_solve(&mut a, &mut b, 2));
+    assert!((b[0] - 1.0).abs() < 1e-15 && (b[1] - 2.0).abs() < 1e-15, "{b:?}");
+    let (mut a, mut b) = ([1.0, 2.0, 2.0, 4.0], [1.0, 1.0]);
+    assert!(!lu_solve(&mut a, &mut b, 2));
+}

@@ -8,6 +8,7 @@
 //!   rotations is a complex multiplication, never an `atan2` or `sin`.
 
 pub mod cluster;
+pub mod forces;
 mod locus;
 mod place;
 mod turn_table;

@@ -12,6 +12,7 @@ use quote::quote;
 mod chunk;
 mod cluster;
 mod design;
+mod forces;
 mod rates;
 mod roll;
 mod step;
@@ -19,6 +20,7 @@ mod step;
 pub use chunk::CHUNK_WEIGHT;
 pub use cluster::FIXED_LIMIT;
 pub(super) use design::design_module;
+pub(super) use forces::forces_module;
 
 use super::scaffold::{self, Dimension, Field, Scaffold};
 use super::{ident_for, index, lit, step_comments, uses, Sink};

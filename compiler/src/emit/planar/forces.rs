@@ -1,0 +1,218 @@
+//! `pub mod forces` of a planar module: the mechanism's force table (the
+//! runtime's `planar::forces::Table`, written out as constants) and
+//! `solve_forces`, a frame's positions, rates and forces in one pass
+//! (`solve_rates_into`, then the runtime's `solve_frame` on stack buffers:
+//! no allocation). The interpreter solves the same table with the same
+//! runtime functions (`forces::planar::reactions`).
+
+use proc_macro2::TokenStream;
+use quote::quote;
+
+use dofplan_runtime::planar::forces::{Load, Table, Unknown};
+
+use super::point_lit;
+use crate::emit::{index, lit};
+use crate::plan::Plan;
+
+/// A body and a local point: `(body, [x, y])`.
+fn end((body, at): (usize, [f64; 2])) -> TokenStream {
+    let (b, p) = (index(body), point_lit(at));
+    quote!((#b, #p))
+}
+
+fn unknown(u: &Unknown) -> TokenStream {
+    match *u {
+        Unknown::Pin {
+            first,
+            second,
+            at,
+            axis,
+        } => {
+            let (f, s, a, x) = (index(first), index(second), point_lit(at), index(axis));
+            quote!(Unknown::Pin { first: #f, second: #s, at: #a, axis: #x })
+        }
+        Unknown::Across {
+            first,
+            second,
+            at,
+            dir,
+        } => {
+            let (f, s, a, d) = (index(first), index(second), point_lit(at), point_lit(dir));
+            quote!(Unknown::Across { first: #f, second: #s, at: #a, dir: #d })
+        }
+        Unknown::Moment { first, second } => {
+            let (f, s) = (index(first), index(second));
+            quote!(Unknown::Moment { first: #f, second: #s })
+        }
+        Unknown::Along {
+            first,
+            second,
+            at,
+            dir,
+        } => {
+            let (f, s, a, d) = (index(first), index(second), point_lit(at), point_lit(dir));
+            quote!(Unknown::Along { first: #f, second: #s, at: #a, dir: #d })
+        }
+    }
+}
+
+fn load(l: &Load) -> TokenStream {
+    match *l {
+        Load::Force {
+            body,
+            at,
+            force,
+            body_axes,
+        } => {
+            let (b, a, f) = (index(body), point_lit(at), point_lit(force));
+            quote!(Load::Force { body: #b, at: #a, force: #f, body_axes: #body_axes })
+        }
+        Load::Torque { body, torque } => {
+            let (b, t) = (index(body), lit(torque));
+            quote!(Load::Torque { body: #b, torque: #t })
+        }
+        Load::Spring {
+            a,
+            b,
+            stiffness,
+            free_length,
+        } => {
+            let (a, b, k, l) = (end(a), end(b), lit(stiffness), lit(free_length));
+            quote!(Load::Spring { a: #a, b: #b, stiffness: #k, free_length: #l })
+        }
+        Load::Damper { a, b, damping } => {
+            let (a, b, c) = (end(a), end(b), lit(damping));
+            quote!(Load::Damper { a: #a, b: #b, damping: #c })
+        }
+        Load::TorsionSpring {
+            first,
+            second,
+            stiffness,
+            free_angle,
+        } => {
+            let (f, s, k, a) = (index(first), index(second), lit(stiffness), lit(free_angle));
+            quote!(Load::TorsionSpring { first: #f, second: #s, stiffness: #k, free_angle: #a })
+        }
+    }
+}
+
+/// The `forces` module of `plan`'s module for the force table `t`; an
+/// error says why there is none: a plan whose reactions are solved by
+/// least squares (over-constrained, or singular as drawn), which is the
+/// interpreter's.
+pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table) -> Result<String, String> {
+    if t.blocks.is_empty() {
+        return Err("its reactions are solved by least squares (redundant joints, or a freedom no input holds), which `dofplan analyze --forces` does; compiled `solve_forces` needs a force plan of blocks".into());
+    }
+    let (nb, nj, ni) = (
+        plan.bodies.len(),
+        (t.unknowns.len() - plan.inputs.len()) / 2,
+        plan.inputs.len(),
+    );
+    let largest = t.blocks.iter().map(|b| b.rows.len()).max().unwrap_or(0);
+    let rows = t.rows.iter().map(|r| match r {
+        Some(r) => {
+            let r = index(*r);
+            quote!(Some(#r))
+        }
+        None => quote!(None),
+    });
+    let unknowns = t.unknowns.iter().map(unknown);
+    let loads = t.loads.iter().map(load);
+    let masses = t.masses.iter().map(|m| {
+        let (b, c, mass, i) = (index(m.body), point_lit(m.centre), lit(m.mass), lit(m.inertia));
+        quote!(Mass { body: #b, centre: #c, mass: #mass, inertia: #i })
+    });
+    let blocks = t.blocks.iter().map(|b| {
+        let (r, c) = (b.rows.iter().map(|&r| index(r)), b.cols.iter().map(|&c| index(c)));
+        quote!(Block { rows: &[#(#r),*], cols: &[#(#c),*] })
+    });
+    let (nb_l, nj_l, ni_l, nr, nu) = (
+        index(nb),
+        index(nj),
+        index(ni),
+        index(t.n_rows),
+        index(t.unknowns.len()),
+    );
+    let gravity = point_lit(t.gravity);
+    let sizes = t
+        .blocks
+        .iter()
+        .map(|b| b.rows.len().to_string())
+        .collect::<Vec<_>>()
+        .join(", ");
+    let doc_table = format!(
+        " The mechanism's forces as the runtime solves them: {} equations (three per moving body), {} unknowns (two per joint, then one per input), solved in blocks of {sizes}.",
+        t.n_rows,
+        t.unknowns.len()
+    );
+    let scratch = index(largest * largest + largest);
+    // Only what the table names (an unused import warns in the user's
+    // build): a file may give masses and no loads, or loads and no masses.
+    let kinds = [("Load", !t.loads.is_empty()), ("Mass", !t.masses.is_empty())]
+        .into_iter()
+        .filter(|(_, used)| *used)
+        .map(|(name, _)| proc_macro2::Ident::new(name, proc_macro2::Span::call_site()));
+    let tokens = quote! {
+        /// What holds the mechanism and what it takes to drive it, frame
+        /// by frame: each joint's reaction and each input's force or
+        /// torque under the file's masses, gravity and loads, running at
+        /// the inputs' rates and accelerations (zero: held still).
+        pub mod forces {
+            use dofplan_runtime::planar::forces::{solve_frame, Block, #(#kinds,)* Table, Unknown, Work};
+            use dofplan_runtime::planar::Pose;
+            use dofplan_runtime::real::{ForceError, Jet2};
+            use dofplan_runtime::Ctx;
+
+            use super::{solve_rates_into, State};
+
+            /// A frame's forces: per joint (file order) the force its
+            /// first body exerts on its second and its moment, per input
+            /// its force or torque (per radian), and the force and moment
+            /// on the ground.
+            pub type Forces = dofplan_runtime::planar::forces::Forces<#nj_l, #ni_l>;
+
+            #[doc = #doc_table]
+            pub const TABLE: Table<'static> = Table {
+                rows: &[#(#rows),*],
+                n_rows: #nr,
+                unknowns: &[#(#unknowns),*],
+                loads: &[#(#loads),*],
+                masses: &[#(#masses),*],
+                gravity: #gravity,
+                blocks: &[#(#blocks),*],
+            };
+
+            /// [`solve_rates_into`](super::solve_rates_into) and the forces
+            /// in one pass, into `out`: the frame at `inputs` moving at
+            /// `rates` and `accelerations` (per second, degrees for
+            /// angles; zeros hold it still). On an error `out` holds no
+            /// forces to read: the frame's break or dead point, or a
+            /// block of the force plan singular here
+            /// ([`ForceError::Singular`]).
+            pub fn solve_forces(
+                s: &mut State,
+                inputs: &[f64],
+                rates: &[f64],
+                accelerations: &[f64],
+                ctx: &mut Ctx,
+                out: &mut Forces,
+            ) -> Result<(), ForceError> {
+                let mut jets = [Pose::<Jet2>::cst(Pose::IDENTITY); #nb_l];
+                solve_rates_into(s, inputs, rates, accelerations, ctx, &mut jets).map_err(ForceError::Rates)?;
+                let work = Work {
+                    values: &mut [Pose::IDENTITY; #nb_l],
+                    applied: &mut [[0.0; 3]; #nb_l],
+                    rhs: &mut [0.0; #nr],
+                    x: &mut [0.0; #nu],
+                    scratch: &mut [0.0; #scratch],
+                };
+                solve_frame(&TABLE, &jets, work, out)?;
+                Ok(())
+            }
+        }
+    };
+    let file =
+        syn::parse2::<syn::File>(tokens).map_err(|e| format!("the forces module does not parse: {e}"))?;
+    Ok(prettyplease::unparse(&file))
+}
