@@ -393,23 +393,25 @@ function drawForces() {
   const g = $("forces");
   g.replaceChildren();
   const f = pose && pose.forces;
-  $("forces-toggle").hidden = !f || is3d();
-  if (!forcesOn || !f || is3d()) return;
-  for (const r of f.reactions) forceScale = Math.max(forceScale, Math.hypot(r[0], r[1]));
+  $("forces-toggle").hidden = !f;
+  if (!forcesOn || !f) return;
+  const size = (v) => Math.hypot(...v);
+  for (const r of f.reactions) forceScale = Math.max(forceScale, size(r));
   if (!(forceScale > 0)) return;
-  const length = (0.2 * (doc.size || 1) * view.s) / forceScale;
+  // World length per unit force: the largest force seen is a fifth of the
+  // mechanism's size (in space the arrow is that vector, projected).
+  const perForce = (0.2 * (doc.size || 1)) / forceScale;
   for (const { joint, b, k } of parts.joints) {
-    const [fx, fy] = f.reactions[k];
-    const size = Math.hypot(fx, fy);
-    const [x, y] = toScreen(pose.markers[b]);
+    const force = f.reactions[k];
+    const at = pose.markers[b];
+    const [x, y] = toScreen(at);
     const a = el("g", { class: "force", "data-force": joint.name }, g);
-    a.dataset.fx = String(fx);
-    a.dataset.fy = String(fy);
-    if (size * length < 2) continue;
-    const [tx, ty] = [x + fx * length, y - fy * length];
+    a.dataset.vector = JSON.stringify(force);
+    const [tx, ty] = toScreen(at.map((c, i) => c + force[i] * perForce));
+    if (Math.hypot(tx - x, ty - y) < 2) continue;
     el("line", { class: "reaction", x1: x.toFixed(2), y1: y.toFixed(2), x2: tx.toFixed(2), y2: ty.toFixed(2), "marker-end": "url(#force-head)" }, a);
     const label = el("text", { class: "force-value", x: (tx + 4).toFixed(2), y: (ty - 4).toFixed(2) }, a);
-    label.textContent = `${joint.name} ${shortNumber(size)}`;
+    label.textContent = `${joint.name} ${shortNumber(size(force))}`;
   }
   doc.inputs.forEach((input, k) => {
     const part = parts.joints.find((p) => p.joint.name === input.joint);
@@ -420,7 +422,8 @@ function drawForces() {
     a.dataset.value = String(q);
     if (input.kind === "angle") {
       // A torque: an arc around the pin, its head turning the way the
-      // driver turns the input's second body (counter-clockwise positive).
+      // driver turns the input's second body (counter-clockwise positive
+      // in the plane; in space about the joint's axis, drawn on screen).
       const r = 18;
       const [from, to] = q >= 0 ? [-0.6, 1.9] : [1.9, -0.6];
       const p = (t) => [x + r * Math.cos(t), y - r * Math.sin(t)];
@@ -430,10 +433,18 @@ function drawForces() {
     const label = el("text", { class: "force-value", x: (x - 10).toFixed(2), y: (y + 32).toFixed(2) }, a);
     label.textContent = `${input.name} ${shortNumber(q)} (${input.kind === "angle" ? "torque" : "force"})`;
   });
-  if (!f.held) {
-    const note = el("text", { class: "not-held", x: 12, y: 20 }, g);
-    note.textContent = "the inputs cannot hold this pose: least-squares forces";
-  }
+  const notes = [];
+  if (!f.held) notes.push("the inputs cannot hold this pose: least-squares forces");
+  // An over-constrained mechanism: the redundant joints' shares are the
+  // least-norm ones, one of many.
+  if (f.indeterminate.length) notes.push(`not unique (redundant joints): ${f.indeterminate.join(", ")}`);
+  // Low on the canvas, clear of the toolbar over its top and of the
+  // axes in its lower left corner.
+  const bottom = (canvas.clientHeight || 600) - 120;
+  notes.forEach((text, i) => {
+    const note = el("text", { class: "not-held", x: 12, y: bottom - 16 * (notes.length - 1 - i) }, g);
+    note.textContent = text;
+  });
 }
 
 function setGrid(on) {

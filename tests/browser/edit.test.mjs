@@ -848,7 +848,7 @@ async function forces(browser) {
       for (const j of doc.joints) {
         const [fx, fy] = cli.frames[0].reactions[j.name];
         const arrow = page.locator(`#forces [data-force="${j.name}"]`);
-        const got = [Number(await arrow.getAttribute("data-fx")), Number(await arrow.getAttribute("data-fy"))];
+        const got = JSON.parse(await arrow.getAttribute("data-vector"));
         const off = Math.hypot(got[0] - fx, got[1] - fy);
         check(off < 1e-9 * Math.max(1, Math.hypot(fx, fy)), `theta = ${theta}: joint ${j.name}'s arrow is its reaction (${got.map((v) => v.toFixed(3))})`);
         // Drawn from the joint's pin, pointing along the force (screen y
@@ -874,6 +874,36 @@ async function forces(browser) {
     check(await plain.page.locator("#forces-toggle").isHidden(), "a file without loads has no Forces button");
   } finally {
     plain.child.kill();
+  }
+  // In space: the Cardan drive against 10 N m, its arrows projected.
+  const cardan = await openEditor(browser, "mechanisms/loads/cardan_torque.toml");
+  try {
+    const { page } = cardan;
+    const doc = await documentOf(page);
+    await page.click("#forces-toggle");
+    await settled(page);
+    for (const theta of [30, 100]) {
+      await page.$eval('input[data-input="theta"]', (e, v) => {
+        e.value = String(v);
+        e.dispatchEvent(new Event("input", { bubbles: true }));
+      }, theta);
+      await settled(page);
+      const cli = JSON.parse(dofplan("analyze", "mechanisms/loads/cardan_torque.toml", "--forces", "--json", "--from", String(theta), "--to", String(theta), "--steps", "1"));
+      const want = cli.frames[0].input_force.theta;
+      const shown = Number(await page.$eval('[data-input-force="theta"]', (e) => e.dataset.value));
+      check(Math.abs(shown - want) < 1e-9 * Math.max(1, Math.abs(want)), `cardan at ${theta}: the input torque shown is the CLI's (${shown.toFixed(6)} against ${want.toFixed(6)})`);
+      for (const j of doc.joints) {
+        const f = cli.frames[0].reactions[j.name];
+        const got = JSON.parse(await page.locator(`#forces [data-force="${j.name}"]`).getAttribute("data-vector"));
+        const off = Math.hypot(...got.map((v, i) => v - f[i]));
+        check(got.length === 3 && off < 1e-9 * Math.max(1, Math.hypot(...f)), `cardan at ${theta}: joint ${j.name}'s arrow is its reaction (${got.map((v) => v.toFixed(3))})`);
+      }
+      const note = await page.$eval("#forces .not-held", (e) => e.textContent).catch(() => "");
+      check(note.includes("not unique") && ["A", "B", "U"].every((j) => note.includes(j)), `cardan at ${theta}: its redundant joints are named (${note})`);
+      if (theta === 100) await page.screenshot({ path: join(SHOTS, "cardan_torque-forces.png") });
+    }
+  } finally {
+    cardan.child.kill();
   }
 }
 

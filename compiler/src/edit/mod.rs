@@ -16,6 +16,7 @@
 //! the caller redraws the file at the pose on screen ([`Editor::redraw`]),
 //! so the next edit starts from what the user sees.
 
+mod forces;
 pub mod live;
 mod names;
 mod ops;

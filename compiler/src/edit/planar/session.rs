@@ -17,6 +17,7 @@ use serde::Deserialize;
 use serde_json::{json, Value};
 
 use crate::analysis::analyse;
+use crate::edit::forces::frame_forces;
 use crate::forces::planar::reactions;
 use crate::interp::Interpreter;
 use crate::model::{InputKind, Marker, MarkerId, Mechanism};
@@ -421,26 +422,21 @@ impl Session {
     }
 
     /// What holds the pose on screen still under the file's loads (a file
-    /// with loads only): each input's force or torque and each joint's
-    /// reaction, the force its first body exerts on its second, by joint
-    /// in file order; `"held"` false where the inputs cannot hold the pose
-    /// (a freedom no input drives, after a drag), the reactions then the
-    /// least-squares ones; `"indeterminate"` the joints whose share is not
-    /// unique.
+    /// with loads only; see [`frame_forces`]).
     fn forces(&self) -> Option<Value> {
         let m = &self.doc.mechanism;
         let r = reactions(m, self.doc.forces.as_ref()?, &self.poses, None)?;
-        let scale = (r.forces.iter().map(|f| f[0].hypot(f[1])))
-            .chain(r.inputs.iter().map(|q| q.abs()))
-            .fold(0.0f64, f64::max);
-        let names = |js: &[usize]| js.iter().map(|&j| m.joints[j].name.as_str()).collect::<Vec<_>>();
-        Some(json!({
-            "inputs": r.inputs,
-            "reactions": r.forces,
-            "moments": r.moments,
-            "held": r.residual <= 1e-8 * scale.max(1e-300),
-            "indeterminate": names(&r.indeterminate),
-        }))
+        Some(frame_forces(
+            &r.inputs,
+            &r.forces,
+            &r.moments,
+            r.forces.iter().map(|f| f[0].hypot(f[1])),
+            r.residual,
+            r.indeterminate
+                .iter()
+                .map(|&j| m.joints[j].name.as_str())
+                .collect(),
+        ))
     }
 }
 

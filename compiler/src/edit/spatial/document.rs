@@ -10,6 +10,8 @@ use serde_json::{json, Value};
 
 use crate::analysis::spatial::analyse;
 use crate::emit::emit_spatial;
+use crate::forces::plan::ForcePlan;
+use crate::forces::spatial::force_plan;
 use crate::interp::spatial::Interpreter;
 use crate::model::spatial::Mechanism;
 use crate::plan::spatial::Plan;
@@ -28,6 +30,9 @@ pub struct Document {
     pub mechanism: Mechanism,
     /// Its plan, or why it has none.
     pub(super) plan: Result<Plan, String>,
+    /// The plan of its reaction unknowns, for a file with loads: every
+    /// frame then carries the forces that hold the pose on screen.
+    pub(super) forces: Option<ForcePlan>,
     /// The `document` message, as the planar document's with
     /// `dimension: 3`, points of three coordinates and `bounds` a box
     /// `[x0, y0, z0, x1, y1, z1]`.
@@ -42,9 +47,15 @@ impl Document {
         } else {
             analyse(&mechanism).map_err(|e| e.to_string())
         };
+        let forces = if mechanism.loads.is_empty() {
+            None
+        } else {
+            force_plan(&mechanism)
+        };
         let mut doc = Document {
             mechanism,
             plan,
+            forces,
             description: Value::Null,
         };
         doc.description = doc.describe(path);

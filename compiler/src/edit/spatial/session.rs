@@ -5,6 +5,8 @@ use std::sync::Arc;
 
 use serde_json::{json, Value};
 
+use crate::edit::forces::frame_forces;
+use crate::forces::spatial::reactions;
 use crate::interp::spatial::Interpreter;
 use crate::model::spatial::JointKind;
 use crate::plan::spatial::step_number;
@@ -134,7 +136,7 @@ impl Session {
                 "residual": residual,
             }),
         };
-        json!({
+        let mut frame = json!({
             "type": "frame",
             "id": id,
             "markers": markers,
@@ -143,6 +145,30 @@ impl Session {
             "inputs": inputs,
             "status": status.name(),
             "detail": detail,
-        })
+        });
+        if let Some(forces) = self.forces() {
+            frame["forces"] = forces;
+        }
+        frame
+    }
+
+    /// What holds the pose on screen still under the file's loads (a file
+    /// with loads only; see [`frame_forces`]): reactions and moments as
+    /// 3-vectors.
+    fn forces(&self) -> Option<Value> {
+        let m = &self.doc.mechanism;
+        let poses = self.driver.as_ref()?.poses();
+        let r = reactions(m, self.doc.forces.as_ref()?, poses, None)?;
+        Some(frame_forces(
+            &r.inputs,
+            &r.forces,
+            &r.moments,
+            r.forces.iter().map(|f| dofplan_runtime::spatial::norm(*f)),
+            r.residual,
+            r.indeterminate
+                .iter()
+                .map(|&j| m.joints[j].name.as_str())
+                .collect(),
+        ))
     }
 }
