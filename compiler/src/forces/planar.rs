@@ -417,7 +417,7 @@ pub fn reactions(
 
 /// The equilibrium equations at `poses` (the loads aside: the right-hand
 /// side) in sparse columns, each unknown's the runtime's
-/// [`frame::column`].
+/// [`frame::column()`].
 fn equilibrium(d: &Described, poses: &[Pose]) -> System {
     let mut system = System::new(d.n_rows, d.unknowns.len());
     for (c, u) in d.unknowns.iter().enumerate() {

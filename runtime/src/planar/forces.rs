@@ -8,7 +8,7 @@
 //! the blocks its force plan solves in order (a perfect matching of
 //! equations to unknowns and the strongly connected components of what
 //! each needs). Each frame, [`applied`] gives every body's load,
-//! [`column`] each unknown's share in the equations at the frame's poses,
+//! [`column()`] each unknown's share in the equations at the frame's poses,
 //! and [`solve_blocks`] the unknowns block by block, each a dense solve
 //! of its own size, on the caller's scratch (no allocation).
 //!

@@ -183,7 +183,7 @@ pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table) -> Result<String, S
                 blocks: &[#(#blocks),*],
             };
 
-            /// [`solve_rates_into`](super::solve_rates_into) and the forces
+            /// [`solve_rates_into`] and the forces
             /// in one pass, into `out`: the frame at `inputs` moving at
             /// `rates` and `accelerations` (per second, degrees for
             /// angles; zeros hold it still). On an error `out` holds no
