@@ -32,6 +32,9 @@ fn main() {
     let mechanisms = root.join("mechanisms");
     let mut all = files(&mechanisms);
     all.extend(files(&root.join("tests/fixtures")));
+    // The geared mechanisms (gear pairs, rack and pinion): their plans'
+    // geared steps, compiled (their forces are the interpreter's).
+    all.extend(files(&mechanisms.join("gears")));
     // The planar files with loads, each with its forces module
     // (`Config::forces`): the compiled `solve_forces` the tests hold to
     // the interpreter's.

@@ -8,6 +8,7 @@ mod chunked;
 mod design;
 mod design_gradient;
 mod forces;
+mod gears;
 mod rolled;
 mod snapshots;
 mod spatial_compiled;

@@ -122,3 +122,23 @@ fn the_spatial_fragment_table() {
         );
     });
 }
+
+/// The geared mechanisms' plans and generated Rust (`mechanisms/gears/`):
+/// a geared body's rotation and a rack's slide, affine in the inputs.
+#[test]
+fn geared_plans_and_rust_are_snapshotted() {
+    settings().bind(|| {
+        for name in ["epicyclic", "rack_pinion"] {
+            let path = dofplan_tests::mechanisms_dir().join(format!("gears/{name}.toml"));
+            let p = plan(&dofplan::load_file(&path).unwrap_or_else(|e| panic!("{e}")));
+            insta::assert_snapshot!(format!("plan_gears_{name}"), p.explain_all());
+            let code = emit(&p);
+            assert_eq!(
+                dofplan_generated::source(name),
+                Some(code.as_str()),
+                "{name}: stale"
+            );
+            insta::assert_snapshot!(format!("emit_gears_{name}"), code);
+        }
+    });
+}

@@ -133,7 +133,7 @@ fn a_load_on_the_coupler_point_needs_the_hand_virtual_work_torque() {
 /// The mechanical energy of `fourbar_weights` at a frame: kinetic (from
 /// the jets' velocities), gravity's, the payload's and the brake's
 /// potential, the springs'; and the damper's loss rate (c L-dot^2).
-fn energy(m: &Mechanism, p: &[Pose<Jet2>]) -> (f64, f64) {
+pub(crate) fn energy(m: &Mechanism, p: &[Pose<Jet2>]) -> (f64, f64) {
     use dofplan::model::planar::loads::LoadKind;
     let world = |b: usize, at: [f64; 2]| p[b].world(at);
     let turn = |b: usize| p[b].rot.s.v.atan2(p[b].rot.c.v);

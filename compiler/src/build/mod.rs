@@ -379,6 +379,14 @@ fn forces_module(file: &Path, m: &Mechanism, plan: &crate::plan::Plan) -> Result
             "the file gives no masses, gravity or loads, so every force is 0",
         ));
     }
+    if !m.gears.is_empty() {
+        // A tooth force's line of action turns with its sign, which a
+        // compiled table fixes: the interpreter solves these.
+        return Err(why(&format!(
+            "its gear pairs ({}) lean their tooth forces by the sign of each frame's force, which compiled modules do not follow yet",
+            m.gear_names()
+        )));
+    }
     let forces = force_plan(m).ok_or_else(|| why("its primitive constraints carry no reactions yet"))?;
     let described = describe(m);
     let blocks = runtime_blocks(&forces);

@@ -166,6 +166,9 @@ pub struct Reactions {
     /// Per input: its force or torque, from every body's equilibrium (the
     /// same as [`input_forces`]' virtual work where both are defined).
     pub inputs: Vec<f64>,
+    /// Per gear pair: the tooth force its first gear (a rack's pinion)
+    /// exerts on its second, in world axes, along the line of action.
+    pub teeth: Vec<[f64; 2]>,
     /// The joints whose reactions the equations do not fix (an
     /// over-constrained mechanism: a redundant joint shares its load
     /// with others in any proportion); the values given are then the
@@ -230,8 +233,17 @@ pub fn runtime_blocks(plan: &ForcePlan) -> Vec<RtBlock<'_>> {
         .collect()
 }
 
-/// [`Described`] of `m`.
+/// [`Described`] of `m`, each gear pair's tooth force leaning the way a
+/// positive tangential force leans it.
 pub fn describe(m: &Mechanism) -> Described {
+    describe_leaning(m, &vec![1.0; m.gears.len()])
+}
+
+/// [`Described`] of `m` with gear pair `g`'s tooth force leaning by the
+/// pressure angle as a tangential force of sign `signs[g]` leans it: the
+/// teeth always push apart, so the line of action a pair's force takes
+/// depends on which way it drives.
+pub fn describe_leaning(m: &Mechanism, signs: &[f64]) -> Described {
     let mut next = 0;
     let rows: Vec<Option<usize>> = (m.bodies.iter())
         .map(|b| {
@@ -243,7 +255,7 @@ pub fn describe(m: &Mechanism) -> Described {
         .collect();
     let local = |id: MarkerId| m.marker(id).at;
     let dir = |id: MarkerId| m.marker(id).unit_dir().unwrap_or([1.0, 0.0]);
-    let mut unknowns = Vec::with_capacity(2 * m.joints.len() + m.inputs.len());
+    let mut unknowns = Vec::with_capacity(2 * m.joints.len() + m.inputs.len() + m.gears.len());
     for joint in &m.joints {
         let [a, b] = joint.markers;
         let (first, second, at) = (a.body, b.body, local(b));
@@ -280,6 +292,30 @@ pub fn describe(m: &Mechanism) -> Described {
                 at: local(b),
                 dir: dir(a),
             },
+        });
+    }
+    for (g, gear) in m.gears.iter().enumerate() {
+        let mesh = gear.mesh();
+        let lean = signs[g] * mesh.lean;
+        // The carrier's own frame: a fixed body stands for the frame.
+        let carrier = gear.carrier.unwrap_or_else(|| {
+            let joint = &m.joints[gear.pivots[0]];
+            joint
+                .markers
+                .iter()
+                .find(|id| id.body != gear.bodies[0])
+                .expect("a joint of two bodies")
+                .body
+        });
+        unknowns.push(Unknown::Mesh {
+            first: gear.bodies[0],
+            second: gear.bodies[1],
+            carrier,
+            at: mesh.at,
+            dir: [
+                mesh.tangent[0] + lean * mesh.radial[0],
+                mesh.tangent[1] + lean * mesh.radial[1],
+            ],
         });
     }
     let end = |id: MarkerId| (id.body, local(id));
@@ -378,7 +414,38 @@ pub fn reactions(
     if !m.constraints.is_empty() {
         return None;
     }
-    let described = describe(m);
+    // A gear pair's line of action depends on the sign of its force: solve
+    // leaning every pair the positive way, then again with the pairs that
+    // came out negative leaned the other (a pair's sign seldom depends on
+    // another's lean, which moves only the pivots' radial loads).
+    let mut signs = vec![1.0; m.gears.len()];
+    let mut found = reactions_leaning(m, plan, poses, actual, &signs);
+    let first = 2 * m.joints.len() + m.inputs.len();
+    let flipped: Vec<usize> = (0..m.gears.len()).filter(|&g| found.x[first + g] < 0.0).collect();
+    if !flipped.is_empty() {
+        for &g in &flipped {
+            signs[g] = -1.0;
+        }
+        found = reactions_leaning(m, plan, poses, actual, &signs);
+    }
+    Some(found.reactions)
+}
+
+/// [`reactions`] with the gear pairs leaning as `signs` says, and the
+/// unknowns it solved.
+struct Leaning {
+    reactions: Reactions,
+    x: Vec<f64>,
+}
+
+fn reactions_leaning(
+    m: &Mechanism,
+    plan: &ForcePlan,
+    poses: &[Pose],
+    actual: Option<&[Pose<Jet2>]>,
+    signs: &[f64],
+) -> Leaning {
+    let described = describe_leaning(m, signs);
     let blocks = runtime_blocks(plan);
     let table = described.table(&blocks);
     let mut applied = vec![[0.0; 3]; m.bodies.len()];
@@ -403,16 +470,28 @@ pub fn reactions(
         .map(|j| frame::joint_reaction(&table, poses, x, j))
         .unzip();
     let on = frame::on_ground(&table, poses, x);
-    Some(Reactions {
-        forces,
-        moments,
-        inputs: x[2 * joints..].to_vec(),
-        indeterminate: (0..joints)
-            .filter(|&j| !(fixed[2 * j] && fixed[2 * j + 1]))
-            .collect(),
-        residual,
-        shaking: [0, 1, 2].map(|k| on[k] + ground[k]),
-    })
+    let inputs = m.inputs.len();
+    let teeth = (0..m.gears.len())
+        .map(|g| {
+            let u = 2 * joints + inputs + g;
+            let w = frame::column(&table.unknowns[u], poses);
+            [x[u] * w[0], x[u] * w[1]]
+        })
+        .collect();
+    Leaning {
+        reactions: Reactions {
+            forces,
+            moments,
+            inputs: x[2 * joints..2 * joints + inputs].to_vec(),
+            teeth,
+            indeterminate: (0..joints)
+                .filter(|&j| !(fixed[2 * j] && fixed[2 * j + 1]))
+                .collect(),
+            residual,
+            shaking: [0, 1, 2].map(|k| on[k] + ground[k]),
+        },
+        x: x.to_vec(),
+    }
 }
 
 /// The equilibrium equations at `poses` (the loads aside: the right-hand

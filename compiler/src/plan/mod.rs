@@ -14,6 +14,6 @@ pub mod spatial;
 
 pub use explain::num;
 pub use planar::{
-    BodyId, BranchSlot, ClusterParam, ClusterRow, DirRef, Line, Plan, PlanBody, PlanInput, PointRef, Rel,
-    Step, StepKind, Temp,
+    Affine, BodyId, BranchSlot, ClusterParam, ClusterRow, DirRef, Line, Plan, PlanBody, PlanInput, PointRef,
+    Rel, Step, StepKind, Temp,
 };

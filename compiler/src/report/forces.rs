@@ -468,7 +468,8 @@ fn add_json(o: &mut Value, names: &Names, carried: Option<&Carried>) {
     }
     o["shaking"] = json!({"force": r.shaking.0, "moment": moment_json(&r.shaking.1)});
     if let Some(a) = &c.advantage {
-        let joints = (0..names.joints.len())
+        // Gear pairs, named after the joints, have no advantage of their own.
+        let joints = (0..names.joints.len().min(a.joints.len()))
             .filter(|&j| !names.driven[j])
             .map(|j| (names.joints[j].to_string(), json!(a.joints[j])))
             .collect();

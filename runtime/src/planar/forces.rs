@@ -58,6 +58,22 @@ pub enum Unknown {
         /// The second body.
         second: usize,
     },
+    /// A tooth force between two gears (or a pinion and its rack) at the
+    /// pitch point `at` of their carrier, along `dir` in the carrier's
+    /// axes: the common tangent leaned by the pressure angle, not of unit
+    /// length (the unknown is the force's tangential component).
+    Mesh {
+        /// The first gear (the pinion of a rack).
+        first: usize,
+        /// The second gear (the rack).
+        second: usize,
+        /// The body both turn (or slide) on; a fixed one stands still.
+        carrier: usize,
+        /// The pitch point, the carrier's local coordinates.
+        at: Point,
+        /// The force on `second` per unit, the carrier's axes.
+        dir: Point,
+    },
     /// A force along the rail `dir` of `first` at `at`: a slide input's.
     Along {
         /// The rail's body.
@@ -78,6 +94,7 @@ impl Unknown {
             Unknown::Pin { first, second, .. }
             | Unknown::Across { first, second, .. }
             | Unknown::Moment { first, second }
+            | Unknown::Mesh { first, second, .. }
             | Unknown::Along { first, second, .. } => [first, second],
         }
     }
@@ -225,6 +242,9 @@ pub fn column(u: &Unknown, poses: &[Pose]) -> [f64; 3] {
             wrench([-d[1], d[0]], poses[second].world(at), 0.0)
         }
         Unknown::Moment { .. } => [0.0, 0.0, 1.0],
+        Unknown::Mesh { carrier, at, dir, .. } => {
+            wrench(turned(&poses[carrier], dir), poses[carrier].world(at), 0.0)
+        }
         Unknown::Along {
             first,
             second,

@@ -11,7 +11,9 @@ pub struct Mobility {
     pub joints: usize,
     /// Scalar equations of the primitive constraints written directly.
     pub constraint_equations: usize,
-    /// D = 3(L − 1) − 2J − (constraint equations).
+    /// Gear pairs and racks and pinions: higher pairs, one equation each.
+    pub gears: usize,
+    /// D = 3(L − 1) − 2J − G − (constraint equations).
     pub dof: i64,
     /// Number of inputs.
     pub inputs: usize,
@@ -41,11 +43,13 @@ impl Mobility {
             .sum();
         let links = m.links();
         let joints = m.joints.len();
-        let dof = 3 * (links as i64 - 1) - 2 * joints as i64 - constraint_equations as i64;
+        let gears = m.gears.len();
+        let dof = 3 * (links as i64 - 1) - 2 * joints as i64 - gears as i64 - constraint_equations as i64;
         Mobility {
             links,
             joints,
             constraint_equations,
+            gears,
             dof,
             inputs: m.inputs.len(),
         }

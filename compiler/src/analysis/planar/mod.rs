@@ -52,6 +52,12 @@ pub enum PlanError {
         /// Their origins ("joint TY").
         equations: Vec<String>,
     },
+    /// Gear pairs (or racks) no closed-form step sets: the angle each is set
+    /// from does not come from inputs through revolute joints and gears.
+    Ungeared {
+        /// Their names.
+        gears: Vec<String>,
+    },
     /// A step cannot be met even at the drawn pose.
     BrokenAtDrawnPose {
         /// The step.
@@ -74,6 +80,14 @@ impl fmt::Display for PlanError {
                  degenerate there (e.g. two joints of a body at one point): draw those joints apart",
                 equations.join(", ")
             ),
+            PlanError::Ungeared { gears } => write!(
+                f,
+                "no closed-form step sets gear pair {}: a gear is planned from the angle of a body an input \
+                 turns (directly, or through revolute joints and other gears), a rack from its pinion's angle \
+                 or its own slide input, and here the driving angle comes from a loop closure instead; drive \
+                 one of the pair's bodies (or its carrier) with an input",
+                gears.join(", ")
+            ),
             PlanError::BrokenAtDrawnPose { step, explanation } => {
                 write!(f, "step {step} cannot be met at the drawn pose: {explanation}")
             }
@@ -94,7 +108,14 @@ pub fn analyse_with(m: &Mechanism, progress: &mut dyn FnMut(Progress)) -> Analys
     let eqs = crate::model::planar::equations::equations(m);
     let planned = planner::plan(m, &eqs, progress);
     let unused: Vec<String> = planned.unused.iter().map(|&i| eqs[i].origin.clone()).collect();
-    let plan = if !unused.is_empty() {
+    let plan = if !planned.ungeared.is_empty() {
+        let gears = planned
+            .ungeared
+            .iter()
+            .map(|&g| m.gears[g].name.clone())
+            .collect();
+        Err(PlanError::Ungeared { gears })
+    } else if !unused.is_empty() {
         let mut equations = unused.clone();
         equations.dedup();
         Err(PlanError::Unchecked { equations })
@@ -104,6 +125,11 @@ pub fn analyse_with(m: &Mechanism, progress: &mut dyn FnMut(Progress)) -> Analys
             source: file_name(&m.source.name),
             joint_lines: (m.joints.iter())
                 .filter_map(|j| Some((format!("joint {}", j.name), j.line?)))
+                .chain(
+                    m.gears
+                        .iter()
+                        .filter_map(|g| Some((format!("joint {}", g.name), g.line?))),
+                )
                 .collect(),
             bodies: m
                 .bodies

@@ -35,8 +35,11 @@ use dofplan_runtime::{Branch, Point};
 
 use super::Progress;
 use crate::model::planar::equations::{End, Equation, Sourced};
+use crate::model::planar::gears::GearKind;
 use crate::model::Mechanism;
-use crate::plan::{BodyId, BranchSlot, ClusterParam, DirRef, Line, PointRef, Rel, Step, StepKind, Temp};
+use crate::plan::{
+    Affine, BodyId, BranchSlot, ClusterParam, DirRef, Line, PointRef, Rel, Step, StepKind, Temp,
+};
 
 /// Two local points closer than this (relative to the mechanism's size) are
 /// the same point.
@@ -74,6 +77,8 @@ pub struct Planned {
     pub branches: Vec<BranchSlot>,
     /// Equations no rule used (redundant ones, or ones on unplaced bodies).
     pub unused: Vec<usize>,
+    /// Gear pairs no step serves (indices into the mechanism's gears).
+    pub ungeared: Vec<usize>,
     /// Candidate equations the rules examined: the planner's work, linear
     /// in the mechanism's size.
     pub checks: usize,
@@ -107,6 +112,12 @@ struct Planner<'m> {
     checks: usize,
     /// Equations used so far.
     consumed: usize,
+    /// Per body: its rotation in degrees as an affine function of the
+    /// inputs, where every step that set it was a rotation by an input or
+    /// a gear pair (the ground's is 0); what gear pairs are planned from.
+    angle: Vec<Option<Affine>>,
+    /// Per gear pair of the mechanism: whether a step serves it.
+    geared: Vec<bool>,
 }
 
 /// The closed-form rules, in the order they are tried.
@@ -155,6 +166,8 @@ pub fn plan(m: &Mechanism, eqs: &[Sourced], progress: &mut dyn FnMut(Progress)) 
         unplaced: m.bodies.iter().filter(|b| !b.fixed).count(),
         checks: 0,
         consumed: 0,
+        angle: m.bodies.iter().map(|b| b.fixed.then(Affine::default)).collect(),
+        geared: vec![false; m.gears.len()],
     };
     for (i, e) in eqs.iter().enumerate() {
         let [a, b] = e.eq.bodies();
@@ -168,6 +181,7 @@ pub fn plan(m: &Mechanism, eqs: &[Sourced], progress: &mut dyn FnMut(Progress)) 
     }
     while p.unplaced > 0 {
         let progressed = p.drain(Rule::Rotation, Planner::try_rotation)
+            || p.gear_rule()
             || p.drain(Rule::Coincident, Planner::try_coincident)
             || p.drain(Rule::InLine, Planner::try_in_line)
             || p.drain(Rule::Dyad, Planner::try_dyad)
@@ -183,6 +197,7 @@ pub fn plan(m: &Mechanism, eqs: &[Sourced], progress: &mut dyn FnMut(Progress)) 
     }
     Planned {
         unused: (0..eqs.len()).filter(|&i| !p.used[i]).collect(),
+        ungeared: (0..m.gears.len()).filter(|&g| !p.geared[g]).collect(),
         steps: p.steps,
         temps: p.temps,
         branches: p.branches,
@@ -343,6 +358,12 @@ impl Planner<'_> {
             _ => return false,
         };
         let origin = self.consume(i);
+        self.angle[target] = self.angle[from].as_ref().map(|a| match rel {
+            Rel::Identity => a.clone(),
+            Rel::Input { input, inverse } => {
+                a.combine(1.0, &Affine::input(input, if inverse { -1.0 } else { 1.0 }), 1.0)
+            }
+        });
         let from = (!self.m.bodies[from].fixed).then_some(from);
         self.push(
             StepKind::Orient {
@@ -942,6 +963,136 @@ impl Planner<'_> {
         (params, hinged)
     }
 
+    /// Gear pairs and racks: the driven body's rotation (or the rack's
+    /// slide) from the other's, when the angles it is set from are known
+    /// affine in the inputs. Gears are few: each pass looks at all of
+    /// them.
+    fn gear_rule(&mut self) -> bool {
+        for g in 0..self.m.gears.len() {
+            self.checks += 1;
+            if !self.geared[g] && self.try_gear(g) {
+                return true;
+            }
+        }
+        false
+    }
+
+    /// One gear pair or rack (see [`Planner::gear_rule`]).
+    fn try_gear(&mut self, g: usize) -> bool {
+        let gear = &self.m.gears[g];
+        let [a, b] = gear.bodies;
+        let ratio = gear.ratio();
+        let zero = Affine::default();
+        let carrier = match gear.carrier {
+            Some(c) => self.angle[c].clone(),
+            None => Some(zero.clone()),
+        };
+        let origin = format!("joint {}", gear.name);
+        let rot = |p: &Self, body: usize| p.know[body].rot_known();
+        match gear.kind {
+            GearKind::Gear { .. } => {
+                let (ta, tb) = (self.angle[a].clone(), self.angle[b].clone());
+                // θb − θc = ratio·(θa − θc), all from the drawn pose.
+                let (body, angle) = match (ta, tb, carrier) {
+                    (Some(ta), None, Some(tc)) if !rot(self, b) => (b, ta.combine(ratio, &tc, 1.0 - ratio)),
+                    (None, Some(tb), Some(tc)) if !rot(self, a) => {
+                        (a, tb.combine(1.0 / ratio, &tc, 1.0 - 1.0 / ratio))
+                    }
+                    (Some(ta), Some(tb), None) => match gear.carrier {
+                        Some(c) if !rot(self, c) => {
+                            (c, tb.combine(1.0 / (1.0 - ratio), &ta, -ratio / (1.0 - ratio)))
+                        }
+                        _ => return false,
+                    },
+                    _ => return false,
+                };
+                self.turn(body, angle, origin);
+                self.geared[g] = true;
+                true
+            }
+            GearKind::RackPinion { dir, .. } => {
+                let Some(tc) = carrier else { return false };
+                let joint = &self.m.joints[gear.pivots[1]];
+                let rack_marker = if joint.markers[0].body == b {
+                    joint.markers[0]
+                } else {
+                    joint.markers[1]
+                };
+                let local = self.m.marker(rack_marker).at;
+                let carrier_body = joint
+                    .markers
+                    .iter()
+                    .find(|m| m.body != b)
+                    .expect("a joint of two bodies")
+                    .body;
+                // The slide per degree of the pinion relative to the carrier.
+                let per_degree = ratio * std::f64::consts::PI / 180.0;
+                if let Some(tp) = self.angle[a].clone() {
+                    // The pinion is set: the rack's slide follows, once the
+                    // rack is oriented (by its prismatic joint) and the
+                    // carrier placed.
+                    if self.placed(b) || !rot(self, b) || !self.placed(carrier_body) {
+                        return false;
+                    }
+                    let slide = tp.combine(per_degree, &tc, -per_degree);
+                    // The prismatic joint's line is implied by the slide.
+                    for i in self.on[b].clone() {
+                        if !self.used[i] && self.eqs[i].origin == format!("joint {}", joint.name) {
+                            if let Equation::InLine { .. } = self.eqs[i].eq {
+                                self.consume(i);
+                            }
+                        }
+                    }
+                    self.push(
+                        StepKind::Shift {
+                            body: b,
+                            local,
+                            carrier: carrier_body,
+                            at: local,
+                            dir,
+                            slide,
+                            name: self.m.marker_name(rack_marker),
+                        },
+                        vec![origin, format!("joint {}", joint.name)],
+                    );
+                    self.set(b, Know::Placed);
+                    self.geared[g] = true;
+                    return true;
+                }
+                // The rack's slide is an input: the pinion turns with it.
+                let input = self.m.inputs.iter().position(|i| i.joint == gear.pivots[1]);
+                let (Some(input), false) = (input, rot(self, a)) else {
+                    return false;
+                };
+                // The input slides the joint's second marker along the
+                // first's direction (the rack's `dir`); seen from the rack
+                // as first, backward.
+                let sign = if joint.markers[1].body == b { 1.0 } else { -1.0 };
+                let slide = Affine::input(input, sign);
+                let angle = slide.combine(1.0 / per_degree, &tc, 1.0);
+                self.turn(a, angle, origin);
+                self.geared[g] = true;
+                true
+            }
+        }
+    }
+
+    /// A geared body turned to `angle`, then placed by its pin if it has
+    /// one.
+    fn turn(&mut self, body: BodyId, angle: Affine, origin: String) {
+        self.angle[body] = Some(angle.clone());
+        self.push(StepKind::Turn { body, angle }, vec![origin]);
+        let next = match &self.know[body] {
+            Know::Pinned { local, at } => {
+                let (local, at) = (*local, at.clone());
+                self.push(StepKind::Anchor { body, local, at }, vec![]);
+                Know::Placed
+            }
+            _ => Know::Oriented,
+        };
+        self.set(body, next);
+    }
+
     /// When no closed-form fragment applies: the smallest set of unplaced
     /// bodies that is rigid against the placed ones (grown from each seed,
     /// adding the neighbour that removes the most freedom), or all of them
@@ -950,6 +1101,12 @@ impl Planner<'_> {
     fn cluster_rule(&mut self) -> bool {
         let unplaced: Vec<BodyId> = (0..self.m.bodies.len()).filter(|&b| !self.placed(b)).collect();
         if unplaced.is_empty() {
+            return false;
+        }
+        // A cluster knows no gear pair: with one still unplanned, its bodies
+        // would be placed as if it were not there. The plan stops instead,
+        // and says which pair it could not set in closed form.
+        if self.geared.iter().any(|&g| !g) {
             return false;
         }
         let mut best: Option<Vec<BodyId>> = None;

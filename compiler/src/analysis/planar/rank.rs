@@ -21,6 +21,7 @@ use nalgebra::{DMatrix, DVector};
 
 use super::Progress;
 use crate::model::planar::equations::equations;
+use crate::model::planar::gears::{Gear, GearKind};
 use crate::model::Mechanism;
 use crate::plan::ClusterRow;
 
@@ -105,6 +106,14 @@ fn rank_of(free: &Mechanism, progress: &mut dyn FnMut(Progress)) -> RankMobility
             )
         })
         .collect();
+    let mut groups = groups;
+    groups.extend(free.gears.iter().map(|g| {
+        (
+            format!("joint {}", g.name),
+            g.kind.name(),
+            vec![gear_row(g, &column, size)],
+        )
+    }));
     let total: usize = groups.iter().map(|(_, _, rows)| rows.len()).sum();
     let largest = groups
         .iter()
@@ -229,6 +238,47 @@ fn jacobian_rows(row: &ClusterRow, column: &[Option<usize>], size: f64, inputs: 
                 .collect()
         })
         .collect()
+}
+
+/// The Jacobian row of a gear pair or rack at the drawn pose, in the
+/// columns of pure Newton (x, y, size·angle per mobile body): for gears
+/// `θb − θc − ratio·(θa − θc)`, for a rack the slide of its marker along
+/// the carrier's direction less `ratio·(θpinion − θc)`, both scaled as
+/// the cluster rows are (lengths).
+fn gear_row(g: &Gear, column: &[Option<usize>], size: f64) -> SparseRow {
+    let mut row = SparseRow::new();
+    let mut put = |body: Option<usize>, k: usize, v: f64| {
+        if let Some(first) = body.and_then(|b| column[b]) {
+            if v != 0.0 {
+                row.push((first + k, v));
+            }
+        }
+    };
+    let [a, b] = g.bodies;
+    let ratio = g.ratio();
+    match g.kind {
+        GearKind::Gear { .. } => {
+            put(Some(b), 2, 1.0);
+            put(Some(a), 2, -ratio);
+            put(g.carrier, 2, ratio - 1.0);
+        }
+        GearKind::RackPinion { dir, .. } => {
+            // The rack's marker against the carrier's point under it; a
+            // body's point P moves by δθ·perp(P) when it turns at the
+            // identity pose.
+            let p = g.centres[1];
+            let turn = (dir[1] * p[0] - dir[0] * p[1]) / size;
+            put(Some(b), 0, dir[0]);
+            put(Some(b), 1, dir[1]);
+            put(Some(b), 2, turn);
+            put(g.carrier, 0, -dir[0]);
+            put(g.carrier, 1, -dir[1]);
+            put(g.carrier, 2, -turn + ratio / size);
+            put(Some(a), 2, -ratio / size);
+        }
+    }
+    row.sort_by_key(|e| e.0);
+    row
 }
 
 /// Rows in row echelon form, added one at a time: Gaussian elimination on

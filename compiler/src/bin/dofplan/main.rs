@@ -485,6 +485,14 @@ fn run(command: Command, out: &mut dyn Write) -> io::Result<ExitCode> {
             let Some(sweep) = sweep_args.of(m) else {
                 return Ok(ExitCode::FAILURE);
             };
+            if solver == SolverArg::Newton && !m.gears.is_empty() {
+                eprintln!(
+                    "error: {}: `--solver newton` does not model gear pairs yet (gear pair {}); the plan does: leave `--solver` out",
+                    m.source.name,
+                    m.gear_names()
+                );
+                return Ok(ExitCode::FAILURE);
+            }
             let options = sweep_options(policy, branch);
             let form = Form::of(json, csv);
             let mut bar = progress::Frames::default();

@@ -53,6 +53,17 @@ fn unknown(u: &Unknown) -> TokenStream {
             let (f, s, a, d) = (index(first), index(second), point_lit(at), point_lit(dir));
             quote!(Unknown::Along { first: #f, second: #s, at: #a, dir: #d })
         }
+        Unknown::Mesh {
+            first,
+            second,
+            carrier,
+            at,
+            dir,
+        } => {
+            let (f, s, c) = (index(first), index(second), index(carrier));
+            let (a, d) = (point_lit(at), point_lit(dir));
+            quote!(Unknown::Mesh { first: #f, second: #s, carrier: #c, at: #a, dir: #d })
+        }
     }
 }
 

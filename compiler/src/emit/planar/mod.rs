@@ -424,7 +424,11 @@ pub(super) fn module(plan: &Plan, chunk_weight: usize) -> String {
                 lanes
             });
             let lane_code = lanes.as_ref().map(|l| l.to_string()).unwrap_or_default();
-            let real = fused.to_string().contains("Jet2 :: cst") || lane_code.contains("Lanes :: cst");
+            // `cst` and `mul_f64` are the `Real` trait's: imported when used.
+            let fused_code = fused.to_string();
+            let real = ["Jet2 :: cst", "Lanes :: cst", "mul_f64"]
+                .iter()
+                .any(|n| fused_code.contains(n) || lane_code.contains(n));
             e.prefix(real, lanes.is_some(), &mut sink);
             sink.push(e.single_solve(steps, &doc_solve));
             sink.push(fused);
@@ -446,7 +450,8 @@ pub(super) fn module(plan: &Plan, chunk_weight: usize) -> String {
             let jet_uses: Vec<uses::Uses> = (0..plan.steps.len())
                 .map(|i| {
                     let code = e.step(i);
-                    real |= code.to_string().contains("Jet2 :: cst");
+                    let code_text = code.to_string();
+                    real |= code_text.contains("Jet2 :: cst") || code_text.contains("mul_f64");
                     uses::Uses::of(&code)
                 })
                 .collect();

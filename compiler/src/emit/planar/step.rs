@@ -7,7 +7,7 @@ use quote::{format_ident, quote};
 
 use super::{lit, Emitter};
 use crate::emit::fold::{plus_input, times};
-use crate::plan::{DirRef, Line, PointRef, Rel, StepKind};
+use crate::plan::{Affine, DirRef, Line, PointRef, Rel, StepKind};
 
 impl Emitter<'_> {
     /// Binds a point to a local inside a step's block and returns the
@@ -108,6 +108,16 @@ impl Emitter<'_> {
         let marker = self.step_marker(i);
         let code = match &step.kind {
             StepKind::Orient { body, from, rel } => self.orient(*body, *from, rel),
+            StepKind::Turn { body, angle } => self.turn(*body, angle),
+            StepKind::Shift {
+                body,
+                local,
+                carrier,
+                at,
+                dir,
+                slide,
+                name,
+            } => self.shift(*body, *local, *carrier, (*at, *dir), slide, name),
             StepKind::Anchor { body, local, at } => self.anchor(*body, *local, at),
             StepKind::Align {
                 body,
@@ -185,6 +195,81 @@ impl Emitter<'_> {
             }
             None => quote!(planar::set_rotation(&mut #b, #r);),
         }
+    }
+
+    /// An affine function of the inputs in the step's numbers:
+    /// `c·inputs[k] + … + constant`.
+    fn affine(&self, a: &Affine) -> TokenStream {
+        let mut sum: Option<TokenStream> = None;
+        for &(k, c) in &a.terms {
+            let i = super::index(k);
+            let term = times(c, quote!(inputs[#i]), self.jets, false);
+            sum = Some(match sum {
+                None => term,
+                Some(s) => quote!(#s + #term),
+            });
+        }
+        match sum {
+            None => self.slit(a.constant),
+            Some(s) if a.constant == 0.0 => s,
+            Some(s) => {
+                let c = self.slit(a.constant);
+                quote!(#s + #c)
+            }
+        }
+    }
+
+    /// Sets a geared body's rotation: its angle in degrees, affine in the
+    /// inputs, turned into a cos/sin pair as an angle input is.
+    fn turn(&self, body: usize, angle: &Affine) -> TokenStream {
+        let b = self.pose(body);
+        let degrees = self.affine(angle);
+        let rot = if self.dual {
+            quote!(Rot::<Dual>::cst(Rot::from_degrees(#degrees)))
+        } else if self.lanes {
+            quote!(Rot::from_degrees_lanes(#degrees))
+        } else if self.jets {
+            quote!(Rot::from_degrees_jet(#degrees))
+        } else {
+            quote!(Rot::from_degrees(#degrees))
+        };
+        quote!(planar::set_rotation(&mut #b, #rot);)
+    }
+
+    /// Moves a rack along its slide: its marker onto the carrier's point
+    /// `at + slide·dir` (the carried point of `PointRef::Slid`, with the
+    /// slide set by the pinion).
+    fn shift(
+        &self,
+        body: usize,
+        local: [f64; 2],
+        carrier: usize,
+        (at, dir): ([f64; 2], [f64; 2]),
+        slide: &Affine,
+        name: &str,
+    ) -> TokenStream {
+        let u = self.affine(slide);
+        let [lx, ly] = self.drawn_coords(carrier, at, None);
+        let (dx, dy) = (self.lit(dir[0]), self.lit(dir[1]));
+        let (x, y) = if self.jets {
+            (quote!(slide.mul_f64(#dx)), quote!(slide.mul_f64(#dy)))
+        } else {
+            (quote!(slide * #dx), quote!(slide * #dy))
+        };
+        let carried = quote!([#lx + #x, #ly + #y]);
+        let target = if self.plan.bodies[carrier].fixed {
+            carried
+        } else {
+            let c = self.pose(carrier);
+            quote!(#c.world_carried(#carried))
+        };
+        let b = self.pose(body);
+        let l = self.drawn_point(body, local, Some(name));
+        quote!({
+            let slide = #u;
+            let at = #target;
+            planar::anchor(&mut #b, #l, at);
+        })
     }
 
     /// Translates a body so its point `local` lands on `at`.

@@ -251,6 +251,30 @@ impl Interpreter {
                         None => planar::set_rotation(&mut s.poses[*body], r),
                     }
                 }
+                StepKind::Turn { body, angle } => {
+                    planar::set_rotation(&mut s.poses[*body], T::rot_from_degrees(angle.eval(inputs)));
+                }
+                StepKind::Shift {
+                    body,
+                    local,
+                    carrier,
+                    at,
+                    dir,
+                    slide,
+                    ..
+                } => {
+                    let u = slide.eval(inputs);
+                    let (l, d) = (cst::<T>(*at), cst::<T>(*dir));
+                    let carried = [l[0] + u * d[0], l[1] + u * d[1]];
+                    // A fixed carrier is at its drawn pose (as for
+                    // `PointRef::Slid`): the carried point is the world point.
+                    let at = if self.plan.bodies[*carrier].fixed {
+                        carried
+                    } else {
+                        s.poses[*carrier].world_carried(carried)
+                    };
+                    planar::anchor(&mut s.poses[*body], *local, at);
+                }
                 StepKind::Anchor { body, local, at } => {
                     let at = self.point(s, inputs, at);
                     planar::anchor(&mut s.poses[*body], *local, at);

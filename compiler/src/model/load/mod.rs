@@ -13,6 +13,7 @@ use dofplan_runtime::Point;
 use super::error::{Diagnostic, Location, ModelError, Note, SourceFile};
 use super::shape;
 use super::source::{parse_json, parse_toml_by_serde, read_toml, At, Key, Node, NodeKind};
+mod gears;
 mod loads;
 mod planar;
 pub(crate) mod spatial;

@@ -40,7 +40,11 @@ impl Validator {
         };
         let joints_node = Self::get(top, "joints").unwrap_or(&empty);
         let constraints_node = Self::get(top, "constraints").unwrap_or(&empty);
-        let joints = self.joints(joints_node, &bodies);
+        // Gear pairs and racks name bodies, not markers: read apart, after
+        // the joints they turn and slide in.
+        let (pairs_node, gear_entries) = super::gears::split_joints(joints_node);
+        let joints = self.joints(&pairs_node, &bodies);
+        let gears = self.gears(&gear_entries, &bodies, &joints);
         let constraints = self.constraints(constraints_node, &bodies);
         for (what, name, node) in joints
             .iter()
@@ -55,7 +59,10 @@ impl Validator {
         }
         self.cross_duplicates(joints_node, constraints_node);
         let inputs = match Self::get(top, "inputs") {
-            Some(n) => self.inputs(n, joints_node, &joints, &bodies),
+            Some(n) => {
+                self.inputs_on_gears(n, &gear_entries);
+                self.inputs(n, joints_node, &joints, &bodies)
+            }
             None => Vec::new(),
         };
         let written_inputs: Vec<&str> = match Self::get(top, "inputs").map(|n| &n.kind) {
@@ -80,6 +87,7 @@ impl Validator {
             bodies,
             joints: self.with_lines(joints, |j, line| j.line = line),
             constraints: constraints.into_iter().map(|(c, _)| c).collect(),
+            gears: self.with_lines(gears, |g, line| g.line = line),
             inputs,
             sweep,
             loads,
@@ -236,7 +244,7 @@ impl Validator {
         ok
     }
 
-    fn size(&mut self, bodies: &[Body]) -> f64 {
+    pub(super) fn size(&mut self, bodies: &[Body]) -> f64 {
         *self
             .size
             .get_or_insert_with(|| crate::model::planar::size_of(bodies))

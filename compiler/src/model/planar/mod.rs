@@ -2,6 +2,7 @@
 //! prismatic joints, and the primitive constraints of the plane.
 
 pub mod equations;
+pub mod gears;
 pub mod loads;
 
 use dofplan_runtime::Point;
@@ -21,6 +22,9 @@ pub struct Mechanism {
     pub joints: Vec<Joint>,
     /// Primitive constraints written directly, in file order.
     pub constraints: Vec<Constraint>,
+    /// Gear pairs and racks and pinions (`[joints]` entries that mesh two
+    /// bodies rather than join two markers), in file order.
+    pub gears: Vec<gears::Gear>,
     /// Driving inputs in file order.
     pub inputs: Vec<Input>,
     /// The sweep to simulate, if the file has one.
@@ -166,6 +170,21 @@ impl Mechanism {
     /// as drawn (1 if they all coincide). Tolerances are relative to it.
     pub fn size(&self) -> f64 {
         size_of(&self.bodies)
+    }
+
+    /// The gear pairs' names, `sp, pr`: for the messages of what does not
+    /// handle them.
+    pub fn gear_names(&self) -> String {
+        self.gears
+            .iter()
+            .map(|g| g.name.as_str())
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    /// The gear pair (or rack and pinion) named `name`.
+    pub fn gear(&self, name: &str) -> Option<&gears::Gear> {
+        self.gears.iter().find(|g| g.name == name)
     }
 
     /// Number of links in Grübler's sense: every mobile body plus one for

@@ -55,6 +55,10 @@ pub struct Drag {
 pub enum DragError {
     /// The marker belongs to a fixed body.
     FixedBody(String),
+    /// The mechanism has gear pairs (named), which the drag's task-priority
+    /// Newton does not model: a gear is planned from its driving input,
+    /// and a drag releases the inputs.
+    Geared(String),
 }
 
 impl std::fmt::Display for DragError {
@@ -66,6 +70,10 @@ impl std::fmt::Display for DragError {
                     "marker {name} is on a fixed body: drag a marker of a mobile body"
                 )
             }
+            DragError::Geared(names) => write!(
+                f,
+                "dragging a marker of a geared mechanism is not supported yet (gear pair {names}): move it by its inputs instead"
+            ),
         }
     }
 }
@@ -189,6 +197,9 @@ impl Drag {
     pub fn new(m: &Mechanism, marker: MarkerId) -> Result<Drag, DragError> {
         if m.bodies[marker.body].fixed {
             return Err(DragError::FixedBody(m.marker_name(marker)));
+        }
+        if !m.gears.is_empty() {
+            return Err(DragError::Geared(m.gear_names()));
         }
         let mut free = m.clone();
         free.inputs.clear();

@@ -101,6 +101,44 @@ impl Plan {
         }
     }
 
+    /// `2·carrier − 1.5·sun`: an affine angle or slide in the inputs'
+    /// names.
+    fn affine_name(&self, a: &crate::plan::Affine) -> String {
+        let mut out = String::new();
+        for (k, &(input, c)) in a.terms.iter().enumerate() {
+            let name = &self.inputs[input].name;
+            let sign = if c < 0.0 {
+                "−"
+            } else if k > 0 {
+                "+"
+            } else {
+                ""
+            };
+            let sep = if k > 0 { " " } else { "" };
+            let space = if k > 0 { " " } else { "" };
+            if c.abs() == 1.0 {
+                out.push_str(&format!("{sep}{sign}{space}{name}"));
+            } else {
+                out.push_str(&format!("{sep}{sign}{space}{}·{name}", num(c.abs())));
+            }
+        }
+        if a.constant != 0.0 || a.terms.is_empty() {
+            let sign = if a.terms.is_empty() {
+                if a.constant < 0.0 {
+                    "−"
+                } else {
+                    ""
+                }
+            } else if a.constant < 0.0 {
+                " − "
+            } else {
+                " + "
+            };
+            out.push_str(&format!("{sign}{}", num(a.constant.abs())));
+        }
+        out
+    }
+
     fn line_name(&self, l: &Line, lookup: &Lookup) -> String {
         format!(
             "line through {} along {}",
@@ -131,6 +169,30 @@ impl Plan {
         let body = |b: &usize| self.bodies[*b].name.as_str();
         match &self.steps[i].kind {
             StepKind::Orient { body: b, from, rel } => self.orient_line(*b, *from, rel),
+            StepKind::Turn { body: b, angle } => {
+                format!(
+                    "{}: rotation = {} degrees (geared)",
+                    body(b),
+                    self.affine_name(angle)
+                )
+            }
+            StepKind::Shift {
+                body: b,
+                local,
+                carrier,
+                at,
+                dir,
+                slide,
+                ..
+            } => format!(
+                "{}: translate {} onto {}'s {} + ({}) along {} (driven by its pinion)",
+                body(b),
+                self.local_name(*b, *local),
+                self.bodies[*carrier].name,
+                pair(*at),
+                self.affine_name(slide),
+                pair(*dir)
+            ),
             StepKind::Anchor { body: b, local, at } => {
                 // An anchor followed by another write of the same body puts
                 // it on its line locus for now (Kramer's 1-TDOF state).

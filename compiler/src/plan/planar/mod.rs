@@ -94,6 +94,59 @@ pub enum Rel {
     },
 }
 
+/// A number affine in the inputs, `constant + Σ coefficient · input`: a
+/// body's rotation in degrees, or a rack's slide, when every step that
+/// sets it is a rotation by an input or a gear pair (rotations then add
+/// up and gears scale them, so the angle is known unwrapped, past a full
+/// turn, and a ratio that is not a whole number needs no memory of the
+/// previous frame).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Affine {
+    /// The value at zero inputs.
+    pub constant: f64,
+    /// (input, coefficient), by input, no zero coefficient.
+    pub terms: Vec<(usize, f64)>,
+}
+
+impl Affine {
+    /// `±input`.
+    pub fn input(input: usize, sign: f64) -> Affine {
+        Affine {
+            constant: 0.0,
+            terms: vec![(input, sign)],
+        }
+    }
+
+    /// `a·self + b·other`.
+    pub fn combine(&self, a: f64, other: &Affine, b: f64) -> Affine {
+        let mut terms: Vec<(usize, f64)> = Vec::new();
+        for &(i, c) in &self.terms {
+            terms.push((i, a * c));
+        }
+        for &(i, c) in &other.terms {
+            match terms.iter_mut().find(|t| t.0 == i) {
+                Some(t) => t.1 += b * c,
+                None => terms.push((i, b * c)),
+            }
+        }
+        terms.retain(|t| t.1 != 0.0);
+        terms.sort_by_key(|t| t.0);
+        Affine {
+            constant: a * self.constant + b * other.constant,
+            terms,
+        }
+    }
+
+    /// Its value at `inputs`, on any scalar (frames, jets, lanes).
+    pub fn eval<T: dofplan_runtime::scalar::Real>(&self, inputs: &[T]) -> T {
+        let mut v = T::cst(self.constant);
+        for &(i, c) in &self.terms {
+            v = v + T::cst(c) * inputs[i];
+        }
+        v
+    }
+}
+
 /// How a cluster body is parametrised, with the points and directions it
 /// depends on still to be evaluated each frame.
 #[derive(Clone, Debug, PartialEq)]
@@ -175,6 +228,34 @@ pub enum StepKind {
         from: Option<BodyId>,
         /// The relative rotation.
         rel: Rel,
+    },
+    /// Sets `body`'s rotation to `angle` degrees (a gear pair's driven
+    /// body, or the carrier of one).
+    Turn {
+        /// The body turned.
+        body: BodyId,
+        /// Its rotation in degrees, affine in the inputs.
+        angle: Affine,
+    },
+    /// Translates `body` (rotation known) so its marker `local` lands on
+    /// `carrier.world(at + slide · dir)`: a rack moved by its pinion
+    /// along the prismatic joint it slides in.
+    Shift {
+        /// The rack.
+        body: BodyId,
+        /// Its marker on the prismatic joint, local.
+        local: Point,
+        /// The body it slides on (a fixed one: the frame, at its drawn
+        /// pose).
+        carrier: BodyId,
+        /// Where the marker is at zero slide, in the carrier's frame.
+        at: Point,
+        /// The unit slide direction in the carrier's frame.
+        dir: Point,
+        /// The slide, affine in the inputs.
+        slide: Affine,
+        /// "body.marker" of the rack's marker.
+        name: String,
     },
     /// Translates `body` (rotation known) so its marker `local` lands on `at`.
     Anchor {
@@ -381,6 +462,8 @@ impl StepKind {
     pub fn writes(&self) -> Vec<BodyId> {
         match self {
             StepKind::Orient { body, .. }
+            | StepKind::Turn { body, .. }
+            | StepKind::Shift { body, .. }
             | StepKind::Anchor { body, .. }
             | StepKind::Align { body, .. }
             | StepKind::TurnLine { body, .. } => vec![*body],
@@ -401,6 +484,8 @@ impl StepKind {
     pub fn writes_body(&self, b: BodyId) -> bool {
         match self {
             StepKind::Orient { body, .. }
+            | StepKind::Turn { body, .. }
+            | StepKind::Shift { body, .. }
             | StepKind::Anchor { body, .. }
             | StepKind::Align { body, .. }
             | StepKind::TurnLine { body, .. } => *body == b,

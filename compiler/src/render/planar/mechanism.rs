@@ -328,6 +328,9 @@ pub(super) fn draw_pose(
             g = add_body(g, m, poses, b, view, detail, stitched);
         }
     }
+    if !m.gears.is_empty() {
+        g = g.add(super::gears::draw(m, poses, view, detail));
+    }
     g = g.add(pins(m, poses, view, detail));
     if style.highlighted {
         for &(id, colour) in traced {

@@ -1,6 +1,7 @@
 //! Pictures of planar mechanisms: [`render`] draws a simulated sweep or a
 //! drag.
 
+mod gears;
 pub(super) mod mechanism;
 mod target;
 
@@ -109,6 +110,7 @@ fn drawn_box(
                 bbox.add(p);
             }
         }
+        gears::extend_box(m, poses, &mut bbox);
     }
     for poses in pose_sets {
         for s in slides {

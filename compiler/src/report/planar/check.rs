@@ -98,11 +98,16 @@ fn write_counts(m: &Mechanism, place: &str, out: &mut dyn Write) -> io::Result<(
     writeln!(out, "{} ({})", m.name, place)?;
     writeln!(
         out,
-        "  bodies: {} ({} fixed, {} mobile), joints: {}, constraints: {}, inputs: {}",
+        "  bodies: {} ({} fixed, {} mobile), joints: {}{}, constraints: {}, inputs: {}",
         m.bodies.len(),
         fixed,
         m.bodies.len() - fixed,
         m.joints.len(),
+        if m.gears.is_empty() {
+            String::new()
+        } else {
+            format!(" and {} gear pair(s)", m.gears.len())
+        },
         m.constraints.len(),
         m.inputs.len()
     )?;
@@ -122,6 +127,12 @@ fn write_counts(m: &Mechanism, place: &str, out: &mut dyn Write) -> io::Result<(
 /// Jacobian's rank, and whether they agree: where they do not, the
 /// mechanism is non-generic.
 fn write_mobility(mob: &Mobility, by_rank: &RankMobility, out: &mut dyn Write) -> io::Result<()> {
+    // Gear pairs are higher pairs: one equation each (G).
+    let (gear_term, gears) = if mob.gears > 0 {
+        (" − G", format!(" − {}", mob.gears))
+    } else {
+        (Default::default(), String::new())
+    };
     let extra = if mob.constraint_equations > 0 {
         format!(" − {}", mob.constraint_equations)
     } else {
@@ -129,7 +140,7 @@ fn write_mobility(mob: &Mobility, by_rank: &RankMobility, out: &mut dyn Write) -
     };
     writeln!(
         out,
-        "  mobility (Grübler): D = 3(L−1) − 2J{} = 3·{} − 2·{}{} = {}",
+        "  mobility (Grübler): D = 3(L−1) − 2J{gear_term}{} = 3·{} − 2·{}{gears}{} = {}",
         if mob.constraint_equations > 0 {
             " − (constraint equations)"
         } else {
@@ -328,6 +339,7 @@ fn check_json(
         "dimension": 2,
         "bodies": m.bodies.len(),
         "joints": m.joints.len(),
+        "gears": m.gears.len(),
         "equations": by_rank.equations,
         "mobility": {"grubler": mob.dof, "rank": by_rank.dof},
         "redundant_equations": by_rank.equations - by_rank.rank,

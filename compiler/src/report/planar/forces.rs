@@ -45,10 +45,16 @@ pub fn run(
     let names = Names {
         name: &m.name,
         inputs: &m.inputs,
-        joints: m.joints.iter().map(|j| j.name.as_str()).collect(),
-        moments: m.joints.iter().map(|j| j.kind == JointKind::Prismatic).collect(),
+        // Gear pairs after the joints: their reaction is the tooth force.
+        joints: (m.joints.iter().map(|j| j.name.as_str()))
+            .chain(m.gears.iter().map(|g| g.name.as_str()))
+            .collect(),
+        moments: (m.joints.iter().map(|j| j.kind == JointKind::Prismatic))
+            .chain(m.gears.iter().map(|_| false))
+            .collect(),
         driven: (0..m.joints.len())
             .map(|j| m.inputs.iter().any(|i| i.joint == j))
+            .chain(m.gears.iter().map(|_| false))
             .collect(),
         markers: m.all_markers().map(|id| m.marker_name(id)).collect(),
         dimension: 2,
@@ -94,12 +100,16 @@ pub fn run(
 
 /// Planar reactions in the shared report's form.
 fn carry(r: Reactions) -> Carry {
+    let mut all = r.forces.clone();
+    all.extend(&r.teeth);
     Carry {
-        forces: r.forces.iter().map(|f| f.to_vec()).collect(),
-        moments: r.moments.iter().map(|&m| vec![m]).collect(),
+        forces: all.iter().map(|f| f.to_vec()).collect(),
+        moments: (r.moments.iter().map(|&m| vec![m]))
+            .chain(r.teeth.iter().map(|_| vec![0.0]))
+            .collect(),
         indeterminate: r.indeterminate.clone(),
         residual: r.residual,
         shaking: (r.shaking[..2].to_vec(), vec![r.shaking[2]]),
-        polar: r.forces,
+        polar: all,
     }
 }

@@ -35,6 +35,16 @@ impl Design {
     /// The design of `m`, whose drawing must have a plan (the original
     /// every candidate keeps the topology and step order of).
     pub fn new(m: &Mechanism) -> Result<Design, SynthError> {
+        // A gear pair ties its pivots' distance to its radii, which no
+        // design parameter moves with them yet.
+        if !m.gears.is_empty() {
+            return Err(SynthError::Goal {
+                reason: format!(
+                    "synthesis of geared mechanisms is not supported yet (gear pair {}): their pivots' distance is tied to the pitch radii",
+                    m.gear_names()
+                ),
+            });
+        }
         let plan = analyse(m).plan.map_err(|e| SynthError::Plan {
             reason: e.to_string(),
         })?;
