@@ -35,6 +35,8 @@ fn main() {
     // The geared mechanisms (gear pairs, rack and pinion): their plans'
     // geared steps, compiled (their forces are the interpreter's).
     all.extend(files(&mechanisms.join("gears")));
+    // The mechanisms with pins in slots: the ends' checks, compiled.
+    all.extend(files(&mechanisms.join("slots")));
     // The planar files with loads, each with its forces module
     // (`Config::forces`): the compiled `solve_forces` the tests hold to
     // the interpreter's.

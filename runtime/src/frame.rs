@@ -132,6 +132,8 @@ pub enum BreakKind {
     /// A redundant equation does not hold: the mechanism is over-constrained
     /// and inconsistent at this input.
     Inconsistent,
+    /// A pin would run past an end of its slot.
+    PastSlotEnd,
     /// Frames solved together in lanes took different paths through a step
     /// (one at a dead point, one apart, …). Batch solving then solves them
     /// one at a time, so this never reaches a caller of
@@ -166,6 +168,7 @@ impl BreakKind {
             BreakKind::NoSolution => "no solution within reach (least-squares minimum)",
             BreakKind::NotConverged => "Newton-Raphson did not converge within its iterations",
             BreakKind::Inconsistent => "a redundant joint does not hold (over-constrained and inconsistent)",
+            BreakKind::PastSlotEnd => "the pin would run past an end of its slot",
             BreakKind::LanesDiffer => {
                 "frames solved together took different paths (solved one at a time instead)"
             }

@@ -8,7 +8,7 @@ mod chunked;
 mod design;
 mod design_gradient;
 mod forces;
-mod gears;
+mod higher_pairs;
 mod rolled;
 mod snapshots;
 mod spatial_compiled;

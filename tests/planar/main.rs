@@ -20,4 +20,5 @@ mod newton;
 mod overconstrained;
 mod rank;
 mod rates;
+mod slots;
 mod sweeps;

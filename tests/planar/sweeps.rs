@@ -34,8 +34,15 @@ fn every_bundled_mechanism_is_compiled() {
     // ... and the planar files with loads, with their forces modules.
     expected.push("fourbar_weights".to_string());
     expected.push("slider_crank_press".to_string());
-    // ... and the geared ones.
-    for name in ["epicyclic", "geared_fivebar", "geared_hoist", "rack_pinion"] {
+    // ... and the geared ones and those with slots.
+    for name in [
+        "epicyclic",
+        "geared_fivebar",
+        "geared_hoist",
+        "rack_pinion",
+        "quick_return",
+        "scotch_yoke",
+    ] {
         expected.push(name.to_string());
     }
     expected.sort();

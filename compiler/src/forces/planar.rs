@@ -166,6 +166,9 @@ pub struct Reactions {
     /// Per input: its force or torque, from every body's equilibrium (the
     /// same as [`input_forces`]' virtual work where both are defined).
     pub inputs: Vec<f64>,
+    /// Per slot: the force the slotted body exerts on the pin, square to
+    /// the slot, in world axes.
+    pub slots: Vec<[f64; 2]>,
     /// Per gear pair: the tooth force its first gear (a rack's pinion)
     /// exerts on its second, in world axes, along the line of action.
     pub teeth: Vec<[f64; 2]>,
@@ -233,29 +236,13 @@ pub fn runtime_blocks(plan: &ForcePlan) -> Vec<RtBlock<'_>> {
         .collect()
 }
 
-/// [`Described`] of `m`, each gear pair's tooth force leaning the way a
-/// positive tangential force leans it.
-pub fn describe(m: &Mechanism) -> Described {
-    describe_leaning(m, &vec![1.0; m.gears.len()])
-}
-
-/// [`Described`] of `m` with gear pair `g`'s tooth force leaning by the
-/// pressure angle as a tangential force of sign `signs[g]` leans it: the
-/// teeth always push apart, so the line of action a pair's force takes
-/// depends on which way it drives.
-pub fn describe_leaning(m: &Mechanism, signs: &[f64]) -> Described {
-    let mut next = 0;
-    let rows: Vec<Option<usize>> = (m.bodies.iter())
-        .map(|b| {
-            (!b.fixed).then(|| {
-                next += 3;
-                next - 3
-            })
-        })
-        .collect();
+/// The force unknowns of `m`: two per joint, one per input, one per slot,
+/// one per gear pair (leaning as `signs` says, see [`describe_leaning`]).
+fn unknowns(m: &Mechanism, signs: &[f64]) -> Vec<Unknown> {
     let local = |id: MarkerId| m.marker(id).at;
     let dir = |id: MarkerId| m.marker(id).unit_dir().unwrap_or([1.0, 0.0]);
-    let mut unknowns = Vec::with_capacity(2 * m.joints.len() + m.inputs.len() + m.gears.len());
+    let mut unknowns =
+        Vec::with_capacity(2 * m.joints.len() + m.inputs.len() + m.slots.len() + m.gears.len());
     for joint in &m.joints {
         let [a, b] = joint.markers;
         let (first, second, at) = (a.body, b.body, local(b));
@@ -294,6 +281,16 @@ pub fn describe_leaning(m: &Mechanism, signs: &[f64]) -> Described {
             },
         });
     }
+    // A pin in a slot carries a force across the slot (frictionless).
+    for slot in &m.slots {
+        let [a, b] = slot.markers;
+        unknowns.push(Unknown::Across {
+            first: a.body,
+            second: b.body,
+            at: local(b),
+            dir: m.marker(a).unit_dir().unwrap_or([1.0, 0.0]),
+        });
+    }
     for (g, gear) in m.gears.iter().enumerate() {
         let mesh = gear.mesh();
         let lean = signs[g] * mesh.lean;
@@ -318,6 +315,31 @@ pub fn describe_leaning(m: &Mechanism, signs: &[f64]) -> Described {
             ],
         });
     }
+    unknowns
+}
+
+/// [`Described`] of `m`, each gear pair's tooth force leaning the way a
+/// positive tangential force leans it.
+pub fn describe(m: &Mechanism) -> Described {
+    describe_leaning(m, &vec![1.0; m.gears.len()])
+}
+
+/// [`Described`] of `m` with gear pair `g`'s tooth force leaning by the
+/// pressure angle as a tangential force of sign `signs[g]` leans it: the
+/// teeth always push apart, so the line of action a pair's force takes
+/// depends on which way it drives.
+pub fn describe_leaning(m: &Mechanism, signs: &[f64]) -> Described {
+    let mut next = 0;
+    let rows: Vec<Option<usize>> = (m.bodies.iter())
+        .map(|b| {
+            (!b.fixed).then(|| {
+                next += 3;
+                next - 3
+            })
+        })
+        .collect();
+    let local = |id: MarkerId| m.marker(id).at;
+    let unknowns = unknowns(m, signs);
     let end = |id: MarkerId| (id.body, local(id));
     let loads = (m.loads.applied.iter())
         .map(|load| match &load.kind {
@@ -420,7 +442,7 @@ pub fn reactions(
     // another's lean, which moves only the pivots' radial loads).
     let mut signs = vec![1.0; m.gears.len()];
     let mut found = reactions_leaning(m, plan, poses, actual, &signs);
-    let first = 2 * m.joints.len() + m.inputs.len();
+    let first = 2 * m.joints.len() + m.inputs.len() + m.slots.len();
     let flipped: Vec<usize> = (0..m.gears.len()).filter(|&g| found.x[first + g] < 0.0).collect();
     if !flipped.is_empty() {
         for &g in &flipped {
@@ -471,9 +493,16 @@ fn reactions_leaning(
         .unzip();
     let on = frame::on_ground(&table, poses, x);
     let inputs = m.inputs.len();
+    let slots = (0..m.slots.len())
+        .map(|k| {
+            let u = 2 * joints + inputs + k;
+            let w = frame::column(&table.unknowns[u], poses);
+            [x[u] * w[0], x[u] * w[1]]
+        })
+        .collect();
     let teeth = (0..m.gears.len())
         .map(|g| {
-            let u = 2 * joints + inputs + g;
+            let u = 2 * joints + inputs + m.slots.len() + g;
             let w = frame::column(&table.unknowns[u], poses);
             [x[u] * w[0], x[u] * w[1]]
         })
@@ -483,6 +512,7 @@ fn reactions_leaning(
             forces,
             moments,
             inputs: x[2 * joints..2 * joints + inputs].to_vec(),
+            slots,
             teeth,
             indeterminate: (0..joints)
                 .filter(|&j| !(fixed[2 * j] && fixed[2 * j + 1]))

@@ -8,11 +8,13 @@
 //!   rotations is a complex multiplication, never an `atan2` or `sin`.
 
 pub mod cluster;
+mod ends;
 pub mod forces;
 mod locus;
 mod place;
 mod turn_table;
 
+pub use ends::within_ends;
 pub use locus::{circle_circle, circle_line, line_line, turn_line_through, Circle, Line, Slot};
 pub use place::{align, align_consistent, anchor, orient, set_rotation};
 

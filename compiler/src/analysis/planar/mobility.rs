@@ -11,9 +11,10 @@ pub struct Mobility {
     pub joints: usize,
     /// Scalar equations of the primitive constraints written directly.
     pub constraint_equations: usize,
-    /// Gear pairs and racks and pinions: higher pairs, one equation each.
+    /// Gear pairs, racks and pinions and pins in slots: higher pairs, one
+    /// equation each.
     pub gears: usize,
-    /// D = 3(L − 1) − 2J − G − (constraint equations).
+    /// D = 3(L − 1) − 2J − H − (constraint equations), H the higher pairs.
     pub dof: i64,
     /// Number of inputs.
     pub inputs: usize,
@@ -43,7 +44,7 @@ impl Mobility {
             .sum();
         let links = m.links();
         let joints = m.joints.len();
-        let gears = m.gears.len();
+        let gears = m.gears.len() + m.slots.len();
         let dof = 3 * (links as i64 - 1) - 2 * joints as i64 - gears as i64 - constraint_equations as i64;
         Mobility {
             links,

@@ -150,7 +150,7 @@ pub fn analyse_with(m: &Mechanism, progress: &mut dyn FnMut(Progress)) -> Analys
                 .collect(),
             temps: planned.temps,
             branches: planned.branches,
-            steps: planned.steps,
+            steps: with_slot_ends(m, planned.steps),
             size: m.size(),
         };
         let branches = |done| Progress {
@@ -170,6 +170,47 @@ pub fn analyse_with(m: &Mechanism, progress: &mut dyn FnMut(Progress)) -> Analys
         unused,
         planner_checks: planned.checks,
     }
+}
+
+/// The plan's steps and, last, a check of each slot's ends (the pin on
+/// the slot's line is an equation the steps meet; how far along it is
+/// only checked, once every body is placed).
+fn with_slot_ends(m: &Mechanism, mut steps: Vec<crate::plan::Step>) -> Vec<crate::plan::Step> {
+    use crate::plan::{DirRef, PointRef, Step, StepKind};
+    let point = |id: crate::model::MarkerId| {
+        let (at, name) = (m.marker(id).at, m.marker_name(id));
+        if m.bodies[id.body].fixed {
+            PointRef::Fixed { at, name }
+        } else {
+            PointRef::Marker {
+                body: id.body,
+                local: at,
+                name,
+            }
+        }
+    };
+    for slot in &m.slots {
+        let [a, b] = slot.markers;
+        let local = m
+            .marker(a)
+            .unit_dir()
+            .expect("validated: a slot's marker carries a dir");
+        let dir = if m.bodies[a.body].fixed {
+            DirRef::Fixed(local)
+        } else {
+            DirRef::Body { body: a.body, local }
+        };
+        steps.push(Step {
+            kind: StepKind::Within {
+                at: point(a),
+                dir,
+                pin: point(b),
+                ends: slot.ends,
+            },
+            serves: vec![format!("joint {}", slot.name)],
+        });
+    }
+    steps
 }
 
 /// Chooses every branch so the plan reproduces the drawn pose, then checks

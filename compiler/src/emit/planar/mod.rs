@@ -145,6 +145,7 @@ impl Emitter<'_> {
                     | StepKind::LineLine { .. }
                     | StepKind::TurnLine { .. }
                     | StepKind::Cluster { .. }
+                    | StepKind::Within { .. }
                     | StepKind::Align { redundant: true, .. }
             )
         })

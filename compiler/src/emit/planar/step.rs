@@ -143,6 +143,7 @@ impl Emitter<'_> {
                 branch,
             } => self.circle_line(&id, *out, (c, *r), line, *branch),
             StepKind::LineLine { out, a, b } => self.line_line(&id, *out, a, b),
+            StepKind::Within { at, dir, pin, ends } => self.within(&id, [at, pin], dir, *ends),
             StepKind::Cluster { params, rows, .. }
                 if Self::fixed_cluster(step.kind.cluster_size().0, step.kind.cluster_size().1) =>
             {
@@ -383,6 +384,25 @@ impl Emitter<'_> {
                 planar::line_line(ctx, #id, #p1, #d1, #p2, #d2)?
             };
         }
+    }
+
+    /// Checks a pin against its slot's ends.
+    fn within(
+        &self,
+        id: &TokenStream,
+        [at, pin]: [&PointRef; 2],
+        dir: &DirRef,
+        ends: [f64; 2],
+    ) -> TokenStream {
+        let mut pre = Vec::new();
+        let a = self.point(at, &mut pre);
+        let d = self.dir(dir, "slot_dir", &mut pre);
+        let p = self.point(pin, &mut pre);
+        let (lo, hi) = (self.lit(ends[0]), self.lit(ends[1]));
+        quote!({
+            #(#pre)*
+            planar::within_ends(ctx, #id, #a, #d, #p, [#lo, #hi])?;
+        })
     }
 
     /// Turns a body about `pivot` until its line (at angle `dir`, offset

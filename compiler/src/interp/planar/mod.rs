@@ -223,6 +223,38 @@ impl Solver for Interpreter {
 }
 
 impl Interpreter {
+    /// A geared step: a body turned to an angle, or a rack moved along its
+    /// slide, affine in the inputs.
+    fn geared<T: Scalar>(&self, s: &mut Work<T>, inputs: &[T], kind: &StepKind) {
+        match kind {
+            StepKind::Turn { body, angle } => {
+                planar::set_rotation(&mut s.poses[*body], T::rot_from_degrees(angle.eval(inputs)));
+            }
+            StepKind::Shift {
+                body,
+                local,
+                carrier,
+                at,
+                dir,
+                slide,
+                ..
+            } => {
+                let u = slide.eval(inputs);
+                let (l, d) = (cst::<T>(*at), cst::<T>(*dir));
+                let carried = [l[0] + u * d[0], l[1] + u * d[1]];
+                // A fixed carrier is at its drawn pose (as for
+                // `PointRef::Slid`): the carried point is the world point.
+                let at = if self.plan.bodies[*carrier].fixed {
+                    carried
+                } else {
+                    s.poses[*carrier].world_carried(carried)
+                };
+                planar::anchor(&mut s.poses[*body], *local, at);
+            }
+            _ => unreachable!("only geared steps"),
+        }
+    }
+
     /// Executes every step on the work buffers: a frame with `f64`s, its
     /// rates with [`Jet2`]s — the same steps, the same runtime functions.
     fn run<T: Scalar>(&self, s: &mut Work<T>, inputs: &[T], ctx: &mut Ctx) -> Result<(), Break> {
@@ -234,47 +266,8 @@ impl Interpreter {
         for (i, step) in self.plan.steps.iter().enumerate() {
             let id = i as u32;
             match &step.kind {
-                StepKind::Orient { body, from, rel } => {
-                    let r = match rel {
-                        Rel::Identity => Rot::cst(Rot::IDENTITY),
-                        Rel::Input {
-                            input,
-                            inverse: false,
-                        } => s.rots[*input],
-                        Rel::Input { input, inverse: true } => s.rots[*input].inverse(),
-                    };
-                    match from {
-                        Some(from) => {
-                            let from = s.poses[*from].rot;
-                            planar::orient(&mut s.poses[*body], from, r);
-                        }
-                        None => planar::set_rotation(&mut s.poses[*body], r),
-                    }
-                }
-                StepKind::Turn { body, angle } => {
-                    planar::set_rotation(&mut s.poses[*body], T::rot_from_degrees(angle.eval(inputs)));
-                }
-                StepKind::Shift {
-                    body,
-                    local,
-                    carrier,
-                    at,
-                    dir,
-                    slide,
-                    ..
-                } => {
-                    let u = slide.eval(inputs);
-                    let (l, d) = (cst::<T>(*at), cst::<T>(*dir));
-                    let carried = [l[0] + u * d[0], l[1] + u * d[1]];
-                    // A fixed carrier is at its drawn pose (as for
-                    // `PointRef::Slid`): the carried point is the world point.
-                    let at = if self.plan.bodies[*carrier].fixed {
-                        carried
-                    } else {
-                        s.poses[*carrier].world_carried(carried)
-                    };
-                    planar::anchor(&mut s.poses[*body], *local, at);
-                }
+                StepKind::Orient { body, from, rel } => orient(s, *body, *from, rel),
+                StepKind::Turn { .. } | StepKind::Shift { .. } => self.geared(s, inputs, &step.kind),
                 StepKind::Anchor { body, local, at } => {
                     let at = self.point(s, inputs, at);
                     planar::anchor(&mut s.poses[*body], *local, at);
@@ -344,6 +337,14 @@ impl Interpreter {
                 }
                 StepKind::Cluster { index, params, rows } => {
                     T::cluster(self, s, inputs, ctx, id, *index, params, rows)?;
+                }
+                StepKind::Within { at, dir, pin, ends } => {
+                    let (a, d, p) = (
+                        self.point(s, inputs, at),
+                        self.dir(s, dir),
+                        self.point(s, inputs, pin),
+                    );
+                    planar::within_ends(ctx, id, a, d, p, *ends)?;
                 }
                 StepKind::TurnLine {
                     body,
@@ -526,5 +527,25 @@ impl Interpreter {
         } else {
             Err(RateError::Singular)
         }
+    }
+}
+
+/// Sets a body's rotation from another's (or the ground's) and a relative
+/// rotation: an input's or none.
+fn orient<T: Scalar>(s: &mut Work<T>, body: usize, from: Option<usize>, rel: &Rel) {
+    let r = match rel {
+        Rel::Identity => Rot::cst(Rot::IDENTITY),
+        Rel::Input {
+            input,
+            inverse: false,
+        } => s.rots[*input],
+        Rel::Input { input, inverse: true } => s.rots[*input].inverse(),
+    };
+    match from {
+        Some(from) => {
+            let from = s.poses[from].rot;
+            planar::orient(&mut s.poses[body], from, r);
+        }
+        None => planar::set_rotation(&mut s.poses[body], r),
     }
 }

@@ -6,35 +6,80 @@
 use super::*;
 use crate::model::planar::gears::{Gear, GearKind};
 
-/// The joint kinds that are higher pairs (read here, not as marker pairs).
+/// The joint kinds that are gear pairs (read here, not as marker pairs).
 pub(super) const GEAR_KINDS: [&str; 2] = ["gear", "rack-pinion"];
 
-/// Whether a `[joints]` entry is a higher pair (by its `kind`).
-pub(super) fn is_gear_entry(entry: &Node) -> bool {
+/// A `[joints]` entry's `kind`, if it is a string.
+fn kind_of<'a>(entry: &'a Node) -> Option<&'a str> {
     let NodeKind::Table(fields) = &entry.kind else {
-        return false;
+        return None;
     };
-    matches!(
-        fields.iter().find(|(k, _)| k.name == "kind").map(|(_, n)| &n.kind),
-        Some(NodeKind::Str(s)) if GEAR_KINDS.contains(&s.as_ref())
-    )
+    match fields
+        .iter()
+        .find(|(k, _)| k.name == "kind")
+        .map(|(_, n)| &n.kind)
+    {
+        Some(NodeKind::Str(s)) => Some(s.as_ref()),
+        _ => None,
+    }
 }
 
-/// The `[joints]` table without its higher pairs (the marker pairs the
-/// shared walk reads), and the higher pairs' entries.
-pub(super) fn split_joints<'n>(node: &'n Node<'n>) -> (Node<'n>, Vec<&'n (Key<'n>, Node<'n>)>) {
+/// A `[joints]` table's entries, by how they are read.
+pub(super) struct Split<'n> {
+    /// The marker pairs (revolute, prismatic, and every entry whose kind
+    /// is unknown or missing, for the shared walk to report).
+    pub pairs: Node<'n>,
+    /// The gear pairs and racks.
+    pub gears: Vec<&'n (Key<'n>, Node<'n>)>,
+    /// The pins in slots.
+    pub slots: Vec<&'n (Key<'n>, Node<'n>)>,
+}
+
+impl Split<'_> {
+    /// The entries read apart from the marker pairs (inputs may not drive
+    /// them).
+    pub fn higher(&self) -> Vec<&(Key<'_>, Node<'_>)> {
+        self.gears.iter().chain(&self.slots).copied().collect()
+    }
+}
+
+/// The `[joints]` table split by how its entries are read.
+pub(super) fn split_joints<'n>(node: &'n Node<'n>) -> Split<'n> {
     match &node.kind {
         NodeKind::Table(entries) => {
-            let (gears, rest): (Vec<_>, Vec<_>) = entries.iter().partition(|(_, n)| is_gear_entry(n));
-            let rest = Node {
-                at: node.at,
-                kind: NodeKind::Table(rest.into_iter().cloned().collect()),
-            };
-            (rest, gears)
+            let (mut gears, mut slots, mut rest) = (Vec::new(), Vec::new(), Vec::new());
+            for e in entries {
+                match kind_of(&e.1) {
+                    Some(k) if GEAR_KINDS.contains(&k) => gears.push(e),
+                    Some("slot") => slots.push(e),
+                    _ => rest.push(e.clone()),
+                }
+            }
+            Split {
+                pairs: Node {
+                    at: node.at,
+                    kind: NodeKind::Table(rest),
+                },
+                gears,
+                slots,
+            }
         }
         // Not a table: the shared walk says so.
-        _ => (node.clone(), Vec::new()),
+        _ => Split {
+            pairs: node.clone(),
+            gears: Vec::new(),
+            slots: Vec::new(),
+        },
     }
+}
+
+/// What a higher pair's entry has given by the time its kind is read.
+#[derive(Clone, Copy)]
+struct Found {
+    pair: [usize; 2],
+    pivots: [usize; 2],
+    centres: [Point; 2],
+    pressure_angle: f64,
 }
 
 /// A body and the joints it turns or slides in, with the body at their
@@ -82,84 +127,19 @@ impl Validator {
             let Some(pressure_angle) = self.pressure_angle(fields, &path) else {
                 continue;
             };
-            let kind = if rack {
-                let Some(radius) = self.pitch_radius(fields, entry, &path, "radius") else {
-                    continue;
-                };
-                let prismatic = &joints[pivots[1]].0;
-                let line = bodies[prismatic.markers[0].body].markers[prismatic.markers[0].marker].clone();
-                let dir = line.unit_dir().expect("validated: prismatic markers carry a dir");
-                // The rack's side of the pinion: where the rack's marker of
-                // its prismatic joint is drawn.
-                let rack_marker = prismatic
-                    .markers
-                    .iter()
-                    .find(|m| m.body == pair[1])
-                    .expect("the rack's joint");
-                let at = bodies[rack_marker.body].markers[rack_marker.marker].at;
-                let offset = dir[0] * (at[1] - centres[0][1]) - dir[1] * (at[0] - centres[0][0]);
-                if offset.abs() <= DRAWN_TOLERANCE * self.size(bodies) {
-                    let loc = self.loc(entry, &path);
-                    self.error(
-                        loc,
-                        format!(
-                            "{owner}: the rack `{}`'s marker {}.{} lies on the line through the pinion's pivot along the slide, so the side the rack meshes on is not drawn",
-                            bodies[pair[1]].name, bodies[pair[1]].name, bodies[rack_marker.body].markers[rack_marker.marker].name
-                        ),
-                        Some("draw the rack's prismatic marker on the rack's side of the pinion (its pitch line, say)".into()),
-                    );
-                    continue;
-                }
-                GearKind::RackPinion {
-                    radius,
-                    dir,
-                    side: offset.signum(),
-                    pressure_angle,
-                }
+            let what = Found {
+                pair,
+                pivots,
+                centres,
+                pressure_angle,
+            };
+            let made = if rack {
+                self.rack_pinion(fields, entry, &path, &owner, (bodies, joints), &what)
             } else {
-                let Some(radii) = self.radii(fields, entry, &path) else {
-                    continue;
-                };
-                let Some(internal) = self.mesh(fields, entry, &path, &owner) else {
-                    continue;
-                };
-                let drawn = ((centres[0][0] - centres[1][0]).powi(2)
-                    + (centres[0][1] - centres[1][1]).powi(2))
-                .sqrt();
-                let (want, how) = if internal {
-                    (
-                        (radii[0] - radii[1]).abs(),
-                        "the difference of the radii (internal mesh)",
-                    )
-                } else {
-                    (radii[0] + radii[1], "the sum of the radii (external mesh)")
-                };
-                if internal && radii[0] == radii[1] {
-                    let loc = self.loc(Self::get(fields, "radii").unwrap_or(entry), &join(&path, "radii"));
-                    self.error(
-                        loc,
-                        format!("{owner}: an internal mesh needs a ring larger than its pinion, but both radii are {}", radii[0]),
-                        None,
-                    );
-                    continue;
-                }
-                if (drawn - want).abs() > DRAWN_TOLERANCE * self.size(bodies) {
-                    let loc = self.loc(Self::get(fields, "radii").unwrap_or(entry), &join(&path, "radii"));
-                    self.error(
-                        loc,
-                        format!(
-                            "{owner} does not hold in the drawn pose: its pivots are {drawn} apart, but {how} is {want} (radii {} and {})",
-                            radii[0], radii[1]
-                        ),
-                        Some("the pitch circles touch: draw the pivots that far apart, or give radii that fit".into()),
-                    );
-                    continue;
-                }
-                GearKind::Gear {
-                    radii,
-                    internal,
-                    pressure_angle,
-                }
+                self.gear_pair(fields, entry, &path, &owner, bodies, &what)
+            };
+            let Some(kind) = made else {
+                continue;
             };
             out.push((
                 Gear {
@@ -175,6 +155,117 @@ impl Validator {
             ));
         }
         out
+    }
+
+    /// A rack and pinion's kind: its radius, and the rack's side of the
+    /// pinion from the drawing.
+    fn rack_pinion(
+        &mut self,
+        fields: &[(Key, Node)],
+        entry: &Node,
+        path: &str,
+        owner: &str,
+        (bodies, joints): (&[Body], &[(Joint, &Node)]),
+        found: &Found,
+    ) -> Option<GearKind> {
+        let Found {
+            pair,
+            pivots,
+            centres,
+            pressure_angle,
+        } = *found;
+        let path = path.to_string();
+        let radius = self.pitch_radius(fields, entry, &path, "radius")?;
+        let prismatic = &joints[pivots[1]].0;
+        let line = bodies[prismatic.markers[0].body].markers[prismatic.markers[0].marker].clone();
+        let dir = line.unit_dir().expect("validated: prismatic markers carry a dir");
+        // The rack's side of the pinion: where the rack's marker of
+        // its prismatic joint is drawn.
+        let rack_marker = prismatic
+            .markers
+            .iter()
+            .find(|m| m.body == pair[1])
+            .expect("the rack's joint");
+        let at = bodies[rack_marker.body].markers[rack_marker.marker].at;
+        let offset = dir[0] * (at[1] - centres[0][1]) - dir[1] * (at[0] - centres[0][0]);
+        if offset.abs() <= DRAWN_TOLERANCE * self.size(bodies) {
+            let loc = self.loc(entry, &path);
+            self.error(
+                loc,
+                format!(
+                    "{owner}: the rack `{}`'s marker {}.{} lies on the line through the pinion's pivot along the slide, so the side the rack meshes on is not drawn",
+                    bodies[pair[1]].name, bodies[pair[1]].name, bodies[rack_marker.body].markers[rack_marker.marker].name
+                ),
+                Some("draw the rack's prismatic marker on the rack's side of the pinion (its pitch line, say)".into()),
+            );
+            return None;
+        }
+        Some(GearKind::RackPinion {
+            radius,
+            dir,
+            side: offset.signum(),
+            pressure_angle,
+        })
+    }
+
+    /// A gear pair's kind: its radii and mesh, which must fit the drawn
+    /// distance between the pivots.
+    fn gear_pair(
+        &mut self,
+        fields: &[(Key, Node)],
+        entry: &Node,
+        path: &str,
+        owner: &str,
+        bodies: &[Body],
+        found: &Found,
+    ) -> Option<GearKind> {
+        let Found {
+            centres,
+            pressure_angle,
+            ..
+        } = *found;
+        let path = path.to_string();
+        let radii = self.radii(fields, entry, &path)?;
+        let internal = self.mesh(fields, entry, &path, owner)?;
+        let drawn =
+            ((centres[0][0] - centres[1][0]).powi(2) + (centres[0][1] - centres[1][1]).powi(2)).sqrt();
+        let (want, how) = if internal {
+            (
+                (radii[0] - radii[1]).abs(),
+                "the difference of the radii (internal mesh)",
+            )
+        } else {
+            (radii[0] + radii[1], "the sum of the radii (external mesh)")
+        };
+        if internal && radii[0] == radii[1] {
+            let loc = self.loc(Self::get(fields, "radii").unwrap_or(entry), &join(&path, "radii"));
+            self.error(
+                loc,
+                format!(
+                    "{owner}: an internal mesh needs a ring larger than its pinion, but both radii are {}",
+                    radii[0]
+                ),
+                None,
+            );
+            return None;
+        }
+        if (drawn - want).abs() > DRAWN_TOLERANCE * self.size(bodies) {
+            let loc = self.loc(Self::get(fields, "radii").unwrap_or(entry), &join(&path, "radii"));
+            self.error(
+                loc,
+                format!(
+                    "{owner} does not hold in the drawn pose: its pivots are {drawn} apart, but {how} is {want} (radii {} and {})",
+                    radii[0], radii[1]
+                ),
+                Some("the pitch circles touch: draw the pivots that far apart, or give radii that fit".into()),
+            );
+            return None;
+        }
+        Some(GearKind::Gear {
+            radii,
+            internal,
+            pressure_angle,
+        })
     }
 
     /// An input written on a higher pair: an error (the pair's motion is
@@ -199,12 +290,12 @@ impl Validator {
                 let first = self.key_loc(gkey, &join("joints", &gkey.name));
                 self.error_notes(
                     loc,
-                    format!("input `{}` drives joint `{joint}`, a gear pair, which has no motion of its own to drive", key.name),
+                    format!("input `{}` drives joint `{joint}`, a gear pair or slot, which has no motion of its own to drive", key.name),
                     vec![Note {
                         location: first,
                         message: format!("joint `{joint}` is defined here"),
                     }],
-                    Some("drive the revolute (or prismatic) joint one of its bodies turns in".into()),
+                    Some("drive a revolute or prismatic joint of one of its bodies".into()),
                 );
             }
         }

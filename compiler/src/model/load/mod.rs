@@ -16,6 +16,7 @@ use super::source::{parse_json, parse_toml_by_serde, read_toml, At, Key, Node, N
 mod gears;
 mod loads;
 mod planar;
+mod slots;
 pub(crate) mod spatial;
 
 use super::{

@@ -42,9 +42,10 @@ impl Validator {
         let constraints_node = Self::get(top, "constraints").unwrap_or(&empty);
         // Gear pairs and racks name bodies, not markers: read apart, after
         // the joints they turn and slide in.
-        let (pairs_node, gear_entries) = super::gears::split_joints(joints_node);
-        let joints = self.joints(&pairs_node, &bodies);
-        let gears = self.gears(&gear_entries, &bodies, &joints);
+        let split = super::gears::split_joints(joints_node);
+        let joints = self.joints(&split.pairs, &bodies);
+        let gears = self.gears(&split.gears, &bodies, &joints);
+        let slots = self.slots(&split.slots, &bodies);
         let constraints = self.constraints(constraints_node, &bodies);
         for (what, name, node) in joints
             .iter()
@@ -60,7 +61,7 @@ impl Validator {
         self.cross_duplicates(joints_node, constraints_node);
         let inputs = match Self::get(top, "inputs") {
             Some(n) => {
-                self.inputs_on_gears(n, &gear_entries);
+                self.inputs_on_gears(n, &split.higher());
                 self.inputs(n, joints_node, &joints, &bodies)
             }
             None => Vec::new(),
@@ -88,6 +89,7 @@ impl Validator {
             joints: self.with_lines(joints, |j, line| j.line = line),
             constraints: constraints.into_iter().map(|(c, _)| c).collect(),
             gears: self.with_lines(gears, |g, line| g.line = line),
+            slots: self.with_lines(slots, |s, line| s.line = line),
             inputs,
             sweep,
             loads,
@@ -277,7 +279,7 @@ impl Validator {
         true
     }
 
-    fn check_in_line(
+    pub(super) fn check_in_line(
         &mut self,
         ids: [MarkerId; 2],
         bodies: &[Body],

@@ -127,8 +127,8 @@ fn end(m: &Mechanism, id: MarkerId) -> End {
     }
 }
 
-/// Every primitive equation of a mechanism, joints first, then
-/// constraints, in file order.
+/// Every primitive equation of a mechanism, joints first (slots after the
+/// others), then constraints, in file order.
 pub fn equations(m: &Mechanism) -> Vec<Sourced> {
     let mut out = Vec::new();
     for (ji, joint) in m.joints.iter().enumerate() {
@@ -197,6 +197,22 @@ pub fn equations(m: &Mechanism) -> Vec<Sourced> {
                 }
             }
         }
+    }
+    // A pin in a slot: on the slot's line (its ends are checked by the
+    // plan's last steps, not equations).
+    for slot in &m.slots {
+        let [a, b] = slot.markers;
+        out.push(Sourced {
+            eq: Equation::InLine {
+                line: end(m, a),
+                dir: m
+                    .marker(a)
+                    .unit_dir()
+                    .expect("validated: a slot's marker carries a dir"),
+                point: end(m, b),
+            },
+            origin: format!("joint {}", slot.name),
+        });
     }
     for c in &m.constraints {
         let origin = format!("constraint {}", c.name);

@@ -4,6 +4,7 @@
 pub mod equations;
 pub mod gears;
 pub mod loads;
+pub mod slots;
 
 use dofplan_runtime::Point;
 
@@ -25,6 +26,9 @@ pub struct Mechanism {
     /// Gear pairs and racks and pinions (`[joints]` entries that mesh two
     /// bodies rather than join two markers), in file order.
     pub gears: Vec<gears::Gear>,
+    /// Pins in straight slots (`[joints]` entries of kind `slot`), in file
+    /// order.
+    pub slots: Vec<slots::Slot>,
     /// Driving inputs in file order.
     pub inputs: Vec<Input>,
     /// The sweep to simulate, if the file has one.

@@ -101,6 +101,37 @@ impl Plan {
         }
     }
 
+    /// The line of a geared step (a turn or a rack's shift).
+    fn geared_line(&self, kind: &StepKind) -> String {
+        match kind {
+            StepKind::Turn { body: b, angle } => {
+                format!(
+                    "{}: rotation = {} degrees (geared)",
+                    self.bodies[*b].name,
+                    self.affine_name(angle)
+                )
+            }
+            StepKind::Shift {
+                body: b,
+                local,
+                carrier,
+                at,
+                dir,
+                slide,
+                ..
+            } => format!(
+                "{}: translate {} onto {}'s {} + ({}) along {} (driven by its pinion)",
+                self.bodies[*b].name,
+                self.local_name(*b, *local),
+                self.bodies[*carrier].name,
+                pair(*at),
+                self.affine_name(slide),
+                pair(*dir)
+            ),
+            _ => unreachable!("only geared steps"),
+        }
+    }
+
     /// `2·carrier − 1.5·sun`: an affine angle or slide in the inputs'
     /// names.
     fn affine_name(&self, a: &crate::plan::Affine) -> String {
@@ -169,30 +200,7 @@ impl Plan {
         let body = |b: &usize| self.bodies[*b].name.as_str();
         match &self.steps[i].kind {
             StepKind::Orient { body: b, from, rel } => self.orient_line(*b, *from, rel),
-            StepKind::Turn { body: b, angle } => {
-                format!(
-                    "{}: rotation = {} degrees (geared)",
-                    body(b),
-                    self.affine_name(angle)
-                )
-            }
-            StepKind::Shift {
-                body: b,
-                local,
-                carrier,
-                at,
-                dir,
-                slide,
-                ..
-            } => format!(
-                "{}: translate {} onto {}'s {} + ({}) along {} (driven by its pinion)",
-                body(b),
-                self.local_name(*b, *local),
-                self.bodies[*carrier].name,
-                pair(*at),
-                self.affine_name(slide),
-                pair(*dir)
-            ),
+            StepKind::Turn { .. } | StepKind::Shift { .. } => self.geared_line(&self.steps[i].kind),
             StepKind::Anchor { body: b, local, at } => {
                 // An anchor followed by another write of the same body puts
                 // it on its line locus for now (Kramer's 1-TDOF state).
@@ -258,6 +266,13 @@ impl Plan {
                 num(*r),
                 self.line_name(line, lookup),
                 self.branch_symbol(*branch)
+            ),
+            StepKind::Within { at, pin, ends, .. } => format!(
+                "{} within the slot of {}, from {} to {} along it",
+                self.point_name_in(pin, lookup),
+                self.point_name_in(at, lookup),
+                num(ends[0]),
+                num(ends[1])
             ),
             StepKind::LineLine { out, a, b } => format!(
                 "{}: {} ∩ {}",

@@ -337,6 +337,19 @@ pub enum StepKind {
         /// Index into [`Plan::branches`].
         branch: usize,
     },
+    /// Checks that a pin lies between the ends of its straight slot (the
+    /// line through `at` along `dir`): past an end the frame breaks, an
+    /// assembly limit like the circles' reach.
+    Within {
+        /// The slot's marker.
+        at: PointRef,
+        /// The slot's direction.
+        dir: DirRef,
+        /// The pin.
+        pin: PointRef,
+        /// The ends, along `dir` from `at`.
+        ends: [f64; 2],
+    },
     /// Places the bodies the closed form could not, by Newton–Raphson on
     /// the fewest unknowns their loci allow (a mixed plan's numeric part).
     Cluster {
@@ -468,7 +481,10 @@ impl StepKind {
             | StepKind::Align { body, .. }
             | StepKind::TurnLine { body, .. } => vec![*body],
             StepKind::Cluster { params, .. } => params.iter().map(ClusterParam::body).collect(),
-            StepKind::CircleCircle { .. } | StepKind::CircleLine { .. } | StepKind::LineLine { .. } => vec![],
+            StepKind::CircleCircle { .. }
+            | StepKind::CircleLine { .. }
+            | StepKind::LineLine { .. }
+            | StepKind::Within { .. } => vec![],
         }
     }
 
@@ -490,7 +506,10 @@ impl StepKind {
             | StepKind::Align { body, .. }
             | StepKind::TurnLine { body, .. } => *body == b,
             StepKind::Cluster { params, .. } => params.iter().any(|p| p.body() == b),
-            StepKind::CircleCircle { .. } | StepKind::CircleLine { .. } | StepKind::LineLine { .. } => false,
+            StepKind::CircleCircle { .. }
+            | StepKind::CircleLine { .. }
+            | StepKind::LineLine { .. }
+            | StepKind::Within { .. } => false,
         }
     }
 

@@ -5,10 +5,9 @@
 use dofplan_runtime::planar::{Point, Pose};
 use svg::node::element::{Circle, Group};
 
-use super::mechanism::{body_colour, Detail};
 use crate::model::planar::gears::{Gear, GearKind};
 use crate::model::Mechanism;
-use crate::render::style::{line, num};
+use crate::render::style::{colour_of, line, num};
 use crate::render::view::{finite, BBox, View};
 
 /// Tick marks along a rack's pitch line per pinion turn (one per 30°).
@@ -99,10 +98,12 @@ pub(super) fn extend_box(m: &Mechanism, poses: &[Pose], bbox: &mut BBox) {
     }
 }
 
-/// The gear pairs of one pose, in their bodies' colours.
-pub(super) fn draw(m: &Mechanism, poses: &[Pose], view: &View, detail: Detail) -> Group {
+/// The gear pairs of one pose, in their bodies' colours, lines `k` times
+/// the full width (the pose's detail).
+pub(super) fn draw(m: &Mechanism, poses: &[Pose], view: &View, k: f64) -> Group {
+    let body_colour = |m: &Mechanism, b: usize| colour_of(&m.bodies, b);
     let mut group = Group::new().set("class", "gears");
-    let width = num(detail.k * 1.5);
+    let width = num(k * 1.5);
     for g in &m.gears {
         let mut pair = Group::new()
             .set("class", "gear")

@@ -329,7 +329,10 @@ pub(super) fn draw_pose(
         }
     }
     if !m.gears.is_empty() {
-        g = g.add(super::gears::draw(m, poses, view, detail));
+        g = g.add(super::gears::draw(m, poses, view, detail.k));
+    }
+    if !m.slots.is_empty() {
+        g = g.add(super::slots::draw(m, poses, view, detail.k));
     }
     g = g.add(pins(m, poses, view, detail));
     if style.highlighted {

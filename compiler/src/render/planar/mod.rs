@@ -3,6 +3,7 @@
 
 mod gears;
 pub(super) mod mechanism;
+mod slots;
 mod target;
 
 #[cfg(test)]
@@ -111,6 +112,7 @@ fn drawn_box(
             }
         }
         gears::extend_box(m, poses, &mut bbox);
+        slots::extend_box(m, poses, &mut bbox);
     }
     for poses in pose_sets {
         for s in slides {

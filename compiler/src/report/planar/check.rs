@@ -103,10 +103,11 @@ fn write_counts(m: &Mechanism, place: &str, out: &mut dyn Write) -> io::Result<(
         fixed,
         m.bodies.len() - fixed,
         m.joints.len(),
-        if m.gears.is_empty() {
-            String::new()
-        } else {
-            format!(" and {} gear pair(s)", m.gears.len())
+        match (m.gears.len(), m.slots.len()) {
+            (0, 0) => String::new(),
+            (g, 0) => format!(" and {g} gear pair(s)"),
+            (0, s) => format!(" and {s} slot(s)"),
+            (g, s) => format!(", {g} gear pair(s) and {s} slot(s)"),
         },
         m.constraints.len(),
         m.inputs.len()
@@ -127,9 +128,9 @@ fn write_counts(m: &Mechanism, place: &str, out: &mut dyn Write) -> io::Result<(
 /// Jacobian's rank, and whether they agree: where they do not, the
 /// mechanism is non-generic.
 fn write_mobility(mob: &Mobility, by_rank: &RankMobility, out: &mut dyn Write) -> io::Result<()> {
-    // Gear pairs are higher pairs: one equation each (G).
+    // Gear pairs and slots are higher pairs: one equation each (H).
     let (gear_term, gears) = if mob.gears > 0 {
-        (" − G", format!(" − {}", mob.gears))
+        (" − H", format!(" − {}", mob.gears))
     } else {
         (Default::default(), String::new())
     };
@@ -340,6 +341,7 @@ fn check_json(
         "bodies": m.bodies.len(),
         "joints": m.joints.len(),
         "gears": m.gears.len(),
+        "slots": m.slots.len(),
         "equations": by_rank.equations,
         "mobility": {"grubler": mob.dof, "rank": by_rank.dof},
         "redundant_equations": by_rank.equations - by_rank.rank,

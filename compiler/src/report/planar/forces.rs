@@ -47,13 +47,16 @@ pub fn run(
         inputs: &m.inputs,
         // Gear pairs after the joints: their reaction is the tooth force.
         joints: (m.joints.iter().map(|j| j.name.as_str()))
+            .chain(m.slots.iter().map(|s| s.name.as_str()))
             .chain(m.gears.iter().map(|g| g.name.as_str()))
             .collect(),
         moments: (m.joints.iter().map(|j| j.kind == JointKind::Prismatic))
+            .chain(m.slots.iter().map(|_| false))
             .chain(m.gears.iter().map(|_| false))
             .collect(),
         driven: (0..m.joints.len())
             .map(|j| m.inputs.iter().any(|i| i.joint == j))
+            .chain(m.slots.iter().map(|_| false))
             .chain(m.gears.iter().map(|_| false))
             .collect(),
         markers: m.all_markers().map(|id| m.marker_name(id)).collect(),
@@ -100,12 +103,14 @@ pub fn run(
 
 /// Planar reactions in the shared report's form.
 fn carry(r: Reactions) -> Carry {
+    // Slots, then gear pairs, after the joints (as `Names` lists them).
     let mut all = r.forces.clone();
+    all.extend(&r.slots);
     all.extend(&r.teeth);
     Carry {
         forces: all.iter().map(|f| f.to_vec()).collect(),
         moments: (r.moments.iter().map(|&m| vec![m]))
-            .chain(r.teeth.iter().map(|_| vec![0.0]))
+            .chain(r.slots.iter().chain(&r.teeth).map(|_| vec![0.0]))
             .collect(),
         indeterminate: r.indeterminate.clone(),
         residual: r.residual,

@@ -112,6 +112,12 @@ fn each_residual(
             visit("input", &m.inputs[k].name, value);
         }
     }
+    // A pin in a slot: on the slot's line (its ends are limits, which the
+    // plan checks).
+    for slot in &m.slots {
+        let (p, d) = line(slot.markers[0]);
+        visit("joint", &slot.name, off_line(p, d, at(slot.markers[1])).0);
+    }
     for c in &m.constraints {
         let [a, b] = c.markers;
         let value = match c.kind {

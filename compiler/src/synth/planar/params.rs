@@ -37,6 +37,14 @@ impl Design {
     pub fn new(m: &Mechanism) -> Result<Design, SynthError> {
         // A gear pair ties its pivots' distance to its radii, which no
         // design parameter moves with them yet.
+        if !m.slots.is_empty() {
+            return Err(SynthError::Goal {
+                reason: format!(
+                    "synthesis of mechanisms with slots is not supported yet (slot {}): a design parameter would move a slot's marker off its pin",
+                    m.slots.iter().map(|s| s.name.as_str()).collect::<Vec<_>>().join(", ")
+                ),
+            });
+        }
         if !m.gears.is_empty() {
             return Err(SynthError::Goal {
                 reason: format!(

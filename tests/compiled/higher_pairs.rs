@@ -1,8 +1,9 @@
-//! The geared mechanisms (`mechanisms/gears/`) compiled: their geared
-//! steps (a body turned to an angle affine in the inputs, a rack moved by
-//! its pinion) give the interpreter's frames and rates, one frame at a
-//! time, in lanes (`solve_batch`) and in the split form, with the inputs
-//! well past a full turn.
+//! The higher pairs compiled: the geared mechanisms' (`mechanisms/gears/`)
+//! geared steps (a body turned to an angle affine in the inputs, a rack
+//! moved by its pinion) and the slotted ones' (`mechanisms/slots/`) checks
+//! of the slots' ends give the interpreter's frames and rates, one frame
+//! at a time, in lanes (`solve_batch`) and in the split form, with the
+//! inputs well past a full turn.
 
 use dofplan::interp::Interpreter;
 use dofplan::simulate::{run, sweep_inputs};
@@ -10,7 +11,13 @@ use dofplan_runtime::{BranchPolicy, Ctx, FrameStatus, Options, Solver};
 use dofplan_tests::{mechanisms_dir, pose_gap};
 
 fn load(name: &str) -> dofplan::model::Mechanism {
-    dofplan::load_file(&mechanisms_dir().join(format!("gears/{name}.toml"))).unwrap_or_else(|e| panic!("{e}"))
+    let folder = if ["quick_return", "scotch_yoke"].contains(&name) {
+        "slots"
+    } else {
+        "gears"
+    };
+    dofplan::load_file(&mechanisms_dir().join(format!("{folder}/{name}.toml")))
+        .unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The bundled sweep and, for every input, the same inputs turned or slid
@@ -25,7 +32,7 @@ fn requests(m: &dofplan::model::Mechanism) -> Vec<Vec<f64>> {
 }
 
 #[test]
-fn compiled_geared_plans_give_the_interpreter_s_frames_rates_and_lanes() {
+fn compiled_higher_pairs_give_the_interpreter_s_frames_rates_and_lanes() {
     macro_rules! check {
         ($($module:ident),* $(,)?) => {$({
             use dofplan_generated::$module as compiled;
@@ -33,7 +40,7 @@ fn compiled_geared_plans_give_the_interpreter_s_frames_rates_and_lanes() {
             let name = stringify!($module);
             let m = load(name);
             let plan = dofplan_tests::plan(&m);
-            assert_eq!(plan.clusters(), 0, "{name}: geared steps are closed form");
+            assert_eq!(plan.clusters(), 0, "{name}: gears and slots plan in closed form");
             let interp = Interpreter::new(plan);
             let requested = requests(&m);
             let frames = run(interp.clone(), Options::default(), &requested);
@@ -80,5 +87,12 @@ fn compiled_geared_plans_give_the_interpreter_s_frames_rates_and_lanes() {
             }
         })*};
     }
-    check!(epicyclic, geared_fivebar, geared_hoist, rack_pinion);
+    check!(
+        epicyclic,
+        geared_fivebar,
+        geared_hoist,
+        rack_pinion,
+        quick_return,
+        scotch_yoke
+    );
 }
