@@ -40,7 +40,7 @@ impl Design {
         if !m.slots.is_empty() {
             return Err(SynthError::Goal {
                 reason: format!(
-                    "synthesis of mechanisms with slots is not supported yet (slot {}): a design parameter would move a slot's marker off its pin",
+                    "design parameters (synthesis, --sensitivity) are not supported for mechanisms with slots yet (slot {}): a parameter would move a slot's marker off its pin",
                     m.slots.iter().map(|s| s.name.as_str()).collect::<Vec<_>>().join(", ")
                 ),
             });
@@ -48,7 +48,7 @@ impl Design {
         if !m.gears.is_empty() {
             return Err(SynthError::Goal {
                 reason: format!(
-                    "synthesis of geared mechanisms is not supported yet (gear pair {}): their pivots' distance is tied to the pitch radii",
+                    "design parameters (synthesis, --sensitivity) are not supported for geared mechanisms yet (gear pair {}): their pivots' distance is tied to the pitch radii",
                     m.gear_names()
                 ),
             });
