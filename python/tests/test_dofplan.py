@@ -587,3 +587,39 @@ except KeyboardInterrupt:
     out, err = p.communicate(timeout=60)
     assert out.startswith("interrupted after"), (out, err)
     assert float(out.split()[2]) < 30.0
+
+
+def test_an_epicyclic_train_turns_as_willis_says_past_many_turns():
+    # mechanisms/gears/epicyclic.toml: sun rS = 2 and ring rR = 4 on the
+    # arm, planet rP = 1 between them; inputs the arm's angle c and the
+    # sun's angle s relative to the arm. Relative to the arm the planet
+    # turns -(rS/rP) s and the ring -(rS/rR) s (Willis), so absolutely
+    # c - 2 s and c - s / 2, however many turns that is.
+    m = dofplan.load(MECHANISMS / "gears" / "epicyclic.toml")
+    c = np.linspace(-1000.0, 1000.0, 201)
+    s = -0.73 * c
+    r = m.simulate(np.column_stack([c, s]))
+    assert r.solved.all()
+
+    def wrapped(a):
+        return (a + 180.0) % 360.0 - 180.0
+
+    for body, angle in [("planet", c - 2.0 * s), ("ring", c - 0.5 * s)]:
+        got = r.body(body)[:, 0]
+        gap = np.abs(wrapped(got - angle))
+        assert np.max(gap) < 1e-9, (body, np.max(gap))
+
+
+def test_a_slot_s_end_holds_the_scotch_yoke():
+    # mechanisms/slots/scotch_yoke.toml with its slot's ends at +-0.8: the
+    # crank (r = 1, drawn at 30 deg) lifts its pin r sin(30 + theta) up the
+    # slot, so past theta = asin(0.8) - 30 deg the frames are held there.
+    text = (MECHANISMS / "slots" / "scotch_yoke.toml").read_text()
+    m = dofplan.loads(text.replace("ends = [-1.25, 1.25]", "ends = [-0.8, 0.8]"))
+    theta = np.linspace(0.0, 60.0, 61)
+    r = m.simulate(theta)
+    end = np.degrees(np.arcsin(0.8)) - 30.0
+    assert (r.solved == (theta <= end)).all()
+    x = r.marker("yoke.Y")[:, 0] - 3.0
+    held = np.cos(np.radians(30.0 + theta[theta <= end][-1])) - np.cos(np.radians(30.0))
+    assert np.max(np.abs(x[theta > end] - held)) < 1e-12
