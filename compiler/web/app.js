@@ -32,7 +32,7 @@ let documentFor = null; // the type of request the last document answered
 let shownFile = null; // the file the Open list last showed as the open one
 // The drawing's elements, found once (a frame of a 50-body chain would
 // otherwise spend its time in selector lookups).
-let parts = { markers: [], shapes: [], ground: [], joints: [], bodies: new Map() };
+let parts = { markers: [], shapes: [], ground: [], joints: [], bodies: new Map(), gears: [], slots: [] };
 
 // The outbox: one request in flight at a time, and queued requests of one
 // kind replaced by the newest (only the latest drag target or slider values
@@ -84,8 +84,9 @@ function receive(message) {
   if (answered) inFlight = null;
   if (message.type === "document") {
     // A document after the first one is an edit of the one on screen,
-    // which keeps its view; an opened file is framed afresh.
-    const refit = !doc || (answered && answered.message.type === "open");
+    // which keeps its view; an opened file is framed afresh (a document
+    // carries no id: it answers the request in flight).
+    const refit = !doc || (inFlight && inFlight.message.type === "open");
     // A document answers the request in flight (its frame, next, carries
     // the id): a text the user typed is kept unless that text was applied.
     documentFor = inFlight ? inFlight.message.type : null;
@@ -96,6 +97,7 @@ function receive(message) {
     setFrame(message, answered);
   } else if (message.type === "error") {
     probe.errors.push(message.message);
+    if (answered && answered.message.type === "grab") refusedGrab();
     showStatus("error", message.message);
     if (answered && answered.message.type === "text") showFileErrors(message.message, placesIn(message.message));
     if (answered && answered.message.type === "open" && /unsaved changes/.test(message.message)) {
@@ -244,10 +246,12 @@ function sendInputs() {
 }
 
 function buildDrawing() {
-  for (const id of ["traces", "ground", "bodies", "joints"]) $(id).replaceChildren();
-  parts = { markers: [], shapes: [], ground: [], joints: [], bodies: new Map() };
+  for (const id of ["traces", "ground", "bodies", "slots", "gears", "joints"]) $(id).replaceChildren();
+  parts = { markers: [], shapes: [], ground: [], joints: [], bodies: new Map(), gears: [], slots: [] };
   const index = new Map(markerIndex.map((m, i) => [m.key, i]));
-  const jointed = new Set(doc.joints.flatMap((j) => j.markers));
+  // A slot's marker and its pin are a joint's places too (the slot is
+  // labelled, not its markers; a slot in the ground is hatched).
+  const jointed = new Set([...doc.joints.flatMap((j) => j.markers), ...(doc.slots || []).flatMap((s) => [s.marker, s.pin])]);
   for (const key of Object.keys(doc.traces)) {
     el("path", { class: "trace", "data-trace": key }, $("traces"));
   }
@@ -321,8 +325,180 @@ function buildDrawing() {
     }
     parts.joints.push(part);
   }
+  buildSlots(index);
+  buildGears();
   el("circle", { class: "grab-point", r: 4.5, visibility: "hidden", id: "grab-point" }, canvas);
   markSelection();
+}
+
+// ---- pins in slots ------------------------------------------------------------
+// Each slot is drawn along its segment (its ends in the slotted body's
+// drawn coordinates, as the document gives them) and moves with that
+// body's pose: a channel a pin's width across with rounded ends, outlined
+// in the body's colour, over the bodies. The pin, drawn as its marker
+// under the bodies, is drawn again on top of the slot as a joint's pin,
+// where the pin's marker is. Grabbing the slot grabs its body.
+
+// The slot's channel and the pin across it, in pixels: the pin fits it.
+const SLOT_HALF_WIDTH = 6;
+const SLOT_PIN_RADIUS = 4.5;
+
+function buildSlots(index) {
+  if (is3d()) return;
+  const bodyIndex = new Map(doc.bodies.map((b, i) => [b.name, i]));
+  const labelled = doc.joints.length + (doc.slots || []).length <= 12;
+  for (const slot of doc.slots || []) {
+    const body = bodyIndex.get(slot.body);
+    const colour = COLOURS[body % COLOURS.length];
+    const group = el("g", { class: "slot", "data-slot": slot.name, "data-slot-body": slot.body }, $("slots"));
+    const part = {
+      body,
+      segment: slot.segment,
+      pin: index.get(slot.pin),
+      group,
+      edge: el("line", { class: "slot-edge", stroke: colour, "stroke-width": 2 * SLOT_HALF_WIDTH + 4 }, group),
+      channel: el("line", { class: "slot-channel", "stroke-width": 2 * SLOT_HALF_WIDTH }, group),
+      centre: el("line", { class: "slot-centre", stroke: colour }, group),
+      pinCircle: el("circle", { class: "slot-pin", r: SLOT_PIN_RADIUS, "data-slot-pin": slot.pin }, group),
+    };
+    if (labelled) {
+      part.label = el("text", { class: "joint-label slot-label" }, group);
+      part.label.textContent = slot.name;
+    }
+    if (!doc.bodies[body].fixed) {
+      part.edge.classList.add("grabbable");
+      part.edge.addEventListener("pointerdown", (event) => {
+        if (mode === "move" && !panning && !spaceHeld) grab(event, slot.body);
+      });
+    }
+    parts.slots.push(part);
+  }
+}
+
+function drawSlots(screen) {
+  const f = (v) => v.toFixed(2);
+  for (const { body, segment, pin, group, edge, channel, centre, pinCircle, label } of parts.slots) {
+    const world = placer(body);
+    const [a, b] = segment.map(world);
+    const [p, q] = [a, b].map(toScreen);
+    for (const line of [edge, channel, centre]) {
+      for (const [k, v] of Object.entries({ x1: p[0], y1: p[1], x2: q[0], y2: q[1] })) line.setAttribute(k, f(v));
+    }
+    group.dataset.from = JSON.stringify(a);
+    group.dataset.to = JSON.stringify(b);
+    const [x, y] = screen[pin];
+    pinCircle.setAttribute("cx", f(x));
+    pinCircle.setAttribute("cy", f(y));
+    if (label) {
+      label.setAttribute("x", f(x + 9));
+      label.setAttribute("y", f(y - 9));
+    }
+  }
+}
+
+// ---- gear pairs and racks ---------------------------------------------------
+// Each pitch circle is drawn about its body's pivot (where the document
+// says it is in the body's coordinates, which are the drawing's) and moves
+// with the body's pose, with a tick that turns with it: toward the point
+// where the pair touched as drawn (a spoke from the pivot; a ring's tick
+// outside its rim). A rack's pitch line slides with the rack, its tick
+// marks a twelfth of its pinion's turn apart (the one at the drawn pitch
+// point longer). In the bodies' colours; grabbing one grabs its body.
+
+const along = (p, t, u) => [p[0] + t * u[0], p[1] + t * u[1]];
+function unit(v) {
+  const n = Math.hypot(v[0], v[1]);
+  return n > 0 ? [v[0] / n, v[1] / n] : [1, 0];
+}
+
+function buildGears() {
+  if (is3d()) return;
+  const bodyIndex = new Map(doc.bodies.map((b, i) => [b.name, i]));
+  for (const gear of doc.gears || []) {
+    const group = el("g", { class: `gear ${gear.kind}`, "data-gear": gear.name }, $("gears"));
+    const bodies = gear.bodies.map((name) => bodyIndex.get(name));
+    const colour = (k) => COLOURS[bodies[k] % COLOURS.length];
+    const radii = gear.kind === "gear" ? gear.radii : [gear.radius];
+    const circles = radii.map((r, k) => {
+      const centre = gear.centres[k];
+      const ring = gear.kind === "gear" && gear.internal && r > radii[1 - k];
+      const u = unit([gear.pitch[0] - centre[0], gear.pitch[1] - centre[1]]);
+      const [t0, t1] = ring ? [r, 1.1 * r] : [0, r];
+      const attributes = { class: ring ? "pitch ring" : "pitch", stroke: colour(k), "data-gear-body": gear.bodies[k] };
+      return {
+        el: el("circle", attributes, group),
+        tick: el("line", { class: "gear-tick", stroke: colour(k), "data-gear-body": gear.bodies[k] }, group),
+        body: bodies[k],
+        centre,
+        r,
+        ends: [along(centre, t0, u), along(centre, t1, u)],
+      };
+    });
+    let rack = null;
+    if (gear.line) {
+      // The line and its ticks in the rack's coordinates, moved as one.
+      const { at, dir, from, to, normal, step } = gear.line;
+      const ticks = [];
+      for (let k = Math.ceil(from / step); k <= Math.floor(to / step); k++) {
+        const p = along(at, k * step, dir);
+        ticks.push([p, along(p, (k === 0 ? 0.3 : 0.15) * gear.radius, normal)]);
+      }
+      rack = {
+        body: bodies[1],
+        ends: [along(at, from, dir), along(at, to, dir)],
+        ticks,
+        line: el("line", { class: "rack-pitch", stroke: colour(1), "data-gear-body": gear.bodies[1] }, group),
+        marks: el("path", { class: "rack-ticks", stroke: colour(1), "data-gear-body": gear.bodies[1] }, group),
+      };
+    }
+    for (const part of [...circles.map((c) => c.el), rack && rack.line].filter(Boolean)) {
+      const name = part.dataset.gearBody;
+      if (doc.bodies[bodyIndex.get(name)].fixed) continue;
+      part.classList.add("grabbable");
+      part.addEventListener("pointerdown", (event) => {
+        if (mode === "move" && !panning && !spaceHeld) grab(event, name);
+      });
+    }
+    parts.gears.push({ circles, rack });
+  }
+}
+
+// Body `bi`'s pose on screen, as a map of its (drawn) points to the world.
+function placer(bi) {
+  const [c, s, x, y] = pose.poses[bi];
+  return (p) => [c * p[0] - s * p[1] + x, s * p[0] + c * p[1] + y];
+}
+
+function drawGears() {
+  const f = (v) => v.toFixed(2);
+  for (const { circles, rack } of parts.gears) {
+    for (const c of circles) {
+      const world = placer(c.body);
+      const at = world(c.centre);
+      const [x, y] = toScreen(at);
+      c.el.setAttribute("cx", f(x));
+      c.el.setAttribute("cy", f(y));
+      c.el.setAttribute("r", f(c.r * view.s));
+      c.el.dataset.x = String(at[0]);
+      c.el.dataset.y = String(at[1]);
+      c.el.dataset.r = String(c.r);
+      const [p, q] = c.ends.map((e) => toScreen(world(e)));
+      for (const [k, v] of Object.entries({ x1: p[0], y1: p[1], x2: q[0], y2: q[1] })) c.tick.setAttribute(k, f(v));
+    }
+    if (rack) {
+      const world = placer(rack.body);
+      const [a, b] = rack.ends.map(world);
+      const [p, q] = [a, b].map(toScreen);
+      for (const [k, v] of Object.entries({ x1: p[0], y1: p[1], x2: q[0], y2: q[1] })) rack.line.setAttribute(k, f(v));
+      rack.line.dataset.from = JSON.stringify(a);
+      rack.line.dataset.to = JSON.stringify(b);
+      const d = rack.ticks.map(([u, v]) => {
+        const [[ux, uy], [vx, vy]] = [toScreen(world(u)), toScreen(world(v))];
+        return `M${f(ux)},${f(uy)}L${f(vx)},${f(vy)}`;
+      });
+      rack.marks.setAttribute("d", d.join(""));
+    }
+  }
 }
 
 // ---- view -----------------------------------------------------------------
@@ -692,6 +868,8 @@ function draw() {
     line.setAttribute("x2", (ax + reach * dx).toFixed(2));
     line.setAttribute("y2", (ay - reach * dy).toFixed(2));
   }
+  drawSlots(screen);
+  drawGears();
   drawPreview();
   drawAxes();
   drawForces();
@@ -753,6 +931,21 @@ function dragTo(event) {
   enqueue({ type: "drag", to }, t0);
 }
 canvas.addEventListener(RAW ? "pointerrawupdate" : "pointermove", dragTo);
+
+// The server refused a grab (a geared mechanism with no plan to drag it
+// through, say): the drags and the release queued for it are dropped, so
+// its message stays in the status rather than being replaced by "nothing
+// is grabbed" or by the release's frame; the body is let go at once unless
+// it was grabbed again since.
+function refusedGrab() {
+  const next = outbox.findIndex((item) => item.message.type === "grab");
+  const stale = outbox.slice(0, next < 0 ? outbox.length : next).filter((item) => ["drag", "release"].includes(item.message.type));
+  for (const item of stale) outbox.splice(outbox.indexOf(item), 1);
+  if (next >= 0 || !grabbed) return;
+  parts.bodies.get(grabbed.body)?.classList.remove("grabbed");
+  grabbed = null;
+  $("grab-point").setAttribute("visibility", "hidden");
+}
 
 function release() {
   if (!grabbed) return;

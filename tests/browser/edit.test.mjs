@@ -1345,6 +1345,440 @@ async function spatial(browser) {
   }
 }
 
+/** Moves the slider of input `name` to `value`, as a person would. */
+async function setInput(page, name, value) {
+  await page.$eval(`input[data-input="${name}"]`, (e, v) => {
+    e.value = String(v);
+    e.dispatchEvent(new Event("input", { bubbles: true }));
+  }, value);
+  await settled(page);
+}
+
+/** A gear pair's drawing: per circle its body, centre and radius on screen
+ * (canvas pixels) and in the world (data-x, data-y, data-r), and its tick
+ * (from, to, in pixels); a rack's pitch line's ends. */
+async function gearOf(page, name) {
+  return page.$eval(`#gears [data-gear="${name}"]`, (g) => {
+    const n = (e, k) => Number(e.getAttribute(k));
+    const ticks = Array.from(g.querySelectorAll("line.gear-tick"));
+    const circles = Array.from(g.querySelectorAll("circle.pitch")).map((c, k) => ({
+      body: c.dataset.gearBody,
+      ring: c.classList.contains("ring"),
+      stroke: c.getAttribute("stroke"),
+      px: [n(c, "cx"), n(c, "cy")],
+      pr: n(c, "r"),
+      at: [Number(c.dataset.x), Number(c.dataset.y)],
+      r: Number(c.dataset.r),
+      tick: [[n(ticks[k], "x1"), n(ticks[k], "y1")], [n(ticks[k], "x2"), n(ticks[k], "y2")]],
+    }));
+    const l = g.querySelector("line.rack-pitch");
+    const rack = l && {
+      body: l.dataset.gearBody,
+      px: [[n(l, "x1"), n(l, "y1")], [n(l, "x2"), n(l, "y2")]],
+      from: JSON.parse(l.dataset.from),
+      to: JSON.parse(l.dataset.to),
+      ticks: (g.querySelector("path.rack-ticks").getAttribute("d").match(/M/g) || []).length,
+    };
+    return { circles, rack };
+  });
+}
+
+// Angles on screen (y down) in degrees, counter-clockwise as in the world.
+const screenAngle = (from, to) => (Math.atan2(-(to[1] - from[1]), to[0] - from[0]) * 180) / Math.PI;
+// The smaller angle between two directions, degrees.
+const between = (a, b) => Math.abs((((a - b) % 360) + 540) % 360 - 180);
+
+async function gears(browser) {
+  console.log("== mechanisms/gears/: pitch circles that mesh on screen (epicyclic), a rack's pitch line, a geared drag refused");
+  const dir = mkdtempSync(join(tmpdir(), "dofplan-edit-"));
+  for (const f of ["epicyclic.toml", "rack_pinion.toml", "geared_fivebar.toml"]) writeFileSync(join(dir, f), readFileSync(join(ROOT, "mechanisms/gears", f), "utf8"));
+  // The rack and pinion without its input (nor the sweep of it): nothing
+  // plans its motion, and the drag does not model gears.
+  const rackText = readFileSync(join(ROOT, "mechanisms/gears/rack_pinion.toml"), "utf8");
+  writeFileSync(join(dir, "still.toml"), rackText.slice(0, rackText.indexOf("[inputs.theta]")).replace('name = "rack_pinion"', 'name = "still"'));
+  const { child, page } = await openEditor(browser, "epicyclic.toml", dir);
+  try {
+    const doc = await documentOf(page);
+    const colourOf = (body) => ["#2563eb", "#dc2626", "#059669", "#d97706", "#7c3aed", "#0891b2", "#db2777", "#65a30d"][doc.bodies.findIndex((b) => b.name === body) % 8];
+    const names = await page.$$eval("#gears [data-gear]", (els) => els.map((e) => e.dataset.gear));
+    check(names.join() === "sp,pr", `a data-gear per gear pair (${names})`);
+    check(
+      JSON.stringify(doc.gears.map((g) => [g.name, g.kind, g.bodies, g.radii, g.internal, g.carrier])) ===
+        JSON.stringify([["sp", "gear", ["sun", "planet"], [2, 1], false, "arm"], ["pr", "gear", ["planet", "ring"], [1, 4], true, "arm"]]),
+      "the document names each pair's bodies, radii, mesh and carrier",
+    );
+    const scale = await page.evaluate(() => window.__dofplan.scale());
+    const project = (p) => page.evaluate((q) => window.__dofplan.project(q), p);
+    // The drawing: each circle about its body's pivot as drawn, its radius
+    // at the view's scale, in its body's colour.
+    const expected = { sun: [[0, 0], 2], planet: [[3, 0], 1], ring: [[0, 0], 4] };
+    let sp = await gearOf(page, "sp");
+    let pr = await gearOf(page, "pr");
+    for (const c of [...sp.circles, ...pr.circles]) {
+      const [centre, r] = expected[c.body];
+      const want = await project(centre);
+      const off = Math.hypot(c.px[0] - want[0], c.px[1] - want[1]);
+      check(off < 0.01 && Math.abs(c.pr - r * scale) < 0.01, `${c.body}'s circle about its pivot ${JSON.stringify(centre)}, radius ${r} (${off.toFixed(3)} px off, ${c.pr} px against ${(r * scale).toFixed(2)})`);
+      check(c.stroke === colourOf(c.body), `${c.body}'s circle in its body's colour (${c.stroke})`);
+    }
+    const [sun, planet] = sp.circles;
+    const ring = pr.circles[1];
+    check(ring.ring && !sun.ring && !planet.ring && !pr.circles[0].ring, "the ring's circle is drawn as a ring, the others not");
+    check(Math.abs(sun.pr / planet.pr - 2) < 1e-3 && Math.abs(ring.pr / planet.pr - 4) < 1e-3, `radii on screen 2 : 1 : 4 (${sun.pr} : ${planet.pr} : ${ring.pr} px)`);
+    const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1]);
+    // Tangent: externally (centres r1 + r2 apart), internally (r2 − r1).
+    const tangent = (sp, pr) => [dist(sp.circles[0].px, sp.circles[1].px) - sp.circles[0].pr - sp.circles[1].pr, dist(pr.circles[0].px, pr.circles[1].px) - (pr.circles[1].pr - pr.circles[0].pr)];
+    let [ext, int] = tangent(sp, pr);
+    check(Math.abs(ext) < 0.03 && Math.abs(int) < 0.03, `the circles touch on screen: sun and planet (${ext.toFixed(3)} px), planet inside the ring (${int.toFixed(3)} px)`);
+    // As drawn, each pair's ticks meet where the circles touch.
+    const pitchSp = await project([2, 0]);
+    const pitchPr = await project([4, 0]);
+    check(dist(sun.tick[1], pitchSp) < 0.01 && dist(planet.tick[1], pitchSp) < 0.01, "the sun's and the planet's ticks meet at their pitch point (2, 0)");
+    check(dist(pr.circles[0].tick[1], pitchPr) < 0.01 && dist(ring.tick[0], pitchPr) < 0.01, "the planet's and the ring's ticks meet at their pitch point (4, 0)");
+    await page.screenshot({ path: join(SHOTS, "gears-epicyclic-drawn.png") });
+
+    // The arm turned 60° with the sun held still (sun_rel = −carrier): the
+    // planet rolls 60° round the sun, turning c(1 + rS/rP) = 180°, and the
+    // ring c(1 + rS/rR) = 90°.
+    await setInput(page, "carrier", 60);
+    await setInput(page, "sun_rel", -60);
+    const s1 = await statusOf(page);
+    check(s1.kind === "solved", `carrier 60°, sun_rel −60°: solved (${s1.text})`);
+    sp = await gearOf(page, "sp");
+    pr = await gearOf(page, "pr");
+    const [sun1, planet1] = sp.circles;
+    const ring1 = pr.circles[1];
+    const orbit = screenAngle(sun1.px, planet1.px);
+    check(Math.abs(orbit - 60) < 0.05 && Math.abs(dist(sun1.px, planet1.px) - 3 * scale) < 0.02, `the planet's circle went 60° round the sun's (${orbit.toFixed(3)}°, ${(dist(sun1.px, planet1.px) / scale).toFixed(4)} from it)`);
+    const wantAt = [3 * Math.cos(Math.PI / 3), 3 * Math.sin(Math.PI / 3)];
+    check(dist(planet1.at, wantAt) < 1e-9 && dist(sun1.at, [0, 0]) < 1e-9, `its centre at (3 cos 60°, 3 sin 60°) in the world (${planet1.at.map((v) => v.toFixed(6))})`);
+    check(dist(pr.circles[0].px, planet1.px) < 0.01 && dist(ring1.px, sun1.px) < 0.01, "the planet's two circles move together; the ring stays about O");
+    [ext, int] = tangent(sp, pr);
+    check(Math.abs(ext) < 0.03 && Math.abs(int) < 0.03, `still touching: sun and planet (${ext.toFixed(3)} px), planet and ring (${int.toFixed(3)} px)`);
+    // Each tick turned with its body: the sun's not at all, the planet's
+    // 180°, the ring's 90°.
+    const tickAngle = (c) => screenAngle(c.tick[0], c.tick[1]);
+    check(between(tickAngle(sun1), 0) < 0.1, `the sun's tick still points along +x (${tickAngle(sun1).toFixed(2)}°)`);
+    check(between(tickAngle(planet1), 0) < 0.1, `the planet's tick (drawn toward the sun, along −x) turned 180° (${tickAngle(planet1).toFixed(2)}°)`);
+    check(between(tickAngle(ring1), 90) < 0.1, `the ring's tick turned 90° (${tickAngle(ring1).toFixed(2)}°)`);
+    // Rolling without slip: from where the circles touch now, the ticks
+    // are equal arcs away on each (r·angle, in world units).
+    const arcs = (a, b) => [a, b].map((c, k) => (c.r * Math.PI * between(tickAngle(c), screenAngle(c.px, [a, b][1 - k].px))) / 180);
+    const [aSun, aPlanet] = arcs(sun1, planet1);
+    check(Math.abs(aSun - aPlanet) < 1e-3 && aSun > 1, `sun and planet rolled equal arcs from their pitch point (${aSun.toFixed(4)}, ${aPlanet.toFixed(4)})`);
+    // Inside the ring the pitch point is beyond the planet, away from O.
+    const away = screenAngle(ring1.px, pr.circles[0].px);
+    const aRing = (ring1.r * Math.PI * between(tickAngle(ring1), away)) / 180;
+    const aPlanet2 = (pr.circles[0].r * Math.PI * between(tickAngle(pr.circles[0]), away)) / 180;
+    check(Math.abs(aRing - aPlanet2) < 1e-3 && aRing > 1, `planet and ring rolled equal arcs from theirs (${aPlanet2.toFixed(4)}, ${aRing.toFixed(4)})`);
+    await page.screenshot({ path: join(SHOTS, "gears-epicyclic-turned.png") });
+
+    // A geared mechanism with inputs is dragged through its plan: the
+    // planet's circle pulled, the arm follows.
+    const errorsBefore = await page.evaluate(() => window.__dofplan.errors.length);
+    const [gx, gy] = await page.evaluate((p) => window.__dofplan.toPage(p), wantAt);
+    const target = [3 * Math.cos((100 * Math.PI) / 180), 3 * Math.sin((100 * Math.PI) / 180)];
+    const [hx, hy] = await page.evaluate((p) => window.__dofplan.toPage(p), target);
+    await page.mouse.move(gx, gy);
+    await page.mouse.down();
+    for (let i = 1; i <= 20; i++) {
+      await page.mouse.move(gx + ((hx - gx) * i) / 20, gy + ((hy - gy) * i) / 20);
+      await page.waitForTimeout(5);
+    }
+    await settled(page);
+    await page.mouse.up();
+    await settled(page);
+    sp = await gearOf(page, "sp");
+    const pulled = screenAngle(sp.circles[0].px, sp.circles[1].px);
+    const errorsAfter = await page.evaluate((n) => window.__dofplan.errors.slice(n), errorsBefore);
+    check(Math.abs(pulled - 100) < 0.5 && errorsAfter.length === 0, `dragging the planet took it round the sun to the pointer, at 100° (${pulled.toFixed(2)}°; errors: ${errorsAfter.join("; ") || "none"})`);
+    [ext, int] = tangent(sp, await gearOf(page, "pr"));
+    check(Math.abs(ext) < 0.03 && Math.abs(int) < 0.03, `after the drag the circles still touch (${ext.toFixed(3)}, ${int.toFixed(3)} px)`);
+
+    // The rack and pinion: its pitch line tangent to the pinion's circle,
+    // sliding r·θ when the pinion turns θ.
+    await page.selectOption("#open-file", "rack_pinion.toml");
+    await page.click("#open");
+    await statusOf(page);
+    const scaleR = await page.evaluate(() => window.__dofplan.scale());
+    let rp = await gearOf(page, "R");
+    check(rp.circles.length === 1 && rp.circles[0].body === "pinion" && rp.rack && rp.rack.body === "rack", "rack_pinion.toml: the pinion's circle and the rack's pitch line");
+    const lineGap = (g) => {
+      const [[x1, y1], [x2, y2]] = g.rack.px;
+      const [cx, cy] = g.circles[0].px;
+      return Math.abs((x2 - x1) * (y1 - cy) - (x1 - cx) * (y2 - y1)) / Math.hypot(x2 - x1, y2 - y1) - g.circles[0].pr;
+    };
+    check(Math.abs(lineGap(rp)) < 0.02 && Math.abs(rp.circles[0].pr - scaleR) < 0.01, `the pitch line touches the pinion's circle (${lineGap(rp).toFixed(3)} px)`);
+    const line = (await documentOf(page)).gears[0].line;
+    const marks = Math.floor(line.to / line.step) - Math.ceil(line.from / line.step) + 1;
+    check(rp.rack.ticks === marks && marks >= 5, `its tick marks, a twelfth of the pinion's turn apart (${rp.rack.ticks} of ${marks})`);
+    const from0 = rp.rack.from;
+    await setInput(page, "theta", 45);
+    rp = await gearOf(page, "R");
+    const slid = rp.rack.from[0] - from0[0];
+    check(Math.abs(slid - Math.PI / 4) < 1e-9 && Math.abs(rp.rack.from[1] - from0[1]) < 1e-12, `theta 45°: the pitch line slid r·π/4 along x (${slid.toFixed(6)})`);
+    check(Math.abs(lineGap(rp)) < 0.02, `and still touches the circle (${lineGap(rp).toFixed(3)} px)`);
+    const pinionTick = screenAngle(rp.circles[0].tick[0], rp.circles[0].tick[1]);
+    check(between(pinionTick, -90 + 45) < 0.1, `the pinion's tick turned 45° from straight down (${pinionTick.toFixed(2)}°)`);
+    await page.screenshot({ path: join(SHOTS, "gears-rack-pinion.png") });
+    await setInput(page, "theta", -60);
+    rp = await gearOf(page, "R");
+    check(Math.abs(rp.rack.from[0] - from0[0] + Math.PI / 3) < 1e-9, `theta −60°: slid back r·π/3 (${(rp.rack.from[0] - from0[0]).toFixed(6)})`);
+
+    // The geared five-bar: its cranks' circles (r 1 and 2) touch, turning
+    // opposite ways at half the speed.
+    await page.selectOption("#open-file", "geared_fivebar.toml");
+    await page.click("#open");
+    await statusOf(page);
+    await setInput(page, "theta", 120);
+    const g5 = await gearOf(page, "g");
+    const gap5 = dist(g5.circles[0].px, g5.circles[1].px) - g5.circles[0].pr - g5.circles[1].pr;
+    const [t1, t2] = g5.circles.map((c) => screenAngle(c.tick[0], c.tick[1]));
+    check(Math.abs(gap5) < 0.03 && between(t1, 120) < 0.1 && between(t2, 180 - 60) < 0.1, `geared_fivebar at 120°: the cranks' circles touch (${gap5.toFixed(3)} px), crank1's tick turned 120°, crank2's −60° (${t1.toFixed(2)}°, ${t2.toFixed(2)}°)`);
+    await page.screenshot({ path: join(SHOTS, "gears-geared-fivebar.png") });
+
+    // Without an input nothing moves it: a drag is refused, and says so
+    // where errors are shown, the message not replaced by the drag's
+    // later moves or its release.
+    await page.selectOption("#open-file", "still.toml");
+    await page.click("#open");
+    await statusOf(page);
+    const stillDoc = await documentOf(page);
+    check(stillDoc.gears.length === 1 && stillDoc.inputs.length === 0, "still.toml: the rack and pinion without its input");
+    const planPanel = await page.$eval('[data-panel="plan"]', (e) => e.textContent);
+    check(planPanel.includes("no inputs") && planPanel.includes("gear pair R"), `its Plan panel says it has no plan, and that a geared mechanism is dragged only through one (${planPanel})`);
+    const still = await markers(page);
+    const errors0 = await page.evaluate(() => window.__dofplan.errors.length);
+    const [rx, ry] = await page.evaluate((p) => window.__dofplan.toPage(p), [1, -1]);
+    await page.mouse.move(rx, ry);
+    await page.mouse.down();
+    for (let i = 1; i <= 10; i++) {
+      await page.mouse.move(rx + 6 * i, ry);
+      await page.waitForTimeout(5);
+    }
+    await settled(page);
+    let s = await statusOf(page);
+    await page.screenshot({ path: join(SHOTS, "gears-drag-refused.png") });
+    check(s.kind === "error" && s.text.includes("geared") && s.text.includes("gear pair R") && s.text.includes("no inputs"), `dragging the rack is refused, said in the status (${s.text.replace(/\n/g, " | ")})`);
+    await page.mouse.up();
+    s = await statusOf(page);
+    const errors = await page.evaluate((n) => window.__dofplan.errors.slice(n), errors0);
+    check(s.kind === "error" && s.text.includes("geared") && errors.length === 1, `the refusal stays shown after the release, the only error (${errors.length}: ${errors.map((e) => e.split("\n")[0]).join("; ")})`);
+    check(JSON.stringify(await markers(page)) === JSON.stringify(still), "and nothing moved");
+    const grabbedClass = await page.$$eval("g.body.grabbed", (els) => els.length);
+    const dot = await page.$eval("#grab-point", (e) => e.getAttribute("visibility"));
+    check(grabbedClass === 0 && dot === "hidden", "the body is let go");
+    check(page.problems.length === 0, `no failed request or console error (${page.problems.join("; ") || "none"})`);
+  } finally {
+    child.kill();
+    rmSync(dir, { recursive: true, force: true });
+  }
+}
+
+/** A slot's drawing: its ends on screen (canvas pixels, from its lines)
+ * and in the world (data-from, data-to), its outline's colour, and its
+ * pin's centre on screen. */
+async function slotOf(page, name) {
+  return page.$eval(`#slots [data-slot="${name}"]`, (g) => {
+    const n = (e, k) => Number(e.getAttribute(k));
+    const edge = g.querySelector("line.slot-edge");
+    const lines = Array.from(g.querySelectorAll("line")).map((l) => [n(l, "x1"), n(l, "y1"), n(l, "x2"), n(l, "y2")]);
+    const pin = g.querySelector("circle.slot-pin");
+    return {
+      body: g.dataset.slotBody,
+      px: [[n(edge, "x1"), n(edge, "y1")], [n(edge, "x2"), n(edge, "y2")]],
+      together: lines.every((l) => JSON.stringify(l) === JSON.stringify(lines[0])),
+      width: n(edge, "stroke-width"),
+      stroke: edge.getAttribute("stroke"),
+      from: JSON.parse(g.dataset.from),
+      to: JSON.parse(g.dataset.to),
+      pin: [n(pin, "cx"), n(pin, "cy")],
+      pinRadius: n(pin, "r"),
+    };
+  });
+}
+
+/** Marker `key`'s centre on screen (canvas pixels). */
+async function markerPx(page, key) {
+  return page.$eval(`[data-marker="${key}"]`, (c) => [Number(c.getAttribute("cx")), Number(c.getAttribute("cy"))]);
+}
+
+/** Where `p` is along the segment from `a` to `b` (0 at a, 1 at b), and
+ * how far off its line (pixels). */
+function alongSegment(p, [a, b]) {
+  const d = [b[0] - a[0], b[1] - a[1]];
+  const len = Math.hypot(d[0], d[1]);
+  const v = [p[0] - a[0], p[1] - a[1]];
+  return { t: (v[0] * d[0] + v[1] * d[1]) / (len * len), off: Math.abs(v[0] * d[1] - v[1] * d[0]) / len, len };
+}
+
+async function slots(browser) {
+  console.log("== mechanisms/slots/: a slot drawn along the rocker and turning with it (quick_return), a pin held at its slot's end (scotch_yoke, short slot)");
+  const dir = mkdtempSync(join(tmpdir(), "dofplan-edit-"));
+  writeFileSync(join(dir, "quick_return.toml"), readFileSync(join(ROOT, "mechanisms/slots/quick_return.toml"), "utf8"));
+  // The scotch yoke with its slot cut short: the pin, sin(30° + θ) up it,
+  // reaches the end 0.8 at θ = asin(0.8) − 30° ≈ 23.13°.
+  const yoke = readFileSync(join(ROOT, "mechanisms/slots/scotch_yoke.toml"), "utf8");
+  check(yoke.includes("ends = [-1.25, 1.25]"), "scotch_yoke.toml's slot ends are ±1.25, to cut short");
+  writeFileSync(join(dir, "short_yoke.toml"), yoke.replace("ends = [-1.25, 1.25]", "ends = [-0.8, 0.8]").replace('name = "scotch_yoke"', 'name = "short_yoke"'));
+  const { child, page } = await openEditor(browser, "quick_return.toml", dir);
+  try {
+    const doc = await documentOf(page);
+    const colourOf = (body) => ["#2563eb", "#dc2626", "#059669", "#d97706", "#7c3aed", "#0891b2", "#db2777", "#65a30d"][doc.bodies.findIndex((b) => b.name === body) % 8];
+    const names = await page.$$eval("[data-slot]", (els) => els.map((e) => e.dataset.slot));
+    check(names.join() === "S", `one data-slot, S (${names})`);
+    const d = doc.slots[0];
+    check(
+      JSON.stringify([d.name, d.body, d.marker, d.pin, d.ends]) === JSON.stringify(["S", "rocker", "rocker.S", "crank.A", [0.9, 3.1]]),
+      `the document names the slot's body, marker, pin and ends (${JSON.stringify([d.name, d.body, d.marker, d.pin, d.ends])})`,
+    );
+    const scale = await page.evaluate(() => window.__dofplan.scale());
+    const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1]);
+    // The slot on screen: along the rocker's line from O4 toward B (4 out),
+    // from 0.9 to 3.1 out, measured from the markers' circles.
+    const onRocker = async (what) => {
+      const [o4, b, a] = await Promise.all(["rocker.O4", "rocker.B", "crank.A"].map((k) => markerPx(page, k)));
+      const slot = await slotOf(page, "S");
+      const u = [(b[0] - o4[0]) / dist(o4, b), (b[1] - o4[1]) / dist(o4, b)];
+      const want = [0.9, 3.1].map((t) => [o4[0] + t * scale * u[0], o4[1] + t * scale * u[1]]);
+      const off = Math.max(dist(slot.px[0], want[0]), dist(slot.px[1], want[1]));
+      check(off < 0.02 && Math.abs(dist(o4, b) - 4 * scale) < 0.02, `${what}: the slot lies along the rocker's line O4 → B, from 0.9 to 3.1 out of O4 on screen (${off.toFixed(3)} px off)`);
+      const pin = alongSegment(a, slot.px);
+      const out = Math.hypot(...[0, 1].map((k) => slot.pin[k] - a[k]));
+      check(pin.off < 0.5 && pin.t > 0 && pin.t < 1, `${what}: the crank's pin on the slot's centre line (${pin.off.toFixed(3)} px off), within its ends (${((0.9 + 2.2 * pin.t)).toFixed(4)} out of O4)`);
+      check(out < 0.01, `${what}: the slot's pin drawn on crank.A (${out.toFixed(3)} px)`);
+      return { slot, o4, b, a };
+    };
+    const drawn = await onRocker("as drawn");
+    check(drawn.slot.body === "rocker" && drawn.slot.stroke === colourOf("rocker"), `the slot is the rocker's, in its colour (${drawn.slot.stroke})`);
+    check(drawn.slot.together && drawn.slot.width >= 2 * drawn.slot.pinRadius, `its outline, channel and centre line share the segment; the channel fits the pin (${drawn.slot.width} px across, pin ${2 * drawn.slot.pinRadius} px)`);
+    // The pin on top: the slots' layer over the bodies', the pin last in
+    // its slot; with hit testing on, nothing is over it at its centre.
+    const order = await page.evaluate(() => {
+      const [bodies, slots] = [document.getElementById("bodies"), document.getElementById("slots")];
+      const slot = slots.querySelector('[data-slot="S"]');
+      const pin = slot.querySelector("circle.slot-pin");
+      const after = Boolean(bodies.compareDocumentPosition(slots) & Node.DOCUMENT_POSITION_FOLLOWING);
+      const last = Array.from(slot.querySelectorAll("line")).every((l) => Boolean(l.compareDocumentPosition(pin) & Node.DOCUMENT_POSITION_FOLLOWING));
+      pin.style.pointerEvents = "auto";
+      const r = pin.getBoundingClientRect();
+      const top = document.elementFromPoint(r.x + r.width / 2, r.y + r.height / 2);
+      pin.style.pointerEvents = "";
+      return { after, last, top: top === pin, fill: getComputedStyle(pin).fill };
+    });
+    check(order.after && order.last && order.top, `the pin is drawn on top of the slot (slots over bodies: ${order.after}, pin after the slot's lines: ${order.last}, topmost at its centre: ${order.top}, fill ${order.fill})`);
+    await page.screenshot({ path: join(SHOTS, "slots-quick-return-drawn.png") });
+
+    // The crank at 90°: A = (0, 1), straight above O4 — the rocker, and
+    // the slot with it, turned to the vertical.
+    await setInput(page, "theta", 90);
+    const s90 = await statusOf(page);
+    check(s90.kind === "solved", `theta 90°: solved (${s90.text})`);
+    const turned = await onRocker("theta 90°");
+    const angle = screenAngle(turned.slot.px[0], turned.slot.px[1]);
+    const drawnAngle = screenAngle(drawn.slot.px[0], drawn.slot.px[1]);
+    check(between(angle, 90) < 0.01 && between(drawnAngle, (Math.atan2(2, 1) * 180) / Math.PI) < 0.01, `the slot turned with the rocker, from ${drawnAngle.toFixed(3)}° to the vertical (${angle.toFixed(3)}°)`);
+    check(dist(turned.slot.from, [0, -2 + 0.9]) < 1e-9 && dist(turned.slot.to, [0, -2 + 3.1]) < 1e-9, `in the world its ends are (0, -1.1) and (0, 1.1) (${JSON.stringify(turned.slot.from)}, ${JSON.stringify(turned.slot.to)})`);
+    await page.screenshot({ path: join(SHOTS, "slots-quick-return-90.png") });
+    // Round the turn: the pin stays on the centre line, the slot on the
+    // rocker's line.
+    let worst = 0;
+    for (let theta = 0; theta <= 360; theta += 30) {
+      await setInput(page, "theta", theta);
+      const [o4, b, a] = await Promise.all(["rocker.O4", "rocker.B", "crank.A"].map((k) => markerPx(page, k)));
+      const slot = await slotOf(page, "S");
+      const pin = alongSegment(a, slot.px);
+      const rocker = alongSegment(o4, slot.px);
+      worst = Math.max(worst, pin.off, rocker.off, alongSegment(b, slot.px).off, pin.t < 0 || pin.t > 1 ? Infinity : 0);
+    }
+    check(worst < 0.5, `a full turn in 30° steps: the pin on the slot's centre line within its ends, the slot on the rocker's line (worst ${worst.toFixed(3)} px)`);
+    // A drag plans again from the pose on screen, the slot turned with the
+    // rocker: the slider then moves it on, the pin on the slot.
+    await setInput(page, "theta", 90);
+    const errors0 = await page.evaluate(() => window.__dofplan.errors.length);
+    const b90 = (await markers(page))["rocker.B"];
+    const [bx, by] = await page.evaluate((p) => window.__dofplan.toPage(p), b90);
+    await page.mouse.move(bx, by);
+    await page.mouse.down();
+    for (let i = 1; i <= 10; i++) {
+      await page.mouse.move(bx - 4 * i, by);
+      await page.waitForTimeout(5);
+    }
+    await settled(page);
+    await page.mouse.up();
+    await settled(page);
+    const dragged = (await markers(page))["rocker.B"];
+    check(dist(dragged, b90) > 0.1, `dragging the rocker's B moved it (${dist(dragged, b90).toFixed(3)})`);
+    await setInput(page, "theta", 200);
+    const s200 = await statusOf(page);
+    await onRocker("after a drag, theta 200°");
+    const errors = await page.evaluate((n) => window.__dofplan.errors.slice(n), errors0);
+    check(s200.kind === "solved" && errors.length === 0, `the slider after the drag: solved, no error (${s200.kind}; ${errors.join("; ") || "none"})`);
+
+    // The short slot: driven to 60° the pin would leave it at ≈ 23.13°.
+    await page.selectOption("#open-file", "short_yoke.toml");
+    await page.click("#open");
+    await statusOf(page);
+    const ydoc = await documentOf(page);
+    check(ydoc.name === "short_yoke" && ydoc.slots.length === 1 && ydoc.slots[0].ends.join() === "-0.8,0.8", "short_yoke.toml: the scotch yoke, its slot's ends at ±0.8");
+    // Opened, it is framed afresh: the box its motion and slot stay in
+    // (the slot's ends reach past the yoke's markers) centred on the canvas.
+    const [bx0, by0, bx1, by1] = ydoc.bounds;
+    check(by0 === -0.8 && by1 === 0.8, `its bounds reach the slot's ends (${JSON.stringify(ydoc.bounds)})`);
+    const centre = await page.evaluate((p) => window.__dofplan.project(p), [(bx0 + bx1) / 2, (by0 + by1) / 2]);
+    const canvasBox = await page.$eval("#canvas", (c) => [c.getBoundingClientRect().width, c.getBoundingClientRect().height]);
+    check(dist(centre, [canvasBox[0] / 2, canvasBox[1] / 2]) < 1, `framed afresh when opened: its bounds centred on the canvas (${centre.map((v) => v.toFixed(1))} against ${canvasBox.map((v) => (v / 2).toFixed(1))})`);
+    const yokeSlot = async (what) => {
+      const slot = await slotOf(page, "S");
+      const p = alongSegment(await markerPx(page, "crank.P"), slot.px);
+      const end = p.len * Math.max(0, p.t - 1, -p.t);
+      check(p.off < 0.5 && end < 0.5, `${what}: the pin within the slot's segment on screen (${p.off.toFixed(3)} px off its line, ${end.toFixed(3)} px past an end; ${(p.t * 1.6 - 0.8).toFixed(4)} along it)`);
+      return { slot, p };
+    };
+    const reach = Math.asin(0.8) * (180 / Math.PI) - 30;
+    // Stepped there, as a slider is moved: every frame within the slot.
+    for (let theta = 5; theta <= 60; theta += 5) {
+      await page.$eval('input[data-input="theta"]', (e, v) => {
+        e.value = String(v);
+        e.dispatchEvent(new Event("input", { bubbles: true }));
+      }, theta);
+      await settled(page);
+      const { p } = await yokeSlot(`theta ${theta}°`);
+      if (p.t > 1 + 1e-6 || p.t < -1e-6) break;
+    }
+    const limited = await statusOf(page);
+    check(limited.kind === "limited", `theta 60°: limited (${limited.kind})`);
+    check(
+      /step \d+ broke \(the pin would run past an end of its slot, gap [0-9.e-]+\): crank\.P within the slot of yoke\.S, from -0\.8 to 0\.8 along it/.test(limited.text),
+      `the status names the break and the slot, as any limit's (${JSON.stringify(limited.text)})`,
+    );
+    const heldAt = (await probeInputs(page))[0];
+    check(heldAt <= reach + 1e-6 && heldAt >= 20 - 1e-6, `held at the last pose within the slot, theta ${heldAt.toFixed(2)}° (the end is at ${reach.toFixed(2)}°)`);
+    const shown = await page.$eval("#value-0", (e) => e.textContent);
+    check(shown.includes("→"), `the slider shows the value asked and where the mechanism is (${shown})`);
+    await yokeSlot("held at the limit");
+    await page.screenshot({ path: join(SHOTS, "slots-scotch-yoke-limited.png") });
+    // Search stops at the end itself.
+    await page.selectOption("#policy", "search");
+    await settled(page);
+    const searched = await statusOf(page);
+    check(searched.kind === "searched" && searched.text.includes("within the slot of yoke.S"), `search: stopped at the break point (${searched.kind}: ${JSON.stringify(searched.text)})`);
+    const { p: atEnd } = await yokeSlot("searched");
+    check(Math.abs(atEnd.t - 1) * atEnd.len < 0.5, `search: the pin at the slot's upper end (${((1 - atEnd.t) * atEnd.len).toFixed(3)} px short)`);
+    await page.screenshot({ path: join(SHOTS, "slots-scotch-yoke-searched.png") });
+    check(page.problems.length === 0, `no failed request or console error (${page.problems.join("; ") || "none"})`);
+  } finally {
+    child.kill();
+    rmSync(dir, { recursive: true, force: true });
+  }
+}
+
+/** The input values of the pose on screen (the frame's). */
+async function probeInputs(page) {
+  await settled(page);
+  return page.evaluate(() => window.__dofplan.pose().inputs);
+}
+
 mkdirSync(SHOTS, { recursive: true });
 const browser = await chromium.launch({
   executablePath: CHROMIUM,
@@ -1361,7 +1795,7 @@ const browser = await chromium.launch({
 });
 const ONLY = process.env.ONLY ? process.env.ONLY.split(",") : null;
 try {
-  for (const scenario of [baseline, fourbar, openChain, pendulum, forces, limits, sliderCrank, empty, construct, files, broken, newFile, aids, numericRefused, spatial, stress]) {
+  for (const scenario of [baseline, fourbar, openChain, pendulum, forces, limits, sliderCrank, empty, construct, files, broken, newFile, aids, numericRefused, gears, slots, spatial, stress]) {
     if (!ONLY || ONLY.includes(scenario.name)) await scenario(browser);
   }
   const problems = PAGES.flatMap(([file, page]) => page.problems.map((p) => `${file}: ${p}`));

@@ -17,12 +17,19 @@ pub fn body(m: &Mechanism) -> String {
     numbered("link", |n| m.bodies.iter().any(|b| b.name == n))
 }
 
-/// A new joint's name, unique among joints and constraints (they share one
-/// namespace): `J1`, `J2`, …
+/// Whether `name` is a joint's, a constraint's, a gear pair's or a slot's
+/// (they share one namespace).
+pub fn joint_taken(m: &Mechanism, name: &str) -> bool {
+    m.joints.iter().any(|j| j.name == name)
+        || m.constraints.iter().any(|c| c.name == name)
+        || m.gears.iter().any(|g| g.name == name)
+        || m.slots.iter().any(|s| s.name == name)
+}
+
+/// A new joint's name, unique among joints, constraints, gear pairs and
+/// slots: `J1`, `J2`, …
 pub fn joint(m: &Mechanism) -> String {
-    numbered("J", |n| {
-        m.joints.iter().any(|j| j.name == n) || m.constraints.iter().any(|c| c.name == n)
-    })
+    numbered("J", |n| joint_taken(m, n))
 }
 
 /// A new input's name: `theta`, `theta2`, … for an angle, `s`, `s2`, … for a

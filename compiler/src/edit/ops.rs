@@ -165,8 +165,10 @@ pub(super) fn apply(doc: &mut DocumentMut, m: &Mechanism, edit: &Edit) -> Result
             Ok(summary_of_deletion(&format!("input {input}"), &removed))
         }
         Edit::DeleteJoint { joint } => {
-            let known =
-                m.joints.iter().any(|j| &j.name == joint) || m.constraints.iter().any(|c| &c.name == joint);
+            let known = m.joints.iter().any(|j| &j.name == joint)
+                || m.constraints.iter().any(|c| &c.name == joint)
+                || m.gears.iter().any(|g| &g.name == joint)
+                || m.slots.iter().any(|s| &s.name == joint);
             if !known {
                 return Err(refused(format!("there is no joint or constraint named {joint}")));
             }
@@ -261,7 +263,7 @@ fn join(
         )));
     }
     let name = name.map_or_else(|| names::joint(m), str::to_string);
-    if m.joints.iter().any(|j| j.name == name) || m.constraints.iter().any(|c| c.name == name) {
+    if names::joint_taken(m, &name) {
         return Err(refused(format!(
             "there is already a joint or constraint named {name}"
         )));
@@ -533,14 +535,20 @@ fn move_group(
     Ok(group.iter().map(|&g| m.marker_name(g)).collect())
 }
 
-/// Deletes the joints and constraints on `id` (with their inputs) and its
-/// trace.
+/// Deletes the joints, slots and constraints on `id` (with their inputs)
+/// and its trace: a slot goes with its slot's marker and with its pin.
 fn delete_uses(doc: &mut DocumentMut, m: &Mechanism, id: MarkerId, removed: &mut Vec<String>) {
     let names: Vec<String> = m
         .joints
         .iter()
         .filter(|j| j.markers.contains(&id))
         .map(|j| j.name.clone())
+        .chain(
+            m.slots
+                .iter()
+                .filter(|s| s.markers.contains(&id))
+                .map(|s| s.name.clone()),
+        )
         .chain(
             m.constraints
                 .iter()
@@ -568,7 +576,9 @@ fn delete_uses(doc: &mut DocumentMut, m: &Mechanism, id: MarkerId, removed: &mut
     }
 }
 
-/// Deletes a joint or constraint and the inputs on it.
+/// Deletes a joint, constraint, slot or gear pair, the inputs on it, and the
+/// gear pairs that turn on it (a pair meshes two bodies each turning or
+/// sliding in a joint with their carrier).
 fn delete_joint(doc: &mut DocumentMut, m: &Mechanism, name: &str, removed: &mut Vec<String>) {
     for key in ["joints", "constraints"] {
         remove_entry(doc, key, name);
@@ -577,6 +587,13 @@ fn delete_joint(doc: &mut DocumentMut, m: &Mechanism, name: &str, removed: &mut 
         for input in m.inputs.iter().filter(|i| i.joint == j) {
             removed.push(format!("input {}", input.name));
             delete_input(doc, &input.name, removed);
+        }
+        for g in m.gears.iter().filter(|g| g.pivots.contains(&j)) {
+            let gear = format!("joint {}", g.name);
+            if !removed.contains(&gear) {
+                removed.push(gear);
+                remove_entry(doc, "joints", &g.name);
+            }
         }
     }
 }

@@ -408,3 +408,153 @@ fn a_new_named_document_is_called_after_its_file() {
     assert!(e.text().starts_with("name = \"other\""), "{}", e.text());
     assert!(edit(&mut e, r#"{"op": "rename", "name": " "}"#).is_err());
 }
+
+const EPICYCLIC: &str = include_str!("../../../mechanisms/gears/epicyclic.toml");
+
+#[test]
+fn deleting_a_geared_body_or_pivot_removes_the_pairs_that_turn_on_it() {
+    // The planet: its pivot P, both pairs it meshes in, the trace of
+    // planet.Q; what is left loads (the sun and ring, two inputs).
+    let mut e = Editor::new("epicyclic.toml", EPICYCLIC).unwrap();
+    let s = edit(&mut e, r#"{"op": "delete_body", "body": "planet"}"#).unwrap();
+    assert_eq!(
+        s,
+        "deleted body planet; also removed joint P, joint sp, joint pr, the trace of planet.Q"
+    );
+    assert!(e.mechanism().gears.is_empty() && !e.text().contains("[joints.sp]"));
+    // The ring's pivot R: the pair pr with it, sp stays.
+    let mut e = Editor::new("epicyclic.toml", EPICYCLIC).unwrap();
+    let s = edit(&mut e, r#"{"op": "delete_joint", "joint": "R"}"#).unwrap();
+    assert_eq!(s, "deleted joint R; also removed joint pr");
+    let names: Vec<&str> = e.mechanism().gears.iter().map(|g| g.name.as_str()).collect();
+    assert_eq!(names, ["sp"]);
+    // A pair by its name, alone.
+    let s = edit(&mut e, r#"{"op": "delete_joint", "joint": "sp"}"#).unwrap();
+    assert_eq!(s, "deleted joint sp");
+    assert!(e.mechanism().gears.is_empty());
+    assert_eq!(e.mechanism().joints.len(), 3);
+}
+
+#[test]
+fn a_geared_file_redrawn_at_a_turned_pose_loads_and_meshes_from_there() {
+    // The arm turned 60° with the sun held: redrawn there, the pairs hold
+    // as drawn, and the plan of the redrawn file turns the planet as the
+    // file's own plan does (c − 2s absolute, counted from the new drawing).
+    let mut e = Editor::new("epicyclic.toml", EPICYCLIC).unwrap();
+    let plan = analyse(e.mechanism()).plan.unwrap();
+    let mut d = Driver::new(Interpreter::new(plan), Options::default());
+    assert_eq!(d.frame(&[60.0, -60.0]), FrameStatus::Solved);
+    e.redraw(d.poses()).unwrap();
+    let p = at(&e, "planet.P");
+    assert!(
+        (p[0] - 1.5).abs() < 1e-12 && (p[1] - 3f64.sqrt() * 1.5).abs() < 1e-12,
+        "{p:?}"
+    );
+    let m = e.mechanism();
+    assert!(
+        (m.gears[0].centres[1][0] - 1.5).abs() < 1e-12,
+        "{:?}",
+        m.gears[0].centres
+    );
+    let mut r = Driver::new(Interpreter::new(analyse(m).plan.unwrap()), Options::default());
+    assert_eq!(r.frame(&[30.0, 10.0]), FrameStatus::Solved);
+    assert_eq!(d.frame(&[90.0, -50.0]), FrameStatus::Solved);
+    let planet = m.bodies.iter().position(|b| b.name == "planet").unwrap();
+    // Redrawn, the planet's drawing is the old pose turned 180°.
+    let turned = |rot: dofplan_runtime::planar::Rot| rot.s.atan2(rot.c).to_degrees();
+    let (a, b) = (
+        turned(r.poses()[planet].rot) + 180.0,
+        turned(d.poses()[planet].rot),
+    );
+    assert!(
+        ((a - b + 180.0).rem_euclid(360.0) - 180.0).abs() < 1e-9,
+        "{a} against {b}"
+    );
+}
+
+const QUICK_RETURN: &str = include_str!("../../../mechanisms/slots/quick_return.toml");
+
+#[test]
+fn deleting_a_slotted_body_or_the_pins_body_removes_the_slot() {
+    // The rocker carries the slot: its pivot O4, the slot S and the trace
+    // of rocker.B go with it; what is left loads (the crank on its input).
+    let mut e = Editor::new("quick_return.toml", QUICK_RETURN).unwrap();
+    let s = edit(&mut e, r#"{"op": "delete_body", "body": "rocker"}"#).unwrap();
+    assert_eq!(
+        s,
+        "deleted body rocker; also removed joint O4, joint S, the trace of rocker.B"
+    );
+    assert!(e.mechanism().slots.is_empty() && !e.text().contains("[joints.S]"));
+    assert_eq!(e.mechanism().inputs.len(), 1);
+    // The crank carries the pin: its pivot O2 with the input on it (and the
+    // sweep of that input), and the slot.
+    let mut e = Editor::new("quick_return.toml", QUICK_RETURN).unwrap();
+    let s = edit(&mut e, r#"{"op": "delete_body", "body": "crank"}"#).unwrap();
+    assert_eq!(
+        s,
+        "deleted body crank; also removed joint O2, input theta, the sweep, joint S"
+    );
+    assert!(e.mechanism().slots.is_empty() && !e.text().contains("[joints.S]"));
+    let names: Vec<&str> = e.mechanism().joints.iter().map(|j| j.name.as_str()).collect();
+    assert_eq!(names, ["O4"]);
+    // The pin's marker alone, and the slot by its name.
+    let mut e = Editor::new("quick_return.toml", QUICK_RETURN).unwrap();
+    let s = edit(&mut e, r#"{"op": "delete_marker", "marker": "crank.A"}"#).unwrap();
+    assert_eq!(s, "deleted marker crank.A; also removed joint S");
+    assert!(e.mechanism().slots.is_empty());
+    let mut e = Editor::new("quick_return.toml", QUICK_RETURN).unwrap();
+    let s = edit(&mut e, r#"{"op": "delete_joint", "joint": "S"}"#).unwrap();
+    assert_eq!(s, "deleted joint S");
+    assert!(e.mechanism().slots.is_empty());
+    assert_eq!(e.mechanism().joints.len(), 2);
+}
+
+#[test]
+fn a_new_joint_is_not_named_after_a_slot() {
+    // A file whose slot is called J1: the next joint is J2, and naming one
+    // J1 is refused.
+    let text = QUICK_RETURN.replace("[joints.S]", "[joints.J1]");
+    let mut e = Editor::new("quick_return.toml", &text).unwrap();
+    edit(&mut e, r#"{"op": "add_marker", "body": "rocker", "at": [3, 3]}"#).unwrap();
+    edit(&mut e, r#"{"op": "add_marker", "body": "frame", "at": [3, 3]}"#).unwrap();
+    assert!(edit(
+        &mut e,
+        r#"{"op": "join", "a": "frame.A", "b": "rocker.A", "name": "J1"}"#
+    )
+    .is_err());
+    let s = edit(&mut e, r#"{"op": "join", "a": "frame.A", "b": "rocker.A"}"#).unwrap();
+    assert!(s.ends_with("revolute joint J2"), "{s}");
+}
+
+#[test]
+fn a_slotted_file_redrawn_at_a_turned_pose_loads_and_runs_from_there() {
+    // The rocker turned with the crank at 90°: redrawn there (the slot's
+    // dir turned with it), the file loads (the pin within the ends) and its
+    // plan moves the pin along the turned slot as the file's own plan
+    // does, from the new drawing.
+    let mut e = Editor::new("quick_return.toml", QUICK_RETURN).unwrap();
+    let plan = analyse(e.mechanism()).plan.unwrap();
+    let mut d = Driver::new(Interpreter::new(plan), Options::default());
+    assert_eq!(d.frame(&[90.0]), FrameStatus::Solved);
+    e.redraw(d.poses()).unwrap();
+    assert_eq!(at(&e, "crank.A").map(|v| (v * 1e12).round() / 1e12), [0.0, 1.0]);
+    let m = e.mechanism();
+    let rocker = m.bodies.iter().find(|b| b.name == "rocker").unwrap();
+    let slot = rocker.markers.iter().find(|k| k.name == "S").unwrap();
+    // The slot points from O4 = (0, -2) to the pin at (0, 1): straight up.
+    let u = slot.unit_dir().unwrap();
+    assert!(u[0].abs() < 1e-12 && (u[1] - 1.0).abs() < 1e-12, "{u:?}");
+    let mut r = Driver::new(Interpreter::new(analyse(m).plan.unwrap()), Options::default());
+    for theta in [30.0, 150.0, 250.0] {
+        assert_eq!(r.frame(&[theta - 90.0]), FrameStatus::Solved, "{theta}");
+        assert_eq!(d.frame(&[theta]), FrameStatus::Solved, "{theta}");
+        let (a, b) = (
+            r.poses()[1].world(at(&e, "crank.A")),
+            d.poses()[1].world([1.0, 0.0]),
+        );
+        assert!(
+            (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-9,
+            "{theta}: {a:?} against {b:?}"
+        );
+    }
+}

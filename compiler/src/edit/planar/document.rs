@@ -15,6 +15,7 @@ use crate::model::{InputKind, JointKind, Mechanism};
 use crate::plan::Plan;
 use crate::report::planar::check::Check;
 use crate::simulate::{frames, marker_at, sweep_requests};
+use dofplan_runtime::planar::Pose;
 use dofplan_runtime::{BreakPolicy, Driver, Options};
 
 use crate::analysis::Progress;
@@ -40,9 +41,9 @@ pub struct Document {
     /// hold the pose on screen.
     pub forces: Option<ForcePlan>,
     /// What the page is sent first, the `document` message: bodies and
-    /// markers as drawn, joints, inputs with their slider ranges, the
-    /// sweep, its traces, and the texts of `dofplan plan`, `check` and
-    /// `emit`.
+    /// markers as drawn, joints, gear pairs, slots, inputs with their
+    /// slider ranges, the sweep, its traces, and the texts of `dofplan
+    /// plan`, `check` and `emit`.
     pub description: Value,
 }
 
@@ -82,8 +83,16 @@ impl Document {
     /// [`Document::new`], the analysis of its check report showing its
     /// progress through `watch`.
     pub fn watched(path: Option<&Path>, mechanism: Mechanism, watch: Option<Watch>) -> Document {
-        let plan = if mechanism.inputs.is_empty() {
+        let plan = if mechanism.inputs.is_empty() && mechanism.gears.is_empty() {
             Err("the mechanism has no inputs, so there is no plan to run: drag a body to move it".to_string())
+        } else if mechanism.inputs.is_empty() {
+            // A drag does not model gears: a geared mechanism moves only
+            // through a plan.
+            Err(format!(
+                "the mechanism has no inputs, so there is no plan to run: mark a joint as an input to move it \
+                 (gear pair {}: a geared mechanism is dragged only through its plan)",
+                mechanism.gear_names()
+            ))
         } else {
             analyse(&mechanism).plan.map_err(|e| e.to_string())
         };
@@ -110,9 +119,11 @@ impl Document {
             .map_or_else(|| self.mechanism.source.name.clone(), |p| p.display().to_string())
     }
 
-    /// The `document` message: bodies and markers as drawn, joints, inputs
-    /// with their slider ranges, the sweep, the traces of its traced
-    /// markers, and the texts of `dofplan plan`, `check` and `emit`.
+    /// The `document` message: bodies and markers as drawn, joints, gear
+    /// pairs and racks (see [`super::gears::describe`]), pins in slots (see
+    /// [`super::slots::describe`]), inputs with their slider ranges, the
+    /// sweep, the traces of its traced markers, and the texts of `dofplan
+    /// plan`, `check` and `emit`.
     fn describe(&self, watch: Option<Watch>) -> Value {
         let m = &self.mechanism;
         let bodies: Vec<Value> = m
@@ -161,6 +172,8 @@ impl Document {
             "size": size,
             "bodies": bodies,
             "joints": joints,
+            "gears": super::gears::describe(m),
+            "slots": super::slots::describe(m),
             "inputs": inputs,
             "sweep": sweep,
             "traces": traces,
@@ -212,6 +225,14 @@ impl Document {
         for id in m.all_markers() {
             grow(m.marker(id).at);
         }
+        // Pitch circles, racks and slots reach past their markers.
+        let drawn = vec![Pose::IDENTITY; m.bodies.len()];
+        for p in super::gears::reach(m, &drawn)
+            .into_iter()
+            .chain(super::slots::reach(m, &drawn))
+        {
+            grow(p);
+        }
         let (Ok(plan), Some(sweep)) = (&self.plan, &m.sweep) else {
             // No sweep to say how far the bodies go: a dragged chain can
             // swing about anywhere within its own extent of the drawing.
@@ -231,6 +252,12 @@ impl Document {
             }
             for id in m.all_markers() {
                 grow(marker_at(m, &f.poses, id));
+            }
+            for p in super::gears::reach(m, &f.poses)
+                .into_iter()
+                .chain(super::slots::reach(m, &f.poses))
+            {
+                grow(p);
             }
         }
         let traces = Value::Object(

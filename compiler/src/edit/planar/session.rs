@@ -20,13 +20,14 @@ use crate::analysis::analyse;
 use crate::edit::forces::frame_forces;
 use crate::forces::planar::reactions;
 use crate::interp::Interpreter;
+use crate::model::planar::slots::Slot;
 use crate::model::{InputKind, Marker, MarkerId, Mechanism};
-use crate::numeric::planar::drag::Drag;
+use crate::numeric::planar::drag::{Drag, DragError};
 use crate::numeric::planar::input_drag::drag_inputs;
 use crate::plan::Plan;
 use crate::simulate::{marker_at, residuals};
 use dofplan_runtime::planar::{Point, Pose};
-use dofplan_runtime::{Break, BreakPolicy, Driver, FrameStatus, Options};
+use dofplan_runtime::{Break, BreakKind, BreakPolicy, Driver, FrameStatus, Options};
 
 use super::document::Document;
 
@@ -254,14 +255,17 @@ impl Session {
         // A plan from the pose on screen moves every body from the
         // inputs: drag through it (and the sliders continue from where the
         // drag leaves them, in the same animation).
-        if let Ok(animation) = self.replan(BreakPolicy::Limit) {
-            self.animation = Some(animation);
-            self.grab = Some(Grab {
-                how: Dragging::Inputs { body: b, local: at },
-                body: body.to_string(),
-            });
-            return Ok(self.current(id));
-        }
+        let unplanned = match self.replan(BreakPolicy::Limit) {
+            Ok(animation) => {
+                self.animation = Some(animation);
+                self.grab = Some(Grab {
+                    how: Dragging::Inputs { body: b, local: at },
+                    body: body.to_string(),
+                });
+                return Ok(self.current(id));
+            }
+            Err(why) => why,
+        };
         let mut r = redrawn(m, &self.poses);
         r.bodies[b].markers.push(Marker {
             name: GRABBED.into(),
@@ -272,7 +276,17 @@ impl Session {
             body: b,
             marker: r.bodies[b].markers.len() - 1,
         };
-        let drag = Drag::new(&r, marker).map_err(|e| e.to_string())?;
+        let drag = Drag::new(&r, marker).map_err(|e| match e {
+            // Neither solver moves it: say what would.
+            DragError::Geared(_) if m.inputs.is_empty() => format!(
+                "{body} cannot be dragged: {e}\nthe mechanism has no inputs yet: mark a joint as one \
+                 (Edit mode: select the joint, then Input)"
+            ),
+            DragError::Geared(_) => {
+                format!("{body} cannot be dragged: {e}\nand no plan moves it from the pose on screen: {unplanned}")
+            }
+            e => e.to_string(),
+        })?;
         // Stretch: a target out of reach leaves the point at its closest
         // approach with every joint exact (the drag is relaxed, never the
         // mechanism), so a one-DOF linkage follows its own curve.
@@ -334,11 +348,36 @@ impl Session {
                 (status, poses, inputs, explanation)
             }
             Dragging::Free { driver, base } => {
+                let (state, before) = (driver.state().clone(), driver.inputs().to_vec());
                 let status = driver.frame(&to);
                 let poses = compose(driver.poses(), base);
-                let inputs = input_values(m, &poses, &self.inputs);
-                let explanation = step_of(&status).map(|_| held());
-                (status, poses, inputs, explanation)
+                if let Some((slot, gap)) = past_a_slot_end(m, &poses) {
+                    // The drag keeps pins on their slots' lines, not
+                    // between the ends: a pin past one is held where it
+                    // was, as a plan's check holds it, and the drag goes
+                    // on from there.
+                    driver.place(&state, &before);
+                    let brk = Break {
+                        step: 0,
+                        kind: BreakKind::PastSlotEnd,
+                        gap,
+                    };
+                    let text = format!(
+                        "{}; {} is held at its last pose within the slot",
+                        slot_text(m, slot),
+                        g.body
+                    );
+                    (
+                        FrameStatus::Limited { brk },
+                        self.poses.clone(),
+                        self.inputs.clone(),
+                        Some(text),
+                    )
+                } else {
+                    let inputs = input_values(m, &poses, &self.inputs);
+                    let explanation = step_of(&status).map(|_| held());
+                    (status, poses, inputs, explanation)
+                }
             }
         };
         if let Err(e) = self.show(poses, Some(inputs)) {
@@ -464,7 +503,10 @@ fn options(breaking: BreakPolicy) -> Options {
 }
 
 /// `m` drawn at `poses`: every marker (and its direction) where the body's
-/// pose puts it, so the identity pose of the result is `poses`.
+/// pose puts it, so the identity pose of the result is `poses`; its gear
+/// pairs' pivots and racks' lines with them. A slot is its marker's line
+/// (the marker's position and dir, turned here with the slotted body) and
+/// ends measured along it, so it moves with its marker.
 fn redrawn(m: &Mechanism, poses: &[Pose]) -> Mechanism {
     let mut r = m.clone();
     for (body, pose) in r.bodies.iter_mut().zip(poses) {
@@ -473,7 +515,36 @@ fn redrawn(m: &Mechanism, poses: &[Pose]) -> Mechanism {
             marker.dir = marker.dir.map(|d| pose.world_dir(d));
         }
     }
+    super::gears::redraw(&mut r.gears, poses);
     r
+}
+
+/// The first pin past an end of its slot at `poses` by more than an open
+/// joint's tolerance, and how far past.
+fn past_a_slot_end<'m>(m: &'m Mechanism, poses: &[Pose]) -> Option<(&'m Slot, f64)> {
+    let tolerance = OPEN_JOINT * m.size();
+    m.slots.iter().find_map(|slot| {
+        let [a, pin] = slot.markers;
+        let (at, p) = (marker_at(m, poses, a), marker_at(m, poses, pin));
+        let d = poses[a.body].world_dir(m.marker(a).unit_dir()?);
+        let along = (p[0] - at[0]) * d[0] + (p[1] - at[1]) * d[1];
+        let gap = (slot.ends[0] - along).max(along - slot.ends[1]);
+        (gap > tolerance).then_some((slot, gap))
+    })
+}
+
+/// A slot as a plan's check of its ends names it: `crank.P within the slot
+/// of yoke.S, from -0.8 to 0.8 along it (joint S)`.
+fn slot_text(m: &Mechanism, slot: &Slot) -> String {
+    let [a, pin] = slot.markers;
+    format!(
+        "{} within the slot of {}, from {} to {} along it (joint {})",
+        m.marker_name(pin),
+        m.marker_name(a),
+        crate::plan::num(slot.ends[0]),
+        crate::plan::num(slot.ends[1]),
+        slot.name
+    )
 }
 
 /// Poses found against a mechanism redrawn at `base`, relative to the
@@ -616,6 +687,396 @@ mod tests {
             assert!((a.at[0] - b.at[0]).abs() < 1e-9 && (a.at[1] - b.at[1]).abs() < 1e-9);
             assert!((a.rot.s - b.rot.s).abs() < 1e-9 && (a.rot.c - b.rot.c).abs() < 1e-9);
         }
+    }
+
+    /// The world position of marker `name` ("body.marker") on screen.
+    fn marker(s: &Session, name: &str) -> Point {
+        let m = &s.doc.mechanism;
+        let id = m
+            .all_markers()
+            .find(|&id| m.marker_name(id) == name)
+            .expect("the marker");
+        marker_at(m, &s.poses, id)
+    }
+
+    #[test]
+    fn a_geared_mechanism_is_dragged_through_its_plan_and_meshes_after() {
+        // rack_pinion: the rack slides r·θ (r = 1, θ in radians) along x.
+        // Turned to 60°, dragged (through the plan, from the pose on screen:
+        // the pairs redrawn there), released: the slider continues on the
+        // same law.
+        let mut s = session("gears/rack_pinion");
+        let frame = reply(&mut s, r#"{"type":"inputs","id":1,"values":[60]}"#);
+        assert_eq!(frame["status"], "solved", "{frame}");
+        let t = marker(&s, "rack.T");
+        let grabbed = reply(
+            &mut s,
+            &format!(
+                r#"{{"type":"grab","id":2,"body":"rack","at":[{},{}]}}"#,
+                t[0], t[1]
+            ),
+        );
+        assert_eq!(grabbed["type"], "frame", "{grabbed}");
+        let dragged = reply(
+            &mut s,
+            &format!(r#"{{"type":"drag","id":3,"to":[{},{}]}}"#, t[0] - 0.5, t[1]),
+        );
+        assert_eq!(dragged["type"], "frame", "{dragged}");
+        let theta = s.inputs[0];
+        assert!(
+            (marker(&s, "rack.T")[0] - theta.to_radians()).abs() < 1e-9,
+            "{theta}°"
+        );
+        assert!(
+            (theta - (60.0 - 0.5f64.to_degrees())).abs() < 1e-2,
+            "the drag turned the pinion back ({theta}°)"
+        );
+        reply(&mut s, r#"{"type":"release","id":4}"#);
+        for theta in [-45.0, 10.0, 80.0] {
+            let frame = reply(
+                &mut s,
+                &format!(r#"{{"type":"inputs","id":5,"values":[{theta}]}}"#),
+            );
+            assert_eq!(frame["status"], "solved", "{frame}");
+            let [x, y] = marker(&s, "rack.T");
+            let want = f64::to_radians(theta);
+            assert!(
+                (x - want).abs() < 1e-9 && (y + 1.0).abs() < 1e-12,
+                "{theta}°: rack.T at ({x}, {y})"
+            );
+            // The pinion's Q, drawn at (1, 0), turned θ about O.
+            let q = marker(&s, "pinion.Q");
+            assert!((q[0] - want.cos()).abs() < 1e-9 && (q[1] - want.sin()).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn an_epicyclic_train_turned_dragged_and_turned_again_keeps_willis() {
+        // The planet's absolute angle is c − (rS/rP)·s = c − 2s whatever
+        // the route to the inputs (c, s): slider, drag, slider.
+        let mut s = session("gears/epicyclic");
+        reply(&mut s, r#"{"type":"inputs","id":1,"values":[30,-30]}"#);
+        let p = marker(&s, "planet.P");
+        reply(
+            &mut s,
+            &format!(
+                r#"{{"type":"grab","id":2,"body":"planet","at":[{},{}]}}"#,
+                p[0], p[1]
+            ),
+        );
+        let dragged = reply(&mut s, r#"{"type":"drag","id":3,"to":[0,3]}"#);
+        assert_eq!(dragged["type"], "frame", "{dragged}");
+        reply(&mut s, r#"{"type":"release","id":4}"#);
+        let (c, sun) = (120.0, 75.0);
+        let frame = reply(
+            &mut s,
+            &format!(r#"{{"type":"inputs","id":5,"values":[{c},{sun}]}}"#),
+        );
+        assert_eq!(frame["status"], "solved", "{frame}");
+        let planet = s
+            .doc
+            .mechanism
+            .bodies
+            .iter()
+            .position(|b| b.name == "planet")
+            .unwrap();
+        let turn = s.poses[planet].rot.s.atan2(s.poses[planet].rot.c).to_degrees();
+        let want = c - 2.0 * sun;
+        assert!(
+            ((turn - want + 180.0).rem_euclid(360.0) - 180.0).abs() < 1e-9,
+            "planet at {turn}°, {want}° wanted"
+        );
+        let q = marker(&s, "planet.P");
+        let (cr, sr) = (f64::to_radians(c).cos(), f64::to_radians(c).sin());
+        assert!(
+            (q[0] - 3.0 * cr).abs() < 1e-9 && (q[1] - 3.0 * sr).abs() < 1e-9,
+            "{q:?}"
+        );
+    }
+
+    /// A pinion on an arm (which turns on the frame, input c) driving a
+    /// rack that slides on the arm below it (input theta turns the pinion
+    /// on the arm): the rack's carrier turns.
+    const ARM_RACK: &str = r#"name = "arm_rack"
+[bodies.frame]
+fixed = true
+markers = { O = [0.0, 0.0] }
+[bodies.arm]
+markers = { O = [0.0, 0.0], P = [2.0, 0.0], T = { at = [2.0, -1.0], dir = [1.0, 0.0] } }
+[bodies.pinion]
+markers = { P = [2.0, 0.0], Q = [3.0, 0.0] }
+[bodies.rack]
+markers = { T = [2.0, -1.0], E = [4.0, -1.0] }
+[joints.A]
+kind = "revolute"
+markers = ["frame.O", "arm.O"]
+[joints.B]
+kind = "revolute"
+markers = ["arm.P", "pinion.P"]
+[joints.S]
+kind = "prismatic"
+markers = ["arm.T", "rack.T"]
+[joints.R]
+kind = "rack-pinion"
+bodies = ["pinion", "rack"]
+radius = 1.0
+[inputs.c]
+kind = "angle"
+joint = "A"
+[inputs.theta]
+kind = "angle"
+joint = "B"
+"#;
+
+    #[test]
+    fn a_rack_on_a_turned_carrier_slides_along_it_after_a_replan() {
+        // The arm turned a quarter, then a grab plans again from the pose
+        // on screen (the rack's line redrawn with the arm): turning the
+        // pinion then slides the rack along the arm as turned, as the
+        // file's own plan does.
+        use crate::conflict::load_str;
+        use crate::model::Format;
+        let m = load_str("arm_rack.toml", ARM_RACK, Format::Toml).expect("the file loads");
+        let doc = Arc::new(Document::new(None, m));
+        let mut s = Session::new(doc.clone());
+        reply(&mut s, r#"{"type":"inputs","id":1,"values":[90,0]}"#);
+        let grabbed = reply(&mut s, r#"{"type":"grab","id":2,"body":"pinion","at":[0,3]}"#);
+        assert_eq!(grabbed["type"], "frame", "{grabbed}");
+        reply(&mut s, r#"{"type":"release","id":3}"#);
+        let frame = reply(&mut s, r#"{"type":"inputs","id":4,"values":[90,40]}"#);
+        assert_eq!(frame["status"], "solved", "{frame}");
+        let mut d = Driver::new(Interpreter::new(doc.plan.clone().unwrap()), Options::default());
+        assert!(d.frame(&[90.0, 40.0]).is_solved());
+        let m = &doc.mechanism;
+        for id in m.all_markers() {
+            let (a, b) = (marker_at(m, &s.poses, id), marker_at(m, d.poses(), id));
+            assert!(
+                (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-9,
+                "{}: {a:?} against {b:?}",
+                m.marker_name(id)
+            );
+        }
+        // The rack slid r·40° along the arm, now along +y: T up from (1, 2).
+        let t = marker(&s, "rack.T");
+        assert!(
+            (t[0] - 1.0).abs() < 1e-9 && (t[1] - (2.0 + f64::to_radians(40.0))).abs() < 1e-9,
+            "{t:?}"
+        );
+    }
+
+    #[test]
+    fn a_geared_mechanism_without_inputs_says_why_it_is_not_dragged() {
+        // Neither solver moves it: the drag does not model gears and there
+        // is no plan. The grab's error says both; nothing moves.
+        use crate::conflict::load_str;
+        use crate::model::Format;
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../mechanisms/gears/rack_pinion.toml");
+        let text = std::fs::read_to_string(path).unwrap();
+        let text = &text[..text.find("[inputs.theta]").expect("the file's input")];
+        let m = load_str("still.toml", text, Format::Toml).expect("the file loads without its input");
+        let mut s = Session::new(Arc::new(Document::new(None, m)));
+        let refused = reply(&mut s, r#"{"type":"grab","id":1,"body":"rack","at":[0,-1]}"#);
+        assert_eq!(refused["type"], "error", "{refused}");
+        let message = refused["message"].as_str().unwrap();
+        assert!(
+            message.contains("geared") && message.contains("gear pair R") && message.contains("no inputs"),
+            "{message}"
+        );
+        assert_eq!(
+            reply(&mut s, r#"{"type":"drag","id":2,"to":[1,-1]}"#)["type"],
+            "error"
+        );
+        assert!(s.poses.iter().all(|p| *p == Pose::IDENTITY));
+    }
+
+    /// How far along slot `name` its pin is on screen (from the slot's
+    /// marker, along its direction turned with its body), and how far off
+    /// its line.
+    fn along_slot(s: &Session, name: &str) -> (f64, f64) {
+        let m = &s.doc.mechanism;
+        let slot = m.slots.iter().find(|x| x.name == name).expect("the slot");
+        let [a, pin] = slot.markers;
+        let (at, p) = (marker_at(m, &s.poses, a), marker_at(m, &s.poses, pin));
+        let d = s.poses[a.body].world_dir(m.marker(a).unit_dir().unwrap());
+        let v = [p[0] - at[0], p[1] - at[1]];
+        (v[0] * d[0] + v[1] * d[1], v[0] * d[1] - v[1] * d[0])
+    }
+
+    #[test]
+    fn a_slotted_lever_turned_and_grabbed_plans_again_with_its_slot_turned() {
+        // quick_return: the crank's pin A in the rocker's slot through O4.
+        // At 90° the rocker has turned; a grab plans from the pose on
+        // screen, the mechanism redrawn there (the slot's marker and its
+        // dir turned with the rocker); the sliders then move it as the
+        // file's own plan does, the pin on the slot's line.
+        let mut s = session("slots/quick_return");
+        let frame = reply(&mut s, r#"{"type":"inputs","id":1,"values":[90]}"#);
+        assert_eq!(frame["status"], "solved", "{frame}");
+        let m = s.doc.mechanism.clone();
+        let rocker = m.bodies.iter().position(|b| b.name == "rocker").unwrap();
+        assert!(s.poses[rocker].rot.s.abs() > 0.1, "the rocker turned");
+        // Redrawn there, the slot's dir is the rocker's line to the pin.
+        let r = redrawn(&m, &s.poses);
+        let slot = r.marker(r.slots[0].markers[0]);
+        let d = slot.unit_dir().unwrap();
+        let a = marker(&s, "crank.A");
+        let to_pin = [a[0] - slot.at[0], a[1] - slot.at[1]];
+        assert!(
+            (to_pin[0] * d[1] - to_pin[1] * d[0]).abs() < 1e-12,
+            "{d:?} against {to_pin:?}"
+        );
+        let b = marker(&s, "rocker.B");
+        let grabbed = reply(
+            &mut s,
+            &format!(
+                r#"{{"type":"grab","id":2,"body":"rocker","at":[{},{}]}}"#,
+                b[0], b[1]
+            ),
+        );
+        assert_eq!(grabbed["type"], "frame", "{grabbed}");
+        let dragged = reply(
+            &mut s,
+            &format!(r#"{{"type":"drag","id":3,"to":[{},{}]}}"#, b[0] - 0.3, b[1]),
+        );
+        assert_eq!(dragged["type"], "frame", "{dragged}");
+        assert!(
+            (s.inputs[0] - 90.0).abs() > 1.0,
+            "the drag turned the crank ({})",
+            s.inputs[0]
+        );
+        reply(&mut s, r#"{"type":"release","id":4}"#);
+        let plan = s.doc.plan.clone().unwrap();
+        let mut d = Driver::new(Interpreter::new(plan), Options::default());
+        for theta in [120.0, 200.0, 300.0, 400.0] {
+            let frame = reply(
+                &mut s,
+                &format!(r#"{{"type":"inputs","id":5,"values":[{theta}]}}"#),
+            );
+            assert_eq!(frame["status"], "solved", "{theta}: {frame}");
+            assert!(d.frame(&[theta]).is_solved());
+            for id in m.all_markers() {
+                let (a, b) = (marker_at(&m, &s.poses, id), marker_at(&m, d.poses(), id));
+                assert!(
+                    (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-9,
+                    "{theta}: {}: {a:?} against {b:?}",
+                    m.marker_name(id)
+                );
+            }
+            // The pin on the slot's line, between its ends (0.9, 3.1): its
+            // distance from O4, between d - r = 1 and d + r = 3.
+            let (along, off) = along_slot(&s, "S");
+            assert!(
+                off.abs() < 1e-9 && (1.0 - 1e-9..=3.0 + 1e-9).contains(&along),
+                "{theta}: {along}, {off}"
+            );
+        }
+    }
+
+    /// The scotch yoke with its slot's ends at ±0.8: the pin, r sin(30° +
+    /// θ) up the slot, reaches the upper end at θ = asin(0.8) − 30°.
+    fn short_yoke(inputs: bool) -> Session {
+        use crate::conflict::load_str;
+        use crate::model::Format;
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../mechanisms/slots/scotch_yoke.toml");
+        let text = std::fs::read_to_string(path).unwrap();
+        let mut text = text.replace("ends = [-1.25, 1.25]", "ends = [-0.8, 0.8]");
+        if !inputs {
+            text.truncate(text.find("[inputs.theta]").expect("the file's input"));
+        }
+        let m = load_str("short.toml", &text, Format::Toml).expect("the file loads");
+        Session::new(Arc::new(Document::new(None, m)))
+    }
+
+    #[test]
+    fn a_pin_driven_past_its_slots_end_is_held_there_and_says_so() {
+        let reached = 0.8f64.asin().to_degrees() - 30.0;
+        for policy in ["limit", "search"] {
+            let mut s = short_yoke(true);
+            // Once from the drawing, once after a grab has planned again
+            // from a pose short of the end.
+            for replanned in [false, true] {
+                if replanned {
+                    reply(&mut s, r#"{"type":"inputs","id":1,"values":[10]}"#);
+                    let p = marker(&s, "crank.P");
+                    let grab = format!(
+                        r#"{{"type":"grab","id":2,"body":"crank","at":[{},{}]}}"#,
+                        p[0], p[1]
+                    );
+                    assert_eq!(reply(&mut s, &grab)["type"], "frame");
+                    reply(&mut s, r#"{"type":"release","id":3}"#);
+                }
+                let frame = reply(
+                    &mut s,
+                    &format!(r#"{{"type":"inputs","id":4,"values":[60],"policy":"{policy}"}}"#),
+                );
+                let want = if policy == "limit" { "limited" } else { "searched" };
+                assert_eq!(frame["status"], want, "{frame}");
+                let detail = &frame["detail"];
+                assert_eq!(
+                    detail["reason"], "the pin would run past an end of its slot",
+                    "{frame}"
+                );
+                let text = detail["explanation"].as_str().unwrap();
+                assert!(
+                    text.contains("crank.P within the slot of yoke.S, from -0.8 to 0.8"),
+                    "{text}"
+                );
+                // Held at the last pose within the ends (the limit policy) or
+                // stopped at the end (search), never past it.
+                let (along, off) = along_slot(&s, "S");
+                let before = if replanned { 40f64.to_radians().sin() } else { 0.5 };
+                let want = if policy == "limit" { before } else { 0.8 };
+                assert!(
+                    off.abs() < 1e-9 && (along - want).abs() < 1e-6,
+                    "{policy}: {along}"
+                );
+                assert!(s.inputs[0] <= reached + 1e-6, "{} past {reached}", s.inputs[0]);
+                // Back within the ends, it is solved again.
+                let back = reply(&mut s, r#"{"type":"inputs","id":5,"values":[0]}"#);
+                assert_eq!(back["status"], "solved", "{back}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_free_drag_holds_a_pin_at_its_slots_end() {
+        // No inputs, so no plan: the drag itself moves the yoke, and keeps
+        // the pin on the slot's line but knows nothing of its ends. Dragged
+        // up past the end (0.8), the pin is held within it, the status says
+        // which slot; dragged back, it follows again.
+        let mut s = short_yoke(false);
+        let grab = r#"{"type":"grab","id":1,"body":"crank","at":[0.8660254037844387,0.5]}"#;
+        assert_eq!(reply(&mut s, grab)["type"], "frame");
+        let mut held = 0;
+        for k in 0..=12 {
+            let y = 0.5 + 0.1 * f64::from(k);
+            let frame = reply(&mut s, &format!(r#"{{"type":"drag","id":2,"to":[0.5,{y}]}}"#));
+            assert_eq!(frame["type"], "frame", "{frame}");
+            let (along, off) = along_slot(&s, "S");
+            assert!(off.abs() < 1e-9 && along <= 0.8 + 1e-6, "{y}: {along}");
+            if frame["status"] == "limited" {
+                held += 1;
+                assert_eq!(
+                    frame["detail"]["reason"],
+                    "the pin would run past an end of its slot"
+                );
+                let text = frame["detail"]["explanation"].as_str().unwrap();
+                assert!(
+                    text.starts_with(
+                        "crank.P within the slot of yoke.S, from -0.8 to 0.8 along it (joint S)"
+                    ),
+                    "{text}"
+                );
+            }
+        }
+        assert!(held > 0, "the drag reached past the end");
+        // Back down: the pin follows the pointer again.
+        let frame = reply(&mut s, r#"{"type":"drag","id":3,"to":[0.5,0.3]}"#);
+        assert_ne!(frame["status"], "limited", "{frame}");
+        let (along, _) = along_slot(&s, "S");
+        assert!(along < 0.7, "{along}");
     }
 
     #[test]
