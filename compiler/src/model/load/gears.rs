@@ -24,11 +24,13 @@ fn kind_of<'a>(entry: &'a Node) -> Option<&'a str> {
     }
 }
 
-/// A `[joints]` table's entries, by how they are read.
+/// The `[joints]` kinds read apart from the marker pairs: the gear pairs'
+/// and the slots'.
+pub(super) const HIGHER_KINDS: [&str; 3] = ["gear", "rack-pinion", "slot"];
+
+/// A `[joints]` table's higher pairs, by how they are read (the marker
+/// pairs are read in place, skipping these).
 pub(super) struct Split<'n> {
-    /// The marker pairs (revolute, prismatic, and every entry whose kind
-    /// is unknown or missing, for the shared walk to report).
-    pub pairs: Node<'n>,
     /// The gear pairs and racks.
     pub gears: Vec<&'n (Key<'n>, Node<'n>)>,
     /// The pins in slots.
@@ -43,34 +45,20 @@ impl Split<'_> {
     }
 }
 
-/// The `[joints]` table split by how its entries are read.
+/// The `[joints]` table's higher pairs (nothing is copied: a large file's
+/// joints stay where they were read).
 pub(super) fn split_joints<'n>(node: &'n Node<'n>) -> Split<'n> {
-    match &node.kind {
-        NodeKind::Table(entries) => {
-            let (mut gears, mut slots, mut rest) = (Vec::new(), Vec::new(), Vec::new());
-            for e in entries {
-                match kind_of(&e.1) {
-                    Some(k) if GEAR_KINDS.contains(&k) => gears.push(e),
-                    Some("slot") => slots.push(e),
-                    _ => rest.push(e.clone()),
-                }
-            }
-            Split {
-                pairs: Node {
-                    at: node.at,
-                    kind: NodeKind::Table(rest),
-                },
-                gears,
-                slots,
+    let (mut gears, mut slots) = (Vec::new(), Vec::new());
+    if let NodeKind::Table(entries) = &node.kind {
+        for e in entries {
+            match kind_of(&e.1) {
+                Some(k) if GEAR_KINDS.contains(&k) => gears.push(e),
+                Some("slot") => slots.push(e),
+                _ => {}
             }
         }
-        // Not a table: the shared walk says so.
-        _ => Split {
-            pairs: node.clone(),
-            gears: Vec::new(),
-            slots: Vec::new(),
-        },
     }
+    Split { gears, slots }
 }
 
 /// What a higher pair's entry has given by the time its kind is read.

@@ -1099,7 +1099,8 @@ impl Validator {
     }
 
     /// Walks `[joints]` or `[constraints]`: every entry is a table with a
-    /// `kind` among `kinds` and two `markers`. Calls `check` with the kind
+    /// `kind` among `kinds` and two `markers` (entries of a kind in `skip`
+    /// are another reader's). Calls `check` with the kind
     /// and the resolved markers; entries it accepts are returned.
     #[allow(clippy::too_many_arguments)]
     fn connections<'n, T, M: MarkerLike>(
@@ -1108,8 +1109,7 @@ impl Validator {
         bodies: &[Body<M>],
         section: &str,
         what: &str,
-        kinds: &[&str],
-        extra: &[&str],
+        (kinds, extra, skip): (&[&str], &[&str], &[&str]),
         mut check: impl FnMut(&mut Self, &str, [MarkerId; 2], &Node, &str, &str) -> Option<T>,
     ) -> Vec<(String, T, [MarkerId; 2], &'n Node<'n>)> {
         let Some(entries) = self.table(node, section) else {
@@ -1122,6 +1122,14 @@ impl Validator {
         // allocated for every entry.
         let (mut path, mut owner) = (String::new(), String::new());
         for (key, entry) in entries {
+            // Entries of the kinds read elsewhere (gear pairs, slots).
+            if let NodeKind::Table(fields) = &entry.kind {
+                if let Some(NodeKind::Str(k)) = Self::get(fields, "kind").map(|n| &n.kind) {
+                    if skip.contains(&k.as_ref()) {
+                        continue;
+                    }
+                }
+            }
             path.clear();
             path.push_str(section);
             path.push('.');

@@ -43,7 +43,7 @@ impl Validator {
         // Gear pairs and racks name bodies, not markers: read apart, after
         // the joints they turn and slide in.
         let split = super::gears::split_joints(joints_node);
-        let joints = self.joints(&split.pairs, &bodies);
+        let joints = self.joints(joints_node, &bodies);
         let gears = self.gears(&split.gears, &bodies, &joints);
         let slots = self.slots(&split.slots, &bodies);
         let constraints = self.constraints(constraints_node, &bodies);
@@ -162,8 +162,11 @@ impl Validator {
             bodies,
             "joints",
             "joint",
-            &["revolute", "prismatic"],
-            &[],
+            (
+                &["revolute", "prismatic", "gear", "rack-pinion", "slot"],
+                &[],
+                &super::gears::HIGHER_KINDS,
+            ),
             |v, kind, markers, entry, path, owner| match kind {
                 "revolute" => v
                     .check_coincident(markers, bodies, entry, path, owner)
@@ -195,8 +198,7 @@ impl Validator {
             bodies,
             "constraints",
             "constraint",
-            &["coincident", "in-line", "offset"],
-            &[],
+            (&["coincident", "in-line", "offset"], &[], &[]),
             |v, kind, markers, entry, path, owner| match kind {
                 "coincident" => v
                     .check_coincident(markers, bodies, entry, path, owner)

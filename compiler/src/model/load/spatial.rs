@@ -290,8 +290,7 @@ impl Validator {
             bodies,
             "joints",
             "joint",
-            &kinds,
-            &["pitch"],
+            (&kinds, &["pitch"], &[]),
             |v, kind, markers, entry, path, owner| {
                 let kind = JointKind::from_name(kind)?;
                 let pitch = match kind {
@@ -509,8 +508,7 @@ impl Validator {
             bodies,
             "constraints",
             "constraint",
-            &kinds,
-            &["angle", "pitch"],
+            (&kinds, &["angle", "pitch"], &[]),
             |v, kind, markers, entry, path, owner| {
                 let kind = Primitive::from_name(kind)?;
                 let NodeKind::Table(fields) = &entry.kind else {
