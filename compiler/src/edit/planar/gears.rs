@@ -7,7 +7,7 @@
 use dofplan_runtime::planar::{Point, Pose};
 use serde_json::{json, Value};
 
-use crate::model::planar::gears::{Gear, GearKind};
+use crate::model::planar::gears::{Gear, GearKind, PitchLine};
 use crate::model::Mechanism;
 
 /// Tick marks along a rack's pitch line per turn of its pinion (one per
@@ -28,96 +28,16 @@ fn along(p: Point, s: f64, d: Point) -> Point {
     [p[0] + s * d[0], p[1] + s * d[1]]
 }
 
-/// One pitch circle: its body, its centre in the body's drawn coordinates,
-/// and its radius.
-struct Circle {
-    body: usize,
-    centre: Point,
-    radius: f64,
-}
-
-/// A rack's pitch line in the rack's drawn coordinates: the pitch point
-/// (nearest the pinion's pivot), the slide direction, how far the line
-/// reaches either side of the pitch point along it, and the unit normal
-/// from the pinion toward the rack.
-struct Line {
-    at: Point,
-    dir: Point,
-    from: f64,
-    to: f64,
-    normal: Point,
-}
-
-/// The pitch circles of a pair (one for a rack and pinion: the pinion's).
-fn circles(g: &Gear) -> Vec<Circle> {
-    let [a, b] = g.bodies;
-    let [ca, cb] = g.centres;
-    match g.kind {
-        GearKind::Gear { radii, .. } => vec![
-            Circle {
-                body: a,
-                centre: ca,
-                radius: radii[0],
-            },
-            Circle {
-                body: b,
-                centre: cb,
-                radius: radii[1],
-            },
-        ],
-        GearKind::RackPinion { radius, .. } => vec![Circle {
-            body: a,
-            centre: ca,
-            radius,
-        }],
-    }
-}
-
-/// Where the pitch circles touch as drawn: on the line of centres, at the
-/// first gear's radius from its centre (external mesh) or the ring's from
-/// its own (internal); for a rack, on its pitch line, the pinion's radius
-/// from its pivot on the rack's side.
+/// Where the pitch circles touch as drawn (each circle's tick points
+/// there): the mesh's pitch point.
 fn pitch_point(g: &Gear) -> Point {
-    let [ca, cb] = g.centres;
-    match g.kind {
-        GearKind::Gear { radii, internal, .. } => {
-            if internal && radii[1] > radii[0] {
-                // The ring is the second: from its centre toward the pinion.
-                along(cb, radii[1], unit([ca[0] - cb[0], ca[1] - cb[1]]))
-            } else {
-                // External, or the ring is the first: from the first centre
-                // toward the second.
-                along(ca, radii[0], unit([cb[0] - ca[0], cb[1] - ca[1]]))
-            }
-        }
-        GearKind::RackPinion {
-            radius, dir, side, ..
-        } => along(ca, radius, [-side * dir[1], side * dir[0]]),
-    }
+    g.mesh().at
 }
 
-/// A rack's pitch line (`None` for a gear pair): drawn over the rack's
-/// markers' extent along it, and at least the pinion's radius either side
-/// of the pitch point, with half a radius to spare.
-fn line(m: &Mechanism, g: &Gear) -> Option<Line> {
-    let GearKind::RackPinion {
-        radius, dir, side, ..
-    } = g.kind
-    else {
-        return None;
-    };
-    let at = pitch_point(g);
-    let s = |p: Point| (p[0] - at[0]) * dir[0] + (p[1] - at[1]) * dir[1];
-    let (lo, hi) = (m.bodies[g.bodies[1]].markers.iter())
-        .map(|k| s(k.at))
-        .fold((-radius, radius), |(lo, hi), v| (lo.min(v), hi.max(v)));
-    Some(Line {
-        at,
-        dir,
-        from: lo - 0.5 * radius,
-        to: hi + 0.5 * radius,
-        normal: [-side * dir[1], side * dir[0]],
-    })
+/// A rack's pitch line (`None` for a gear pair), reaching over the rack's
+/// markers.
+fn line(m: &Mechanism, g: &Gear) -> Option<PitchLine> {
+    g.pitch_line(m.bodies[g.bodies[1]].markers.iter().map(|k| k.at))
 }
 
 /// The `gears` of a `document` message: per pair its name, kind, bodies
@@ -171,7 +91,7 @@ pub(super) fn describe(m: &Mechanism) -> Vec<Value> {
 pub(super) fn reach(m: &Mechanism, poses: &[Pose]) -> Vec<Point> {
     let mut out = Vec::new();
     for g in &m.gears {
-        for c in circles(g) {
+        for c in g.pitch_circles() {
             let [x, y] = poses[c.body].world(c.centre);
             out.extend([[x - c.radius, y - c.radius], [x + c.radius, y + c.radius]]);
         }
@@ -237,7 +157,7 @@ mod tests {
         // Every circle is its radius from the pitch point.
         for g in &m.gears {
             let p = pitch_point(g);
-            for c in circles(g) {
+            for c in g.pitch_circles() {
                 let d = (p[0] - c.centre[0]).hypot(p[1] - c.centre[1]);
                 assert!(
                     (d - c.radius).abs() < 1e-12,

@@ -90,7 +90,74 @@ pub struct Mesh {
     pub lean: f64,
 }
 
+/// A gear's pitch circle, for drawing: the body it turns with, its centre
+/// in that body's (drawn) coordinates, and its radius.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PitchCircle {
+    /// The body.
+    pub body: usize,
+    /// The centre (the body's pivot as drawn).
+    pub centre: Point,
+    /// The pitch radius.
+    pub radius: f64,
+}
+
+/// A rack's pitch line, for drawing, in the rack's drawn coordinates: the
+/// pitch point, the slide direction, how far it reaches either side of the
+/// pitch point along it (over the rack's markers and a pinion radius,
+/// with half a radius to spare) and the unit normal from the pinion
+/// toward the rack.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PitchLine {
+    /// The pitch point.
+    pub at: Point,
+    /// Unit slide direction.
+    pub dir: Point,
+    /// The reach along `dir` from `at`, below.
+    pub from: f64,
+    /// The reach along `dir` from `at`, above.
+    pub to: f64,
+    /// Unit normal toward the rack.
+    pub normal: Point,
+}
+
 impl Gear {
+    /// The pitch circles: both gears', or a rack and pinion's pinion's.
+    pub fn pitch_circles(&self) -> Vec<PitchCircle> {
+        let circle = |k: usize, radius: f64| PitchCircle {
+            body: self.bodies[k],
+            centre: self.centres[k],
+            radius,
+        };
+        match self.kind {
+            GearKind::Gear { radii, .. } => vec![circle(0, radii[0]), circle(1, radii[1])],
+            GearKind::RackPinion { radius, .. } => vec![circle(0, radius)],
+        }
+    }
+
+    /// A rack's pitch line (`None` for a gear pair); `rack_markers` are the
+    /// rack's markers as drawn, which it reaches over.
+    pub fn pitch_line(&self, rack_markers: impl Iterator<Item = Point>) -> Option<PitchLine> {
+        let GearKind::RackPinion {
+            radius, dir, side, ..
+        } = self.kind
+        else {
+            return None;
+        };
+        let at = self.mesh().at;
+        let s = |p: Point| (p[0] - at[0]) * dir[0] + (p[1] - at[1]) * dir[1];
+        let (lo, hi) = rack_markers
+            .map(s)
+            .fold((-radius, radius), |(lo, hi), v| (lo.min(v), hi.max(v)));
+        Some(PitchLine {
+            at,
+            dir,
+            from: lo - 0.5 * radius,
+            to: hi + 0.5 * radius,
+            normal: [-side * dir[1], side * dir[0]],
+        })
+    }
+
     /// The pitch point and the tooth force's directions (see [`Mesh`]).
     pub fn mesh(&self) -> Mesh {
         let [ca, cb] = self.centres;

@@ -5,7 +5,7 @@
 use dofplan_runtime::planar::{Point, Pose};
 use svg::node::element::{Circle, Group};
 
-use crate::model::planar::gears::{Gear, GearKind};
+use crate::model::planar::gears::{Gear, PitchCircle, PitchLine};
 use crate::model::Mechanism;
 use crate::render::style::{colour_of, line, num};
 use crate::render::view::{finite, BBox, View};
@@ -13,9 +13,24 @@ use crate::render::view::{finite, BBox, View};
 /// Tick marks along a rack's pitch line per pinion turn (one per 30°).
 const RACK_TICKS_PER_TURN: f64 = 12.0;
 
-/// One pitch circle: (body, centre in the body's local coordinates,
-/// radius, the tick's local direction).
-type Pitch = (usize, Point, f64, Point);
+/// One pitch circle with its tick's direction in the body's drawn
+/// coordinates: toward the other gear's pivot, or a pinion's toward its
+/// rack.
+fn ticked(g: &Gear) -> Vec<(PitchCircle, Point)> {
+    let [ca, cb] = g.centres;
+    let towards = unit([cb[0] - ca[0], cb[1] - ca[1]]);
+    let line = g.pitch_line(std::iter::empty());
+    (g.pitch_circles().into_iter().enumerate())
+        .map(|(k, c)| {
+            let tick = match (&line, k) {
+                (Some(l), _) => l.normal,
+                (None, 0) => towards,
+                (None, _) => [-towards[0], -towards[1]],
+            };
+            (c, tick)
+        })
+        .collect()
+}
 
 fn unit(v: Point) -> Point {
     let n = (v[0] * v[0] + v[1] * v[1]).sqrt();
@@ -26,70 +41,25 @@ fn unit(v: Point) -> Point {
     }
 }
 
-/// The pitch circles of a gear pair (one for a rack and pinion: the
-/// pinion's). Each tick points, as drawn, at the other pivot (the pitch
-/// point's side).
-fn pitch_circles(g: &Gear) -> Vec<Pitch> {
-    let [a, b] = g.bodies;
-    let [ca, cb] = g.centres;
-    let towards = unit([cb[0] - ca[0], cb[1] - ca[1]]);
-    match g.kind {
-        GearKind::Gear { radii, .. } => vec![
-            (a, ca, radii[0], towards),
-            (b, cb, radii[1], [-towards[0], -towards[1]]),
-        ],
-        GearKind::RackPinion {
-            radius, dir, side, ..
-        } => {
-            vec![(a, ca, radius, [-side * dir[1], side * dir[0]])]
-        }
-    }
-}
-
-/// A rack's pitch line in its own (drawn) coordinates: the point of it
-/// nearest the pinion's pivot, and its direction.
-fn pitch_line(g: &Gear) -> Option<(Point, Point)> {
-    let GearKind::RackPinion {
-        radius, dir, side, ..
-    } = g.kind
-    else {
-        return None;
-    };
-    let c = g.centres[0];
-    let n = [-side * dir[1], side * dir[0]];
-    Some(([c[0] + radius * n[0], c[1] + radius * n[1]], dir))
-}
-
-/// How far a rack's pitch line is drawn either side of the point nearest
-/// the pinion: the rack's markers' extent along it, and at least a turn of
-/// the pinion's pitch circle.
-fn rack_extent(m: &Mechanism, g: &Gear, at: Point, dir: Point) -> (f64, f64) {
-    let GearKind::RackPinion { radius, .. } = g.kind else {
-        return (0.0, 0.0);
-    };
-    let along = |p: Point| (p[0] - at[0]) * dir[0] + (p[1] - at[1]) * dir[1];
-    let body = &m.bodies[g.bodies[1]];
-    let (lo, hi) = (body.markers.iter())
-        .map(|mk| along(mk.at))
-        .fold((-radius, radius), |(lo, hi), s| (lo.min(s), hi.max(s)));
-    (lo - 0.5 * radius, hi + 0.5 * radius)
+/// A rack's pitch line, reaching over the rack's markers.
+fn rack_line(m: &Mechanism, g: &Gear) -> Option<PitchLine> {
+    g.pitch_line(m.bodies[g.bodies[1]].markers.iter().map(|k| k.at))
 }
 
 /// Every gear pair's pitch circles and racks' pitch lines at `poses`, into
 /// the picture's box (they reach past the markers).
 pub(super) fn extend_box(m: &Mechanism, poses: &[Pose], bbox: &mut BBox) {
     for g in &m.gears {
-        for (body, centre, r, _) in pitch_circles(g) {
-            let c = poses[body].world(centre);
-            if finite(c) {
-                bbox.add([c[0] - r, c[1] - r]);
-                bbox.add([c[0] + r, c[1] + r]);
+        for c in g.pitch_circles() {
+            let (w, r) = (poses[c.body].world(c.centre), c.radius);
+            if finite(w) {
+                bbox.add([w[0] - r, w[1] - r]);
+                bbox.add([w[0] + r, w[1] + r]);
             }
         }
-        if let Some((at, dir)) = pitch_line(g) {
-            let (lo, hi) = rack_extent(m, g, at, dir);
-            for s in [lo, hi] {
-                let p = poses[g.bodies[1]].world([at[0] + s * dir[0], at[1] + s * dir[1]]);
+        if let Some(l) = rack_line(m, g) {
+            for s in [l.from, l.to] {
+                let p = poses[g.bodies[1]].world([l.at[0] + s * l.dir[0], l.at[1] + s * l.dir[1]]);
                 if finite(p) {
                     bbox.add(p);
                 }
@@ -108,7 +78,15 @@ pub(super) fn draw(m: &Mechanism, poses: &[Pose], view: &View, k: f64) -> Group 
         let mut pair = Group::new()
             .set("class", "gear")
             .set("data-gear", g.name.as_str());
-        for (body, centre, r, tick) in pitch_circles(g) {
+        for (
+            PitchCircle {
+                body,
+                centre,
+                radius: r,
+            },
+            tick,
+        ) in ticked(g)
+        {
             let pose = &poses[body];
             let c = pose.world(centre);
             let edge = pose.world([centre[0] + r * tick[0], centre[1] + r * tick[1]]);
@@ -135,11 +113,17 @@ pub(super) fn draw(m: &Mechanism, poses: &[Pose], view: &View, k: f64) -> Group 
                         .set("stroke-width", width.clone()),
                 );
         }
-        if let Some((at, dir)) = pitch_line(g) {
+        if let Some(PitchLine {
+            at,
+            dir,
+            from: lo,
+            to: hi,
+            normal: out,
+        }) = rack_line(m, g)
+        {
             let rack = g.bodies[1];
             let pose = &poses[rack];
             let colour = body_colour(m, rack);
-            let (lo, hi) = rack_extent(m, g, at, dir);
             let point = |s: f64| pose.world([at[0] + s * dir[0], at[1] + s * dir[1]]);
             let (a, b) = (point(lo), point(hi));
             if finite(a) && finite(b) {
@@ -151,11 +135,8 @@ pub(super) fn draw(m: &Mechanism, poses: &[Pose], view: &View, k: f64) -> Group 
                         .set("data-body", m.bodies[rack].name.as_str()),
                 );
                 // Ticks a pitch step apart, on the rack's side of the line.
-                let GearKind::RackPinion { radius, side, .. } = g.kind else {
-                    unreachable!("a pitch line is a rack's")
-                };
+                let radius = g.pitch_circles()[0].radius;
                 let step = std::f64::consts::TAU * radius / RACK_TICKS_PER_TURN;
-                let out = [-side * dir[1], side * dir[0]];
                 let depth = 0.15 * radius;
                 let first = (lo / step).ceil() as i64;
                 let last = (hi / step).floor() as i64;
