@@ -110,7 +110,7 @@ fn forces() {
     println!();
     println!("| mechanism | equations | force plan blocks | position ns/frame | + forces, plan ns/frame | ratio | + forces, least squares ns/frame | ratio |");
     println!("|---|---:|---|---:|---:|---:|---:|---:|");
-    for name in ["slider_crank_press", "fourbar_weights"] {
+    for name in ["slider_crank_press", "fourbar_weights", "arc_yoke_press"] {
         use dofplan::forces::planar::{force_plan, input_forces, reactions};
         let m = load(&format!("loads/{name}"));
         let interp = Interpreter::new(plan(&m));
@@ -191,7 +191,7 @@ fn compiled_forces() {
             );
         })*};
     }
-    row!(slider_crank_press, fourbar_weights);
+    row!(slider_crank_press, fourbar_weights, arc_yoke_press);
 }
 
 /// One row of the forces table after its first two cells: the plan's

@@ -405,5 +405,9 @@ fn compiled_forces_allocate_nothing() {
             assert_eq!(ok, 2 * inputs.len(), $name);
         )*};
     }
-    forces!(fourbar_weights: "loads/fourbar_weights", slider_crank_press: "loads/slider_crank_press");
+    forces!(
+        fourbar_weights: "loads/fourbar_weights",
+        slider_crank_press: "loads/slider_crank_press",
+        arc_yoke_press: "loads/arc_yoke_press"
+    );
 }

@@ -335,9 +335,11 @@ function buildDrawing() {
 // Each slot is drawn along its segment (its ends in the slotted body's
 // drawn coordinates, as the document gives them) and moves with that
 // body's pose: a channel a pin's width across with rounded ends, outlined
-// in the body's colour, over the bodies. The pin, drawn as its marker
-// under the bodies, is drawn again on top of the slot as a joint's pin,
-// where the pin's marker is. Grabbing the slot grabs its body.
+// in the body's colour, over the bodies. An arc slot (one with a radius)
+// is drawn the same way along its path, the points of its centre line the
+// document gives, as polylines. The pin, drawn as its marker under the
+// bodies, is drawn again on top of the slot as a joint's pin, where the
+// pin's marker is. Grabbing the slot grabs its body.
 
 // The slot's channel and the pin across it, in pixels: the pin fits it.
 const SLOT_HALF_WIDTH = 6;
@@ -350,15 +352,22 @@ function buildSlots(index) {
   for (const slot of doc.slots || []) {
     const body = bodyIndex.get(slot.body);
     const colour = COLOURS[body % COLOURS.length];
-    const group = el("g", { class: "slot", "data-slot": slot.name, "data-slot-body": slot.body }, $("slots"));
+    const arc = slot.radius != null;
+    const group = el("g", { class: "slot", "data-slot": slot.name, "data-slot-body": slot.body, "data-slot-kind": arc ? "arc" : "straight" }, $("slots"));
+    // A straight slot's lines; an arc's polylines, unfilled, their caps and
+    // joins round (the page's style rounds only lines' caps).
+    const [shape, style] = arc
+      ? ["polyline", { fill: "none", "stroke-linecap": "round", "stroke-linejoin": "round", "pointer-events": "none" }]
+      : ["line", {}];
     const part = {
       body,
       segment: slot.segment,
+      path: arc ? slot.path : null,
       pin: index.get(slot.pin),
       group,
-      edge: el("line", { class: "slot-edge", stroke: colour, "stroke-width": 2 * SLOT_HALF_WIDTH + 4 }, group),
-      channel: el("line", { class: "slot-channel", "stroke-width": 2 * SLOT_HALF_WIDTH }, group),
-      centre: el("line", { class: "slot-centre", stroke: colour }, group),
+      edge: el(shape, { class: "slot-edge", ...style, stroke: colour, "stroke-width": 2 * SLOT_HALF_WIDTH + 4 }, group),
+      channel: el(shape, { class: "slot-channel", ...style, "stroke-width": 2 * SLOT_HALF_WIDTH }, group),
+      centre: el(shape, { class: "slot-centre", ...style, stroke: colour }, group),
       pinCircle: el("circle", { class: "slot-pin", r: SLOT_PIN_RADIUS, "data-slot-pin": slot.pin }, group),
     };
     if (labelled) {
@@ -377,12 +386,17 @@ function buildSlots(index) {
 
 function drawSlots(screen) {
   const f = (v) => v.toFixed(2);
-  for (const { body, segment, pin, group, edge, channel, centre, pinCircle, label } of parts.slots) {
+  for (const { body, segment, path, pin, group, edge, channel, centre, pinCircle, label } of parts.slots) {
     const world = placer(body);
     const [a, b] = segment.map(world);
-    const [p, q] = [a, b].map(toScreen);
-    for (const line of [edge, channel, centre]) {
-      for (const [k, v] of Object.entries({ x1: p[0], y1: p[1], x2: q[0], y2: q[1] })) line.setAttribute(k, f(v));
+    if (path) {
+      const points = path.map((c) => toScreen(world(c)).map(f).join(",")).join(" ");
+      for (const line of [edge, channel, centre]) line.setAttribute("points", points);
+    } else {
+      const [p, q] = [a, b].map(toScreen);
+      for (const line of [edge, channel, centre]) {
+        for (const [k, v] of Object.entries({ x1: p[0], y1: p[1], x2: q[0], y2: q[1] })) line.setAttribute(k, f(v));
+      }
     }
     group.dataset.from = JSON.stringify(a);
     group.dataset.to = JSON.stringify(b);

@@ -236,7 +236,7 @@ def test_a_bad_case_of_the_rust_tests_raises_what_check_prints(case, tmp_path):
     assert e.value.diagnostics and all(d["file"] == str(path) for d in e.value.diagnostics)
 
 
-@pytest.mark.parametrize("name", ["slider_crank_press", "fourbar_weights", "cardan_torque", "excavator_load"])
+@pytest.mark.parametrize("name", ["slider_crank_press", "fourbar_weights", "arc_yoke_press", "cardan_torque", "excavator_load"])
 @pytest.mark.parametrize("rate", [None, 2.0])
 def test_forces_are_the_cli_s(name, rate):
     path = MECHANISMS / "loads" / f"{name}.toml"

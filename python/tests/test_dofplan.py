@@ -623,3 +623,24 @@ def test_a_slot_s_end_holds_the_scotch_yoke():
     x = r.marker("yoke.Y")[:, 0] - 3.0
     held = np.cos(np.radians(30.0 + theta[theta <= end][-1])) - np.cos(np.radians(30.0))
     assert np.max(np.abs(x[theta > end] - held)) < 1e-12
+
+
+def test_an_arc_slot_moves_the_curved_lever_as_its_four_bar():
+    # mechanisms/slots/curved_lever.toml: the crank's pin P (r = 1 about
+    # O, drawn at 60 deg) in an arc of radius 3.5 about the lever's C, C
+    # 3 from the lever's pivot Q = (4, 0): C is where the circle about Q
+    # meets the circle about P, on the side it is drawn.
+    m = dofplan.load(MECHANISMS / "slots" / "curved_lever.toml")
+    theta = np.linspace(0.0, 360.0, 73)
+    r = m.simulate(theta)
+    assert r.solved.all()
+    phi = np.radians(60.0 + theta)
+    p = np.stack([np.cos(phi), np.sin(phi)], axis=1)
+    q = np.array([4.0, 0.0])
+    d = np.linalg.norm(q - p, axis=1)
+    a = (3.5**2 - 3.0**2 + d**2) / (2 * d)
+    h = np.sqrt(3.5**2 - a**2)
+    u = (q - p) / d[:, None]
+    c = p + a[:, None] * u + h[:, None] * np.stack([-u[:, 1], u[:, 0]], axis=1)
+    assert np.max(np.abs(r.marker("lever.C") - c)) < 1e-12
+    assert np.max(np.abs(r.marker("crank.P") - p)) < 1e-12

@@ -1773,6 +1773,212 @@ async function slots(browser) {
   }
 }
 
+/** An arc slot's drawing: its kind, its polylines (class, stroke, fill,
+ * points on screen), its lines (none for an arc), its world ends
+ * (data-from, data-to) and its pin's centre on screen. */
+async function arcOf(page, name) {
+  return page.$eval(`#slots [data-slot="${name}"]`, (g) => {
+    const points = (l) => l.getAttribute("points").trim().split(/\s+/).map((xy) => xy.split(",").map(Number));
+    const polylines = Array.from(g.querySelectorAll("polyline")).map((l) => ({
+      class: ["slot-edge", "slot-channel", "slot-centre"].find((c) => l.classList.contains(c)),
+      grabbable: l.classList.contains("grabbable"),
+      stroke: l.getAttribute("stroke"),
+      width: Number(l.getAttribute("stroke-width")),
+      fill: getComputedStyle(l).fill,
+      points: points(l),
+    }));
+    const pin = g.querySelector("circle.slot-pin");
+    return {
+      kind: g.dataset.slotKind,
+      body: g.dataset.slotBody,
+      polylines,
+      lines: g.querySelectorAll("line").length,
+      channel: polylines.find((l) => l.class === "slot-channel"),
+      edge: polylines.find((l) => l.class === "slot-edge"),
+      from: JSON.parse(g.dataset.from),
+      to: JSON.parse(g.dataset.to),
+      pin: [Number(pin.getAttribute("cx")), Number(pin.getAttribute("cy"))],
+      pinRadius: Number(pin.getAttribute("r")),
+    };
+  });
+}
+
+// curved_lever in closed form (its header's): the pin's angle round the
+// arc, degrees counter-clockwise from C's dir, at crank input `theta`.
+function leverPinRound(theta) {
+  const at = (t) => {
+    const a = ((60 + t) * Math.PI) / 180;
+    const p = [Math.cos(a), Math.sin(a)];
+    const [dx, dy] = [4 - p[0], -p[1]];
+    const d = Math.hypot(dx, dy);
+    const along = (3.5 * 3.5 - 3 * 3 + d * d) / (2 * d);
+    const h = Math.sqrt(3.5 * 3.5 - along * along);
+    // C above the line from P to Q (to its left).
+    const c = [p[0] + (along * dx - h * dy) / d, p[1] + (along * dy + h * dx) / d];
+    return { p, c };
+  };
+  const deg = (v) => (Math.atan2(v[1], v[0]) * 180) / Math.PI;
+  const drawn = at(0);
+  const { p, c } = at(theta);
+  const turned = deg([c[0] - 4, c[1]]) - deg([drawn.c[0] - 4, drawn.c[1]]);
+  const round = deg([p[0] - c[0], p[1] - c[1]]) - deg([drawn.p[0] - drawn.c[0], drawn.p[1] - drawn.c[1]]) - turned;
+  return ((((round + 180) % 360) + 360) % 360) - 180;
+}
+
+async function arcs(browser) {
+  console.log("== mechanisms/slots/curved_lever.toml: an arc slot drawn round the lever's C and turning with it, the pin in it over a turn; its ends cut short, the pin held at an end");
+  const dir = mkdtempSync(join(tmpdir(), "dofplan-edit-"));
+  const lever = readFileSync(join(ROOT, "mechanisms/slots/curved_lever.toml"), "utf8");
+  writeFileSync(join(dir, "curved_lever.toml"), lever);
+  // The arc cut short: the pin, swinging to -33.4° round it, reaches the
+  // end -20° between theta 50° and 55°.
+  check(lever.includes("ends = [-40.0, 20.0]"), "curved_lever.toml's arc ends are [-40, 20], to cut short");
+  writeFileSync(join(dir, "short_lever.toml"), lever.replace("ends = [-40.0, 20.0]", "ends = [-20.0, 20.0]").replace('name = "curved_lever"', 'name = "short_lever"'));
+  const { child, page } = await openEditor(browser, "curved_lever.toml", dir);
+  try {
+    const doc = await documentOf(page);
+    const colourOf = (body) => ["#2563eb", "#dc2626", "#059669", "#d97706", "#7c3aed", "#0891b2", "#db2777", "#65a30d"][doc.bodies.findIndex((b) => b.name === body) % 8];
+    const names = await page.$$eval("[data-slot]", (els) => els.map((e) => e.dataset.slot));
+    check(names.join() === "S", `one data-slot, S (${names})`);
+    const d = doc.slots[0];
+    check(
+      JSON.stringify([d.name, d.body, d.marker, d.pin, d.ends, d.radius]) === JSON.stringify(["S", "lever", "lever.C", "crank.P", [-40, 20], 3.5]),
+      `the document names the slot's body, marker, pin, ends and radius (${JSON.stringify([d.name, d.body, d.marker, d.pin, d.ends, d.radius])}; ${d.path.length} points on its path)`,
+    );
+    const drawn = await arcOf(page, "S");
+    const classes = drawn.polylines.map((l) => l.class).join();
+    check(
+      drawn.kind === "arc" && drawn.lines === 0 && classes === "slot-edge,slot-channel,slot-centre",
+      `kind ${drawn.kind}, drawn as polylines (${classes}; ${drawn.lines} lines)`,
+    );
+    check(
+      drawn.body === "lever" && drawn.edge.stroke === colourOf("lever") && drawn.polylines.every((l) => l.fill === "none"),
+      `the slot is the lever's, outlined in its colour (${drawn.edge.stroke}), its polylines unfilled (${drawn.polylines.map((l) => l.fill).join()})`,
+    );
+    check(drawn.edge.width > drawn.channel.width && drawn.channel.width >= 2 * drawn.pinRadius, `the channel fits the pin (${drawn.channel.width} px across, outline ${drawn.edge.width}, pin ${2 * drawn.pinRadius} px)`);
+    // The view's scale, read again when a file is opened (framed afresh).
+    let scale = await page.evaluate(() => window.__dofplan.scale());
+    let radius = 3.5 * scale;
+    const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1]);
+    // Degrees counter-clockwise from `a0`, in (-180, 180].
+    const from = (a, a0) => -((((a0 - a) % 360) + 540) % 360 - 180);
+    // The arc on screen about the lever's C, the crank's pin in it.
+    const inArc = async (what, theta = null) => {
+      const [c, p] = await Promise.all(["lever.C", "crank.P"].map((k) => markerPx(page, k)));
+      const slot = await arcOf(page, "S");
+      const pts = slot.channel.points;
+      const off = Math.max(...pts.map((q) => Math.abs(dist(q, c) - radius)));
+      const angles = pts.map((q) => screenAngle(c, q));
+      const steps = angles.slice(1).map((a, k) => from(a, angles[k]));
+      const span = steps.reduce((x, y) => x + y, 0);
+      const pinOff = Math.abs(dist(p, c) - radius);
+      const round = from(screenAngle(c, p), angles[0]);
+      const tolerance = (0.5 / radius) * (180 / Math.PI);
+      const within = round >= -tolerance && round <= span + tolerance;
+      const together = slot.polylines.every((l) => JSON.stringify(l.points) === JSON.stringify(pts));
+      const world = (await markers(page))["lever.C"];
+      const worldOff = Math.max(Math.abs(dist(slot.from, world) - 3.5), Math.abs(dist(slot.to, world) - 3.5));
+      check(
+        off < 0.05 && together && steps.every((s) => s > 0 && s <= 3.01) && Math.abs(span - 60) < 0.05 && worldOff < 1e-9,
+        `${what}: every point of the channel ${(3.5).toFixed(1)} × ${scale.toFixed(2)} px from lever.C (worst ${off.toFixed(4)} px off, ${pts.length} points at most ${Math.max(...steps).toFixed(2)}° apart, counter-clockwise over ${span.toFixed(3)}°; its world ends ${worldOff.toExponential(1)} off the radius)`,
+      );
+      const expected = theta === null ? null : leverPinRound(theta);
+      const agree = expected === null || Math.abs(-40 + round - expected) < tolerance;
+      check(
+        pinOff < 0.5 && within && agree && dist(slot.pin, p) < 0.01,
+        `${what}: crank.P ${pinOff.toFixed(3)} px off the arc, ${(-40 + round).toFixed(3)}° round it${expected === null ? "" : ` (closed form ${expected.toFixed(3)}°)`}, within its ${span.toFixed(1)}° from -40°`,
+      );
+      return { slot, round, span, tolerance };
+    };
+    for (let theta = 0; theta <= 360; theta += 60) {
+      await setInput(page, "theta", theta);
+      const status = await statusOf(page);
+      check(status.kind === "solved", `theta ${theta}°: solved (${status.kind})`);
+      await inArc(`theta ${theta}°`, theta);
+      if (theta === 0) await page.screenshot({ path: join(SHOTS, "arcs-curved-lever.png") });
+      if (theta === 120) await page.screenshot({ path: join(SHOTS, "arcs-curved-lever-120.png") });
+    }
+    // Grabbing the arc grabs the lever: its outline is what is hit at its
+    // middle, and a drag from there moves the lever, the pin kept in it.
+    await setInput(page, "theta", 120);
+    const mid = await page.$eval('#slots [data-slot="S"] polyline.slot-edge', (l) => {
+      const pts = l.getAttribute("points").trim().split(/\s+/);
+      const [x, y] = pts[Math.floor(pts.length / 2)].split(",").map(Number);
+      const m = l.getScreenCTM();
+      const at = [m.a * x + m.c * y + m.e, m.b * x + m.d * y + m.f];
+      const hit = document.elementFromPoint(...at);
+      return { at, hit: hit === l, grabbable: l.classList.contains("grabbable") };
+    });
+    check(mid.hit && mid.grabbable, `the arc's outline is what is under the pointer at its middle, grabbable (${mid.hit}, ${mid.grabbable})`);
+    const c0 = (await markers(page))["lever.C"];
+    const errors0 = await page.evaluate(() => window.__dofplan.errors.length);
+    await page.mouse.move(...mid.at);
+    await page.mouse.down();
+    for (let i = 1; i <= 10; i++) {
+      await page.mouse.move(mid.at[0] + 3 * i, mid.at[1] - 3 * i);
+      await page.waitForTimeout(5);
+    }
+    await settled(page);
+    await page.mouse.up();
+    await settled(page);
+    const c1 = (await markers(page))["lever.C"];
+    const dragErrors = await page.evaluate((n) => window.__dofplan.errors.slice(n), errors0);
+    check(dist(c0, c1) > 0.05 && dragErrors.length === 0, `dragging the arc moved the lever's C by ${dist(c0, c1).toFixed(3)} (errors: ${dragErrors.join("; ") || "none"})`);
+    await inArc("after dragging the arc");
+
+    // The short arc: driven to 180° the pin would leave it past -20°.
+    await page.selectOption("#open-file", "short_lever.toml");
+    await page.click("#open");
+    await statusOf(page);
+    const sdoc = await documentOf(page);
+    scale = await page.evaluate(() => window.__dofplan.scale());
+    radius = 3.5 * scale;
+    check(sdoc.name === "short_lever" && sdoc.slots.length === 1 && sdoc.slots[0].ends.join() === "-20,20", `short_lever.toml: the curved lever, its arc's ends at -20° and 20° (${sdoc.slots[0].ends})`);
+    let lo = 50;
+    let hi = 55;
+    while (hi - lo > 1e-9) {
+      const mid = (lo + hi) / 2;
+      if (leverPinRound(mid) > -20) lo = mid;
+      else hi = mid;
+    }
+    const reach = lo;
+    const shortArc = async (what) => {
+      const [c, p] = await Promise.all(["lever.C", "crank.P"].map((k) => markerPx(page, k)));
+      const slot = await arcOf(page, "S");
+      const angles = slot.channel.points.map((q) => screenAngle(c, q));
+      const span = angles.slice(1).reduce((x, a, k) => x + from(a, angles[k]), 0);
+      const round = from(screenAngle(c, p), angles[0]);
+      const past = radius * (Math.PI / 180) * Math.max(0, -round, round - span);
+      const off = Math.abs(dist(p, c) - radius);
+      check(off < 0.5 && past < 0.5, `${what}: the pin within the arc on screen (${off.toFixed(3)} px off it, ${past.toFixed(3)} px past an end; ${(-20 + round).toFixed(3)}° round it)`);
+      return { round, span, past };
+    };
+    // Stepped there, as a slider is moved: every frame within the arc,
+    // limited from the first step past the end on.
+    let first = null;
+    for (let theta = 5; theta <= 180; theta += 5) {
+      await setInput(page, "theta", theta);
+      const { past } = await shortArc(`theta ${theta}°`);
+      if (past > 0) break;
+      if (first === null && (await statusOf(page)).kind === "limited") first = theta;
+    }
+    const limited = await statusOf(page);
+    check(limited.kind === "limited" && first === Math.ceil(reach / 5) * 5, `driven on to 180°: limited (${limited.kind}), from theta ${first}° on`);
+    check(
+      /the pin would run past an end of its slot/.test(limited.text) && limited.text.includes("crank.P within the arc slot about lever.C, from -20° to 20° round it"),
+      `the status names the break and the arc slot (${JSON.stringify(limited.text)})`,
+    );
+    const heldAt = (await probeInputs(page))[0];
+    check(heldAt <= reach + 1e-6 && heldAt >= 50 - 1e-6, `held at the last pose within the arc, theta ${heldAt.toFixed(2)}° (the end is at ${reach.toFixed(2)}°)`);
+    await shortArc("held at the limit");
+    await page.screenshot({ path: join(SHOTS, "arcs-short-lever-limited.png") });
+    check(page.problems.length === 0, `no failed request or console error (${page.problems.join("; ") || "none"})`);
+  } finally {
+    child.kill();
+    rmSync(dir, { recursive: true, force: true });
+  }
+}
+
 /** The input values of the pose on screen (the frame's). */
 async function probeInputs(page) {
   await settled(page);
@@ -1795,7 +2001,7 @@ const browser = await chromium.launch({
 });
 const ONLY = process.env.ONLY ? process.env.ONLY.split(",") : null;
 try {
-  for (const scenario of [baseline, fourbar, openChain, pendulum, forces, limits, sliderCrank, empty, construct, files, broken, newFile, aids, numericRefused, gears, slots, spatial, stress]) {
+  for (const scenario of [baseline, fourbar, openChain, pendulum, forces, limits, sliderCrank, empty, construct, files, broken, newFile, aids, numericRefused, gears, slots, arcs, spatial, stress]) {
     if (!ONLY || ONLY.includes(scenario.name)) await scenario(browser);
   }
   const problems = PAGES.flatMap(([file, page]) => page.problems.map((p) => `${file}: ${p}`));

@@ -2,7 +2,8 @@
 //! and forces in one pass, against the interpreter's reactions
 //! (`forces::planar::reactions`) and virtual work's input forces (another
 //! path, the plan's rates), held still and running, on every planar file
-//! with loads; and its emitted module, snapshotted.
+//! with loads (a pin in an arc slot's force included); and its emitted
+//! module, snapshotted.
 
 use dofplan::forces::planar::{describe, force_plan, input_forces, reactions, runtime_blocks, Moving};
 use dofplan::interp::Interpreter;
@@ -67,7 +68,9 @@ macro_rules! agreement {
             let pairs = (out.reactions.iter().flatten().zip(r.forces.iter().flatten()))
                 .chain(out.moments.iter().zip(&r.moments))
                 .chain(out.inputs.iter().zip(&r.inputs))
+                .chain(out.slots.iter().flatten().zip(r.slots.iter().flatten()))
                 .chain(out.shaking.iter().zip(&r.shaking));
+            assert_eq!(out.slots.len(), r.slots.len(), "{}: a place per slot", $name);
             for (a, b) in pairs {
                 worst = worst.max((a - b).abs());
                 scale = scale.max(b.abs());
@@ -87,6 +90,9 @@ fn compiled_forces_are_the_interpreter_s_held_and_running() {
         let (slider, n) = agreement!(slider_crank_press, "loads/slider_crank_press", running);
         assert_eq!(n, 361);
         assert!(slider < 1e-12, "slider_crank_press {running:?}: {slider:e}");
+        let (arc, n) = agreement!(arc_yoke_press, "loads/arc_yoke_press", running);
+        assert_eq!(n, 361);
+        assert!(arc < 1e-12, "arc_yoke_press {running:?}: {arc:e}");
     }
 }
 
@@ -97,7 +103,7 @@ fn forces_source(name: &str) -> String {
     let forces_plan = force_plan(&m).unwrap();
     let described = describe(&m);
     let blocks = runtime_blocks(&forces_plan);
-    dofplan::emit::emit_forces(&plan(&m), &described.table(&blocks)).unwrap()
+    dofplan::emit::emit_forces(&plan(&m), &described.table(&blocks), m.slots.len()).unwrap()
 }
 
 #[test]
@@ -128,6 +134,6 @@ fn an_over_constrained_file_gets_no_compiled_forces_and_is_told_why() {
     let forces_plan = force_plan(&m).unwrap();
     let described = describe(&m);
     let blocks = runtime_blocks(&forces_plan);
-    let err = dofplan::emit::emit_forces(&plan(&m), &described.table(&blocks)).unwrap_err();
+    let err = dofplan::emit::emit_forces(&plan(&m), &described.table(&blocks), m.slots.len()).unwrap_err();
     assert!(err.contains("least squares"), "{err}");
 }

@@ -11,7 +11,7 @@ use dofplan_runtime::{BranchPolicy, Ctx, FrameStatus, Options, Solver};
 use dofplan_tests::{mechanisms_dir, pose_gap};
 
 fn load(name: &str) -> dofplan::model::Mechanism {
-    let folder = if ["quick_return", "scotch_yoke"].contains(&name) {
+    let folder = if ["quick_return", "scotch_yoke", "arc_yoke", "curved_lever"].contains(&name) {
         "slots"
     } else {
         "gears"
@@ -93,6 +93,8 @@ fn compiled_higher_pairs_give_the_interpreter_s_frames_rates_and_lanes() {
         geared_hoist,
         rack_pinion,
         quick_return,
-        scotch_yoke
+        scotch_yoke,
+        arc_yoke,
+        curved_lever
     );
 }

@@ -5,6 +5,7 @@
 //! One test binary for all of them: each would link dofplan, the runtime
 //! and dofplan-generated on its own.
 
+mod arc_slots;
 mod batch;
 mod breaking;
 mod circuits;

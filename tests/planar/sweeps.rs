@@ -34,6 +34,7 @@ fn every_bundled_mechanism_is_compiled() {
     // ... and the planar files with loads, with their forces modules.
     expected.push("fourbar_weights".to_string());
     expected.push("slider_crank_press".to_string());
+    expected.push("arc_yoke_press".to_string());
     // ... and the geared ones and those with slots.
     for name in [
         "epicyclic",
@@ -42,6 +43,8 @@ fn every_bundled_mechanism_is_compiled() {
         "rack_pinion",
         "quick_return",
         "scotch_yoke",
+        "arc_yoke",
+        "curved_lever",
     ] {
         expected.push(name.to_string());
     }

@@ -379,11 +379,6 @@ fn forces_module(file: &Path, m: &Mechanism, plan: &crate::plan::Plan) -> Result
             "the file gives no masses, gravity or loads, so every force is 0",
         ));
     }
-    if !m.slots.is_empty() {
-        // The compiled `Forces` has a place per joint and input, none for
-        // a slot's force yet: the interpreter gives those.
-        return Err(why("its slots' forces have no place in compiled `Forces` yet"));
-    }
     if !m.gears.is_empty() {
         // A tooth force's line of action turns with its sign, which a
         // compiled table fixes: the interpreter solves these.
@@ -395,7 +390,7 @@ fn forces_module(file: &Path, m: &Mechanism, plan: &crate::plan::Plan) -> Result
     let forces = force_plan(m).ok_or_else(|| why("its primitive constraints carry no reactions yet"))?;
     let described = describe(m);
     let blocks = runtime_blocks(&forces);
-    crate::emit::emit_forces(plan, &described.table(&blocks)).map_err(|e| why(&e))
+    crate::emit::emit_forces(plan, &described.table(&blocks), m.slots.len()).map_err(|e| why(&e))
 }
 
 /// The modules written so far into `out_dir`.

@@ -93,12 +93,17 @@ pub fn emit_design(plan: &Plan, table: &crate::plan::design::DesignTable<2>) -> 
 /// Rust source of `pub mod forces` for the module [`emit`] writes of
 /// `plan`, to be appended to it: the force table `table` (the runtime's,
 /// as `forces::planar::describe` and the force plan make it) as constants
-/// and `solve_forces`.
+/// and `solve_forces`; `slots` is the mechanism's number of pins in slots,
+/// whose unknowns follow the inputs' in the table.
 ///
 /// # Errors
 /// A table without blocks (reactions by least squares): the reason.
-pub fn emit_forces(plan: &Plan, table: &dofplan_runtime::planar::forces::Table) -> Result<String, String> {
-    planar::forces_module(plan, table)
+pub fn emit_forces(
+    plan: &Plan,
+    table: &dofplan_runtime::planar::forces::Table,
+    slots: usize,
+) -> Result<String, String> {
+    planar::forces_module(plan, table, slots)
 }
 
 /// Rust source of the compiled plan module of the spatial plan `plan`.

@@ -9,6 +9,7 @@ use super::plan::{ForcePlan, System};
 use crate::interp::planar::InterpState;
 use crate::interp::{Interpreter, RateError};
 use crate::model::planar::loads::LoadKind;
+use crate::model::planar::slots::Shape;
 use crate::model::{InputKind, MarkerId, Mechanism};
 
 /// How the mechanism moves at the frame, for the loads that depend on it
@@ -281,14 +282,23 @@ fn unknowns(m: &Mechanism, signs: &[f64]) -> Vec<Unknown> {
             },
         });
     }
-    // A pin in a slot carries a force across the slot (frictionless).
+    // A pin in a slot carries a force across the slot (frictionless):
+    // square to a straight slot, along an arc's radius.
     for slot in &m.slots {
         let [a, b] = slot.markers;
-        unknowns.push(Unknown::Across {
-            first: a.body,
-            second: b.body,
-            at: local(b),
-            dir: m.marker(a).unit_dir().unwrap_or([1.0, 0.0]),
+        unknowns.push(match slot.shape {
+            Shape::Straight => Unknown::Across {
+                first: a.body,
+                second: b.body,
+                at: local(b),
+                dir: m.marker(a).unit_dir().unwrap_or([1.0, 0.0]),
+            },
+            Shape::Arc { .. } => Unknown::Radial {
+                first: a.body,
+                second: b.body,
+                centre: local(a),
+                at: local(b),
+            },
         });
     }
     for (g, gear) in m.gears.iter().enumerate() {

@@ -191,6 +191,12 @@ pub fn cross<T: Real>(a: [T; 2], b: [T; 2]) -> T {
     a[0] * b[1] - a[1] * b[0]
 }
 
+/// `a · b`.
+#[inline]
+pub fn dot(a: Point, b: Point) -> f64 {
+    a[0] * b[0] + a[1] * b[1]
+}
+
 /// The in-line residual of world point `pb` on the line through `pa` along
 /// the unit world `d`: `d × (pb − pa)`; also `pb − pa`, for the derivative
 /// of the line's turn ([`line_turn`]).
@@ -198,6 +204,22 @@ pub fn cross<T: Real>(a: [T; 2], b: [T; 2]) -> T {
 pub fn in_line<T: Real>(d: [T; 2], pa: [T; 2], pb: [T; 2]) -> (T, [T; 2]) {
     let v = [pb[0] - pa[0], pb[1] - pa[1]];
     (cross(d, v), v)
+}
+
+/// The on-circle residual `|pb − pa| − r` and the unit vector from `pa`
+/// to `pb` (its gradient with respect to `pb`; zero where the points
+/// coincide, a circle of radius 0 being no slot).
+#[inline]
+pub fn on_circle<T: Real>(pa: [T; 2], pb: [T; 2], r: f64) -> (T, [f64; 2]) {
+    let v = [pb[0] - pa[0], pb[1] - pa[1]];
+    let len = (v[0] * v[0] + v[1] * v[1]).sqrt();
+    let l = len.value();
+    let u = if l > 0.0 {
+        [v[0].value() / l, v[1].value() / l]
+    } else {
+        [0.0, 0.0]
+    };
+    (len - T::cst(r), u)
 }
 
 /// ∂(in-line residual)/∂(angle unknown of the line's body) from the line
@@ -245,6 +267,20 @@ pub enum Row {
         /// The point's marker, local.
         lb: Point,
     },
+    /// `|b.world(lb) − a.world(la)| = r`: a pin in a circular slot about
+    /// `la` (1 row).
+    OnCircle {
+        /// The body carrying the circle.
+        a: usize,
+        /// The circle's centre, local.
+        la: Point,
+        /// The circle's radius.
+        r: f64,
+        /// The body of the point.
+        b: usize,
+        /// The point's marker, local.
+        lb: Point,
+    },
     /// `rot(b) = rot(a)·rel` with `rel` an angle input or the identity
     /// (1 row).
     Parallel {
@@ -262,7 +298,7 @@ impl Row {
     pub const fn count(&self) -> usize {
         match self {
             Row::Coincident { .. } => 2,
-            Row::InLine { .. } | Row::Parallel { .. } => 1,
+            Row::InLine { .. } | Row::OnCircle { .. } | Row::Parallel { .. } => 1,
         }
     }
 }
@@ -455,6 +491,21 @@ impl Equations for System<'_> {
                     }
                     row += 1;
                 }
+                Row::OnCircle {
+                    a,
+                    la,
+                    r: radius,
+                    b,
+                    lb,
+                } => {
+                    let (residual, u) = on_circle(self.poses[a].world(la), self.poses[b].world(lb), radius);
+                    r[row] = residual;
+                    if let Some(j) = jacobian.as_deref_mut() {
+                        self.partials(b, lb, &mut |col, p| j[(row, col)] += dot(u, p));
+                        self.partials(a, la, &mut |col, p| j[(row, col)] -= dot(u, p));
+                    }
+                    row += 1;
+                }
                 Row::Parallel { a, b, input } => {
                     let rel = match input {
                         Some(i) => Rot::from_degrees(self.inputs[i]),
@@ -546,6 +597,16 @@ pub fn jet_residuals(poses: &[Pose<Jet2>], rows: &[Row], inputs: &[Jet2], size: 
             Row::InLine { a, la, dir, b, lb } => {
                 let d = poses[a].world_dir(dir);
                 r[row] = in_line(d, poses[a].world(la), poses[b].world(lb)).0;
+                row += 1;
+            }
+            Row::OnCircle {
+                a,
+                la,
+                r: radius,
+                b,
+                lb,
+            } => {
+                r[row] = on_circle(poses[a].world(la), poses[b].world(lb), radius).0;
                 row += 1;
             }
             Row::Parallel { a, b, input } => {

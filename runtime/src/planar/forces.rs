@@ -74,6 +74,19 @@ pub enum Unknown {
         /// The force on `second` per unit, the carrier's axes.
         dir: Point,
     },
+    /// A force along the radius of a circular slot of `first` about
+    /// `centre`, at the pin `at` of `second` (positive pushing the pin
+    /// outward): a pin in an arc slot's reaction.
+    Radial {
+        /// The slot's body.
+        first: usize,
+        /// The pin's.
+        second: usize,
+        /// The slot's centre, `first`'s local coordinates.
+        centre: Point,
+        /// The pin, `second`'s local coordinates.
+        at: Point,
+    },
     /// A force along the rail `dir` of `first` at `at`: a slide input's.
     Along {
         /// The rail's body.
@@ -95,6 +108,7 @@ impl Unknown {
             | Unknown::Across { first, second, .. }
             | Unknown::Moment { first, second }
             | Unknown::Mesh { first, second, .. }
+            | Unknown::Radial { first, second, .. }
             | Unknown::Along { first, second, .. } => [first, second],
         }
     }
@@ -244,6 +258,15 @@ pub fn column(u: &Unknown, poses: &[Pose]) -> [f64; 3] {
         Unknown::Moment { .. } => [0.0, 0.0, 1.0],
         Unknown::Mesh { carrier, at, dir, .. } => {
             wrench(turned(&poses[carrier], dir), poses[carrier].world(at), 0.0)
+        }
+        Unknown::Radial {
+            first,
+            second,
+            centre,
+            at,
+        } => {
+            let pin = poses[second].world(at);
+            wrench(towards(poses[first].world(centre), pin).1, pin, 0.0)
         }
         Unknown::Along {
             first,
@@ -473,23 +496,27 @@ pub struct Work<'a> {
 /// input's positive direction), and what the mechanism puts on the ground
 /// (`[fx, fy, m]`, the moment about the world origin).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Forces<const NJ: usize, const NI: usize> {
+pub struct Forces<const NJ: usize, const NI: usize, const NS: usize = 0> {
     /// Per joint, its reaction.
     pub reactions: [[f64; 2]; NJ],
     /// Per joint, its moment.
     pub moments: [f64; NJ],
     /// Per input, its force or torque.
     pub inputs: [f64; NI],
+    /// Per pin in a slot, the force the slotted body exerts on the pin:
+    /// square to a straight slot, along an arc's radius.
+    pub slots: [[f64; 2]; NS],
     /// The force and moment on the ground.
     pub shaking: [f64; 3],
 }
 
-impl<const NJ: usize, const NI: usize> Default for Forces<NJ, NI> {
+impl<const NJ: usize, const NI: usize, const NS: usize> Default for Forces<NJ, NI, NS> {
     fn default() -> Self {
         Forces {
             reactions: [[0.0; 2]; NJ],
             moments: [0.0; NJ],
             inputs: [0.0; NI],
+            slots: [[0.0; 2]; NS],
             shaking: [0.0; 3],
         }
     }
@@ -510,13 +537,13 @@ pub fn joint_reaction(t: &Table, poses: &[Pose], x: &[f64], j: usize) -> ([f64; 
 
 /// A frame's forces from its poses and their rates (`jets`: zero rates
 /// hold it still): the loads, gravity and d'Alembert's inertia, then the
-/// blocks in order, into `out` (its joints and inputs as many as the
-/// table's). No allocation: `work` is the caller's.
-pub fn solve_frame<const NJ: usize, const NI: usize>(
+/// blocks in order, into `out` (its joints, inputs and slots as many as
+/// the table's). No allocation: `work` is the caller's.
+pub fn solve_frame<const NJ: usize, const NI: usize, const NS: usize>(
     t: &Table,
     jets: &[Pose<Jet2>],
     work: Work,
-    out: &mut Forces<NJ, NI>,
+    out: &mut Forces<NJ, NI, NS>,
 ) -> Result<(), Singular> {
     for (v, j) in work.values.iter_mut().zip(jets) {
         *v = j.value();
@@ -531,6 +558,11 @@ pub fn solve_frame<const NJ: usize, const NI: usize>(
         (out.reactions[j], out.moments[j]) = joint_reaction(t, poses, work.x, j);
     }
     out.inputs.copy_from_slice(&work.x[2 * NJ..2 * NJ + NI]);
+    for (k, slot) in out.slots.iter_mut().enumerate() {
+        let u = 2 * NJ + NI + k;
+        let w = column(&t.unknowns[u], poses);
+        *slot = [work.x[u] * w[0], work.x[u] * w[1]];
+    }
     let on = on_ground(t, poses, work.x);
     out.shaking = [0, 1, 2].map(|k| on[k] + ground[k]);
     Ok(())

@@ -14,7 +14,7 @@ mod locus;
 mod place;
 mod turn_table;
 
-pub use ends::within_ends;
+pub use ends::{past_arc_end, past_line_end, within_arc, within_ends};
 pub use locus::{circle_circle, circle_line, line_line, turn_line_through, Circle, Line, Slot};
 pub use place::{align, align_consistent, anchor, orient, set_rotation};
 

@@ -206,6 +206,7 @@ fn with_slot_ends(m: &Mechanism, mut steps: Vec<crate::plan::Step>) -> Vec<crate
                 dir,
                 pin: point(b),
                 ends: slot.ends,
+                arc: matches!(slot.shape, crate::model::planar::slots::Shape::Arc { .. }),
             },
             serves: vec![format!("joint {}", slot.name)],
         });

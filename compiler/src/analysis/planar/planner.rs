@@ -29,6 +29,8 @@
 //! Sliding bodies are translated provisionally onto their line so that any
 //! of their markers, read at that pose, is a point of its own line locus.
 
+mod arcs;
+
 use std::collections::BTreeSet;
 
 use dofplan_runtime::{Branch, Point};
@@ -126,10 +128,11 @@ enum Rule {
     Rotation,
     Coincident,
     InLine,
+    OnCircle,
     Dyad,
 }
 
-const RULES: usize = 4;
+const RULES: usize = 5;
 
 /// The closed-form rules that can apply to an equation.
 fn rules_for(eq: &Equation) -> &'static [Rule] {
@@ -137,6 +140,7 @@ fn rules_for(eq: &Equation) -> &'static [Rule] {
         Equation::Parallel { .. } => &[Rule::Rotation],
         Equation::Coincident { .. } => &[Rule::Coincident, Rule::Dyad],
         Equation::InLine { .. } => &[Rule::InLine, Rule::Dyad],
+        Equation::OnCircle { .. } => &[Rule::OnCircle],
     }
 }
 
@@ -184,6 +188,7 @@ pub fn plan(m: &Mechanism, eqs: &[Sourced], progress: &mut dyn FnMut(Progress)) 
             || p.gear_rule()
             || p.drain(Rule::Coincident, Planner::try_coincident)
             || p.drain(Rule::InLine, Planner::try_in_line)
+            || p.drain(Rule::OnCircle, Planner::try_on_circle)
             || p.drain(Rule::Dyad, Planner::try_dyad)
             || p.cluster_rule();
         if !progressed {

@@ -188,6 +188,7 @@ fn jacobian_rows(row: &ClusterRow, column: &[Option<usize>], size: f64, inputs: 
     let (a, b) = match *row {
         ClusterRow::Coincident { a, b, .. }
         | ClusterRow::InLine { a, b, .. }
+        | ClusterRow::OnCircle { a, b, .. }
         | ClusterRow::Parallel { a, b, .. } => (a, b),
     };
     let bodies: Vec<usize> = if a == b { vec![a] } else { vec![a, b] };
@@ -204,6 +205,13 @@ fn jacobian_rows(row: &ClusterRow, column: &[Option<usize>], size: f64, inputs: 
             a: local(a),
             la,
             dir,
+            b: local(b),
+            lb,
+        },
+        ClusterRow::OnCircle { a, la, r, b, lb } => ClusterRow::OnCircle {
+            a: local(a),
+            la,
+            r,
             b: local(b),
             lb,
         },

@@ -20,7 +20,7 @@ use crate::analysis::analyse;
 use crate::edit::forces::frame_forces;
 use crate::forces::planar::reactions;
 use crate::interp::Interpreter;
-use crate::model::planar::slots::Slot;
+use crate::model::planar::slots::{Shape, Slot};
 use crate::model::{InputKind, Marker, MarkerId, Mechanism};
 use crate::numeric::planar::drag::{Drag, DragError};
 use crate::numeric::planar::input_drag::drag_inputs;
@@ -527,24 +527,28 @@ fn past_a_slot_end<'m>(m: &'m Mechanism, poses: &[Pose]) -> Option<(&'m Slot, f6
         let [a, pin] = slot.markers;
         let (at, p) = (marker_at(m, poses, a), marker_at(m, poses, pin));
         let d = poses[a.body].world_dir(m.marker(a).unit_dir()?);
-        let along = (p[0] - at[0]) * d[0] + (p[1] - at[1]) * d[1];
-        let gap = (slot.ends[0] - along).max(along - slot.ends[1]);
+        let gap = slot.past_end(at, d, p);
         (gap > tolerance).then_some((slot, gap))
     })
 }
 
 /// A slot as a plan's check of its ends names it: `crank.P within the slot
-/// of yoke.S, from -0.8 to 0.8 along it (joint S)`.
+/// of yoke.S, from -0.8 to 0.8 along it (joint S)`, or `… within the arc
+/// slot about lever.C, from -40° to 20° round it …`.
 fn slot_text(m: &Mechanism, slot: &Slot) -> String {
     let [a, pin] = slot.markers;
-    format!(
-        "{} within the slot of {}, from {} to {} along it (joint {})",
-        m.marker_name(pin),
-        m.marker_name(a),
-        crate::plan::num(slot.ends[0]),
-        crate::plan::num(slot.ends[1]),
-        slot.name
-    )
+    let [lo, hi] = slot.ends.map(crate::plan::num);
+    let (pin, a) = (m.marker_name(pin), m.marker_name(a));
+    match slot.shape {
+        Shape::Straight => format!(
+            "{pin} within the slot of {a}, from {lo} to {hi} along it (joint {})",
+            slot.name
+        ),
+        Shape::Arc { .. } => format!(
+            "{pin} within the arc slot about {a}, from {lo}° to {hi}° round it (joint {})",
+            slot.name
+        ),
+    }
 }
 
 /// Poses found against a mechanism redrawn at `base`, relative to the

@@ -1,40 +1,37 @@
 //! Pins in slots in the editor: what the page is sent to draw them (each
-//! slot's segment in its body's drawn coordinates, between the ends the
-//! pin runs between) and the points they reach at a pose (the view frames
-//! them).
+//! slot's centre line in its body's drawn coordinates, between the ends
+//! the pin runs between) and the points they reach at a pose (the view
+//! frames them).
 //!
-//! A slot is a marker's line (its `dir`) and two ends along it, so a
+//! A slot is a marker's line (its `dir`) and two ends along it, or the
+//! circle about the marker and two ends as angles from its `dir`, so a
 //! mechanism redrawn at a pose moves it with its marker: the marker's
 //! position and direction are turned with the slotted body, and the ends,
-//! measured along the unit direction from it, hold (see
-//! [`super::session`]'s `redrawn`).
+//! measured from it, hold (see [`super::session`]'s `redrawn`).
 
 use dofplan_runtime::planar::{Point, Pose};
 use serde_json::{json, Value};
 
-use crate::model::planar::slots::Slot;
+use crate::model::planar::slots::Shape;
 use crate::model::Mechanism;
-
-/// A slot's ends as points of the slotted body's drawing: `at + lo·dir`
-/// and `at + hi·dir` (its marker's position `at`, unit direction `dir`).
-fn segment(m: &Mechanism, s: &Slot) -> [Point; 2] {
-    let marker = m.marker(s.markers[0]);
-    let dir = marker
-        .unit_dir()
-        .expect("validated: a slot's marker carries a dir");
-    s.ends
-        .map(|t| [marker.at[0] + t * dir[0], marker.at[1] + t * dir[1]])
-}
 
 /// The `slots` of a `document` message: per slot its name, the slotted
 /// `body` by name, the slot's `marker` and the `pin` ("body.M"), the unit
-/// `dir` of the slot and its `ends` along it (as the file gives them), and
-/// the `segment` between which the pin runs: the two end points in the
-/// slotted body's drawn coordinates, low end first.
+/// `dir` of the slot and its `ends` (as the file gives them), its `radius`
+/// (an arc's; `null` for a straight slot), the `segment` between which
+/// the pin runs (the two end points in the slotted body's drawn
+/// coordinates, low end first) and the `path` along it (the same two
+/// points for a straight slot; an arc's centre line, points at most 3°
+/// apart, end to end).
 pub(super) fn describe(m: &Mechanism) -> Vec<Value> {
     m.slots
         .iter()
         .map(|s| {
+            let path = s.centre_line(m);
+            let radius = match s.shape {
+                Shape::Straight => None,
+                Shape::Arc { radius } => Some(radius),
+            };
             json!({
                 "name": s.name,
                 "body": m.bodies[s.markers[0].body].name,
@@ -42,17 +39,22 @@ pub(super) fn describe(m: &Mechanism) -> Vec<Value> {
                 "pin": m.marker_name(s.markers[1]),
                 "dir": m.marker(s.markers[0]).unit_dir(),
                 "ends": s.ends,
-                "segment": segment(m, s),
+                "radius": radius,
+                "segment": [path[0], path[path.len() - 1]],
+                "path": path,
             })
         })
         .collect()
 }
 
-/// The points the slots reach at `poses`: each slot's end points (to frame
-/// the view with; a slot may reach past its body's markers).
+/// The points the slots reach at `poses`: each slot's centre line (to
+/// frame the view with; a slot may reach past its body's markers).
 pub(super) fn reach(m: &Mechanism, poses: &[Pose]) -> Vec<Point> {
     (m.slots.iter())
-        .flat_map(|s| segment(m, s).map(|p| poses[s.markers[0].body].world(p)))
+        .flat_map(|s| {
+            let body = s.markers[0].body;
+            s.centre_line(m).into_iter().map(move |p| poses[body].world(p))
+        })
         .collect()
 }
 
@@ -108,6 +110,39 @@ mod tests {
         assert_eq!((&s["body"], &s["pin"]), (&json!("yoke"), &json!("crank.P")));
         let x = 0.8660254037844387;
         assert_eq!(s["segment"], json!([[x, -1.25], [x, 1.25]]));
+    }
+
+    #[test]
+    fn an_arc_slot_is_described_along_its_circle_between_its_ends() {
+        // curved_lever: the arc of radius 3.5 about lever.C, its ends -40°
+        // and 20° from C's dir (drawn pointing at the pin).
+        let m = load("slots/curved_lever");
+        let s = &describe(&m)[0];
+        assert_eq!((&s["marker"], &s["radius"]), (&json!("lever.C"), &json!(3.5)));
+        let point = |v: &Value| [v[0].as_f64().unwrap(), v[1].as_f64().unwrap()];
+        let c = m.marker(m.find_marker("lever.C").unwrap());
+        let d = c.unit_dir().unwrap();
+        let path: Vec<Point> = s["path"].as_array().unwrap().iter().map(point).collect();
+        assert_eq!(path.len(), 21, "60° in 3° steps");
+        for (k, p) in path.iter().enumerate() {
+            let a = (-40.0 + 3.0 * k as f64).to_radians();
+            let u = [a.cos() * d[0] - a.sin() * d[1], a.sin() * d[0] + a.cos() * d[1]];
+            assert!(
+                close(*p, [c.at[0] + 3.5 * u[0], c.at[1] + 3.5 * u[1]]),
+                "{k}: {p:?}"
+            );
+        }
+        assert!(close(point(&s["segment"][0]), path[0]) && close(point(&s["segment"][1]), path[20]));
+        // The pin as drawn, at 0°, is on the arc.
+        let pin = at(&m, "crank.P");
+        assert!(close(pin, [c.at[0] + 3.5 * d[0], c.at[1] + 3.5 * d[1]]));
+        // Straight slots have no radius, and their path is their segment.
+        let q = &describe(&load("slots/quick_return"))[0];
+        assert!(q["radius"].is_null() && q["path"] == q["segment"]);
+    }
+
+    fn at(m: &Mechanism, name: &str) -> Point {
+        m.marker(m.find_marker(name).unwrap()).at
     }
 
     #[test]

@@ -156,6 +156,7 @@ impl Emitter<'_> {
             row += match *r {
                 ClusterRow::Coincident { .. } => self.coincident_row(&layout, (k, row), r, pre, &mut code),
                 ClusterRow::InLine { .. } => self.in_line_row(&layout, row, r, &mut code),
+                ClusterRow::OnCircle { .. } => self.on_circle_row(&layout, row, r, &mut code),
                 ClusterRow::Parallel { .. } => self.parallel_row(&layout, row, r, &mut code),
             };
         }
@@ -323,6 +324,42 @@ impl Emitter<'_> {
         1
     }
 
+    /// An on-circle row: marker `lb` of `b` at distance `r` from `a`'s
+    /// `la` (a pin in an arc slot). Returns its row count.
+    fn on_circle_row(&self, layout: &Layout, row: usize, r: &ClusterRow, code: &mut ClusterCode) -> usize {
+        let ClusterRow::OnCircle {
+            a,
+            la,
+            r: radius,
+            b,
+            lb,
+        } = *r
+        else {
+            unreachable!("an on-circle row")
+        };
+        let i = index(row);
+        let (pa, pb) = (self.pose(a), self.pose(b));
+        let (la_t, lb_t, radius) = (self.point_lit(la), self.point_lit(lb), self.lit(radius));
+        let u = format_ident!("u_{}", row);
+        let u_bind = if self.jets { quote!(_) } else { quote!(#u) };
+        code.residuals.push(quote! {
+            let (residual, #u_bind) = cluster::on_circle(#pa.world(#la_t), #pb.world(#lb_t), #radius);
+            r[#i] = residual;
+        });
+        let mut terms = Vec::new();
+        self.terms(layout, b, &Local::Drawn(lb), &mut terms);
+        for (col, t) in terms.drain(..) {
+            let (c, t) = (index(col), t.tokens());
+            code.jacobian.push(quote!(j[(#i, #c)] += cluster::dot(#u, #t);));
+        }
+        self.terms(layout, a, &Local::Drawn(la), &mut terms);
+        for (col, t) in terms.drain(..) {
+            let (c, t) = (index(col), t.tokens());
+            code.jacobian.push(quote!(j[(#i, #c)] -= cluster::dot(#u, #t);));
+        }
+        1
+    }
+
     /// A parallel row: `b`'s rotation is `a`'s turned by the input (or
     /// equal). Returns its row count.
     fn parallel_row(&self, layout: &Layout, row: usize, r: &ClusterRow, code: &mut ClusterCode) -> usize {
@@ -426,6 +463,10 @@ impl Emitter<'_> {
             ClusterRow::InLine { a, la, dir, b, lb } => {
                 let (a, b, la, lb, dir) = (index(a), index(b), point_lit(la), point_lit(lb), point_lit(dir));
                 quote!(cluster::Row::InLine { a: #a, la: #la, dir: #dir, b: #b, lb: #lb })
+            }
+            ClusterRow::OnCircle { a, la, r, b, lb } => {
+                let (a, b, la, lb, r) = (index(a), index(b), point_lit(la), point_lit(lb), lit(r));
+                quote!(cluster::Row::OnCircle { a: #a, la: #la, r: #r, b: #b, lb: #lb })
             }
             ClusterRow::Parallel { a, b, input } => {
                 let (a, b, input) = (index(a), index(b), opt(input));

@@ -40,6 +40,15 @@ fn unknown(u: &Unknown) -> TokenStream {
             let (f, s, a, d) = (index(first), index(second), point_lit(at), point_lit(dir));
             quote!(Unknown::Across { first: #f, second: #s, at: #a, dir: #d })
         }
+        Unknown::Radial {
+            first,
+            second,
+            centre,
+            at,
+        } => {
+            let (f, s, c, a) = (index(first), index(second), point_lit(centre), point_lit(at));
+            quote!(Unknown::Radial { first: #f, second: #s, centre: #c, at: #a })
+        }
         Unknown::Moment { first, second } => {
             let (f, s) = (index(first), index(second));
             quote!(Unknown::Moment { first: #f, second: #s })
@@ -107,17 +116,43 @@ fn load(l: &Load) -> TokenStream {
     }
 }
 
+/// `pub type Forces`: the runtime's with the mechanism's numbers of
+/// joints and inputs, and of slots where there are any (the type's
+/// default is none).
+fn forces_type(nj: usize, ni: usize, slots: usize) -> TokenStream {
+    let (nj, ni) = (index(nj), index(ni));
+    if slots > 0 {
+        let ns = index(slots);
+        quote! {
+            /// A frame's forces: per joint (file order) the force its
+            /// first body exerts on its second and its moment, per input
+            /// its force or torque (per radian), per pin in a slot the
+            /// force the slotted body exerts on the pin, and the force and
+            /// moment on the ground.
+            pub type Forces = dofplan_runtime::planar::forces::Forces<#nj, #ni, #ns>;
+        }
+    } else {
+        quote! {
+            /// A frame's forces: per joint (file order) the force its
+            /// first body exerts on its second and its moment, per input
+            /// its force or torque (per radian), and the force and moment
+            /// on the ground.
+            pub type Forces = dofplan_runtime::planar::forces::Forces<#nj, #ni>;
+        }
+    }
+}
+
 /// The `forces` module of `plan`'s module for the force table `t`; an
 /// error says why there is none: a plan whose reactions are solved by
 /// least squares (over-constrained, or singular as drawn), which is the
 /// interpreter's.
-pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table) -> Result<String, String> {
+pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table, slots: usize) -> Result<String, String> {
     if t.blocks.is_empty() {
         return Err("its reactions are solved by least squares (redundant joints, or a freedom no input holds), which `dofplan analyze --forces` does; compiled `solve_forces` needs a force plan of blocks".into());
     }
     let (nb, nj, ni) = (
         plan.bodies.len(),
-        (t.unknowns.len() - plan.inputs.len()) / 2,
+        (t.unknowns.len() - plan.inputs.len() - slots) / 2,
         plan.inputs.len(),
     );
     let largest = t.blocks.iter().map(|b| b.rows.len()).max().unwrap_or(0);
@@ -138,13 +173,7 @@ pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table) -> Result<String, S
         let (r, c) = (b.rows.iter().map(|&r| index(r)), b.cols.iter().map(|&c| index(c)));
         quote!(Block { rows: &[#(#r),*], cols: &[#(#c),*] })
     });
-    let (nb_l, nj_l, ni_l, nr, nu) = (
-        index(nb),
-        index(nj),
-        index(ni),
-        index(t.n_rows),
-        index(t.unknowns.len()),
-    );
+    let (nb_l, nr, nu) = (index(nb), index(t.n_rows), index(t.unknowns.len()));
     let gravity = point_lit(t.gravity);
     let sizes = t
         .blocks
@@ -152,11 +181,13 @@ pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table) -> Result<String, S
         .map(|b| b.rows.len().to_string())
         .collect::<Vec<_>>()
         .join(", ");
+    let per_slot = if slots > 0 { ", then one per slot" } else { "" };
     let doc_table = format!(
-        " The mechanism's forces as the runtime solves them: {} equations (three per moving body), {} unknowns (two per joint, then one per input), solved in blocks of {sizes}.",
+        " The mechanism's forces as the runtime solves them: {} equations (three per moving body), {} unknowns (two per joint, then one per input{per_slot}), solved in blocks of {sizes}.",
         t.n_rows,
         t.unknowns.len()
     );
+    let forces_decl = forces_type(nj, ni, slots);
     let scratch = index(largest * largest + largest);
     // Only what the table names (an unused import warns in the user's
     // build): a file may give masses and no loads, or loads and no masses.
@@ -177,11 +208,7 @@ pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table) -> Result<String, S
 
             use super::{solve_rates_into, State};
 
-            /// A frame's forces: per joint (file order) the force its
-            /// first body exerts on its second and its moment, per input
-            /// its force or torque (per radian), and the force and moment
-            /// on the ground.
-            pub type Forces = dofplan_runtime::planar::forces::Forces<#nj_l, #ni_l>;
+            #forces_decl
 
             #[doc = #doc_table]
             pub const TABLE: Table<'static> = Table {

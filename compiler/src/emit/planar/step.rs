@@ -143,7 +143,13 @@ impl Emitter<'_> {
                 branch,
             } => self.circle_line(&id, *out, (c, *r), line, *branch),
             StepKind::LineLine { out, a, b } => self.line_line(&id, *out, a, b),
-            StepKind::Within { at, dir, pin, ends } => self.within(&id, [at, pin], dir, *ends),
+            StepKind::Within {
+                at,
+                dir,
+                pin,
+                ends,
+                arc,
+            } => self.within(&id, [at, pin], dir, *ends, *arc),
             StepKind::Cluster { params, rows, .. }
                 if Self::fixed_cluster(step.kind.cluster_size().0, step.kind.cluster_size().1) =>
             {
@@ -393,15 +399,21 @@ impl Emitter<'_> {
         [at, pin]: [&PointRef; 2],
         dir: &DirRef,
         ends: [f64; 2],
+        arc: bool,
     ) -> TokenStream {
         let mut pre = Vec::new();
         let a = self.point(at, &mut pre);
         let d = self.dir(dir, "slot_dir", &mut pre);
         let p = self.point(pin, &mut pre);
         let (lo, hi) = (self.lit(ends[0]), self.lit(ends[1]));
+        let check = if arc {
+            quote!(planar::within_arc)
+        } else {
+            quote!(planar::within_ends)
+        };
         quote!({
             #(#pre)*
-            planar::within_ends(ctx, #id, #a, #d, #p, [#lo, #hi])?;
+            #check(ctx, #id, #a, #d, #p, [#lo, #hi])?;
         })
     }
 

@@ -5,7 +5,7 @@ use dofplan_runtime::numeric::Newton;
 use dofplan_runtime::planar::cluster;
 use dofplan_runtime::planar::{self, cst, Point, Pose, Rot};
 use dofplan_runtime::real::{Jet2, RateError, Real};
-use dofplan_runtime::{Branch, BranchPolicy, Break, Ctx, FrameStatus, Solver};
+use dofplan_runtime::{Branch, BranchPolicy, Break, Ctx, FrameStatus, Solver, StepId};
 
 use crate::model::InputKind;
 use crate::plan::{ClusterParam, DirRef, Plan, PointRef, Rel, StepKind};
@@ -223,6 +223,37 @@ impl Solver for Interpreter {
 }
 
 impl Interpreter {
+    /// A check of a slot's ends: the pin between them, along the line or
+    /// round the arc.
+    fn within<T: Scalar>(
+        &self,
+        s: &mut Work<T>,
+        inputs: &[T],
+        ctx: &mut Ctx,
+        id: StepId,
+        kind: &StepKind,
+    ) -> Result<(), Break> {
+        let StepKind::Within {
+            at,
+            dir,
+            pin,
+            ends,
+            arc,
+        } = kind
+        else {
+            unreachable!("a slot's check")
+        };
+        let (a, d, p) = (
+            self.point(s, inputs, at),
+            self.dir(s, dir),
+            self.point(s, inputs, pin),
+        );
+        match arc {
+            false => planar::within_ends(ctx, id, a, d, p, *ends),
+            true => planar::within_arc(ctx, id, a, d, p, *ends),
+        }
+    }
+
     /// A geared step: a body turned to an angle, or a rack moved along its
     /// slide, affine in the inputs.
     fn geared<T: Scalar>(&self, s: &mut Work<T>, inputs: &[T], kind: &StepKind) {
@@ -338,14 +369,7 @@ impl Interpreter {
                 StepKind::Cluster { index, params, rows } => {
                     T::cluster(self, s, inputs, ctx, id, *index, params, rows)?;
                 }
-                StepKind::Within { at, dir, pin, ends } => {
-                    let (a, d, p) = (
-                        self.point(s, inputs, at),
-                        self.dir(s, dir),
-                        self.point(s, inputs, pin),
-                    );
-                    planar::within_ends(ctx, id, a, d, p, *ends)?;
-                }
+                StepKind::Within { .. } => self.within(s, inputs, ctx, id, &step.kind)?,
                 StepKind::TurnLine {
                     body,
                     pivot,

@@ -10,6 +10,7 @@
 use dofplan_runtime::planar::cluster::Row as ClusterRow;
 use dofplan_runtime::Point;
 
+use crate::model::planar::slots::Shape;
 use crate::model::{ConstraintKind, InputKind, JointKind, MarkerId, Mechanism};
 
 /// One end of an equation: a marker of a body.
@@ -45,6 +46,16 @@ pub enum Equation {
         /// The marker on the line.
         point: End,
     },
+    /// `point` lies on the circle of `radius` about `centre` (a pin in a
+    /// circular slot).
+    OnCircle {
+        /// The circle's centre, a marker of the slot's body.
+        centre: End,
+        /// The radius.
+        radius: f64,
+        /// The marker on the circle.
+        point: End,
+    },
     /// `rot(b) = rot(a) · rel`, `rel` = the angle input or the identity.
     Parallel {
         /// First body.
@@ -62,6 +73,7 @@ impl Equation {
         match self {
             Equation::Coincident { .. } => "coincident",
             Equation::InLine { .. } => "in-line",
+            Equation::OnCircle { .. } => "on-circle",
             Equation::Parallel { .. } => "offset",
         }
     }
@@ -70,7 +82,7 @@ impl Equation {
     pub fn count(&self) -> usize {
         match self {
             Equation::Coincident { .. } => 2,
-            Equation::InLine { .. } | Equation::Parallel { .. } => 1,
+            Equation::InLine { .. } | Equation::OnCircle { .. } | Equation::Parallel { .. } => 1,
         }
     }
 
@@ -92,6 +104,17 @@ impl Equation {
                 b: point.body,
                 lb: point.local,
             },
+            Equation::OnCircle {
+                centre,
+                radius,
+                point,
+            } => ClusterRow::OnCircle {
+                a: centre.body,
+                la: centre.local,
+                r: *radius,
+                b: point.body,
+                lb: point.local,
+            },
             Equation::Parallel { a, b, input } => ClusterRow::Parallel {
                 a: *a,
                 b: *b,
@@ -105,6 +128,7 @@ impl Equation {
         match self {
             Equation::Coincident { a, b, .. } => [a.body, b.body],
             Equation::InLine { line, point, .. } => [line.body, point.body],
+            Equation::OnCircle { centre, point, .. } => [centre.body, point.body],
             Equation::Parallel { a, b, .. } => [*a, *b],
         }
     }
@@ -198,12 +222,12 @@ pub fn equations(m: &Mechanism) -> Vec<Sourced> {
             }
         }
     }
-    // A pin in a slot: on the slot's line (its ends are checked by the
-    // plan's last steps, not equations).
+    // A pin in a slot: on the slot's line or circle (its ends are checked
+    // by the plan's last steps, not equations).
     for slot in &m.slots {
         let [a, b] = slot.markers;
-        out.push(Sourced {
-            eq: Equation::InLine {
+        let eq = match slot.shape {
+            Shape::Straight => Equation::InLine {
                 line: end(m, a),
                 dir: m
                     .marker(a)
@@ -211,6 +235,14 @@ pub fn equations(m: &Mechanism) -> Vec<Sourced> {
                     .expect("validated: a slot's marker carries a dir"),
                 point: end(m, b),
             },
+            Shape::Arc { radius } => Equation::OnCircle {
+                centre: end(m, a),
+                radius,
+                point: end(m, b),
+            },
+        };
+        out.push(Sourced {
+            eq,
             origin: format!("joint {}", slot.name),
         });
     }

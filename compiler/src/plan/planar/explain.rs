@@ -196,6 +196,24 @@ impl Plan {
             .collect()
     }
 
+    /// A slot's check: `crank.P within the slot of yoke.S, from -1 to 1
+    /// along it`, or `… within the arc slot about lever.C, from -40° to
+    /// 20° round it`.
+    fn within_line(&self, kind: &StepKind, lookup: &Lookup) -> String {
+        let StepKind::Within {
+            at, pin, ends, arc, ..
+        } = kind
+        else {
+            unreachable!("a slot's check")
+        };
+        let (pin, at) = (self.point_name_in(pin, lookup), self.point_name_in(at, lookup));
+        let [lo, hi] = ends.map(num);
+        match arc {
+            false => format!("{pin} within the slot of {at}, from {lo} to {hi} along it"),
+            true => format!("{pin} within the arc slot about {at}, from {lo}° to {hi}° round it"),
+        }
+    }
+
     fn explain_in(&self, i: usize, lookup: &Lookup) -> String {
         let body = |b: &usize| self.bodies[*b].name.as_str();
         match &self.steps[i].kind {
@@ -267,13 +285,7 @@ impl Plan {
                 self.line_name(line, lookup),
                 self.branch_symbol(*branch)
             ),
-            StepKind::Within { at, pin, ends, .. } => format!(
-                "{} within the slot of {}, from {} to {} along it",
-                self.point_name_in(pin, lookup),
-                self.point_name_in(at, lookup),
-                num(ends[0]),
-                num(ends[1])
-            ),
+            StepKind::Within { .. } => self.within_line(&self.steps[i].kind, lookup),
             StepKind::LineLine { out, a, b } => format!(
                 "{}: {} ∩ {}",
                 self.temps[*out].name,

@@ -337,18 +337,21 @@ pub enum StepKind {
         /// Index into [`Plan::branches`].
         branch: usize,
     },
-    /// Checks that a pin lies between the ends of its straight slot (the
-    /// line through `at` along `dir`): past an end the frame breaks, an
-    /// assembly limit like the circles' reach.
+    /// Checks that a pin lies between the ends of its slot (the line
+    /// through `at` along `dir`, or the circle about `at`): past an end
+    /// the frame breaks, an assembly limit like the circles' reach.
     Within {
-        /// The slot's marker.
+        /// The slot's marker (an arc's centre).
         at: PointRef,
-        /// The slot's direction.
+        /// The slot's direction (where an arc's angles count from).
         dir: DirRef,
         /// The pin.
         pin: PointRef,
-        /// The ends, along `dir` from `at`.
+        /// The ends: along `dir` from `at`, or for an arc angles in
+        /// degrees about `at` from `dir`.
         ends: [f64; 2],
+        /// Whether the slot is a circular arc about `at`.
+        arc: bool,
     },
     /// Places the bodies the closed form could not, by Newton–Raphson on
     /// the fewest unknowns their loci allow (a mixed plan's numeric part).

@@ -4,6 +4,7 @@
 
 pub mod kinematics;
 
+use crate::model::planar::slots::Shape;
 use crate::model::{ConstraintKind, InputKind, JointKind, MarkerId, Mechanism};
 use dofplan_runtime::planar::{Point, Pose};
 
@@ -112,11 +113,18 @@ fn each_residual(
             visit("input", &m.inputs[k].name, value);
         }
     }
-    // A pin in a slot: on the slot's line (its ends are limits, which the
-    // plan checks).
+    // A pin in a slot: on the slot's line or circle (its ends are limits,
+    // which the plan checks).
     for slot in &m.slots {
-        let (p, d) = line(slot.markers[0]);
-        visit("joint", &slot.name, off_line(p, d, at(slot.markers[1])).0);
+        let [s, pin] = slot.markers;
+        let off = match slot.shape {
+            Shape::Straight => {
+                let (p, d) = line(s);
+                off_line(p, d, at(pin)).0
+            }
+            Shape::Arc { radius } => (dist(at(s), at(pin)) - radius).abs(),
+        };
+        visit("joint", &slot.name, off);
     }
     for c in &m.constraints {
         let [a, b] = c.markers;

@@ -87,6 +87,7 @@ impl Linearised {
                 let nodes = match &s.eq {
                     Equation::Coincident { a, b, .. } => [node(a), node(b)],
                     Equation::InLine { line, point, .. } => [node(line), node(point)],
+                    Equation::OnCircle { centre, point, .. } => [node(centre), node(point)],
                     Equation::Parallel { .. } => [usize::MAX; 2],
                 };
                 Tied { eq: s.eq, nodes }
@@ -253,6 +254,15 @@ fn residuals(
                 let pb = poses[point.body].world_carried(local(point, t.nodes[1]));
                 let d = poses[line.body].rot.apply(cst(*dir));
                 out.push(d[0] * (pb[1] - pa[1]) - d[1] * (pb[0] - pa[0]));
+            }
+            Equation::OnCircle { centre, point, .. } => {
+                // The radius is the drawn distance, which moves with the
+                // parameters as the markers do.
+                let (la, lb) = (local(centre, t.nodes[0]), local(point, t.nodes[1]));
+                let pa = poses[centre.body].world_carried(la);
+                let pb = poses[point.body].world_carried(lb);
+                let length = |v: [Jet2; 2]| (v[0] * v[0] + v[1] * v[1]).sqrt();
+                out.push(length([pb[0] - pa[0], pb[1] - pa[1]]) - length([lb[0] - la[0], lb[1] - la[1]]));
             }
             Equation::Parallel { a, b, input } => {
                 let rel = match input {
