@@ -462,7 +462,34 @@ where
 /// `a y = b` for the `k × k` row-major `a`, in place (`b` becomes `y`), by
 /// LU with partial pivoting; `false` where `a` is singular to round-off
 /// (a pivot below 1e-12 of its largest entry, or not a number).
+///
+/// The force plans' blocks are small (3 to 9 unknowns in the bundled
+/// mechanisms) and solved every frame, so sizes up to 12 run a copy
+/// compiled for their size: loops of known length, unrolled and without
+/// bounds checks, which is most of a block solve's time saved. Every size
+/// computes the same numbers the same way.
 pub fn lu_solve(a: &mut [f64], b: &mut [f64], k: usize) -> bool {
+    macro_rules! sized {
+        ($($n:literal)*) => {
+            match k {
+                $($n => lu_sized::<$n>(&mut a[..$n * $n], &mut b[..$n]),)*
+                _ => lu_any(a, b, k),
+            }
+        };
+    }
+    sized!(1 2 3 4 5 6 7 8 9 10 11 12)
+}
+
+/// [`lu_solve`] for a size known when compiled.
+#[inline(always)]
+fn lu_sized<const K: usize>(a: &mut [f64], b: &mut [f64]) -> bool {
+    lu_any(a, b, K)
+}
+
+/// [`lu_solve`]'s elimination for any size `k`.
+#[inline(always)]
+fn lu_any(a: &mut [f64], b: &mut [f64], k: usize) -> bool {
+    let (a, b) = (&mut a[..k * k], &mut b[..k]);
     let scale = a.iter().fold(0.0f64, |m, v| m.max(v.abs()));
     for col in 0..k {
         let mut pivot = col;
@@ -482,8 +509,10 @@ pub fn lu_solve(a: &mut [f64], b: &mut [f64], k: usize) -> bool {
             }
             b.swap(pivot, col);
         }
+        let inverse = 1.0 / p;
         for r in col + 1..k {
-            let f = a[r * k + col] / p;
+            let f = a[r * k + col] * inverse;
+            // The blocks are sparse: most rows have nothing to eliminate.
             if f != 0.0 {
                 for c in col..k {
                     a[r * k + c] -= f * a[col * k + c];

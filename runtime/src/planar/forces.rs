@@ -412,6 +412,10 @@ pub fn right_hand_side(t: &Table, applied: &[[f64; 3]], rhs: &mut [f64]) -> [f64
 /// singular at this frame (a dead point, a toggle): `x` then holds no
 /// answer.
 pub fn solve_blocks(t: &Table, poses: &[Pose], rhs: &mut [f64], x: &mut [f64], scratch: &mut [f64]) -> bool {
+    // Each unknown's column, kept from the assembly for the update of the
+    // right-hand side after the solve (blocks of up to 16 unknowns; a
+    // larger one's columns are computed again).
+    let mut kept = [[0.0f64; 3]; 16];
     for block in t.blocks {
         let k = block.rows.len();
         let (a, b) = scratch[..k * k + k].split_at_mut(k * k);
@@ -419,6 +423,9 @@ pub fn solve_blocks(t: &Table, poses: &[Pose], rhs: &mut [f64], x: &mut [f64], s
         for (j, &c) in block.cols.iter().enumerate() {
             let u = &t.unknowns[c];
             let w = column(u, poses);
+            if let Some(slot) = kept.get_mut(j) {
+                *slot = w;
+            }
             let [first, second] = u.bodies();
             for (body, sign) in [(second, 1.0), (first, -1.0)] {
                 let Some(r) = t.rows[body] else { continue };
@@ -438,7 +445,7 @@ pub fn solve_blocks(t: &Table, poses: &[Pose], rhs: &mut [f64], x: &mut [f64], s
         for (j, &c) in block.cols.iter().enumerate() {
             x[c] = b[j];
             let u = &t.unknowns[c];
-            let w = column(u, poses);
+            let w = kept.get(j).copied().unwrap_or_else(|| column(u, poses));
             let [first, second] = u.bodies();
             for (body, sign) in [(second, 1.0), (first, -1.0)] {
                 if let Some(r) = t.rows[body] {
