@@ -216,3 +216,63 @@ fn a_pin_outside_its_slot_s_ends_or_ends_given_high_first_are_errors() {
     let e = load_str("d.toml", &driven, Format::Toml).unwrap_err().to_string();
     assert!(e.contains("input `bad`") && e.contains("joint `S`"), "{e}");
 }
+
+#[test]
+fn pure_newton_and_a_drag_hold_a_pin_within_its_slot_s_ends() {
+    // The short Scotch yoke (ends ±0.8): the pin is sin(30° + θ) up the
+    // slot, past the end beyond θ = asin(0.8) − 30°. Pure Newton and a
+    // drag keep the pin on the slot's line by their equations, and check
+    // the ends on every frame as the plan does.
+    use dofplan::numeric::planar::drag::Drag;
+    use dofplan::numeric::PureNewton;
+    let short = text("scotch_yoke").replace("ends = [-1.25, 1.25]", "ends = [-0.8, 0.8]");
+    let m = load_str("short.toml", &short, Format::Toml).unwrap();
+    let (r, phi0) = yoke_crank(&m);
+    let height = |theta: f64| r * (phi0 + theta.to_radians()).sin();
+    let mut d = Driver::new(PureNewton::new(&m), Options::default());
+    assert!(d.frame(&[10.0]).is_solved());
+    let held = d.poses().to_vec();
+    let FrameStatus::Limited { brk } = d.frame(&[40.0]) else {
+        panic!("pure Newton past the end should be limited");
+    };
+    assert_eq!(brk.kind, BreakKind::PastSlotEnd);
+    assert!((brk.gap - (height(40.0) - 0.8)).abs() < 1e-9, "gap {}", brk.gap);
+    assert_eq!(d.poses(), &held[..], "held at the last pose within the slot");
+    let search = Options {
+        breaking: BreakPolicy::Search,
+        ..Options::default()
+    };
+    let mut d = Driver::new(PureNewton::new(&m), search);
+    assert!(matches!(d.frame(&[40.0]), FrameStatus::Searched { .. }));
+    let landing = ((0.8 / r).asin() - phi0).to_degrees();
+    assert!(
+        (d.inputs()[0] - landing).abs() < 1e-6,
+        "{} vs {landing}",
+        d.inputs()[0]
+    );
+    // Dragging the yoke's marker Y up the frame's rail turns the crank
+    // (the yoke at x = cos(30° + θ) − cos 30° from the drawing): to the
+    // left, until the pin meets the slot's end.
+    let yoke_y = m.find_marker("yoke.Y").unwrap();
+    let mut d = Driver::new(Drag::new(&m, yoke_y).unwrap(), Options::default());
+    let y0 = at(&m, "yoke.Y");
+    // The drag releases the inputs: its residuals are the joints' alone.
+    let mut free = m.clone();
+    free.inputs.clear();
+    let mut last = None;
+    for k in 1..=40 {
+        let status = d.frame(&[y0[0] - 0.02 * k as f64, y0[1]]);
+        let pin = marker_at(&m, d.poses(), m.find_marker("crank.P").unwrap());
+        assert!(
+            pin[1] <= 0.8 + 1e-9,
+            "the pin within the slot: {pin:?} at step {k}"
+        );
+        assert!(max_relative_residual(&free, d.poses(), &[]) < 1e-9);
+        if let FrameStatus::Limited { brk } = status {
+            assert_eq!(brk.kind, BreakKind::PastSlotEnd, "step {k}");
+            last = Some(k);
+            break;
+        }
+    }
+    assert!(last.is_some(), "the drag reaches the slot's end");
+}

@@ -20,7 +20,7 @@ use crate::analysis::analyse;
 use crate::edit::forces::frame_forces;
 use crate::forces::planar::reactions;
 use crate::interp::Interpreter;
-use crate::model::planar::slots::{Shape, Slot};
+use crate::model::planar::slots::{Ends, Shape, Slot};
 use crate::model::{InputKind, Marker, MarkerId, Mechanism};
 use crate::numeric::planar::drag::{Drag, DragError};
 use crate::numeric::planar::input_drag::drag_inputs;
@@ -522,14 +522,10 @@ fn redrawn(m: &Mechanism, poses: &[Pose]) -> Mechanism {
 /// The first pin past an end of its slot at `poses` by more than an open
 /// joint's tolerance, and how far past.
 fn past_a_slot_end<'m>(m: &'m Mechanism, poses: &[Pose]) -> Option<(&'m Slot, f64)> {
-    let tolerance = OPEN_JOINT * m.size();
-    m.slots.iter().find_map(|slot| {
-        let [a, pin] = slot.markers;
-        let (at, p) = (marker_at(m, poses, a), marker_at(m, poses, pin));
-        let d = poses[a.body].world_dir(m.marker(a).unit_dir()?);
-        let gap = slot.past_end(at, d, p);
-        (gap > tolerance).then_some((slot, gap))
-    })
+    let ends = Ends::of(m);
+    let (at, gap) = Ends::first_past(&ends, poses, OPEN_JOINT * m.size())?;
+    let slot = m.slots.iter().find(|s| s.name == at.slot().name)?;
+    Some((slot, gap))
 }
 
 /// A slot as a plan's check of its ends names it: `crank.P within the slot

@@ -1,6 +1,7 @@
 //! Pins in slots: a marker of one body runs along a straight or circular
 //! slot of another, turning freely, between the slot's two ends.
 
+use dofplan_runtime::planar::Pose;
 use dofplan_runtime::Point;
 
 use super::{MarkerId, Mechanism};
@@ -74,4 +75,61 @@ pub enum Shape {
         /// The radius, in length units.
         radius: f64,
     },
+}
+
+/// A slot's ends, checked on poses solved without the plan (pure Newton,
+/// drags, the editor's drag): those keep the pin on the slot's line or
+/// circle, an equation, but not between the ends, which only the plan's
+/// last steps check.
+#[derive(Clone, Debug)]
+pub struct Ends {
+    slot: Slot,
+    /// The slot's marker and unit direction, local to its body.
+    at: Point,
+    dir: Point,
+    /// The pin, local to its body.
+    pin: Point,
+}
+
+impl Ends {
+    /// The ends of every slot of `m`.
+    pub fn of(m: &Mechanism) -> Vec<Ends> {
+        (m.slots.iter())
+            .map(|slot| {
+                let [a, pin] = slot.markers;
+                Ends {
+                    slot: slot.clone(),
+                    at: m.marker(a).at,
+                    dir: m.marker(a).unit_dir().unwrap_or([1.0, 0.0]),
+                    pin: m.marker(pin).at,
+                }
+            })
+            .collect()
+    }
+
+    /// The slot.
+    pub fn slot(&self) -> &Slot {
+        &self.slot
+    }
+
+    /// How far the pin is past the nearer end at `poses` (the runtime's
+    /// measure, [`Slot::past_end`]): positive past an end.
+    pub fn past(&self, poses: &[Pose]) -> f64 {
+        let [a, pin] = self.slot.markers;
+        let pose = &poses[a.body];
+        (self.slot).past_end(
+            pose.world(self.at),
+            pose.world_dir(self.dir),
+            poses[pin.body].world(self.pin),
+        )
+    }
+
+    /// The first of `ends` whose pin is past an end at `poses` by more
+    /// than `tolerance`, and by how far.
+    pub fn first_past<'e>(ends: &'e [Ends], poses: &[Pose], tolerance: f64) -> Option<(&'e Ends, f64)> {
+        ends.iter().find_map(|e| {
+            let gap = e.past(poses);
+            (gap > tolerance).then_some((e, gap))
+        })
+    }
 }

@@ -337,6 +337,11 @@ impl Drag {
             NewtonOutcome::NoSolution => ctx.fail(0, BreakKind::NoSolution, residual)?,
             NewtonOutcome::NotConverged => ctx.fail(0, BreakKind::NotConverged, residual)?,
         }
+        // The joints keep a pin on its slot's line or circle; past an end
+        // the frame breaks, as the plan's check of the ends breaks it.
+        if let Some(gap) = self.newton.past_an_end(work) {
+            ctx.fail(0, BreakKind::PastSlotEnd, gap)?;
+        }
         std::mem::swap(poses, work);
         Ok(())
     }

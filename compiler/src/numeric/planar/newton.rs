@@ -17,6 +17,7 @@ use dofplan_runtime::{Break, BreakKind, Ctx, Solver};
 use nalgebra::{DMatrix, DVector};
 
 use crate::model::planar::equations::equations;
+use crate::model::planar::slots::Ends;
 use crate::model::{InputKind, JointKind, Mechanism};
 use crate::plan::ClusterRow;
 
@@ -61,6 +62,9 @@ pub struct PureNewton {
     size: f64,
     options: NewtonOptions,
     input_kinds: Vec<InputKind>,
+    /// The slots' ends, checked on every converged frame (the equations
+    /// keep a pin on its slot's line or circle, not between the ends).
+    ends: Vec<Ends>,
 }
 
 /// What pure Newton carries from frame to frame (buffers sized once).
@@ -125,7 +129,14 @@ impl PureNewton {
             size,
             options: cluster::options(size),
             input_kinds: m.inputs.iter().map(|i| i.kind).collect(),
+            ends: Ends::of(m),
         }
+    }
+
+    /// The first slot whose pin is past an end at `poses` (beyond 1e-9 of
+    /// the size: a pin at its end is within it), and by how far.
+    pub(super) fn past_an_end(&self, poses: &[Pose]) -> Option<f64> {
+        Ends::first_past(&self.ends, poses, 1e-9 * self.size).map(|(_, gap)| gap)
     }
 
     /// Unknowns handed to Newton–Raphson.
@@ -243,6 +254,10 @@ impl Solver for PureNewton {
             NewtonOutcome::Converged => {}
             NewtonOutcome::NoSolution => ctx.fail(0, BreakKind::NoSolution, report.residual)?,
             NewtonOutcome::NotConverged => ctx.fail(0, BreakKind::NotConverged, report.residual)?,
+        }
+        // Past a slot's end the frame breaks as the plan's check breaks it.
+        if let Some(gap) = self.past_an_end(work) {
+            ctx.fail(0, BreakKind::PastSlotEnd, gap)?;
         }
         std::mem::swap(poses, work);
         Ok(())
