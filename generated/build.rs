@@ -33,7 +33,8 @@ fn main() {
     let mut all = files(&mechanisms);
     all.extend(files(&root.join("tests/fixtures")));
     // The geared mechanisms (gear pairs, rack and pinion): their plans'
-    // geared steps, compiled (their forces are the interpreter's).
+    // geared steps, compiled, and the hoist's forces (a tooth force that
+    // leans by its sign) below.
     all.extend(files(&mechanisms.join("gears")));
     // The mechanisms with pins in slots: the ends' checks, compiled.
     all.extend(files(&mechanisms.join("slots")));
@@ -52,6 +53,7 @@ fn main() {
     for file in &loads {
         config.forces(file);
     }
+    config.forces(mechanisms.join("gears/geared_hoist.toml"));
     config.drag(mechanisms.join("drag/open_chain_15.toml"), "link_15.E");
     // Every closed-form bundled planar mechanism also gets its design
     // module (`Config::design`); the stress chains are left out for the

@@ -408,6 +408,7 @@ fn compiled_forces_allocate_nothing() {
     forces!(
         fourbar_weights: "loads/fourbar_weights",
         slider_crank_press: "loads/slider_crank_press",
-        arc_yoke_press: "loads/arc_yoke_press"
+        arc_yoke_press: "loads/arc_yoke_press",
+        geared_hoist: "gears/geared_hoist"
     );
 }

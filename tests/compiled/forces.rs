@@ -2,8 +2,9 @@
 //! and forces in one pass, against the interpreter's reactions
 //! (`forces::planar::reactions`) and virtual work's input forces (another
 //! path, the plan's rates), held still and running, on every planar file
-//! with loads (a pin in an arc slot's force included); and its emitted
-//! module, snapshotted.
+//! with loads (a pin in an arc slot's force included) and on the geared
+//! hoist (a tooth force that leans by its sign); and its emitted module,
+//! snapshotted.
 
 use dofplan::forces::planar::{describe, force_plan, input_forces, reactions, runtime_blocks, Moving};
 use dofplan::interp::Interpreter;
@@ -69,8 +70,10 @@ macro_rules! agreement {
                 .chain(out.moments.iter().zip(&r.moments))
                 .chain(out.inputs.iter().zip(&r.inputs))
                 .chain(out.slots.iter().flatten().zip(r.slots.iter().flatten()))
+                .chain(out.teeth.iter().flatten().zip(r.teeth.iter().flatten()))
                 .chain(out.shaking.iter().zip(&r.shaking));
             assert_eq!(out.slots.len(), r.slots.len(), "{}: a place per slot", $name);
+            assert_eq!(out.teeth.len(), r.teeth.len(), "{}: a place per gear pair", $name);
             for (a, b) in pairs {
                 worst = worst.max((a - b).abs());
                 scale = scale.max(b.abs());
@@ -94,6 +97,46 @@ fn compiled_forces_are_the_interpreter_s_held_and_running() {
         assert_eq!(n, 361);
         assert!(arc < 1e-12, "arc_yoke_press {running:?}: {arc:e}");
     }
+}
+
+/// The hoist's tooth force turns with the drum's load: where the pinion
+/// drives the drum one way the teeth lean by the pressure angle one way,
+/// where the drum drives back the other (the frame solved again, leaned).
+/// Compiled and interpreted agree on every frame, and the tooth force
+/// lies along the line of action that pushes the gears apart: 20° off
+/// the common tangent (the vertical at the pitch point), its x part
+/// pushing the drum (right of the pinion) away.
+#[test]
+fn compiled_forces_lean_the_teeth_by_the_sign_of_their_force() {
+    for running in [None, Some((2.0, 0.0)), Some((2.0, -7.0))] {
+        let (hoist, n) = agreement!(geared_hoist, "gears/geared_hoist", running);
+        assert_eq!(n, 217);
+        assert!(hoist < 1e-12, "geared_hoist {running:?}: {hoist:e}");
+    }
+    use dofplan_generated::geared_hoist as compiled;
+    let (mut up, mut down) = (0, 0);
+    let mut state = compiled::State::DRAWN;
+    for k in 0..=216 {
+        let theta = 5.0 * k as f64;
+        let mut out = compiled::forces::Forces::default();
+        let mut ctx = Ctx::new(Default::default(), false);
+        compiled::forces::solve_forces(&mut state, &[theta], &[0.0], &[0.0], &mut ctx, &mut out).unwrap();
+        let [fx, fy] = out.teeth[0];
+        if fy.abs() < 1e-9 {
+            continue;
+        }
+        // Along the line of action: |fx| = |fy| tan 20°, fx > 0 (the drum
+        // pushed away from the pinion) whichever way fy points.
+        let lean = (fx.abs() - fy.abs() * 20f64.to_radians().tan()).abs();
+        assert!(lean <= 1e-9 * fy.abs(), "theta {theta}: {fx} {fy}");
+        assert!(fx > 0.0, "theta {theta}: the teeth pull ({fx})");
+        if fy > 0.0 {
+            up += 1;
+        } else {
+            down += 1;
+        }
+    }
+    assert!(up > 20 && down > 20, "both ways: {up} up, {down} down");
 }
 
 /// The emitted module of a planar file with loads: its `forces` module as

@@ -209,8 +209,9 @@ impl Config {
     /// of the files compiled, with masses, gravity or loads), `pub mod
     /// forces`: `solve_forces`, a frame's positions, rates and forces in
     /// one pass without allocating (each joint's reaction, each input's
-    /// force or torque, the force and moment on the ground, as
-    /// `dofplan analyze --forces` gives them), and its `TABLE`. A
+    /// force or torque, each slot's and gear pair's force, the force and
+    /// moment on the ground, as `dofplan analyze --forces` gives them),
+    /// and its `TABLE`. A
     /// mechanism whose reactions need least squares (redundant joints) is
     /// an error naming why.
     pub fn forces(&mut self, file: impl Into<PathBuf>) -> &mut Config {
@@ -378,14 +379,6 @@ fn forces_module(file: &Path, m: &Mechanism, plan: &crate::plan::Plan) -> Result
         return Err(why(
             "the file gives no masses, gravity or loads, so every force is 0",
         ));
-    }
-    if !m.gears.is_empty() {
-        // A tooth force's line of action turns with its sign, which a
-        // compiled table fixes: the interpreter solves these.
-        return Err(why(&format!(
-            "its gear pairs ({}) lean their tooth forces by the sign of each frame's force, which compiled modules do not follow yet",
-            m.gear_names()
-        )));
     }
     let forces = force_plan(m).ok_or_else(|| why("its primitive constraints carry no reactions yet"))?;
     let described = describe(m);

@@ -94,7 +94,8 @@ pub fn emit_design(plan: &Plan, table: &crate::plan::design::DesignTable<2>) -> 
 /// `plan`, to be appended to it: the force table `table` (the runtime's,
 /// as `forces::planar::describe` and the force plan make it) as constants
 /// and `solve_forces`; `slots` is the mechanism's number of pins in slots,
-/// whose unknowns follow the inputs' in the table.
+/// whose unknowns follow the inputs' in the table (then one per gear pair,
+/// as many as the table's `leaning`).
 ///
 /// # Errors
 /// A table without blocks (reactions by least squares): the reason.

@@ -3,7 +3,7 @@
 use dofplan_runtime::planar::Pose;
 use dofplan_runtime::scalar::Jet2;
 
-use dofplan_runtime::planar::forces::{self as frame, Block as RtBlock, Load, Mass, Table, Unknown};
+use dofplan_runtime::planar::forces::{self as frame, Block as RtBlock, Lean, Load, Mass, Table, Unknown};
 
 use super::plan::{ForcePlan, System};
 use crate::interp::planar::InterpState;
@@ -209,6 +209,8 @@ pub struct Described {
     pub masses: Vec<Mass>,
     /// Gravity's acceleration (0 without `[gravity]`).
     pub gravity: [f64; 2],
+    /// Each gear pair's tooth force leaned the negative way.
+    pub leaning: Vec<Lean>,
 }
 
 impl Described {
@@ -222,6 +224,7 @@ impl Described {
             masses: &self.masses,
             gravity: self.gravity,
             blocks,
+            leaning: &self.leaning,
         }
     }
 }
@@ -238,7 +241,8 @@ pub fn runtime_blocks(plan: &ForcePlan) -> Vec<RtBlock<'_>> {
 }
 
 /// The force unknowns of `m`: two per joint, one per input, one per slot,
-/// one per gear pair (leaning as `signs` says, see [`describe_leaning`]).
+/// one per gear pair (leaning as `signs` says: 1 the way a positive
+/// tangential force leans it, −1 the other).
 fn unknowns(m: &Mechanism, signs: &[f64]) -> Vec<Unknown> {
     let local = |id: MarkerId| m.marker(id).at;
     let dir = |id: MarkerId| m.marker(id).unit_dir().unwrap_or([1.0, 0.0]);
@@ -328,17 +332,11 @@ fn unknowns(m: &Mechanism, signs: &[f64]) -> Vec<Unknown> {
     unknowns
 }
 
-/// [`Described`] of `m`, each gear pair's tooth force leaning the way a
-/// positive tangential force leans it.
+/// [`Described`] of `m`: each gear pair's tooth force leaning the way a
+/// positive tangential force leans it, and the other way in
+/// [`Described::leaning`]: the teeth always push apart, so the line of
+/// action a pair's force takes depends on which way it drives.
 pub fn describe(m: &Mechanism) -> Described {
-    describe_leaning(m, &vec![1.0; m.gears.len()])
-}
-
-/// [`Described`] of `m` with gear pair `g`'s tooth force leaning by the
-/// pressure angle as a tangential force of sign `signs[g]` leans it: the
-/// teeth always push apart, so the line of action a pair's force takes
-/// depends on which way it drives.
-pub fn describe_leaning(m: &Mechanism, signs: &[f64]) -> Described {
     let mut next = 0;
     let rows: Vec<Option<usize>> = (m.bodies.iter())
         .map(|b| {
@@ -349,7 +347,15 @@ pub fn describe_leaning(m: &Mechanism, signs: &[f64]) -> Described {
         })
         .collect();
     let local = |id: MarkerId| m.marker(id).at;
-    let unknowns = unknowns(m, signs);
+    let unknowns = unknowns(m, &vec![1.0; m.gears.len()]);
+    let negative = self::unknowns(m, &vec![-1.0; m.gears.len()]);
+    let first = 2 * m.joints.len() + m.inputs.len() + m.slots.len();
+    let leaning = (first..first + m.gears.len())
+        .map(|unknown| Lean {
+            unknown,
+            other: negative[unknown],
+        })
+        .collect();
     let end = |id: MarkerId| (id.body, local(id));
     let loads = (m.loads.applied.iter())
         .map(|load| match &load.kind {
@@ -414,6 +420,7 @@ pub fn describe_leaning(m: &Mechanism, signs: &[f64]) -> Described {
         loads,
         masses,
         gravity: m.loads.gravity.unwrap_or([0.0; 2]),
+        leaning,
     }
 }
 
@@ -425,7 +432,7 @@ pub fn force_plan(m: &Mechanism) -> Option<ForcePlan> {
         return None;
     }
     let drawn = vec![Pose::IDENTITY; m.bodies.len()];
-    Some(ForcePlan::new(&equilibrium(&describe(m), &drawn)))
+    Some(ForcePlan::new(&equilibrium(&describe(m).table(&[]), &drawn)))
 }
 
 /// The joint reactions at `poses` from every moving body's force and
@@ -448,60 +455,55 @@ pub fn reactions(
     }
     // A gear pair's line of action depends on the sign of its force: solve
     // leaning every pair the positive way, then again with the pairs that
-    // came out negative leaned the other (a pair's sign seldom depends on
+    // came out negative leaned the other (`frame::lean_by_sign`, as the
+    // compiled `solve_forces` does; a pair's sign seldom depends on
     // another's lean, which moves only the pivots' radial loads).
-    let mut signs = vec![1.0; m.gears.len()];
-    let mut found = reactions_leaning(m, plan, poses, actual, &signs);
-    let first = 2 * m.joints.len() + m.inputs.len() + m.slots.len();
-    let flipped: Vec<usize> = (0..m.gears.len()).filter(|&g| found.x[first + g] < 0.0).collect();
-    if !flipped.is_empty() {
-        for &g in &flipped {
-            signs[g] = -1.0;
-        }
-        found = reactions_leaning(m, plan, poses, actual, &signs);
+    let described = describe(m);
+    let blocks = runtime_blocks(plan);
+    let table = described.table(&blocks);
+    let found = reactions_of(&table, m, poses, actual);
+    let mut leaned = described.unknowns.clone();
+    if !frame::lean_by_sign(&table, &found.x, &mut leaned) {
+        return Some(found.reactions);
     }
-    Some(found.reactions)
+    let table = Table {
+        unknowns: &leaned,
+        ..table
+    };
+    Some(reactions_of(&table, m, poses, actual).reactions)
 }
 
-/// [`reactions`] with the gear pairs leaning as `signs` says, and the
-/// unknowns it solved.
+/// [`reactions`] by the table `t` of `m` (its gear pairs leaning as its
+/// unknowns say), and the unknowns it solved.
 struct Leaning {
     reactions: Reactions,
     x: Vec<f64>,
 }
 
-fn reactions_leaning(
-    m: &Mechanism,
-    plan: &ForcePlan,
-    poses: &[Pose],
-    actual: Option<&[Pose<Jet2>]>,
-    signs: &[f64],
-) -> Leaning {
-    let described = describe_leaning(m, signs);
-    let blocks = runtime_blocks(plan);
-    let table = described.table(&blocks);
+fn reactions_of(table: &Table, m: &Mechanism, poses: &[Pose], actual: Option<&[Pose<Jet2>]>) -> Leaning {
+    let blocks = table.blocks;
     let mut applied = vec![[0.0; 3]; m.bodies.len()];
-    frame::applied(&table, poses, actual, &mut applied);
-    let mut rhs = vec![0.0; described.n_rows];
-    let ground = frame::right_hand_side(&table, &applied, &mut rhs);
+    frame::applied(table, poses, actual, &mut applied);
+    let mut rhs = vec![0.0; table.n_rows];
+    let ground = frame::right_hand_side(table, &applied, &mut rhs);
     // The loads on the rows: `system x = -w`.
     let w: Vec<f64> = rhs.iter().map(|v| -v).collect();
-    let system = equilibrium(&described, poses);
+    let system = equilibrium(table, poses);
     let by_blocks = (!blocks.is_empty())
         .then(|| {
-            let mut x = vec![0.0; described.unknowns.len()];
+            let mut x = vec![0.0; table.unknowns.len()];
             let largest = blocks.iter().map(|b| b.rows.len()).max().unwrap_or(0);
             let mut scratch = vec![0.0; frame::scratch_len(largest)];
-            frame::solve_blocks(&table, poses, &mut rhs, &mut x, &mut scratch).then_some(x)
+            frame::solve_blocks(table, poses, &mut rhs, &mut x, &mut scratch).then_some(x)
         })
         .flatten();
     let super::Solved { x, residual, fixed } = ForcePlan::solved(&system, &w, by_blocks);
     let x = x.as_slice();
     let joints = m.joints.len();
     let (forces, moments) = (0..joints)
-        .map(|j| frame::joint_reaction(&table, poses, x, j))
+        .map(|j| frame::joint_reaction(table, poses, x, j))
         .unzip();
-    let on = frame::on_ground(&table, poses, x);
+    let on = frame::on_ground(table, poses, x);
     let inputs = m.inputs.len();
     let slots = (0..m.slots.len())
         .map(|k| {
@@ -537,7 +539,7 @@ fn reactions_leaning(
 /// The equilibrium equations at `poses` (the loads aside: the right-hand
 /// side) in sparse columns, each unknown's the runtime's
 /// [`frame::column()`].
-fn equilibrium(d: &Described, poses: &[Pose]) -> System {
+fn equilibrium(d: &Table, poses: &[Pose]) -> System {
     let mut system = System::new(d.n_rows, d.unknowns.len());
     for (c, u) in d.unknowns.iter().enumerate() {
         let w = frame::column(u, poses);

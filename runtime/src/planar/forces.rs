@@ -186,6 +186,20 @@ pub struct Mass {
     pub inertia: f64,
 }
 
+/// A gear pair's tooth force leaned the other way: the teeth always push
+/// apart, so a pair's line of action leans by the pressure angle one way
+/// for a positive tangential force and the other for a negative one. The
+/// table's own unknown leans the positive way; a frame whose force comes
+/// out negative is solved again with `other` in its place (the blocks'
+/// shape is the same, only the direction differs).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Lean {
+    /// The gear pair's unknown in [`Table::unknowns`].
+    pub unknown: usize,
+    /// The same tooth force leaning the negative way.
+    pub other: Unknown,
+}
+
 /// One block of the force plan: equations and the unknowns they fix
 /// together, as many of each.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -214,6 +228,26 @@ pub struct Table<'a> {
     /// The blocks, in the order they are solved (empty: the plan solves
     /// by least squares, which is the compiler's).
     pub blocks: &'a [Block<'a>],
+    /// Each gear pair's tooth force leaned the negative way (none without
+    /// gear pairs).
+    pub leaning: &'a [Lean],
+}
+
+/// Where the frame's forces `x` make a gear pair's tangential force
+/// negative, `unknowns` becomes the table's unknowns with that pair's
+/// [`Lean::other`] in place, to solve the frame again with (`false`, and
+/// `unknowns` untouched, where every pair leans the table's way).
+/// `unknowns` is as long as the table's.
+pub fn lean_by_sign(t: &Table, x: &[f64], unknowns: &mut [Unknown]) -> bool {
+    let mut leaned = false;
+    for lean in t.leaning.iter().filter(|l| x[l.unknown] < 0.0) {
+        if !leaned {
+            unknowns.copy_from_slice(t.unknowns);
+            leaned = true;
+        }
+        unknowns[lean.unknown] = lean.other;
+    }
+    leaned
 }
 
 /// The largest block [`solve_blocks`] solves: its scratch is a `k × k`
@@ -495,15 +529,20 @@ pub struct Work<'a> {
     pub x: &'a mut [f64],
     /// The block solve's matrix and right-hand side.
     pub scratch: &'a mut [f64],
+    /// The unknowns of a frame solved again with gear pairs leaned the
+    /// other way ([`lean_by_sign`]): as many as the table's, or none for
+    /// a table without gear pairs.
+    pub unknowns: &'a mut [Unknown],
 }
 
 /// A frame's forces: per joint the force its first body exerts on its
 /// second (world axes) and its moment (a prismatic joint's; 0 at a
 /// revolute joint), per input its force or torque (positive in the
-/// input's positive direction), and what the mechanism puts on the ground
-/// (`[fx, fy, m]`, the moment about the world origin).
+/// input's positive direction), per pin in a slot and per gear pair
+/// their forces, and what the mechanism puts on the ground (`[fx, fy,
+/// m]`, the moment about the world origin).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Forces<const NJ: usize, const NI: usize, const NS: usize = 0> {
+pub struct Forces<const NJ: usize, const NI: usize, const NS: usize = 0, const NG: usize = 0> {
     /// Per joint, its reaction.
     pub reactions: [[f64; 2]; NJ],
     /// Per joint, its moment.
@@ -513,17 +552,21 @@ pub struct Forces<const NJ: usize, const NI: usize, const NS: usize = 0> {
     /// Per pin in a slot, the force the slotted body exerts on the pin:
     /// square to a straight slot, along an arc's radius.
     pub slots: [[f64; 2]; NS],
+    /// Per gear pair (or rack and pinion), the tooth force the first gear
+    /// exerts on the second: along the line of action.
+    pub teeth: [[f64; 2]; NG],
     /// The force and moment on the ground.
     pub shaking: [f64; 3],
 }
 
-impl<const NJ: usize, const NI: usize, const NS: usize> Default for Forces<NJ, NI, NS> {
+impl<const NJ: usize, const NI: usize, const NS: usize, const NG: usize> Default for Forces<NJ, NI, NS, NG> {
     fn default() -> Self {
         Forces {
             reactions: [[0.0; 2]; NJ],
             moments: [0.0; NJ],
             inputs: [0.0; NI],
             slots: [[0.0; 2]; NS],
+            teeth: [[0.0; 2]; NG],
             shaking: [0.0; 3],
         }
     }
@@ -544,13 +587,15 @@ pub fn joint_reaction(t: &Table, poses: &[Pose], x: &[f64], j: usize) -> ([f64; 
 
 /// A frame's forces from its poses and their rates (`jets`: zero rates
 /// hold it still): the loads, gravity and d'Alembert's inertia, then the
-/// blocks in order, into `out` (its joints, inputs and slots as many as
-/// the table's). No allocation: `work` is the caller's.
-pub fn solve_frame<const NJ: usize, const NI: usize, const NS: usize>(
+/// blocks in order (again with a gear pair leaned the other way where its
+/// force came out negative), into `out` (its joints, inputs, slots and
+/// gear pairs as many as the table's). No allocation: `work` is the
+/// caller's.
+pub fn solve_frame<const NJ: usize, const NI: usize, const NS: usize, const NG: usize>(
     t: &Table,
     jets: &[Pose<Jet2>],
     work: Work,
-    out: &mut Forces<NJ, NI, NS>,
+    out: &mut Forces<NJ, NI, NS, NG>,
 ) -> Result<(), Singular> {
     for (v, j) in work.values.iter_mut().zip(jets) {
         *v = j.value();
@@ -561,14 +606,33 @@ pub fn solve_frame<const NJ: usize, const NI: usize, const NS: usize>(
     if !solve_blocks(t, poses, work.rhs, work.x, work.scratch) {
         return Err(Singular);
     }
+    let leaned;
+    let t = if lean_by_sign(t, work.x, work.unknowns) {
+        leaned = Table {
+            unknowns: &*work.unknowns,
+            ..*t
+        };
+        right_hand_side(&leaned, work.applied, work.rhs);
+        if !solve_blocks(&leaned, poses, work.rhs, work.x, work.scratch) {
+            return Err(Singular);
+        }
+        &leaned
+    } else {
+        t
+    };
     for j in 0..NJ {
         (out.reactions[j], out.moments[j]) = joint_reaction(t, poses, work.x, j);
     }
     out.inputs.copy_from_slice(&work.x[2 * NJ..2 * NJ + NI]);
-    for (k, slot) in out.slots.iter_mut().enumerate() {
-        let u = 2 * NJ + NI + k;
+    let force = |u: usize| {
         let w = column(&t.unknowns[u], poses);
-        *slot = [work.x[u] * w[0], work.x[u] * w[1]];
+        [work.x[u] * w[0], work.x[u] * w[1]]
+    };
+    for (k, slot) in out.slots.iter_mut().enumerate() {
+        *slot = force(2 * NJ + NI + k);
+    }
+    for (g, tooth) in out.teeth.iter_mut().enumerate() {
+        *tooth = force(2 * NJ + NI + NS + g);
     }
     let on = on_ground(t, poses, work.x);
     out.shaking = [0, 1, 2].map(|k| on[k] + ground[k]);

@@ -117,11 +117,22 @@ fn load(l: &Load) -> TokenStream {
 }
 
 /// `pub type Forces`: the runtime's with the mechanism's numbers of
-/// joints and inputs, and of slots where there are any (the type's
-/// default is none).
-fn forces_type(nj: usize, ni: usize, slots: usize) -> TokenStream {
+/// joints and inputs, and of slots and gear pairs where there are any
+/// (the type's default is none).
+fn forces_type(nj: usize, ni: usize, slots: usize, gears: usize) -> TokenStream {
     let (nj, ni) = (index(nj), index(ni));
-    if slots > 0 {
+    if gears > 0 {
+        let (ns, ng) = (index(slots), index(gears));
+        quote! {
+            /// A frame's forces: per joint (file order) the force its
+            /// first body exerts on its second and its moment, per input
+            /// its force or torque (per radian), per pin in a slot the
+            /// force the slotted body exerts on the pin, per gear pair the
+            /// tooth force the first gear exerts on the second, and the
+            /// force and moment on the ground.
+            pub type Forces = dofplan_runtime::planar::forces::Forces<#nj, #ni, #ns, #ng>;
+        }
+    } else if slots > 0 {
         let ns = index(slots);
         quote! {
             /// A frame's forces: per joint (file order) the force its
@@ -142,7 +153,8 @@ fn forces_type(nj: usize, ni: usize, slots: usize) -> TokenStream {
     }
 }
 
-/// The `forces` module of `plan`'s module for the force table `t`; an
+/// The `forces` module of `plan`'s module for the force table `t` (its
+/// `slots` unknowns after the inputs', then one per gear pair); an
 /// error says why there is none: a plan whose reactions are solved by
 /// least squares (over-constrained, or singular as drawn), which is the
 /// interpreter's.
@@ -150,9 +162,10 @@ pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table, slots: usize) -> Re
     if t.blocks.is_empty() {
         return Err("its reactions are solved by least squares (redundant joints, or a freedom no input holds), which `dofplan analyze --forces` does; compiled `solve_forces` needs a force plan of blocks".into());
     }
+    let gears = t.leaning.len();
     let (nb, nj, ni) = (
         plan.bodies.len(),
-        (t.unknowns.len() - plan.inputs.len() - slots) / 2,
+        (t.unknowns.len() - plan.inputs.len() - slots - gears) / 2,
         plan.inputs.len(),
     );
     let largest = t.blocks.iter().map(|b| b.rows.len()).max().unwrap_or(0);
@@ -182,19 +195,35 @@ pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table, slots: usize) -> Re
         .collect::<Vec<_>>()
         .join(", ");
     let per_slot = if slots > 0 { ", then one per slot" } else { "" };
+    let per_gear = if gears > 0 { ", then one per gear pair" } else { "" };
     let doc_table = format!(
-        " The mechanism's forces as the runtime solves them: {} equations (three per moving body), {} unknowns (two per joint, then one per input{per_slot}), solved in blocks of {sizes}.",
+        " The mechanism's forces as the runtime solves them: {} equations (three per moving body), {} unknowns (two per joint, then one per input{per_slot}{per_gear}), solved in blocks of {sizes}.",
         t.n_rows,
         t.unknowns.len()
     );
-    let forces_decl = forces_type(nj, ni, slots);
+    let forces_decl = forces_type(nj, ni, slots, gears);
+    let leaning = t.leaning.iter().map(|l| {
+        let (u, other) = (index(l.unknown), unknown(&l.other));
+        quote!(Lean { unknown: #u, other: #other })
+    });
+    // A frame whose gear pair drives the other way is solved again with
+    // its tooth force leaned that way: a copy of the unknowns to lean.
+    let leaned = if gears > 0 {
+        quote!(&mut [Unknown::Moment { first: 0, second: 0 }; #nu])
+    } else {
+        quote!(&mut [])
+    };
     let scratch = index(largest * largest + largest);
     // Only what the table names (an unused import warns in the user's
     // build): a file may give masses and no loads, or loads and no masses.
-    let kinds = [("Load", !t.loads.is_empty()), ("Mass", !t.masses.is_empty())]
-        .into_iter()
-        .filter(|(_, used)| *used)
-        .map(|(name, _)| proc_macro2::Ident::new(name, proc_macro2::Span::call_site()));
+    let kinds = [
+        ("Lean", gears > 0),
+        ("Load", !t.loads.is_empty()),
+        ("Mass", !t.masses.is_empty()),
+    ]
+    .into_iter()
+    .filter(|(_, used)| *used)
+    .map(|(name, _)| proc_macro2::Ident::new(name, proc_macro2::Span::call_site()));
     let tokens = quote! {
         /// What holds the mechanism and what it takes to drive it, frame
         /// by frame: each joint's reaction and each input's force or
@@ -219,6 +248,7 @@ pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table, slots: usize) -> Re
                 masses: &[#(#masses),*],
                 gravity: #gravity,
                 blocks: &[#(#blocks),*],
+                leaning: &[#(#leaning),*],
             };
 
             /// [`solve_rates_into`] and the forces
@@ -244,6 +274,7 @@ pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table, slots: usize) -> Re
                     rhs: &mut [0.0; #nr],
                     x: &mut [0.0; #nu],
                     scratch: &mut [0.0; #scratch],
+                    unknowns: #leaned,
                 };
                 solve_frame(&TABLE, &jets, work, out)?;
                 Ok(())
