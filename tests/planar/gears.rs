@@ -140,9 +140,9 @@ fn check(err: f64, what: impl FnOnce() -> String) -> f64 {
     err
 }
 
-/// Asserts a frame solved exactly as requested and holds its joints and
-/// inputs (`max_relative_residual` checks the lower pairs and inputs from
-/// the model; the gear relations are checked by each test's closed form).
+/// Asserts a frame solved exactly as requested and holds its joints, gear
+/// pairs and inputs (`max_relative_residual` checks them from the model;
+/// each test's closed form checks the gear relations again).
 fn assert_solved(m: &Mechanism, f: &Frame, what: &str) {
     assert_eq!(f.status, FrameStatus::Solved, "{what}: {:?}", f.requested);
     assert_eq!(f.inputs, f.requested, "{what}");
@@ -525,6 +525,67 @@ fn rack_slides_by_the_arc_rolled_on_its_pitch_line() {
         worst = worst.max(check(dist(at(m, &f.poses, "pinion.Q"), q), || what("pinion.Q")));
     }
     eprintln!("rack_pinion: worst deviation {worst:e}");
+}
+
+/// `simulate`'s residual checks rolling without slip on the turns the
+/// inputs give, unwrapped: the hoist's drum (1:3 on the motor's pinion)
+/// is a third of a turn back after one motor turn. Turned 5° off that,
+/// or left at the drawn angle (where a check of wrapped angles against
+/// the input modulo a turn would put it), the drum is off by the arc of
+/// its pitch circle; a rack slid off its pinion's arc, by the slide.
+#[test]
+fn the_residual_holds_gears_to_rolling_past_whole_turns() {
+    use dofplan::simulate::residuals;
+    use dofplan_runtime::planar::Rot;
+    let (m, text) = gear_file("geared_hoist");
+    let [_, r_drum] = radii(&text, "mesh");
+    let frames = run(Interpreter::new(plan(&m)), Options::default(), &[vec![360.0]]);
+    assert_solved(&m, &frames[0], "geared_hoist");
+    let drum = body(&m, "drum");
+    let pivot = drawn(&m, "frame.B");
+    assert!(rot_gap(&frames[0].poses[drum], -120.0) <= TOL);
+    let mesh = |poses: &[Pose]| {
+        let r = residuals(&m, poses, &[360.0]);
+        r.iter()
+            .find(|r| r.name == "joint mesh")
+            .expect("the gear pair's residual")
+            .value
+    };
+    assert!(mesh(&frames[0].poses) <= TOL);
+    // The drum turned about its pivot to `degrees` (its pivot stays put).
+    let drum_at = |degrees: f64| {
+        let mut poses = frames[0].poses.clone();
+        let rot = Rot::from_degrees(degrees);
+        let p = rot.apply(pivot);
+        poses[drum] = Pose {
+            at: [pivot[0] - p[0], pivot[1] - p[1]],
+            rot,
+        };
+        poses
+    };
+    assert!(mesh(&drum_at(-120.0)) <= TOL);
+    let off = mesh(&drum_at(-115.0));
+    assert!((off - r_drum * 5f64.to_radians()).abs() <= TOL, "5° off: {off}");
+    let wrapped = mesh(&drum_at(0.0));
+    assert!(
+        (wrapped - r_drum * 120f64.to_radians()).abs() <= TOL,
+        "at the drawing: {wrapped}"
+    );
+    // The rack pushed 0.1 along its track, its pinion where it was.
+    let rp = RackPinion::new();
+    let frames = run(Interpreter::new(plan(&rp.m)), Options::default(), &[vec![400.0]]);
+    assert_solved(&rp.m, &frames[0], "rack_pinion");
+    let mut poses = frames[0].poses.clone();
+    let rack = body(&rp.m, "rack");
+    poses[rack].at = add(poses[rack].at, scale(rp.dir, 0.1));
+    let r = residuals(&rp.m, &poses, &[400.0]);
+    let slid = r
+        .iter()
+        .find(|r| r.name == "joint R")
+        .expect("the rack and pinion's residual");
+    assert!((slid.value - 0.1).abs() <= TOL, "slid 0.1: {}", slid.value);
+    // Along its track the prismatic joint still holds.
+    assert!(r.iter().find(|r| r.name == "joint T").expect("the track").value <= TOL);
 }
 
 /// The rack's velocity and acceleration from the plan's jets: the slide

@@ -272,7 +272,7 @@ fn turned(pose: &Pose, d: Point) -> Point {
 
 /// What a unit of unknown `u` puts on its second body at `poses` (its
 /// first body takes minus this).
-#[inline]
+#[inline(always)]
 pub fn column(u: &Unknown, poses: &[Pose]) -> [f64; 3] {
     match *u {
         Unknown::Pin { second, at, axis, .. } => {
@@ -499,6 +499,10 @@ pub fn on_ground(t: &Table, poses: &[Pose], x: &[f64]) -> [f64; 3] {
     let mut out = [0.0; 3];
     for (u, &xu) in t.unknowns.iter().zip(x) {
         let [first, second] = u.bodies();
+        // Most unknowns act between moving bodies: nothing to compute.
+        if t.rows[first].is_some() && t.rows[second].is_some() {
+            continue;
+        }
         let w = column(u, poses);
         for (body, sign) in [(second, 1.0), (first, -1.0)] {
             if t.rows[body].is_none() {

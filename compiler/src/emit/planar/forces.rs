@@ -232,10 +232,10 @@ pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table, slots: usize) -> Re
         pub mod forces {
             use dofplan_runtime::planar::forces::{solve_frame, Block, #(#kinds,)* Table, Unknown, Work};
             use dofplan_runtime::planar::Pose;
-            use dofplan_runtime::real::{ForceError, Jet2};
+            use dofplan_runtime::real::{ForceError, Jet2, RateError};
             use dofplan_runtime::Ctx;
 
-            use super::{solve_rates_into, State};
+            use super::{solve, solve_rates_into, State};
 
             #forces_decl
 
@@ -254,7 +254,8 @@ pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table, slots: usize) -> Re
             /// [`solve_rates_into`] and the forces
             /// in one pass, into `out`: the frame at `inputs` moving at
             /// `rates` and `accelerations` (per second, degrees for
-            /// angles; zeros hold it still). On an error `out` holds no
+            /// angles; zeros hold it still, and then the frame is
+            /// [`solve`]d, its rates being zero). On an error `out` holds no
             /// forces to read: the frame's break or dead point, or a
             /// block of the force plan singular here
             /// ([`ForceError::Singular`]).
@@ -267,7 +268,16 @@ pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table, slots: usize) -> Re
                 out: &mut Forces,
             ) -> Result<(), ForceError> {
                 let mut jets = [Pose::<Jet2>::cst(Pose::IDENTITY); #nb_l];
-                solve_rates_into(s, inputs, rates, accelerations, ctx, &mut jets).map_err(ForceError::Rates)?;
+                if rates.iter().chain(accelerations).all(|v| *v == 0.0) {
+                    // Held still: the positions alone (their rates are
+                    // zero, and `solve_rates_into`'s values are `solve`'s).
+                    solve(s, inputs, ctx).map_err(|b| ForceError::Rates(RateError::Break(b)))?;
+                    for (jet, pose) in jets.iter_mut().zip(&s.poses) {
+                        *jet = Pose::cst(*pose);
+                    }
+                } else {
+                    solve_rates_into(s, inputs, rates, accelerations, ctx, &mut jets).map_err(ForceError::Rates)?;
+                }
                 let work = Work {
                     values: &mut [Pose::IDENTITY; #nb_l],
                     applied: &mut [[0.0; 3]; #nb_l],

@@ -1,7 +1,8 @@
 //! Reading planar frames: marker positions, each joint's, constraint's and
-//! input's residual, and (`kinematics`) a frame's rates and transmission
-//! angles.
+//! input's residual (a gear pair's in `gears`), and (`kinematics`) a
+//! frame's rates and transmission angles.
 
+mod gears;
 pub mod kinematics;
 
 use crate::model::planar::slots::Shape;
@@ -125,6 +126,13 @@ fn each_residual(
             Shape::Arc { radius } => (dist(at(s), at(pin)) - radius).abs(),
         };
         visit("joint", &slot.name, off);
+    }
+    // A gear pair: rolling without slip, on the turns the inputs give.
+    if !m.gears.is_empty() {
+        let turns = gears::turns(m, inputs);
+        for gear in &m.gears {
+            visit("joint", &gear.name, gears::residual(m, gear, poses, &turns));
+        }
     }
     for c in &m.constraints {
         let [a, b] = c.markers;
