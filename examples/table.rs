@@ -110,9 +110,15 @@ fn forces() {
     println!();
     println!("| mechanism | equations | force plan blocks | position ns/frame | + forces, plan ns/frame | ratio | + forces, least squares ns/frame | ratio |");
     println!("|---|---:|---|---:|---:|---:|---:|---:|");
-    for name in ["slider_crank_press", "fourbar_weights", "arc_yoke_press"] {
+    for file in [
+        "loads/slider_crank_press",
+        "loads/fourbar_weights",
+        "loads/arc_yoke_press",
+        "gears/geared_hoist",
+    ] {
         use dofplan::forces::planar::{force_plan, input_forces, reactions};
-        let m = load(&format!("loads/{name}"));
+        let m = load(file);
+        let name = file.rsplit('/').next().unwrap_or(file);
         let interp = Interpreter::new(plan(&m));
         let rows = 3 * m.bodies.iter().filter(|b| !b.fixed).count();
         let row = force_row(
@@ -150,7 +156,8 @@ fn forces() {
 }
 
 /// The compiled forces table: per planar file with loads (compiled with
-/// `Config::forces`), a compiled position frame (`solve`) against
+/// `Config::forces`; the geared hoist's leans its tooth force by its
+/// sign, solving such frames twice), a compiled position frame (`solve`) against
 /// `forces::solve_forces` (positions, rates and forces in one pass),
 /// held still and running; medians over the sweep.
 fn compiled_forces() {
@@ -159,9 +166,9 @@ fn compiled_forces() {
     println!("| mechanism (compiled) | position ns/frame | solve_forces held ns/frame | ratio | solve_forces running ns/frame | ratio |");
     println!("|---|---:|---:|---:|---:|---:|");
     macro_rules! row {
-        ($($module:ident),*) => {$({
+        ($($module:ident: $file:expr),*) => {$({
             use dofplan_generated::$module as compiled;
-            let inputs = sweep_inputs(&load(concat!("loads/", stringify!($module))), None);
+            let inputs = sweep_inputs(&load($file), None);
             let n = inputs.len() as f64;
             let mut state = compiled::State::DRAWN;
             let position = time_ns(|| {
@@ -191,7 +198,12 @@ fn compiled_forces() {
             );
         })*};
     }
-    row!(slider_crank_press, fourbar_weights, arc_yoke_press);
+    row!(
+        slider_crank_press: "loads/slider_crank_press",
+        fourbar_weights: "loads/fourbar_weights",
+        arc_yoke_press: "loads/arc_yoke_press",
+        geared_hoist: "gears/geared_hoist"
+    );
 }
 
 /// One row of the forces table after its first two cells: the plan's

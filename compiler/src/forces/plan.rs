@@ -75,10 +75,17 @@ pub struct Block {
 }
 
 /// How a mechanism's force unknowns are solved each frame.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum ForcePlan {
-    /// Square and regular as drawn: these blocks, in order.
-    Blocks(Vec<Block>),
+    /// Square and regular as drawn: these blocks, in order, with (planar)
+    /// each body's moment equation taken about `about[body]`, a local
+    /// point (empty: about the world origin).
+    Blocks {
+        /// The blocks, in order.
+        blocks: Vec<Block>,
+        /// Per body, the local point its moment equation is about.
+        about: Vec<[f64; 2]>,
+    },
     /// Not square, or singular as drawn: least squares each frame, and
     /// why.
     LeastSquares(&'static str),
@@ -98,7 +105,10 @@ impl ForcePlan {
             return ForcePlan::LeastSquares("no equation for some unknown: redundant joints");
         };
         let blocks = blocks(system, &matched);
-        let plan = ForcePlan::Blocks(blocks);
+        let plan = ForcePlan::Blocks {
+            blocks,
+            about: Vec::new(),
+        };
         // Structure is not enough: the drawn numbers must be regular too
         // (two pins on one line, a joint's share no equation fixes).
         let probe = vec![1.0; rows];
@@ -108,19 +118,45 @@ impl ForcePlan {
         }
     }
 
+    /// The sizes of `system`'s blocks from its structure alone (no look
+    /// at its numbers), in the order they would be solved; `None` where
+    /// it is not square or some unknown has no equation.
+    pub(crate) fn structural_sizes(system: &System) -> Option<Vec<usize>> {
+        if system.rows != system.columns.len() {
+            return None;
+        }
+        let matched = matching(system)?;
+        Some(blocks(system, &matched).iter().map(|b| b.cols.len()).collect())
+    }
+
+    /// The plan with each body's moment equation about `about[body]` (a
+    /// local point), as the system it was made from takes them.
+    pub(crate) fn with_about(self, about: Vec<[f64; 2]>) -> ForcePlan {
+        match self {
+            ForcePlan::Blocks { blocks, .. } => ForcePlan::Blocks { blocks, about },
+            other => other,
+        }
+    }
+
+    /// Per body, the local point its moment equation is about (empty:
+    /// the world origin; and for least squares).
+    pub fn about(&self) -> &[[f64; 2]] {
+        match self {
+            ForcePlan::Blocks { about, .. } => about,
+            ForcePlan::LeastSquares(_) => &[],
+        }
+    }
+
     /// The sizes of the blocks, in the order they are solved (empty for
     /// least squares).
     pub fn block_sizes(&self) -> Vec<usize> {
-        match self {
-            ForcePlan::Blocks(b) => b.iter().map(|b| b.cols.len()).collect(),
-            ForcePlan::LeastSquares(_) => Vec::new(),
-        }
+        self.blocks().iter().map(|b| b.cols.len()).collect()
     }
 
     /// The blocks, in the order they are solved (none for least squares).
     pub fn blocks(&self) -> &[Block] {
         match self {
-            ForcePlan::Blocks(b) => b,
+            ForcePlan::Blocks { blocks, .. } => blocks,
             ForcePlan::LeastSquares(_) => &[],
         }
     }
@@ -148,7 +184,7 @@ impl ForcePlan {
     /// The block solve; `None` where a block is singular at this frame (a
     /// dead point, a toggle) or the plan has no blocks.
     fn by_blocks(&self, system: &System, w: &[f64]) -> Option<Vec<f64>> {
-        let ForcePlan::Blocks(blocks) = self else {
+        let ForcePlan::Blocks { blocks, .. } = self else {
             return None;
         };
         let mut rhs: Vec<f64> = w.iter().map(|v| -v).collect();

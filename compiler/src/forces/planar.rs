@@ -211,11 +211,15 @@ pub struct Described {
     pub gravity: [f64; 2],
     /// Each gear pair's tooth force leaned the negative way.
     pub leaning: Vec<Lean>,
+    /// Per body, its local origin: where its moment equation is taken
+    /// about when the force plan chose no pin.
+    pub origins: Vec<[f64; 2]>,
 }
 
 impl Described {
-    /// The runtime's table of it, with the force plan's `blocks`.
-    pub fn table<'a>(&'a self, blocks: &'a [RtBlock<'a>]) -> Table<'a> {
+    /// The runtime's table of it, with the force plan's blocks and moment
+    /// points (`runtime_blocks`).
+    pub fn table<'a>(&'a self, plan: &'a RuntimePlan<'a>) -> Table<'a> {
         Table {
             rows: &self.rows,
             n_rows: self.n_rows,
@@ -223,21 +227,37 @@ impl Described {
             loads: &self.loads,
             masses: &self.masses,
             gravity: self.gravity,
-            blocks,
+            blocks: &plan.blocks,
             leaning: &self.leaning,
+            about: match plan.about {
+                [] => &self.origins,
+                about => about,
+            },
         }
     }
 }
 
-/// The runtime's blocks of a force plan (none for least squares).
-pub fn runtime_blocks(plan: &ForcePlan) -> Vec<RtBlock<'_>> {
-    plan.blocks()
-        .iter()
-        .map(|b| RtBlock {
-            rows: &b.rows,
-            cols: &b.cols,
-        })
-        .collect()
+/// The runtime's share of a force plan: its blocks in order, and each
+/// body's moment point (empty: each body's local origin).
+pub struct RuntimePlan<'a> {
+    /// The blocks (none for least squares).
+    pub blocks: Vec<RtBlock<'a>>,
+    /// Per body, the local point its moment equation is about.
+    pub about: &'a [[f64; 2]],
+}
+
+/// The runtime's blocks of a force plan (none for least squares) and
+/// where its bodies' moments are taken.
+pub fn runtime_blocks(plan: &ForcePlan) -> RuntimePlan<'_> {
+    RuntimePlan {
+        blocks: (plan.blocks().iter())
+            .map(|b| RtBlock {
+                rows: &b.rows,
+                cols: &b.cols,
+            })
+            .collect(),
+        about: plan.about(),
+    }
 }
 
 /// The force unknowns of `m`: two per joint, one per input, one per slot,
@@ -421,18 +441,149 @@ pub fn describe(m: &Mechanism) -> Described {
         masses,
         gravity: m.loads.gravity.unwrap_or([0.0; 2]),
         leaning,
+        origins: vec![[0.0; 2]; m.bodies.len()],
     }
 }
 
 /// The plan for the reaction unknowns of `m` (see `forces/plan.rs`), from
 /// its equations at the drawn pose; `None` for a mechanism with primitive
 /// constraints, whose forces are not modelled yet.
+///
+/// Each moving body's moment equation is taken about one of its pins (or
+/// its local origin), chosen for the smallest blocks: a pin's reaction
+/// leaves the moment equation of each body it joins when that is taken
+/// about the pin, so a four-bar's coupler about its crank pin and its
+/// rocker about the ground pin give the coupler–rocker pin's force from
+/// two equations, then each other pin's from two more, one unknown at a
+/// time, where moments about one point tie all six together. Every
+/// choice is tried where there are at most 4096 (four moving bodies of
+/// four pins each and more), else each body's in turn until none helps.
 pub fn force_plan(m: &Mechanism) -> Option<ForcePlan> {
     if !m.constraints.is_empty() {
         return None;
     }
+    let d = describe(m);
+    let no_pins = vec![None; m.bodies.len()];
+    let best = about_pins(m, &d);
+    let plan = ForcePlan::new(&structure(m, &d, &best)).with_about(about_points(m, &best));
+    if matches!(plan, ForcePlan::LeastSquares(_)) && best != no_pins {
+        // Regular by structure, singular in numbers as drawn: moments
+        // about each body's origin, as every body's moment was taken
+        // before the choice.
+        return Some(ForcePlan::new(&structure(m, &d, &no_pins)).with_about(about_points(m, &no_pins)));
+    }
+    Some(plan)
+}
+
+/// Per body, the revolute joint whose pin its moment equation is taken
+/// about (`None`: its local origin), for the smallest blocks (the sum of
+/// their squared sizes, then the largest).
+fn about_pins(m: &Mechanism, d: &Described) -> Vec<Option<usize>> {
+    let mut choices: Vec<Vec<Option<usize>>> = vec![vec![None]; m.bodies.len()];
+    for (j, joint) in m.joints.iter().enumerate() {
+        if joint.kind == crate::model::JointKind::Revolute {
+            for id in joint.markers {
+                if !m.bodies[id.body].fixed && !choices[id.body].contains(&Some(j)) {
+                    choices[id.body].push(Some(j));
+                }
+            }
+        }
+    }
+    let score = |about: &[Option<usize>]| {
+        ForcePlan::structural_sizes(&structure(m, d, about)).map(|sizes| {
+            let squares: usize = sizes.iter().map(|k| k * k).sum();
+            (squares, sizes.iter().copied().max().unwrap_or(0))
+        })
+    };
+    let mut best: Vec<Option<usize>> = vec![None; m.bodies.len()];
+    let Some(mut best_score) = score(&best) else {
+        return best;
+    };
+    let combinations = choices.iter().try_fold(1usize, |n, c| n.checked_mul(c.len()));
+    if combinations.is_some_and(|n| n <= 4096) {
+        let mut pick = vec![0usize; choices.len()];
+        loop {
+            let about: Vec<Option<usize>> = pick.iter().zip(&choices).map(|(&i, c)| c[i]).collect();
+            if let Some(s) = score(&about).filter(|s| *s < best_score) {
+                (best, best_score) = (about, s);
+            }
+            // The next combination, the first body's choice fastest.
+            let Some(b) = (0..pick.len()).find(|&b| pick[b] + 1 < choices[b].len()) else {
+                return best;
+            };
+            pick[b] += 1;
+            pick[..b].iter_mut().for_each(|p| *p = 0);
+        }
+    }
+    loop {
+        let mut better = false;
+        for b in 0..choices.len() {
+            for &c in &choices[b] {
+                let mut about = best.clone();
+                about[b] = c;
+                if let Some(s) = score(&about).filter(|s| *s < best_score) {
+                    (best, best_score, better) = (about, s, true);
+                }
+            }
+        }
+        if !better {
+            return best;
+        }
+    }
+}
+
+/// Per body, the local point `about` names: its own marker of that
+/// joint, or its origin.
+fn about_points(m: &Mechanism, about: &[Option<usize>]) -> Vec<[f64; 2]> {
+    (about.iter().enumerate())
+        .map(|(b, j)| match j {
+            Some(j) => {
+                let id = m.joints[*j]
+                    .markers
+                    .into_iter()
+                    .find(|id| id.body == b)
+                    .expect("a pin of the body");
+                m.marker(id).at
+            }
+            None => [0.0; 2],
+        })
+        .collect()
+}
+
+/// The equilibrium equations at the drawn pose with each body's moment
+/// about its pin of `about` (or its origin), holding only the entries
+/// that are not zero by construction: a pin's force along x has none in
+/// the equations of force along y, nor in the moment equation of a body
+/// whose moment is taken about that very pin; a pure moment has only
+/// moment entries. The force plan's blocks are this structure's.
+fn structure(m: &Mechanism, d: &Described, about: &[Option<usize>]) -> System {
     let drawn = vec![Pose::IDENTITY; m.bodies.len()];
-    Some(ForcePlan::new(&equilibrium(&describe(m).table(&[]), &drawn)))
+    let points = about_points(m, about);
+    let joints = m.joints.len();
+    let mut system = System::new(d.n_rows, d.unknowns.len());
+    for (c, u) in d.unknowns.iter().enumerate() {
+        let w = frame::column(u, &drawn);
+        let [first, second] = u.bodies();
+        for (body, sign) in [(second, 1.0), (first, -1.0)] {
+            let Some(r) = d.rows[body] else {
+                for (k, v) in w.iter().enumerate() {
+                    system.ground[c].push((k, sign * v));
+                }
+                continue;
+            };
+            let at_pin = c < 2 * joints && about[body] == Some(c / 2);
+            let present = match u {
+                Unknown::Pin { axis, .. } => [*axis == 0, *axis == 1, !at_pin],
+                Unknown::Moment { .. } => [false, false, true],
+                _ => [true; 3],
+            };
+            let w = frame::moved(w, points[body]);
+            for k in (0..3).filter(|&k| present[k]) {
+                system.columns[c].push((r + k, sign * w[k]));
+            }
+        }
+    }
+    system
 }
 
 /// The joint reactions at `poses` from every moving body's force and
@@ -485,9 +636,15 @@ fn reactions_of(table: &Table, m: &Mechanism, poses: &[Pose], actual: Option<&[P
     let mut applied = vec![[0.0; 3]; m.bodies.len()];
     frame::applied(table, poses, actual, &mut applied);
     let mut rhs = vec![0.0; table.n_rows];
-    let ground = frame::right_hand_side(table, &applied, &mut rhs);
-    // The loads on the rows: `system x = -w`.
-    let w: Vec<f64> = rhs.iter().map(|v| -v).collect();
+    let ground = frame::right_hand_side(table, poses, &applied, &mut rhs);
+    // The loads on the rows, each body's moment about the world origin as
+    // `equilibrium` takes it: `system x = -w`.
+    let mut w = vec![0.0; table.n_rows];
+    for (b, load) in applied.iter().enumerate() {
+        if let Some(r) = table.rows[b] {
+            w[r..r + 3].copy_from_slice(load);
+        }
+    }
     let system = equilibrium(table, poses);
     let by_blocks = (!blocks.is_empty())
         .then(|| {

@@ -468,7 +468,24 @@ where
 /// compiled for their size: loops of known length, unrolled and without
 /// bounds checks, which is most of a block solve's time saved. Every size
 /// computes the same numbers the same way.
+#[inline(always)]
 pub fn lu_solve(a: &mut [f64], b: &mut [f64], k: usize) -> bool {
+    // One unknown (most blocks of a force plan whose moments are taken
+    // about pins): the same numbers as the elimination, without a call.
+    if k == 1 {
+        let p = a[0];
+        if p.is_nan() || p == 0.0 {
+            return false;
+        }
+        b[0] /= p;
+        return b[0].is_finite();
+    }
+    lu_many(a, b, k)
+}
+
+/// [`lu_solve`] for two unknowns and more.
+#[inline(never)]
+fn lu_many(a: &mut [f64], b: &mut [f64], k: usize) -> bool {
     macro_rules! sized {
         ($($n:literal)*) => {
             match k {
@@ -477,7 +494,7 @@ pub fn lu_solve(a: &mut [f64], b: &mut [f64], k: usize) -> bool {
             }
         };
     }
-    sized!(1 2 3 4 5 6 7 8 9 10 11 12)
+    sized!(2 3 4 5 6 7 8 9 10 11 12)
 }
 
 /// [`lu_solve`] for a size known when compiled.

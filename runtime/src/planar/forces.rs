@@ -13,10 +13,11 @@
 //! of its own size, on the caller's scratch (no allocation).
 //!
 //! Equations: three per moving body (force x, force y, moment about the
-//! world origin), in body order; a fixed body's share goes to the
-//! shaking force instead. Unknown `u` enters as a unit wrench on its
-//! `second` body and minus it on its `first`: a reaction is the force the
-//! joint's first body exerts on its second.
+//! body's [`Table::about`] point), in body order; a fixed body's share
+//! goes to the shaking force instead (its moment about the world origin).
+//! Unknown `u` enters as a unit wrench on its `second` body and minus it
+//! on its `first`: a reaction is the force the joint's first body exerts
+//! on its second.
 
 use super::{Point, Pose};
 use crate::numeric::lu_solve;
@@ -228,6 +229,12 @@ pub struct Table<'a> {
     /// The blocks, in the order they are solved (empty: the plan solves
     /// by least squares, which is the compiler's).
     pub blocks: &'a [Block<'a>],
+    /// Per body, the point (local) its moment equation is taken about: a
+    /// pin of the body where the force plan chose one, whose reaction
+    /// then leaves that equation (a dyad's moments about its outer pins
+    /// give its middle pin's force alone: two unknowns, not six); the
+    /// body's local origin otherwise.
+    pub about: &'a [Point],
     /// Each gear pair's tooth force leaned the negative way (none without
     /// gear pairs).
     pub leaning: &'a [Lean],
@@ -238,6 +245,7 @@ pub struct Table<'a> {
 /// [`Lean::other`] in place, to solve the frame again with (`false`, and
 /// `unknowns` untouched, where every pair leans the table's way).
 /// `unknowns` is as long as the table's.
+#[inline(always)]
 pub fn lean_by_sign(t: &Table, x: &[f64], unknowns: &mut [Unknown]) -> bool {
     let mut leaned = false;
     for lean in t.leaning.iter().filter(|l| x[l.unknown] < 0.0) {
@@ -263,6 +271,19 @@ fn wrench(f: Point, p: Point, torque: f64) -> [f64; 3] {
     [f[0], f[1], p[0] * f[1] - p[1] * f[0] + torque]
 }
 
+/// The wrench `w` (moment about the world origin) with its moment taken
+/// about the world point `p` instead.
+#[inline(always)]
+pub fn moved(w: [f64; 3], p: Point) -> [f64; 3] {
+    [w[0], w[1], w[2] - (p[0] * w[1] - p[1] * w[0])]
+}
+
+/// Where body `b`'s moment equation is taken about, in the world.
+#[inline(always)]
+fn about(t: &Table, poses: &[Pose], b: usize) -> Point {
+    poses[b].world(t.about[b])
+}
+
 /// A local direction of a body in world axes.
 #[inline(always)]
 fn turned(pose: &Pose, d: Point) -> Point {
@@ -276,8 +297,9 @@ fn turned(pose: &Pose, d: Point) -> Point {
 pub fn column(u: &Unknown, poses: &[Pose]) -> [f64; 3] {
     match *u {
         Unknown::Pin { second, at, axis, .. } => {
-            let mut f = [0.0; 2];
-            f[axis] = 1.0;
+            // Not `f[axis] = 1.0`: a store at a computed place, read back
+            // whole at once, stalls the read (a tenth of a frame's forces).
+            let f = if axis == 0 { [1.0, 0.0] } else { [0.0, 1.0] };
             wrench(f, poses[second].world(at), 0.0)
         }
         Unknown::Across {
@@ -318,7 +340,7 @@ pub fn column(u: &Unknown, poses: &[Pose]) -> [f64; 3] {
 
 /// The distance from `p` to `q` and the unit vector from `p` toward `q`
 /// (0 where they meet).
-#[inline]
+#[inline(always)]
 fn towards(p: Point, q: Point) -> (f64, Point) {
     let d = [q[0] - p[0], q[1] - p[1]];
     let len = d[0].hypot(d[1]);
@@ -329,7 +351,7 @@ fn towards(p: Point, q: Point) -> (f64, Point) {
 }
 
 /// The rate at which the distance between two moving points changes.
-#[inline]
+#[inline(always)]
 fn stretch_rate(a: [Jet2; 2], b: [Jet2; 2]) -> f64 {
     let d = [b[0].v - a[0].v, b[1].v - a[1].v];
     let length = d[0].hypot(d[1]);
@@ -343,6 +365,7 @@ fn stretch_rate(a: [Jet2; 2], b: [Jet2; 2]) -> f64 {
 /// the loads and gravity at `poses` and, with `actual` motion (the same
 /// poses with their rates), d'Alembert's inertia (`−m a_c`, `−I α`) and
 /// the dampers.
+#[inline(always)]
 pub fn applied(t: &Table, poses: &[Pose], actual: Option<&[Pose<Jet2>]>, out: &mut [[f64; 3]]) {
     for w in out.iter_mut() {
         *w = [0.0; 3];
@@ -419,13 +442,17 @@ pub fn applied(t: &Table, poses: &[Pose], actual: Option<&[Pose<Jet2>]>, out: &m
 }
 
 /// The equations' right-hand side from the applied wrenches (`rhs[r]` =
-/// minus the load on row `r`), and what the loads put straight on the
-/// ground (fixed bodies): `[fx, fy, m]`.
-pub fn right_hand_side(t: &Table, applied: &[[f64; 3]], rhs: &mut [f64]) -> [f64; 3] {
+/// minus the load on row `r`, each body's moment about its
+/// [`Table::about`] point at `poses`), and what the loads put straight on
+/// the ground (fixed bodies): `[fx, fy, m]`, the moment about the world
+/// origin.
+#[inline(always)]
+pub fn right_hand_side(t: &Table, poses: &[Pose], applied: &[[f64; 3]], rhs: &mut [f64]) -> [f64; 3] {
     let mut ground = [0.0; 3];
     for (b, w) in applied.iter().enumerate() {
         match t.rows[b] {
             Some(r) => {
+                let w = moved(*w, about(t, poses, b));
                 for k in 0..3 {
                     rhs[r + k] = -w[k];
                 }
@@ -445,6 +472,7 @@ pub fn right_hand_side(t: &Table, applied: &[[f64; 3]], rhs: &mut [f64]) -> [f64
 /// least [`scratch_len`] of the largest block. `false` where a block is
 /// singular at this frame (a dead point, a toggle): `x` then holds no
 /// answer.
+#[inline(always)]
 pub fn solve_blocks(t: &Table, poses: &[Pose], rhs: &mut [f64], x: &mut [f64], scratch: &mut [f64]) -> bool {
     // Each unknown's column, kept from the assembly for the update of the
     // right-hand side after the solve (blocks of up to 16 unknowns; a
@@ -463,6 +491,7 @@ pub fn solve_blocks(t: &Table, poses: &[Pose], rhs: &mut [f64], x: &mut [f64], s
             let [first, second] = u.bodies();
             for (body, sign) in [(second, 1.0), (first, -1.0)] {
                 let Some(r) = t.rows[body] else { continue };
+                let w = moved(w, about(t, poses, body));
                 for (i, &row) in block.rows.iter().enumerate() {
                     if (r..r + 3).contains(&row) {
                         a[i * k + j] += sign * w[row - r];
@@ -483,6 +512,7 @@ pub fn solve_blocks(t: &Table, poses: &[Pose], rhs: &mut [f64], x: &mut [f64], s
             let [first, second] = u.bodies();
             for (body, sign) in [(second, 1.0), (first, -1.0)] {
                 if let Some(r) = t.rows[body] {
+                    let w = moved(w, about(t, poses, body));
                     for k in 0..3 {
                         rhs[r + k] -= sign * w[k] * b[j];
                     }
@@ -495,6 +525,7 @@ pub fn solve_blocks(t: &Table, poses: &[Pose], rhs: &mut [f64], x: &mut [f64], s
 
 /// What the unknowns `x` put on the ground (every fixed body): `[fx, fy,
 /// m]`, the moment about the world origin.
+#[inline(always)]
 pub fn on_ground(t: &Table, poses: &[Pose], x: &[f64]) -> [f64; 3] {
     let mut out = [0.0; 3];
     for (u, &xu) in t.unknowns.iter().zip(x) {
@@ -523,8 +554,6 @@ pub struct Singular;
 /// Where [`solve_frame`] works: one buffer per body, per equation row,
 /// per unknown, and the largest block's [`scratch_len`].
 pub struct Work<'a> {
-    /// Each body's pose (the values of the frame's jets).
-    pub values: &'a mut [Pose],
     /// Each body's applied wrench.
     pub applied: &'a mut [[f64; 3]],
     /// The equations' right-hand side.
@@ -579,6 +608,7 @@ impl<const NJ: usize, const NI: usize, const NS: usize, const NG: usize> Default
 /// Joint `j`'s reaction and moment from the unknowns `x` at `poses`:
 /// a revolute joint's two components, a prismatic joint's force across
 /// its rail (along the rail's normal) and its moment.
+#[inline(always)]
 pub fn joint_reaction(t: &Table, poses: &[Pose], x: &[f64], j: usize) -> ([f64; 2], f64) {
     match t.unknowns[2 * j] {
         Unknown::Across { first, dir, .. } => {
@@ -589,24 +619,22 @@ pub fn joint_reaction(t: &Table, poses: &[Pose], x: &[f64], j: usize) -> ([f64; 
     }
 }
 
-/// A frame's forces from its poses and their rates (`jets`: zero rates
-/// hold it still): the loads, gravity and d'Alembert's inertia, then the
-/// blocks in order (again with a gear pair leaned the other way where its
-/// force came out negative), into `out` (its joints, inputs, slots and
-/// gear pairs as many as the table's). No allocation: `work` is the
-/// caller's.
+/// A frame's forces at `poses`, moving as `actual` says (the same poses
+/// with their rates; `None` holds it still): the loads, gravity and
+/// d'Alembert's inertia, then the blocks in order (again with a gear pair
+/// leaned the other way where its force came out negative), into `out`
+/// (its joints, inputs, slots and gear pairs as many as the table's). No
+/// allocation: `work` is the caller's.
+#[inline(always)]
 pub fn solve_frame<const NJ: usize, const NI: usize, const NS: usize, const NG: usize>(
     t: &Table,
-    jets: &[Pose<Jet2>],
+    poses: &[Pose],
+    actual: Option<&[Pose<Jet2>]>,
     work: Work,
     out: &mut Forces<NJ, NI, NS, NG>,
 ) -> Result<(), Singular> {
-    for (v, j) in work.values.iter_mut().zip(jets) {
-        *v = j.value();
-    }
-    let poses = &*work.values;
-    applied(t, poses, Some(jets), work.applied);
-    let ground = right_hand_side(t, work.applied, work.rhs);
+    applied(t, poses, actual, work.applied);
+    let ground = right_hand_side(t, poses, work.applied, work.rhs);
     if !solve_blocks(t, poses, work.rhs, work.x, work.scratch) {
         return Err(Singular);
     }
@@ -616,7 +644,7 @@ pub fn solve_frame<const NJ: usize, const NI: usize, const NS: usize, const NG: 
             unknowns: &*work.unknowns,
             ..*t
         };
-        right_hand_side(&leaned, work.applied, work.rhs);
+        right_hand_side(&leaned, poses, work.applied, work.rhs);
         if !solve_blocks(&leaned, poses, work.rhs, work.x, work.scratch) {
             return Err(Singular);
         }

@@ -393,8 +393,10 @@ impl Session {
     fn show(&mut self, poses: Vec<Pose>, inputs: Option<Vec<f64>>) -> Result<(), String> {
         let m = &self.doc.mechanism;
         let size = m.size();
-        let zero = vec![0.0; m.inputs.len()];
-        if let Some(open) = residuals(m, &poses, &zero)
+        // The inputs that go with the poses: a gear pair's residual counts
+        // its gears' turns from them (unwrapped past whole turns).
+        let with = inputs.as_deref().unwrap_or(&self.inputs);
+        if let Some(open) = residuals(m, &poses, with)
             .into_iter()
             .filter(|r| !r.name.starts_with("input "))
             // A NaN gap is open too.

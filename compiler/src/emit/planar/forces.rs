@@ -153,22 +153,10 @@ fn forces_type(nj: usize, ni: usize, slots: usize, gears: usize) -> TokenStream 
     }
 }
 
-/// The `forces` module of `plan`'s module for the force table `t` (its
-/// `slots` unknowns after the inputs', then one per gear pair); an
-/// error says why there is none: a plan whose reactions are solved by
-/// least squares (over-constrained, or singular as drawn), which is the
-/// interpreter's.
-pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table, slots: usize) -> Result<String, String> {
-    if t.blocks.is_empty() {
-        return Err("its reactions are solved by least squares (redundant joints, or a freedom no input holds), which `dofplan analyze --forces` does; compiled `solve_forces` needs a force plan of blocks".into());
-    }
+/// `pub const TABLE`: the force table `t` (its `slots` unknowns after the
+/// inputs', then one per gear pair) written out, with its doc.
+fn table_const(t: &Table, slots: usize) -> TokenStream {
     let gears = t.leaning.len();
-    let (nb, nj, ni) = (
-        plan.bodies.len(),
-        (t.unknowns.len() - plan.inputs.len() - slots - gears) / 2,
-        plan.inputs.len(),
-    );
-    let largest = t.blocks.iter().map(|b| b.rows.len()).max().unwrap_or(0);
     let rows = t.rows.iter().map(|r| match r {
         Some(r) => {
             let r = index(*r);
@@ -186,7 +174,7 @@ pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table, slots: usize) -> Re
         let (r, c) = (b.rows.iter().map(|&r| index(r)), b.cols.iter().map(|&c| index(c)));
         quote!(Block { rows: &[#(#r),*], cols: &[#(#c),*] })
     });
-    let (nb_l, nr, nu) = (index(nb), index(t.n_rows), index(t.unknowns.len()));
+    let nr = index(t.n_rows);
     let gravity = point_lit(t.gravity);
     let sizes = t
         .blocks
@@ -197,15 +185,50 @@ pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table, slots: usize) -> Re
     let per_slot = if slots > 0 { ", then one per slot" } else { "" };
     let per_gear = if gears > 0 { ", then one per gear pair" } else { "" };
     let doc_table = format!(
-        " The mechanism's forces as the runtime solves them: {} equations (three per moving body), {} unknowns (two per joint, then one per input{per_slot}{per_gear}), solved in blocks of {sizes}.",
+        " The mechanism's forces as the runtime solves them: {} equations (three per moving body, each body's moment about its `about` point), {} unknowns (two per joint, then one per input{per_slot}{per_gear}), solved in blocks of {sizes}.",
         t.n_rows,
         t.unknowns.len()
     );
-    let forces_decl = forces_type(nj, ni, slots, gears);
+    let about = t.about.iter().map(|&p| point_lit(p));
     let leaning = t.leaning.iter().map(|l| {
         let (u, other) = (index(l.unknown), unknown(&l.other));
         quote!(Lean { unknown: #u, other: #other })
     });
+    quote! {
+        #[doc = #doc_table]
+        pub const TABLE: Table<'static> = Table {
+            rows: &[#(#rows),*],
+            n_rows: #nr,
+            unknowns: &[#(#unknowns),*],
+            loads: &[#(#loads),*],
+            masses: &[#(#masses),*],
+            gravity: #gravity,
+            blocks: &[#(#blocks),*],
+            leaning: &[#(#leaning),*],
+            about: &[#(#about),*],
+        };
+    }
+}
+
+/// The `forces` module of `plan`'s module for the force table `t` (its
+/// `slots` unknowns after the inputs', then one per gear pair); an
+/// error says why there is none: a plan whose reactions are solved by
+/// least squares (over-constrained, or singular as drawn), which is the
+/// interpreter's.
+pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table, slots: usize) -> Result<String, String> {
+    if t.blocks.is_empty() {
+        return Err("its reactions are solved by least squares (redundant joints, or a freedom no input holds), which `dofplan analyze --forces` does; compiled `solve_forces` needs a force plan of blocks".into());
+    }
+    let gears = t.leaning.len();
+    let (nb, nj, ni) = (
+        plan.bodies.len(),
+        (t.unknowns.len() - plan.inputs.len() - slots - gears) / 2,
+        plan.inputs.len(),
+    );
+    let largest = t.blocks.iter().map(|b| b.rows.len()).max().unwrap_or(0);
+    let (nb_l, nr, nu) = (index(nb), index(t.n_rows), index(t.unknowns.len()));
+    let forces_decl = forces_type(nj, ni, slots, gears);
+    let table = table_const(t, slots);
     // A frame whose gear pair drives the other way is solved again with
     // its tooth force leaned that way: a copy of the unknowns to lean.
     let leaned = if gears > 0 {
@@ -239,17 +262,7 @@ pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table, slots: usize) -> Re
 
             #forces_decl
 
-            #[doc = #doc_table]
-            pub const TABLE: Table<'static> = Table {
-                rows: &[#(#rows),*],
-                n_rows: #nr,
-                unknowns: &[#(#unknowns),*],
-                loads: &[#(#loads),*],
-                masses: &[#(#masses),*],
-                gravity: #gravity,
-                blocks: &[#(#blocks),*],
-                leaning: &[#(#leaning),*],
-            };
+            #table
 
             /// [`solve_rates_into`] and the forces
             /// in one pass, into `out`: the frame at `inputs` moving at
@@ -267,26 +280,25 @@ pub(in crate::emit) fn forces_module(plan: &Plan, t: &Table, slots: usize) -> Re
                 ctx: &mut Ctx,
                 out: &mut Forces,
             ) -> Result<(), ForceError> {
-                let mut jets = [Pose::<Jet2>::cst(Pose::IDENTITY); #nb_l];
-                if rates.iter().chain(accelerations).all(|v| *v == 0.0) {
-                    // Held still: the positions alone (their rates are
-                    // zero, and `solve_rates_into`'s values are `solve`'s).
-                    solve(s, inputs, ctx).map_err(|b| ForceError::Rates(RateError::Break(b)))?;
-                    for (jet, pose) in jets.iter_mut().zip(&s.poses) {
-                        *jet = Pose::cst(*pose);
-                    }
-                } else {
-                    solve_rates_into(s, inputs, rates, accelerations, ctx, &mut jets).map_err(ForceError::Rates)?;
-                }
                 let work = Work {
-                    values: &mut [Pose::IDENTITY; #nb_l],
                     applied: &mut [[0.0; 3]; #nb_l],
                     rhs: &mut [0.0; #nr],
                     x: &mut [0.0; #nu],
                     scratch: &mut [0.0; #scratch],
                     unknowns: #leaned,
                 };
-                solve_frame(&TABLE, &jets, work, out)?;
+                if rates.iter().chain(accelerations).all(|v| *v == 0.0) {
+                    // Held still: the positions alone (their rates are
+                    // zero, and `solve_rates_into`'s values are `solve`'s),
+                    // without inertia or dampers.
+                    solve(s, inputs, ctx).map_err(|b| ForceError::Rates(RateError::Break(b)))?;
+                    solve_frame(&TABLE, &s.poses, None, work, out)?;
+                } else {
+                    let mut jets = [Pose::<Jet2>::cst(Pose::IDENTITY); #nb_l];
+                    solve_rates_into(s, inputs, rates, accelerations, ctx, &mut jets).map_err(ForceError::Rates)?;
+                    let poses = jets.map(|j| j.value());
+                    solve_frame(&TABLE, &poses, Some(&jets), work, out)?;
+                }
                 Ok(())
             }
         }
