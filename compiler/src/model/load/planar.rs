@@ -281,6 +281,33 @@ impl Validator {
         true
     }
 
+    /// Reports that marker `id` has no `dir` where `needs` says why it
+    /// must (a slot's line, an arc's angles), with the marker written
+    /// with one as the fix.
+    pub(super) fn no_direction(
+        &mut self,
+        id: MarkerId,
+        bodies: &[Body],
+        node: &Node,
+        path: &str,
+        owner: &str,
+        needs: &str,
+    ) {
+        let m = &bodies[id.body].markers[id.marker];
+        let loc = self.loc(node, path);
+        self.error(
+            loc,
+            format!(
+                "{owner}: {needs}, but `{}.{}` has no direction",
+                bodies[id.body].name, m.name
+            ),
+            Some(format!(
+                "write it as {} = {{ at = [{}, {}], dir = [dx, dy] }}",
+                m.name, m.at[0], m.at[1]
+            )),
+        );
+    }
+
     pub(super) fn check_in_line(
         &mut self,
         ids: [MarkerId; 2],
@@ -293,18 +320,8 @@ impl Validator {
         let a = &bodies[ids[0].body].markers[ids[0].marker];
         let b = &bodies[ids[1].body].markers[ids[1].marker];
         let Some(d) = a.unit_dir() else {
-            let loc = self.loc(node, path);
-            self.error(
-                loc,
-                format!(
-                    "{owner}: the first marker of a {what} carries the line, but `{}.{}` has no direction",
-                    bodies[ids[0].body].name, a.name
-                ),
-                Some(format!(
-                    "write it as {} = {{ at = [{}, {}], dir = [dx, dy] }}",
-                    a.name, a.at[0], a.at[1]
-                )),
-            );
+            let needs = format!("the first marker of a {what} carries the line");
+            self.no_direction(ids[0], bodies, node, path, owner, &needs);
             return false;
         };
         let off = (b.at[0] - a.at[0]) * d[1] - (b.at[1] - a.at[1]) * d[0];

@@ -119,22 +119,11 @@ impl Validator {
         path: &str,
         owner: &str,
     ) -> bool {
-        let c = &bodies[centre.body].markers[centre.marker];
-        if c.unit_dir().is_some() {
+        if bodies[centre.body].markers[centre.marker].unit_dir().is_some() {
             return true;
         }
-        let loc = self.loc(node, path);
-        self.error(
-            loc,
-            format!(
-                "{owner}: the first marker of an arc slot is its centre, whose dir the ends' angles count from, but `{}.{}` has no direction",
-                bodies[centre.body].name, c.name
-            ),
-            Some(format!(
-                "write it as {} = {{ at = [{}, {}], dir = [dx, dy] }}",
-                c.name, c.at[0], c.at[1]
-            )),
-        );
+        let needs = "the first marker of an arc slot is its centre, whose dir the ends' angles count from";
+        self.no_direction(centre, bodies, node, path, owner, needs);
         false
     }
 
